@@ -1,0 +1,137 @@
+// The fitting layer's core: nonlinear least squares with Ceres, and what every fit reports.
+//
+// A fit returns a FitResult that says whether it is usable and why (models never throw; this layer
+// never throws for numerical trouble either). Standard errors come from the covariance
+// (J^T J)^-1 at the solution, scaled by the residual variance s^2 = RSS / (n - p). The covariance
+// is computed from the Jacobian with its columns equilibrated and a column-pivoted QR, so that
+// badly scaled parameters (a cubic's t^3 coefficient beside its intercept, NIST's Misra or
+// Bennett problems) keep their digits.
+#pragma once
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace epuck2::fit {
+
+struct ParameterEstimate {
+  std::string name;
+  double value = 0;
+  double std_error = 0;  ///< NaN when the covariance could not be computed
+};
+
+struct FitResult {
+  bool usable = false;
+  std::string message;  ///< why not usable, or the solver's termination message
+  std::vector<ParameterEstimate> parameters;
+  std::size_t observations = 0;
+  double rss = 0;                ///< sum of squared residuals (unweighted by any robust loss)
+  double mse = 0;                ///< rss / n
+  double residual_variance = 0;  ///< rss / (n - p)
+  double r2 = 0;                 ///< 1 - rss / tss (NaN when no observations were given)
+  double aic = 0;                ///< n ln(rss/n) + 2p
+  double bic = 0;                ///< n ln(rss/n) + p ln n
+  int iterations = 0;
+  Eigen::MatrixXd covariance;  ///< scaled by residual_variance, parameter order as `parameters`
+
+  double value(const std::string& name) const;
+  double std_error(const std::string& name) const;
+  std::vector<double> values() const;
+};
+
+struct FitOptions {
+  bool robust = false;          ///< Huber loss instead of squares
+  double robust_scale = 1.0;    ///< Huber's threshold, in the residual's units
+  int max_iterations = 500;
+  double function_tolerance = 1e-15;
+  double gradient_tolerance = 1e-15;
+  double parameter_tolerance = 1e-15;
+  bool compute_covariance = true;
+  /// The loss to attach to each residual block (nullptr for plain squares). Ownership passes to
+  /// the problem.
+  ceres::LossFunction* make_loss() const;
+  ceres::Solver::Options solver_options() const;
+};
+
+double akaike(std::size_t n, double rss, int k);
+double bayes(std::size_t n, double rss, int k);
+
+/// Parameters of a problem: its blocks in order, and a name for every scalar in them.
+struct ParameterLayout {
+  std::vector<double*> blocks;
+  std::vector<int> sizes;
+  std::vector<std::string> names;
+};
+
+/// Everything after Solve: RSS, MSE, R^2 (with `observations` for the total sum of squares; empty
+/// for none), information criteria, covariance and standard errors. Blocks held constant in the
+/// problem are reported with a zero standard error and do not count as free parameters.
+FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
+                    const std::vector<double>& observations, const ceres::Solver::Summary& summary,
+                    const FitOptions& options);
+
+/// Residual of a curve model y = model(p, x): (y - model(p, x)) / sigma.
+/// Model: `static constexpr int kParameters;` and `template <typename T> T operator()(const T* p, double x) const`.
+template <class Model>
+class CurveResidual {
+ public:
+  CurveResidual(const Model& model, double x, double y, double sigma) : model_(model), x_(x), y_(y), inv_sigma_(1.0 / sigma) {}
+  template <typename T>
+  bool operator()(const T* p, T* residual) const {
+    residual[0] = (T(y_) - model_(p, x_)) * inv_sigma_;
+    return true;
+  }
+  static ceres::CostFunction* Create(const Model& model, double x, double y, double sigma = 1.0) {
+    return new ceres::AutoDiffCostFunction<CurveResidual, 1, Model::kParameters>(new CurveResidual(model, x, y, sigma));
+  }
+
+ private:
+  const Model model_;
+  const double x_, y_, inv_sigma_;
+};
+
+/// Fits y = model(p, x) by least squares from `initial`. `fixed` lists parameter indices held at
+/// their initial value (empty: all free).
+template <class Model>
+FitResult fit_curve(const Model& model, const std::vector<double>& x, const std::vector<double>& y,
+                    std::vector<double> initial, const std::vector<std::string>& names,
+                    const FitOptions& options = {}, const std::vector<int>& fixed = {}) {
+  static_assert(Model::kParameters > 0, "a model needs parameters");
+  FitResult bad;
+  if (x.size() != y.size() || static_cast<int>(initial.size()) != Model::kParameters ||
+      static_cast<int>(names.size()) != Model::kParameters) {
+    bad.message = "internal: sizes of x, y, initial values and names disagree";
+    return bad;
+  }
+  if (x.size() < static_cast<std::size_t>(Model::kParameters) + 1) {
+    bad.message = "too few observations (" + std::to_string(x.size()) + ") for " +
+                  std::to_string(Model::kParameters) + " parameters";
+    return bad;
+  }
+  ceres::Problem problem;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    problem.AddResidualBlock(CurveResidual<Model>::Create(model, x[i], y[i]), options.make_loss(), initial.data());
+  if (!fixed.empty()) {
+    std::vector<int> fixed_sorted = fixed;
+    problem.SetManifold(initial.data(), new ceres::SubsetManifold(Model::kParameters, fixed_sorted));
+  }
+  ceres::Solver::Summary summary;
+  ceres::Solve(options.solver_options(), &problem, &summary);
+  ParameterLayout layout{{initial.data()}, {Model::kParameters}, names};
+  FitResult r = summarize(problem, layout, y, summary, options);
+  if (!fixed.empty()) {
+    // Fixed parameters do not count as free and have no uncertainty.
+    const int free = Model::kParameters - static_cast<int>(fixed.size());
+    const double n = static_cast<double>(r.observations);
+    r.residual_variance = n > free ? r.rss / (n - free) : r.residual_variance;
+    r.aic = akaike(r.observations, r.rss, free);
+    r.bic = bayes(r.observations, r.rss, free);
+    for (int i : fixed) r.parameters[static_cast<std::size_t>(i)].std_error = 0.0;
+  }
+  return r;
+}
+
+}  // namespace epuck2::fit

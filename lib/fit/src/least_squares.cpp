@@ -1,0 +1,167 @@
+#include "epuck2/fit/least_squares.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace epuck2::fit {
+
+double FitResult::value(const std::string& name) const {
+  for (const auto& p : parameters)
+    if (p.name == name) return p.value;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+double FitResult::std_error(const std::string& name) const {
+  for (const auto& p : parameters)
+    if (p.name == name) return p.std_error;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+std::vector<double> FitResult::values() const {
+  std::vector<double> v;
+  for (const auto& p : parameters) v.push_back(p.value);
+  return v;
+}
+
+ceres::LossFunction* FitOptions::make_loss() const {
+  return robust ? new ceres::HuberLoss(robust_scale) : nullptr;
+}
+
+ceres::Solver::Options FitOptions::solver_options() const {
+  ceres::Solver::Options o;
+  o.linear_solver_type = ceres::DENSE_QR;
+  o.max_num_iterations = max_iterations;
+  o.function_tolerance = function_tolerance;
+  o.gradient_tolerance = gradient_tolerance;
+  o.parameter_tolerance = parameter_tolerance;
+  o.minimizer_progress_to_stdout = false;
+  o.logging_type = ceres::SILENT;
+  o.num_threads = 1;
+  return o;
+}
+
+double akaike(std::size_t n, double rss, int k) {
+  const double nn = static_cast<double>(n);
+  return nn * std::log(std::max(rss, std::numeric_limits<double>::min()) / nn) + 2.0 * k;
+}
+
+double bayes(std::size_t n, double rss, int k) {
+  const double nn = static_cast<double>(n);
+  return nn * std::log(std::max(rss, std::numeric_limits<double>::min()) / nn) + k * std::log(nn);
+}
+
+FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
+                    const std::vector<double>& observations, const ceres::Solver::Summary& summary,
+                    const FitOptions& options) {
+  FitResult r;
+  r.iterations = static_cast<int>(summary.iterations.size());
+  r.message = summary.message;
+
+  ceres::Problem::EvaluateOptions eo;
+  eo.parameter_blocks = layout.blocks;
+  eo.apply_loss_function = false;
+  eo.num_threads = 1;
+  double cost = 0;
+  std::vector<double> residuals;
+  ceres::CRSMatrix jac;
+  const bool evaluated = problem.Evaluate(eo, &cost, &residuals, nullptr, options.compute_covariance ? &jac : nullptr);
+
+  const std::size_t n = residuals.size();
+  r.observations = n;
+  double rss = 0;
+  for (double e : residuals) rss += e * e;
+  r.rss = rss;
+  r.mse = n ? rss / static_cast<double>(n) : 0.0;
+
+  // Parameters, and which scalars are free (constant blocks and subset manifolds are not).
+  int total = 0;
+  for (int s : layout.sizes) total += s;
+  std::vector<bool> is_free(static_cast<std::size_t>(total), true);
+  {
+    int offset = 0;
+    for (std::size_t b = 0; b < layout.blocks.size(); ++b) {
+      const bool constant = problem.IsParameterBlockConstant(layout.blocks[b]);
+      for (int j = 0; j < layout.sizes[b]; ++j) {
+        r.parameters.push_back({layout.names.size() > static_cast<std::size_t>(offset + j)
+                                    ? layout.names[static_cast<std::size_t>(offset + j)]
+                                    : "p" + std::to_string(offset + j),
+                                layout.blocks[b][j], std::numeric_limits<double>::quiet_NaN()});
+        if (constant) is_free[static_cast<std::size_t>(offset + j)] = false;
+      }
+      offset += layout.sizes[b];
+    }
+  }
+  int k = 0;
+  for (bool f : is_free) k += f ? 1 : 0;
+
+  r.residual_variance = n > static_cast<std::size_t>(k) ? rss / static_cast<double>(n - static_cast<std::size_t>(k))
+                                                        : std::numeric_limits<double>::quiet_NaN();
+  r.aic = akaike(n, rss, k);
+  r.bic = bayes(n, rss, k);
+  if (!observations.empty()) {
+    double mean = 0;
+    for (double y : observations) mean += y;
+    mean /= static_cast<double>(observations.size());
+    double tss = 0;
+    for (double y : observations) tss += (y - mean) * (y - mean);
+    r.r2 = tss > 0 ? 1.0 - rss / tss : std::numeric_limits<double>::quiet_NaN();
+  } else {
+    r.r2 = std::numeric_limits<double>::quiet_NaN();
+  }
+
+  const bool converged = summary.IsSolutionUsable() && std::isfinite(rss);
+  if (!evaluated || !converged) {
+    r.usable = false;
+    if (!evaluated) r.message = "the model could not be evaluated at the solution";
+    return r;
+  }
+  r.usable = true;
+
+  if (options.compute_covariance && k > 0 && n > static_cast<std::size_t>(k)) {
+    // Dense Jacobian restricted to free columns (with subset manifolds, Ceres still reports the
+    // ambient columns; a fixed parameter's column is dropped here when the caller marks it so).
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), total);
+    for (int row = 0; row < jac.num_rows; ++row)
+      for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx)
+        J(row, jac.cols[static_cast<std::size_t>(idx)]) = jac.values[static_cast<std::size_t>(idx)];
+    // Columns with a SubsetManifold that holds them fixed have zero tangent: detect all-zero
+    // columns of free blocks and treat them as fixed too.
+    std::vector<int> cols;
+    for (int j = 0; j < total; ++j)
+      if (is_free[static_cast<std::size_t>(j)] && J.col(j).squaredNorm() > 0) cols.push_back(j);
+    const int m = static_cast<int>(cols.size());
+    Eigen::MatrixXd Jf(J.rows(), m);
+    Eigen::VectorXd scale(m);
+    for (int c = 0; c < m; ++c) {
+      const double norm = J.col(cols[static_cast<std::size_t>(c)]).norm();
+      scale(c) = norm > 0 ? 1.0 / norm : 1.0;
+      Jf.col(c) = J.col(cols[static_cast<std::size_t>(c)]) * scale(c);
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Jf);
+    const double s2 = rss / static_cast<double>(n - static_cast<std::size_t>(m));
+    r.covariance = Eigen::MatrixXd::Zero(total, total);
+    if (qr.rank() == m) {
+      // (Jf^T Jf)^-1 = P R^-1 R^-T P^T
+      const Eigen::MatrixXd R = qr.matrixR().topLeftCorner(m, m).triangularView<Eigen::Upper>();
+      const Eigen::MatrixXd Rinv = R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(m, m));
+      const Eigen::MatrixXd inner = Rinv * Rinv.transpose();
+      const Eigen::MatrixXd P = qr.colsPermutation();
+      const Eigen::MatrixXd covf = P * inner * P.transpose();
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b)
+          r.covariance(cols[static_cast<std::size_t>(a)], cols[static_cast<std::size_t>(b)]) =
+              covf(a, b) * scale(a) * scale(b) * s2;
+      for (int c = 0; c < m; ++c) {
+        const int j = cols[static_cast<std::size_t>(c)];
+        r.parameters[static_cast<std::size_t>(j)].std_error = std::sqrt(std::max(0.0, r.covariance(j, j)));
+      }
+      for (int j = 0; j < total; ++j)
+        if (!is_free[static_cast<std::size_t>(j)]) r.parameters[static_cast<std::size_t>(j)].std_error = 0.0;
+    } else {
+      r.message += " (covariance rank-deficient: standard errors unavailable)";
+    }
+  }
+  return r;
+}
+
+}  // namespace epuck2::fit

@@ -1,0 +1,75 @@
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+#include <unistd.h>
+
+#include "epuck2/logs/output.hpp"
+
+namespace epuck2::logs {
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw std::runtime_error(path + ": the folder " + dir.string() + " does not exist");
+  const fs::path tmp = dir / ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()));
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path + ": cannot create the temporary file " + tmp.string());
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    out.flush();
+    if (!out) {
+      out.close();
+      fs::remove(tmp, ec);
+      throw std::runtime_error(path + ": writing the temporary file failed");
+    }
+  }
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw std::runtime_error(path + ": cannot rename the temporary file into place: " + ec.message());
+  }
+}
+
+std::string format_number(double value, int significant_digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", significant_digits, value);
+  return buf;
+}
+
+std::string format_number(double value) {
+  char buf[64];
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, value);
+    if (std::strtod(buf, nullptr) == value) return buf;
+  }
+  return buf;
+}
+
+void LogWriter::row(const std::vector<double>& values, int digits) {
+  std::string line;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i) line += ',';
+    line += digits > 0 ? format_number(values[i], digits) : format_number(values[i]);
+  }
+  rows_.push_back(std::move(line));
+}
+
+std::string LogWriter::str() const {
+  std::ostringstream os;
+  for (const auto& c : comments_) os << "# " << c << '\n';
+  for (const auto& [k, v] : metadata_) os << "# " << k << ": " << v << '\n';
+  for (std::size_t i = 0; i < columns_.size(); ++i) os << (i ? "," : "") << columns_[i];
+  os << '\n';
+  for (const auto& r : rows_) os << r << '\n';
+  return os.str();
+}
+
+}  // namespace epuck2::logs

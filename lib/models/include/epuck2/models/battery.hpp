@@ -1,0 +1,319 @@
+// E-Puck2 battery discharge models: Simple, Linear, Cubic and Approximated (paper Appendix,
+// Algorithms 1-4), driven by coefficient tables, in two behaviours:
+//
+//  * Behaviour::argos_compatible reproduces the E-Puck2 ARGoS plug-in's arithmetic to the last bit
+//    (shared/reference/epuck2-plugin.md sections 3 and 5): speed rounded to 0.01 cm/s, floor/ceil
+//    tables, the interpolation that always starts from the smaller value, Cardano's root clamped
+//    at 0, the drop on the first tick from a full charge, the Linear model's interpolation in
+//    float, the Approximated update m*(x + dt) + h.
+//  * Behaviour::corrected is the project's fix of each quirk: a true linear interpolation between
+//    the speed tables, a continuous start from full charge, a robust root. docs/battery-models.md
+//    lists every difference and what it changes on the reference logs.
+//
+// Header-only, no dependency: usable from an ARGoS plug-in. The formulas that a fit needs
+// derivatives of (cubic_charge, line_charge, polyline_charge) are templated on the scalar so that
+// lib/fit uses the very same code with ceres::Jet.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <string_view>
+
+namespace epuck2::models::battery {
+
+inline constexpr int kSpeedCount = 16;    ///< tables for 0, 1, ..., 15 cm/s
+inline constexpr int kSegmentCount = 4;   ///< Approximated model: M1..M4 (M4 = the final drop)
+inline constexpr double kMaxSpeed_m_s = 0.150;  ///< the plug-in clamps the speed to [0, 0.15] m/s
+/// Half the inter-wheel distance; the plug-in converts an in-place rotation angle to wheel
+/// travel with it (reference section 3). The plug-in writes the literal as the float 0.0265f.
+inline constexpr double kHalfAxle_m = 0.0265;
+inline constexpr float kHalfAxleFloat_m = 0.0265f;
+
+/// One speed's cubic: charge(t) = a t^3 + b t^2 + c t + d for t in [0, end_s].
+struct CubicRow {
+  double d = 0, c = 0, b = 0, a = 0;
+  double end_s = 0;  ///< the measured lifetime at this speed: past it the model reads 0
+};
+
+/// One straight segment of the Approximated model: charge = m t + h on [x1_s, x2_s], valid while
+/// the charge is in the band [y2, y1].
+struct Segment {
+  double h = 0, m = 0, x1_s = 0, x2_s = 0, y1 = 0, y2 = 0;
+};
+
+/// Every coefficient the four models need, per speed 0..15 cm/s.
+struct Tables {
+  std::array<CubicRow, kSpeedCount> cubic{};
+  std::array<std::array<Segment, kSegmentCount>, kSpeedCount> segments{};
+  std::array<double, kSpeedCount> linear_slope_per_s{};  ///< Linear model: -1/lifetime
+  std::array<double, kSpeedCount> lifetime_s{};
+  double simple_static_slope_per_s = 0;  ///< Simple model's m0 (robot not moving)
+  double simple_moving_slope_per_s = 0;  ///< Simple model's m1 (robot moving)
+};
+
+enum class Model { simple, linear, cubic, approximated };
+enum class Behaviour { argos_compatible, corrected };
+
+inline constexpr std::array<Model, 4> kAllModels{Model::simple, Model::linear, Model::cubic,
+                                                 Model::approximated};
+
+inline constexpr std::string_view to_string(Model m) {
+  switch (m) {
+    case Model::simple: return "simple";
+    case Model::linear: return "linear";
+    case Model::cubic: return "cubic";
+    case Model::approximated: return "approximated";
+  }
+  return "?";
+}
+
+/// Parses "simple", "linear", "cubic", "approximated"; returns false on anything else.
+inline bool parse_model(std::string_view name, Model& out) {
+  for (Model m : kAllModels) {
+    if (name == to_string(m)) {
+      out = m;
+      return true;
+    }
+  }
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Formulas shared with the fitting layer (templated on the scalar, no branch on a parameter).
+// ---------------------------------------------------------------------------------------------
+
+/// charge(t) = a t^3 + b t^2 + c t + d with coefficients p = {d, c, b, a}; Horner form.
+template <typename T>
+T cubic_charge(const T* p, double t_s) {
+  return ((p[3] * t_s + p[2]) * t_s + p[1]) * t_s + p[0];
+}
+
+/// A straight discharge line through charge0 at t = 0: charge(t) = charge0 + slope t.
+template <typename T>
+T line_charge(const T& charge0, const T& slope_per_s, double t_s) {
+  return charge0 + slope_per_s * t_s;
+}
+
+/// Continuous piecewise line through the knots (x_k, y_k), k = 0..n-1, evaluated at t
+/// (linear extrapolation beyond the ends). The knots' positions may be fitted parameters: the
+/// segment is chosen with a hinge formulation (y_0 + slope_0 (t - x_0) + sum of slope changes
+/// times max(0, t - x_k)), whose derivative with respect to each knot is the exact one-sided
+/// derivative, never an artificial zero.
+template <typename T>
+T polyline_charge(const T* x, const T* y, int n, double t_s) {
+  using std::max;
+  T slope_prev = (y[1] - y[0]) / (x[1] - x[0]);
+  T value = y[0] + slope_prev * (T(t_s) - x[0]);
+  for (int k = 1; k + 1 < n; ++k) {
+    const T slope = (y[k + 1] - y[k]) / (x[k + 1] - x[k]);
+    const T over = T(t_s) - x[k];
+    // max(0, t - x_k): a branch on the data point against the knot, the standard segmented
+    // regression form; its gradient w.r.t. x_k is -(slope change) where t > x_k.
+    if (over > T(0)) value += (slope - slope_prev) * over;
+    slope_prev = slope;
+  }
+  return value;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Speed handling
+// ---------------------------------------------------------------------------------------------
+
+/// The plug-in's speed: round(clamp(delta_pos/dt, 0, 0.15) * 10000) / 100, in cm/s.
+inline double plugin_speed_cm_s(double delta_pos_m, double dt_s) {
+  const double v = std::clamp(delta_pos_m / dt_s, 0.0, kMaxSpeed_m_s);
+  return std::round(v * 10000.0) / 100.0;
+}
+
+/// The corrected behaviour's speed: clamp(delta_pos/dt, 0, 0.15) in cm/s, not rounded.
+inline double exact_speed_cm_s(double delta_pos_m, double dt_s) {
+  return std::clamp(delta_pos_m / dt_s, 0.0, kMaxSpeed_m_s) * 100.0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Plug-in compatible arithmetic (reference section 3); every expression in the source's order.
+// ---------------------------------------------------------------------------------------------
+namespace argos {
+
+/// The plug-in's "interpolation": starts from the smaller value, so when y_low > y_high the
+/// weights are swapped with respect to a linear interpolation.
+inline double interpolate(double y_low, double y_high, double d) {
+  return (y_low < y_high) ? y_low + (y_high - y_low) * d : y_high + (y_low - y_high) * d;
+}
+
+/// Cardano's single real root of cubic(t) = y, exactly as the source writes it.
+inline double cardano_root(const CubicRow& q, double y) {
+  const double a = q.a, b = q.b, c = q.c, d = q.d;
+  const double new_d = d - y;
+  const double d0 = b * b - 3 * a * c;
+  const double d1 = 2 * b * b * b - 9 * a * b * c + 27 * a * a * new_d;
+  const double C = std::cbrt((d1 + std::sqrt(d1 * d1 - 4 * d0 * d0 * d0)) / 2);
+  return (-1 / (3 * a) * (b + C + d0 / C));
+}
+
+/// One speed table's next charge for the Cubic model.
+inline double cubic_next(const CubicRow& q, double charge, double dt_s) {
+  double x = std::max(0.0, cardano_root(q, charge));
+  if (x >= q.end_s) return 0.0;
+  x += dt_s;
+  return q.a * x * x * x + q.b * x * x + q.c * x + q.d;
+}
+
+/// The segment whose charge band holds the charge (M1, then M2, M3, else M4).
+inline const Segment& segment_for(const std::array<Segment, kSegmentCount>& segs, double charge) {
+  for (int k = 0; k + 1 < kSegmentCount; ++k) {
+    if (charge <= segs[k].y1 && charge >= segs[k].y2) return segs[k];
+  }
+  return segs[kSegmentCount - 1];
+}
+
+inline double approximated_next(const std::array<Segment, kSegmentCount>& segs, double charge,
+                                double dt_s) {
+  const Segment& s = segment_for(segs, charge);
+  const double x = (charge - s.h) / s.m;
+  return s.m * (x + dt_s) + s.h;
+}
+
+/// One tick of a model as the plug-in computes it, from the distance the robot moved in the
+/// tick (an in-place rotation already converted to angle * 0.0265f).
+inline double step(Model model, const Tables& t, double charge, double delta_pos_m, double dt_s) {
+  if (model == Model::simple) {
+    return charge + (delta_pos_m == 0 ? t.simple_static_slope_per_s : t.simple_moving_slope_per_s) *
+                        dt_s;
+  }
+  const double speed = plugin_speed_cm_s(delta_pos_m, dt_s);
+  if (model == Model::linear) {
+    const int lo = static_cast<int>(std::floor(speed));
+    const int hi = static_cast<int>(std::ceil(speed));
+    if (lo == hi) {
+      const float m = static_cast<float>(t.linear_slope_per_s[lo]);
+      return std::max(0.0, charge + m * dt_s);
+    }
+    const float mL = static_cast<float>(t.linear_slope_per_s[lo]);
+    const float mH = static_cast<float>(t.linear_slope_per_s[hi]);
+    const float yL = static_cast<float>(charge + mL * dt_s);
+    const float yH = static_cast<float>(charge + mH * dt_s);
+    const float d = static_cast<float>((speed - lo) / (hi - lo));
+    const float y = (yH < yL) ? yH + (yL - yH) * d : yL + (yH - yL) * d;
+    return std::max(0.0, static_cast<double>(y));
+  }
+  if (model == Model::cubic) {
+    const int lo = std::min(kSpeedCount - 1, static_cast<int>(std::floor(speed)));
+    const int hi = std::max(0, static_cast<int>(std::ceil(speed)));
+    const double yL = cubic_next(t.cubic[lo], charge, dt_s);
+    if (lo == hi) return std::max(0.0, yL);
+    const double yH = cubic_next(t.cubic[hi], charge, dt_s);
+    return std::max(0.0, interpolate(yL, yH, (speed - lo) / (hi - lo)));
+  }
+  // approximated
+  const int lo = std::max(0, static_cast<int>(std::floor(speed)));
+  const int hi = std::min(kSpeedCount - 1, static_cast<int>(std::ceil(speed)));
+  const double yL = approximated_next(t.segments[lo], charge, dt_s);
+  if (lo == hi) return std::max(0.0, yL);
+  const double yH = approximated_next(t.segments[hi], charge, dt_s);
+  return std::max(0.0, interpolate(yL, yH, (speed - lo) / (hi - lo)));
+}
+
+}  // namespace argos
+
+// ---------------------------------------------------------------------------------------------
+// Corrected behaviour
+// ---------------------------------------------------------------------------------------------
+namespace corrected {
+
+/// The cubic extended before t = 0 by its tangent there (charge above the intercept d runs down
+/// with the initial slope c), so a battery at full charge starts continuously instead of jumping
+/// to the intercept on the first tick.
+inline double cubic_extended(const CubicRow& q, double t_s) {
+  if (t_s < 0) return q.d + q.c * t_s;
+  const double p[4] = {q.d, q.c, q.b, q.a};
+  return cubic_charge(p, t_s);
+}
+
+/// The time at which the (extended) cubic reads `charge`: the first crossing on [0, end] found by
+/// bracketing and bisection refined with Newton steps; never NaN, whatever the coefficients.
+/// Returns end_s when the charge is below the curve's value at the end.
+inline double cubic_time(const CubicRow& q, double charge) {
+  if (charge >= q.d) return q.c < 0 ? (charge - q.d) / q.c : 0.0;
+  const double p[4] = {q.d, q.c, q.b, q.a};
+  // Bracket the first crossing: scan a few sub-intervals (a fitted cubic may turn back up).
+  constexpr int kScan = 16;
+  double lo = 0.0;
+  double hi = q.end_s;
+  bool found = false;
+  for (int i = 1; i <= kScan; ++i) {
+    const double t = q.end_s * i / kScan;
+    if (cubic_charge(p, t) <= charge) {
+      hi = t;
+      lo = q.end_s * (i - 1) / kScan;
+      found = true;
+      break;
+    }
+  }
+  if (!found) return q.end_s;
+  for (int it = 0; it < 80 && hi - lo > 1e-9 * (1.0 + q.end_s); ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (cubic_charge(p, mid) > charge ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+inline double cubic_next(const CubicRow& q, double charge, double dt_s) {
+  const double t = cubic_time(q, charge);
+  if (t >= q.end_s) return 0.0;
+  return cubic_extended(q, t + dt_s);
+}
+
+/// The segment whose band holds the charge; above the first band the first segment, below the
+/// last band the last one.
+inline const Segment& segment_for(const std::array<Segment, kSegmentCount>& segs, double charge) {
+  if (charge > segs[0].y1) return segs[0];
+  for (int k = 0; k + 1 < kSegmentCount; ++k) {
+    if (charge <= segs[k].y1 && charge >= segs[k].y2) return segs[k];
+  }
+  return segs[kSegmentCount - 1];
+}
+
+inline double lerp(double a, double b, double w) { return a + (b - a) * w; }
+
+/// One tick of a model in the corrected behaviour, from the distance moved in the tick.
+inline double step(Model model, const Tables& t, double charge, double delta_pos_m, double dt_s) {
+  const double speed = exact_speed_cm_s(delta_pos_m, dt_s);
+  const int lo = std::min(kSpeedCount - 1, static_cast<int>(std::floor(speed)));
+  const int hi = std::min(kSpeedCount - 1, lo + 1);
+  const double w = speed - lo;  // 0 at table lo, 1 at table hi
+  double next = charge;
+  switch (model) {
+    case Model::simple:
+      next = charge + (speed == 0 ? t.simple_static_slope_per_s : t.simple_moving_slope_per_s) * dt_s;
+      break;
+    case Model::linear:
+      next = charge + lerp(t.linear_slope_per_s[lo], t.linear_slope_per_s[hi], w) * dt_s;
+      break;
+    case Model::cubic:
+      next = lerp(cubic_next(t.cubic[lo], charge, dt_s), cubic_next(t.cubic[hi], charge, dt_s), w);
+      break;
+    case Model::approximated:
+      next = charge + lerp(segment_for(t.segments[lo], charge).m,
+                           segment_for(t.segments[hi], charge).m, w) * dt_s;
+      break;
+  }
+  return std::max(0.0, next);
+}
+
+}  // namespace corrected
+
+/// One tick of `model` in `behaviour`.
+inline double step(Model model, Behaviour behaviour, const Tables& t, double charge,
+                   double delta_pos_m, double dt_s) {
+  return behaviour == Behaviour::argos_compatible ? argos::step(model, t, charge, delta_pos_m, dt_s)
+                                                  : corrected::step(model, t, charge, delta_pos_m, dt_s);
+}
+
+/// What the plug-in's Linear and Simple models are defined by: lines from 1 at t = 0 to 0 at the
+/// lifetime (reference section 5.4).
+inline double lifetime_slope_per_s(double lifetime_s) { return -1.0 / lifetime_s; }
+
+}  // namespace epuck2::models::battery
