@@ -1,0 +1,49 @@
+// epuck2-fit generate KIND --out DIR [--seed N]: the virtual robot records the reference logs of
+// one kind (or `all`, into DIR/<kind>/). Every file is written atomically.
+#include <filesystem>
+#include <iostream>
+
+#include "commands.hpp"
+#include "epuck2/logs/output.hpp"
+#include "epuck2/virtual_robot/reference_logs.hpp"
+
+namespace epuck2::app {
+
+namespace {
+struct GenerateOptions {
+  std::string kind;
+  std::string out_dir;
+  std::uint64_t seed = virtual_robot::kReferenceSeed;
+};
+
+int run_generate(const GenerateOptions& o) {
+  namespace fs = std::filesystem;
+  std::vector<logs::Kind> kinds;
+  if (o.kind == "all") {
+    kinds = logs::all_kinds();
+  } else if (auto k = logs::parse_kind(o.kind)) {
+    kinds.push_back(*k);
+  } else {
+    throw UsageError("unknown log kind '" + o.kind + "' (expected battery, proximity, light, ground, camera, drive or all)");
+  }
+  for (logs::Kind kind : kinds) {
+    const fs::path dir = o.kind == "all" ? fs::path(o.out_dir) / std::string(logs::to_string(kind)) : fs::path(o.out_dir);
+    fs::create_directories(dir);
+    const auto files = virtual_robot::reference_logs(kind, o.seed);
+    for (const auto& f : files) logs::write_file_atomically((dir / f.name).string(), f.content);
+    std::cerr << "generate: wrote " << files.size() << ' ' << logs::to_string(kind) << " logs to " << dir.string() << '\n';
+  }
+  return 0;
+}
+}  // namespace
+
+void setup_generate(CLI::App& app, Action& action) {
+  auto opts = std::make_shared<GenerateOptions>();
+  CLI::App* sub = app.add_subcommand("generate", "The virtual robot records reference logs (seeded, deterministic)");
+  sub->add_option("kind", opts->kind, "battery, proximity, light, ground, camera, drive or all")->required();
+  sub->add_option("-o,--out", opts->out_dir, "Folder to write into (for `all`, one sub-folder per kind)")->required();
+  sub->add_option("--seed", opts->seed, "Random seed")->capture_default_str();
+  sub->callback([opts, &action] { action = [opts] { return run_generate(*opts); }; });
+}
+
+}  // namespace epuck2::app
