@@ -170,6 +170,12 @@ double Log::metadata_number(const std::string& key) const {
   return v;
 }
 
+int Log::column_of(std::size_t row, const std::string& column) const {
+  const auto it = std::find(columns.begin(), columns.end(), column);
+  if (it == columns.end() || row >= line_of_row.size()) return 0;
+  return cell_start[row * columns.size() + static_cast<std::size_t>(it - columns.begin())];
+}
+
 std::vector<std::string> Log::extra_numeric_columns() const {
   std::vector<std::string> out;
   const auto& req = required_columns(kind);
@@ -178,7 +184,9 @@ std::vector<std::string> Log::extra_numeric_columns() const {
   return out;
 }
 
-Log parse_log(const std::string& content, const std::string& name, std::optional<Kind> kind) {
+namespace {
+Log parse_impl(const std::string& content, const std::string& name, std::optional<Kind> kind,
+               const std::vector<std::string>* table_columns) {
   Log log;
   log.path = name;
   std::istringstream in(content);
@@ -235,6 +243,7 @@ Log parse_log(const std::string& content, const std::string& name, std::optional
       if (std::find(header.begin(), header.end(), c) == header.end()) return false;
     return true;
   };
+  if (table_columns) kind = Kind::battery;  // ranges of time_s and speed_cm_s
   if (!kind) {
     std::size_t best = 0;
     for (Kind k : all_kinds()) {
@@ -249,15 +258,15 @@ Log parse_log(const std::string& content, const std::string& name, std::optional
                        "(battery) or distance_m,sensor,value (proximity); or give --kind");
   }
   log.kind = *kind;
-  for (const std::string& c : required_columns(*kind)) {
+  const auto& req = table_columns ? *table_columns : required_columns(*kind);
+  for (const std::string& c : req) {
     if (std::find(header.begin(), header.end(), c) == header.end())
-      throw InputError(name, header_line, 1, "missing required column '" + c + "' for a " +
-                                                 std::string(to_string(*kind)) + " log");
+      throw InputError(name, header_line, 1, "missing required column '" + c + "'" +
+                                                 (table_columns ? std::string() : " for a " + std::string(to_string(*kind)) + " log"));
   }
 
   // Columns: required ones must be numeric in every row; an extra column is numeric if all of
   // its cells are, else kept as text.
-  const auto& req = required_columns(*kind);
   for (std::size_t j = 0; j < header.size(); ++j) {
     const std::string& cname = header[j];
     const bool required = std::find(req.begin(), req.end(), cname) != req.end() || cname == "angle_deg" ||
@@ -300,8 +309,11 @@ Log parse_log(const std::string& content, const std::string& name, std::optional
     log.numeric[cname] = std::move(values);
   }
   log.line_of_row = raw_lines;
+  log.cell_start.reserve(raw_rows.size() * header.size());
+  for (const auto& row : raw_rows)
+    for (const Cell& c : row) log.cell_start.push_back(c.column);
 
-  if (*kind == Kind::drive) {
+  if (!table_columns && *kind == Kind::drive) {
     if (!log.metadata.count("obstacle_distance_m"))
       throw InputError(name, header_line, 0, "missing required metadata line '# obstacle_distance_m: D' for a drive log");
     const double d = log.metadata_number("obstacle_distance_m");
@@ -316,6 +328,19 @@ Log parse_log(const std::string& content, const std::string& name, std::optional
     log.robot = std::filesystem::path(name).stem().string();
   }
   return log;
+}
+}  // namespace
+
+Log parse_log(const std::string& content, const std::string& name, std::optional<Kind> kind) {
+  return parse_impl(content, name, kind, nullptr);
+}
+
+Log read_table(const std::string& path, const std::vector<std::string>& columns) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, 0, "cannot open the file for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_impl(ss.str(), path, std::nullopt, &columns);
 }
 
 Log read_log(const std::string& path, std::optional<Kind> kind) {

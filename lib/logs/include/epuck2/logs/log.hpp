@@ -48,6 +48,10 @@ struct Log {
   std::map<std::string, std::vector<double>> numeric;    ///< every all-numeric column
   std::map<std::string, std::vector<std::string>> text;  ///< the other columns, kept as text
   std::vector<int> line_of_row;                   ///< source line of each data row
+  std::vector<int> cell_start;                    ///< 1-based character column of each cell, row-major
+
+  /// The 1-based character column of a cell (0 when the column does not exist).
+  int column_of(std::size_t row, const std::string& column) const;
 
   std::size_t rows() const { return line_of_row.size(); }
   bool has(const std::string& column) const { return numeric.count(column) != 0; }
@@ -63,6 +67,9 @@ struct Log {
 Log read_log(const std::string& path, std::optional<Kind> kind = std::nullopt);
 /// Parses a log held in memory (`name` stands for the file in messages).
 Log parse_log(const std::string& content, const std::string& name, std::optional<Kind> kind = std::nullopt);
+/// Reads a CSV in the same format with the given required numeric columns (e.g. a speed profile
+/// `time_s,speed_cm_s`), with the same checks (finite numbers, time never decreasing).
+Log read_table(const std::string& path, const std::vector<std::string>& columns);
 /// Reads several logs; all must be of one kind.
 std::vector<Log> read_logs(const std::vector<std::string>& paths, std::optional<Kind> kind = std::nullopt);
 

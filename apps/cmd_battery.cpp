@@ -1,0 +1,100 @@
+// epuck2-fit battery LOGS...: fits the paper's four discharge models per speed; human report,
+// --json, -o coefficient file (atomic), --plot figures.
+#include <cstdio>
+#include <iostream>
+
+#include "app_support.hpp"
+#include "commands.hpp"
+#include "epuck2/fit/battery.hpp"
+#include "epuck2/fit/battery_json.hpp"
+#include "epuck2/plot/battery_figures.hpp"
+
+namespace epuck2::app {
+
+namespace {
+struct BatteryOptions {
+  std::vector<std::string> logs;
+  bool json = false;
+  std::string output;
+  std::string plot;
+  std::string plot_lifetime;
+  bool robust = false;
+  double robust_scale = 0.05;
+};
+
+void print_report(const fit::BatteryFit& f) {
+  std::printf("Battery discharge fits (%zu runs, %zu speeds)\n", f.sources.size(), f.speeds.size());
+  std::printf("%6s %4s %6s %16s  %-60s %12s  %8s %8s %8s %8s\n", "speed", "runs", "rows", "lifetime_s",
+              "cubic d, c, b, a  (+- standard error)", "linear_slope", "mse_simp", "mse_lin", "mse_cub", "mse_appr");
+  for (const auto& s : f.speeds) {
+    char cubic[160];
+    std::snprintf(cubic, sizeof cubic, "%.4f(%.0e) %.4e(%.0e) %.4e(%.0e) %.4e(%.0e)", s.cubic.value("d"),
+                  s.cubic.std_error("d"), s.cubic.value("c"), s.cubic.std_error("c"), s.cubic.value("b"),
+                  s.cubic.std_error("b"), s.cubic.value("a"), s.cubic.std_error("a"));
+    std::printf("%6.2f %4zu %6zu %9.1f+-%5.1f  %-60s %12.5e  %8.5f %8.5f %8.5f %8.5f\n", s.speed_cm_s, s.runs,
+                s.observations, s.lifetime_s, s.lifetime_std_error_s, cubic, s.linear_slope_per_s, s.mse.simple,
+                s.mse.linear, s.mse.cubic, s.mse.approximated);
+  }
+  std::printf("\nApproximated model breakpoints (knots (0,1), (x1,y1), (x2,y2), (lifetime-1,y3), then a 1 s drop to 0):\n");
+  for (const auto& s : f.speeds) {
+    const auto& p = s.piecewise;
+    std::printf("%6.2f  x1 = %7.0f +- %4.0f s  x2 = %7.0f +- %4.0f s  y1 = %.4f  y2 = %.4f  y3 = %.4f%s\n", s.speed_cm_s,
+                p.value("x1_s"), p.std_error("x1_s"), p.value("x2_s"), p.std_error("x2_s"), p.value("y1"), p.value("y2"),
+                p.value("y3"), p.usable ? "" : ("  [" + p.message + "]").c_str());
+  }
+  std::printf("\nSimple model: m0 = %.6e +- %.1e /s (static), m1 = %.6e +- %.1e /s (moving)\n", f.simple_static_slope_per_s,
+              f.simple_static_std_error, f.simple_moving_slope_per_s, f.simple_moving_std_error);
+  std::printf("Average MSE over speeds: simple %.4f, linear %.4f, cubic %.4f, approximated %.4f\n", f.mse.simple,
+              f.mse.linear, f.mse.cubic, f.mse.approximated);
+  if (!f.tables) std::printf("(the logs do not cover every speed 0..15 cm/s: no complete model tables)\n");
+}
+
+int run_battery(const BatteryOptions& o) {
+  const auto logs = logs::read_logs(o.logs, logs::Kind::battery);
+  const auto runs = fit::battery_runs(logs);
+  fit::FitOptions options;
+  options.robust = o.robust;
+  options.robust_scale = o.robust_scale;
+  const fit::BatteryFit f = fit::fit_battery(runs, options);
+  std::string unusable;
+  for (const auto& s : f.speeds) {
+    if (!s.cubic.usable) unusable += " cubic at " + std::to_string(s.speed_cm_s) + " cm/s: " + s.cubic.message + ";";
+    if (!s.piecewise.usable) unusable += " piecewise at " + std::to_string(s.speed_cm_s) + " cm/s: " + s.piecewise.message + ";";
+  }
+  if (!unusable.empty()) throw NoUsableFit(unusable);
+  const nlohmann::json j = fit::battery_fit_to_json(f);
+  if (!o.output.empty()) {
+    write_json(j, o.output);
+    std::cerr << "battery: wrote " << o.output << '\n';
+  }
+  if (!o.plot.empty()) {
+    plot::battery_fits_png(o.plot, runs, f);
+    std::cerr << "battery: drew " << o.plot << '\n';
+  }
+  if (!o.plot_lifetime.empty()) {
+    plot::battery_lifetime_png(o.plot_lifetime, runs, f);
+    std::cerr << "battery: drew " << o.plot_lifetime << '\n';
+  }
+  if (o.json) {
+    write_json(j, "-");
+  } else {
+    print_report(f);
+  }
+  return 0;
+}
+}  // namespace
+
+void setup_battery(CLI::App& app, Action& action) {
+  auto o = std::make_shared<BatteryOptions>();
+  CLI::App* sub = app.add_subcommand("battery", "Fit the four discharge models (simple, linear, cubic, approximated) per speed");
+  sub->add_option("logs", o->logs, "Battery discharge logs (CSV, shared/spec/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->add_flag("--json", o->json, "Print one JSON object instead of the report");
+  sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically");
+  sub->add_option("--plot", o->plot, "Draw the logs and the four fitted models per speed (PNG)");
+  sub->add_option("--plot-lifetime", o->plot_lifetime, "Draw lifetime against speed, as the paper's Fig. 10b (PNG)");
+  sub->add_flag("--robust", o->robust, "Huber loss instead of least squares");
+  sub->add_option("--robust-scale", o->robust_scale, "Huber threshold in charge units")->capture_default_str();
+  sub->callback([o, &action] { action = [o] { return run_battery(*o); }; });
+}
+
+}  // namespace epuck2::app

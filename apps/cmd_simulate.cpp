@@ -1,0 +1,97 @@
+// epuck2-fit simulate battery --model M [--compat argos] [--coefficients FILE|plugin|fitted]
+//   --profile FILE: runs one discharge model over a speed profile at 10 ticks per second from a
+// full charge and prints CSV time_s,charge (charge with 17 significant digits).
+#include <cstdio>
+#include <iostream>
+
+#include "app_support.hpp"
+#include "commands.hpp"
+#include "epuck2/fit/battery_json.hpp"
+#include "epuck2/logs/output.hpp"
+#include "epuck2/models/battery_simulation.hpp"
+#include "epuck2/models/plugin_battery_tables.hpp"
+#if __has_include("epuck2/fitted/coefficients.hpp")
+#include "epuck2/fitted/coefficients.hpp"
+#endif
+
+namespace epuck2::app {
+
+namespace {
+namespace mb = models::battery;
+
+struct SimulateOptions {
+  std::string model;
+  std::string compat;
+  std::string coefficients;
+  std::string profile;
+  std::string output;
+  double dt_s = 0.1;
+};
+
+mb::Tables choose_tables(const SimulateOptions& o, bool argos) {
+  std::string source = o.coefficients;
+  if (source.empty()) source = argos ? "plugin" : "fitted";
+  if (source == "plugin") return mb::plugin_tables();
+  if (source == "fitted") {
+#ifdef EPUCK2_FITTED_HAS_BATTERY
+    return fitted::battery_tables();
+#else
+    throw UsageError("this build has no compiled-in fitted battery tables; give --coefficients FILE");
+#endif
+  }
+  return fit::battery_tables_from_json(read_json(source), source);
+}
+
+int run_simulate(const SimulateOptions& o) {
+  mb::Model model{};
+  if (!mb::parse_model(o.model, model))
+    throw UsageError("unknown --model '" + o.model + "' (expected simple, linear, cubic or approximated)");
+  if (!o.compat.empty() && o.compat != "argos") throw UsageError("unknown --compat '" + o.compat + "' (expected argos)");
+  if (!(o.dt_s > 0)) throw UsageError("--dt must be > 0");
+  const bool argos = o.compat == "argos";
+  const mb::Tables tables = choose_tables(o, argos);
+  const logs::Log profile_log = logs::read_table(o.profile, {"time_s", "speed_cm_s"});
+  std::vector<mb::ProfilePoint> profile;
+  const auto& t = profile_log.col("time_s");
+  const auto& v = profile_log.col("speed_cm_s");
+  for (std::size_t i = 0; i < t.size(); ++i) profile.push_back({t[i], std::abs(v[i])});
+  const auto samples = mb::simulate_discharge(model, argos ? mb::Behaviour::argos_compatible : mb::Behaviour::corrected,
+                                              tables, profile, o.dt_s, 1.0);
+  std::string csv = "time_s,charge\n";
+  csv.reserve(samples.size() * 32);
+  char line[96];
+  for (const auto& s : samples) {
+    std::snprintf(line, sizeof line, "%.10g,%.17g\n", s.time_s, s.charge);
+    csv += line;
+  }
+  if (o.output.empty()) {
+    std::fwrite(csv.data(), 1, csv.size(), stdout);
+  } else {
+    logs::write_file_atomically(o.output, csv);
+  }
+  return 0;
+}
+}  // namespace
+
+void setup_simulate(CLI::App& app, Action& action) {
+  auto o = std::make_shared<SimulateOptions>();
+  CLI::App* sim = app.add_subcommand("simulate", "Run a runtime model (see `simulate battery --help`)");
+  sim->require_subcommand(1);
+  CLI::App* sub = sim->add_subcommand("battery", "Run a discharge model over a speed profile from a full charge");
+  sub->add_option("--model", o->model, "simple, linear, cubic or approximated")->required();
+  sub->add_option("--compat", o->compat,
+                  "argos: the E-Puck2 plug-in's arithmetic to the last bit, quirks included (and ARGoS's "
+                  "one-tick command delay and 0.9/0.1 first tick after a change); default: the corrected behaviour");
+  sub->add_option("--coefficients", o->coefficients,
+                  "Coefficient file (JSON from `epuck2-fit battery -o`), or `plugin` (the plug-in's published "
+                  "tables), or `fitted` (the compiled-in data/fitted tables). Default: plugin with --compat argos, "
+                  "else fitted");
+  sub->add_option("--profile", o->profile, "CSV with time_s,speed_cm_s (a command holds until the next row)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sub->add_option("--dt", o->dt_s, "Tick in seconds")->capture_default_str();
+  sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output");
+  sub->callback([o, &action] { action = [o] { return run_simulate(*o); }; });
+}
+
+}  // namespace epuck2::app

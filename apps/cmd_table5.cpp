@@ -1,0 +1,98 @@
+// epuck2-fit table5 LOGS...: the paper's Table 5 for these logs. Per discharge model, the average
+// MSE of the fitted functions against the logs ("analytic"), of the runtime models run at 10 ticks
+// per second over the logged speeds with the fitted tables ("simulated", plug-in compatible
+// arithmetic as in the paper's ARGoS runs; the corrected behaviour beside it), with the plug-in's
+// published tables, and the paper's published values.
+#include <cstdio>
+#include <iostream>
+
+#include "app_support.hpp"
+#include "commands.hpp"
+#include "epuck2/fit/battery.hpp"
+#include "epuck2/fit/published.hpp"
+#include "epuck2/models/plugin_battery_tables.hpp"
+
+namespace epuck2::app {
+
+namespace {
+namespace mb = models::battery;
+
+struct Table5Options {
+  std::vector<std::string> logs;
+  bool json = false;
+  std::string output;
+  double dt_s = 0.1;
+};
+
+nlohmann::json as_json(const fit::ModelMse& m) {
+  nlohmann::json j = nlohmann::json::object();
+  for (mb::Model model : mb::kAllModels) j[std::string(mb::to_string(model))] = m.get(model);
+  return j;
+}
+
+int run_table5(const Table5Options& o) {
+  if (!(o.dt_s > 0)) throw UsageError("--dt must be > 0");
+  const auto runs = fit::battery_runs(logs::read_logs(o.logs, logs::Kind::battery));
+  const fit::BatteryFit f = fit::fit_battery(runs);
+  if (!f.tables)
+    throw NoUsableFit("table5 needs logs at every speed 0..15 cm/s to build the model tables; these logs cover " +
+                      std::to_string(f.speeds.size()) + " speeds");
+  const fit::ModelMse simulated = fit::simulated_mse(runs, *f.tables, mb::Behaviour::argos_compatible, o.dt_s);
+  const fit::ModelMse corrected = fit::simulated_mse(runs, *f.tables, mb::Behaviour::corrected, o.dt_s);
+  const fit::ModelMse plugin = fit::simulated_mse(runs, mb::plugin_tables(), mb::Behaviour::argos_compatible, o.dt_s);
+  const fit::ModelMse pa = fit::paper_table5_analytic();
+  const fit::ModelMse pg = fit::paper_table5_argos();
+
+  nlohmann::json ratio_a = nlohmann::json::object(), ratio_s = nlohmann::json::object();
+  for (mb::Model m : mb::kAllModels) {
+    ratio_a[std::string(mb::to_string(m))] = f.mse.get(m) / pa.get(m);
+    ratio_s[std::string(mb::to_string(m))] = simulated.get(m) / pg.get(m);
+  }
+  const nlohmann::json j{
+      {"logs", o.logs.size()},
+      {"speeds", f.speeds.size()},
+      {"tick_s", o.dt_s},
+      {"analytic", as_json(f.mse)},
+      {"simulated", as_json(simulated)},
+      {"simulated_corrected", as_json(corrected)},
+      {"plugin_tables_simulated", as_json(plugin)},
+      {"published", {{"analytic", as_json(pa)}, {"argos", as_json(pg)}}},
+      {"ratio_to_published", {{"analytic", ratio_a}, {"simulated", ratio_s}}},
+  };
+  if (!o.output.empty()) write_json(j, o.output);
+  if (o.json) {
+    write_json(j, "-");
+    return 0;
+  }
+  std::printf("Table 5: average MSE (charge units^2) over %zu speeds, %zu logs\n\n", f.speeds.size(), o.logs.size());
+  std::printf("%-34s %9s %9s %9s %13s\n", "source", "Simple", "Linear", "Cubic", "Approximated");
+  auto row = [](const char* name, const fit::ModelMse& m) {
+    std::printf("%-34s %9.4f %9.4f %9.4f %13.4f\n", name, m.simple, m.linear, m.cubic, m.approximated);
+  };
+  row("analytic (fitted to these logs)", f.mse);
+  row("paper, analytic", pa);
+  row("simulated, fitted tables (ARGoS)", simulated);
+  row("paper, ARGoS", pg);
+  row("simulated, fitted, corrected", corrected);
+  row("simulated, plug-in's tables", plugin);
+  std::printf("\nratio analytic/paper:  simple %.2f  linear %.2f  cubic %.2f  approximated %.2f\n",
+              f.mse.simple / pa.simple, f.mse.linear / pa.linear, f.mse.cubic / pa.cubic,
+              f.mse.approximated / pa.approximated);
+  std::printf("ratio simulated/paper: simple %.2f  linear %.2f  cubic %.2f  approximated %.2f\n",
+              simulated.simple / pg.simple, simulated.linear / pg.linear, simulated.cubic / pg.cubic,
+              simulated.approximated / pg.approximated);
+  return 0;
+}
+}  // namespace
+
+void setup_table5(CLI::App& app, Action& action) {
+  auto o = std::make_shared<Table5Options>();
+  CLI::App* sub = app.add_subcommand("table5", "Reproduce the paper's Table 5 (average MSE per discharge model) for these logs");
+  sub->add_option("logs", o->logs, "Battery discharge logs covering speeds 0..15 cm/s")->required()->check(CLI::ExistingFile);
+  sub->add_flag("--json", o->json, "Print one JSON object instead of the table");
+  sub->add_option("-o,--output", o->output, "Also write the JSON report to this file (atomically)");
+  sub->add_option("--dt", o->dt_s, "Simulation tick in seconds")->capture_default_str();
+  sub->callback([o, &action] { action = [o] { return run_table5(*o); }; });
+}
+
+}  // namespace epuck2::app

@@ -1,0 +1,89 @@
+// Battery calibration: from discharge logs to the four models' coefficient tables (paper §4.1.7
+// and Appendix), with uncertainties, and the paper's Table 5.
+//
+// Per speed (the logs of every robot at that speed pooled):
+//  * lifetime: the mean of the runs' stop times (their last rows), standard error over runs;
+//  * Cubic: least-squares cubic charge(t) = a t^3 + b t^2 + c t + d (fitted in scaled time
+//    u = t / lifetime, coefficients and covariance transformed back);
+//  * Linear: the paper's line from 1 at t = 0 to 0 at the lifetime, slope -1/lifetime (the
+//    plug-in's L table), and for reference a free least-squares line;
+//  * Approximated: a continuous piecewise line through (0, 1), two fitted breakpoints and the
+//    point at lifetime - 1 s, followed by the plug-in's 1-second drop to 0 at the lifetime: four
+//    segments M1..M4 in the plug-in's format. Breakpoints by a grid search on the profile of the
+//    linear sub-problem, refined jointly with the knot values in Ceres;
+//  * Simple: m0 = -1/lifetime(0), m1 = -1/mean(lifetime of the moving speeds).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "epuck2/fit/least_squares.hpp"
+#include "epuck2/logs/log.hpp"
+#include "epuck2/models/battery.hpp"
+#include "epuck2/models/battery_simulation.hpp"
+
+namespace epuck2::fit {
+
+/// One discharge run at constant speed.
+struct BatteryRun {
+  std::string path;
+  std::string robot;
+  double speed_cm_s = 0;
+  double lifetime_s = 0;  ///< time of the last row
+  std::vector<double> time_s;
+  std::vector<double> charge;
+  std::vector<models::battery::ProfilePoint> profile;  ///< the logged speed profile
+};
+
+/// Turns validated battery logs into runs. A run must hold one speed (the calibration protocol);
+/// a log whose speed changes is rejected with the line where it changes.
+std::vector<BatteryRun> battery_runs(const std::vector<logs::Log>& logs);
+
+struct ModelMse {
+  double simple = 0, linear = 0, cubic = 0, approximated = 0;
+  double get(models::battery::Model m) const;
+  double& get(models::battery::Model m);
+};
+
+struct SpeedFit {
+  double speed_cm_s = 0;
+  std::size_t runs = 0;
+  std::size_t observations = 0;
+  double lifetime_s = 0;
+  double lifetime_std_error_s = 0;  ///< standard error of the mean over runs (0 with one run)
+  FitResult cubic;                  ///< parameters d, c, b, a (charge(t), t in s)
+  FitResult free_line;              ///< parameters intercept, slope_per_s (least squares, reference only)
+  double linear_slope_per_s = 0;    ///< the paper's: -1/lifetime
+  double linear_slope_std_error = 0;
+  FitResult piecewise;              ///< knots x1_s, x2_s, y1, y2, y3 (x0 = 0, y0 = 1, x3 = lifetime - 1)
+  std::array<models::battery::Segment, models::battery::kSegmentCount> segments{};
+  ModelMse mse;                     ///< analytic MSE of each model's function against these logs
+};
+
+struct BatteryFit {
+  std::vector<SpeedFit> speeds;  ///< sorted by speed
+  double simple_static_slope_per_s = 0, simple_static_std_error = 0;
+  double simple_moving_slope_per_s = 0, simple_moving_std_error = 0;
+  ModelMse mse;  ///< analytic MSE averaged over speeds (the paper's Table 5 "analytic")
+  /// The four models' tables when the logs cover every integer speed 0..15 cm/s.
+  std::optional<models::battery::Tables> tables;
+  std::vector<std::string> sources;
+};
+
+/// Fits everything. Never throws for numerical trouble: a speed whose fit is unusable carries
+/// the reason in its FitResult::message.
+BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& options = {});
+
+/// The four models' analytic charge at time t for one speed's fit.
+double analytic_charge(const SpeedFit& s, const BatteryFit& all, models::battery::Model m, double t_s);
+
+/// Runs a runtime model over each log's own speed profile at `dt` from full charge and returns
+/// the MSE against the log's charge, averaged over the speeds (runs of a speed pooled).
+ModelMse simulated_mse(const std::vector<BatteryRun>& runs, const models::battery::Tables& tables,
+                       models::battery::Behaviour behaviour, double dt_s = 0.1);
+
+/// The plug-in's tables derived from a fit (requires fit.tables).
+models::battery::Tables tables_from_fit(const BatteryFit& fit);
+
+}  // namespace epuck2::fit

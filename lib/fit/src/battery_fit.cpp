@@ -1,0 +1,343 @@
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <numeric>
+
+#include "epuck2/fit/battery.hpp"
+#include "epuck2/models/battery_simulation.hpp"
+
+namespace epuck2::fit {
+
+namespace mb = models::battery;
+
+namespace {
+
+// ---- models in scaled time u = t / lifetime (the same formulas lib/models runs) ----
+
+// charge(u) = p3 u^3 + p2 u^2 + p1 u + p0
+struct CubicInScaledTime {
+  static constexpr int kParameters = 4;
+  template <typename T>
+  T operator()(const T* p, double u) const {
+    return mb::cubic_charge(p, u);
+  }
+};
+
+// charge(u) = p0 + p1 u
+struct LineInScaledTime {
+  static constexpr int kParameters = 2;
+  template <typename T>
+  T operator()(const T* p, double u) const {
+    return mb::line_charge(p[0], p[1], u);
+  }
+};
+
+// Knots (0, 1), (p0, p2), (p1, p3), (last_knot_u, p4): the Approximated model's three sloped
+// segments, starting from full charge as the plug-in's M1 does.
+struct PolylineInScaledTime {
+  static constexpr int kParameters = 5;
+  double last_knot_u;
+  template <typename T>
+  T operator()(const T* p, double u) const {
+    const T x[4] = {T(0.0), p[0], p[1], T(last_knot_u)};
+    const T y[4] = {T(1.0), p[2], p[3], p[4]};
+    return mb::polyline_charge(x, y, 4, u);
+  }
+};
+
+double mean_of(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+
+double std_error_of_mean(const std::vector<double>& v) {
+  if (v.size() < 2) return 0.0;
+  const double m = mean_of(v);
+  double ss = 0;
+  for (double x : v) ss += (x - m) * (x - m);
+  return std::sqrt(ss / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()));
+}
+
+// Rescale parameter k of a fit by factor[k] (values, std errors, covariance).
+void rescale(FitResult& r, const std::vector<double>& factor, const std::vector<std::string>& names) {
+  for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+    r.parameters[k].value *= factor[k];
+    r.parameters[k].std_error *= std::abs(factor[k]);
+    r.parameters[k].name = names[k];
+  }
+  if (r.covariance.size() > 0)
+    for (Eigen::Index i = 0; i < r.covariance.rows(); ++i)
+      for (Eigen::Index j = 0; j < r.covariance.cols(); ++j)
+        r.covariance(i, j) *= factor[static_cast<std::size_t>(i)] * factor[static_cast<std::size_t>(j)];
+}
+
+// Least squares for the knot values (y1, y2, y3) with the knot positions fixed: the profile that
+// the breakpoint grid search minimises. Returns the RSS; fills y.
+double polyline_profile(const std::vector<double>& u, const std::vector<double>& y, double x1, double x2,
+                        double x3, double out[3]) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  const double xs[4] = {0.0, x1, x2, x3};
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    // weights of knots 0..3 for linear interpolation / extrapolation at u[i]
+    int seg = 0;
+    if (u[i] > x1) seg = 1;
+    if (u[i] > x2) seg = 2;
+    const double w = (u[i] - xs[seg]) / (xs[seg + 1] - xs[seg]);
+    double phi[4] = {0, 0, 0, 0};
+    phi[seg] = 1 - w;
+    phi[seg + 1] = w;
+    const double target = y[i] - phi[0] * 1.0;  // knot 0 is fixed at (0, 1)
+    const Eigen::Vector3d f(phi[1], phi[2], phi[3]);
+    A += f * f.transpose();
+    b += f * target;
+  }
+  const Eigen::Vector3d sol = A.ldlt().solve(b);
+  double rss = 0;
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    int seg = 0;
+    if (u[i] > x1) seg = 1;
+    if (u[i] > x2) seg = 2;
+    const double w = (u[i] - xs[seg]) / (xs[seg + 1] - xs[seg]);
+    const double ys[4] = {1.0, sol(0), sol(1), sol(2)};
+    const double e = y[i] - ((1 - w) * ys[seg] + w * ys[seg + 1]);
+    rss += e * e;
+  }
+  for (int k = 0; k < 3; ++k) out[k] = sol(k);
+  return rss;
+}
+
+double mse_of(const std::vector<double>& t, const std::vector<double>& y, const std::function<double(double)>& f) {
+  double ss = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const double e = y[i] - f(t[i]);
+    ss += e * e;
+  }
+  return t.empty() ? 0.0 : ss / static_cast<double>(t.size());
+}
+
+}  // namespace
+
+double ModelMse::get(mb::Model m) const {
+  switch (m) {
+    case mb::Model::simple: return simple;
+    case mb::Model::linear: return linear;
+    case mb::Model::cubic: return cubic;
+    case mb::Model::approximated: return approximated;
+  }
+  return 0;
+}
+
+double& ModelMse::get(mb::Model m) {
+  switch (m) {
+    case mb::Model::simple: return simple;
+    case mb::Model::linear: return linear;
+    case mb::Model::cubic: return cubic;
+    case mb::Model::approximated: break;
+  }
+  return approximated;
+}
+
+std::vector<BatteryRun> battery_runs(const std::vector<logs::Log>& all) {
+  std::vector<BatteryRun> runs;
+  for (const logs::Log& log : all) {
+    if (log.kind != logs::Kind::battery)
+      throw logs::InputError(log.path, 0, 0, "is not a battery log (time_s, speed_cm_s, charge)");
+    BatteryRun run;
+    run.path = log.path;
+    run.robot = log.robot;
+    run.time_s = log.col("time_s");
+    run.charge = log.col("charge");
+    const auto& speed = log.col("speed_cm_s");
+    constexpr double kSameSpeed_cm_s = 0.005;  // speeds are logged to 0.01 cm/s at best
+    run.speed_cm_s = std::abs(speed.front());
+    for (std::size_t i = 1; i < speed.size(); ++i) {
+      if (std::abs(std::abs(speed[i]) - run.speed_cm_s) > kSameSpeed_cm_s)
+        throw logs::InputError(log.path, log.line_of_row[i], log.column_of(i, "speed_cm_s"),
+                               "column 'speed_cm_s': the speed changes from " + std::to_string(run.speed_cm_s) +
+                                   " to " + std::to_string(std::abs(speed[i])) +
+                                   "; battery calibration expects one speed per run (diagnose and simulate accept profiles)");
+    }
+    run.speed_cm_s = std::round(run.speed_cm_s * 100.0) / 100.0;
+    run.lifetime_s = run.time_s.back();
+    if (run.lifetime_s <= 0)
+      throw logs::InputError(log.path, log.line_of_row.back(), log.column_of(log.rows() - 1, "time_s"),
+                             "column 'time_s': the run must last longer than 0 s (the last row is the stop time)");
+    for (std::size_t i = 0; i < speed.size(); ++i) run.profile.push_back({run.time_s[i], std::abs(speed[i])});
+    runs.push_back(std::move(run));
+  }
+  return runs;
+}
+
+double analytic_charge(const SpeedFit& s, const BatteryFit& all, mb::Model m, double t_s) {
+  switch (m) {
+    case mb::Model::simple: {
+      const double slope = s.speed_cm_s == 0 ? all.simple_static_slope_per_s : all.simple_moving_slope_per_s;
+      return std::max(0.0, 1.0 + slope * t_s);
+    }
+    case mb::Model::linear: return std::max(0.0, 1.0 + s.linear_slope_per_s * t_s);
+    case mb::Model::cubic: {
+      const double p[4] = {s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a")};
+      return mb::cubic_charge(p, t_s);
+    }
+    case mb::Model::approximated: {
+      const auto& pw = s.piecewise;
+      const double x[4] = {0.0, pw.value("x1_s"), pw.value("x2_s"), s.lifetime_s - 1.0};
+      const double y[4] = {1.0, pw.value("y1"), pw.value("y2"), pw.value("y3")};
+      return mb::polyline_charge(x, y, 4, t_s);
+    }
+  }
+  return 0;
+}
+
+BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& options) {
+  BatteryFit out;
+  std::map<long, std::vector<const BatteryRun*>> by_speed;  // key: speed in 0.01 cm/s
+  for (const BatteryRun& r : runs) {
+    by_speed[std::lround(r.speed_cm_s * 100.0)].push_back(&r);
+    out.sources.push_back(r.path);
+  }
+  for (const auto& [key, group] : by_speed) {
+    SpeedFit s;
+    s.speed_cm_s = static_cast<double>(key) / 100.0;
+    s.runs = group.size();
+    std::vector<double> lifetimes, t, y;
+    for (const BatteryRun* r : group) {
+      lifetimes.push_back(r->lifetime_s);
+      t.insert(t.end(), r->time_s.begin(), r->time_s.end());
+      y.insert(y.end(), r->charge.begin(), r->charge.end());
+    }
+    s.observations = t.size();
+    s.lifetime_s = mean_of(lifetimes);
+    s.lifetime_std_error_s = std_error_of_mean(lifetimes);
+    const double L = s.lifetime_s;
+    std::vector<double> u(t.size());
+    for (std::size_t i = 0; i < t.size(); ++i) u[i] = t[i] / L;
+
+    // Cubic, in scaled time, back to seconds.
+    s.cubic = fit_curve(CubicInScaledTime{}, u, y, {1.0, -1.0, 0.0, 0.0}, {"d", "c", "b", "a"}, options);
+    rescale(s.cubic, {1.0, 1.0 / L, 1.0 / (L * L), 1.0 / (L * L * L)}, {"d", "c", "b", "a"});
+
+    s.free_line = fit_curve(LineInScaledTime{}, u, y, {1.0, -1.0}, {"intercept", "slope_per_s"}, options);
+    rescale(s.free_line, {1.0, 1.0 / L}, {"intercept", "slope_per_s"});
+
+    s.linear_slope_per_s = mb::lifetime_slope_per_s(L);
+    s.linear_slope_std_error = s.lifetime_std_error_s / (L * L);
+
+    // Approximated: grid search of the two breakpoints on the linear profile, then Ceres.
+    const double last_u = (L - 1.0) / L;
+    double best_rss = std::numeric_limits<double>::infinity();
+    double best[5] = {0.25, 0.7, 0.7, 0.5, 0.2};
+    constexpr double kGridStep = 0.025;
+    for (double x1 = kGridStep; x1 < last_u - kGridStep; x1 += kGridStep) {
+      for (double x2 = x1 + kGridStep; x2 < last_u - 0.5 * kGridStep; x2 += kGridStep) {
+        double ys[3];
+        const double rss = polyline_profile(u, y, x1, x2, last_u, ys);
+        if (rss < best_rss) {
+          best_rss = rss;
+          best[0] = x1;
+          best[1] = x2;
+          best[2] = ys[0];
+          best[3] = ys[1];
+          best[4] = ys[2];
+        }
+      }
+    }
+    s.piecewise = fit_curve(PolylineInScaledTime{last_u}, u, y, std::vector<double>(best, best + 5),
+                            {"x1_s", "x2_s", "y1", "y2", "y3"}, options);
+    rescale(s.piecewise, {L, L, 1.0, 1.0, 1.0}, {"x1_s", "x2_s", "y1", "y2", "y3"});
+
+    // The plug-in's segment format M1..M4 (M4: the 1-second drop to 0 at the lifetime).
+    const double kx[5] = {0.0, s.piecewise.value("x1_s"), s.piecewise.value("x2_s"), L - 1.0, L};
+    const double ky[5] = {1.0, s.piecewise.value("y1"), s.piecewise.value("y2"), s.piecewise.value("y3"), 0.0};
+    for (int k = 0; k < mb::kSegmentCount; ++k) {
+      const double m = (ky[k + 1] - ky[k]) / (kx[k + 1] - kx[k]);
+      s.segments[static_cast<std::size_t>(k)] = mb::Segment{ky[k] - m * kx[k], m, kx[k], kx[k + 1], ky[k], ky[k + 1]};
+    }
+    out.speeds.push_back(std::move(s));
+  }
+
+  // Simple: m0 from the static robot, m1 from the mean lifetime of the moving speeds.
+  std::vector<double> moving;
+  double moving_var = 0;
+  for (const SpeedFit& s : out.speeds) {
+    if (s.speed_cm_s == 0) {
+      out.simple_static_slope_per_s = mb::lifetime_slope_per_s(s.lifetime_s);
+      out.simple_static_std_error = s.lifetime_std_error_s / (s.lifetime_s * s.lifetime_s);
+    } else {
+      moving.push_back(s.lifetime_s);
+      moving_var += s.lifetime_std_error_s * s.lifetime_std_error_s;
+    }
+  }
+  if (!moving.empty()) {
+    const double mean_life = mean_of(moving);
+    out.simple_moving_slope_per_s = mb::lifetime_slope_per_s(mean_life);
+    const double se_mean = std::sqrt(moving_var) / static_cast<double>(moving.size());
+    out.simple_moving_std_error = se_mean / (mean_life * mean_life);
+  }
+  if (out.simple_static_slope_per_s == 0) out.simple_static_slope_per_s = out.simple_moving_slope_per_s;
+
+  // Analytic MSE per speed and model, and the averages (Table 5 "analytic").
+  for (SpeedFit& s : out.speeds) {
+    std::vector<double> t, y;
+    for (const BatteryRun& r : runs) {
+      if (std::lround(r.speed_cm_s * 100.0) != std::lround(s.speed_cm_s * 100.0)) continue;
+      t.insert(t.end(), r.time_s.begin(), r.time_s.end());
+      y.insert(y.end(), r.charge.begin(), r.charge.end());
+    }
+    for (mb::Model m : mb::kAllModels)
+      s.mse.get(m) = mse_of(t, y, [&](double ts) { return analytic_charge(s, out, m, ts); });
+  }
+  for (mb::Model m : mb::kAllModels) {
+    double sum = 0;
+    for (const SpeedFit& s : out.speeds) sum += s.mse.get(m);
+    out.mse.get(m) = out.speeds.empty() ? 0.0 : sum / static_cast<double>(out.speeds.size());
+  }
+
+  // Tables when every integer speed 0..15 is covered.
+  bool complete = out.speeds.size() == mb::kSpeedCount;
+  for (std::size_t i = 0; complete && i < out.speeds.size(); ++i)
+    complete = std::lround(out.speeds[i].speed_cm_s * 100.0) == static_cast<long>(i) * 100;
+  if (complete) out.tables = tables_from_fit(out);
+  return out;
+}
+
+mb::Tables tables_from_fit(const BatteryFit& fit) {
+  mb::Tables t{};
+  for (std::size_t s = 0; s < fit.speeds.size() && s < static_cast<std::size_t>(mb::kSpeedCount); ++s) {
+    const SpeedFit& f = fit.speeds[s];
+    t.cubic[s] = mb::CubicRow{f.cubic.value("d"), f.cubic.value("c"), f.cubic.value("b"), f.cubic.value("a"), f.lifetime_s};
+    t.segments[s] = f.segments;
+    t.linear_slope_per_s[s] = f.linear_slope_per_s;
+    t.lifetime_s[s] = f.lifetime_s;
+  }
+  t.simple_static_slope_per_s = fit.simple_static_slope_per_s;
+  t.simple_moving_slope_per_s = fit.simple_moving_slope_per_s;
+  return t;
+}
+
+ModelMse simulated_mse(const std::vector<BatteryRun>& runs, const mb::Tables& tables, mb::Behaviour behaviour,
+                       double dt_s) {
+  ModelMse out;
+  for (mb::Model m : mb::kAllModels) {
+    std::map<long, std::pair<double, std::size_t>> per_speed;  // sum of squares, count
+    for (const BatteryRun& r : runs) {
+      const auto sim = mb::simulate_discharge(m, behaviour, tables, r.profile, dt_s, 1.0);
+      auto& acc = per_speed[std::lround(r.speed_cm_s * 100.0)];
+      for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+        auto k = static_cast<std::size_t>(std::llround(r.time_s[i] / dt_s));
+        k = std::min(k, sim.size() - 1);
+        const double e = r.charge[i] - sim[k].charge;
+        acc.first += e * e;
+        acc.second += 1;
+      }
+    }
+    double sum = 0;
+    for (const auto& [speed, acc] : per_speed) sum += acc.first / static_cast<double>(acc.second);
+    out.get(m) = per_speed.empty() ? 0.0 : sum / static_cast<double>(per_speed.size());
+  }
+  return out;
+}
+
+}  // namespace epuck2::fit

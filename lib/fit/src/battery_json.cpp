@@ -1,0 +1,115 @@
+#include "epuck2/fit/battery_json.hpp"
+
+#include <cmath>
+
+namespace epuck2::fit {
+
+namespace mb = models::battery;
+using nlohmann::json;
+
+namespace {
+
+json fit_stats(const FitResult& r) {
+  return json{{"usable", r.usable}, {"rss", r.rss}, {"mse", r.mse}, {"r2", r.r2}, {"aic", r.aic},
+              {"bic", r.bic}, {"iterations", r.iterations}, {"observations", r.observations}};
+}
+
+json named_values(const FitResult& r, bool std_errors) {
+  json j = json::object();
+  for (const auto& p : r.parameters) j[p.name] = std_errors ? p.std_error : p.value;
+  return j;
+}
+
+json mse_json(const ModelMse& m) {
+  json j = json::object();
+  for (mb::Model model : mb::kAllModels) j[std::string(mb::to_string(model))] = m.get(model);
+  return j;
+}
+
+double number_at(const json& j, const std::string& key, const std::string& path, const std::string& where) {
+  if (!j.is_object() || !j.contains(key) || !j.at(key).is_number())
+    throw logs::InputError(path, 0, 0, where + ": expected a number '" + key + "'");
+  return j.at(key).get<double>();
+}
+
+}  // namespace
+
+json battery_fit_to_json(const BatteryFit& fit) {
+  json speeds = json::array();
+  for (const SpeedFit& s : fit.speeds) {
+    json segs = json::array();
+    for (const mb::Segment& g : s.segments)
+      segs.push_back({{"h", g.h}, {"m", g.m}, {"x1_s", g.x1_s}, {"x2_s", g.x2_s}, {"y1", g.y1}, {"y2", g.y2}});
+    json cubic_se = json::array();
+    for (const auto& p : s.cubic.parameters) cubic_se.push_back(p.std_error);
+    speeds.push_back({
+        {"speed_cm_s", s.speed_cm_s},
+        {"runs", s.runs},
+        {"observations", s.observations},
+        {"lifetime_s", s.lifetime_s},
+        {"lifetime_std_error_s", s.lifetime_std_error_s},
+        {"cubic", {s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a")}},
+        {"cubic_std_errors", cubic_se},
+        {"linear_slope", s.linear_slope_per_s},
+        {"linear_slope_std_error", s.linear_slope_std_error},
+        {"free_line", {{"parameters", named_values(s.free_line, false)}, {"std_errors", named_values(s.free_line, true)}}},
+        {"breakpoints", {{"parameters", named_values(s.piecewise, false)}, {"std_errors", named_values(s.piecewise, true)}}},
+        {"segments", segs},
+        {"mse", mse_json(s.mse)},
+        {"fit", {{"cubic", fit_stats(s.cubic)}, {"free_line", fit_stats(s.free_line)}, {"piecewise", fit_stats(s.piecewise)}}},
+    });
+  }
+  return json{
+      {"kind", "battery"},
+      {"units", {{"time", "s"}, {"speed", "cm/s"}, {"charge", "normalised, 1 = full"}}},
+      {"models", "paper Appendix: simple, linear, cubic, approximated; see docs/battery-models.md"},
+      {"sources", fit.sources},
+      {"speeds", speeds},
+      {"simple", {{"static_slope_per_s", fit.simple_static_slope_per_s},
+                  {"static_std_error", fit.simple_static_std_error},
+                  {"moving_slope_per_s", fit.simple_moving_slope_per_s},
+                  {"moving_std_error", fit.simple_moving_std_error}}},
+      {"mse", mse_json(fit.mse)},
+      {"complete_tables", fit.tables.has_value()},
+  };
+}
+
+mb::Tables battery_tables_from_json(const json& j, const std::string& path) {
+  if (!j.is_object() || !j.contains("speeds") || !j.at("speeds").is_array())
+    throw logs::InputError(path, 0, 0, "not a battery coefficient file: expected an object with a 'speeds' array");
+  const json& speeds = j.at("speeds");
+  if (speeds.size() != mb::kSpeedCount)
+    throw logs::InputError(path, 0, 0, "expected 16 entries in 'speeds' (0..15 cm/s), found " + std::to_string(speeds.size()));
+  mb::Tables t{};
+  for (std::size_t s = 0; s < speeds.size(); ++s) {
+    const json& e = speeds.at(s);
+    const std::string where = "speeds[" + std::to_string(s) + "]";
+    const double v = number_at(e, "speed_cm_s", path, where);
+    if (std::abs(v - static_cast<double>(s)) > 1e-9)
+      throw logs::InputError(path, 0, 0, where + ": expected speed_cm_s " + std::to_string(s));
+    if (!e.contains("cubic") || !e.at("cubic").is_array() || e.at("cubic").size() != 4)
+      throw logs::InputError(path, 0, 0, where + ": expected 'cubic' as [d, c, b, a]");
+    const json& c = e.at("cubic");
+    for (const json& x : c)
+      if (!x.is_number()) throw logs::InputError(path, 0, 0, where + ": 'cubic' must hold numbers");
+    const double life = number_at(e, "lifetime_s", path, where);
+    t.cubic[s] = mb::CubicRow{c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>(), c.at(3).get<double>(), life};
+    t.lifetime_s[s] = life;
+    t.linear_slope_per_s[s] = number_at(e, "linear_slope", path, where);
+    if (!e.contains("segments") || !e.at("segments").is_array() || e.at("segments").size() != mb::kSegmentCount)
+      throw logs::InputError(path, 0, 0, where + ": expected 4 'segments'");
+    for (std::size_t k = 0; k < mb::kSegmentCount; ++k) {
+      const json& g = e.at("segments").at(k);
+      const std::string gw = where + ".segments[" + std::to_string(k) + "]";
+      t.segments[s][k] = mb::Segment{number_at(g, "h", path, gw), number_at(g, "m", path, gw),
+                                     number_at(g, "x1_s", path, gw), number_at(g, "x2_s", path, gw),
+                                     number_at(g, "y1", path, gw), number_at(g, "y2", path, gw)};
+    }
+  }
+  if (!j.contains("simple")) throw logs::InputError(path, 0, 0, "expected a 'simple' object");
+  t.simple_static_slope_per_s = number_at(j.at("simple"), "static_slope_per_s", path, "simple");
+  t.simple_moving_slope_per_s = number_at(j.at("simple"), "moving_slope_per_s", path, "simple");
+  return t;
+}
+
+}  // namespace epuck2::fit
