@@ -12,7 +12,6 @@ namespace {
 }
 }  // namespace
 
-std::vector<GeneratedFile> battery_reference_logs(std::uint64_t) { not_yet("battery"); }
 std::vector<GeneratedFile> proximity_reference_logs(std::uint64_t) { not_yet("proximity"); }
 std::vector<GeneratedFile> light_reference_logs(std::uint64_t) { not_yet("light"); }
 std::vector<GeneratedFile> ground_reference_logs(std::uint64_t) { not_yet("ground"); }
