@@ -35,6 +35,7 @@ struct FitResult {
   double aic = 0;                ///< n ln(rss/n) + 2p
   double bic = 0;                ///< n ln(rss/n) + p ln n
   int iterations = 0;
+  int free_parameters = 0;     ///< parameters estimated (not held fixed)
   Eigen::MatrixXd covariance;  ///< scaled by residual_variance, parameter order as `parameters`
 
   double value(const std::string& name) const;
@@ -50,11 +51,24 @@ struct FitOptions {
   double gradient_tolerance = 1e-15;
   double parameter_tolerance = 1e-15;
   bool compute_covariance = true;
+  /// Solve again from the solution while the cost still falls, at most this many extra times
+  /// (0: one solve, the historical behaviour). A fresh trust region often finishes what a stalled
+  /// one stopped early.
+  int restarts = 0;
+  /// Also solve from the same start with other strategies (dogleg trust region, then
+  /// Levenberg-Marquardt on the normal equations) and keep the lowest cost (false: LM + DENSE_QR).
+  bool try_alternatives = false;
   /// The loss to attach to each residual block (nullptr for plain squares). Ownership passes to
   /// the problem.
   ceres::LossFunction* make_loss() const;
   ceres::Solver::Options solver_options() const;
 };
+
+/// Solves `problem` as `options` say: one Levenberg-Marquardt solve by default; with `restarts`
+/// and `try_alternatives`, several solves, leaving the parameters at the lowest cost found. The
+/// summary returned is the winning solve's, its `iterations` holding every iteration of every
+/// solve (the total work).
+ceres::Solver::Summary solve(ceres::Problem& problem, const FitOptions& options);
 
 double akaike(std::size_t n, double rss, int k);
 double bayes(std::size_t n, double rss, int k);
@@ -73,6 +87,15 @@ FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
                     const std::vector<double>& observations, const ceres::Solver::Summary& summary,
                     const FitOptions& options);
 
+/// (J^T J)^-1 for a Jacobian of full column rank, from its columns equilibrated and a
+/// column-pivoted QR (false when rank-deficient). Covariance = this * RSS / (n - p).
+bool inverse_normal_matrix(const Eigen::MatrixXd& jacobian, Eigen::MatrixXd* inverse);
+
+/// Re-expresses a fit for a more accurate residual sum of squares `rss` (for instance one
+/// recomputed in extended precision for a near-exact fit): MSE, residual variance, R^2, AIC, BIC,
+/// covariance and standard errors follow it.
+void set_rss(FitResult& r, double rss);
+
 /// Residual of a curve model y = model(p, x): (y - model(p, x)) / sigma.
 /// Model: `static constexpr int kParameters;` and `template <typename T> T operator()(const T* p, double x) const`.
 template <class Model>
@@ -82,7 +105,10 @@ class CurveResidual {
   template <typename T>
   bool operator()(const T* p, T* residual) const {
     residual[0] = (T(y_) - model_(p, x_)) * inv_sigma_;
-    return true;
+    // A non-finite model value (overflow on a wild trial step) is reported as a failed
+    // evaluation: Ceres rejects the step either way, but this way without logging a warning.
+    using std::isfinite;
+    return isfinite(residual[0]);
   }
   static ceres::CostFunction* Create(const Model& model, double x, double y, double sigma = 1.0) {
     return new ceres::AutoDiffCostFunction<CurveResidual, 1, Model::kParameters>(new CurveResidual(model, x, y, sigma));
@@ -118,8 +144,7 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     std::vector<int> fixed_sorted = fixed;
     problem.SetManifold(initial.data(), new ceres::SubsetManifold(Model::kParameters, fixed_sorted));
   }
-  ceres::Solver::Summary summary;
-  ceres::Solve(options.solver_options(), &problem, &summary);
+  const ceres::Solver::Summary summary = solve(problem, options);
   ParameterLayout layout{{initial.data()}, {Model::kParameters}, names};
   FitResult r = summarize(problem, layout, y, summary, options);
   if (!fixed.empty()) {
@@ -127,6 +152,7 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     const int free = Model::kParameters - static_cast<int>(fixed.size());
     const double n = static_cast<double>(r.observations);
     r.residual_variance = n > free ? r.rss / (n - free) : r.residual_variance;
+    r.free_parameters = free;
     r.aic = akaike(r.observations, r.rss, free);
     r.bic = bayes(r.observations, r.rss, free);
     for (int i : fixed) r.parameters[static_cast<std::size_t>(i)].std_error = 0.0;
