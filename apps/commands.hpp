@@ -26,5 +26,10 @@ void setup_table5(CLI::App& app, Action& action);
 void setup_codegen(CLI::App& app, Action& action);
 void setup_simulate(CLI::App& app, Action& action);
 void setup_generate(CLI::App& app, Action& action);
+void setup_proximity(CLI::App& app, Action& action);
+void setup_light(CLI::App& app, Action& action);
+void setup_ground(CLI::App& app, Action& action);
+void setup_camera(CLI::App& app, Action& action);
+void setup_drive(CLI::App& app, Action& action);
 
 }  // namespace epuck2::app

@@ -20,6 +20,11 @@ int main(int argc, char** argv) {
   setup_codegen(app, action);
   setup_simulate(app, action);
   setup_generate(app, action);
+  setup_proximity(app, action);
+  setup_light(app, action);
+  setup_ground(app, action);
+  setup_camera(app, action);
+  setup_drive(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,96 @@
+// epuck2-fit drive LOGS...: encoder steps per metre (steps against the commanded distance, paper
+// section 4.1.5) and the ToF's scale and offset (ToF against the obstacle distance minus the
+// travelled distance, section 4.1.4), with the wheel slip as a first-order lag of the body behind
+// the wheels.
+#include <cstdio>
+
+#include "epuck2/fit/sensors.hpp"
+#include "epuck2/plot/png.hpp"
+#include "sensor_support.hpp"
+
+namespace epuck2::app {
+
+namespace {
+
+namespace s = models::sensors;
+
+void print_report(const fit::DriveFit& f) {
+  std::printf("Drive runs: %zu\n\n", f.runs.size());
+  std::printf("Encoders: steps = steps_per_m * commanded distance (%zu rows)\n", f.steps_rows);
+  std::printf("  steps_per_m = %.3f +- %.3f  (plug-in 7763.656)  MSE %.3f steps^2\n", f.steps.value("steps_per_m"),
+              f.steps.std_error("steps_per_m"), f.steps.mse);
+  for (const auto& p : f.excluded_from_steps)
+    std::printf("  left out (commands above the firmware's 1100 steps/s = 14.17 cm/s): %s\n", p.c_str());
+  std::printf("\nToF: tof_mm = scale * 1000 (D - travel) + offset, travel = encoder travel lagged by tau (%zu rows, %zu at the clamps left out)\n",
+              f.tof_rows, f.tof_censored);
+  const auto& t = f.tof;
+  std::printf("  tof_scale = %.5f +- %.5f\n  tof_offset_mm = %.3f +- %.3f\n  slip_time_constant_s = %.4f +- %.4f\n",
+              t.value("tof_scale"), t.std_error("tof_scale"), t.value("tof_offset_mm"), t.std_error("tof_offset_mm"),
+              t.value("slip_time_constant_s"), t.std_error("slip_time_constant_s"));
+  std::printf("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
+}
+
+void draw(const std::string& path, const fit::DriveFit& f) {
+  const double spm = f.steps.value("steps_per_m");
+  const double scale = f.tof.value("tof_scale"), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
+  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+    std::string plot_tof = "plot ", plot_steps = "plot ";
+    for (std::size_t r = 0; r < f.runs.size(); ++r) {
+      const auto& run = f.runs[r];
+      const std::vector<double> travel = fit::lagged_travel_m(run, spm, tau);
+      const std::vector<double> enc = fit::lagged_travel_m(run, s::kPluginStepsPerMetre, 1e-9);
+      std::vector<std::vector<double>> rows;
+      double commanded = 0;
+      for (std::size_t k = 0; k < run.time_s.size(); ++k) {
+        rows.push_back({run.time_s[k], run.tof_mm[k], s::tof_response_mm(scale, offset, run.obstacle_distance_m - travel[k]),
+                        1000.0 * (run.obstacle_distance_m - enc[k]), run.steps[k], spm * commanded});
+        if (k + 1 < run.time_s.size()) commanded += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
+      }
+      gp << app::sensors::datablock("r" + std::to_string(r), rows);
+      const std::string first = r == 0 ? "" : ", ";
+      const std::string d = "$r" + std::to_string(r);
+      plot_tof += first + d + " using 1:2 with points pt 7 ps 0.4 lc rgb '#1f77b4' " + (r ? "notitle" : "title 'ToF readings'") +
+                  ", " + d + " using 1:3 with lines lw 2 lc rgb '#d62728' " + (r ? "notitle" : "title 'fit (scale, offset, slip lag)'") +
+                  ", " + d + " using 1:4 with lines lw 1.5 dt 2 lc rgb '#000000' " + (r ? "notitle" : "title 'plug-in: 1000 (D - encoder travel)'");
+      plot_steps += first + d + " using 1:5 with points pt 7 ps 0.4 lc rgb '#2ca02c' " + (r ? "notitle" : "title 'encoder steps'") +
+                    ", " + d + " using 1:6 with lines lw 1.5 lc rgb '#d62728' " + (r ? "notitle" : "title 'fitted steps/m x commanded distance'");
+    }
+    gp << "set multiplot layout 1,2 title 'Drive runs (paper sections 4.1.4 and 4.1.5), all runs overlaid'\n";
+    gp << "set grid\nset key top right\nset xlabel 'time (s)'\nset ylabel 'ToF (mm)'\n";
+    gp << plot_tof << "\n";
+    gp << "set ylabel 'encoder steps (unwrapped)'\nset key bottom left\n";
+    gp << plot_steps << "\n";
+    gp << "unset multiplot\n";
+  });
+}
+
+int run_drive(const app::sensors::SensorOptions& o) {
+  const auto logs = logs::read_logs(o.logs, logs::Kind::drive);
+  const fit::DriveFit f = fit::fit_drive(logs);
+  app::sensors::require_usable(f.steps, "encoder fit");
+  app::sensors::require_usable(f.tof, "ToF fit");
+  nlohmann::json j = app::sensors::skeleton("drive", o.logs);
+  app::sensors::add_parameters(j, f.steps);
+  app::sensors::add_parameters(j, f.tof);
+  j["mse"] = f.tof.mse;
+  j["steps_mse"] = f.steps.mse;
+  j["observations"] = f.tof.observations;
+  j["steps_observations"] = f.steps.observations;
+  j["tof_censored"] = f.tof_censored;
+  j["excluded_from_steps"] = f.excluded_from_steps;
+  j["units"] = {{"steps_per_m", "steps per metre"}, {"tof_offset_mm", "mm"}, {"slip_time_constant_s", "s"},
+                {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}};
+  j["reference_mse"] = {{"plugin_tof", f.plugin_tof_mse}};
+  return app::sensors::finish("drive", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+}
+
+}  // namespace
+
+void setup_drive(CLI::App& app, Action& action) {
+  auto o = std::make_shared<app::sensors::SensorOptions>();
+  CLI::App* sub = app.add_subcommand("drive", "Calibrate encoders and ToF from straight runs towards/away from an obstacle");
+  app::sensors::add_common_options(sub, *o, "Drive");
+  sub->callback([o, &action] { action = [o] { return run_drive(*o); }; });
+}
+
+}  // namespace epuck2::app

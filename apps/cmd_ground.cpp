@@ -1,0 +1,94 @@
+// epuck2-fit ground LOGS...: per ground sensor, reading = offset + gain grey (grey 0 = black ..
+// 1 = white), beside the plug-in's offset 0 and gain 1023 (paper section 4.1.3).
+#include <cstdio>
+
+#include "epuck2/fit/sensors.hpp"
+#include "epuck2/plot/png.hpp"
+#include "sensor_support.hpp"
+
+namespace epuck2::app {
+
+namespace {
+
+namespace s = models::sensors;
+const char* kSensorNames[] = {"0 (right)", "1 (centre)", "2 (left)"};
+
+void print_report(const fit::GroundFit& f) {
+  std::printf("Ground sensors: reading = offset + gain * grey (grey 0 = black, 1 = white)\n");
+  std::printf("%zu readings, %zu at the 0/1023 clamps left out\n\n", f.readings, f.censored);
+  std::printf("%-11s %22s %22s %10s %12s\n", "sensor", "gain_raw", "offset_raw", "MSE", "plug-in MSE");
+  for (std::size_t k = 0; k < f.sensors.size(); ++k) {
+    const auto& r = f.sensors[k];
+    std::printf("%-11s %12.3f +- %6.3f %12.3f +- %6.3f %10.3f %12.1f\n", kSensorNames[k], r.value("gain"), r.std_error("gain"),
+                r.value("offset"), r.std_error("offset"), r.mse, f.plugin_mse[k]);
+  }
+  std::printf("Plug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0. Pooled MSE %.3f counts^2\n", f.mse);
+}
+
+void draw(const std::string& path, const fit::GroundFit& f) {
+  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+    for (std::size_t k = 0; k < f.sensors.size(); ++k) {
+      std::vector<std::vector<double>> rows;
+      for (std::size_t i = 0; i < f.grey[k].size(); ++i) rows.push_back({f.grey[k][i] + (double(k) - 1) * 0.006, f.value_raw[k][i]});
+      gp << app::sensors::datablock("s" + std::to_string(k), rows);
+    }
+    gp << "set title 'Ground sensors (paper section 4.1.3): reading against grey level'\n";
+    gp << "set xlabel 'grey level (0 = black, 1 = white; points spread sideways per sensor)'\nset ylabel 'raw reading'\n";
+    gp << "set xrange [-0.03:1.03]\nset yrange [-20:1060]\nset grid\nset key top left\n";
+    const char* colours[] = {"#d62728", "#2ca02c", "#1f77b4"};
+    gp << "plot ";
+    for (std::size_t k = 0; k < f.sensors.size(); ++k) {
+      char buf[500];
+      std::snprintf(buf, sizeof buf,
+                    "$s%zu using 1:2 with points pt 7 ps 0.5 lc rgb '%s' title 'sensor %s', "
+                    "[0:1] %.8g + %.8g*x lw 2.5 lc rgb '%s' title 'fit: %.1f + %.1f grey', ",
+                    k, colours[k], kSensorNames[k], f.sensors[k].value("offset"), f.sensors[k].value("gain"), colours[k],
+                    f.sensors[k].value("offset"), f.sensors[k].value("gain"));
+      gp << buf;
+    }
+    gp << "[0:1] 1023*x lw 2 dt 2 lc rgb '#000000' title 'plug-in: 1023 grey'\n";
+  });
+}
+
+int run_ground(const app::sensors::SensorOptions& o) {
+  const auto logs = logs::read_logs(o.logs, logs::Kind::ground);
+  const fit::GroundFit f = fit::fit_ground(logs);
+  nlohmann::json j = app::sensors::skeleton("ground", o.logs);
+  nlohmann::json gain = nlohmann::json::array(), offset = nlohmann::json::array(), gain_se = nlohmann::json::array(),
+                 offset_se = nlohmann::json::array(), mse = nlohmann::json::array(), n = nlohmann::json::array();
+  std::size_t observations = 0;
+  for (std::size_t k = 0; k < f.sensors.size(); ++k) {
+    app::sensors::require_usable(f.sensors[k], std::string("ground sensor ") + kSensorNames[k]);
+    gain.push_back(f.sensors[k].value("gain"));
+    offset.push_back(f.sensors[k].value("offset"));
+    gain_se.push_back(app::sensors::number(f.sensors[k].std_error("gain")));
+    offset_se.push_back(app::sensors::number(f.sensors[k].std_error("offset")));
+    mse.push_back(f.sensors[k].mse);
+    n.push_back(f.sensors[k].observations);
+    observations += f.sensors[k].observations;
+  }
+  j["parameters"]["gain"] = gain;
+  j["parameters"]["offset"] = offset;
+  j["std_errors"]["gain"] = gain_se;
+  j["std_errors"]["offset"] = offset_se;
+  j["mse"] = f.mse;
+  j["mse_per_sensor"] = mse;
+  j["observations"] = observations;
+  j["observations_per_sensor"] = n;
+  j["readings"] = f.readings;
+  j["censored"] = f.censored;
+  j["model"] = "value_raw = offset + gain * grey, grey in [0, 1], sensors 0 right, 1 centre, 2 left";
+  j["reference_mse"] = {{"plugin", f.plugin_mse}};
+  return app::sensors::finish("ground", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+}
+
+}  // namespace
+
+void setup_ground(CLI::App& app, Action& action) {
+  auto o = std::make_shared<app::sensors::SensorOptions>();
+  CLI::App* sub = app.add_subcommand("ground", "Calibrate the ground sensors: gain and offset per sensor");
+  app::sensors::add_common_options(sub, *o, "Ground");
+  sub->callback([o, &action] { action = [o] { return run_ground(*o); }; });
+}
+
+}  // namespace epuck2::app

@@ -1,0 +1,96 @@
+// epuck2-fit proximity LOGS...: paper Eq. 1's quadratic fitted to the per-distance maxima and
+// means of the readings (normalised by 4095, d <= 0.05 m), beside the plug-in's and the E-Puck
+// (v1) polynomials (paper section 4.1.1, Fig. 4c).
+#include <cstdio>
+
+#include "epuck2/fit/sensors.hpp"
+#include "epuck2/plot/png.hpp"
+#include "sensor_support.hpp"
+
+namespace epuck2::app {
+
+namespace {
+
+namespace s = models::sensors;
+
+std::string poly(double a, double b, double c) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "(%.10g*x*x + %.10g*x + %.10g)", a, b, c);
+  return buf;
+}
+
+void print_report(const fit::ProximityFit& f) {
+  std::printf("Proximity sensor, paper Eq. 1: v(d) = a d^2 + b d + c (normalised 0..1), d <= 0.05 m\n");
+  std::printf("%zu readings at %zu distances\n\n", f.readings, f.points.size());
+  std::printf("%10s %8s %8s %8s %8s  %s\n", "distance_m", "readings", "min", "mean", "max", "used");
+  for (const auto& p : f.points)
+    std::printf("%10.4f %8zu %8.4f %8.4f %8.4f  %s\n", p.distance_m, p.readings, p.min, p.mean, p.max,
+                p.used ? "yes" : ("no: " + p.excluded_why).c_str());
+  auto line = [](const char* what, const fit::FitResult& r, double plugin, double v1) {
+    std::printf("\n%s (%zu points):\n", what, r.observations);
+    for (const auto& p : r.parameters) std::printf("  %s = %12.6g +- %.3g\n", p.name.c_str(), p.value, p.std_error);
+    std::printf("  MSE %.3e   (plug-in polynomial: %.3e; E-Puck v1 298.701 d^2 - 36.8961 d + 1.08212: %.3e)\n", r.mse,
+                plugin, v1);
+  };
+  line("Fitted to the maxima", f.maxima, f.plugin_mse_maxima, f.epuck1_mse_maxima);
+  line("Fitted to the means", f.means, f.plugin_mse_means, f.epuck1_mse_means);
+  std::printf("\nPlug-in (paper, fitted to maxima): a = 197.8633, b = -30.47182, c = 1.011635\n");
+}
+
+void draw(const std::string& path, const fit::ProximityFit& f) {
+  std::vector<std::vector<double>> pts;
+  for (const auto& p : f.points) pts.push_back({p.distance_m * 1000, p.min, p.mean, p.max, p.used ? 1.0 : 0.0});
+  const std::string fmax = poly(f.maxima.value("a") * 1e-6, f.maxima.value("b") * 1e-3, f.maxima.value("c"));
+  const std::string fmean = poly(f.means.value("a") * 1e-6, f.means.value("b") * 1e-3, f.means.value("c"));
+  const std::string fplug = poly(s::kPluginProximity.a_per_m2 * 1e-6, s::kPluginProximity.b_per_m * 1e-3, s::kPluginProximity.c);
+  const std::string fv1 = poly(s::kEpuck1Proximity.a_per_m2 * 1e-6, s::kEpuck1Proximity.b_per_m * 1e-3, s::kEpuck1Proximity.c);
+  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+    gp << app::sensors::datablock("pts", pts);
+    gp << "set title 'Proximity sensor (paper Eq. 1, Fig. 4c): readings / 4095 against distance'\n";
+    gp << "set xlabel 'distance to the surface (mm)'\nset ylabel 'normalised reading'\n";
+    gp << "set xrange [-1:61]\nset yrange [-0.05:1.1]\nset grid\nset key top right\n";
+    gp << "clip(v) = v < 0 ? 0 : (v > 1 ? 1 : v)\n";
+    gp << "plot $pts using 1:3:2:4 with yerrorbars lc rgb '#999999' title 'readings: mean, min..max', "
+       << "$pts using 1:4 with points pt 7 ps 1.4 lc rgb '#d62728' title 'maxima', "
+       << "$pts using 1:3 with points pt 5 ps 1.2 lc rgb '#1f77b4' title 'means', "
+       << "[0:50] clip(" << fmax << ") lw 2.5 lc rgb '#d62728' title 'fit to maxima', "
+       << "[0:50] clip(" << fmean << ") lw 2.5 lc rgb '#1f77b4' title 'fit to means', "
+       << "[0:50] clip(" << fplug << ") lw 2 dt 2 lc rgb '#2ca02c' title 'plug-in (197.8633, -30.47182, 1.011635)', "
+       << "[0:50] clip(" << fv1 << ") lw 2 dt 3 lc rgb '#000000' title 'E-Puck v1 (298.701, -36.8961, 1.08212)'\n";
+  });
+}
+
+int run_proximity(const app::sensors::SensorOptions& o) {
+  const auto logs = logs::read_logs(o.logs, logs::Kind::proximity);
+  const fit::ProximityFit f = fit::fit_proximity(logs);
+  app::sensors::require_usable(f.maxima, "proximity fit to the maxima");
+  app::sensors::require_usable(f.means, "proximity fit to the means");
+  nlohmann::json j = app::sensors::skeleton("proximity", o.logs);
+  app::sensors::add_parameters(j, f.maxima);
+  app::sensors::add_parameters(j, f.means, "mean_");
+  j["parameters"]["range_m"] = s::kPluginProximity.range_m;
+  j["mse"] = f.maxima.mse;
+  j["mean_mse"] = f.means.mse;
+  j["observations"] = f.maxima.observations;
+  j["readings"] = f.readings;
+  j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"values", "reading / 4095"}};
+  j["reference_mse"] = {{"plugin_maxima", f.plugin_mse_maxima}, {"plugin_means", f.plugin_mse_means},
+                        {"epuck1_maxima", f.epuck1_mse_maxima}, {"epuck1_means", f.epuck1_mse_means}};
+  nlohmann::json points = nlohmann::json::array();
+  for (const auto& p : f.points)
+    points.push_back({{"distance_m", p.distance_m}, {"max", p.max}, {"mean", p.mean}, {"min", p.min},
+                      {"readings", p.readings}, {"used", p.used}});
+  j["points"] = points;
+  return app::sensors::finish("proximity", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+}
+
+}  // namespace
+
+void setup_proximity(CLI::App& app, Action& action) {
+  auto o = std::make_shared<app::sensors::SensorOptions>();
+  CLI::App* sub = app.add_subcommand("proximity", "Calibrate the proximity sensors: Eq. 1 fitted to the maxima and to the means");
+  app::sensors::add_common_options(sub, *o, "Proximity");
+  sub->callback([o, &action] { action = [o] { return run_proximity(*o); }; });
+}
+
+}  // namespace epuck2::app
