@@ -31,5 +31,6 @@ void setup_light(CLI::App& app, Action& action);
 void setup_ground(CLI::App& app, Action& action);
 void setup_camera(CLI::App& app, Action& action);
 void setup_drive(CLI::App& app, Action& action);
+void setup_nist(CLI::App& app, Action& action);
 
 }  // namespace epuck2::app

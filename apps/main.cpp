@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   setup_ground(app, action);
   setup_camera(app, action);
   setup_drive(app, action);
+  setup_nist(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
