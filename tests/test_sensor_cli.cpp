@@ -1,0 +1,154 @@
+// The sensor subcommands (proximity, light, ground, camera, drive) run as the real binary
+// (EPUCK2_FIT_EXE): success on the shipped logs with the JSON shape the codegen reads, and exit 2
+// with file:line:column on bad input, leaving an existing -o file untouched.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class SensorCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("epuck2_sensor_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  CliRun run(const std::string& args) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = std::string("\"") + EPUCK2_FIT_EXE + "\" " + args + " >\"" + out.string() + "\" 2>\"" + err.string() + "\"";
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+  }
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  static std::string shipped(const std::string& kind) {
+    std::string args;
+    for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / kind))
+      if (e.path().extension() == ".csv") args += " \"" + e.path().string() + "\"";
+    return args;
+  }
+  fs::path dir_;
+};
+
+struct Case {
+  std::string kind;
+  std::vector<std::string> parameters;  ///< keys that must be in "parameters" and "std_errors"
+  std::string header;                   ///< a valid header for this kind
+  std::string good_row;
+  std::string metadata;                 ///< required metadata lines
+};
+
+const std::vector<Case> kCases{
+    {"proximity", {"a", "b", "c", "mean_a", "mean_b", "mean_c"}, "distance_m,sensor,value", "0.02,0,1971", ""},
+    {"light", {"gamma"}, "distance_m,intensity,sensor,value", "0.2,1,0,3519", ""},
+    {"ground", {"gain", "offset"}, "grey,sensor,value", "0.5,1,512", ""},
+    {"camera", {"fov_deg", "cx_px", "cy_px"}, "forward_m,lateral_m,vertical_m,px,py", "0.5,0.05,0,65,60", ""},
+    {"drive", {"steps_per_m", "tof_offset_mm", "tof_scale"},
+     "time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm", "0,5,5,0,0,300", "# obstacle_distance_m: 0.3\n"},
+};
+
+}  // namespace
+
+TEST_F(SensorCli, EachSubcommandFitsTheShippedLogs) {
+  for (const Case& c : kCases) {
+    const fs::path json_out = dir_ / (c.kind + ".json");
+    const CliRun r = run(c.kind + shipped(c.kind) + " --json -o \"" + json_out.string() + "\"");
+    ASSERT_EQ(r.exit_code, 0) << c.kind << ": " << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("kind"), c.kind);
+    for (const auto& p : c.parameters) {
+      EXPECT_TRUE(j.at("parameters").contains(p)) << c.kind << " " << p;
+      EXPECT_TRUE(j.at("std_errors").contains(p)) << c.kind << " " << p;
+    }
+    EXPECT_TRUE(j.at("mse").is_number());
+    EXPECT_GT(j.at("observations").get<int>(), 0);
+    EXPECT_FALSE(j.at("sources").empty());
+    EXPECT_EQ(nlohmann::json::parse(slurp(json_out)), j) << "-o writes what --json prints";
+    // The human report is the default.
+    const CliRun h = run(c.kind + shipped(c.kind));
+    EXPECT_EQ(h.exit_code, 0);
+    EXPECT_FALSE(h.out.empty());
+    EXPECT_FALSE(nlohmann::json::accept(h.out));
+  }
+  // Ground's parameters are arrays of 3, one per sensor.
+  const CliRun g = run("ground" + shipped("ground") + " --json");
+  const auto j = nlohmann::json::parse(g.out);
+  EXPECT_EQ(j.at("parameters").at("gain").size(), 3u);
+  EXPECT_EQ(j.at("std_errors").at("offset").size(), 3u);
+}
+
+TEST_F(SensorCli, BadInputExitsTwoWithFileLineColumnAndLeavesOutputAlone) {
+  for (const Case& c : kCases) {
+    const std::string previous = "{\"previous\": true}\n";
+    const std::string out = write(c.kind + "_previous.json", previous);
+    const std::string rows = c.metadata + c.header + "\n" + c.good_row + "\n";
+    // Drop the header's last column: a missing required column (line 1 or 2 of the file).
+    const std::string missing_header = c.header.substr(0, c.header.rfind(','));
+    const std::string bad_row_nonnumeric = c.good_row.substr(0, c.good_row.rfind(',')) + ",abc";
+    const std::string bad_row_nan = c.good_row.substr(0, c.good_row.rfind(',')) + ",nan";
+    const int header_line = c.metadata.empty() ? 1 : 2;
+    struct Bad {
+      std::string name, text, expect;
+    };
+    const std::vector<Bad> bads{
+        {"missing.csv", c.metadata + missing_header + "\n" + c.good_row.substr(0, c.good_row.rfind(',')) + "\n",
+         "missing.csv:" + std::to_string(header_line) + ":"},
+        {"nonnumeric.csv", rows + bad_row_nonnumeric + "\n", "nonnumeric.csv:" + std::to_string(header_line + 2) + ":"},
+        {"nan.csv", rows + bad_row_nan + "\n", "nan.csv:" + std::to_string(header_line + 2) + ":"},
+    };
+    for (const Bad& b : bads) {
+      const std::string path = write(c.kind + "_" + b.name, b.text);
+      const CliRun r = run(c.kind + " \"" + path + "\" -o \"" + out + "\"");
+      EXPECT_EQ(r.exit_code, 2) << c.kind << " " << b.name << ": " << r.err;
+      EXPECT_NE(r.err.find(c.kind + "_" + b.expect), std::string::npos) << c.kind << " " << b.name << ": " << r.err;
+      EXPECT_EQ(slurp(out), previous) << c.kind << " " << b.name << ": -o replaced";
+    }
+    const CliRun u = run(c.kind + shipped(c.kind) + " --no-such-option -o \"" + out + "\"");
+    EXPECT_EQ(u.exit_code, 2) << c.kind;
+    EXPECT_EQ(slurp(out), previous);
+    const CliRun none = run(c.kind + " \"" + (dir_ / "does-not-exist.csv").string() + "\"");
+    EXPECT_EQ(none.exit_code, 2) << c.kind;
+  }
+}
+
+TEST_F(SensorCli, TooLittleDataIsNoUsableFit) {
+  // One reading per kind: the data are read but no fit can come out (exit 1), nothing written.
+  for (const Case& c : kCases) {
+    const std::string path = write(c.kind + "_one.csv", c.metadata + c.header + "\n" + c.good_row + "\n");
+    const fs::path out = dir_ / (c.kind + "_one.json");
+    const CliRun r = run(c.kind + " \"" + path + "\" -o \"" + out.string() + "\"");
+    EXPECT_EQ(r.exit_code, 1) << c.kind << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.kind;
+  }
+}

@@ -1,0 +1,199 @@
+// Sensor fits (lib/fit sensors.hpp) recover the virtual robot's known truth
+// (virtual_robot/sensor_truth.hpp) from the logs it records, within named tolerances; and the
+// coefficient loaders read back what the CLI writes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "epuck2/fit/sensors.hpp"
+#include "epuck2/logs/log.hpp"
+#include "epuck2/virtual_robot/sensor_truth.hpp"
+
+namespace fit = epuck2::fit;
+namespace vr = epuck2::virtual_robot;
+namespace s = epuck2::models::sensors;
+using epuck2::logs::Kind;
+
+namespace {
+
+std::vector<epuck2::logs::Log> parse(const std::vector<vr::GeneratedFile>& files, Kind kind) {
+  std::vector<epuck2::logs::Log> logs;
+  for (const auto& f : files) logs.push_back(epuck2::logs::parse_log(f.content, f.name, kind));
+  return logs;
+}
+
+const std::vector<std::uint64_t> kSeeds{1, 2, 3};
+
+}  // namespace
+
+// ----- Proximity -----------------------------------------------------------------------------
+
+// The maxima sit on the envelope up to the symmetric noise (3 counts, the max of 720 draws about
+// +2.5 sigma = 8 counts = 0.002) and the quantisation: the fitted curve stays within this of the
+// envelope over the fitted range.
+constexpr double kProximityEnvelopeTolerance = 0.006;
+
+TEST(ProximityFit, MaximaRecoverTheEnvelopeAndMeansLieBelow) {
+  for (std::uint64_t seed : kSeeds) {
+    const vr::ProximityTruth truth;
+    const auto f = fit::fit_proximity(parse(vr::proximity_logs(truth, seed), Kind::proximity));
+    ASSERT_TRUE(f.maxima.usable) << f.maxima.message;
+    ASSERT_TRUE(f.means.usable) << f.means.message;
+    const double m[3] = {f.maxima.value("a"), f.maxima.value("b"), f.maxima.value("c")};
+    const double mm[3] = {f.means.value("a"), f.means.value("b"), f.means.value("c")};
+    for (double d = 0.005; d <= 0.045; d += 0.0025) {
+      const double envelope = s::proximity_response(truth.envelope, d);
+      EXPECT_NEAR(s::proximity_polynomial(m, d), envelope, kProximityEnvelopeTolerance) << "seed " << seed << " d " << d;
+      EXPECT_LT(s::proximity_polynomial(mm, d), s::proximity_polynomial(m, d)) << "means below maxima at " << d;
+    }
+    // The points the fits use: 0.005..0.045 m (0 m is saturated, 0.05 m sees nothing, beyond is out of range).
+    EXPECT_EQ(f.maxima.observations, 9u);
+    // The plug-in's polynomial is the envelope itself: its MSE on the maxima is small, on the means large.
+    EXPECT_LT(f.plugin_mse_maxima, kProximityEnvelopeTolerance * kProximityEnvelopeTolerance);
+    EXPECT_GT(f.plugin_mse_means, 10 * f.means.mse);
+    EXPECT_GT(f.epuck1_mse_maxima, f.maxima.mse);
+  }
+}
+
+// ----- Light ---------------------------------------------------------------------------------
+
+// Per sensor, the fit should find gamma sqrt(gain): the stray light (12 counts) biases the
+// normalised response by 0.003, which moves gamma by well under 1 %.
+constexpr double kLightGammaRelTolerance = 0.01;
+
+TEST(LightFit, RecoversGammaPerSensor) {
+  for (std::uint64_t seed : kSeeds) {
+    const vr::LightTruth truth;
+    const auto f = fit::fit_light(parse(vr::light_logs(truth, seed), Kind::light));
+    ASSERT_TRUE(f.gamma.usable) << f.gamma.message;
+    ASSERT_EQ(f.sensors, (std::vector<int>{0, 7}));
+    for (std::size_t j = 0; j < 2; ++j) {
+      const double expected = truth.gamma_m * std::sqrt(truth.sensor_gain[j]);
+      EXPECT_NEAR(f.gamma_per_sensor[j].value("gamma"), expected, kLightGammaRelTolerance * expected) << "seed " << seed;
+    }
+    // The pooled gamma lies between the two sensors'.
+    EXPECT_GT(f.gamma.value("gamma"), f.gamma_per_sensor[1].value("gamma"));
+    EXPECT_LT(f.gamma.value("gamma"), f.gamma_per_sensor[0].value("gamma"));
+    EXPECT_GT(f.censored, 0u);  // intensity 2 at 10 cm saturates
+    EXPECT_GT(f.gamma.std_error("gamma"), 0.0);
+  }
+}
+
+// ----- Ground --------------------------------------------------------------------------------
+
+// 440 readings per sensor with 5-count noise: the standard error of the gain is about 0.4 count
+// and of the offset 0.3; 2.5 counts is over 5 standard errors.
+constexpr double kGroundTolerance_raw = 2.5;
+
+TEST(GroundFit, RecoversGainAndOffsetPerSensor) {
+  for (std::uint64_t seed : kSeeds) {
+    const vr::GroundTruth truth;
+    const auto f = fit::fit_ground(parse(vr::ground_logs(truth, seed), Kind::ground));
+    for (std::size_t k = 0; k < 3; ++k) {
+      ASSERT_TRUE(f.sensors[k].usable) << f.sensors[k].message;
+      EXPECT_NEAR(f.sensors[k].value("gain"), truth.gain_raw[k], kGroundTolerance_raw) << "seed " << seed << " sensor " << k;
+      EXPECT_NEAR(f.sensors[k].value("offset"), truth.offset_raw[k], kGroundTolerance_raw) << "seed " << seed << " sensor " << k;
+      EXPECT_LT(f.sensors[k].std_error("gain"), kGroundTolerance_raw / 3);
+      // The noise variance is 25 counts^2, plus 1/12 for the rounding.
+      EXPECT_NEAR(f.sensors[k].mse, truth.noise_raw * truth.noise_raw + 1.0 / 12, 5.0);
+      EXPECT_GT(f.plugin_mse[k], 20 * f.sensors[k].mse);  // 760..2400 against 25 counts^2
+    }
+  }
+}
+
+// ----- Camera --------------------------------------------------------------------------------
+
+// Pixel noise 0.5 px then rounding over ~400 points: the field of view's standard error is
+// about 0.02 deg and the centre's 0.04 px.
+constexpr double kCameraFovTolerance_deg = 0.1;
+constexpr double kCameraCentreTolerance_px = 0.25;
+
+TEST(CameraFit, RecoversFieldOfViewAndCentre) {
+  for (std::uint64_t seed : kSeeds) {
+    const vr::CameraTruth truth;
+    const auto f = fit::fit_camera(parse(vr::camera_logs(truth, seed), Kind::camera));
+    ASSERT_TRUE(f.result.usable) << f.result.message;
+    EXPECT_NEAR(f.result.value("fov_deg"), truth.horizontal_fov_deg, kCameraFovTolerance_deg) << "seed " << seed;
+    EXPECT_NEAR(f.result.value("cx_px"), truth.cx_px, kCameraCentreTolerance_px) << "seed " << seed;
+    EXPECT_NEAR(f.result.value("cy_px"), truth.cy_px, kCameraCentreTolerance_px) << "seed " << seed;
+    EXPECT_GT(f.plugin_mse, 4 * f.result.mse);
+    EXPECT_GT(f.table4_points, 0u);
+  }
+}
+
+// ----- Drive ---------------------------------------------------------------------------------
+
+// The host rounds each command to whole steps/s (2.5 cm/s = 194.09 -> 194 steps/s: -0.05 %),
+// which the fit to commanded distance absorbs: 0.1 % covers it.
+constexpr double kStepsPerMetreRelTolerance = 0.001;
+constexpr double kTofScaleTolerance = 0.005;
+constexpr double kTofOffsetTolerance_mm = 1.5;
+constexpr double kSlipTimeConstantRelTolerance = 0.25;
+
+TEST(DriveFit, RecoversStepsPerMetreTofAndSlip) {
+  const vr::DriveTruth truth;
+  const auto f = fit::fit_drive(parse(vr::drive_logs(truth, 1), Kind::drive));
+  ASSERT_TRUE(f.steps.usable) << f.steps.message;
+  ASSERT_TRUE(f.tof.usable) << f.tof.message;
+  EXPECT_NEAR(f.steps.value("steps_per_m"), truth.steps_per_m, kStepsPerMetreRelTolerance * truth.steps_per_m);
+  EXPECT_EQ(f.excluded_from_steps.size(), 2u);  // the two 15 cm/s runs exceed 1100 steps/s
+  EXPECT_NEAR(f.tof.value("tof_scale"), truth.tof_scale, kTofScaleTolerance);
+  EXPECT_NEAR(f.tof.value("tof_offset_mm"), truth.tof_offset_mm, kTofOffsetTolerance_mm);
+  EXPECT_NEAR(f.tof.value("slip_time_constant_s"), truth.slip_time_constant_s,
+              kSlipTimeConstantRelTolerance * truth.slip_time_constant_s);
+  EXPECT_GT(f.plugin_tof_mse, 4 * f.tof.mse);
+}
+
+TEST(DriveFit, UnwrapsTheSixteenBitRegisters) {
+  // A run long enough to wrap: 6 m at 10 cm/s = 46582 steps (truth without noise in the counts).
+  vr::DriveTruth truth;
+  truth.speeds_cm_s = {10.0};
+  truth.away_travel_m = 6.0;
+  truth.toward_travel_m = 0.1;
+  truth.obstacle_distance_m = 0.3;
+  const auto logs = parse(vr::drive_logs(truth, 4), Kind::drive);
+  const fit::DriveRun away = fit::drive_run_from_log(logs.at(1));
+  EXPECT_LT(away.steps.back(), -40000.0);  // past -32768 without a jump
+  for (std::size_t k = 1; k < away.steps.size(); ++k) EXPECT_LT(std::abs(away.steps[k] - away.steps[k - 1]), 200.0);
+}
+
+// ----- Coefficient files ---------------------------------------------------------------------
+
+TEST(SensorCoefficientFiles, LoadBackWhatTheCliWrites) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("epuck2_sensor_coeffs_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  };
+  const auto p = fit::load_proximity_coefficients(write("p.json", R"({"kind":"proximity","parameters":{"a":1.5,"b":-2,"c":0.9}})"));
+  EXPECT_EQ(p.a_per_m2, 1.5);
+  EXPECT_EQ(p.b_per_m, -2);
+  EXPECT_EQ(p.c, 0.9);
+  EXPECT_EQ(fit::load_light_coefficients(write("l.json", R"({"kind":"light","parameters":{"gamma":0.07}})")).gamma_m, 0.07);
+  const auto g = fit::load_ground_coefficients(
+      write("g.json", R"({"kind":"ground","parameters":{"gain":[900,910,920],"offset":[1,2,3]}})"));
+  EXPECT_EQ(g[2].gain_raw, 920);
+  EXPECT_EQ(g[1].offset_raw, 2);
+  const auto c = fit::load_camera_coefficients(write("c.json", R"({"kind":"camera","parameters":{"fov_deg":30,"cx_px":81,"cy_px":59}})"));
+  EXPECT_NEAR(c.horizontal_fov_rad, s::deg_to_rad(30), 1e-15);
+  const auto d = fit::load_drive_coefficients(
+      write("d.json", R"({"kind":"drive","parameters":{"steps_per_m":7700,"tof_scale":0.99,"tof_offset_mm":5}})"));
+  EXPECT_EQ(d.encoder.steps_per_m, 7700);
+  EXPECT_EQ(d.tof.offset_mm, 5);
+  // Missing key, wrong kind: errors naming the file.
+  try {
+    fit::load_light_coefficients(write("bad.json", R"({"kind":"light","parameters":{}})"));
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(fit::load_light_coefficients(write("kind.json", R"({"kind":"ground","parameters":{"gamma":1}})")),
+               std::runtime_error);
+  fs::remove_all(dir);
+}
