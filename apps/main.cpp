@@ -1,5 +1,7 @@
 // epuck2-fit: the command line. Exit status: 0 success; 1 data read but no usable fit; 2 bad
 // usage or bad input (the message names file, line and column).
+#include <glog/logging.h>
+
 #include <iostream>
 
 #include "commands.hpp"
@@ -11,6 +13,9 @@
 
 int main(int argc, char** argv) {
   using namespace epuck2::app;
+  // Ceres reports through glog; its messages are not for our users (fits report their own status).
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  google::InitGoogleLogging(argv[0]);
   CLI::App app{"epuck2-fit: calibrate and diagnose E-Puck2 simulation models from raw robot logs"};
   app.set_version_flag("--version", std::string("epuck2-fit ") + EPUCK2_VERSION);
   app.require_subcommand(1);

@@ -2,6 +2,8 @@
 // (EPUCK2_FIT_EXE): success on the shipped logs with the JSON shape the codegen reads, and exit 2
 // with file:line:column on bad input, leaving an existing -o file untouched.
 #include <gtest/gtest.h>
+
+#include "cli_harness.hpp"
 #include <unistd.h>
 
 #include <cstdio>
@@ -17,49 +19,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-class SensorCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("epuck2_sensor_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  CliRun run(const std::string& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = std::string("\"") + EPUCK2_FIT_EXE + "\" " + args + " >\"" + out.string() + "\" 2>\"" + err.string() + "\"";
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
-  std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return (dir_ / name).string();
-  }
-  static std::string shipped(const std::string& kind) {
-    std::string args;
-    for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / kind))
-      if (e.path().extension() == ".csv") args += " \"" + e.path().string() + "\"";
-    return args;
-  }
-  fs::path dir_;
-};
+using SensorCli = epuck2::testing::CliTest;
+using epuck2::testing::CliRun;
+using epuck2::testing::slurp;
 
 struct Case {
   std::string kind;

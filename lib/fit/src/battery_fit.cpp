@@ -225,13 +225,34 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
     s.linear_slope_per_s = mb::lifetime_slope_per_s(L);
     s.linear_slope_std_error = s.lifetime_std_error_s / (L * L);
 
-    // Approximated: grid search of the two breakpoints on the linear profile, then Ceres.
+    // Approximated: the two breakpoints by a coarse-then-fine grid search on the profile of the
+    // linear sub-problem (knot values given breakpoints), then all five refined jointly in Ceres.
     const double last_u = (L - 1.0) / L;
     double best_rss = std::numeric_limits<double>::infinity();
     double best[5] = {0.25, 0.7, 0.7, 0.5, 0.2};
-    constexpr double kGridStep = 0.025;
-    for (double x1 = kGridStep; x1 < last_u - kGridStep; x1 += kGridStep) {
-      for (double x2 = x1 + kGridStep; x2 < last_u - 0.5 * kGridStep; x2 += kGridStep) {
+    auto search = [&](double x1_lo, double x1_hi, double x2_hi, double step) {
+      for (double x1 = x1_lo; x1 <= x1_hi; x1 += step) {
+        for (double x2 = x1 + step; x2 <= x2_hi; x2 += step) {
+          if (x1 <= 0 || x2 >= last_u) continue;
+          double ys[3];
+          const double rss = polyline_profile(u, y, x1, x2, last_u, ys);
+          if (rss < best_rss) {
+            best_rss = rss;
+            best[0] = x1;
+            best[1] = x2;
+            best[2] = ys[0];
+            best[3] = ys[1];
+            best[4] = ys[2];
+          }
+        }
+      }
+    };
+    constexpr double kCoarseStep = 0.05, kFineStep = 0.01;
+    search(kCoarseStep, last_u - kCoarseStep, last_u - 0.5 * kCoarseStep, kCoarseStep);
+    const double c1 = best[0], c2 = best[1];
+    for (double x1 = c1 - kCoarseStep; x1 <= c1 + kCoarseStep + 1e-12; x1 += kFineStep)
+      for (double x2 = c2 - kCoarseStep; x2 <= c2 + kCoarseStep + 1e-12; x2 += kFineStep) {
+        if (x1 <= 0 || x2 <= x1 || x2 >= last_u) continue;
         double ys[3];
         const double rss = polyline_profile(u, y, x1, x2, last_u, ys);
         if (rss < best_rss) {
@@ -243,7 +264,6 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
           best[4] = ys[2];
         }
       }
-    }
     s.piecewise = fit_curve(PolylineInScaledTime{last_u}, u, y, std::vector<double>(best, best + 5),
                             {"x1_s", "x2_s", "y1", "y2", "y3"}, options);
     rescale(s.piecewise, {L, L, 1.0, 1.0, 1.0}, {"x1_s", "x2_s", "y1", "y2", "y3"});

@@ -1,6 +1,7 @@
 #include "epuck2/plot/battery_figures.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <tuple>
 
@@ -38,8 +39,9 @@ void battery_fits_png(const std::string& path, const std::vector<fit::BatteryRun
             for (mb::Model model : mb::kAllModels)
               curves[static_cast<std::size_t>(m++)].emplace_back(t / 3600.0, fit::analytic_charge(s, f, model, t));
           }
-          gp << "set title '" << s.speed_cm_s << " cm/s  (life " << std::round(s.lifetime_s / 36.0) / 100.0
-             << " h)' font ',10'\n";
+          char title[96];
+          std::snprintf(title, sizeof title, "%g cm/s  (lifetime %.2f h, %zu runs)", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs);
+          gp << "set title '" << title << "' font ',10'\n";
           if (i == 0) {
             gp << "set key top right font ',8' samplen 2\n";
           } else {

@@ -232,13 +232,13 @@ inline double cubic_extended(const CubicRow& q, double t_s) {
   return cubic_charge(p, t_s);
 }
 
-/// The time at which the (extended) cubic reads `charge`: the first crossing on [0, end] found by
-/// bracketing and bisection refined with Newton steps; never NaN, whatever the coefficients.
-/// Returns end_s when the charge is below the curve's value at the end.
+/// The time at which the (extended) cubic reads `charge`: the first crossing on [0, end], found
+/// by bracketing and then Newton steps safeguarded by bisection; never NaN, whatever the
+/// coefficients. Returns end_s when the charge is below the curve over the whole of [0, end].
 inline double cubic_time(const CubicRow& q, double charge) {
   if (charge >= q.d) return q.c < 0 ? (charge - q.d) / q.c : 0.0;
   const double p[4] = {q.d, q.c, q.b, q.a};
-  // Bracket the first crossing: scan a few sub-intervals (a fitted cubic may turn back up).
+  // Bracket the first crossing: scan sub-intervals (a fitted cubic may turn back up).
   constexpr int kScan = 16;
   double lo = 0.0;
   double hi = q.end_s;
@@ -253,11 +253,23 @@ inline double cubic_time(const CubicRow& q, double charge) {
     }
   }
   if (!found) return q.end_s;
-  for (int it = 0; it < 80 && hi - lo > 1e-9 * (1.0 + q.end_s); ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (cubic_charge(p, mid) > charge ? lo : hi) = mid;
+  // f(lo) > 0 >= f(hi) with f(t) = cubic(t) - charge.
+  double t = 0.5 * (lo + hi);
+  const double tolerance_s = 1e-9 * (1.0 + q.end_s);
+  for (int it = 0; it < 100; ++it) {
+    const double f = cubic_charge(p, t) - charge;
+    if (f > 0) lo = t; else hi = t;
+    if (hi - lo <= tolerance_s || f == 0) break;
+    const double df = (3 * q.a * t + 2 * q.b) * t + q.c;
+    double next = df != 0 ? t - f / df : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);  // Newton left the bracket: bisect
+    if (std::abs(next - t) <= tolerance_s) {
+      t = next;
+      break;
+    }
+    t = next;
   }
-  return 0.5 * (lo + hi);
+  return t;
 }
 
 inline double cubic_next(const CubicRow& q, double charge, double dt_s) {

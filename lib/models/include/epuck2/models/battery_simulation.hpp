@@ -40,6 +40,26 @@ inline double commanded_speed_cm_s(const std::vector<ProfilePoint>& profile, dou
   return v;
 }
 
+/// Walks a profile forwards in time: the command in effect at non-decreasing query times, in
+/// amortised constant time per query.
+class ProfileCursor {
+ public:
+  explicit ProfileCursor(const std::vector<ProfilePoint>& profile) : profile_(profile) {}
+  double speed_at(double t_s) {
+    constexpr double kTimeSlack_s = 1e-9;  // tick times are k*dt in floating point
+    while (next_ < profile_.size() && profile_[next_].time_s <= t_s + kTimeSlack_s) {
+      speed_ = profile_[next_].speed_cm_s;
+      ++next_;
+    }
+    return speed_;
+  }
+
+ private:
+  const std::vector<ProfilePoint>& profile_;
+  std::size_t next_ = 0;
+  double speed_ = 0;
+};
+
 /// Charge from `start_charge` at time 0, one sample after each tick, until the profile's last
 /// time or an empty battery (the last sample then reads 0).
 inline std::vector<ChargeSample> simulate_discharge(Model model, Behaviour behaviour,
@@ -54,12 +74,13 @@ inline std::vector<ChargeSample> simulate_discharge(Model model, Behaviour behav
   out.push_back({0.0, start_charge});
   double charge = start_charge;
   double previous_cmd_m_s = 0;   // ARGoS: the wheel command of the previous tick
+  ProfileCursor cursor(profile);
   for (std::size_t k = 1; k <= ticks && charge > 0; ++k) {
     double delta_pos_m = 0;
     if (behaviour == Behaviour::argos_compatible) {
       double wheel_m_s = 0;
       if (k >= 2) {
-        const double cmd_m_s = commanded_speed_cm_s(profile, static_cast<double>(k - 2) * dt_s) / 100.0;
+        const double cmd_m_s = cursor.speed_at(static_cast<double>(k - 2) * dt_s) / 100.0;
         wheel_m_s = (cmd_m_s != previous_cmd_m_s) ? 0.9 * cmd_m_s + 0.1 * previous_cmd_m_s : cmd_m_s;
         previous_cmd_m_s = cmd_m_s;
       }
@@ -68,7 +89,7 @@ inline std::vector<ChargeSample> simulate_discharge(Model model, Behaviour behav
       const double delta_angle_rad = wheel_m_s * dt_s / kHalfAxle_m;
       delta_pos_m = delta_angle_rad * kHalfAxleFloat_m;
     } else {
-      delta_pos_m = commanded_speed_cm_s(profile, static_cast<double>(k - 1) * dt_s) / 100.0 * dt_s;
+      delta_pos_m = cursor.speed_at(static_cast<double>(k - 1) * dt_s) / 100.0 * dt_s;
     }
     charge = step(model, behaviour, tables, charge, delta_pos_m, dt_s);
     out.push_back({static_cast<double>(k) * dt_s, charge});

@@ -1,0 +1,64 @@
+// Runs the real epuck2-fit binary (EPUCK2_FIT_EXE) in a per-test temporary folder and captures
+// its exit code, standard output and standard error. Shared by the CLI test suites.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace epuck2::testing {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+inline std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("epuck2_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// Runs `epuck2-fit ARGS` (in `cwd` when given).
+  CliRun run(const std::string& args, const std::string& cwd = "") {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = (cwd.empty() ? std::string() : "cd \"" + cwd + "\" && ") + "\"" + EPUCK2_FIT_EXE + "\" " + args + " >\"" + out.string() + "\" 2>\"" + err.string() + "\"";
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+  }
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  static std::string shipped(const std::string& kind) {
+    std::string args;
+    for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / kind))
+      if (e.path().extension() == ".csv") args += " \"" + e.path().string() + "\"";
+    return args;
+  }
+  fs::path dir_;
+};
+
+}  // namespace epuck2::testing
