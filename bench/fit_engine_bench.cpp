@@ -10,7 +10,8 @@
 // (b) the battery reference set: per speed, a least-squares cubic charge = a u^3 + b u^2 + c u + d
 //     in scaled time u = time_s / 3600 (hours; the same scaling in every tool) on the pooled logs
 //     robot-X_speed-SS.csv, from the start (a, b, c, d) = (0, 0, 0, 1), with the default
-//     FitOptions (what other callers of fit_curve get).
+//     FitOptions (what other callers of fit_curve get), and again with
+//     FitOptions::single_residual_block (all rows in one Ceres residual block).
 // Each fit is repeated until --min-seconds have passed (at least 5 times); the median is reported.
 #include <algorithm>
 #include <chrono>
@@ -146,6 +147,10 @@ int main(int argc, char** argv) {
         const std::vector<std::string> pnames{"a_per_h3", "b_per_h2", "c_per_h", "d"};
         const fit::FitResult r = fit::fit_curve(Cubic{}, u, charge, start, pnames);
         const double t = median_seconds([&] { fit::fit_curve(Cubic{}, u, charge, start, pnames); }, min_seconds);
+        fit::FitOptions one_block;
+        one_block.single_residual_block = true;
+        const fit::FitResult rb = fit::fit_curve(Cubic{}, u, charge, start, pnames, one_block);
+        const double tb = median_seconds([&] { fit::fit_curve(Cubic{}, u, charge, start, pnames, one_block); }, min_seconds);
         sets.push_back({{"speed_cm_s", speed},
                         {"files", names},
                         {"observations", u.size()},
@@ -153,7 +158,9 @@ int main(int argc, char** argv) {
                         {"usable", r.usable},
                         {"rss", r.rss},
                         {"iterations", r.iterations},
-                        {"seconds", t}});
+                        {"seconds", t},
+                        {"values_single_block", rb.values()},
+                        {"seconds_single_block", tb}});
       }
       out["battery"] = {{"time_unit_s", kHourS}, {"model", "charge = a u^3 + b u^2 + c u + d, u = time_s / 3600"},
                         {"start", {0.0, 0.0, 0.0, 1.0}}, {"sets", sets}};

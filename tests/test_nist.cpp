@@ -169,6 +169,29 @@ TEST(FitOptionsDefaults, SingleSolveUnchanged) {
   EXPECT_TRUE(searched.at_target);
 }
 
+// One residual block for all rows is the same least-squares problem: the same minimum, the same
+// standard errors (to the digits the 1e-15 tolerances leave).
+TEST(FitOptionsSingleBlock, SameFitAsOneBlockPerRow) {
+  constexpr double kDigits = 9.0;
+  const nist::Problem p = nist::read(kNistDir + "/Misra1a.dat");
+  const std::vector<std::string> names{"b1", "b2"};
+  FitOptions block;
+  block.single_residual_block = true;
+  for (int start : {1, 2}) {
+    const std::vector<double> b0{start == 1 ? p.parameters[0].start1 : p.parameters[0].start2,
+                                 start == 1 ? p.parameters[1].start1 : p.parameters[1].start2};
+    const FitResult a = fit_curve(nist::models::Misra1a{}, p.x[0], p.y, b0, names);
+    const FitResult b = fit_curve(nist::models::Misra1a{}, p.x[0], p.y, b0, names, block);
+    ASSERT_TRUE(a.usable && b.usable);
+    for (std::size_t j = 0; j < 2; ++j) {
+      EXPECT_GE(nist::log_relative_error(b.parameters[j].value, a.parameters[j].value), kDigits);
+      EXPECT_GE(nist::log_relative_error(b.parameters[j].std_error, a.parameters[j].std_error), kDigits);
+      EXPECT_GE(nist::log_relative_error(b.parameters[j].value, p.parameters[j].certified), 6.0);
+    }
+    EXPECT_GE(nist::log_relative_error(b.rss, a.rss), kDigits);
+  }
+}
+
 std::string run_command(const std::string& cmd, int* status) {
   std::string out;
   FILE* pipe = popen(cmd.c_str(), "r");
