@@ -32,5 +32,6 @@ void setup_ground(CLI::App& app, Action& action);
 void setup_camera(CLI::App& app, Action& action);
 void setup_drive(CLI::App& app, Action& action);
 void setup_nist(CLI::App& app, Action& action);
+void setup_diagnose(CLI::App& app, Action& action);
 
 }  // namespace epuck2::app

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   setup_camera(app, action);
   setup_drive(app, action);
   setup_nist(app, action);
+  setup_diagnose(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,231 @@
+// epuck2-fit diagnose [--kind KIND] [--json FILE|-] [--plot DIR] LOGS...: what the plug-in's model
+// gets wrong on these logs, the cause from the catalogue, and the held-out gain of fixing it
+// (shared/spec/diagnose.md).
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+
+#include "app_support.hpp"
+#include "commands.hpp"
+#include "epuck2/fit/diagnose.hpp"
+#include "epuck2/logs/log.hpp"
+#include "epuck2/plot/png.hpp"
+
+namespace epuck2::app {
+
+namespace {
+
+namespace dg = fit::diagnose;
+
+struct DiagnoseOptions {
+  std::string kind;
+  std::string json;
+  std::string plot_dir;
+  std::vector<std::string> logs;
+};
+
+std::string units(logs::Kind k) {
+  switch (k) {
+    case logs::Kind::camera: return "px^2";
+    case logs::Kind::drive: return "mm^2";
+    case logs::Kind::battery: return "charge^2";
+    default: return "counts^2";
+  }
+}
+
+/// What a cause means, in plain words.
+std::string meaning(const std::string& cause) {
+  static const std::map<std::string, std::string> m{
+      {"black_offset", "black still reflects: readings over black sit above 0"},
+      {"white_level", "white reads a different level than the model's full scale"},
+      {"sensor_gain", "the sensors disagree: each has its own gain"},
+      {"nonlinear_response", "the reading is not proportional to the grey level"},
+      {"ambient_offset", "ambient light shifts every reading by the same amount"},
+      {"long_tail", "the sensor still responds beyond the model's cut-off"},
+      {"incidence_angle", "readings fall as the surface tilts away from the sensor"},
+      {"saturation", "readings saturate below full scale"},
+      {"falloff_exponent", "the reading does not fall with the square of the distance"},
+      {"principal_offset", "the optical axis is off the image centre"},
+      {"radial_distortion", "the lens bends points away from (or towards) the centre"},
+  };
+  if (cause.rfind("covariate:", 0) == 0) return "the readings drift with the column " + cause.substr(10);
+  const auto it = m.find(cause);
+  return it == m.end() ? cause : it->second;
+}
+
+/// Parameters named "gains[3]" become arrays (null where a sensor was not seen or is the reference).
+void put_parameters(const std::vector<dg::NamedValue>& values, nlohmann::json& value_out, nlohmann::json& error_out) {
+  value_out = nlohmann::json::object();
+  error_out = nlohmann::json::object();
+  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  for (const auto& v : values) {
+    const auto open = v.name.find('[');
+    if (open == std::string::npos) {
+      value_out[v.name] = number(v.value);
+      error_out[v.name] = number(v.std_error);
+      continue;
+    }
+    const std::string key = v.name.substr(0, open);
+    const std::size_t index = std::stoul(v.name.substr(open + 1));
+    for (nlohmann::json* j : {&value_out, &error_out}) {
+      if (!j->contains(key)) (*j)[key] = nlohmann::json::array();
+      while ((*j)[key].size() <= index) (*j)[key].push_back(nullptr);
+    }
+    value_out[key][index] = number(v.value);
+    error_out[key][index] = number(v.std_error);
+  }
+}
+
+nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& paths) {
+  nlohmann::json j;
+  j["kind"] = std::string(logs::to_string(r.kind));
+  j["rows"] = r.rows;
+  j["residuals"] = r.residuals;
+  j["logs"] = paths;
+  j["verdict"] = r.verdict;
+  nlohmann::json rec, rec_se;
+  put_parameters(r.recalibrated, rec, rec_se);
+  j["recalibrated"] = rec;
+  j["recalibrated_uncertainty"] = rec_se;
+  j["heldout_mse_plugin"] = r.heldout_mse_plugin;
+  j["heldout_mse_recalibrated"] = r.heldout_mse_base;
+  j["heldout_mse_final"] = r.heldout_mse_final;
+  j["noise_sd"] = r.noise_sd;
+  j["mse_units"] = units(r.kind);
+  j["findings"] = nlohmann::json::array();
+  for (const auto& f : r.findings) {
+    nlohmann::json fj, v, e;
+    fj["cause"] = f.cause;
+    put_parameters(f.parameters, v, e);
+    fj["parameters"] = v;
+    fj["uncertainty"] = e;
+    fj["heldout_mse_before"] = f.heldout_mse_before;
+    fj["heldout_mse_after"] = f.heldout_mse_after;
+    fj["delta_bic"] = f.delta_bic;
+    fj["meaning"] = meaning(f.cause);
+    j["findings"].push_back(fj);
+  }
+  auto scores = [](const std::vector<dg::CovariateScore>& s) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& c : s) a.push_back({{"covariate", c.covariate}, {"score", c.score}, {"significant", c.significant}});
+    return a;
+  };
+  j["residual_structure"] = scores(r.structure_after);
+  j["residual_structure_before"] = scores(r.structure_before);
+  j["effects_considered"] = r.effects_considered;
+  nlohmann::json trials = nlohmann::json::array();
+  for (const auto& t : r.trials)
+    trials.push_back({{"step", t.step}, {"cause", t.cause}, {"delta_bic", t.delta_bic},
+                      {"heldout_mse", t.heldout_mse > 0 ? nlohmann::json(t.heldout_mse) : nlohmann::json(nullptr)},
+                      {"kept", t.kept}});
+  j["search"] = trials;
+  return j;
+}
+
+std::string format_parameters(const std::vector<dg::NamedValue>& values) {
+  std::string out;
+  char buf[160];
+  for (const auto& v : values) {
+    if (std::isfinite(v.std_error) && v.std_error > 0)
+      std::snprintf(buf, sizeof buf, "%s%s = %.4g +- %.2g", out.empty() ? "" : ", ", v.name.c_str(), v.value, v.std_error);
+    else
+      std::snprintf(buf, sizeof buf, "%s%s = %.4g", out.empty() ? "" : ", ", v.name.c_str(), v.value);
+    out += buf;
+  }
+  return out;
+}
+
+void print_report(const dg::Report& r) {
+  const std::string u = units(r.kind);
+  std::printf("Diagnosis of %zu %s rows (%zu residuals)\n", r.rows, std::string(logs::to_string(r.kind)).c_str(), r.residuals);
+  std::printf("The plug-in's model as published: MSE %.4g %s.\n", r.heldout_mse_plugin, u.c_str());
+  if (!r.recalibrated.empty())
+    std::printf("Recalibrated base model (%s): held-out MSE %.4g %s. This is what recalibration alone fixes, not an effect.\n",
+                format_parameters(r.recalibrated).c_str(), r.heldout_mse_base, u.c_str());
+  else
+    std::printf("The base model has no free parameter: held-out MSE %.4g %s.\n", r.heldout_mse_base, u.c_str());
+  if (!r.structure_before.empty() && r.structure_before.front().significant)
+    std::printf("Its residuals depend most on %s (%.0f %% of their variance).\n", r.structure_before.front().covariate.c_str(),
+                100 * r.structure_before.front().score);
+  for (const auto& f : r.findings)
+    std::printf("Finding: %s (%s); %s explains it; held-out MSE %.4g -> %.4g %s (BIC %+.1f).\n", f.cause.c_str(),
+                meaning(f.cause).c_str(), format_parameters(f.parameters).c_str(), f.heldout_mse_before, f.heldout_mse_after,
+                u.c_str(), f.delta_bic);
+  if (r.findings.empty()) std::printf("No effect of the catalogue passes both the BIC and the held-out test.\n");
+  std::printf("Residual structure left:");
+  for (std::size_t k = 0; k < r.structure_after.size() && k < 4; ++k)
+    std::printf(" %s %.3f%s", r.structure_after[k].covariate.c_str(), r.structure_after[k].score,
+                r.structure_after[k].significant ? " (significant)" : "");
+  std::printf("\nVerdict: %s", r.verdict.c_str());
+  if (r.verdict == "unexplained")
+    std::printf(" (the residuals still depend on %s, which no effect of the catalogue explains)", r.structure_after.front().covariate.c_str());
+  std::printf("\n");
+}
+
+void draw(const std::string& dir, const dg::Report& r) {
+  namespace fs = std::filesystem;
+  // Residuals before (recalibrated base) and after (final model) against the covariate the
+  // residuals depended on most before.
+  std::string name = r.structure_before.empty() ? "row" : r.structure_before.front().covariate;
+  const std::vector<double>* x = nullptr;
+  for (const auto& c : r.covariates)
+    if (c.first == name) x = &c.second;
+  if (!x) {
+    for (const auto& c : r.covariates)
+      if (c.first == "row") x = &c.second;
+    name = "row";
+  }
+  if (!x) return;
+  const std::string path = (fs::path(dir) / ("diagnose_" + std::string(logs::to_string(r.kind)) + ".png")).string();
+  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+    gp << "$before << EOD\n";
+    for (std::size_t i = 0; i < x->size(); ++i) gp << (*x)[i] << ' ' << r.residual_before[i] << '\n';
+    gp << "EOD\n$after << EOD\n";
+    for (std::size_t i = 0; i < x->size(); ++i) gp << (*x)[i] << ' ' << r.residual_after[i] << '\n';
+    gp << "EOD\n";
+    gp << "set multiplot layout 1,2 title 'diagnose " << logs::to_string(r.kind) << ": verdict " << r.verdict << "'\n";
+    gp << "set grid\nset xlabel '" << name << "'\nset ylabel 'measured - model'\n";
+    gp << "set title 'recalibrated base model'\nplot $before using 1:2 with points pt 7 ps 0.4 lc rgb '#d62728' notitle\n";
+    gp << "set title 'with the findings'\nplot $after using 1:2 with points pt 7 ps 0.4 lc rgb '#1f77b4' notitle\n";
+    gp << "unset multiplot\n";
+  });
+  std::printf("Residual plot: %s\n", path.c_str());
+}
+
+int run_diagnose(const DiagnoseOptions& o) {
+  std::optional<logs::Kind> kind;
+  if (!o.kind.empty()) {
+    kind = logs::parse_kind(o.kind);
+    if (!kind) throw UsageError("--kind: unknown kind '" + o.kind + "'");
+  }
+  const auto logs = logs::read_logs(o.logs, kind);
+  if (logs.empty()) throw UsageError("no logs given");
+  if (!dg::supported(logs.front().kind))
+    throw UsageError("diagnose does not support the kind '" + std::string(logs::to_string(logs.front().kind)) +
+                     "' yet (supported: ground, proximity, light, camera)");
+  if (!o.plot_dir.empty() && !std::filesystem::is_directory(o.plot_dir))
+    throw UsageError("--plot: " + o.plot_dir + " is not a folder");
+  const dg::Report r = dg::diagnose(logs);
+  if (!r.supported) throw UsageError(r.message);
+  if (o.json != "-") print_report(r);
+  if (!o.json.empty()) write_json(to_json(r, o.logs), o.json);
+  if (!o.plot_dir.empty()) draw(o.plot_dir, r);
+  return 0;
+}
+
+}  // namespace
+
+void setup_diagnose(CLI::App& app, Action& action) {
+  auto o = std::make_shared<DiagnoseOptions>();
+  CLI::App* sub = app.add_subcommand("diagnose", "What the simulation gets wrong on these logs, why, and what fixing it gains");
+  sub->add_option("--kind", o->kind, "Kind of the logs (recognised from the columns when omitted)");
+  sub->add_option("--json", o->json, "Write the JSON report to FILE ('-' for standard output)");
+  sub->add_option("--plot", o->plot_dir, "Write residual plots (PNG) into this folder");
+  sub->add_option("logs", o->logs, "Log files (shared/spec/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->callback([o, &action] { action = [o] { return run_diagnose(*o); }; });
+}
+
+}  // namespace epuck2::app

@@ -1,0 +1,91 @@
+// Diagnosis (shared/spec/diagnose.md): what the plug-in's model of a sensor gets wrong on a set of
+// logs of one kind, why, and what fixing it gains on rows the fit did not see.
+//
+// For every row the base model of the kind (the plug-in's formula, lib/models) predicts the
+// reading; the base model's free parameters are recalibrated; every effect of the catalogue that
+// the logs can show is fitted jointly with them (Ceres) and evaluated on held-out rows (contiguous
+// blocks of rows dealt round-robin into folds, so that neighbouring rows do not leak); an effect
+// is kept only when the Bayesian information criterion on all rows and the held-out error agree.
+// A greedy forward search keeps several. What the residuals still depend on is scored against
+// every covariate (log columns and derived quantities).
+//
+// Supported kinds: ground, proximity, light, camera (see diagnose_kinds.cpp). Battery and drive
+// are not implemented yet: diagnose() returns a report with `supported = false` for them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "epuck2/logs/log.hpp"
+
+namespace epuck2::fit::diagnose {
+
+struct NamedValue {
+  std::string name;
+  double value = 0;
+  double std_error = 0;  ///< NaN when the covariance could not be computed
+};
+
+struct Finding {
+  std::string cause;                   ///< catalogue name, e.g. "black_offset", "covariate:temperature_c"
+  std::vector<NamedValue> parameters;  ///< the effect's parameters (catalogue names) in the final joint fit
+  double heldout_mse_before = 0;       ///< held-out MSE of the model without this effect
+  double heldout_mse_after = 0;        ///< ... with it
+  double delta_bic = 0;                ///< BIC(with) - BIC(without), on all rows (negative = better)
+};
+
+struct CovariateScore {
+  std::string covariate;
+  double score = 0;         ///< fraction of the residual variance explained by the covariate's binned means
+  bool significant = false; ///< both statistically (F test, p < 1e-6) and practically (score >= threshold)
+};
+
+/// One candidate's evaluation during the search (for the report's "search" section).
+struct Trial {
+  int step = 0;
+  std::string cause;
+  double delta_bic = 0;
+  double heldout_mse = 0;
+  bool kept = false;
+};
+
+struct Report {
+  logs::Kind kind = logs::Kind::ground;
+  bool supported = false;
+  std::string message;  ///< why not supported, or notes
+  std::size_t rows = 0;       ///< data rows in all logs
+  std::size_t residuals = 0;  ///< residuals fitted (camera: two per row)
+  std::string verdict = "none";
+  std::vector<NamedValue> recalibrated;  ///< the base model's free parameters (empty: none)
+  double noise_sd = 0;                   ///< residual standard deviation of the final model
+  double heldout_mse_plugin = 0;         ///< the plug-in's model with its published coefficients
+  double heldout_mse_base = 0;           ///< the base model recalibrated
+  double heldout_mse_final = 0;          ///< with every finding
+  std::vector<Finding> findings;
+  std::vector<CovariateScore> structure_before;  ///< residuals of the recalibrated base model
+  std::vector<CovariateScore> structure_after;   ///< residuals after the findings (the spec's residual_structure)
+  std::vector<Trial> trials;
+  std::vector<std::string> effects_considered;
+  /// For plots: per residual, the residual before (recalibrated base) and after (final model), and
+  /// the covariates' values.
+  std::vector<double> residual_before, residual_after;
+  std::vector<std::pair<std::string, std::vector<double>>> covariates;
+};
+
+struct Options {
+  int folds = 5;
+  int blocks_per_fold = 8;             ///< contiguous blocks of rows per fold
+  double min_delta_bic = 10.0;         ///< "very strong" evidence on the BIC scale (Kass and Raftery 1995)
+  double min_heldout_gain = 0.03;      ///< held-out MSE must fall by at least this fraction
+  double structure_threshold = 0.03;   ///< practical size of a residual dependence (fraction of variance)
+  int max_findings = 4;
+};
+
+/// Diagnoses logs of one kind (all of `logs` must be of that kind). Never throws for numerical
+/// trouble; an unsupported kind gives `supported = false`.
+Report diagnose(const std::vector<logs::Log>& logs, const Options& options = {});
+
+/// Kinds that diagnose() supports.
+bool supported(logs::Kind kind);
+
+}  // namespace epuck2::fit::diagnose

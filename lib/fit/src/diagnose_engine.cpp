@@ -1,0 +1,478 @@
+// The diagnosis engine: recalibration, greedy forward search over the catalogue's effects with
+// BIC and held-out error, residual structure (shared/spec/diagnose.md, steps 2 to 5).
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <set>
+
+#include "diagnose_problem.hpp"
+#include "epuck2/fit/diagnose.hpp"
+#include "epuck2/fit/least_squares.hpp"
+
+namespace epuck2::fit::diagnose {
+
+namespace detail {
+
+void add_common_covariates(Problem& p, const std::vector<logs::Log>& logs, int residuals_per_row) {
+  const std::size_t per = static_cast<std::size_t>(residuals_per_row);
+  std::set<std::string> extras;
+  for (const auto& log : logs)
+    for (const auto& c : log.extra_numeric_columns()) extras.insert(c);
+  // A column is a candidate only when every log has it.
+  for (const auto& name : extras) {
+    bool everywhere = true;
+    for (const auto& log : logs) everywhere = everywhere && log.has(name);
+    if (!everywhere) continue;
+    std::vector<double> v;
+    for (const auto& log : logs)
+      for (double x : log.col(name))
+        for (std::size_t k = 0; k < per; ++k) v.push_back(x);
+    p.extra_columns.emplace_back(name, v);
+    p.covariates.emplace_back(name, v);
+  }
+  std::vector<double> index, which;
+  for (std::size_t l = 0; l < logs.size(); ++l)
+    for (std::size_t i = 0; i < logs[l].rows(); ++i)
+      for (std::size_t k = 0; k < per; ++k) {
+        index.push_back(static_cast<double>(i));
+        which.push_back(static_cast<double>(l));
+      }
+  p.covariates.emplace_back("row", index);
+  if (logs.size() > 1) p.covariates.emplace_back("log", which);
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::Jet;
+using detail::kMaxFree;
+using detail::Problem;
+
+/// E[clamp(mu + e, lo, hi)] for e ~ N(0, sigma^2): the mean of a clamped noisy reading, smooth in
+/// mu, so that readings at a clamp are fitted without bias (for hi - lo >> sigma).
+template <typename T>
+T expected_clamp(const T& mu, double lo, double hi, double sigma) {
+  using std::erfc;
+  using std::exp;
+  constexpr double kInvSqrt2 = 0.70710678118654752440;
+  constexpr double kInvSqrt2Pi = 0.39894228040143267794;
+  T out = mu;
+  if (std::isfinite(lo)) {
+    const T z = (lo - mu) / sigma;  // E[max(0, lo - X)] = sigma (z Phi(z) + phi(z))
+    out += sigma * (z * (0.5 * erfc(-z * kInvSqrt2)) + kInvSqrt2Pi * exp(-0.5 * z * z));
+  }
+  if (std::isfinite(hi)) {
+    const T z = (mu - hi) / sigma;
+    out -= sigma * (z * (0.5 * erfc(-z * kInvSqrt2)) + kInvSqrt2Pi * exp(-0.5 * z * z));
+  }
+  return out;
+}
+
+class Engine {
+ public:
+  Engine(Problem& problem, const Options& options) : p_(problem), o_(options) {
+    // covariate:NAME effects: reading = base + slope (NAME - mean of NAME).
+    for (const auto& [name, values] : p_.extra_columns) {
+      double mean = 0;
+      for (double v : values) mean += v;
+      mean /= std::max<std::size_t>(1, values.size());
+      std::vector<double> centred(values.size());
+      double spread = 0;
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        centred[i] = values[i] - mean;
+        spread = std::max(spread, std::abs(centred[i]));
+      }
+      if (!(spread > 0)) continue;
+      const int index = static_cast<int>(p_.params.size());
+      p_.params.push_back({"slope", 0.0, 0.0, -detail::kInf, detail::kInf});
+      p_.plugin_values.push_back(0.0);
+      p_.effects.push_back({"covariate:" + name, {index}});
+      slopes_.push_back({index, centred});
+    }
+    n_ = p_.y.size();
+    // Folds: contiguous blocks of rows dealt round-robin.
+    const std::size_t blocks = static_cast<std::size_t>(std::max(1, o_.folds * o_.blocks_per_fold));
+    const std::size_t block_rows = std::max<std::size_t>(1, (p_.rows + blocks - 1) / blocks);
+    fold_.resize(n_);
+    for (std::size_t i = 0; i < n_; ++i) fold_[i] = static_cast<int>((p_.row[i] / block_rows) % static_cast<std::size_t>(o_.folds));
+    all_.resize(n_);
+    std::iota(all_.begin(), all_.end(), 0);
+  }
+
+  std::size_t size() const { return n_; }
+  double sigma = 1.0;
+
+  template <typename T>
+  void predict(const T* values, std::vector<T>& out) const {
+    out.assign(n_, T(0.0));
+    p_.mean(values, out.data());
+    for (const auto& s : slopes_)
+      for (std::size_t i = 0; i < n_; ++i) out[i] += values[s.param] * s.centred[i];
+    for (std::size_t i = 0; i < n_; ++i) out[i] = expected_clamp(out[i], p_.lo[i], p_.hi[i], sigma);
+  }
+  std::vector<double> predict(const std::vector<double>& values) const {
+    std::vector<double> out;
+    predict(values.data(), out);
+    return out;
+  }
+  std::vector<double> residuals(const std::vector<double>& values) const {
+    std::vector<double> r = predict(values);
+    for (std::size_t i = 0; i < n_; ++i) r[i] = p_.y[i] - r[i];
+    return r;
+  }
+
+  struct Fitted {
+    std::vector<double> values;
+    FitResult result;
+  };
+
+  /// Least squares over the residuals `idx`, parameters `free` free (others held), from `start`.
+  Fitted fit(const std::vector<int>& free, const std::vector<double>& start, const std::vector<std::size_t>& idx,
+             bool covariance) const {
+    Fitted f;
+    f.values = start;
+    const std::size_t P = p_.params.size();
+    std::vector<int> slot(P, -1);
+    int k = 0;
+    for (int j : free) slot[static_cast<std::size_t>(j)] = k++;
+    if (free.empty()) {
+      const auto r = residuals(f.values);
+      double rss = 0;
+      for (std::size_t i : idx) rss += r[i] * r[i];
+      f.result.usable = true;
+      f.result.observations = idx.size();
+      f.result.rss = rss;
+      f.result.mse = idx.empty() ? 0 : rss / static_cast<double>(idx.size());
+      f.result.residual_variance = f.result.mse;
+      f.result.bic = bayes(idx.size(), rss, 0);
+      f.result.aic = akaike(idx.size(), rss, 0);
+      for (std::size_t j = 0; j < P; ++j) f.result.parameters.push_back({p_.params[j].name, f.values[j], 0.0});
+      return f;
+    }
+    ceres::Problem problem;
+    std::vector<double*> blocks;
+    for (std::size_t j = 0; j < P; ++j) blocks.push_back(&f.values[j]);
+    problem.AddResidualBlock(new Cost(*this, idx, slot), nullptr, blocks);
+    for (std::size_t j = 0; j < P; ++j) {
+      if (slot[j] < 0) {
+        problem.SetParameterBlockConstant(blocks[j]);
+        continue;
+      }
+      if (std::isfinite(p_.params[j].lower)) problem.SetParameterLowerBound(blocks[j], 0, p_.params[j].lower);
+      if (std::isfinite(p_.params[j].upper)) problem.SetParameterUpperBound(blocks[j], 0, p_.params[j].upper);
+    }
+    FitOptions options;
+    options.max_iterations = 200;
+    options.function_tolerance = 1e-10;
+    options.gradient_tolerance = 1e-12;
+    options.parameter_tolerance = 1e-10;
+    options.compute_covariance = covariance;
+    const auto summary = solve(problem, options);
+    ParameterLayout layout;
+    layout.blocks = blocks;
+    layout.sizes.assign(P, 1);
+    for (const auto& q : p_.params) layout.names.push_back(q.name);
+    std::vector<double> observed;
+    for (std::size_t i : idx) observed.push_back(p_.y[i]);
+    f.result = summarize(problem, layout, observed, summary, options);
+    return f;
+  }
+
+  /// Held-out MSE: each fold predicted by a fit on the other folds.
+  double heldout_mse(const std::vector<int>& free, const std::vector<double>& start) const {
+    double sse = 0;
+    std::size_t count = 0;
+    for (int f = 0; f < o_.folds; ++f) {
+      std::vector<std::size_t> train, test;
+      for (std::size_t i = 0; i < n_; ++i) (fold_[i] == f ? test : train).push_back(i);
+      if (test.empty() || train.empty()) continue;
+      const Fitted fit_f = fit(free, start, train, false);
+      const auto r = residuals(fit_f.values);
+      for (std::size_t i : test) sse += r[i] * r[i];
+      count += test.size();
+    }
+    return count ? sse / static_cast<double>(count) : 0.0;
+  }
+
+  const std::vector<std::size_t>& all() const { return all_; }
+
+  /// Noise standard deviation from the residuals of readings away from the clamps.
+  double noise_sd(const std::vector<double>& values) const {
+    const auto r = residuals(values);
+    double s = 0;
+    std::size_t c = 0;
+    for (std::size_t i = 0; i < n_; ++i)
+      if (p_.y[i] > p_.lo[i] && p_.y[i] < p_.hi[i]) {
+        s += r[i] * r[i];
+        ++c;
+      }
+    // A reading is a whole count: at least the rounding's sqrt(1/12) ~ 0.29 of spread.
+    constexpr double kMinimumSd = 0.3;
+    return std::max(kMinimumSd, c ? std::sqrt(s / static_cast<double>(c)) : 1.0);
+  }
+
+ private:
+  /// All residuals y_i - E[clamp(model_i)] of the training rows in one block; one parameter block
+  /// of size 1 per parameter; derivatives by Jets over the free parameters.
+  class Cost : public ceres::CostFunction {
+   public:
+    Cost(const Engine& e, const std::vector<std::size_t>& idx, const std::vector<int>& slot) : e_(e), idx_(idx), slot_(slot) {
+      set_num_residuals(static_cast<int>(idx.size()));
+      for (std::size_t j = 0; j < slot.size(); ++j) mutable_parameter_block_sizes()->push_back(1);
+    }
+    bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+      const std::size_t P = slot_.size();
+      bool need = false;
+      if (jacobians)
+        for (std::size_t j = 0; j < P; ++j) need = need || (jacobians[j] != nullptr);
+      if (!need) {
+        std::vector<double> v(P);
+        for (std::size_t j = 0; j < P; ++j) v[j] = parameters[j][0];
+        std::vector<double> pred;
+        e_.predict(v.data(), pred);
+        for (std::size_t k = 0; k < idx_.size(); ++k) {
+          residuals[k] = e_.p_.y[idx_[k]] - pred[idx_[k]];
+          if (!std::isfinite(residuals[k])) return false;
+        }
+        return true;
+      }
+      std::vector<Jet> v(P);
+      for (std::size_t j = 0; j < P; ++j) v[j] = slot_[j] >= 0 ? Jet(parameters[j][0], slot_[j]) : Jet(parameters[j][0]);
+      std::vector<Jet> pred;
+      e_.predict(v.data(), pred);
+      for (std::size_t k = 0; k < idx_.size(); ++k) {
+        const Jet& m = pred[idx_[k]];
+        residuals[k] = e_.p_.y[idx_[k]] - m.a;
+        if (!std::isfinite(residuals[k])) return false;
+        for (std::size_t j = 0; j < P; ++j)
+          if (jacobians[j]) {
+            const double d = slot_[j] >= 0 ? -m.v[slot_[j]] : 0.0;
+            if (!std::isfinite(d)) return false;
+            jacobians[j][k] = d;
+          }
+      }
+      return true;
+    }
+
+   private:
+    const Engine& e_;
+    const std::vector<std::size_t> idx_;
+    const std::vector<int> slot_;
+  };
+
+  struct Slope {
+    int param;
+    std::vector<double> centred;
+  };
+  Problem& p_;
+  const Options& o_;
+  std::vector<Slope> slopes_;
+  std::size_t n_ = 0;
+  std::vector<int> fold_;
+  std::vector<std::size_t> all_;
+};
+
+/// Upper quantile of chi-square with `df` degrees of freedom at tail probability 1e-6
+/// (Wilson-Hilferty: chi2_q ~ df (1 - 2/(9 df) + z sqrt(2/(9 df)))^3, z = 4.753 for 1e-6).
+double chi2_critical(double df) {
+  constexpr double kZ = 4.753;  // standard normal upper quantile at 1e-6
+  const double a = 2.0 / (9.0 * df);
+  const double c = 1.0 - a + kZ * std::sqrt(a);
+  return df * c * c * c;
+}
+
+/// How much of the residuals' variance the covariate's binned means explain (value bins when it
+/// takes at most 24 values, else 12 quantile bins), and whether that is significant.
+CovariateScore score_covariate(const std::string& name, const std::vector<double>& x, const std::vector<double>& r,
+                               double threshold) {
+  CovariateScore s;
+  s.covariate = name;
+  const std::size_t n = r.size();
+  if (n < 3 || x.size() != n) return s;
+  std::vector<double> sorted = x;
+  std::sort(sorted.begin(), sorted.end());
+  const std::size_t distinct = static_cast<std::size_t>(std::unique(sorted.begin(), sorted.end()) - sorted.begin());
+  sorted.resize(distinct);
+  if (distinct < 2) return s;
+  constexpr std::size_t kMaxValueBins = 24;
+  constexpr std::size_t kQuantileBins = 12;
+  std::vector<int> bin(n);
+  std::size_t bins = 0;
+  if (distinct <= kMaxValueBins) {
+    for (std::size_t i = 0; i < n; ++i)
+      bin[i] = static_cast<int>(std::lower_bound(sorted.begin(), sorted.end(), x[i]) - sorted.begin());
+    bins = distinct;
+  } else {
+    std::vector<double> all = x;
+    std::sort(all.begin(), all.end());
+    std::vector<double> edges;
+    for (std::size_t b = 1; b < kQuantileBins; ++b) edges.push_back(all[b * n / kQuantileBins]);
+    for (std::size_t i = 0; i < n; ++i)
+      bin[i] = static_cast<int>(std::upper_bound(edges.begin(), edges.end(), x[i]) - edges.begin());
+    bins = kQuantileBins;
+  }
+  std::vector<double> sum(bins, 0.0);
+  std::vector<std::size_t> count(bins, 0);
+  double mean = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sum[static_cast<std::size_t>(bin[i])] += r[i];
+    ++count[static_cast<std::size_t>(bin[i])];
+    mean += r[i];
+  }
+  mean /= static_cast<double>(n);
+  double tss = 0, between = 0;
+  std::size_t used = 0;
+  for (std::size_t i = 0; i < n; ++i) tss += (r[i] - mean) * (r[i] - mean);
+  for (std::size_t b = 0; b < bins; ++b)
+    if (count[b]) {
+      const double m = sum[b] / static_cast<double>(count[b]);
+      between += static_cast<double>(count[b]) * (m - mean) * (m - mean);
+      ++used;
+    }
+  if (!(tss > 0) || used < 2) return s;
+  s.score = between / tss;
+  const double df1 = static_cast<double>(used - 1), df2 = static_cast<double>(n - used);
+  const double chi2 = df2 * s.score / std::max(1e-300, 1.0 - s.score);  // df1 * F
+  s.significant = s.score >= threshold && chi2 > chi2_critical(df1);
+  return s;
+}
+
+std::vector<CovariateScore> structure(const Problem& p, const std::vector<double>& r, const std::vector<double>& predicted,
+                                      double threshold) {
+  std::vector<CovariateScore> out;
+  for (const auto& [name, x] : p.covariates) out.push_back(score_covariate(name, x, r, threshold));
+  out.push_back(score_covariate("predicted", predicted, r, threshold));
+  std::stable_sort(out.begin(), out.end(), [](const CovariateScore& a, const CovariateScore& b) { return a.score > b.score; });
+  return out;
+}
+
+std::vector<NamedValue> named(const Problem& p, const Engine::Fitted& f, const std::vector<int>& which) {
+  std::vector<NamedValue> out;
+  for (int j : which) {
+    const auto& e = f.result.parameters.size() > static_cast<std::size_t>(j) ? f.result.parameters[static_cast<std::size_t>(j)]
+                                                                             : ParameterEstimate{};
+    out.push_back({p.params[static_cast<std::size_t>(j)].name, f.values[static_cast<std::size_t>(j)], e.std_error});
+  }
+  return out;
+}
+
+}  // namespace
+
+Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
+  Report report;
+  if (logs.empty()) {
+    report.message = "no logs";
+    return report;
+  }
+  report.kind = logs.front().kind;
+  for (const auto& l : logs) report.rows += l.rows();
+  std::string why;
+  std::unique_ptr<Problem> problem = detail::make_problem(logs, why);
+  if (!problem) {
+    report.message = why;
+    return report;
+  }
+  report.supported = true;
+  report.message = problem->notes;
+  Engine engine(*problem, options);
+  Problem& p = *problem;
+  report.residuals = engine.size();
+  for (const auto& e : p.effects) report.effects_considered.push_back(e.cause);
+
+  // The values where the effects are off and the base model is the plug-in's.
+  std::vector<double> neutral(p.params.size());
+  for (std::size_t j = 0; j < p.params.size(); ++j) neutral[j] = p.params[j].neutral;
+
+  // Step 1: the plug-in as published; its residuals give the first noise estimate.
+  engine.sigma = engine.noise_sd(p.plugin_values);
+  report.heldout_mse_plugin = engine.fit({}, p.plugin_values, engine.all(), false).result.mse;
+
+  // Step 2: recalibrate the base model.
+  std::vector<int> free = p.base_free;
+  Engine::Fitted current = engine.fit(free, neutral, engine.all(), true);
+  engine.sigma = engine.noise_sd(current.values);
+  current = engine.fit(free, current.values, engine.all(), true);
+  report.recalibrated = named(p, current, p.base_free);
+  double current_cv = engine.heldout_mse(free, current.values);
+  report.heldout_mse_base = current_cv;
+  const std::vector<double> base_values = current.values;
+
+  // Steps 3 and 4: greedy forward search.
+  std::set<std::size_t> kept;
+  std::vector<std::size_t> order;
+  for (int step = 1; step <= options.max_findings; ++step) {
+    int best = -1;
+    double best_cv = current_cv, best_bic = 0;
+    Engine::Fitted best_fit;
+    for (std::size_t e = 0; e < p.effects.size(); ++e) {
+      if (kept.count(e)) continue;
+      std::vector<int> cand = free;
+      std::vector<double> start = current.values;
+      for (int j : p.effects[e].params) {
+        cand.push_back(j);
+        start[static_cast<std::size_t>(j)] = p.params[static_cast<std::size_t>(j)].start;
+      }
+      if (static_cast<int>(cand.size()) > kMaxFree) continue;
+      Trial t;
+      t.step = step;
+      t.cause = p.effects[e].cause;
+      Engine::Fitted f = engine.fit(cand, start, engine.all(), false);
+      if (!f.result.usable) {
+        report.trials.push_back(t);
+        continue;
+      }
+      t.delta_bic = f.result.bic - current.result.bic;
+      if (t.delta_bic <= -options.min_delta_bic) {
+        t.heldout_mse = engine.heldout_mse(cand, f.values);
+        const bool gain = t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain);
+        if (gain && t.heldout_mse < best_cv) {
+          best = static_cast<int>(e);
+          best_cv = t.heldout_mse;
+          best_bic = t.delta_bic;
+          best_fit = f;
+        }
+      }
+      report.trials.push_back(t);
+    }
+    if (best < 0) break;
+    for (auto& t : report.trials)
+      if (t.step == step && t.cause == p.effects[static_cast<std::size_t>(best)].cause) t.kept = true;
+    Finding finding;
+    finding.cause = p.effects[static_cast<std::size_t>(best)].cause;
+    finding.heldout_mse_before = current_cv;
+    finding.heldout_mse_after = best_cv;
+    finding.delta_bic = best_bic;
+    report.findings.push_back(finding);
+    kept.insert(static_cast<std::size_t>(best));
+    order.push_back(static_cast<std::size_t>(best));
+    for (int j : p.effects[static_cast<std::size_t>(best)].params) free.push_back(j);
+    // Re-estimate the noise with the better model and refit (the clamp's expected value uses it).
+    engine.sigma = engine.noise_sd(best_fit.values);
+    current = engine.fit(free, best_fit.values, engine.all(), false);
+    current_cv = best_cv;
+  }
+  current = engine.fit(free, current.values, engine.all(), true);
+  report.heldout_mse_final = current_cv;
+  report.noise_sd = std::sqrt(current.result.mse);
+  for (std::size_t k = 0; k < order.size(); ++k) report.findings[k].parameters = named(p, current, p.effects[order[k]].params);
+  if (!p.base_free.empty()) report.recalibrated = named(p, current, p.base_free);
+
+  // Step 5: residual structure before (recalibrated base) and after (final model).
+  report.residual_before = engine.residuals(base_values);
+  report.residual_after = engine.residuals(current.values);
+  report.structure_before = structure(p, report.residual_before, engine.predict(base_values), options.structure_threshold);
+  report.structure_after = structure(p, report.residual_after, engine.predict(current.values), options.structure_threshold);
+  report.covariates = p.covariates;
+  bool left = false;
+  for (const auto& s : report.structure_after) left = left || s.significant;
+  if (left) report.verdict = "unexplained";
+  else if (!report.findings.empty()) report.verdict = report.findings.front().cause;
+  else report.verdict = "none";
+  return report;
+}
+
+}  // namespace epuck2::fit::diagnose

@@ -1,0 +1,78 @@
+// Internal to the diagnosis engine: what a kind hands the engine (diagnose_kinds.cpp builds one per
+// kind; diagnose_engine.cpp searches, fits and scores).
+#pragma once
+
+#include <ceres/jet.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "epuck2/logs/log.hpp"
+
+namespace epuck2::fit::diagnose::detail {
+
+/// At most this many parameters are free in one fit (the Jet's size).
+inline constexpr int kMaxFree = 24;
+using Jet = ceres::Jet<double, kMaxFree>;
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Param {
+  std::string name;     ///< catalogue name, e.g. "offset", "gains[3]", "tau_s"
+  double neutral = 0;   ///< the value that switches the effect off (base parameters: the plug-in's)
+  double start = 0;     ///< where a fit starts when the effect is switched on
+  double lower = -kInf, upper = kInf;
+};
+
+struct Effect {
+  std::string cause;
+  std::vector<int> params;  ///< indices into Problem::params
+};
+
+/// A kind's model over all rows of its logs, as a function of every parameter (base and all the
+/// catalogue's effects; an effect at its neutral values is off).
+class Problem {
+ public:
+  virtual ~Problem() = default;
+
+  std::vector<Param> params;
+  std::vector<int> base_free;  ///< the base model's free parameters (recalibrated)
+  std::vector<Effect> effects;
+  std::vector<double> plugin_values;  ///< every parameter at the plug-in's published values (effects off)
+
+  // Per residual (one per row; camera: two per row, px then py).
+  std::vector<double> y;       ///< the measured reading
+  std::vector<double> lo, hi;  ///< the reading's clamp (±inf: none)
+  std::vector<std::size_t> row;  ///< the residual's row, numbered across all logs
+  std::size_t rows = 0;
+  /// Covariates scored against the residuals, per residual (log columns and derived ones).
+  std::vector<std::pair<std::string, std::vector<double>>> covariates;
+  /// Extra numeric columns, per residual: candidates for `covariate:NAME`.
+  std::vector<std::pair<std::string, std::vector<double>>> extra_columns;
+  std::string notes;
+
+  /// The reading's mean before the clamp and before `covariate:` terms, for every residual.
+  virtual void mean(const double* p, double* out) const = 0;
+  virtual void mean(const Jet* p, Jet* out) const = 0;
+};
+
+/// The double and Jet entry points of a kind written once as `template <typename T> void eval(const T* p, T* out) const`.
+template <class Kind>
+class ProblemOf : public Problem {
+ public:
+  void mean(const double* p, double* out) const override { static_cast<const Kind*>(this)->template eval<double>(p, out); }
+  void mean(const Jet* p, Jet* out) const override { static_cast<const Kind*>(this)->template eval<Jet>(p, out); }
+};
+
+/// The problem for these logs (nullptr when the kind is not supported; `why` says so).
+std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, std::string& why);
+
+/// Appends the covariates every kind shares: extra numeric columns (also as `covariate:` effects),
+/// the row's position in its log, and the log (when several).
+void add_common_covariates(Problem& p, const std::vector<logs::Log>& logs, int residuals_per_row);
+
+}  // namespace epuck2::fit::diagnose::detail
