@@ -7,7 +7,8 @@
 //    at 0, the drop on the first tick from a full charge, the Linear model's interpolation in
 //    float, the Approximated update m*(x + dt) + h.
 //  * Behaviour::corrected is the project's fix of each quirk: a true linear interpolation between
-//    the speed tables, a continuous start from full charge, a robust root. docs/battery-models.md
+//    the speed tables, a continuous start from full charge (with the firmware filter's lag), a
+//    robust root. docs/battery-models.md
 //    lists every difference and what it changes on the reference logs.
 //
 // Header-only, no dependency: usable from an ARGoS plug-in. The formulas that a fit needs
@@ -223,38 +224,57 @@ inline double step(Model model, const Tables& t, double charge, double delta_pos
 // ---------------------------------------------------------------------------------------------
 namespace corrected {
 
-/// The cubic extended before t = 0 by its tangent there (charge above the intercept d runs down
-/// with the initial slope c), so a battery at full charge starts continuously instead of jumping
-/// to the intercept on the first tick.
-inline double cubic_extended(const CubicRow& q, double t_s) {
-  if (t_s < 0) return q.d + q.c * t_s;
-  const double p[4] = {q.d, q.c, q.b, q.a};
-  return cubic_charge(p, t_s);
+/// The firmware's battery reading is an exponential moving average, 0.8 old + 0.2 new every
+/// 500 ms (reference section 4): a time constant of 0.5 / ln(1.25) = 2.24 s. A full battery
+/// reads 1 and falls to the curve's intercept d (the voltage under load) with that lag, instead of
+/// jumping there in one tick as the plug-in's Cubic does.
+inline constexpr double kFirmwareFilterTau_s = 2.2407;
+
+/// The cubic before its intercept: charge above d decays towards d with the firmware filter's
+/// time constant while discharging at the curve's initial slope c. Continuous from 1.0, and it
+/// does not delay the curve by the (1 - d)/|c| seconds a straight-line start would.
+inline double start_transient_next(const CubicRow& q, double charge, double dt_s) {
+  return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s) + q.c * dt_s;
 }
 
-/// The time at which the (extended) cubic reads `charge`: the first crossing on [0, end], found
-/// by bracketing and then Newton steps safeguarded by bisection; never NaN, whatever the
-/// coefficients. Returns end_s when the charge is below the curve over the whole of [0, end].
+/// True when the cubic decreases over all of [0, end] (its derivative, a quadratic, stays < 0).
+inline bool decreasing_on_lifetime(const CubicRow& q) {
+  auto slope = [&](double t) { return (3 * q.a * t + 2 * q.b) * t + q.c; };
+  double worst = std::max(slope(0.0), slope(q.end_s));
+  if (q.a != 0) {
+    const double vertex = -q.b / (3 * q.a);
+    if (vertex > 0 && vertex < q.end_s) worst = std::max(worst, slope(vertex));
+  }
+  return worst < 0;
+}
+
+/// The time at which the cubic reads `charge` (d > charge): the first crossing on [0, end], by
+/// Newton steps safeguarded by bisection inside a bracket; never NaN, whatever the coefficients.
+/// Returns end_s when the charge is below the curve over the whole of [0, end].
 inline double cubic_time(const CubicRow& q, double charge) {
-  if (charge >= q.d) return q.c < 0 ? (charge - q.d) / q.c : 0.0;
   const double p[4] = {q.d, q.c, q.b, q.a};
-  // Bracket the first crossing: scan sub-intervals (a fitted cubic may turn back up).
-  constexpr int kScan = 16;
   double lo = 0.0;
   double hi = q.end_s;
-  bool found = false;
-  for (int i = 1; i <= kScan; ++i) {
-    const double t = q.end_s * i / kScan;
-    if (cubic_charge(p, t) <= charge) {
-      hi = t;
-      lo = q.end_s * (i - 1) / kScan;
-      found = true;
-      break;
+  if (decreasing_on_lifetime(q)) {
+    if (cubic_charge(p, hi) > charge) return q.end_s;
+  } else {
+    // A fitted cubic may turn back up: bracket the first crossing by scanning.
+    constexpr int kScan = 16;
+    bool found = false;
+    for (int i = 1; i <= kScan; ++i) {
+      const double t = q.end_s * i / kScan;
+      if (cubic_charge(p, t) <= charge) {
+        hi = t;
+        lo = q.end_s * (i - 1) / kScan;
+        found = true;
+        break;
+      }
     }
+    if (!found) return q.end_s;
   }
-  if (!found) return q.end_s;
-  // f(lo) > 0 >= f(hi) with f(t) = cubic(t) - charge.
-  double t = 0.5 * (lo + hi);
+  // f(lo) > 0 >= f(hi) with f(t) = cubic(t) - charge. Start from the secant.
+  const double f_lo = cubic_charge(p, lo) - charge, f_hi = cubic_charge(p, hi) - charge;
+  double t = f_lo != f_hi ? lo + (hi - lo) * f_lo / (f_lo - f_hi) : 0.5 * (lo + hi);
   const double tolerance_s = 1e-9 * (1.0 + q.end_s);
   for (int it = 0; it < 100; ++it) {
     const double f = cubic_charge(p, t) - charge;
@@ -273,9 +293,11 @@ inline double cubic_time(const CubicRow& q, double charge) {
 }
 
 inline double cubic_next(const CubicRow& q, double charge, double dt_s) {
+  if (charge > q.d) return start_transient_next(q, charge, dt_s);
   const double t = cubic_time(q, charge);
   if (t >= q.end_s) return 0.0;
-  return cubic_extended(q, t + dt_s);
+  const double p[4] = {q.d, q.c, q.b, q.a};
+  return cubic_charge(p, t + dt_s);
 }
 
 /// The segment whose band holds the charge; above the first band the first segment, below the

@@ -1,0 +1,75 @@
+// Battery benchmarks (Google Benchmark): the time to fit the whole reference set
+// (data/raw/battery, 32 logs), and nanoseconds per discharge step for each model in both
+// behaviours. Targets (issue): the whole set under 1 s; a Cubic step under 50 ns.
+//   build/bin/bench_battery [--benchmark_min_time=0.5]
+#include <benchmark/benchmark.h>
+#include <glog/logging.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "epuck2/fit/battery.hpp"
+#include "epuck2/models/plugin_battery_tables.hpp"
+#include "machine.hpp"
+
+namespace mb = epuck2::models::battery;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<epuck2::fit::BatteryRun> reference_runs() {
+  std::vector<std::string> paths;
+  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "battery"))
+    if (e.path().extension() == ".csv") paths.push_back(e.path().string());
+  std::sort(paths.begin(), paths.end());
+  return epuck2::fit::battery_runs(epuck2::logs::read_logs(paths, epuck2::logs::Kind::battery));
+}
+
+void BM_FitReferenceSet(benchmark::State& state) {
+  const auto runs = reference_runs();
+  std::size_t rows = 0;
+  for (const auto& r : runs) rows += r.time_s.size();
+  for (auto _ : state) {
+    auto fit = epuck2::fit::fit_battery(runs);
+    benchmark::DoNotOptimize(fit);
+  }
+  state.counters["logs"] = static_cast<double>(runs.size());
+  state.counters["rows"] = static_cast<double>(rows);
+}
+BENCHMARK(BM_FitReferenceSet)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+// One tick from charge 0.95 down (restarting at 0.95 when empty), at 6.37 cm/s (between two
+// speed tables: the interpolating path, two table evaluations) or at 7.00 cm/s (one table).
+void BM_Step(benchmark::State& state, mb::Model model, mb::Behaviour behaviour, double speed_m_s = 0.0637) {
+  const mb::Tables& t = mb::plugin_tables();
+  const double dt = 0.1;
+  const double dpos = speed_m_s * dt;
+  double charge = 0.95;
+  for (auto _ : state) {
+    charge = mb::step(model, behaviour, t, charge, dpos, dt);
+    if (charge <= 0.01) charge = 0.95;
+    benchmark::DoNotOptimize(charge);
+  }
+}
+BENCHMARK_CAPTURE(BM_Step, simple_argos, mb::Model::simple, mb::Behaviour::argos_compatible);
+BENCHMARK_CAPTURE(BM_Step, linear_argos, mb::Model::linear, mb::Behaviour::argos_compatible);
+BENCHMARK_CAPTURE(BM_Step, cubic_argos, mb::Model::cubic, mb::Behaviour::argos_compatible);
+BENCHMARK_CAPTURE(BM_Step, approximated_argos, mb::Model::approximated, mb::Behaviour::argos_compatible);
+BENCHMARK_CAPTURE(BM_Step, simple_corrected, mb::Model::simple, mb::Behaviour::corrected);
+BENCHMARK_CAPTURE(BM_Step, linear_corrected, mb::Model::linear, mb::Behaviour::corrected);
+BENCHMARK_CAPTURE(BM_Step, cubic_corrected, mb::Model::cubic, mb::Behaviour::corrected);
+BENCHMARK_CAPTURE(BM_Step, approximated_corrected, mb::Model::approximated, mb::Behaviour::corrected);
+BENCHMARK_CAPTURE(BM_Step, cubic_argos_at_table_speed, mb::Model::cubic, mb::Behaviour::argos_compatible, 0.07);
+BENCHMARK_CAPTURE(BM_Step, cubic_corrected_at_table_speed, mb::Model::cubic, mb::Behaviour::corrected, 0.07);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  FLAGS_minloglevel = google::GLOG_FATAL;  // Ceres' solver chatter
+  benchmark::AddCustomContext("machine", epuck2::bench::machine());
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
