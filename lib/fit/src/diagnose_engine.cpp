@@ -360,6 +360,20 @@ std::vector<NamedValue> named(const Problem& p, const Engine::Fitted& f, const s
   return out;
 }
 
+/// The noise estimate and the fit depend on each other through the clamp's expected value:
+/// alternate until the estimate moves by less than 2 %.
+void settle_noise(Engine& engine, const std::vector<int>& free, Engine::Fitted& current) {
+  constexpr int kMaxRounds = 8;
+  constexpr double kSettled = 0.02;
+  for (int k = 0; k < kMaxRounds; ++k) {
+    const double sd = engine.noise_sd(current.values);
+    const bool settled = std::abs(sd - engine.sigma) <= kSettled * engine.sigma;
+    engine.sigma = sd;
+    current = engine.fit(free, current.values, engine.all(), true);
+    if (settled) break;
+  }
+}
+
 }  // namespace
 
 Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
@@ -394,8 +408,7 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
   // Step 2: recalibrate the base model.
   std::vector<int> free = p.base_free;
   Engine::Fitted current = engine.fit(free, neutral, engine.all(), true);
-  engine.sigma = engine.noise_sd(current.values);
-  current = engine.fit(free, current.values, engine.all(), true);
+  settle_noise(engine, free, current);
   report.recalibrated = named(p, current, p.base_free);
   double current_cv = engine.heldout_mse(free, current.values);
   report.heldout_mse_base = current_cv;
@@ -429,7 +442,9 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
       if (t.delta_bic <= -options.min_delta_bic) {
         t.heldout_mse = engine.heldout_mse(cand, f.values);
         const bool gain = t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain);
-        if (gain && t.heldout_mse < best_cv) {
+        // Among the effects that pass both tests, the lowest BIC: of two effects that fit alike,
+        // the one with fewer parameters (white_level rather than three equal sensor gains).
+        if (gain && (best < 0 || t.delta_bic < best_bic)) {
           best = static_cast<int>(e);
           best_cv = t.heldout_mse;
           best_bic = t.delta_bic;
@@ -450,10 +465,12 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
     kept.insert(static_cast<std::size_t>(best));
     order.push_back(static_cast<std::size_t>(best));
     for (int j : p.effects[static_cast<std::size_t>(best)].params) free.push_back(j);
-    // Re-estimate the noise with the better model and refit (the clamp's expected value uses it).
-    engine.sigma = engine.noise_sd(best_fit.values);
-    current = engine.fit(free, best_fit.values, engine.all(), false);
-    current_cv = best_cv;
+    // Re-estimate the noise with the better model and refit (the clamp's expected value uses
+    // it), until the estimate settles; then the held-out error again with that noise.
+    current = best_fit;
+    settle_noise(engine, free, current);
+    current_cv = engine.heldout_mse(free, current.values);
+    report.findings.back().heldout_mse_after = current_cv;
   }
   current = engine.fit(free, current.values, engine.all(), true);
   report.heldout_mse_final = current_cv;
