@@ -230,40 +230,26 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
     const double last_u = (L - 1.0) / L;
     double best_rss = std::numeric_limits<double>::infinity();
     double best[5] = {0.25, 0.7, 0.7, 0.5, 0.2};
-    auto search = [&](double x1_lo, double x1_hi, double x2_hi, double step) {
-      for (double x1 = x1_lo; x1 <= x1_hi; x1 += step) {
-        for (double x2 = x1 + step; x2 <= x2_hi; x2 += step) {
-          if (x1 <= 0 || x2 >= last_u) continue;
-          double ys[3];
-          const double rss = polyline_profile(u, y, x1, x2, last_u, ys);
-          if (rss < best_rss) {
-            best_rss = rss;
-            best[0] = x1;
-            best[1] = x2;
-            best[2] = ys[0];
-            best[3] = ys[1];
-            best[4] = ys[2];
-          }
-        }
+    // Evaluates one pair of breakpoints and keeps the best.
+    auto consider = [&](double x1, double x2) {
+      if (x1 <= 0 || x2 <= x1 || x2 >= last_u) return;
+      double ys[3];
+      const double rss = polyline_profile(u, y, x1, x2, last_u, ys);
+      if (rss < best_rss) {
+        best_rss = rss;
+        best[0] = x1;
+        best[1] = x2;
+        best[2] = ys[0];
+        best[3] = ys[1];
+        best[4] = ys[2];
       }
     };
     constexpr double kCoarseStep = 0.05, kFineStep = 0.01;
-    search(kCoarseStep, last_u - kCoarseStep, last_u - 0.5 * kCoarseStep, kCoarseStep);
+    for (double x1 = kCoarseStep; x1 <= last_u - kCoarseStep; x1 += kCoarseStep)
+      for (double x2 = x1 + kCoarseStep; x2 <= last_u - 0.5 * kCoarseStep; x2 += kCoarseStep) consider(x1, x2);
     const double c1 = best[0], c2 = best[1];
     for (double x1 = c1 - kCoarseStep; x1 <= c1 + kCoarseStep + 1e-12; x1 += kFineStep)
-      for (double x2 = c2 - kCoarseStep; x2 <= c2 + kCoarseStep + 1e-12; x2 += kFineStep) {
-        if (x1 <= 0 || x2 <= x1 || x2 >= last_u) continue;
-        double ys[3];
-        const double rss = polyline_profile(u, y, x1, x2, last_u, ys);
-        if (rss < best_rss) {
-          best_rss = rss;
-          best[0] = x1;
-          best[1] = x2;
-          best[2] = ys[0];
-          best[3] = ys[1];
-          best[4] = ys[2];
-        }
-      }
+      for (double x2 = c2 - kCoarseStep; x2 <= c2 + kCoarseStep + 1e-12; x2 += kFineStep) consider(x1, x2);
     s.piecewise = fit_curve(PolylineInScaledTime{last_u}, u, y, std::vector<double>(best, best + 5),
                             {"x1_s", "x2_s", "y1", "y2", "y3"}, options);
     rescale(s.piecewise, {L, L, 1.0, 1.0, 1.0}, {"x1_s", "x2_s", "y1", "y2", "y3"});
