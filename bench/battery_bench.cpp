@@ -62,6 +62,24 @@ BENCHMARK_CAPTURE(BM_Step, approximated_corrected, mb::Model::approximated, mb::
 BENCHMARK_CAPTURE(BM_Step, cubic_argos_at_table_speed, mb::Model::cubic, mb::Behaviour::argos_compatible, 0.07);
 BENCHMARK_CAPTURE(BM_Step, cubic_corrected_at_table_speed, mb::Model::cubic, mb::Behaviour::corrected, 0.07);
 
+// The same ticks as simulate_discharge runs them: the corrected Cubic's root searches carried
+// from tick to tick (corrected::CubicHints; the plug-in arithmetic has no state). The hints are
+// not reset when the charge restarts at 0.95, as a battery never jumps back up.
+void BM_StepCarried(benchmark::State& state, mb::Model model, mb::Behaviour behaviour, double speed_m_s = 0.0637) {
+  const mb::Tables& t = mb::plugin_tables();
+  const double dt = 0.1;
+  const double dpos = speed_m_s * dt;
+  double charge = 0.95;
+  mb::corrected::CubicHints hints;
+  for (auto _ : state) {
+    charge = mb::step(model, behaviour, t, charge, dpos, dt, hints);
+    if (charge <= 0.01) charge = 0.95;
+    benchmark::DoNotOptimize(charge);
+  }
+}
+BENCHMARK_CAPTURE(BM_StepCarried, cubic_corrected, mb::Model::cubic, mb::Behaviour::corrected);
+BENCHMARK_CAPTURE(BM_StepCarried, cubic_corrected_at_table_speed, mb::Model::cubic, mb::Behaviour::corrected, 0.07);
+
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -107,3 +107,88 @@ TEST(BatteryFastPaths, CompatibleCubicIsTheSourceArithmeticBitForBit) {
     }
   }
 }
+
+// corrected: the Cubic's root search may start from the time carried from the previous tick
+// (CubicHints), and the next charge is taken as an increment from the charge. Both must leave the
+// model's values where an exact solution puts them.
+namespace {
+
+// cubic(t + dt) with t the first time the cubic reads `charge`, in long double: bisection to the
+// last bit of the bracket (the plug-in tables' cubics decrease over their lifetime).
+double exact_cubic_next(const mb::CubicRow& q, double charge, double dt_s) {
+  auto cubic = [&](long double t) {
+    return ((static_cast<long double>(q.a) * t + q.b) * t + q.c) * t + q.d;
+  };
+  long double lo = 0, hi = q.end_s;
+  for (int k = 0; k < 200; ++k) {
+    const long double mid = 0.5L * (lo + hi);
+    if (cubic(mid) > charge) lo = mid; else hi = mid;
+  }
+  return static_cast<double>(cubic(0.5L * (lo + hi) + dt_s));
+}
+
+}  // namespace
+
+TEST(BatteryFastPaths, CorrectedCubicStepIsWithinRoundingOfTheExactSolution) {
+  // Over each table's lifetime, stateless and with a hint a second off: the increment form is
+  // within 1e-13 of the exact next charge (the plain cubic(t + dt) was off by up to about
+  // |cubic'| * tolerance = 1e-4 * 1e-5 = 1e-9).
+  const mb::Tables& t = mb::plugin_tables();
+  double worst = 0;
+  for (const mb::CubicRow& q : t.cubic) {
+    const double p[4] = {q.d, q.c, q.b, q.a};
+    for (int k = 1; k < 400; ++k) {
+      const double t_true = q.end_s * k / 400.0;
+      const double charge = mb::cubic_charge(p, t_true);
+      const double exact = exact_cubic_next(q, charge, 0.1);
+      double hint = t_true + 1.0;
+      const double carried = mb::corrected::cubic_next(q, charge, 0.1, hint);
+      const double fresh = mb::corrected::cubic_next(q, charge, 0.1);
+      worst = std::max({worst, std::abs(carried - exact), std::abs(fresh - exact)});
+      ASSERT_NEAR(carried, exact, 1e-13) << "t " << t_true;
+      ASSERT_NEAR(fresh, exact, 1e-13) << "t " << t_true;
+      EXPECT_NEAR(hint, t_true + 0.1, 1e-4);  // the hint now holds the time reached
+    }
+  }
+  RecordProperty("worst_error", std::to_string(worst));
+}
+
+TEST(BatteryFastPaths, CarriedHintsChangeNothingButWhereTheSearchStarts) {
+  // A profile that changes speed (table speeds, between tables, back to a table seen long ago
+  // whose hint is stale): at every tick the step with the carried hints, with nonsense hints
+  // (NaN, infinities, times beyond the lifetime, another table's times) and without any must
+  // agree to 1e-13.
+  const mb::Tables& t = mb::plugin_tables();
+  const double speeds_cm_s[] = {7.0, 6.37, 6.37, 12.0, 3.5, 0.0, 15.0, 7.0, 9.99};
+  mb::corrected::CubicHints carried;
+  double charge = 1.0;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-2e4, 4e4);
+  long compared = 0;
+  for (int k = 0; charge > 0 && k < 400000; ++k) {
+    const double speed = speeds_cm_s[(k / 5000) % 9];
+    const double dpos = speed / 100.0 * 0.1;
+    mb::corrected::CubicHints nonsense;
+    for (double& h : nonsense.t_s) {
+      const double r = u(rng);
+      h = r < -1e4 ? std::numeric_limits<double>::quiet_NaN()
+                   : r > 3e4 ? std::numeric_limits<double>::infinity() : r;
+    }
+    const double fresh = mb::corrected::step(mb::Model::cubic, t, charge, dpos, 0.1);
+    const double odd = mb::corrected::step(mb::Model::cubic, t, charge, dpos, 0.1, nonsense);
+    const double next = mb::corrected::step(mb::Model::cubic, t, charge, dpos, 0.1, carried);
+    ASSERT_NEAR(next, fresh, 1e-13) << "tick " << k;
+    ASSERT_NEAR(odd, fresh, 1e-13) << "tick " << k;
+    charge = next;
+    ++compared;
+  }
+  EXPECT_EQ(charge, 0.0);  // ran to an empty battery
+  EXPECT_GT(compared, 50000);
+  // simulate_discharge carries the hints: its ticks are the stateless steps to the same 1e-13.
+  const auto s = mb::simulate_discharge(mb::Model::cubic, mb::Behaviour::corrected, t,
+                                        {{0.0, 6.37}, {600.0, 11.0}, {1200.0, 11.0}}, 0.1, 1.0);
+  for (std::size_t k = 1; k < s.size(); ++k) {
+    const double v = s[k - 1].time_s < 600.0 - 1e-9 ? 6.37 : 11.0;
+    ASSERT_NEAR(s[k].charge, mb::corrected::step(mb::Model::cubic, t, s[k - 1].charge, v / 100.0 * 0.1, 0.1), 1e-13) << k;
+  }
+}

@@ -75,6 +75,7 @@ inline std::vector<ChargeSample> simulate_discharge(Model model, Behaviour behav
   double charge = start_charge;
   double previous_cmd_m_s = 0;   // ARGoS: the wheel command of the previous tick
   ProfileCursor cursor(profile);
+  corrected::CubicHints hints;  // the corrected Cubic's root searches, carried tick to tick
   for (std::size_t k = 1; k <= ticks && charge > 0; ++k) {
     double delta_pos_m = 0;
     if (behaviour == Behaviour::argos_compatible) {
@@ -91,7 +92,7 @@ inline std::vector<ChargeSample> simulate_discharge(Model model, Behaviour behav
     } else {
       delta_pos_m = cursor.speed_at(static_cast<double>(k - 1) * dt_s) / 100.0 * dt_s;
     }
-    charge = step(model, behaviour, tables, charge, delta_pos_m, dt_s);
+    charge = step(model, behaviour, tables, charge, delta_pos_m, dt_s, hints);
     out.push_back({static_cast<double>(k) * dt_s, charge});
   }
   return out;
