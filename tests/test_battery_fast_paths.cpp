@@ -192,3 +192,24 @@ TEST(BatteryFastPaths, CarriedHintsChangeNothingButWhereTheSearchStarts) {
     ASSERT_NEAR(s[k].charge, mb::corrected::step(mb::Model::cubic, t, s[k - 1].charge, v / 100.0 * 0.1, 0.1), 1e-13) << k;
   }
 }
+
+TEST(BatteryFastPaths, CorrectedCubicAtATableSpeedSkipsOnlyAZeroWeight) {
+  // At w = 0 the step no longer evaluates the next table: the same double as the full lerp.
+  // (v / 100 * 0.1 m in 0.1 s is not always exactly v cm/s, e.g. 7.000000000000001: those
+  // interpolate with a weight of 1e-15 and are left out.)
+  const mb::Tables& t = mb::plugin_tables();
+  int table_speeds = 0;
+  for (int v = 0; v < mb::kSpeedCount; ++v) {
+    const double dpos = v / 100.0 * 0.1;
+    if (mb::exact_speed_cm_s(dpos, 0.1) != static_cast<double>(v)) continue;
+    ++table_speeds;
+    const int hi = std::min(mb::kSpeedCount - 1, v + 1);
+    for (double charge = 1.0; charge > 0.0; charge -= 0.0037) {
+      const double lo_next = mb::corrected::cubic_next(t.cubic[v], charge, 0.1);
+      const double hi_next = mb::corrected::cubic_next(t.cubic[hi], charge, 0.1);
+      const double full = std::max(0.0, mb::corrected::lerp(lo_next, hi_next, 0.0));
+      ASSERT_TRUE(same_bits(mb::corrected::step(mb::Model::cubic, t, charge, dpos, 0.1), full)) << v << " " << charge;
+    }
+  }
+  EXPECT_GE(table_speeds, 10);
+}

@@ -402,10 +402,13 @@ inline double step(Model model, const Tables& t, double charge, double delta_pos
     case Model::linear:
       next = charge + lerp(t.linear_slope_per_s[lo], t.linear_slope_per_s[hi], w) * dt_s;
       break;
-    case Model::cubic:
-      next = lerp(cubic_next(t.cubic[lo], charge, dt_s, hints.t_s[lo]),
-                  cubic_next(t.cubic[hi], charge, dt_s, hints.t_s[hi]), w);
+    case Model::cubic: {
+      const double y_lo = cubic_next(t.cubic[lo], charge, dt_s, hints.t_s[lo]);
+      // At a table speed (w = 0) lerp adds (y_hi - y_lo) * 0, a zero, to y_lo for any finite
+      // y_hi (the max below makes a -0 +0): the other table is not needed.
+      next = w == 0 ? y_lo : lerp(y_lo, cubic_next(t.cubic[hi], charge, dt_s, hints.t_s[hi]), w);
       break;
+    }
     case Model::approximated:
       next = charge + lerp(segment_for(t.segments[lo], charge).m,
                            segment_for(t.segments[hi], charge).m, w) * dt_s;
