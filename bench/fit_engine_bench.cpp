@@ -10,8 +10,11 @@
 // (b) the battery reference set: per speed, a least-squares cubic charge = a u^3 + b u^2 + c u + d
 //     in scaled time u = time_s / 3600 (hours; the same scaling in every tool) on the pooled logs
 //     robot-X_speed-SS.csv, from the start (a, b, c, d) = (0, 0, 0, 1), with the default
-//     FitOptions (what other callers of fit_curve get), and again with
-//     FitOptions::single_residual_block (all rows in one Ceres residual block).
+//     FitOptions (what other callers of fit_curve get: the cubic declares itself linear in its
+//     parameters, so the fit starts from the linear least-squares solution and Ceres confirms
+//     it; covariance and standard errors computed), and again without the linear start
+//     (Levenberg-Marquardt from the start, as for a nonlinear model), with one residual block and
+//     with one block per observation.
 // Each fit is repeated until --min-seconds have passed (at least 5 times); the median is reported.
 #include <algorithm>
 #include <chrono>
@@ -25,6 +28,7 @@
 #include <regex>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "epuck2/fit/least_squares.hpp"
@@ -42,6 +46,7 @@ constexpr int kMinRepeats = 5;
 /// charge = a u^3 + b u^2 + c u + d, u in hours.
 struct Cubic {
   static constexpr int kParameters = 4;
+  static constexpr bool kLinearInParameters = true;  // fit_curve starts from linear least squares
   template <typename T>
   T operator()(const T* p, double u) const {
     return ((p[0] * u + p[1]) * u + p[2]) * u + p[3];
@@ -147,20 +152,33 @@ int main(int argc, char** argv) {
         const std::vector<std::string> pnames{"a_per_h3", "b_per_h2", "c_per_h", "d"};
         const fit::FitResult r = fit::fit_curve(Cubic{}, u, charge, start, pnames);
         const double t = median_seconds([&] { fit::fit_curve(Cubic{}, u, charge, start, pnames); }, min_seconds);
-        fit::FitOptions one_block;
-        one_block.single_residual_block = true;
-        const fit::FitResult rb = fit::fit_curve(Cubic{}, u, charge, start, pnames, one_block);
-        const double tb = median_seconds([&] { fit::fit_curve(Cubic{}, u, charge, start, pnames, one_block); }, min_seconds);
+        std::vector<double> std_errors;
+        for (const auto& p : r.parameters) std_errors.push_back(p.std_error);
+        // The other paths of the same fit, for where the time goes: Levenberg-Marquardt from the
+        // start as for a nonlinear model (one residual block), and that with one block per
+        // observation (the default before single_residual_block and linear_start).
+        fit::FitOptions generic;
+        generic.linear_start = false;
+        fit::FitOptions per_observation = generic;
+        per_observation.single_residual_block = false;
+        nlohmann::json variants;
+        for (const auto& [key, o] : {std::pair<std::string, fit::FitOptions>{"lm_from_start", generic},
+                                     std::pair<std::string, fit::FitOptions>{"lm_from_start_per_observation", per_observation}}) {
+          const fit::FitResult v = fit::fit_curve(Cubic{}, u, charge, start, pnames, o);
+          const double tv = median_seconds([&] { fit::fit_curve(Cubic{}, u, charge, start, pnames, o); }, min_seconds);
+          variants[key] = {{"values", v.values()}, {"iterations", v.iterations}, {"seconds", tv}};
+        }
         sets.push_back({{"speed_cm_s", speed},
                         {"files", names},
                         {"observations", u.size()},
                         {"values", r.values()},
+                        {"std_errors", std_errors},
                         {"usable", r.usable},
                         {"rss", r.rss},
                         {"iterations", r.iterations},
+                        {"message", r.message},
                         {"seconds", t},
-                        {"values_single_block", rb.values()},
-                        {"seconds_single_block", tb}});
+                        {"variants", variants}});
       }
       out["battery"] = {{"time_unit_s", kHourS}, {"model", "charge = a u^3 + b u^2 + c u + d, u = time_s / 3600"},
                         {"start", {0.0, 0.0, 0.0, 1.0}}, {"sets", sets}};

@@ -282,8 +282,8 @@ def main():
     print("%6s %6s %8s | %8s %7s %6s | %8s %7s %6s" % ("speed", "n", "ours ms", "scipy ms", "ratio", "agree",
                                                     "lmfit ms", "ratio", "agree"))
     data = read_battery(a.battery)
-    bt = dict(ours=0.0, ours_block=0.0, scipy=0.0, lmfit=0.0)
-    block_agree = AGREEMENT_CAP
+    bt = dict(ours=0.0, scipy=0.0, lmfit=0.0)
+    variant_seconds, variant_agree = {}, {}
     agree = dict(scipy=AGREEMENT_CAP, lmfit=AGREEMENT_CAP)
     for s in ours.get("battery", {}).get("sets", []):
         u, q = data[s["speed_cm_s"]]
@@ -291,8 +291,9 @@ def main():
             sys.exit("battery speed %d: %d rows here, %d in the engine" % (s["speed_cm_s"], len(u), s["observations"]))
         row = compare(cubic, u, q, [0.0, 0.0, 0.0, 1.0], s["values"], a.min_seconds)
         bt["ours"] += s["seconds"]
-        bt["ours_block"] += s.get("seconds_single_block", float("nan"))
-        block_agree = min(block_agree, min_lre(s.get("values_single_block"), s["values"], AGREEMENT_CAP))
+        for key, v in s.get("variants", {}).items():
+            variant_seconds[key] = variant_seconds.get(key, 0.0) + v["seconds"]
+            variant_agree[key] = min(variant_agree.get(key, AGREEMENT_CAP), min_lre(v["values"], s["values"], AGREEMENT_CAP))
         for tool in ("scipy", "lmfit"):
             row[tool]["ratio"] = row[tool]["seconds"] / s["seconds"]
             bt[tool] += row[tool]["seconds"]
@@ -307,13 +308,17 @@ def main():
             bt["ours"] * 1e3, bt["scipy"] * 1e3, bt["scipy"] / bt["ours"], bt["lmfit"] * 1e3, bt["lmfit"] / bt["ours"]))
         print("Battery agreement with epuck2-fit (min over speeds and coefficients): scipy %.2f digits, lmfit %.2f digits" % (
             agree["scipy"], agree["lmfit"]))
-        print("epuck2-fit with FitOptions::single_residual_block: %.2f ms (scipy %.2fx, lmfit %.2fx of it), agrees with the default path to %.2f digits" % (
-            bt["ours_block"] * 1e3, bt["scipy"] / bt["ours_block"], bt["lmfit"] / bt["ours_block"], block_agree))
+        for key in sorted(variant_seconds):
+            print("epuck2-fit variant %s: %.2f ms (scipy %.2fx, lmfit %.2fx of it), agrees with the default to %.2f digits" % (
+                key, variant_seconds[key] * 1e3, bt["scipy"] / variant_seconds[key], bt["lmfit"] / variant_seconds[key],
+                variant_agree[key]))
         target_speed = bt["lmfit"] / bt["ours"] >= 10
         target_digits = min(agree.values()) >= 6
         print("Targets: >= 10x faster than lmfit on the battery set: %s (%.1fx); coefficients agree to 6 digits: %s" % (
             "met" if target_speed else "NOT met", bt["lmfit"] / bt["ours"], "met" if target_digits else "NOT met"))
-        report["battery_totals"] = dict(seconds=bt, agreement=agree, lmfit_ratio=bt["lmfit"] / bt["ours"])
+        report["battery_totals"] = dict(seconds=bt, agreement=agree, lmfit_ratio=bt["lmfit"] / bt["ours"],
+                                        scipy_ratio=bt["scipy"] / bt["ours"], variant_seconds=variant_seconds,
+                                        variant_agreement=variant_agree)
     if a.json:
         tmp = a.json + ".tmp"
         with open(tmp, "w", encoding="utf-8") as fh:

@@ -169,18 +169,20 @@ TEST(FitOptionsDefaults, SingleSolveUnchanged) {
   EXPECT_TRUE(searched.at_target);
 }
 
-// One residual block for all rows is the same least-squares problem: the same minimum, the same
-// standard errors (to the digits the 1e-15 tolerances leave).
+// One residual block for all rows (the default) is the same least-squares problem as one block
+// per row: the same minimum, the same standard errors (to the digits the 1e-15 tolerances leave).
 TEST(FitOptionsSingleBlock, SameFitAsOneBlockPerRow) {
   constexpr double kDigits = 9.0;
   const nist::Problem p = nist::read(kNistDir + "/Misra1a.dat");
   const std::vector<std::string> names{"b1", "b2"};
   FitOptions block;
   block.single_residual_block = true;
+  FitOptions per_row;
+  per_row.single_residual_block = false;
   for (int start : {1, 2}) {
     const std::vector<double> b0{start == 1 ? p.parameters[0].start1 : p.parameters[0].start2,
                                  start == 1 ? p.parameters[1].start1 : p.parameters[1].start2};
-    const FitResult a = fit_curve(nist::models::Misra1a{}, p.x[0], p.y, b0, names);
+    const FitResult a = fit_curve(nist::models::Misra1a{}, p.x[0], p.y, b0, names, per_row);
     const FitResult b = fit_curve(nist::models::Misra1a{}, p.x[0], p.y, b0, names, block);
     ASSERT_TRUE(a.usable && b.usable);
     for (std::size_t j = 0; j < 2; ++j) {

@@ -19,6 +19,7 @@ namespace {
 // charge(u) = p3 u^3 + p2 u^2 + p1 u + p0
 struct CubicInScaledTime {
   static constexpr int kParameters = 4;
+  static constexpr bool kLinearInParameters = true;
   template <typename T>
   T operator()(const T* p, double u) const {
     return mb::cubic_charge(p, u);
@@ -28,6 +29,7 @@ struct CubicInScaledTime {
 // charge(u) = p0 + p1 u
 struct LineInScaledTime {
   static constexpr int kParameters = 2;
+  static constexpr bool kLinearInParameters = true;
   template <typename T>
   T operator()(const T* p, double u) const {
     return mb::line_charge(p[0], p[1], u);

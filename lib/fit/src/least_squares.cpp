@@ -138,24 +138,109 @@ ceres::Solver::Summary solve(ceres::Problem& problem, const FitOptions& options)
   return best_summary;
 }
 
-bool inverse_normal_matrix(const Eigen::MatrixXd& jacobian, Eigen::MatrixXd* inverse) {
-  const Eigen::Index m = jacobian.cols();
-  Eigen::MatrixXd Jf(jacobian.rows(), m);
-  Eigen::VectorXd scale(m);
-  for (Eigen::Index c = 0; c < m; ++c) {
-    const double norm = jacobian.col(c).norm();
-    scale(c) = norm > 0 ? 1.0 / norm : 1.0;
-    Jf.col(c) = jacobian.col(c) * scale(c);
+namespace {
+// The columns of a Jacobian scaled to unit norm and their column-pivoted QR: what both the
+// covariance and the linear least-squares start factor, so that the two give the same digits.
+struct EquilibratedQR {
+  Eigen::VectorXd scale;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
+
+  explicit EquilibratedQR(const Eigen::MatrixXd& jacobian) : scale(jacobian.cols()) {
+    const Eigen::Index m = jacobian.cols();
+    Eigen::MatrixXd Jf(jacobian.rows(), m);
+    for (Eigen::Index c = 0; c < m; ++c) {
+      const double norm = jacobian.col(c).norm();
+      scale(c) = norm > 0 ? 1.0 / norm : 1.0;
+      Jf.col(c) = jacobian.col(c) * scale(c);
+    }
+    qr.compute(Jf);
   }
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Jf);
-  if (qr.rank() != m) return false;
-  // (Jf^T Jf)^-1 = P R^-1 R^-T P^T, then undo the column scaling.
-  const Eigen::MatrixXd R = qr.matrixR().topLeftCorner(m, m).triangularView<Eigen::Upper>();
-  const Eigen::MatrixXd Rinv = R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(m, m));
-  const Eigen::MatrixXd inner = Rinv * Rinv.transpose();
-  const Eigen::MatrixXd P = qr.colsPermutation();
-  *inverse = scale.asDiagonal() * (P * inner * P.transpose()) * scale.asDiagonal();
+  bool full_rank() const { return qr.rank() == scale.size(); }
+  // (J^T J)^-1 = S (Jf^T Jf)^-1 S with (Jf^T Jf)^-1 = P R^-1 R^-T P^T.
+  Eigen::MatrixXd inverse_normal() const {
+    const Eigen::Index m = scale.size();
+    const Eigen::MatrixXd R = qr.matrixR().topLeftCorner(m, m).triangularView<Eigen::Upper>();
+    const Eigen::MatrixXd Rinv = R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(m, m));
+    const Eigen::MatrixXd inner = Rinv * Rinv.transpose();
+    const Eigen::MatrixXd P = qr.colsPermutation();
+    return scale.asDiagonal() * (P * inner * P.transpose()) * scale.asDiagonal();
+  }
+};
+
+// The columns with free_column true (or beyond its end) and a nonzero norm: the parameters the
+// data determine.
+std::vector<Eigen::Index> estimable_columns(const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column) {
+  std::vector<Eigen::Index> cols;
+  for (Eigen::Index j = 0; j < jacobian.cols(); ++j)
+    if ((static_cast<std::size_t>(j) >= free_column.size() || free_column[static_cast<std::size_t>(j)]) &&
+        jacobian.col(j).squaredNorm() > 0)
+      cols.push_back(j);
+  return cols;
+}
+
+Eigen::MatrixXd columns(const Eigen::MatrixXd& jacobian, const std::vector<Eigen::Index>& cols) {
+  Eigen::MatrixXd Jf(jacobian.rows(), static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t c = 0; c < cols.size(); ++c) Jf.col(static_cast<Eigen::Index>(c)) = jacobian.col(cols[c]);
+  return Jf;
+}
+}  // namespace
+
+bool inverse_normal_matrix(const Eigen::MatrixXd& jacobian, Eigen::MatrixXd* inverse) {
+  const EquilibratedQR f(jacobian);
+  if (!f.full_rank()) return false;
+  *inverse = f.inverse_normal();
   return true;
+}
+
+bool linear_least_squares(const Eigen::MatrixXd& residual_jacobian, const Eigen::VectorXd& residuals,
+                          const std::vector<bool>& free_column, Eigen::VectorXd* step, Eigen::MatrixXd* inverse_normal) {
+  const Eigen::Index p = residual_jacobian.cols();
+  *step = Eigen::VectorXd::Zero(p);
+  std::vector<Eigen::Index> cols;
+  for (Eigen::Index j = 0; j < p; ++j)
+    if (static_cast<std::size_t>(j) >= free_column.size() || free_column[static_cast<std::size_t>(j)]) cols.push_back(j);
+  const auto m = static_cast<Eigen::Index>(cols.size());
+  if (m == 0 || residual_jacobian.rows() <= m) return false;
+  // A free column of zeros leaves its parameter undetermined: no linear start (estimable_columns
+  // would drop it from the covariance).
+  for (Eigen::Index c : cols)
+    if (!(residual_jacobian.col(c).squaredNorm() > 0)) return false;
+  const EquilibratedQR f(m == p ? residual_jacobian : columns(residual_jacobian, cols));
+  if (!f.full_rank()) return false;
+  // residuals + J step is minimal at step = -J^+ residuals; in equilibrated columns step = S z.
+  const Eigen::VectorXd z = f.qr.solve(residuals);
+  for (Eigen::Index c = 0; c < m; ++c) (*step)(cols[static_cast<std::size_t>(c)]) = -z(c) * f.scale(c);
+  if (!step->allFinite()) return false;
+  if (inverse_normal) *inverse_normal = f.inverse_normal();
+  return true;
+}
+
+void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
+                    const Eigen::MatrixXd* inverse_normal) {
+  const Eigen::Index total = jacobian.cols();
+  const std::vector<Eigen::Index> cols = estimable_columns(jacobian, free_column);
+  const auto m = static_cast<Eigen::Index>(cols.size());
+  const Eigen::Index n = jacobian.rows();
+  if (m == 0 || n <= m) return;
+  const double s2 = r.rss / static_cast<double>(n - m);
+  r.covariance = Eigen::MatrixXd::Zero(total, total);
+  Eigen::MatrixXd covf;
+  if (inverse_normal != nullptr && inverse_normal->rows() == m && inverse_normal->cols() == m) {
+    covf = *inverse_normal;
+  } else if (!inverse_normal_matrix(columns(jacobian, cols), &covf)) {
+    r.message += " (covariance rank-deficient: standard errors unavailable)";
+    return;
+  }
+  for (Eigen::Index a = 0; a < m; ++a)
+    for (Eigen::Index b = 0; b < m; ++b)
+      r.covariance(cols[static_cast<std::size_t>(a)], cols[static_cast<std::size_t>(b)]) = covf(a, b) * s2;
+  for (Eigen::Index j : cols)
+    if (static_cast<std::size_t>(j) < r.parameters.size())
+      r.parameters[static_cast<std::size_t>(j)].std_error = std::sqrt(std::max(0.0, r.covariance(j, j)));
+  for (Eigen::Index j = 0; j < total; ++j)
+    if (static_cast<std::size_t>(j) < free_column.size() && !free_column[static_cast<std::size_t>(j)] &&
+        static_cast<std::size_t>(j) < r.parameters.size())
+      r.parameters[static_cast<std::size_t>(j)].std_error = 0.0;
 }
 
 void set_rss(FitResult& r, double rss) {
@@ -186,26 +271,29 @@ double bayes(std::size_t n, double rss, int k) {
   return nn * std::log(std::max(rss, std::numeric_limits<double>::min()) / nn) + k * std::log(nn);
 }
 
-FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
-                    const std::vector<double>& observations, const ceres::Solver::Summary& summary,
-                    const FitOptions& options) {
-  FitResult r;
+namespace {
+// Everything summarize reports except the covariance, from the residuals at the solution:
+// parameters (NaN standard errors), RSS, MSE, residual variance, R^2, AIC, BIC, usable and why
+// not. Returns which scalars are free (blocks flagged constant are not).
+std::vector<bool> statistics(FitResult& r, const ParameterLayout& layout, const std::vector<bool>& constant_block,
+                             const std::vector<double>& residuals, bool evaluated,
+                             const std::vector<double>& observations, const ceres::Solver::Summary& summary) {
   r.iterations = static_cast<int>(summary.iterations.size());
   r.message = summary.message;
-
-  ceres::Problem::EvaluateOptions eo;
-  eo.parameter_blocks = layout.blocks;
-  eo.apply_loss_function = false;
-  eo.num_threads = 1;
-  double cost = 0;
-  std::vector<double> residuals;
-  ceres::CRSMatrix jac;
-  const bool evaluated = problem.Evaluate(eo, &cost, &residuals, nullptr, options.compute_covariance ? &jac : nullptr);
-
   const std::size_t n = residuals.size();
   r.observations = n;
-  double rss = 0;
-  for (double e : residuals) rss += e * e;
+  // Each sum in index order (the same digits as separate loops); the RSS and the sum of the
+  // observations share a loop when they have the same length, so their dependency chains overlap.
+  double rss = 0, sum_y = 0;
+  if (observations.size() == n) {
+    for (std::size_t i = 0; i < n; ++i) {
+      rss += residuals[i] * residuals[i];
+      sum_y += observations[i];
+    }
+  } else {
+    for (double e : residuals) rss += e * e;
+    for (double y : observations) sum_y += y;
+  }
   r.rss = rss;
   r.mse = n ? rss / static_cast<double>(n) : 0.0;
 
@@ -216,7 +304,7 @@ FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
   {
     int offset = 0;
     for (std::size_t b = 0; b < layout.blocks.size(); ++b) {
-      const bool constant = problem.IsParameterBlockConstant(layout.blocks[b]);
+      const bool constant = b < constant_block.size() && constant_block[b];
       for (int j = 0; j < layout.sizes[b]; ++j) {
         r.parameters.push_back({layout.names.size() > static_cast<std::size_t>(offset + j)
                                     ? layout.names[static_cast<std::size_t>(offset + j)]
@@ -236,9 +324,7 @@ FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
   r.aic = akaike(n, rss, k);
   r.bic = bayes(n, rss, k);
   if (!observations.empty()) {
-    double mean = 0;
-    for (double y : observations) mean += y;
-    mean /= static_cast<double>(observations.size());
+    const double mean = sum_y / static_cast<double>(observations.size());
     double tss = 0;
     for (double y : observations) tss += (y - mean) * (y - mean);
     r.r2 = tss > 0 ? 1.0 - rss / tss : std::numeric_limits<double>::quiet_NaN();
@@ -247,12 +333,40 @@ FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
   }
 
   const bool converged = summary.IsSolutionUsable() && std::isfinite(rss);
-  if (!evaluated || !converged) {
-    r.usable = false;
-    if (!evaluated) r.message = "the model could not be evaluated at the solution";
-    return r;
-  }
-  r.usable = true;
+  r.usable = evaluated && converged;
+  if (!evaluated) r.message = "the model could not be evaluated at the solution";
+  return is_free;
+}
+}  // namespace
+
+FitResult summarize(const ParameterLayout& layout, const std::vector<double>& residuals, bool evaluated,
+                    const std::vector<double>& observations, const ceres::Solver::Summary& summary) {
+  FitResult r;
+  statistics(r, layout, {}, residuals, evaluated, observations, summary);
+  return r;
+}
+
+FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
+                    const std::vector<double>& observations, const ceres::Solver::Summary& summary,
+                    const FitOptions& options) {
+  ceres::Problem::EvaluateOptions eo;
+  eo.parameter_blocks = layout.blocks;
+  eo.apply_loss_function = false;
+  eo.num_threads = 1;
+  double cost = 0;
+  std::vector<double> residuals;
+  ceres::CRSMatrix jac;
+  const bool evaluated = problem.Evaluate(eo, &cost, &residuals, nullptr, options.compute_covariance ? &jac : nullptr);
+  std::vector<bool> constant_block;
+  for (double* block : layout.blocks) constant_block.push_back(problem.IsParameterBlockConstant(block));
+
+  FitResult r;
+  const std::vector<bool> is_free = statistics(r, layout, constant_block, residuals, evaluated, observations, summary);
+  if (!r.usable) return r;
+  const std::size_t n = r.observations;
+  const double rss = r.rss;
+  const int k = r.free_parameters;
+  const int total = static_cast<int>(is_free.size());
 
   if (options.compute_covariance && k > 0 && n > static_cast<std::size_t>(k)) {
     // Dense Jacobian restricted to free columns (with subset manifolds, Ceres still reports the

@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace epuck2::fit {
@@ -61,8 +62,14 @@ struct FitOptions {
   /// fit_curve only, without `robust`: all observations in one residual block (one cost function
   /// evaluating every row, derivatives by Jets row by row) instead of one block per observation.
   /// Same least-squares problem, far less Ceres overhead for thousands of rows (false: one block
-  /// per observation, the historical behaviour).
-  bool single_residual_block = false;
+  /// per observation, the behaviour before it became the default).
+  bool single_residual_block = true;
+  /// fit_curve only, without `robust`, for models that declare
+  /// `static constexpr bool kLinearInParameters = true;`: start Ceres from the linear
+  /// least-squares solution (column-equilibrated, column-pivoted QR of the design matrix), so that
+  /// the solver only confirms the minimum; the statistics and covariance are computed as for any
+  /// fit. False: start from `initial` as for a nonlinear model.
+  bool linear_start = true;
   /// The loss to attach to each residual block (nullptr for plain squares). Ownership passes to
   /// the problem.
   ceres::LossFunction* make_loss() const;
@@ -92,9 +99,42 @@ FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
                     const std::vector<double>& observations, const ceres::Solver::Summary& summary,
                     const FitOptions& options);
 
+/// summarize from the residuals already evaluated at the solution (`evaluated` false when they
+/// could not be), with every parameter free and no covariance (see set_covariance).
+FitResult summarize(const ParameterLayout& layout, const std::vector<double>& residuals, bool evaluated,
+                    const std::vector<double>& observations, const ceres::Solver::Summary& summary);
+
 /// (J^T J)^-1 for a Jacobian of full column rank, from its columns equilibrated and a
 /// column-pivoted QR (false when rank-deficient). Covariance = this * RSS / (n - p).
 bool inverse_normal_matrix(const Eigen::MatrixXd& jacobian, Eigen::MatrixXd* inverse);
+
+/// For residuals affine in the parameters, r(p + d) = residuals + residual_jacobian d: the step d
+/// that minimises |r| over the columns with `free_column` true (the others get 0), from the
+/// columns equilibrated and a column-pivoted QR (the factorization inverse_normal_matrix uses),
+/// and, when `inverse_normal` is given, (J^T J)^-1 over the free columns from the same
+/// factorization. False when a free column is zero or the free columns are rank-deficient, or the
+/// step is not finite.
+bool linear_least_squares(const Eigen::MatrixXd& residual_jacobian, const Eigen::VectorXd& residuals,
+                          const std::vector<bool>& free_column, Eigen::VectorXd* step,
+                          Eigen::MatrixXd* inverse_normal = nullptr);
+
+/// The covariance (J^T J)^-1 s^2 (s^2 = RSS / (n - m)) and standard errors of `r` from the
+/// residuals' Jacobian at the solution, one column per parameter of `r`, over its m estimable
+/// columns (free and not all zero). Held parameters (`free_column` false) get a zero standard
+/// error; a free parameter with a zero column keeps NaN; when the estimable columns are
+/// rank-deficient, all stay NaN and the message says so. `inverse_normal`, when given, is
+/// (J^T J)^-1 over the estimable columns already computed from this same Jacobian.
+void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
+                    const Eigen::MatrixXd* inverse_normal = nullptr);
+
+/// True for a model that declares `static constexpr bool kLinearInParameters = true;` (its value
+/// is an affine function of its parameters, as polynomials in x are): fit_curve can then start
+/// from the exact linear least-squares solution.
+template <class Model, class = void>
+struct is_linear_in_parameters : std::false_type {};
+template <class Model>
+struct is_linear_in_parameters<Model, std::void_t<decltype(Model::kLinearInParameters)>>
+    : std::bool_constant<Model::kLinearInParameters> {};
 
 /// Re-expresses a fit for a more accurate residual sum of squares `rss` (for instance one
 /// recomputed in extended precision for a near-exact fit): MSE, residual variance, R^2, AIC, BIC,
@@ -181,6 +221,51 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
                   std::to_string(Model::kParameters) + " parameters";
     return bad;
   }
+  constexpr int P = Model::kParameters;
+  std::vector<bool> free_column(static_cast<std::size_t>(P), true);
+  for (int j : fixed)
+    if (j >= 0 && j < P) free_column[static_cast<std::size_t>(j)] = false;
+  // Residuals y - model(p, x) at p and, when `jacobian` is given, their Jacobian by Jets (what
+  // Ceres' automatic derivatives compute). False when a residual is not finite.
+  auto evaluate = [&](const std::vector<double>& p, std::vector<double>* residuals, Eigen::MatrixXd* jacobian) {
+    residuals->resize(x.size());
+    bool finite = true;
+    using std::isfinite;
+    if (jacobian == nullptr) {
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        (*residuals)[i] = y[i] - model(p.data(), x[i]);
+        finite = finite && isfinite((*residuals)[i]);
+      }
+      return finite;
+    }
+    using Jet = ceres::Jet<double, P>;
+    Jet pj[P];
+    for (int j = 0; j < P; ++j) pj[j] = Jet(p[static_cast<std::size_t>(j)], j);
+    jacobian->resize(static_cast<Eigen::Index>(x.size()), P);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const Jet r = Jet(y[i]) - model(pj, x[i]);
+      (*residuals)[i] = r.a;
+      jacobian->row(static_cast<Eigen::Index>(i)) = r.v.transpose();
+      finite = finite && isfinite(r);
+    }
+    return finite;
+  };
+  // For a model linear in its parameters, r(p0 + d) = r(p0) + J d exactly: one linear least-squares
+  // solve from any p0 gives the minimum, and the same factorization gives (J^T J)^-1.
+  Eigen::MatrixXd start_jacobian, start_inverse_normal;
+  bool linear_started = false;
+  if constexpr (is_linear_in_parameters<Model>::value) {
+    std::vector<double> r0;
+    if (options.linear_start && !options.robust && evaluate(initial, &r0, &start_jacobian)) {
+      Eigen::VectorXd step;
+      // Rank-deficient or non-finite: Ceres starts from `initial` and reports what it finds.
+      if (linear_least_squares(start_jacobian, Eigen::Map<const Eigen::VectorXd>(r0.data(), static_cast<Eigen::Index>(r0.size())),
+                               free_column, &step, &start_inverse_normal)) {
+        for (int j = 0; j < P; ++j) initial[static_cast<std::size_t>(j)] += step(j);
+        linear_started = true;
+      }
+    }
+  }
   ceres::Problem problem;
   if (options.single_residual_block && !options.robust)
     problem.AddResidualBlock(new CurveBlockResidual<Model>(model, x, y), nullptr, initial.data());
@@ -191,19 +276,43 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     std::vector<int> fixed_sorted = fixed;
     problem.SetManifold(initial.data(), new ceres::SubsetManifold(Model::kParameters, fixed_sorted));
   }
-  const ceres::Solver::Summary summary = solve(problem, options);
+  ceres::Solver::Summary summary;
+  if (linear_started && options.restarts <= 0 && !options.try_alternatives) {
+    // From the least-squares minimum, Levenberg-Marquardt's first step only confirms it (a step of
+    // rounding size): the normal equations suffice for it, without Jacobi scaling.
+    ceres::Solver::Options confirm = options.solver_options();
+    confirm.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+    confirm.jacobi_scaling = false;
+    ceres::Solve(confirm, &problem, &summary);
+  } else {
+    summary = solve(problem, options);
+  }
+  // The statistics and the covariance from the residuals and their Jacobian at the solution,
+  // over the ambient parameters with the fixed ones left out (Problem::Evaluate would give the
+  // SubsetManifold's tangent columns instead).
+  std::vector<double> residuals;
+  Eigen::MatrixXd jacobian;
+  const bool evaluated = evaluate(initial, &residuals, options.compute_covariance ? &jacobian : nullptr);
   ParameterLayout layout{{initial.data()}, {Model::kParameters}, names};
-  FitResult r = summarize(problem, layout, y, summary, options);
+  FitResult r = summarize(layout, residuals, evaluated, y, summary);
   if (!fixed.empty()) {
     // Fixed parameters do not count as free and have no uncertainty.
-    const int free = Model::kParameters - static_cast<int>(fixed.size());
+    int free = 0;
+    for (bool f : free_column) free += f ? 1 : 0;
     const double n = static_cast<double>(r.observations);
     r.residual_variance = n > free ? r.rss / (n - free) : r.residual_variance;
     r.free_parameters = free;
     r.aic = akaike(r.observations, r.rss, free);
     r.bic = bayes(r.observations, r.rss, free);
-    for (int i : fixed) r.parameters[static_cast<std::size_t>(i)].std_error = 0.0;
   }
+  if (options.compute_covariance && r.usable) {
+    // The Jacobian the linear start factored, when it is the same matrix (always, for a model
+    // that is truly affine in its parameters): its factorization is reused, not repeated.
+    const bool same_jacobian = linear_started && start_jacobian.rows() == jacobian.rows() &&
+                               (start_jacobian.array() == jacobian.array()).all();
+    set_covariance(r, jacobian, free_column, same_jacobian ? &start_inverse_normal : nullptr);
+  }
+  for (int i : fixed) r.parameters[static_cast<std::size_t>(i)].std_error = 0.0;
   return r;
 }
 

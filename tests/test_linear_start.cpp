@@ -1,0 +1,220 @@
+// fit_curve on models linear in their parameters: the linear least-squares start gives the
+// least-squares solution (checked against an independent solve of the normal equations in long
+// double), Ceres only confirms it, and the statistics, covariance and fixed parameters come out as
+// on the generic path.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/nist.hpp"
+
+namespace ef = epuck2::fit;
+
+namespace {
+
+// charge-like cubic p0 + p1 u + p2 u^2 + p3 u^3, declared linear in its parameters.
+struct LinearCubic {
+  static constexpr int kParameters = 4;
+  static constexpr bool kLinearInParameters = true;
+  template <typename T>
+  T operator()(const T* p, double u) const {
+    return ((p[3] * u + p[2]) * u + p[1]) * u + p[0];
+  }
+};
+
+// The same formula without the declaration: fit_curve treats it as any nonlinear model.
+struct GenericCubic {
+  static constexpr int kParameters = 4;
+  template <typename T>
+  T operator()(const T* p, double u) const {
+    return ((p[3] * u + p[2]) * u + p[1]) * u + p[0];
+  }
+};
+
+// The cubic with p1 held at `c`: p0 + c u + q1 u^2 + q2 u^3, parameters (p0, q1, q2).
+struct CubicWithKnownSlope {
+  static constexpr int kParameters = 3;
+  static constexpr bool kLinearInParameters = true;
+  double c;
+  template <typename T>
+  T operator()(const T* q, double u) const {
+    return ((q[2] * u + q[1]) * u + T(c)) * u + q[0];
+  }
+};
+
+// Two parameters that only enter as their sum: affine, but the columns are equal.
+struct RedundantLine {
+  static constexpr int kParameters = 2;
+  static constexpr bool kLinearInParameters = true;
+  template <typename T>
+  T operator()(const T* p, double u) const {
+    return (p[0] + p[1]) * u;
+  }
+};
+
+static_assert(ef::is_linear_in_parameters<LinearCubic>::value);
+static_assert(!ef::is_linear_in_parameters<GenericCubic>::value);
+static_assert(!ef::is_linear_in_parameters<ef::nist::models::Misra1a>::value);
+
+// Standard normal deviates by Box-Muller from the generator's raw bits (portable across
+// standard libraries).
+double gaussian(std::mt19937_64& rng) {
+  constexpr double kTwoPi = 6.283185307179586;
+  const double u1 = (static_cast<double>(rng() >> 11) + 1.0) * 0x1.0p-53;  // (0, 1]
+  const double u2 = static_cast<double>(rng() >> 11) * 0x1.0p-53;          // [0, 1)
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(kTwoPi * u2);
+}
+
+struct Data {
+  std::vector<double> u, y;
+};
+
+// 400 points on [0, 1.2] of a cubic discharge-like curve with noise of 0.01.
+Data noisy_cubic(std::uint64_t seed) {
+  constexpr int kPoints = 400;
+  constexpr double kSigma = 0.01;
+  const double truth[4] = {1.0, -0.4, 0.3, -0.2};
+  std::mt19937_64 rng(seed);
+  Data d;
+  for (int i = 0; i < kPoints; ++i) {
+    const double u = 1.2 * i / (kPoints - 1);
+    d.u.push_back(u);
+    d.y.push_back(LinearCubic{}(truth, u) + kSigma * gaussian(rng));
+  }
+  return d;
+}
+
+// Least squares by the normal equations in long double (an independent method: no QR, more
+// precision): the reference the fits are checked against.
+std::vector<double> normal_equations_solution(const Data& d) {
+  using M = Eigen::Matrix<long double, 4, 4>;
+  using V = Eigen::Matrix<long double, 4, 1>;
+  M A = M::Zero();
+  V b = V::Zero();
+  for (std::size_t i = 0; i < d.u.size(); ++i) {
+    const long double u = d.u[i];
+    const V row(1.0L, u, u * u, u * u * u);
+    A += row * row.transpose();
+    b += row * static_cast<long double>(d.y[i]);
+  }
+  const V x = A.ldlt().solve(b);
+  return {static_cast<double>(x(0)), static_cast<double>(x(1)), static_cast<double>(x(2)), static_cast<double>(x(3))};
+}
+
+const std::vector<std::string> kNames{"p0", "p1", "p2", "p3"};
+
+// Digits in common (the log relative error, capped at 15).
+double agree(double a, double reference) { return ef::nist::log_relative_error(a, reference, 15.0); }
+
+}  // namespace
+
+TEST(LinearStart, ReachesTheLeastSquaresSolutionAndCeresOnlyConfirmsIt) {
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    const Data d = noisy_cubic(seed);
+    const std::vector<double> ref = normal_equations_solution(d);
+    const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, {0.0, 0.0, 0.0, 0.0}, kNames);
+    ASSERT_TRUE(r.usable) << r.message;
+    for (std::size_t j = 0; j < 4; ++j)
+      EXPECT_GE(agree(r.parameters[j].value, ref[j]), 11.0) << "seed " << seed << " p" << j;
+    // Iteration 0 and at most one step: from the minimum there is nothing left to do.
+    EXPECT_LE(r.iterations, 2) << r.message;
+
+    // The generic path (no linear start, one block per observation, LM from the same start)
+    // reaches the same minimum to the digits its 1e-15 tolerances leave, with the same statistics.
+    ef::FitOptions generic;
+    generic.linear_start = false;
+    generic.single_residual_block = false;
+    const ef::FitResult g = ef::fit_curve(LinearCubic{}, d.u, d.y, {0.0, 0.0, 0.0, 0.0}, kNames, generic);
+    ASSERT_TRUE(g.usable) << g.message;
+    EXPECT_GT(g.iterations, r.iterations);
+    for (std::size_t j = 0; j < 4; ++j) {
+      EXPECT_GE(agree(g.parameters[j].value, r.parameters[j].value), 8.0);
+      EXPECT_GE(agree(g.parameters[j].std_error, r.parameters[j].std_error), 8.0);
+      EXPECT_GT(r.parameters[j].std_error, 0.0);
+    }
+    EXPECT_GE(agree(g.rss, r.rss), 10.0);
+    EXPECT_GE(agree(g.r2, r.r2), 10.0);
+    EXPECT_GE(agree(g.aic, r.aic), 10.0);
+    // The undeclared model takes the generic path by itself.
+    const ef::FitResult u = ef::fit_curve(GenericCubic{}, d.u, d.y, {0.0, 0.0, 0.0, 0.0}, kNames);
+    ASSERT_TRUE(u.usable);
+    EXPECT_GT(u.iterations, r.iterations);
+  }
+}
+
+TEST(LinearStart, StandardErrorsMatchTheCovarianceOfTheDesign) {
+  // For a linear model, cov = s^2 (X^T X)^-1 exactly; check against the long-double normal
+  // equations.
+  const Data d = noisy_cubic(7);
+  const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, {0.0, 0.0, 0.0, 0.0}, kNames);
+  ASSERT_TRUE(r.usable);
+  using M = Eigen::Matrix<long double, 4, 4>;
+  M A = M::Zero();
+  for (double u : d.u) {
+    const Eigen::Matrix<long double, 4, 1> row(1.0L, u, static_cast<long double>(u) * u,
+                                               static_cast<long double>(u) * u * u);
+    A += row * row.transpose();
+  }
+  const M inv = A.inverse();
+  const double s2 = r.rss / static_cast<double>(d.u.size() - 4);
+  for (int j = 0; j < 4; ++j)
+    EXPECT_GE(agree(r.parameters[static_cast<std::size_t>(j)].std_error,
+                                           std::sqrt(s2 * static_cast<double>(inv(j, j)))),
+              10.0);
+}
+
+TEST(LinearStart, FixedParameterKeepsItsValueAndTheOthersTheirOwnErrors) {
+  // Holding p1 (not the last parameter) is the same as fitting the three-parameter model with p1
+  // known: same values, same standard errors, in the right places.
+  const Data d = noisy_cubic(11);
+  constexpr double kSlope = -0.35;
+  const ef::FitResult reduced =
+      ef::fit_curve(CubicWithKnownSlope{kSlope}, d.u, d.y, {0.0, 0.0, 0.0}, {"p0", "p2", "p3"});
+  ASSERT_TRUE(reduced.usable);
+  for (bool linear_start : {true, false}) {
+    ef::FitOptions o;
+    o.linear_start = linear_start;
+    const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, {0.0, kSlope, 0.0, 0.0}, kNames, o, {1});
+    ASSERT_TRUE(r.usable) << r.message;
+    EXPECT_EQ(r.parameters[1].value, kSlope);
+    EXPECT_EQ(r.parameters[1].std_error, 0.0);
+    EXPECT_EQ(r.free_parameters, 3);
+    const double digits = linear_start ? 11.0 : 7.0;
+    const std::size_t full[3] = {0, 2, 3};
+    for (std::size_t k = 0; k < 3; ++k) {
+      EXPECT_GE(agree(r.parameters[full[k]].value, reduced.parameters[k].value), digits)
+          << "linear_start " << linear_start << " p" << full[k];
+      EXPECT_GE(agree(r.parameters[full[k]].std_error, reduced.parameters[k].std_error), digits)
+          << "linear_start " << linear_start << " p" << full[k];
+    }
+    EXPECT_EQ(r.covariance(1, 1), 0.0);
+    EXPECT_EQ(r.covariance(0, 1), 0.0);
+  }
+}
+
+TEST(LinearStart, RankDeficientDesignFallsBackAndSaysSo) {
+  // p0 and p1 only enter as their sum: no unique least-squares solution. The linear start is
+  // refused, Ceres fits from the initial values, and the covariance is reported unavailable.
+  const Data d = noisy_cubic(5);
+  const ef::FitResult r = ef::fit_curve(RedundantLine{}, d.u, d.y, {0.1, 0.2}, {"a", "b"});
+  EXPECT_NE(r.message.find("rank-deficient"), std::string::npos) << r.message;
+  EXPECT_TRUE(std::isnan(r.parameters[0].std_error));
+}
+
+TEST(LinearStart, RobustFitsKeepTheirOwnPath) {
+  // Huber's loss is not least squares: no linear start, one residual block per observation; on
+  // data without outliers it lands near the least-squares solution.
+  const Data d = noisy_cubic(3);
+  ef::FitOptions robust;
+  robust.robust = true;
+  robust.robust_scale = 1.0;  // far above the noise (0.01): every residual in the quadratic zone
+  const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, {0.0, 0.0, 0.0, 0.0}, kNames, robust);
+  ASSERT_TRUE(r.usable) << r.message;
+  EXPECT_GT(r.iterations, 2);
+  const std::vector<double> ref = normal_equations_solution(d);
+  for (std::size_t j = 0; j < 4; ++j) EXPECT_GE(agree(r.parameters[j].value, ref[j]), 6.0);
+}
