@@ -10,7 +10,9 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
+#include "epuck2/fit/battery_json.hpp"
 #include "epuck2/fit/diagnose.hpp"
+#include "epuck2/models/plugin_battery_tables.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/plot/png.hpp"
 
@@ -24,6 +26,8 @@ struct DiagnoseOptions {
   std::string kind;
   std::string json;
   std::string plot_dir;
+  std::string battery_model = "cubic";
+  std::string coefficients;
   std::vector<std::string> logs;
 };
 
@@ -50,6 +54,14 @@ std::string meaning(const std::string& cause) {
       {"falloff_exponent", "the reading does not fall with the square of the distance"},
       {"principal_offset", "the optical axis is off the image centre"},
       {"radial_distortion", "the lens bends points away from (or towards) the centre"},
+      {"speed_limit", "the wheels do not turn faster than a limit, whatever the command"},
+      {"accel_limit", "the wheels reach a new command only gradually: their acceleration is limited"},
+      {"wheel_slip", "the robot's speed over the ground trails the wheels while it accelerates"},
+      {"speed_scale", "the robot covers a different distance than its wheels turn (worn or mis-sized wheels)"},
+      {"latency", "the ToF reading describes an earlier moment than its time stamp"},
+      {"tof_offset", "the ToF reads a constant amount off at every range"},
+      {"tof_scale", "the ToF reading is off in proportion to the range"},
+      {"capacity_scale", "the battery holds a different charge than the calibration batteries"},
   };
   if (cause.rfind("covariate:", 0) == 0) return "the readings drift with the column " + cause.substr(10);
   const auto it = m.find(cause);
@@ -95,6 +107,11 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   j["heldout_mse_final"] = r.heldout_mse_final;
   j["noise_sd"] = r.noise_sd;
   j["mse_units"] = units(r.kind);
+  if (!r.channel_noise_sd.empty()) {
+    nlohmann::json c = nlohmann::json::object();
+    for (const auto& v : r.channel_noise_sd) c[v.name] = v.value;
+    j["channel_noise_sd"] = c;
+  }
   j["findings"] = nlohmann::json::array();
   for (const auto& f : r.findings) {
     nlohmann::json fj, v, e;
@@ -106,11 +123,15 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
     fj["heldout_mse_after"] = f.heldout_mse_after;
     fj["delta_bic"] = f.delta_bic;
     fj["meaning"] = meaning(f.cause);
+    fj["alternatives"] = f.alternatives;
     j["findings"].push_back(fj);
   }
   auto scores = [](const std::vector<dg::CovariateScore>& s) {
     nlohmann::json a = nlohmann::json::array();
-    for (const auto& c : s) a.push_back({{"covariate", c.covariate}, {"score", c.score}, {"significant", c.significant}});
+    for (const auto& c : s) {
+      a.push_back({{"covariate", c.covariate}, {"score", c.score}, {"significant", c.significant}});
+      if (!c.channel.empty()) a.back()["channel"] = c.channel;
+    }
     return a;
   };
   j["residual_structure"] = scores(r.structure_after);
@@ -122,6 +143,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
                       {"heldout_mse", t.heldout_mse > 0 ? nlohmann::json(t.heldout_mse) : nlohmann::json(nullptr)},
                       {"kept", t.kept}});
   j["search"] = trials;
+  j["notes"] = r.notes;
   return j;
 }
 
@@ -154,6 +176,13 @@ void print_report(const dg::Report& r) {
     std::printf("Finding: %s (%s); %s explains it; held-out MSE %.4g -> %.4g %s (BIC %+.1f).\n", f.cause.c_str(),
                 meaning(f.cause).c_str(), format_parameters(f.parameters).c_str(), f.heldout_mse_before, f.heldout_mse_after,
                 u.c_str(), f.delta_bic);
+  for (const auto& f : r.findings)
+    if (!f.alternatives.empty()) {
+      std::string alts;
+      for (const auto& a : f.alternatives) alts += (alts.empty() ? "" : ", ") + a;
+      std::printf("Note: these logs cannot tell %s from %s (they fit almost as well).\n", f.cause.c_str(), alts.c_str());
+    }
+  for (const auto& n : r.notes) std::printf("Note: %s.\n", n.c_str());
   if (r.findings.empty()) std::printf("No effect of the catalogue passes both the BIC and the held-out test.\n");
   std::printf("Residual structure left:");
   for (std::size_t k = 0; k < r.structure_after.size() && k < 4; ++k)
@@ -161,7 +190,9 @@ void print_report(const dg::Report& r) {
                 r.structure_after[k].significant ? " (significant)" : "");
   std::printf("\nVerdict: %s", r.verdict.c_str());
   if (r.verdict == "unexplained")
-    std::printf(" (the residuals still depend on %s, which no effect of the catalogue explains)", r.structure_after.front().covariate.c_str());
+    std::printf(" (the residuals%s still depend on %s, which no effect of the catalogue explains)",
+                r.structure_after.front().channel.empty() ? "" : (" of " + r.structure_after.front().channel).c_str(),
+                r.structure_after.front().covariate.c_str());
   std::printf("\n");
 }
 
@@ -205,10 +236,16 @@ int run_diagnose(const DiagnoseOptions& o) {
   if (logs.empty()) throw UsageError("no logs given");
   if (!dg::supported(logs.front().kind))
     throw UsageError("diagnose does not support the kind '" + std::string(logs::to_string(logs.front().kind)) +
-                     "' yet (supported: ground, proximity, light, camera)");
+                     "' yet");
   if (!o.plot_dir.empty() && !std::filesystem::is_directory(o.plot_dir))
     throw UsageError("--plot: " + o.plot_dir + " is not a folder");
-  const dg::Report r = dg::diagnose(logs);
+  dg::Options options;
+  if (!models::battery::parse_model(o.battery_model, options.battery_model))
+    throw UsageError("unknown --battery-model '" + o.battery_model + "' (expected simple, linear, cubic or approximated)");
+  if (o.coefficients == "plugin") options.battery_tables = models::battery::plugin_tables();
+  else if (!o.coefficients.empty() && o.coefficients != "fitted")
+    options.battery_tables = fit::battery_tables_from_json(read_json(o.coefficients), o.coefficients);
+  const dg::Report r = dg::diagnose(logs, options);
   if (!r.supported) throw UsageError(r.message);
   if (o.json != "-") print_report(r);
   if (!o.json.empty()) write_json(to_json(r, o.logs), o.json);
@@ -224,6 +261,10 @@ void setup_diagnose(CLI::App& app, Action& action) {
   sub->add_option("--kind", o->kind, "Kind of the logs (recognised from the columns when omitted)");
   sub->add_option("--json", o->json, "Write the JSON report to FILE ('-' for standard output)");
   sub->add_option("--plot", o->plot_dir, "Write residual plots (PNG) into this folder");
+  sub->add_option("--battery-model", o->battery_model, "battery: the discharge model simulated (simple, linear, cubic, approximated)")
+      ->capture_default_str();
+  sub->add_option("--coefficients", o->coefficients,
+                  "battery: coefficient tables: fitted (compiled in, default), plugin (the plug-in's published ones) or a battery JSON FILE");
   sub->add_option("logs", o->logs, "Log files (shared/spec/logs.md)")->required()->check(CLI::ExistingFile);
   sub->callback([o, &action] { action = [o] { return run_diagnose(*o); }; });
 }

@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
   using namespace epuck2;
   namespace gen = testing::diagnose;
   const int seeds = argc > 1 ? std::stoi(argv[1]) : 40;
-  std::vector<logs::Kind> kinds{logs::Kind::ground, logs::Kind::proximity, logs::Kind::light, logs::Kind::camera};
+  std::vector<logs::Kind> kinds{logs::Kind::ground, logs::Kind::proximity, logs::Kind::light,
+                                logs::Kind::camera, logs::Kind::drive,     logs::Kind::battery};
   if (argc > 2) {
     kinds.clear();
     for (int a = 2; a < argc; ++a)

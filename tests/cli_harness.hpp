@@ -2,6 +2,9 @@
 // its exit code, standard output and standard error. Shared by the CLI test suites.
 #pragma once
 
+#include <algorithm>
+#include <vector>
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -52,10 +55,14 @@ class CliTest : public ::testing::Test {
     std::ofstream(dir_ / name) << text;
     return (dir_ / name).string();
   }
-  static std::string shipped(const std::string& kind) {
-    std::string args;
+  /// The shipped logs of a kind (those whose name starts with `prefix`), in name order.
+  static std::string shipped(const std::string& kind, const std::string& prefix = "") {
+    std::vector<std::string> paths;
     for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / kind))
-      if (e.path().extension() == ".csv") args += " \"" + e.path().string() + "\"";
+      if (e.path().extension() == ".csv" && e.path().filename().string().rfind(prefix, 0) == 0) paths.push_back(e.path().string());
+    std::sort(paths.begin(), paths.end());
+    std::string args;
+    for (const auto& p : paths) args += " \"" + p + "\"";
     return args;
   }
   fs::path dir_;

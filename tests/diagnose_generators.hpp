@@ -16,7 +16,12 @@
 
 #include "epuck2/fit/diagnose.hpp"
 #include "epuck2/logs/log.hpp"
+#include "epuck2/models/battery.hpp"
 #include "epuck2/models/sensors.hpp"
+#if __has_include("epuck2/fitted/coefficients.hpp")
+#include "epuck2/fitted/coefficients.hpp"
+#endif
+#include "epuck2/models/plugin_battery_tables.hpp"
 #include "epuck2/virtual_robot/sensor_truth.hpp"
 
 namespace epuck2::testing::diagnose {
@@ -40,8 +45,12 @@ inline std::vector<std::string> hidden_effects(logs::Kind kind) {
     case logs::Kind::camera:
       return {"none", "principal_offset", "radial_distortion", "covariate:temperature_c", "quadratic:temperature_c"};
     case logs::Kind::proximity:
-      return {"none", "ambient_offset", "sensor_gain", "long_tail", "saturation", "covariate:temperature_c", "quadratic:temperature_c"};
-    default: return {};
+      return {"none", "ambient_offset", "sensor_gain", "long_tail", "saturation", "incidence_angle", "covariate:temperature_c",
+              "quadratic:temperature_c"};
+    case logs::Kind::drive:
+      return {"none",    "speed_limit", "accel_limit", "wheel_slip", "speed_scale", "latency", "tof_offset",
+              "tof_scale", "covariate:temperature_c", "quadratic:temperature_c"};
+    case logs::Kind::battery: return {"none", "capacity_scale", "covariate:temperature_c", "quadratic:temperature_c"};
   }
 }
 
@@ -175,7 +184,8 @@ inline std::string camera_log(std::uint64_t seed, Hidden& h) {
   return out;
 }
 
-// ----- proximity: Eq. 1 with the plug-in's coefficients, one to four sensors, N(0, 10 counts) ---
+// ----- proximity: Eq. 1 with the plug-in's coefficients, one to four sensors, angles 0..60 deg,
+// N(0, 10 counts) -----
 inline std::string proximity_log(std::uint64_t seed, Hidden& h) {
   Draw d(seed);
   const int n = d.integer(500, 1200);
@@ -190,20 +200,147 @@ inline std::string proximity_log(std::uint64_t seed, Hidden& h) {
     h.truth["length_m"] = length = d.uniform(0.015, 0.03);
   }
   if (h.cause == "saturation") h.truth["level"] = level = d.uniform(2500, 3500);
+  double k_angle = 0;  // the plug-in ignores the angle: cos^0
+  if (h.cause == "incidence_angle") h.truth["k"] = k_angle = d.uniform(0.8, 2.5);
   const Temperature temp = temperature_effect(h, d, 4.0, 10.0, 1.0, 2.0);
   constexpr double kNoise = 10.0;  // counts
-  std::string out = "distance_m,sensor,value,temperature_c\n";
+  std::string out = "distance_m,sensor,value,temperature_c,angle_deg\n";
   for (int i = 0; i < n; ++i) {
     const double dist = d.integer(0, 16) * 0.005;
     const int sensor = d.integer(0, sensors - 1);
     const double t = d.uniform(20, 40);
+    const double angle_deg = 10.0 * d.integer(0, 6);
     double base = 0;
     const double abc[3] = {s::kPluginProximity.a_per_m2, s::kPluginProximity.b_per_m, s::kPluginProximity.c};
-    if (dist <= s::kPluginProximity.range_m) base = 4095.0 * std::clamp(s::proximity_polynomial(abc, dist), 0.0, 1.0);
+    if (dist <= s::kPluginProximity.range_m)
+      base = 4095.0 * std::clamp(std::pow(std::cos(angle_deg * s::kPi / 180.0), k_angle) * s::proximity_polynomial(abc, dist), 0.0, 1.0);
     double v = std::min(gain[static_cast<std::size_t>(sensor)] * base + offset + amplitude * std::exp(-dist / length), level);
     v += temp.effect(t) + kNoise * d.normal();
     out += fmt(dist) + "," + std::to_string(sensor) + "," + fmt(std::clamp(std::round(v), 0.0, 4095.0)) + "," +
-           fmt(std::round(t * 10) / 10) + "\n";
+           fmt(std::round(t * 10) / 10) + "," + fmt(angle_deg) + "\n";
+  }
+  return out;
+}
+
+
+// ----- drive: runs to and fro before an obstacle, ~10 Hz sampling with jitter, ToF noise
+// 2 mm + 3 mm per metre of range (as the virtual robot's, data/raw/drive/README.md) --------------
+// The robot is simulated at 1 ms steps (wheels limited in speed and acceleration, the body's lag
+// behind the wheels integrated exactly over each step), independently of the diagnosis's
+// closed-form model. `rows` > 0 forces the log's length (the speed benchmark).
+inline std::string drive_log(std::uint64_t seed, Hidden& h, int rows = 0) {
+  Draw d(seed);
+  const int n = rows > 0 ? rows : d.integer(600, 2400);
+  const double obstacle_m = d.uniform(0.4, 0.8);
+  double max_cm_s = 1e9, accel = 1e9, tau = 0, speed_k = 1, delay = 0, offset = 0, tof_k = 1;
+  if (h.cause == "speed_limit") h.truth["max_cm_s"] = max_cm_s = d.uniform(6, 11);
+  if (h.cause == "accel_limit") h.truth["accel_cm_s2"] = accel = d.uniform(8, 30);
+  if (h.cause == "wheel_slip") h.truth["tau_s"] = tau = d.uniform(0.1, 0.3);
+  if (h.cause == "speed_scale") h.truth["k"] = speed_k = 1.0 + d.signed_size(0.04, 0.10);
+  if (h.cause == "latency") h.truth["delay_s"] = delay = d.uniform(0.1, 0.3);
+  if (h.cause == "tof_offset") h.truth["offset_mm"] = offset = d.signed_size(8, 25);
+  if (h.cause == "tof_scale") h.truth["k"] = tof_k = 1.0 + d.signed_size(0.02, 0.05);
+  const Temperature temp = temperature_effect(h, d, 0.4, 1.0, 0.1, 0.2);
+  constexpr double kStep = 0.001, kPeriod = 0.1, kJitter = 0.02;
+  const double steps_per_m = s::kPluginStepsPerMetre;
+  // Physics state; x_g's history for the ToF latency.
+  double t = 0, v_w = 0, x_w = 0, v_g = 0, x_g = 0;
+  std::vector<double> history{0.0};
+  double command = 0, next_sample = 0;
+  // Host: pause, then a run of a random speed and length towards or away from the obstacle
+  // (keeping the range within 0.1..1.2 m), then pause again.
+  bool moving = false;
+  double phase_end = d.uniform(0.5, 1.5), run_start_steps = 0, run_steps = 0, run_speed = 0;
+  std::string out = "# generated by tests/diagnose_generators.hpp\n# obstacle_distance_m: " + fmt(obstacle_m) +
+                    "\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm,temperature_c\n";
+  int written = 0;
+  while (written < n) {
+    if (t >= next_sample - 1e-9) {
+      const double steps = std::floor(x_w * steps_per_m);
+      if (moving && std::abs(steps - run_start_steps) >= run_steps) {
+        moving = false;
+        phase_end = t + d.uniform(0.5, 1.5);
+      } else if (!moving && t >= phase_end) {
+        moving = true;
+        run_speed = d.uniform(2, 15);
+        const double range = obstacle_m - x_g;
+        const double dir = range < 0.3 ? -1.0 : range > 1.0 ? 1.0 : (d.uniform(0, 1) < 0.5 ? -1.0 : 1.0);
+        run_speed *= dir;
+        run_steps = d.uniform(0.08, 0.2) * steps_per_m;
+        run_start_steps = steps;
+      }
+      command = moving ? run_speed : 0.0;
+      // ToF: the body's travel `delay` ago.
+      const std::size_t back = static_cast<std::size_t>(std::llround(delay / kStep));
+      const double seen = history.size() > back ? history[history.size() - 1 - back] : 0.0;
+      const double range_m = obstacle_m - seen;
+      const double tc = d.uniform(20, 40);
+      const double tof = tof_k * 1000.0 * range_m + offset + temp.effect(tc) + (2.0 + 3.0 * range_m) * d.normal();
+      const double wrapped = steps - 65536.0 * std::floor((steps + 32768.0) / 65536.0);
+      out += fmt(std::round(t * 1e4) / 1e4) + "," + fmt(command) + "," + fmt(command) + "," + fmt(wrapped) + "," + fmt(wrapped) + "," +
+             fmt(std::clamp(std::round(tof), 20.0, 2000.0)) + "," + fmt(std::round(tc * 10) / 10) + "\n";
+      ++written;
+      next_sample = std::round((t + kPeriod + kJitter * (2.0 * d.uniform(0, 1) - 1.0)) / kStep) * kStep;
+    }
+    // Wheels: the command clamped to the speed limit, reached at the acceleration limit (the
+    // ramp's end inside the step is integrated exactly).
+    const double target = std::clamp(command, -max_cm_s, max_cm_s) / 100.0;
+    const double a = accel / 100.0;
+    const double ramp = std::min(kStep, std::abs(target - v_w) / a);
+    const double a_signed = target > v_w ? a : -a;
+    const double x_before = x_w;
+    if (ramp > 0) {
+      x_w += v_w * ramp + 0.5 * a_signed * ramp * ramp;
+      v_w = ramp < kStep ? target : v_w + a_signed * ramp;
+    }
+    x_w += v_w * (kStep - ramp);
+    // Body: first-order lag behind k times the wheels' mean speed over the step (exact for it).
+    const double u = speed_k * (x_w - x_before) / kStep;
+    if (tau > 0) {
+      const double e = std::exp(-kStep / tau);
+      x_g += u * kStep + (v_g - u) * tau * (1.0 - e);
+      v_g = u + (v_g - u) * e;
+    } else {
+      x_g += u * kStep;
+      v_g = u;
+    }
+    history.push_back(x_g);
+    t += kStep;
+  }
+  return out;
+}
+
+// ----- battery: one discharge run at a constant speed, the project's Cubic (corrected, fitted
+// tables) with time running 1/k as fast, a reading every 5..30 s, noise N(0, 0.01..0.03) -------
+inline std::string battery_log(std::uint64_t seed, Hidden& h) {
+  namespace mb = models::battery;
+  Draw d(seed);
+  mb::Tables tables = mb::plugin_tables();
+#ifdef EPUCK2_FITTED_HAS_BATTERY
+  tables = fitted::battery_tables();
+#endif
+  double k = 1;
+  if (h.cause == "capacity_scale") h.truth["k"] = k = 1.0 + d.signed_size(0.04, 0.12);
+  const Temperature temp = temperature_effect(h, d, 0.0015, 0.004, 0.0004, 0.0008);
+  const double speed = d.integer(0, 15);
+  const double period = d.uniform(5, 30);
+  const double noise = d.uniform(0.01, 0.03);
+  constexpr double kTick = 1.0;  // s
+  std::string out = "# generated by tests/diagnose_generators.hpp\ntime_s,speed_cm_s,charge,temperature_c\n";
+  double charge = 1.0, t = 0, next = 0;
+  // The robot stops when the model's charge reaches 0 or the table's lifetime ends.
+  const double end = tables.lifetime_s[static_cast<std::size_t>(speed)] * k;
+  while (true) {
+    const bool last = charge <= 0.0 || t >= end;
+    if (t >= next - 1e-9 || last) {
+      const double tc = d.uniform(20, 40);
+      out += fmt(std::round(t * 10) / 10) + "," + fmt(speed) + "," + fmt(charge + temp.effect(tc) + noise * d.normal()) + "," +
+             fmt(std::round(tc * 10) / 10) + "\n";
+      next = t + period;
+    }
+    if (last) break;
+    charge = mb::corrected::step(mb::Model::cubic, tables, charge, speed / 100.0 * kTick / k, kTick / k);
+    t += kTick;
   }
   return out;
 }
@@ -252,7 +389,8 @@ inline std::string make_log(logs::Kind kind, std::uint64_t seed, Hidden& h) {
     case logs::Kind::light: return light_log(seed, h);
     case logs::Kind::camera: return camera_log(seed, h);
     case logs::Kind::proximity: return proximity_log(seed, h);
-    default: return {};
+    case logs::Kind::drive: return drive_log(seed, h);
+    case logs::Kind::battery: return battery_log(seed, h);
   }
 }
 

@@ -79,13 +79,32 @@ TEST(DiagnoseHidden, NoEffectGivesNoneAndNoFinding) {
   }
 }
 
-TEST(DiagnoseHidden, UnsupportedKindIsSaidSo) {
-  const auto log = logs::parse_log("# obstacle_distance_m: 0.3\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n0,0,0,0,0,300\n",
-                                   "d.csv", logs::Kind::drive);
-  // drive needs its obstacle metadata only when simulated; diagnose refuses the kind before that.
-  const auto r = fit::diagnose::diagnose({log});
-  EXPECT_FALSE(r.supported);
-  EXPECT_NE(r.message.find("drive"), std::string::npos);
+// Drive and battery logs are longer to simulate: fewer seeds in CI (the sweep runs 40).
+TEST(DiagnoseHidden, Drive) { expect_rates(sweep(logs::Kind::drive, 3)); }
+TEST(DiagnoseHidden, Battery) { expect_rates(sweep(logs::Kind::battery, 5)); }
+
+TEST(DiagnoseHidden, EveryKindIsSupported) {
+  for (logs::Kind k : {logs::Kind::battery, logs::Kind::proximity, logs::Kind::light, logs::Kind::ground, logs::Kind::camera,
+                       logs::Kind::drive}) {
+    EXPECT_TRUE(fit::diagnose::supported(k)) << logs::to_string(k);
+    EXPECT_FALSE(gen::hidden_effects(k).empty()) << logs::to_string(k);
+  }
+}
+
+// The drive model integrates the ramps and the lag in closed form; a hidden effect's parameters
+// come back from a log the generator simulated step by step (1 ms), for each effect alone.
+TEST(DiagnoseHidden, DriveWithoutAnEffectLeavesNoStructure) {
+  for (int s = 0; s < 4; ++s) {
+    gen::Hidden h = gen::hidden("none");
+    const auto log = logs::parse_log(gen::make_log(logs::Kind::drive, 500 + s, h), "d.csv", logs::Kind::drive);
+    const auto r = fit::diagnose::diagnose({log});
+    EXPECT_EQ(r.verdict, "none") << (r.structure_after.empty() ? "" : r.structure_after.front().covariate);
+    ASSERT_EQ(r.channel_noise_sd.size(), 2u);
+    // ToF noise 2 mm + 3 mm per metre at 0.1..1.2 m; encoders: rounding only.
+    EXPECT_GT(r.channel_noise_sd[0].value, 2.0);
+    EXPECT_LT(r.channel_noise_sd[0].value, 6.0);
+    EXPECT_LT(r.channel_noise_sd[1].value, 0.4);
+  }
 }
 
 // ----- the command line -------------------------------------------------------------------------
@@ -119,6 +138,49 @@ TEST_F(DiagnoseCli, ShippedLightNamesSensorGainAndAmbientLight) {
   ASSERT_TRUE(found.count("ambient_offset"));
   EXPECT_NEAR(found["sensor_gain"].at("parameters").at("gains").at(7).get<double>(), 0.94, 0.01);
   EXPECT_NEAR(found["ambient_offset"].at("parameters").at("offset").get<double>(), 12.0, 3.0);
+}
+
+TEST_F(DiagnoseCli, ShippedDriveNamesTheVirtualRobotsImperfections) {
+  const auto r = run("diagnose --json -" + shipped("drive"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  std::map<std::string, nlohmann::json> found;
+  for (const auto& f : j.at("findings")) found[f.at("cause").get<std::string>()] = f;
+  // data/raw/drive/README.md: the firmware caps the wheels at 1100 steps/s (14.17 cm/s), the body
+  // lags the wheels with tau = 0.12 s, the ToF reads 0.985 d + 9 mm.
+  ASSERT_TRUE(found.count("speed_limit"));
+  EXPECT_NEAR(found["speed_limit"].at("parameters").at("max_cm_s").get<double>(), 1100.0 / 77.63656, 0.05);
+  ASSERT_TRUE(found.count("wheel_slip"));
+  EXPECT_NEAR(found["wheel_slip"].at("parameters").at("tau_s").get<double>(), 0.12, 0.01);
+  ASSERT_TRUE(found.count("tof_offset"));
+  // With one obstacle distance in every log, a ToF scale and a wheel scale differ by a constant
+  // that the offset absorbs: either may be named, the other is listed as its alternative.
+  const std::string scale = found.count("tof_scale") ? "tof_scale" : "speed_scale";
+  ASSERT_TRUE(found.count(scale));
+  EXPECT_NEAR(found[scale].at("parameters").at("k").get<double>(), 0.985, 0.002);
+  const auto& alts = found[scale].at("alternatives");
+  EXPECT_NE(std::find(alts.begin(), alts.end(), scale == "tof_scale" ? "speed_scale" : "tof_scale"), alts.end()) << alts;
+  EXPECT_LT(j.at("heldout_mse_final").get<double>(), 0.2 * j.at("heldout_mse_recalibrated").get<double>());
+}
+
+TEST_F(DiagnoseCli, ShippedBatteryOfOneRobotNamesItsCapacity) {
+  // data/raw/battery/README.md: robot a's cell and battery path make it last about 1 % longer
+  // than the average of the two robots, which the fitted tables describe.
+  const auto r = run("diagnose --json -" + shipped("battery", "robot-a"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("verdict"), "capacity_scale");
+  const double k = j.at("findings").at(0).at("parameters").at("k").get<double>();
+  EXPECT_GT(k, 1.003);
+  EXPECT_LT(k, 1.025);
+}
+
+TEST_F(DiagnoseCli, DriveWithoutObstacleDistanceExitsTwo) {
+  const std::string bad = write("d.csv", "time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n0,0,0,0,0,300\n");
+  const auto r = run("diagnose \"" + bad + "\"");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("obstacle_distance_m"), std::string::npos) << r.err;
+  EXPECT_EQ(run("diagnose --battery-model nonsense \"" + bad + "\"").exit_code, 2);
 }
 
 TEST_F(DiagnoseCli, BadInputExitsTwo) {

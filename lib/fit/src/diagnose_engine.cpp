@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <numeric>
 #include <set>
@@ -16,41 +18,51 @@ namespace epuck2::fit::diagnose {
 
 namespace detail {
 
-void add_common_covariates(Problem& p, const std::vector<logs::Log>& logs, int residuals_per_row) {
-  const std::size_t per = static_cast<std::size_t>(residuals_per_row);
+void add_common_covariates(Problem& p, const std::vector<logs::Log>& logs, const std::vector<std::string>& skip) {
+  // Per-row values (rows numbered across all logs), spread to the residuals through Problem::row.
+  auto per_residual = [&](const std::vector<double>& per_row) {
+    std::vector<double> v(p.row.size());
+    for (std::size_t i = 0; i < p.row.size(); ++i) v[i] = per_row[p.row[i]];
+    return v;
+  };
   std::set<std::string> extras;
   for (const auto& log : logs)
-    for (const auto& c : log.extra_numeric_columns()) extras.insert(c);
+    for (const auto& c : log.extra_numeric_columns())
+      if (std::find(skip.begin(), skip.end(), c) == skip.end()) extras.insert(c);
   // A column is a candidate only when every log has it.
   for (const auto& name : extras) {
     bool everywhere = true;
     for (const auto& log : logs) everywhere = everywhere && log.has(name);
     if (!everywhere) continue;
-    std::vector<double> v;
+    std::vector<double> rows;
     for (const auto& log : logs)
-      for (double x : log.col(name))
-        for (std::size_t k = 0; k < per; ++k) v.push_back(x);
+      for (double x : log.col(name)) rows.push_back(x);
+    const std::vector<double> v = per_residual(rows);
     p.extra_columns.emplace_back(name, v);
     p.covariates.emplace_back(name, v);
   }
   std::vector<double> index, which;
   for (std::size_t l = 0; l < logs.size(); ++l)
-    for (std::size_t i = 0; i < logs[l].rows(); ++i)
-      for (std::size_t k = 0; k < per; ++k) {
-        index.push_back(static_cast<double>(i));
-        which.push_back(static_cast<double>(l));
-      }
-  p.covariates.emplace_back("row", index);
-  if (logs.size() > 1) p.covariates.emplace_back("log", which);
+    for (std::size_t i = 0; i < logs[l].rows(); ++i) {
+      index.push_back(static_cast<double>(i));
+      which.push_back(static_cast<double>(l));
+    }
+  p.covariates.emplace_back("row", per_residual(index));
+  if (logs.size() > 1) p.covariates.emplace_back("log", per_residual(which));
 }
 
 }  // namespace detail
 
 namespace {
 
+/// A reading is a whole count: at least the rounding's sqrt(1/12) ~ 0.29 of spread.
+constexpr double kDefaultMinimumSd = 0.3;
+
 using detail::Jet;
+using detail::kFewFree;
 using detail::kMaxFree;
 using detail::Problem;
+using detail::ShortJet;
 
 /// E[clamp(mu + e, lo, hi)] for e ~ N(0, sigma^2): the mean of a clamped noisy reading, smooth in
 /// mu, so that readings at a clamp are fitted without bias (for hi - lo >> sigma).
@@ -94,6 +106,9 @@ class Engine {
       slopes_.push_back({index, centred});
     }
     n_ = p_.y.size();
+    if (p_.channel.empty()) p_.channel.assign(n_, 0);
+    if (p_.channel_min_sd.size() < p_.channel_names.size()) p_.channel_min_sd.resize(p_.channel_names.size(), kDefaultMinimumSd);
+    set_sigma(std::vector<double>(p_.channel_names.size(), 1.0));
     // Folds: contiguous blocks of rows dealt round-robin.
     const std::size_t blocks = static_cast<std::size_t>(std::max(1, o_.folds * o_.blocks_per_fold));
     const std::size_t block_rows = std::max<std::size_t>(1, (p_.rows + blocks - 1) / blocks);
@@ -104,24 +119,34 @@ class Engine {
   }
 
   std::size_t size() const { return n_; }
-  double sigma = 1.0;
+
+  /// Noise standard deviation per channel; residuals are weighted by sigma[0] / sigma[channel].
+  const std::vector<double>& sigma() const { return sigma_; }
+  void set_sigma(const std::vector<double>& sigma) {
+    sigma_ = sigma;
+    weight_.resize(n_);
+    for (std::size_t i = 0; i < n_; ++i) weight_[i] = sigma_[0] / sigma_[static_cast<std::size_t>(p_.channel[i])];
+  }
 
   template <typename T>
   void predict(const T* values, std::vector<T>& out) const {
     out.assign(n_, T(0.0));
     p_.mean(values, out.data());
     for (const auto& s : slopes_)
-      for (std::size_t i = 0; i < n_; ++i) out[i] += values[s.param] * s.centred[i];
-    for (std::size_t i = 0; i < n_; ++i) out[i] = expected_clamp(out[i], p_.lo[i], p_.hi[i], sigma);
+      for (std::size_t i = 0; i < n_; ++i)
+        if (p_.channel[i] == 0) out[i] += values[s.param] * s.centred[i];
+    for (std::size_t i = 0; i < n_; ++i)
+      out[i] = expected_clamp(out[i], p_.lo[i], p_.hi[i], sigma_[static_cast<std::size_t>(p_.channel[i])]);
   }
   std::vector<double> predict(const std::vector<double>& values) const {
     std::vector<double> out;
     predict(values.data(), out);
     return out;
   }
+  /// Weighted residuals, in channel 0's units.
   std::vector<double> residuals(const std::vector<double>& values) const {
     std::vector<double> r = predict(values);
-    for (std::size_t i = 0; i < n_; ++i) r[i] = p_.y[i] - r[i];
+    for (std::size_t i = 0; i < n_; ++i) r[i] = weight_[i] * (p_.y[i] - r[i]);
     return r;
   }
 
@@ -200,19 +225,20 @@ class Engine {
 
   const std::vector<std::size_t>& all() const { return all_; }
 
-  /// Noise standard deviation from the residuals of readings away from the clamps.
-  double noise_sd(const std::vector<double>& values) const {
-    const auto r = residuals(values);
-    double s = 0;
-    std::size_t c = 0;
+  /// Noise standard deviation per channel from the residuals of readings away from the clamps.
+  std::vector<double> noise_sd(const std::vector<double>& values) const {
+    const auto pred = predict(values);
+    const std::size_t C = sigma_.size();
+    std::vector<double> s(C, 0.0), c(C, 0.0);
     for (std::size_t i = 0; i < n_; ++i)
       if (p_.y[i] > p_.lo[i] && p_.y[i] < p_.hi[i]) {
-        s += r[i] * r[i];
-        ++c;
+        const std::size_t ch = static_cast<std::size_t>(p_.channel[i]);
+        s[ch] += (p_.y[i] - pred[i]) * (p_.y[i] - pred[i]);
+        c[ch] += 1;
       }
-    // A reading is a whole count: at least the rounding's sqrt(1/12) ~ 0.29 of spread.
-    constexpr double kMinimumSd = 0.3;
-    return std::max(kMinimumSd, c ? std::sqrt(s / static_cast<double>(c)) : 1.0);
+    std::vector<double> out(C);
+    for (std::size_t ch = 0; ch < C; ++ch) out[ch] = std::max(p_.channel_min_sd[ch], c[ch] > 0 ? std::sqrt(s[ch] / c[ch]) : 1.0);
+    return out;
   }
 
  private:
@@ -235,22 +261,32 @@ class Engine {
         std::vector<double> pred;
         e_.predict(v.data(), pred);
         for (std::size_t k = 0; k < idx_.size(); ++k) {
-          residuals[k] = e_.p_.y[idx_[k]] - pred[idx_[k]];
+          residuals[k] = e_.weight_[idx_[k]] * (e_.p_.y[idx_[k]] - pred[idx_[k]]);
           if (!std::isfinite(residuals[k])) return false;
         }
         return true;
       }
-      std::vector<Jet> v(P);
-      for (std::size_t j = 0; j < P; ++j) v[j] = slot_[j] >= 0 ? Jet(parameters[j][0], slot_[j]) : Jet(parameters[j][0]);
-      std::vector<Jet> pred;
+      int free = 0;
+      for (int s : slot_) free += s >= 0 ? 1 : 0;
+      return free <= kFewFree ? with_jets<ShortJet>(parameters, residuals, jacobians)
+                              : with_jets<Jet>(parameters, residuals, jacobians);
+    }
+
+    template <typename J>
+    bool with_jets(double const* const* parameters, double* residuals, double** jacobians) const {
+      const std::size_t P = slot_.size();
+      std::vector<J> v(P);
+      for (std::size_t j = 0; j < P; ++j) v[j] = slot_[j] >= 0 ? J(parameters[j][0], slot_[j]) : J(parameters[j][0]);
+      std::vector<J> pred;
       e_.predict(v.data(), pred);
       for (std::size_t k = 0; k < idx_.size(); ++k) {
-        const Jet& m = pred[idx_[k]];
-        residuals[k] = e_.p_.y[idx_[k]] - m.a;
+        const J& m = pred[idx_[k]];
+        const double w = e_.weight_[idx_[k]];
+        residuals[k] = w * (e_.p_.y[idx_[k]] - m.a);
         if (!std::isfinite(residuals[k])) return false;
         for (std::size_t j = 0; j < P; ++j)
           if (jacobians[j]) {
-            const double d = slot_[j] >= 0 ? -m.v[slot_[j]] : 0.0;
+            const double d = slot_[j] >= 0 ? -w * m.v[slot_[j]] : 0.0;
             if (!std::isfinite(d)) return false;
             jacobians[j][k] = d;
           }
@@ -272,6 +308,7 @@ class Engine {
   const Options& o_;
   std::vector<Slope> slopes_;
   std::size_t n_ = 0;
+  std::vector<double> sigma_, weight_;
   std::vector<int> fold_;
   std::vector<std::size_t> all_;
 };
@@ -335,17 +372,39 @@ CovariateScore score_covariate(const std::string& name, const std::vector<double
     }
   if (!(tss > 0) || used < 2) return s;
   s.score = between / tss;
+  s.size = std::sqrt(between / static_cast<double>(n));
   const double df1 = static_cast<double>(used - 1), df2 = static_cast<double>(n - used);
   const double chi2 = df2 * s.score / std::max(1e-300, 1.0 - s.score);  // df1 * F
   s.significant = s.score >= threshold && chi2 > chi2_critical(df1);
   return s;
 }
 
+/// Scores every covariate against the residuals; with several channels (drive: ToF and encoders),
+/// within each channel separately, keeping the channel where the dependence is strongest.
 std::vector<CovariateScore> structure(const Problem& p, const std::vector<double>& r, const std::vector<double>& predicted,
-                                      double threshold) {
+                                      double threshold, const std::vector<double>& sigma) {
   std::vector<CovariateScore> out;
-  for (const auto& [name, x] : p.covariates) out.push_back(score_covariate(name, x, r, threshold));
-  out.push_back(score_covariate("predicted", predicted, r, threshold));
+  const std::size_t channels = p.channel_names.size();
+  auto score = [&](const std::string& name, const std::vector<double>& x) {
+    if (channels <= 1) return score_covariate(name, x, r, threshold);
+    CovariateScore best;
+    best.covariate = name;
+    for (std::size_t c = 0; c < channels; ++c) {
+      std::vector<double> xc, rc;
+      for (std::size_t i = 0; i < r.size(); ++i)
+        if (static_cast<std::size_t>(p.channel[i]) == c) {
+          xc.push_back(x[i]);
+          rc.push_back(r[i]);
+        }
+      CovariateScore s = score_covariate(name, xc, rc, threshold);
+      s.channel = p.channel_names[c];
+      if (c < p.channel_min_structure.size()) s.significant = s.significant && s.size >= p.channel_min_structure[c] * sigma[0] / sigma[c];
+      if (s.score > best.score) best = s;
+    }
+    return best;
+  };
+  for (const auto& [name, x] : p.covariates) out.push_back(score(name, x));
+  out.push_back(score("predicted", predicted));
   std::stable_sort(out.begin(), out.end(), [](const CovariateScore& a, const CovariateScore& b) { return a.score > b.score; });
   return out;
 }
@@ -366,9 +425,10 @@ void settle_noise(Engine& engine, const std::vector<int>& free, Engine::Fitted& 
   constexpr int kMaxRounds = 8;
   constexpr double kSettled = 0.02;
   for (int k = 0; k < kMaxRounds; ++k) {
-    const double sd = engine.noise_sd(current.values);
-    const bool settled = std::abs(sd - engine.sigma) <= kSettled * engine.sigma;
-    engine.sigma = sd;
+    const std::vector<double> sd = engine.noise_sd(current.values);
+    bool settled = true;
+    for (std::size_t c = 0; c < sd.size(); ++c) settled = settled && std::abs(sd[c] - engine.sigma()[c]) <= kSettled * engine.sigma()[c];
+    engine.set_sigma(sd);
     current = engine.fit(free, current.values, engine.all(), true);
     if (settled) break;
   }
@@ -385,7 +445,7 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
   report.kind = logs.front().kind;
   for (const auto& l : logs) report.rows += l.rows();
   std::string why;
-  std::unique_ptr<Problem> problem = detail::make_problem(logs, why);
+  std::unique_ptr<Problem> problem = detail::make_problem(logs, options, why);
   if (!problem) {
     report.message = why;
     return report;
@@ -402,7 +462,7 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
   for (std::size_t j = 0; j < p.params.size(); ++j) neutral[j] = p.params[j].neutral;
 
   // Step 1: the plug-in as published; its residuals give the first noise estimate.
-  engine.sigma = engine.noise_sd(p.plugin_values);
+  engine.set_sigma(engine.noise_sd(p.plugin_values));
   report.heldout_mse_plugin = engine.fit({}, p.plugin_values, engine.all(), false).result.mse;
 
   // Step 2: recalibrate the base model.
@@ -425,15 +485,26 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
       if (kept.count(e)) continue;
       std::vector<int> cand = free;
       std::vector<double> start = current.values;
+      std::size_t starts = 1;
       for (int j : p.effects[e].params) {
         cand.push_back(j);
         start[static_cast<std::size_t>(j)] = p.params[static_cast<std::size_t>(j)].start;
+        starts = std::max(starts, 1 + p.params[static_cast<std::size_t>(j)].other_starts.size());
       }
       if (static_cast<int>(cand.size()) > kMaxFree) continue;
       Trial t;
       t.step = step;
       t.cause = p.effects[e].cause;
       Engine::Fitted f = engine.fit(cand, start, engine.all(), false);
+      for (std::size_t k = 1; k < starts; ++k) {
+        std::vector<double> other = start;
+        for (int j : p.effects[e].params) {
+          const auto& more = p.params[static_cast<std::size_t>(j)].other_starts;
+          if (k <= more.size()) other[static_cast<std::size_t>(j)] = more[k - 1];
+        }
+        Engine::Fitted g = engine.fit(cand, other, engine.all(), false);
+        if (g.result.usable && (!f.result.usable || g.result.rss < f.result.rss)) f = g;
+      }
       if (!f.result.usable) {
         report.trials.push_back(t);
         continue;
@@ -454,8 +525,9 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
       report.trials.push_back(t);
     }
     if (best < 0) break;
-    for (auto& t : report.trials)
-      if (t.step == step && t.cause == p.effects[static_cast<std::size_t>(best)].cause) t.kept = true;
+    const std::vector<int> free_before = free;
+    const Engine::Fitted fit_before = current;
+    const std::vector<double> sigma_before = engine.sigma();
     Finding finding;
     finding.cause = p.effects[static_cast<std::size_t>(best)].cause;
     finding.heldout_mse_before = current_cv;
@@ -469,20 +541,51 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
     // it), until the estimate settles; then the held-out error again with that noise.
     current = best_fit;
     settle_noise(engine, free, current);
-    current_cv = engine.heldout_mse(free, current.values);
+    const double cv = engine.heldout_mse(free, current.values);
+    if (p.channel_names.size() > 1) {
+      // Several channels: the residuals' weights follow the noise estimates, which the finding
+      // has just changed. The model without it must lose on held-out rows under the same weights
+      // too, or the finding is undone (an effect that only moved weight between channels).
+      Engine::Fitted without = fit_before;
+      without = engine.fit(free_before, without.values, engine.all(), false);
+      const double cv_without = engine.heldout_mse(free_before, without.values);
+      if (!(cv <= cv_without * (1.0 - options.min_heldout_gain))) {
+        report.findings.pop_back();
+        kept.erase(static_cast<std::size_t>(best));
+        order.pop_back();
+        free = free_before;
+        current = fit_before;
+        engine.set_sigma(sigma_before);
+        report.notes.push_back(finding.cause + " passed the search but not the held-out test once the noise was re-estimated");
+        break;
+      }
+      report.findings.back().heldout_mse_before = cv_without;
+    }
+    for (auto& t : report.trials) {
+      if (t.step != step) continue;
+      if (t.cause == finding.cause) t.kept = true;
+      else if (t.heldout_mse > 0 && t.delta_bic <= -options.min_delta_bic && t.delta_bic - best_bic < options.min_delta_bic &&
+               t.heldout_mse <= best_cv * (1.0 + options.min_heldout_gain))
+        report.findings.back().alternatives.push_back(t.cause);
+    }
+    current_cv = cv;
     report.findings.back().heldout_mse_after = current_cv;
   }
   current = engine.fit(free, current.values, engine.all(), true);
   report.heldout_mse_final = current_cv;
   report.noise_sd = std::sqrt(current.result.mse);
+  if (p.channel_names.size() > 1) {
+    const std::vector<double> sd = engine.noise_sd(current.values);
+    for (std::size_t c = 0; c < sd.size(); ++c) report.channel_noise_sd.push_back({p.channel_names[c], sd[c], 0.0});
+  }
   for (std::size_t k = 0; k < order.size(); ++k) report.findings[k].parameters = named(p, current, p.effects[order[k]].params);
   if (!p.base_free.empty()) report.recalibrated = named(p, current, p.base_free);
 
   // Step 5: residual structure before (recalibrated base) and after (final model).
   report.residual_before = engine.residuals(base_values);
   report.residual_after = engine.residuals(current.values);
-  report.structure_before = structure(p, report.residual_before, engine.predict(base_values), options.structure_threshold);
-  report.structure_after = structure(p, report.residual_after, engine.predict(current.values), options.structure_threshold);
+  report.structure_before = structure(p, report.residual_before, engine.predict(base_values), options.structure_threshold, engine.sigma());
+  report.structure_after = structure(p, report.residual_after, engine.predict(current.values), options.structure_threshold, engine.sigma());
   report.covariates = p.covariates;
   bool left = false;
   for (const auto& s : report.structure_after) left = left || s.significant;

@@ -4,11 +4,17 @@
 // switches effects on by freeing their parameters.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <set>
+#include <type_traits>
 
 #include "diagnose_problem.hpp"
 #include "epuck2/fit/diagnose.hpp"
+#include "epuck2/models/plugin_battery_tables.hpp"
 #include "epuck2/models/sensors.hpp"
+#if __has_include("epuck2/fitted/coefficients.hpp")
+#include "epuck2/fitted/coefficients.hpp"
+#endif
 
 namespace epuck2::fit::diagnose {
 
@@ -293,9 +299,337 @@ class Camera : public ProblemOf<Camera> {
   int fov_ = 0, dx_ = 0, dy_ = 0, k1_ = 0;
 };
 
+
+// ---------------------------------------------------------------------------------------------
+// drive: v_w = v_c (zero-order hold between rows), v_g = v_w; steps = floor(7763.656 x_w), int16
+// wrap; tof = clamp(round(1000 (D - x_g)), 20, 2000) (shared/spec/diagnose.md; reference sections
+// 2.4 and 2.5). Free parameters: none. Catalogue: speed_limit, accel_limit, wheel_slip,
+// speed_scale, latency, tof_offset, tof_scale, all in one model:
+//   u_w = clamp(v_c, -max, max); v_w follows u_w with |dv_w/dt| <= accel;
+//   dv_g/dt = (k_speed v_w - v_g) / tau; tof(t) = k_tof 1000 (D - x_g(t - delay)) + offset.
+// Within a row's interval every wheel speed is piecewise linear in time (a ramp, then constant),
+// and the lag is integrated exactly over each piece, so any sampling is simulated without a time
+// step. Residuals per row: the ToF reading (channel 0, mm), then the left and right encoder
+// registers unwrapped (channel 1, steps; predicted as the mean of floor: 7763.656 x - 1/2, and 0
+// before the wheel has moved), each only when it changed since the previous row.
+class Drive : public ProblemOf<Drive> {
+  // "No limit": the neutral value of max_cm_s and accel_cm_s2.
+  static constexpr double kNoLimit = 1e6;
+  static constexpr double kLimitOn = 1e5;
+
+ public:
+  explicit Drive(const std::vector<logs::Log>& logs) {
+    channel_names = {"tof_mm", "steps"};
+    // ToF readings are whole mm; encoder registers whole steps (rounding: sqrt(1/12)).
+    channel_min_sd = {0.3, 0.29};
+    // An encoder register's error is its rounding, the same for every row until the wheel turns
+    // on (not independent noise): a dependence below half a step is that rounding, not an effect.
+    channel_min_structure = {0.0, 0.5};
+    std::vector<double> cov_time, cov_cmd, cov_speed, cov_acc, cov_dist, cov_range, cov_since, cov_channel;
+    double max_command = 0;
+    for (const auto& log : logs) {
+      Run r;
+      r.obstacle_m = log.metadata_number("obstacle_distance_m");
+      r.first = time_.size();
+      const auto& t = log.col("time_s");
+      const auto& cl = log.col("left_speed_cm_s");
+      const auto& cr = log.col("right_speed_cm_s");
+      const auto& sl = log.col("left_steps");
+      const auto& sr = log.col("right_steps");
+      const auto& tof = log.col("tof_mm");
+      const std::size_t n = log.rows();
+      std::vector<double> ul(n), ur(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        ul[i] = i ? s::unwrap_steps(ul[i - 1], sl[i]) : sl[i];
+        ur[i] = i ? s::unwrap_steps(ur[i - 1], sr[i]) : sr[i];
+      }
+      // Measured motion from the encoders, for the residual structure. Each row's values come
+      // from its neighbours' registers only: a row's own register carries its rounding, which
+      // would correlate with its own residual.
+      std::vector<double> steps_m(n), dist(n), speed(n), acc(n);
+      for (std::size_t i = 0; i < n; ++i) steps_m[i] = 0.5 * (ul[i] + ur[i]) / s::kPluginStepsPerMetre;
+      auto at = [&](std::ptrdiff_t j) { return static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(j, 0, static_cast<std::ptrdiff_t>(n) - 1)); };
+      auto slope = [&](std::size_t a, std::size_t b) { return b > a && t[b] > t[a] ? (steps_m[b] - steps_m[a]) / (t[b] - t[a]) : 0.0; };
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto j = static_cast<std::ptrdiff_t>(i);
+        const std::size_t a = at(j - 1), b = at(j + 1);
+        dist[i] = a == i || b == i ? steps_m[i] : steps_m[a] + (steps_m[b] - steps_m[a]) * (t[i] - t[a]) / (t[b] - t[a]);
+        speed[i] = 100.0 * slope(a, b);
+        // Speeds over (i-2, i-1) and (i+1, i+2).
+        const std::size_t a2 = at(j - 2), b2 = at(j + 2);
+        const double before = slope(a2, a), after = slope(b, b2);
+        const double span = 0.5 * (t[b] + t[b2]) - 0.5 * (t[a2] + t[a]);
+        acc[i] = span > 0 ? 100.0 * (after - before) / span : 0.0;
+      }
+      double since = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (i && (cl[i] != cl[i - 1] || cr[i] != cr[i - 1])) since = t[i];
+        time_.push_back(t[i]);
+        left_.push_back(cl[i]);
+        right_.push_back(cr[i]);
+        max_command = std::max({max_command, std::abs(cl[i]), std::abs(cr[i])});
+        // An encoder register that has not changed since the previous row adds no observation:
+        // its rounding error is the previous row's again (a standing robot would otherwise count
+        // one error many times). It is left out.
+        const double values[3] = {tof[i], ul[i], ur[i]};
+        const bool fresh[3] = {true, i == 0 || ul[i] != ul[i - 1], i == 0 || ur[i] != ur[i - 1]};
+        for (int c = 0; c < 3; ++c) {
+          slot_[c].push_back(fresh[c] ? static_cast<long>(y.size()) : -1);
+          if (!fresh[c]) continue;
+          y.push_back(values[c]);
+          lo.push_back(c == 0 ? s::kPluginTof.min_mm : -kInf);
+          hi.push_back(c == 0 ? s::kPluginTof.max_mm : kInf);
+          channel.push_back(c == 0 ? 0 : 1);
+          row.push_back(rows);
+          cov_time.push_back(t[i]);
+          cov_cmd.push_back(0.5 * (cl[i] + cr[i]));
+          cov_speed.push_back(speed[i]);
+          cov_acc.push_back(acc[i]);
+          cov_dist.push_back(dist[i]);
+          cov_range.push_back(r.obstacle_m - dist[i]);
+          cov_since.push_back(t[i] - since);
+          cov_channel.push_back(c);
+        }
+        ++rows;
+      }
+      r.last = time_.size();
+      runs_.push_back(r);
+    }
+    // A limit above every command changes nothing (a flat cost): start from several fractions of
+    // the largest command.
+    max_ = add_param(*this, "max_cm_s", kNoLimit, std::max(0.5, 0.9 * max_command), 0.1, kNoLimit);
+    params[static_cast<std::size_t>(max_)].other_starts = {std::max(0.5, 0.65 * max_command), std::max(0.5, 0.4 * max_command)};
+    accel_ = add_param(*this, "accel_cm_s2", kNoLimit, 40.0, 0.5, kNoLimit);
+    params[static_cast<std::size_t>(accel_)].other_starts = {10.0};
+    tau_ = add_param(*this, "tau_s", 0.0, 0.1, 1e-3, 10.0);
+    speed_k_ = add_param(*this, "k", 1.0, 1.0, 0.2, 5.0);
+    delay_ = add_param(*this, "delay_s", 0.0, 0.05, 0.0, 5.0);
+    offset_ = add_param(*this, "offset_mm", 0.0, 0.0, -2000.0, 2000.0);
+    tof_k_ = add_param(*this, "k", 1.0, 1.0, 0.2, 5.0);
+    effects = {{"speed_limit", {max_}},  {"accel_limit", {accel_}}, {"wheel_slip", {tau_}}, {"speed_scale", {speed_k_}},
+               {"latency", {delay_}},    {"tof_offset", {offset_}}, {"tof_scale", {tof_k_}}};
+    covariates.emplace_back("time_s", cov_time);
+    covariates.emplace_back("commanded_cm_s", cov_cmd);
+    covariates.emplace_back("speed_cm_s", cov_speed);
+    covariates.emplace_back("acceleration_cm_s2", cov_acc);
+    covariates.emplace_back("distance_m", cov_dist);
+    covariates.emplace_back("range_m", cov_range);
+    covariates.emplace_back("time_since_command_s", cov_since);
+    covariates.emplace_back("channel", cov_channel);
+  }
+
+  template <typename T>
+  void eval(const T* p, T* out) const {
+    std::vector<State<T>> states;
+    const bool delayed = value_of(p[delay_]) > 0;
+    for (const Run& r : runs_) {
+      State<T> st;
+      states.clear();
+      for (std::size_t i = r.first; i < r.last; ++i) {
+        if (delayed) states.push_back(st);
+        if (slot_[1][i] >= 0) out[slot_[1][i]] = encoder(st.xl);
+        if (slot_[2][i] >= 0) out[slot_[2][i]] = encoder(st.xr);
+        if (!delayed) out[slot_[0][i]] = tof(p, r, st.xg);
+        if (i + 1 < r.last) advance(p, i, T(time_[i + 1] - time_[i]), st);
+      }
+      if (!delayed) continue;
+      // The ToF reading at t is the true one at t - delay: the state of the row before that
+      // time, advanced to it.
+      std::size_t k = r.first;
+      for (std::size_t i = r.first; i < r.last; ++i) {
+        const T when = time_[i] - p[delay_];
+        while (k + 1 < i + 1 && value_of(when) >= time_[k + 1]) ++k;
+        if (value_of(when) < time_[r.first]) {
+          out[slot_[0][i]] = tof(p, r, T(0.0));
+          continue;
+        }
+        State<T> st = states[k - r.first];
+        advance(p, k, when - time_[k], st);
+        out[slot_[0][i]] = tof(p, r, st.xg);
+      }
+    }
+  }
+
+ private:
+  struct Run {
+    double obstacle_m = 0;
+    std::size_t first = 0, last = 0;
+  };
+  template <typename T>
+  struct State {
+    T vl = T(0.0), vr = T(0.0), xl = T(0.0), xr = T(0.0), vg = T(0.0), xg = T(0.0);
+  };
+
+  template <typename T>
+  static T encoder(const T& x) {
+    if (value_of(x) == 0.0) return T(0.0);
+    return s::kPluginStepsPerMetre * x - 0.5;
+  }
+  template <typename T>
+  T tof(const T* p, const Run& r, const T& xg) const {
+    return p[tof_k_] * (1000.0 * (r.obstacle_m - xg)) + p[offset_];
+  }
+
+  /// Advances the state by h seconds under row i's command.
+  template <typename T>
+  void advance(const T* p, std::size_t i, const T& h, State<T>& st) const {
+    using std::exp;
+    using std::fmax;
+    using std::fmin;
+    if (!(value_of(h) > 0)) return;
+    constexpr double kPerCm = 0.01;
+    const T ul = fmin(fmax(T(left_[i]), -p[max_]), p[max_]) * kPerCm;
+    const T ur = fmin(fmax(T(right_[i]), -p[max_]), p[max_]) * kPerCm;
+    // Each wheel: a ramp at +-accel for t_w seconds (possibly 0), then constant.
+    T al(0.0), ar(0.0), tl(0.0), tr(0.0);
+    if (value_of(p[accel_]) < kLimitOn) {
+      const T accel = p[accel_] * kPerCm;
+      const T dl = ul - st.vl, dr = ur - st.vr;
+      if (value_of(dl) != 0) {
+        al = value_of(dl) > 0 ? accel : -accel;
+        tl = dl / al;
+      }
+      if (value_of(dr) != 0) {
+        ar = value_of(dr) > 0 ? accel : -accel;
+        tr = dr / ar;
+      }
+    } else {
+      st.vl = ul;
+      st.vr = ur;
+    }
+    // Pieces: [0, min(tl, tr)], [.., max(tl, tr)], [.., h], each cut at h.
+    T first = value_of(tl) < value_of(tr) ? tl : tr, second = value_of(tl) < value_of(tr) ? tr : tl;
+    if (value_of(first) > value_of(h)) first = h;
+    if (value_of(second) > value_of(h)) second = h;
+    const bool slip = value_of(p[tau_]) > 0;
+    T done(0.0);
+    for (const T& end : {first, second, h}) {
+      const T len = end - done;
+      if (!(value_of(len) > 0)) continue;
+      const T a_l = value_of(done) < value_of(tl) ? al : T(0.0);
+      const T a_r = value_of(done) < value_of(tr) ? ar : T(0.0);
+      const T u0 = p[speed_k_] * 0.5 * (st.vl + st.vr);
+      const T ag = p[speed_k_] * 0.5 * (a_l + a_r);
+      if (slip) {
+        const T& tau = p[tau_];
+        const T e = exp(-len / tau);
+        const T c = st.vg - u0 + ag * tau;
+        st.xg += u0 * len + 0.5 * ag * len * len - ag * tau * len + c * tau * (1.0 - e);
+        st.vg = u0 + ag * len - ag * tau + c * e;
+      } else {
+        st.xg += u0 * len + 0.5 * ag * len * len;
+        st.vg = u0 + ag * len;
+      }
+      st.xl += st.vl * len + 0.5 * a_l * len * len;
+      st.xr += st.vr * len + 0.5 * a_r * len * len;
+      st.vl += a_l * len;
+      st.vr += a_r * len;
+      done = end;
+    }
+  }
+
+  std::vector<double> time_, left_, right_;
+  /// Per row: the residual index of the ToF reading and of each encoder register (-1: left out).
+  std::array<std::vector<long>, 3> slot_;
+  std::vector<Run> runs_;
+  int max_ = 0, accel_ = 0, tau_ = 0, speed_k_ = 0, delay_ = 0, offset_ = 0, tof_k_ = 0;
+};
+
+
+// ---------------------------------------------------------------------------------------------
+// battery: the chosen discharge model (corrected behaviour: lib/models battery.hpp) run over each
+// log's own speed profile (a speed holds from its row to the next) and time steps, from the first
+// row's charge (full when that reading is near full, see below). Free parameters: none. Catalogue: capacity_scale (the model with time running
+// 1/k times as fast). The charge depends on k through a whole simulation, so its derivative is a
+// central difference of two simulations (relative step 1e-6: ~1e-10 relative error).
+class Battery : public ProblemOf<Battery> {
+ public:
+  Battery(const std::vector<logs::Log>& logs, models::battery::Model model, const models::battery::Tables& tables)
+      : model_(model), tables_(tables) {
+    // A charge is a fraction: no rounding floor on its noise.
+    channel_min_sd = {1e-6};
+    // (Not the measured charge: the residual's own noise correlates with it.)
+    std::vector<double> cov_time, cov_speed;
+    for (const auto& log : logs) {
+      Run r;
+      r.first = time_.size();
+      const auto& t = log.col("time_s");
+      const auto& v = log.col("speed_cm_s");
+      const auto& c = log.col("charge");
+      // A discharge run starts fully charged (shared/spec/logs.md): a first reading near full is
+      // that full charge seen through the sensor's noise, and starting from the noisy reading
+      // would shift the whole curve in time (the Cubic starts at its intercept d ~ 1). A run
+      // that starts part-way (first reading below 0.9) starts from its first reading.
+      constexpr double kStartsFull = 0.9;
+      r.start_charge = c.front() >= kStartsFull ? 1.0 : c.front();
+      for (std::size_t i = 0; i < log.rows(); ++i) {
+        time_.push_back(t[i]);
+        speed_.push_back(std::abs(v[i]));
+        y.push_back(c[i]);
+        lo.push_back(-kInf);
+        hi.push_back(kInf);
+        row.push_back(rows++);
+        cov_time.push_back(t[i]);
+        cov_speed.push_back(std::abs(v[i]));
+      }
+      r.last = time_.size();
+      runs_.push_back(r);
+    }
+    k_ = add_param(*this, "k", 1.0, 1.0, 0.05, 20.0);
+    effects = {{"capacity_scale", {k_}}};
+    covariates.emplace_back("time_s", cov_time);
+    covariates.emplace_back("speed_cm_s", cov_speed);
+  }
+
+  template <typename T>
+  void eval(const T* p, T* out) const {
+    const double k = value_of(p[k_]);
+    std::vector<double> at(time_.size()), up, down;
+    simulate(k, at);
+    if constexpr (std::is_same_v<T, double>) {
+      for (std::size_t i = 0; i < at.size(); ++i) out[i] = at[i];
+    } else {
+      const double h = 1e-6 * k;
+      up.resize(time_.size());
+      down.resize(time_.size());
+      simulate(k + h, up);
+      simulate(k - h, down);
+      for (std::size_t i = 0; i < at.size(); ++i) {
+        out[i] = T(at[i]);
+        out[i].v = p[k_].v * ((up[i] - down[i]) / (2.0 * h));
+      }
+    }
+  }
+
+ private:
+  struct Run {
+    double start_charge = 1;
+    std::size_t first = 0, last = 0;
+  };
+  void simulate(double k, std::vector<double>& out) const {
+    namespace mb = models::battery;
+    // The calibration protocol spins in place: each wheel moves at the logged speed, the robot
+    // turns about its centre, and the model sees that speed (reference section 3).
+    for (const Run& r : runs_) {
+      double charge = r.start_charge;
+      for (std::size_t i = r.first; i < r.last; ++i) {
+        out[i] = charge;
+        if (i + 1 == r.last) break;
+        const double dt = (time_[i + 1] - time_[i]) / k;
+        charge = mb::corrected::step(model_, tables_, charge, speed_[i] / 100.0 * dt, dt);
+      }
+    }
+  }
+  models::battery::Model model_;
+  models::battery::Tables tables_;
+  std::vector<double> time_, speed_;
+  std::vector<Run> runs_;
+  int k_ = 0;
+};
+
 }  // namespace
 
-std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, std::string& why) {
+std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const Options& options, std::string& why) {
   const logs::Kind kind = logs.front().kind;
   for (const auto& l : logs)
     if (l.kind != kind) {
@@ -303,27 +637,47 @@ std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, std::s
       return nullptr;
     }
   std::unique_ptr<Problem> p;
-  int per_row = 1;
   switch (kind) {
     case logs::Kind::ground: p = std::make_unique<Ground>(logs); break;
     case logs::Kind::proximity: p = std::make_unique<Proximity>(logs); break;
     case logs::Kind::light: p = std::make_unique<Light>(logs); break;
     case logs::Kind::camera:
       p = std::make_unique<Camera>(logs);
-      per_row = 2;
       break;
+    case logs::Kind::drive:
+      p = std::make_unique<Drive>(logs);
+      break;
+    case logs::Kind::battery: {
+      models::battery::Tables tables = models::battery::plugin_tables();
+#ifdef EPUCK2_FITTED_HAS_BATTERY
+      tables = fitted::battery_tables();
+#endif
+      if (options.battery_tables) tables = *options.battery_tables;
+      p = std::make_unique<Battery>(logs, options.battery_model, tables);
+      break;
+    }
     default:
       why = "diagnose does not support the kind '" + std::string(logs::to_string(kind)) + "' yet";
       return nullptr;
   }
-  add_common_covariates(*p, logs, per_row);
+  // The kinds' optional columns of shared/spec/logs.md are inputs of the model (angle_deg) or a
+  // consequence of the measured quantity (voltage_v), never `covariate:` candidates.
+  add_common_covariates(*p, logs, {"angle_deg", "voltage_v"});
   return p;
 }
 
 }  // namespace detail
 
 bool supported(logs::Kind kind) {
-  return kind == logs::Kind::ground || kind == logs::Kind::proximity || kind == logs::Kind::light || kind == logs::Kind::camera;
+  switch (kind) {
+    case logs::Kind::ground:
+    case logs::Kind::proximity:
+    case logs::Kind::light:
+    case logs::Kind::camera:
+    case logs::Kind::drive:
+    case logs::Kind::battery: return true;
+  }
+  return false;
 }
 
 }  // namespace epuck2::fit::diagnose

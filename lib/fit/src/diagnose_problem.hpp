@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "epuck2/fit/diagnose.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace epuck2::fit::diagnose::detail {
@@ -18,6 +19,16 @@ namespace epuck2::fit::diagnose::detail {
 /// At most this many parameters are free in one fit (the Jet's size).
 inline constexpr int kMaxFree = 24;
 using Jet = ceres::Jet<double, kMaxFree>;
+/// Most fits free few parameters: a short Jet is several times faster on long logs.
+inline constexpr int kFewFree = 8;
+using ShortJet = ceres::Jet<double, kFewFree>;
+
+/// The value of a scalar or a Jet (models branch on values, never on derivatives).
+inline double value_of(double x) { return x; }
+template <int N>
+double value_of(const ceres::Jet<double, N>& x) {
+  return x.a;
+}
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -26,6 +37,9 @@ struct Param {
   double neutral = 0;   ///< the value that switches the effect off (base parameters: the plug-in's)
   double start = 0;     ///< where a fit starts when the effect is switched on
   double lower = -kInf, upper = kInf;
+  /// More starting points, tried when the effect is switched on (the best fit is kept): for
+  /// parameters whose cost has flat regions, as a speed limit above every command.
+  std::vector<double> other_starts;
 };
 
 struct Effect {
@@ -49,6 +63,18 @@ class Problem {
   std::vector<double> lo, hi;  ///< the reading's clamp (±inf: none)
   std::vector<std::size_t> row;  ///< the residual's row, numbered across all logs
   std::size_t rows = 0;
+  /// Per residual: which measured quantity it is (drive: 0 ToF in mm, 1 and 2 the encoders in
+  /// steps). Empty: one channel. Each channel has its own noise level; residuals are weighted by
+  /// it and reported in the units of channel 0. `covariate:` effects act on channel 0 only (the
+  /// reading; encoders count what the wheels turned).
+  std::vector<int> channel;
+  std::vector<std::string> channel_names{"reading"};
+  /// Per channel: the smallest noise standard deviation believed (empty: 0.3, a whole count's
+  /// rounding).
+  std::vector<double> channel_min_sd;
+  /// Per channel, in its units: a dependence of the residuals smaller than this does not matter
+  /// (empty: 0, only the relative threshold applies).
+  std::vector<double> channel_min_structure;
   /// Covariates scored against the residuals, per residual (log columns and derived ones).
   std::vector<std::pair<std::string, std::vector<double>>> covariates;
   /// Extra numeric columns, per residual: candidates for `covariate:NAME`.
@@ -58,6 +84,7 @@ class Problem {
   /// The reading's mean before the clamp and before `covariate:` terms, for every residual.
   virtual void mean(const double* p, double* out) const = 0;
   virtual void mean(const Jet* p, Jet* out) const = 0;
+  virtual void mean(const ShortJet* p, ShortJet* out) const = 0;
 };
 
 /// The double and Jet entry points of a kind written once as `template <typename T> void eval(const T* p, T* out) const`.
@@ -66,13 +93,15 @@ class ProblemOf : public Problem {
  public:
   void mean(const double* p, double* out) const override { static_cast<const Kind*>(this)->template eval<double>(p, out); }
   void mean(const Jet* p, Jet* out) const override { static_cast<const Kind*>(this)->template eval<Jet>(p, out); }
+  void mean(const ShortJet* p, ShortJet* out) const override { static_cast<const Kind*>(this)->template eval<ShortJet>(p, out); }
 };
 
 /// The problem for these logs (nullptr when the kind is not supported; `why` says so).
-std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, std::string& why);
+std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const Options& options, std::string& why);
 
 /// Appends the covariates every kind shares: extra numeric columns (also as `covariate:` effects),
-/// the row's position in its log, and the log (when several).
-void add_common_covariates(Problem& p, const std::vector<logs::Log>& logs, int residuals_per_row);
+/// the row's position in its log, and the log (when several); per residual through `row`.
+/// Columns named in `skip` are left out.
+void add_common_covariates(Problem& p, const std::vector<logs::Log>& logs, const std::vector<std::string>& skip = {});
 
 }  // namespace epuck2::fit::diagnose::detail

@@ -9,14 +9,15 @@
 // A greedy forward search keeps several. What the residuals still depend on is scored against
 // every covariate (log columns and derived quantities).
 //
-// Supported kinds: ground, proximity, light, camera (see diagnose_kinds.cpp). Battery and drive
-// are not implemented yet: diagnose() returns a report with `supported = false` for them.
+// Supported kinds: every kind of shared/spec/logs.md (see diagnose_kinds.cpp).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "epuck2/logs/log.hpp"
+#include "epuck2/models/battery.hpp"
 
 namespace epuck2::fit::diagnose {
 
@@ -32,12 +33,17 @@ struct Finding {
   double heldout_mse_before = 0;       ///< held-out MSE of the model without this effect
   double heldout_mse_after = 0;        ///< ... with it
   double delta_bic = 0;                ///< BIC(with) - BIC(without), on all rows (negative = better)
+  /// Other effects that fitted almost as well at the same step (BIC within Options::min_delta_bic
+  /// and a held-out gain too): the data cannot tell them from this one.
+  std::vector<std::string> alternatives;
 };
 
 struct CovariateScore {
   std::string covariate;
   double score = 0;         ///< fraction of the residual variance explained by the covariate's binned means
   bool significant = false; ///< both statistically (F test, p < 1e-6) and practically (score >= threshold)
+  std::string channel;      ///< with several measured quantities (drive: tof_mm, steps): where it was scored
+  double size = 0;          ///< RMS of the binned means (in the residuals' units: channel 0's)
 };
 
 /// One candidate's evaluation during the search (for the report's "search" section).
@@ -58,6 +64,10 @@ struct Report {
   std::string verdict = "none";
   std::vector<NamedValue> recalibrated;  ///< the base model's free parameters (empty: none)
   double noise_sd = 0;                   ///< residual standard deviation of the final model
+  /// With several measured quantities (drive: ToF in mm, encoders in steps): each one's noise
+  /// standard deviation, in its own units. Residuals are weighted by them and MSEs are given in
+  /// the first one's units.
+  std::vector<NamedValue> channel_noise_sd;
   double heldout_mse_plugin = 0;         ///< the plug-in's model with its published coefficients
   double heldout_mse_base = 0;           ///< the base model recalibrated
   double heldout_mse_final = 0;          ///< with every finding
@@ -66,6 +76,7 @@ struct Report {
   std::vector<CovariateScore> structure_after;   ///< residuals after the findings (the spec's residual_structure)
   std::vector<Trial> trials;
   std::vector<std::string> effects_considered;
+  std::vector<std::string> notes;  ///< decisions worth telling (e.g. a finding undone)
   /// For plots: per residual, the residual before (recalibrated base) and after (final model), and
   /// the covariates' values.
   std::vector<double> residual_before, residual_after;
@@ -78,7 +89,12 @@ struct Options {
   double min_delta_bic = 10.0;         ///< "very strong" evidence on the BIC scale (Kass and Raftery 1995)
   double min_heldout_gain = 0.03;      ///< held-out MSE must fall by at least this fraction
   double structure_threshold = 0.03;   ///< practical size of a residual dependence (fraction of variance)
-  int max_findings = 4;
+  int max_findings = 5;
+  /// battery: the discharge model simulated (the spec's --battery-model, Cubic by default), in the
+  /// corrected behaviour (smooth in its parameters), with these tables; none given: the project's
+  /// compiled-in fitted tables (data/fitted), or the plug-in's when the build has none.
+  models::battery::Model battery_model = models::battery::Model::cubic;
+  std::optional<models::battery::Tables> battery_tables;
 };
 
 /// Diagnoses logs of one kind (all of `logs` must be of that kind). Never throws for numerical
