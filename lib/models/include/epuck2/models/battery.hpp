@@ -240,8 +240,10 @@ inline double step(Model model, const Tables& t, double charge, double delta_pos
     if (lo == hi) return std::max(0.0, cubic_next(qL, charge, dt_s));
     // Both cube roots before either table's end (see cardano_cbrt_argument): same values.
     const CubicRow& qH = t.cubic[hi];
-    const double cL = std::cbrt(cardano_cbrt_argument(qL, charge));
-    const double cH = std::cbrt(cardano_cbrt_argument(qH, charge));
+    const double argL = cardano_cbrt_argument(qL, charge);
+    const double argH = cardano_cbrt_argument(qH, charge);
+    const double cL = std::cbrt(argL);
+    const double cH = std::cbrt(argH);
     const double yL = cubic_next_from_root(qL, cardano_from_cbrt(qL, cL), dt_s);
     const double yH = cubic_next_from_root(qH, cardano_from_cbrt(qH, cH), dt_s);
     return std::max(0.0, interpolate(yL, yH, (speed - lo) / (hi - lo)));
