@@ -34,7 +34,7 @@ struct DiagnoseOptions {
 std::string units(logs::Kind k) {
   switch (k) {
     case logs::Kind::camera: return "px^2";
-    case logs::Kind::drive: return "mm^2";
+    case logs::Kind::drive: return "mm^2 (ToF)";
     case logs::Kind::battery: return "charge^2";
     default: return "counts^2";
   }
@@ -105,6 +105,10 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   j["heldout_mse_plugin"] = r.heldout_mse_plugin;
   j["heldout_mse_recalibrated"] = r.heldout_mse_base;
   j["heldout_mse_final"] = r.heldout_mse_final;
+  if (!r.channel_noise_sd.empty()) {
+    j["heldout_weighted_recalibrated"] = r.heldout_weighted_base;
+    j["heldout_weighted_final"] = r.heldout_weighted_final;
+  }
   j["noise_sd"] = r.noise_sd;
   j["mse_units"] = units(r.kind);
   if (!r.channel_noise_sd.empty()) {
@@ -121,6 +125,10 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
     fj["uncertainty"] = e;
     fj["heldout_mse_before"] = f.heldout_mse_before;
     fj["heldout_mse_after"] = f.heldout_mse_after;
+    if (!r.channel_noise_sd.empty()) {
+      fj["heldout_weighted_before"] = f.heldout_weighted_before;
+      fj["heldout_weighted_after"] = f.heldout_weighted_after;
+    }
     fj["delta_bic"] = f.delta_bic;
     fj["meaning"] = meaning(f.cause);
     fj["alternatives"] = f.alternatives;
@@ -164,6 +172,11 @@ void print_report(const dg::Report& r) {
   const std::string u = units(r.kind);
   std::printf("Diagnosis of %zu %s rows (%zu residuals)\n", r.rows, std::string(logs::to_string(r.kind)).c_str(), r.residuals);
   std::printf("The plug-in's model as published: MSE %.4g %s.\n", r.heldout_mse_plugin, u.c_str());
+  if (!r.channel_noise_sd.empty()) {
+    std::printf("Channels fitted together, each weighted by its noise:");
+    for (const auto& c : r.channel_noise_sd) std::printf(" %s (sd %.3g)", c.name.c_str(), c.value);
+    std::printf("; held-out MSEs below are the %s's.\n", r.channel_noise_sd.front().name.c_str());
+  }
   if (!r.recalibrated.empty())
     std::printf("Recalibrated base model (%s): held-out MSE %.4g %s. This is what recalibration alone fixes, not an effect.\n",
                 format_parameters(r.recalibrated).c_str(), r.heldout_mse_base, u.c_str());
@@ -172,10 +185,13 @@ void print_report(const dg::Report& r) {
   if (!r.structure_before.empty() && r.structure_before.front().significant)
     std::printf("Its residuals depend most on %s (%.0f %% of their variance).\n", r.structure_before.front().covariate.c_str(),
                 100 * r.structure_before.front().score);
-  for (const auto& f : r.findings)
-    std::printf("Finding: %s (%s); %s explains it; held-out MSE %.4g -> %.4g %s (BIC %+.1f).\n", f.cause.c_str(),
-                meaning(f.cause).c_str(), format_parameters(f.parameters).c_str(), f.heldout_mse_before, f.heldout_mse_after,
-                u.c_str(), f.delta_bic);
+  for (const auto& f : r.findings) {
+    std::printf("Finding: %s (%s); %s explains it; held-out MSE %.4g -> %.4g %s", f.cause.c_str(), meaning(f.cause).c_str(),
+                format_parameters(f.parameters).c_str(), f.heldout_mse_before, f.heldout_mse_after, u.c_str());
+    if (!r.channel_noise_sd.empty())
+      std::printf(", all channels weighted %.4g -> %.4g", f.heldout_weighted_before, f.heldout_weighted_after);
+    std::printf(" (BIC %+.1f).\n", f.delta_bic);
+  }
   for (const auto& f : r.findings)
     if (!f.alternatives.empty()) {
       std::string alts;
@@ -217,6 +233,7 @@ void draw(const std::string& dir, const dg::Report& r) {
     gp << "EOD\n$after << EOD\n";
     for (std::size_t i = 0; i < x->size(); ++i) gp << (*x)[i] << ' ' << r.residual_after[i] << '\n';
     gp << "EOD\n";
+    gp << "set termoption noenhanced\n";
     gp << "set multiplot layout 1,2 title 'diagnose " << logs::to_string(r.kind) << ": verdict " << r.verdict << "'\n";
     gp << "set grid\nset xlabel '" << name << "'\nset ylabel 'measured - model'\n";
     gp << "set title 'recalibrated base model'\nplot $before using 1:2 with points pt 7 ps 0.4 lc rgb '#d62728' notitle\n";

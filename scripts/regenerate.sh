@@ -31,6 +31,17 @@ for kind in proximity light ground camera drive; do
   fi
 done
 
+# Diagnosis of every kind's logs: what the plug-in's models get wrong on them, and why
+# (battery: against the tables just fitted, not the ones compiled into this binary).
+for kind in battery proximity light ground camera drive; do
+  if ls data/raw/$kind/*.csv >/dev/null 2>&1; then
+    extra=()
+    [ "$kind" = battery ] && extra=(--coefficients data/fitted/battery.json)
+    "$FIT" diagnose "${extra[@]}" data/raw/$kind/*.csv --json "data/fitted/reports/diagnose_$kind.json" \
+      --plot data/fitted/plots > "data/fitted/reports/diagnose_$kind.txt"
+  fi
+done
+
 # The header compiled into lib/models (a test checks it matches these files).
 "$FIT" codegen "${coefficient_files[@]}" -o data/fitted/include/epuck2/fitted/coefficients.hpp
 echo "regenerate: data/fitted is up to date (reports in data/fitted/reports, plots in data/fitted/plots)" >&2

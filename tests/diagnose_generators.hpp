@@ -334,7 +334,9 @@ inline std::string battery_log(std::uint64_t seed, Hidden& h) {
     const bool last = charge <= 0.0 || t >= end;
     if (t >= next - 1e-9 || last) {
       const double tc = d.uniform(20, 40);
-      out += fmt(std::round(t * 10) / 10) + "," + fmt(speed) + "," + fmt(charge + temp.effect(tc) + noise * d.normal()) + "," +
+      // The reading as logged: the log format bounds a normalised charge to [-1, 1.05].
+      const double reading = std::clamp(charge + temp.effect(tc) + noise * d.normal(), -1.0, 1.05);
+      out += fmt(std::round(t * 10) / 10) + "," + fmt(speed) + "," + fmt(reading) + "," +
              fmt(std::round(tc * 10) / 10) + "\n";
       next = t + period;
     }

@@ -80,8 +80,8 @@ TEST(DiagnoseHidden, NoEffectGivesNoneAndNoFinding) {
 }
 
 // Drive and battery logs are longer to simulate: fewer seeds in CI (the sweep runs 40).
-TEST(DiagnoseHidden, Drive) { expect_rates(sweep(logs::Kind::drive, 3)); }
-TEST(DiagnoseHidden, Battery) { expect_rates(sweep(logs::Kind::battery, 5)); }
+TEST(DiagnoseHidden, Drive) { expect_rates(sweep(logs::Kind::drive, 6)); }
+TEST(DiagnoseHidden, Battery) { expect_rates(sweep(logs::Kind::battery, 10)); }
 
 TEST(DiagnoseHidden, EveryKindIsSupported) {
   for (logs::Kind k : {logs::Kind::battery, logs::Kind::proximity, logs::Kind::light, logs::Kind::ground, logs::Kind::camera,

@@ -72,6 +72,10 @@ T expected_clamp(const T& mu, double lo, double hi, double sigma) {
   using std::exp;
   constexpr double kInvSqrt2 = 0.70710678118654752440;
   constexpr double kInvSqrt2Pi = 0.39894228040143267794;
+  // Beyond 9 sigma from both clamps the correction is below 1e-20 sigma: the mean itself.
+  constexpr double kFar = 9.0;
+  const double m = detail::value_of(mu);
+  if (!(m - lo < kFar * sigma) && !(hi - m < kFar * sigma)) return mu;
   T out = mu;
   if (std::isfinite(lo)) {
     const T z = (lo - mu) / sigma;  // E[max(0, lo - X)] = sigma (z Phi(z) + phi(z))
@@ -208,19 +212,32 @@ class Engine {
   }
 
   /// Held-out MSE: each fold predicted by a fit on the other folds.
-  double heldout_mse(const std::vector<int>& free, const std::vector<double>& start) const {
-    double sse = 0;
-    std::size_t count = 0;
+  /// Held-out MSE of every residual (weighted) and of channel 0's alone (the reading, unweighted).
+  struct Heldout {
+    double all = 0, reading = 0;
+  };
+  Heldout heldout_mse(const std::vector<int>& free, const std::vector<double>& start) const {
+    double sse = 0, sse0 = 0;
+    std::size_t count = 0, count0 = 0;
     for (int f = 0; f < o_.folds; ++f) {
       std::vector<std::size_t> train, test;
       for (std::size_t i = 0; i < n_; ++i) (fold_[i] == f ? test : train).push_back(i);
       if (test.empty() || train.empty()) continue;
       const Fitted fit_f = fit(free, start, train, false);
       const auto r = residuals(fit_f.values);
-      for (std::size_t i : test) sse += r[i] * r[i];
+      for (std::size_t i : test) {
+        sse += r[i] * r[i];
+        if (p_.channel[i] == 0) {
+          sse0 += r[i] * r[i];
+          ++count0;
+        }
+      }
       count += test.size();
     }
-    return count ? sse / static_cast<double>(count) : 0.0;
+    Heldout h;
+    h.all = count ? sse / static_cast<double>(count) : 0.0;
+    h.reading = count0 ? sse0 / static_cast<double>(count0) : 0.0;
+    return h;
   }
 
   const std::vector<std::size_t>& all() const { return all_; }
@@ -268,6 +285,7 @@ class Engine {
       }
       int free = 0;
       for (int s : slot_) free += s >= 0 ? 1 : 0;
+      if (free <= detail::kTwoFree) return with_jets<detail::PairJet>(parameters, residuals, jacobians);
       return free <= kFewFree ? with_jets<ShortJet>(parameters, residuals, jacobians)
                               : with_jets<Jet>(parameters, residuals, jacobians);
     }
@@ -463,15 +481,28 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
 
   // Step 1: the plug-in as published; its residuals give the first noise estimate.
   engine.set_sigma(engine.noise_sd(p.plugin_values));
-  report.heldout_mse_plugin = engine.fit({}, p.plugin_values, engine.all(), false).result.mse;
+  {
+    // The reading's (channel 0's) MSE; the model has nothing fitted, so all rows are held out.
+    const auto r = engine.residuals(p.plugin_values);
+    double sse = 0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < r.size(); ++i)
+      if (p.channel.empty() || p.channel[i] == 0) {
+        sse += r[i] * r[i];
+        ++count;
+      }
+    report.heldout_mse_plugin = count ? sse / static_cast<double>(count) : 0.0;
+  }
 
   // Step 2: recalibrate the base model.
   std::vector<int> free = p.base_free;
   Engine::Fitted current = engine.fit(free, neutral, engine.all(), true);
   settle_noise(engine, free, current);
   report.recalibrated = named(p, current, p.base_free);
-  double current_cv = engine.heldout_mse(free, current.values);
-  report.heldout_mse_base = current_cv;
+  Engine::Heldout current_h = engine.heldout_mse(free, current.values);
+  double current_cv = current_h.all;
+  report.heldout_mse_base = current_h.reading;
+  report.heldout_weighted_base = current_h.all;
   const std::vector<double> base_values = current.values;
 
   // Steps 3 and 4: greedy forward search.
@@ -511,7 +542,7 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
       }
       t.delta_bic = f.result.bic - current.result.bic;
       if (t.delta_bic <= -options.min_delta_bic) {
-        t.heldout_mse = engine.heldout_mse(cand, f.values);
+        t.heldout_mse = engine.heldout_mse(cand, f.values).all;
         const bool gain = t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain);
         // Among the effects that pass both tests, the lowest BIC: of two effects that fit alike,
         // the one with fewer parameters (white_level rather than three equal sensor gains).
@@ -541,14 +572,18 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
     // it), until the estimate settles; then the held-out error again with that noise.
     current = best_fit;
     settle_noise(engine, free, current);
-    const double cv = engine.heldout_mse(free, current.values);
+    const Engine::Heldout h = engine.heldout_mse(free, current.values);
+    const double cv = h.all;
+    report.findings.back().heldout_mse_before = current_h.reading;
+    report.findings.back().heldout_weighted_before = current_h.all;
     if (p.channel_names.size() > 1) {
       // Several channels: the residuals' weights follow the noise estimates, which the finding
       // has just changed. The model without it must lose on held-out rows under the same weights
       // too, or the finding is undone (an effect that only moved weight between channels).
       Engine::Fitted without = fit_before;
       without = engine.fit(free_before, without.values, engine.all(), false);
-      const double cv_without = engine.heldout_mse(free_before, without.values);
+      const Engine::Heldout h_without = engine.heldout_mse(free_before, without.values);
+      const double cv_without = h_without.all;
       if (!(cv <= cv_without * (1.0 - options.min_heldout_gain))) {
         report.findings.pop_back();
         kept.erase(static_cast<std::size_t>(best));
@@ -559,7 +594,8 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
         report.notes.push_back(finding.cause + " passed the search but not the held-out test once the noise was re-estimated");
         break;
       }
-      report.findings.back().heldout_mse_before = cv_without;
+      report.findings.back().heldout_mse_before = h_without.reading;
+      report.findings.back().heldout_weighted_before = h_without.all;
     }
     for (auto& t : report.trials) {
       if (t.step != step) continue;
@@ -569,10 +605,13 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
         report.findings.back().alternatives.push_back(t.cause);
     }
     current_cv = cv;
-    report.findings.back().heldout_mse_after = current_cv;
+    current_h = h;
+    report.findings.back().heldout_mse_after = h.reading;
+    report.findings.back().heldout_weighted_after = h.all;
   }
   current = engine.fit(free, current.values, engine.all(), true);
-  report.heldout_mse_final = current_cv;
+  report.heldout_mse_final = current_h.reading;
+  report.heldout_weighted_final = current_h.all;
   report.noise_sd = std::sqrt(current.result.mse);
   if (p.channel_names.size() > 1) {
     const std::vector<double> sd = engine.noise_sd(current.values);

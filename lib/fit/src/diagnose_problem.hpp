@@ -22,6 +22,9 @@ using Jet = ceres::Jet<double, kMaxFree>;
 /// Most fits free few parameters: a short Jet is several times faster on long logs.
 inline constexpr int kFewFree = 8;
 using ShortJet = ceres::Jet<double, kFewFree>;
+/// One effect on a base without free parameters (drive, battery, ground) frees one or two.
+inline constexpr int kTwoFree = 2;
+using PairJet = ceres::Jet<double, kTwoFree>;
 
 /// The value of a scalar or a Jet (models branch on values, never on derivatives).
 inline double value_of(double x) { return x; }
@@ -85,6 +88,7 @@ class Problem {
   virtual void mean(const double* p, double* out) const = 0;
   virtual void mean(const Jet* p, Jet* out) const = 0;
   virtual void mean(const ShortJet* p, ShortJet* out) const = 0;
+  virtual void mean(const PairJet* p, PairJet* out) const = 0;
 };
 
 /// The double and Jet entry points of a kind written once as `template <typename T> void eval(const T* p, T* out) const`.
@@ -94,6 +98,7 @@ class ProblemOf : public Problem {
   void mean(const double* p, double* out) const override { static_cast<const Kind*>(this)->template eval<double>(p, out); }
   void mean(const Jet* p, Jet* out) const override { static_cast<const Kind*>(this)->template eval<Jet>(p, out); }
   void mean(const ShortJet* p, ShortJet* out) const override { static_cast<const Kind*>(this)->template eval<ShortJet>(p, out); }
+  void mean(const PairJet* p, PairJet* out) const override { static_cast<const Kind*>(this)->template eval<PairJet>(p, out); }
 };
 
 /// The problem for these logs (nullptr when the kind is not supported; `why` says so).

@@ -30,8 +30,11 @@ struct NamedValue {
 struct Finding {
   std::string cause;                   ///< catalogue name, e.g. "black_offset", "covariate:temperature_c"
   std::vector<NamedValue> parameters;  ///< the effect's parameters (catalogue names) in the final joint fit
-  double heldout_mse_before = 0;       ///< held-out MSE of the model without this effect
+  double heldout_mse_before = 0;       ///< held-out MSE of the reading (channel 0) without this effect
   double heldout_mse_after = 0;        ///< ... with it
+  /// Held-out MSE of every residual, weighted by its channel's noise (what the decision uses);
+  /// the same as the above with one channel.
+  double heldout_weighted_before = 0, heldout_weighted_after = 0;
   double delta_bic = 0;                ///< BIC(with) - BIC(without), on all rows (negative = better)
   /// Other effects that fitted almost as well at the same step (BIC within Options::min_delta_bic
   /// and a held-out gain too): the data cannot tell them from this one.
@@ -70,7 +73,8 @@ struct Report {
   std::vector<NamedValue> channel_noise_sd;
   double heldout_mse_plugin = 0;         ///< the plug-in's model with its published coefficients
   double heldout_mse_base = 0;           ///< the base model recalibrated
-  double heldout_mse_final = 0;          ///< with every finding
+  double heldout_mse_final = 0;          ///< with every finding (these three: the reading, channel 0)
+  double heldout_weighted_base = 0, heldout_weighted_final = 0;  ///< every channel, weighted
   std::vector<Finding> findings;
   std::vector<CovariateScore> structure_before;  ///< residuals of the recalibrated base model
   std::vector<CovariateScore> structure_after;   ///< residuals after the findings (the spec's residual_structure)
