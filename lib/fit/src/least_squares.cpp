@@ -141,19 +141,26 @@ ceres::Solver::Summary solve(ceres::Problem& problem, const FitOptions& options)
 namespace {
 // The columns of a Jacobian scaled to unit norm and their column-pivoted QR: what both the
 // covariance and the linear least-squares start factor, so that the two give the same digits.
+// The factorization runs in place on the scaled copy (one n x m buffer, not two).
 struct EquilibratedQR {
   Eigen::VectorXd scale;
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
+  Eigen::MatrixXd factors;  // the equilibrated columns, overwritten by the QR factors
+  Eigen::ColPivHouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr;
 
-  explicit EquilibratedQR(const Eigen::MatrixXd& jacobian) : scale(jacobian.cols()) {
+  explicit EquilibratedQR(const Eigen::MatrixXd& jacobian)
+      : scale(jacobian.cols()), factors(equilibrated(jacobian, &scale)), qr(factors) {}
+  EquilibratedQR(const EquilibratedQR&) = delete;
+  EquilibratedQR& operator=(const EquilibratedQR&) = delete;
+
+  static Eigen::MatrixXd equilibrated(const Eigen::MatrixXd& jacobian, Eigen::VectorXd* scale) {
     const Eigen::Index m = jacobian.cols();
     Eigen::MatrixXd Jf(jacobian.rows(), m);
     for (Eigen::Index c = 0; c < m; ++c) {
       const double norm = jacobian.col(c).norm();
-      scale(c) = norm > 0 ? 1.0 / norm : 1.0;
-      Jf.col(c) = jacobian.col(c) * scale(c);
+      (*scale)(c) = norm > 0 ? 1.0 / norm : 1.0;
+      Jf.col(c) = jacobian.col(c) * (*scale)(c);
     }
-    qr.compute(Jf);
+    return Jf;
   }
   bool full_rank() const { return qr.rank() == scale.size(); }
   // (J^T J)^-1 = S (Jf^T Jf)^-1 S with (Jf^T Jf)^-1 = P R^-1 R^-T P^T.
