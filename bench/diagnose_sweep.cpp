@@ -36,7 +36,9 @@ int main(int argc, char** argv) {
   }
   std::printf("diagnose sweep: %d seeds per kind and effect; machine: %s, %u hardware threads\n", seeds, cpu_model().c_str(),
               std::thread::hardware_concurrency());
-  std::printf("%-10s %-26s %8s %10s %10s %9s  %s\n", "kind", "hidden effect", "verdict", "params", "mean rows", "s/log", "wrong verdicts seen");
+  std::printf("params: parameters within 10 %% of the truth, over the logs whose verdict is right and whose effect is large\n"
+              "enough to matter (tests/diagnose_generators.hpp: Hidden::parameters_matter)\n");
+  std::printf("%-10s %-26s %8s %16s %10s %9s  %s\n", "kind", "hidden effect", "verdict", "params", "mean rows", "s/log", "wrong verdicts seen");
   for (logs::Kind kind : kinds) {
     for (const std::string& cause : gen::hidden_effects(kind)) {
       int right = 0, checked = 0, params_right = 0;
@@ -68,8 +70,8 @@ int main(int argc, char** argv) {
       std::string w;
       for (const auto& [v, c] : wrong) w += v + " x" + std::to_string(c) + " ";
       char params[32] = "-";
-      if (checked) std::snprintf(params, sizeof params, "%5.1f %%", 100.0 * params_right / checked);
-      std::printf("%-10s %-26s %6.1f %% %10s %10.0f %9.3f  %s\n", std::string(logs::to_string(kind)).c_str(), cause.c_str(),
+      if (checked) std::snprintf(params, sizeof params, "%5.1f %% of %d", 100.0 * params_right / checked, checked);
+      std::printf("%-10s %-26s %6.1f %% %16s %10.0f %9.3f  %s\n", std::string(logs::to_string(kind)).c_str(), cause.c_str(),
                   100.0 * right / seeds, params, rows / seeds, seconds / seeds, w.c_str());
       std::fflush(stdout);
     }
