@@ -4,6 +4,7 @@
 // effect CAUSE hidden (default wheel_slip), diagnoses it (the engine is single-threaded: Ceres runs
 // with one thread), and prints the wall and CPU time, the verdict and the machine.
 // Usage: bench_diagnose_drive [ROWS] [CAUSE]
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -36,6 +37,11 @@ int main(int argc, char** argv) {
     std::printf("; %s:", f.cause.c_str());
     for (const auto& p : f.parameters) std::printf(" %s = %.4g +- %.2g", p.name.c_str(), p.value, p.std_error);
   }
-  std::printf("\n");
+  int heldout = 0, steps = 0;
+  for (const auto& t : report.trials) {
+    heldout += t.heldout_mse > 0;
+    steps = std::max(steps, t.step);
+  }
+  std::printf("\nsearch: %d steps, %zu candidate fits, %d held-out evaluations (5 folds each)\n", steps, report.trials.size(), heldout);
   return 0;
 }

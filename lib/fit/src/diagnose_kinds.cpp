@@ -427,9 +427,15 @@ class Drive : public ProblemOf<Drive> {
     std::vector<State<T>> states;
     const bool delayed = value_of(p[delay_]) > 0;
     for (const Run& r : runs_) {
+      if (static_cast<std::size_t>(slot_[0][r.first]) >= needed) break;
       State<T> st;
       states.clear();
+      std::size_t end = r.last;
       for (std::size_t i = r.first; i < r.last; ++i) {
+        if (static_cast<std::size_t>(slot_[0][i]) >= needed) {
+          end = i;
+          break;
+        }
         if (delayed) states.push_back(st);
         if (slot_[1][i] >= 0) out[slot_[1][i]] = encoder(st.xl);
         if (slot_[2][i] >= 0) out[slot_[2][i]] = encoder(st.xr);
@@ -440,7 +446,7 @@ class Drive : public ProblemOf<Drive> {
       // The ToF reading at t is the true one at t - delay: the state of the row before that
       // time, advanced to it.
       std::size_t k = r.first;
-      for (std::size_t i = r.first; i < r.last; ++i) {
+      for (std::size_t i = r.first; i < end; ++i) {
         const T when = time_[i] - p[delay_];
         while (k + 1 < i + 1 && value_of(when) >= time_[k + 1]) ++k;
         if (value_of(when) < time_[r.first]) {

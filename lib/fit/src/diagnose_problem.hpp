@@ -84,6 +84,10 @@ class Problem {
   std::vector<std::pair<std::string, std::vector<double>>> extra_columns;
   std::string notes;
 
+  /// The next mean() call needs residuals [0, needed) only: kinds that simulate row after row
+  /// (drive) may stop there and leave the rest unset. Set by the engine around each evaluation.
+  mutable std::size_t needed = std::numeric_limits<std::size_t>::max();
+
   /// The reading's mean before the clamp and before `covariate:` terms, for every residual.
   virtual void mean(const double* p, double* out) const = 0;
   virtual void mean(const Jet* p, Jet* out) const = 0;

@@ -56,6 +56,7 @@ struct Trial {
   double delta_bic = 0;
   double heldout_mse = 0;
   bool kept = false;
+  bool screened_out = false;  ///< long logs: no gain on the leading residuals, not fitted to all
 };
 
 struct Report {
