@@ -78,6 +78,9 @@ T expected_clamp(const T& mu, double lo, double hi, double sigma) {
   constexpr double kFar = 9.0;
   const double m = detail::value_of(mu);
   if (!(m - lo < kFar * sigma) && !(hi - m < kFar * sigma)) return mu;
+  // Beyond 9 sigma outside one clamp (and far from the other), the reading is that clamp.
+  if (lo - m > kFar * sigma && hi - m > kFar * sigma) return T(lo);
+  if (m - hi > kFar * sigma && m - lo > kFar * sigma) return T(hi);
   T out = mu;
   if (std::isfinite(lo)) {
     const T z = (lo - mu) / sigma;  // E[max(0, lo - X)] = sigma (z Phi(z) + phi(z))
@@ -138,10 +141,11 @@ class Engine {
   void predict(const T* values, std::vector<T>& out) const {
     out.assign(n_, T(0.0));
     p_.mean(values, out.data());
+    const std::size_t n = std::min(n_, p_.needed);  // the residuals the evaluation asked for
     for (const auto& s : slopes_)
-      for (std::size_t i = 0; i < n_; ++i)
+      for (std::size_t i = 0; i < n; ++i)
         if (p_.channel[i] == 0) out[i] += values[s.param] * s.centred[i];
-    for (std::size_t i = 0; i < n_; ++i)
+    for (std::size_t i = 0; i < n; ++i)
       out[i] = expected_clamp(out[i], p_.lo[i], p_.hi[i], sigma_[static_cast<std::size_t>(p_.channel[i])]);
   }
   std::vector<double> predict(const std::vector<double>& values) const {
@@ -251,12 +255,28 @@ class Engine {
     const auto pred = predict(values);
     const std::size_t C = sigma_.size();
     std::vector<double> s(C, 0.0), c(C, 0.0);
-    for (std::size_t i = 0; i < n_; ++i)
-      if (p_.y[i] > p_.lo[i] && p_.y[i] < p_.hi[i]) {
+    if (p_.noise_from_differences) {
+      // Time series: half the mean square of successive residuals of a channel, which a model
+      // error that changes slowly from row to row does not inflate.
+      std::vector<double> last(C, std::nan(""));
+      for (std::size_t i = 0; i < n_; ++i) {
+        if (!(p_.y[i] > p_.lo[i] && p_.y[i] < p_.hi[i])) continue;
         const std::size_t ch = static_cast<std::size_t>(p_.channel[i]);
-        s[ch] += (p_.y[i] - pred[i]) * (p_.y[i] - pred[i]);
-        c[ch] += 1;
+        const double r = p_.y[i] - pred[i];
+        if (std::isfinite(last[ch])) {
+          s[ch] += 0.5 * (r - last[ch]) * (r - last[ch]);
+          c[ch] += 1;
+        }
+        last[ch] = r;
       }
+    } else {
+      for (std::size_t i = 0; i < n_; ++i)
+        if (p_.y[i] > p_.lo[i] && p_.y[i] < p_.hi[i]) {
+          const std::size_t ch = static_cast<std::size_t>(p_.channel[i]);
+          s[ch] += (p_.y[i] - pred[i]) * (p_.y[i] - pred[i]);
+          c[ch] += 1;
+        }
+    }
     std::vector<double> out(C);
     for (std::size_t ch = 0; ch < C; ++ch) out[ch] = std::max(p_.channel_min_sd[ch], c[ch] > 0 ? std::sqrt(s[ch] / c[ch]) : 1.0);
     return out;

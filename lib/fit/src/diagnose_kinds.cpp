@@ -325,6 +325,7 @@ class Drive : public ProblemOf<Drive> {
     // An encoder register's error is its rounding, the same for every row until the wheel turns
     // on (not independent noise): a dependence below half a step is that rounding, not an effect.
     channel_min_structure = {0.0, 0.5};
+    noise_from_differences = true;
     std::vector<double> cov_time, cov_cmd, cov_speed, cov_acc, cov_dist, cov_range, cov_since, cov_channel;
     double max_command = 0;
     for (const auto& log : logs) {
@@ -527,7 +528,8 @@ class Drive : public ProblemOf<Drive> {
       const T ag = p[speed_k_] * 0.5 * (a_l + a_r);
       if (slip) {
         const T& tau = p[tau_];
-        const T e = exp(-len / tau);
+        // e^-50 ~ 2e-22: below it the lag has settled (and exp would underflow slowly).
+        const T e = value_of(len / tau) < 50.0 ? exp(-len / tau) : T(0.0);
         const T c = st.vg - u0 + ag * tau;
         st.xg += u0 * len + 0.5 * ag * len * len - ag * tau * len + c * tau * (1.0 - e);
         st.vg = u0 + ag * len - ag * tau + c * e;
@@ -573,7 +575,8 @@ class Drive : public ProblemOf<Drive> {
       const T ag = p[speed_k_] * acc;
       if (slip) {
         const T& tau = p[tau_];
-        const T e = exp(-len / tau);
+        // e^-50 ~ 2e-22: below it the lag has settled (and exp would underflow slowly).
+        const T e = value_of(len / tau) < 50.0 ? exp(-len / tau) : T(0.0);
         const T c = st.vg - u0 + ag * tau;
         st.xg += u0 * len + 0.5 * ag * len * len - ag * tau * len + c * tau * (1.0 - e);
         st.vg = u0 + ag * len - ag * tau + c * e;

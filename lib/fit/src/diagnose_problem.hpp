@@ -78,6 +78,8 @@ class Problem {
   /// Per channel, in its units: a dependence of the residuals smaller than this does not matter
   /// (empty: 0, only the relative threshold applies).
   std::vector<double> channel_min_structure;
+  /// Rows are a time series: the noise is estimated from successive residuals (drive).
+  bool noise_from_differences = false;
   /// Covariates scored against the residuals, per residual (log columns and derived ones).
   std::vector<std::pair<std::string, std::vector<double>>> covariates;
   /// Extra numeric columns, per residual: candidates for `covariate:NAME`.
