@@ -11,6 +11,8 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -164,13 +166,25 @@ class CurveResidual {
   const double x_, y_, inv_sigma_;
 };
 
+/// The residuals and Jacobian of a curve model's last evaluation with derivatives, at the
+/// parameters `at` (`valid` false until an evaluation succeeded).
+struct RecordedEvaluation {
+  bool valid = false;
+  std::vector<double> at;
+  std::vector<double> residuals;
+  Eigen::MatrixXd jacobian;  ///< n x p, column-major (as fit_curve's statistics take it)
+};
+
 /// All residuals (y_i - model(p, x_i)) of a curve model in one cost function; x and y are
-/// referenced, not copied (they must outlive the problem).
+/// referenced, not copied (they must outlive the problem). With `record`, each evaluation with
+/// derivatives also stores its residuals and Jacobian there (the caller's to reuse at the point
+/// the solver ends at, instead of evaluating the same Jets again).
 template <class Model>
 class CurveBlockResidual : public ceres::CostFunction {
  public:
-  CurveBlockResidual(const Model& model, const std::vector<double>& x, const std::vector<double>& y)
-      : model_(model), x_(x), y_(y) {
+  CurveBlockResidual(const Model& model, const std::vector<double>& x, const std::vector<double>& y,
+                     RecordedEvaluation* record = nullptr)
+      : model_(model), x_(x), y_(y), record_(record) {
     set_num_residuals(static_cast<int>(x.size()));
     mutable_parameter_block_sizes()->push_back(Model::kParameters);
   }
@@ -188,12 +202,31 @@ class CurveBlockResidual : public ceres::CostFunction {
     using Jet = ceres::Jet<double, P>;
     Jet pj[P];
     for (int j = 0; j < P; ++j) pj[j] = Jet(p[j], j);
-    for (std::size_t i = 0; i < x_.size(); ++i) {
+    if (record_ == nullptr) {
+      for (std::size_t i = 0; i < x_.size(); ++i) {
+        const Jet r = Jet(y_[i]) - model_(pj, x_[i]);
+        if (!isfinite(r)) return false;
+        residuals[i] = r.a;
+        for (int j = 0; j < P; ++j) jacobians[0][i * P + static_cast<std::size_t>(j)] = r.v[j];
+      }
+      return true;
+    }
+    // The same, also written to the record as it goes (no second pass over the rows).
+    record_->valid = false;
+    record_->residuals.resize(x_.size());
+    record_->jacobian.resize(static_cast<Eigen::Index>(x_.size()), P);
+    double* record_residuals = record_->residuals.data();
+    double* record_jacobian = record_->jacobian.data();
+    const std::size_t n = x_.size();
+    for (std::size_t i = 0; i < n; ++i) {
       const Jet r = Jet(y_[i]) - model_(pj, x_[i]);
       if (!isfinite(r)) return false;
-      residuals[i] = r.a;
-      for (int j = 0; j < P; ++j) jacobians[0][i * P + static_cast<std::size_t>(j)] = r.v[j];
+      residuals[i] = record_residuals[i] = r.a;
+      for (int j = 0; j < P; ++j)
+        jacobians[0][i * P + static_cast<std::size_t>(j)] = record_jacobian[static_cast<std::size_t>(j) * n + i] = r.v[j];
     }
+    record_->at.assign(p, p + P);
+    record_->valid = true;
     return true;
   }
 
@@ -201,6 +234,7 @@ class CurveBlockResidual : public ceres::CostFunction {
   const Model model_;
   const std::vector<double>& x_;
   const std::vector<double>& y_;
+  RecordedEvaluation* const record_;
 };
 
 /// Fits y = model(p, x) by least squares from `initial`. `fixed` lists parameter indices held at
@@ -266,9 +300,10 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
       }
     }
   }
+  RecordedEvaluation recorded;
   ceres::Problem problem;
   if (options.single_residual_block && !options.robust)
-    problem.AddResidualBlock(new CurveBlockResidual<Model>(model, x, y), nullptr, initial.data());
+    problem.AddResidualBlock(new CurveBlockResidual<Model>(model, x, y, &recorded), nullptr, initial.data());
   else
     for (std::size_t i = 0; i < x.size(); ++i)
       problem.AddResidualBlock(CurveResidual<Model>::Create(model, x[i], y[i]), options.make_loss(), initial.data());
@@ -290,9 +325,20 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
   // The statistics and the covariance from the residuals and their Jacobian at the solution,
   // over the ambient parameters with the fixed ones left out (Problem::Evaluate would give the
   // SubsetManifold's tangent columns instead).
+  // When the solver ended where it last evaluated the Jacobian (from the linear start, where the
+  // confirming step is rejected or too small to count), that evaluation is the one this would
+  // repeat: the same Jets on the same doubles, so the same digits.
   std::vector<double> residuals;
   Eigen::MatrixXd jacobian;
-  const bool evaluated = evaluate(initial, &residuals, options.compute_covariance ? &jacobian : nullptr);
+  bool evaluated = false;
+  if (recorded.valid && std::equal(recorded.at.begin(), recorded.at.end(), initial.begin(),
+                                   [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; })) {
+    residuals.swap(recorded.residuals);
+    if (options.compute_covariance) jacobian.swap(recorded.jacobian);
+    evaluated = true;
+  } else {
+    evaluated = evaluate(initial, &residuals, options.compute_covariance ? &jacobian : nullptr);
+  }
   ParameterLayout layout{{initial.data()}, {Model::kParameters}, names};
   FitResult r = summarize(layout, residuals, evaluated, y, summary);
   if (!fixed.empty()) {
@@ -309,7 +355,9 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     // The Jacobian the linear start factored, when it is the same matrix (always, for a model
     // that is truly affine in its parameters): its factorization is reused, not repeated.
     const bool same_jacobian = linear_started && start_jacobian.rows() == jacobian.rows() &&
-                               (start_jacobian.array() == jacobian.array()).all();
+                               start_jacobian.cols() == jacobian.cols() &&
+                               std::memcmp(start_jacobian.data(), jacobian.data(),
+                                           static_cast<std::size_t>(jacobian.size()) * sizeof(double)) == 0;
     set_covariance(r, jacobian, free_column, same_jacobian ? &start_inverse_normal : nullptr);
   }
   for (int i : fixed) r.parameters[static_cast<std::size_t>(i)].std_error = 0.0;
