@@ -212,8 +212,8 @@ inline std::string proximity_log(std::uint64_t seed, Hidden& h) {
   if (h.cause == "sensor_gain")
     for (int k = 1; k < sensors; ++k) h.truth["gains[" + std::to_string(k) + "]"] = gain[static_cast<std::size_t>(k)] = 1.0 + d.signed_size(0.08, 0.2);
   if (h.cause == "long_tail") {
-    h.truth["amplitude"] = amplitude = d.uniform(150, 400);
-    h.truth["length_m"] = length = d.uniform(0.015, 0.03);
+    h.truth["amplitude"] = amplitude = d.uniform(150, 600);
+    h.truth["length_m"] = length = d.uniform(0.015, 0.045);
     // Inside the cut-off the tail trades off against a, b and c: only the readings beyond it
     // (0.055 m and further) pin it down. There it must reach 5 noise sd (50 counts) to matter.
     constexpr double kFirstBeyond_m = 0.055;
