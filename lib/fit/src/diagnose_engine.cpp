@@ -109,7 +109,7 @@ class Engine {
       }
       if (!(spread > 0)) continue;
       const int index = static_cast<int>(p_.params.size());
-      p_.params.push_back({"slope", 0.0, 0.0, -detail::kInf, detail::kInf});
+      p_.params.push_back({"slope", 0.0, 0.0, -detail::kInf, detail::kInf, {}});
       p_.plugin_values.push_back(0.0);
       p_.effects.push_back({"covariate:" + name, {index}});
       slopes_.push_back({index, centred});

@@ -24,7 +24,7 @@ namespace {
 namespace s = models::sensors;
 
 int add_param(Problem& p, const std::string& name, double neutral, double start, double lower = -kInf, double upper = kInf) {
-  p.params.push_back({name, neutral, start, lower, upper});
+  p.params.push_back({name, neutral, start, lower, upper, {}});
   p.plugin_values.push_back(neutral);
   return static_cast<int>(p.params.size()) - 1;
 }
@@ -517,7 +517,6 @@ class Drive : public ProblemOf<Drive> {
     T first = value_of(tl) < value_of(tr) ? tl : tr, second = value_of(tl) < value_of(tr) ? tr : tl;
     if (value_of(first) > value_of(h)) first = h;
     if (value_of(second) > value_of(h)) second = h;
-    const bool slip = value_of(p[tau_]) > 0;
     T done(0.0);
     for (const T& end : {first, second, h}) {
       const T len = end - done;
@@ -526,22 +525,31 @@ class Drive : public ProblemOf<Drive> {
       const T a_r = value_of(done) < value_of(tr) ? ar : T(0.0);
       const T u0 = p[speed_k_] * 0.5 * (st.vl + st.vr);
       const T ag = p[speed_k_] * 0.5 * (a_l + a_r);
-      if (slip) {
-        const T& tau = p[tau_];
-        // e^-50 ~ 2e-22: below it the lag has settled (and exp would underflow slowly).
-        const T e = value_of(len / tau) < 50.0 ? exp(-len / tau) : T(0.0);
-        const T c = st.vg - u0 + ag * tau;
-        st.xg += u0 * len + 0.5 * ag * len * len - ag * tau * len + c * tau * (1.0 - e);
-        st.vg = u0 + ag * len - ag * tau + c * e;
-      } else {
-        st.xg += u0 * len + 0.5 * ag * len * len;
-        st.vg = u0 + ag * len;
-      }
+      body_piece(p, u0, ag, len, st);
       st.xl += st.vl * len + 0.5 * a_l * len * len;
       st.xr += st.vr * len + 0.5 * a_r * len * len;
       st.vl += a_l * len;
       st.vr += a_r * len;
       done = end;
+    }
+  }
+
+  /// The body over one piece of `len` seconds whose input (k times the wheels' mean speed) starts
+  /// at u0 and changes at the rate ag: the first-order lag integrated exactly, or followed at once
+  /// without wheel slip.
+  template <typename T>
+  void body_piece(const T* p, const T& u0, const T& ag, const T& len, State<T>& st) const {
+    using std::exp;
+    if (value_of(p[tau_]) > 0) {
+      const T& tau = p[tau_];
+      // e^-50 ~ 2e-22: below it the lag has settled (and exp would underflow slowly).
+      const T e = value_of(len / tau) < 50.0 ? exp(-len / tau) : T(0.0);
+      const T c = st.vg - u0 + ag * tau;
+      st.xg += u0 * len + 0.5 * ag * len * len - ag * tau * len + c * tau * (1.0 - e);
+      st.vg = u0 + ag * len - ag * tau + c * e;
+    } else {
+      st.xg += u0 * len + 0.5 * ag * len * len;
+      st.vg = u0 + ag * len;
     }
   }
 
@@ -564,7 +572,6 @@ class Drive : public ProblemOf<Drive> {
       st.vl = u;
     }
     if (value_of(ramp) > value_of(h)) ramp = h;
-    const bool slip = value_of(p[tau_]) > 0;
     T done(0.0);
     for (int piece = 0; piece < 2; ++piece) {
       const T end = piece == 0 ? ramp : h;
@@ -573,17 +580,7 @@ class Drive : public ProblemOf<Drive> {
       const T acc = piece == 0 ? a : T(0.0);
       const T u0 = p[speed_k_] * st.vl;
       const T ag = p[speed_k_] * acc;
-      if (slip) {
-        const T& tau = p[tau_];
-        // e^-50 ~ 2e-22: below it the lag has settled (and exp would underflow slowly).
-        const T e = value_of(len / tau) < 50.0 ? exp(-len / tau) : T(0.0);
-        const T c = st.vg - u0 + ag * tau;
-        st.xg += u0 * len + 0.5 * ag * len * len - ag * tau * len + c * tau * (1.0 - e);
-        st.vg = u0 + ag * len - ag * tau + c * e;
-      } else {
-        st.xg += u0 * len + 0.5 * ag * len * len;
-        st.vg = u0 + ag * len;
-      }
+      body_piece(p, u0, ag, len, st);
       st.xl += st.vl * len + 0.5 * acc * len * len;
       st.vl += acc * len;
       done = end;
