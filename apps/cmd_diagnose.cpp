@@ -149,7 +149,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   for (const auto& t : r.trials)
     trials.push_back({{"step", t.step}, {"cause", t.cause}, {"delta_bic", t.delta_bic},
                       {"heldout_mse", t.heldout_mse > 0 ? nlohmann::json(t.heldout_mse) : nlohmann::json(nullptr)},
-                      {"kept", t.kept}});
+                      {"kept", t.kept}, {"screened_out", t.screened_out}});
   j["search"] = trials;
   j["notes"] = r.notes;
   return j;
@@ -171,7 +171,8 @@ std::string format_parameters(const std::vector<dg::NamedValue>& values) {
 void print_report(const dg::Report& r) {
   const std::string u = units(r.kind);
   std::printf("Diagnosis of %zu %s rows (%zu residuals)\n", r.rows, std::string(logs::to_string(r.kind)).c_str(), r.residuals);
-  std::printf("The plug-in's model as published: MSE %.4g %s.\n", r.heldout_mse_plugin, u.c_str());
+  std::printf("The plug-in's model with the coefficients given, before recalibration: MSE %.4g %s.\n", r.heldout_mse_plugin,
+              u.c_str());
   if (!r.channel_noise_sd.empty()) {
     std::printf("Channels fitted together, each weighted by its noise:");
     for (const auto& c : r.channel_noise_sd) std::printf(" %s (sd %.3g)", c.name.c_str(), c.value);

@@ -7,21 +7,10 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
-#include <thread>
 
 #include "../tests/diagnose_generators.hpp"
+#include "machine.hpp"
 
-namespace {
-
-std::string cpu_model() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  return "unknown CPU";
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   using namespace epuck2;
@@ -34,8 +23,7 @@ int main(int argc, char** argv) {
     for (int a = 2; a < argc; ++a)
       if (auto k = logs::parse_kind(argv[a])) kinds.push_back(*k);
   }
-  std::printf("diagnose sweep: %d seeds per kind and effect; machine: %s, %u hardware threads\n", seeds, cpu_model().c_str(),
-              std::thread::hardware_concurrency());
+  std::printf("diagnose sweep: %d seeds per kind and effect; machine: %s\n", seeds, bench::machine().c_str());
   std::printf("params: parameters within 10 %% of the truth, over the logs whose verdict is right and whose effect is large\n"
               "enough to matter (tests/diagnose_generators.hpp: Hidden::parameters_matter)\n");
   std::printf("%-10s %-26s %8s %16s %10s %9s  %s\n", "kind", "hidden effect", "verdict", "params", "mean rows", "s/log", "wrong verdicts seen");

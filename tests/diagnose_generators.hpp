@@ -55,6 +55,7 @@ inline std::vector<std::string> hidden_effects(logs::Kind kind) {
               "tof_scale", "covariate:temperature_c", "quadratic:temperature_c"};
     case logs::Kind::battery: return {"none", "capacity_scale", "covariate:temperature_c", "quadratic:temperature_c"};
   }
+  return {};
 }
 
 class Draw {
@@ -419,6 +420,7 @@ inline std::string make_log(logs::Kind kind, std::uint64_t seed, Hidden& h) {
     case logs::Kind::drive: return drive_log(seed, h);
     case logs::Kind::battery: return battery_log(seed, h);
   }
+  return {};
 }
 
 }  // namespace epuck2::testing::diagnose

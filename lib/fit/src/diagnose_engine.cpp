@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <numeric>
 #include <set>
@@ -644,8 +642,7 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
       // Several channels: the residuals' weights follow the noise estimates, which the finding
       // has just changed. The model without it must lose on held-out rows under the same weights
       // too, or the finding is undone (an effect that only moved weight between channels).
-      Engine::Fitted without = fit_before;
-      without = engine.fit(free_before, without.values, engine.all(), false);
+      const Engine::Fitted without = engine.fit(free_before, fit_before.values, engine.all(), false);
       const Engine::Heldout h_without = engine.heldout_mse(free_before, without.values);
       const double cv_without = h_without.all;
       if (!(cv <= cv_without * (1.0 - options.min_heldout_gain))) {

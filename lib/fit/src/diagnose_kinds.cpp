@@ -4,7 +4,6 @@
 // switches effects on by freeing their parameters.
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <set>
 #include <type_traits>
 
@@ -340,11 +339,7 @@ class Drive : public ProblemOf<Drive> {
       const auto& tof = log.col("tof_mm");
       const std::size_t n = log.rows();
       r.symmetric = std::equal(cl.begin(), cl.end(), cr.begin());
-      std::vector<double> ul(n), ur(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        ul[i] = i ? s::unwrap_steps(ul[i - 1], sl[i]) : sl[i];
-        ur[i] = i ? s::unwrap_steps(ur[i - 1], sr[i]) : sr[i];
-      }
+      const std::vector<double> ul = s::unwrap_steps(sl), ur = s::unwrap_steps(sr);
       // Measured motion from the encoders, for the residual structure. Each row's values come
       // from its neighbours' registers only: a row's own register carries its rounding, which
       // would correlate with its own residual.
@@ -485,7 +480,6 @@ class Drive : public ProblemOf<Drive> {
   /// Advances the state by h seconds under row i's command.
   template <typename T>
   void advance(const T* p, std::size_t i, const T& h, State<T>& st, bool symmetric) const {
-    using std::exp;
     using std::fmax;
     using std::fmin;
     if (!(value_of(h) > 0)) return;
@@ -556,7 +550,6 @@ class Drive : public ProblemOf<Drive> {
   /// advance() when both wheels are commanded alike: one wheel, the same arithmetic.
   template <typename T>
   void advance_symmetric(const T* p, std::size_t i, const T& h, State<T>& st) const {
-    using std::exp;
     using std::fmax;
     using std::fmin;
     constexpr double kPerCm = 0.01;

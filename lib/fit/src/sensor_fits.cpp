@@ -328,16 +328,14 @@ DriveRun drive_run_from_log(const logs::Log& log) {
   const auto& sl = log.col("left_steps");
   const auto& sr = log.col("right_steps");
   const auto& tof = log.col("tof_mm");
-  double ul = 0, ur = 0;  // encoders read 0 at time 0 (shared/spec/logs.md)
+  const std::vector<double> ul = s::unwrap_steps(sl), ur = s::unwrap_steps(sr);
   for (std::size_t i = 0; i < log.rows(); ++i) {
-    ul = s::unwrap_steps(ul, sl[i]);
-    ur = s::unwrap_steps(ur, sr[i]);
     run.time_s.push_back(t[i]);
     const double v = 0.5 * (vl[i] + vr[i]) / 100.0;
     run.command_m_s.push_back(v);
     if (std::abs(vl[i]) / 100.0 > kFirmwareSpeedLimit_m_s || std::abs(vr[i]) / 100.0 > kFirmwareSpeedLimit_m_s)
       run.over_speed_limit = true;
-    run.steps.push_back(0.5 * (ul + ur));
+    run.steps.push_back(0.5 * (ul[i] + ur[i]));
     run.tof_mm.push_back(tof[i]);
   }
   return run;

@@ -21,6 +21,7 @@
 #include <optional>
 #include <random>
 #include <string_view>
+#include <vector>
 
 namespace epuck2::models::sensors {
 
@@ -303,6 +304,14 @@ inline double unwrap_steps(double previous_unwrapped, double reading) {
   if (delta > 32767.0) delta -= 65536.0;
   if (delta < -32768.0) delta += 65536.0;
   return previous_unwrapped + delta;
+}
+
+/// A register's readings unwrapped from the first, which is taken as is (the encoders read 0 at
+/// time 0, shared/spec/logs.md).
+inline std::vector<double> unwrap_steps(const std::vector<double>& readings) {
+  std::vector<double> out(readings.size());
+  for (std::size_t i = 0; i < readings.size(); ++i) out[i] = i ? unwrap_steps(out[i - 1], readings[i]) : readings[i];
+  return out;
 }
 
 // =============================================================================================
