@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "epuck2/fit/battery.hpp"
+#include "epuck2/fit/heap.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 #include "machine.hpp"
 
@@ -84,6 +85,7 @@ BENCHMARK_CAPTURE(BM_StepCarried, cubic_corrected_at_table_speed, mb::Model::cub
 
 int main(int argc, char** argv) {
   FLAGS_minloglevel = google::GLOG_FATAL;  // Ceres' solver chatter
+  epuck2::fit::keep_freed_heap();          // as epuck2-fit runs its fits
   benchmark::AddCustomContext("machine", epuck2::bench::machine());
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

@@ -1,7 +1,10 @@
 // bench_fit_engine: the fitting engine's coefficients and wall times, as JSON on stdout, for the
 // side-by-side with scipy and lmfit (bench/side_by_side.py).
 //
-//   bench_fit_engine --nist DIR --battery DIR [--min-seconds S]
+//   bench_fit_engine --nist DIR --battery DIR [--min-seconds S] [--default-heap]
+//
+// The program calls fit::keep_freed_heap() first, as epuck2-fit does (--default-heap: glibc's
+// own trimming, under which each fit faults its pages in again).
 //
 // (a) every NIST StRD problem from start 1, fitted with the NIST options (multi-strategy search
 //     and extended-precision polish: what meets the certified digits) and, separately timed, with
@@ -31,6 +34,7 @@
 #include <utility>
 #include <vector>
 
+#include "epuck2/fit/heap.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/nist.hpp"
 #include "epuck2/logs/log.hpp"
@@ -75,7 +79,7 @@ std::string cpu_model() {
 }
 
 int usage() {
-  std::cerr << "usage: bench_fit_engine --nist DIR --battery DIR [--min-seconds S]\n";
+  std::cerr << "usage: bench_fit_engine --nist DIR --battery DIR [--min-seconds S] [--default-heap]\n";
   return 2;
 }
 
@@ -84,8 +88,13 @@ int usage() {
 int main(int argc, char** argv) {
   std::string nist_dir, battery_dir;
   double min_seconds = 0.2;
+  bool default_heap = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--default-heap") {
+      default_heap = true;
+      continue;
+    }
     if (i + 1 >= argc) return usage();
     if (a == "--nist") nist_dir = argv[++i];
     else if (a == "--battery") battery_dir = argv[++i];
@@ -93,11 +102,13 @@ int main(int argc, char** argv) {
     else return usage();
   }
   if (nist_dir.empty() && battery_dir.empty()) return usage();
+  if (!default_heap) fit::keep_freed_heap();
   FLAGS_minloglevel = google::GLOG_FATAL;  // Ceres' step-by-step complaints are not the report
   try {
     nlohmann::json out;
     out["machine"] = {{"cpu", cpu_model()}, {"hardware_threads", std::thread::hardware_concurrency()}};
     out["min_seconds_per_fit"] = min_seconds;
+    out["heap"] = default_heap ? "glibc defaults" : "keep_freed_heap (epuck2/fit/heap.hpp)";
 
     if (!nist_dir.empty()) {
       fit::FitOptions single = fit::nist::default_options();

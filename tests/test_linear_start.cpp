@@ -1,4 +1,5 @@
-// fit_curve on models linear in their parameters: the linear least-squares start gives the
+// fit_curve on models linear in their parameters: the linear least-squares start (normal equations
+// when well conditioned, refined once; column-pivoted QR otherwise) gives the
 // least-squares solution (checked against an independent solve of the normal equations in long
 // double), Ceres only confirms it, and the statistics, covariance and fixed parameters come out as
 // on the generic path.
@@ -217,4 +218,68 @@ TEST(LinearStart, RobustFitsKeepTheirOwnPath) {
   EXPECT_GT(r.iterations, 2);
   const std::vector<double> ref = normal_equations_solution(d);
   for (std::size_t j = 0; j < 4; ++j) EXPECT_GE(agree(r.parameters[j].value, ref[j]), 6.0);
+}
+
+TEST(LinearStart, NormalEquationsSolveOnlyWellConditionedSystems) {
+  // The same cubic design on u in [0, 1.2] (equilibrated condition number about 1e2: its normal
+  // matrix about 1e4) and shifted to u in [10, 11.2] (3e5, numpy's cond: 1e11 once squared, beyond
+  // kNormalEquationsMaxCondition).
+  for (double shift : {0.0, 10.0}) {
+    const Data d = noisy_cubic(13);
+    Eigen::MatrixXd N = Eigen::MatrixXd::Zero(4, 4);
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(4);
+    for (std::size_t i = 0; i < d.u.size(); ++i) {
+      const double u = d.u[i] + shift;
+      const Eigen::Vector4d row(1.0, u, u * u, u * u * u);
+      N += row * row.transpose();
+      g += row * (-d.y[i]);
+    }
+    // r(p) = y - X p: J = -X, so J^T J = X^T X and J^T r(0) = -X^T y (g above).
+    Eigen::VectorXd step;
+    Eigen::MatrixXd inverse;
+    const bool solved = ef::normal_equations_least_squares(N, g, {true, true, true, true}, &step, &inverse);
+    if (shift == 0.0) {
+      ASSERT_TRUE(solved);
+      // step = -(J^T J)^-1 J^T r(0) = (X^T X)^-1 X^T y: the least-squares coefficients.
+      const std::vector<double> ref = normal_equations_solution(d);
+      for (int j = 0; j < 4; ++j) EXPECT_GE(agree(step(j), ref[static_cast<std::size_t>(j)]), 10.0) << "p" << j;
+      EXPECT_GE(agree(inverse(0, 0), N.inverse()(0, 0)), 8.0);
+    } else {
+      EXPECT_FALSE(solved) << "an ill-conditioned system must go to the QR path";
+    }
+  }
+}
+
+TEST(LinearStart, IllConditionedDesignTakesTheQrPathAndStillReachesTheMinimum) {
+  // The cubic in v = u + 10: the normal equations are refused (above), the column-pivoted QR
+  // solves it (losing about 5.5 of 16 digits to the condition number 3e5; 11.8 digits measured),
+  // Ceres confirms.
+  const Data d = noisy_cubic(17);
+  Data shifted = d;
+  for (double& u : shifted.u) u += 10.0;
+  // The reference: a QR of the design itself in long double (about 13 digits here; the normal
+  // equations would leave 8).
+  using MX = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+  using VX = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
+  MX X(static_cast<Eigen::Index>(shifted.u.size()), 4);
+  VX yv(static_cast<Eigen::Index>(shifted.u.size()));
+  for (std::size_t i = 0; i < shifted.u.size(); ++i) {
+    const long double v = shifted.u[i];
+    const auto row = static_cast<Eigen::Index>(i);
+    X(row, 0) = 1.0L;
+    X(row, 1) = v;
+    X(row, 2) = v * v;
+    X(row, 3) = v * v * v;
+    yv(row) = shifted.y[i];
+  }
+  const VX ref = X.colPivHouseholderQr().solve(yv);
+  const ef::FitResult r = ef::fit_curve(LinearCubic{}, shifted.u, shifted.y, {0.0, 0.0, 0.0, 0.0}, kNames);
+  ASSERT_TRUE(r.usable) << r.message;
+  for (std::size_t j = 0; j < 4; ++j)
+    EXPECT_GE(agree(r.parameters[j].value, static_cast<double>(ref(static_cast<Eigen::Index>(j)))), 10.0) << "p" << j;
+  // Without the linear start, Levenberg-Marquardt from zero needs many more iterations.
+  ef::FitOptions generic;
+  generic.linear_start = false;
+  const ef::FitResult g = ef::fit_curve(LinearCubic{}, shifted.u, shifted.y, {0.0, 0.0, 0.0, 0.0}, kNames, generic);
+  EXPECT_GT(g.iterations, r.iterations);
 }

@@ -222,6 +222,51 @@ bool linear_least_squares(const Eigen::MatrixXd& residual_jacobian, const Eigen:
   return true;
 }
 
+bool normal_equations_least_squares(const Eigen::MatrixXd& normal, const Eigen::VectorXd& gradient,
+                                    const std::vector<bool>& free_column, Eigen::VectorXd* step,
+                                    Eigen::MatrixXd* inverse_normal) {
+  const Eigen::Index p = normal.cols();
+  *step = Eigen::VectorXd::Zero(p);
+  std::vector<Eigen::Index> cols;
+  for (Eigen::Index j = 0; j < p; ++j)
+    if (static_cast<std::size_t>(j) >= free_column.size() || free_column[static_cast<std::size_t>(j)]) cols.push_back(j);
+  const auto m = static_cast<Eigen::Index>(cols.size());
+  if (m == 0) return false;
+  // Equilibrated: G = S (J^T J) S with unit diagonal, g = S J^T r (S = diag(1 / |J_j|)).
+  Eigen::VectorXd scale(m), g(m);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const double d = normal(cols[static_cast<std::size_t>(a)], cols[static_cast<std::size_t>(a)]);
+    if (!(d > 0) || !std::isfinite(d)) return false;
+    scale(a) = 1.0 / std::sqrt(d);
+  }
+  Eigen::MatrixXd G(m, m);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const Eigen::Index ca = cols[static_cast<std::size_t>(a)];
+    g(a) = gradient(ca) * scale(a);
+    for (Eigen::Index b = 0; b <= a; ++b) {
+      const Eigen::Index cb = cols[static_cast<std::size_t>(b)];
+      G(a, b) = G(b, a) = normal(std::max(ca, cb), std::min(ca, cb)) * scale(a) * scale(b);
+    }
+  }
+  if (!G.allFinite() || !g.allFinite()) return false;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G, Eigen::EigenvaluesOnly);
+  if (eig.info() != Eigen::Success) return false;
+  const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
+  if (!(lo > 0) || !(hi <= lo * kNormalEquationsMaxCondition)) return false;
+  const Eigen::LLT<Eigen::MatrixXd> llt(G);
+  if (llt.info() != Eigen::Success) return false;
+  // residuals + J step is minimal at step = -(J^T J)^-1 J^T residuals; in equilibrated columns
+  // step = S z with G z = -g.
+  const Eigen::VectorXd z = llt.solve(-g);
+  for (Eigen::Index c = 0; c < m; ++c) (*step)(cols[static_cast<std::size_t>(c)]) = z(c) * scale(c);
+  if (!step->allFinite()) return false;
+  if (inverse_normal) {
+    const Eigen::MatrixXd Ginv = llt.solve(Eigen::MatrixXd::Identity(m, m));
+    *inverse_normal = scale.asDiagonal() * Ginv * scale.asDiagonal();
+  }
+  return true;
+}
+
 void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
                     const Eigen::MatrixXd* inverse_normal) {
   const Eigen::Index total = jacobian.cols();
@@ -279,6 +324,28 @@ double bayes(std::size_t n, double rss, int k) {
 }
 
 namespace {
+// Sums over thousands of rows in four interleaved partial sums (element i into partial i mod 4,
+// then (s0 + s1) + (s2 + s3)): a fixed order, so the same digits on every run, and four
+// independent chains of additions instead of one, each waiting on the last.
+double sum(const std::vector<double>& v) {
+  double s[4] = {0, 0, 0, 0};
+  const std::size_t n = v.size(), n4 = n - n % 4;
+  for (std::size_t i = 0; i < n4; i += 4)
+    for (std::size_t k = 0; k < 4; ++k) s[k] += v[i + k];
+  for (std::size_t i = n4; i < n; ++i) s[i - n4] += v[i];
+  return (s[0] + s[1]) + (s[2] + s[3]);
+}
+
+// Sum of (v_i - shift)^2, in the same order as sum().
+double sum_of_squares(const std::vector<double>& v, double shift) {
+  double s[4] = {0, 0, 0, 0};
+  const std::size_t n = v.size(), n4 = n - n % 4;
+  for (std::size_t i = 0; i < n4; i += 4)
+    for (std::size_t k = 0; k < 4; ++k) s[k] += (v[i + k] - shift) * (v[i + k] - shift);
+  for (std::size_t i = n4; i < n; ++i) s[i - n4] += (v[i] - shift) * (v[i] - shift);
+  return (s[0] + s[1]) + (s[2] + s[3]);
+}
+
 // Everything summarize reports except the covariance, from the residuals at the solution:
 // parameters (NaN standard errors), RSS, MSE, residual variance, R^2, AIC, BIC, usable and why
 // not. Returns which scalars are free (blocks flagged constant are not).
@@ -289,18 +356,8 @@ std::vector<bool> statistics(FitResult& r, const ParameterLayout& layout, const 
   r.message = summary.message;
   const std::size_t n = residuals.size();
   r.observations = n;
-  // Each sum in index order (the same digits as separate loops); the RSS and the sum of the
-  // observations share a loop when they have the same length, so their dependency chains overlap.
-  double rss = 0, sum_y = 0;
-  if (observations.size() == n) {
-    for (std::size_t i = 0; i < n; ++i) {
-      rss += residuals[i] * residuals[i];
-      sum_y += observations[i];
-    }
-  } else {
-    for (double e : residuals) rss += e * e;
-    for (double y : observations) sum_y += y;
-  }
+  const double rss = sum_of_squares(residuals, 0.0);
+  const double sum_y = sum(observations);
   r.rss = rss;
   r.mse = n ? rss / static_cast<double>(n) : 0.0;
 
@@ -331,9 +388,7 @@ std::vector<bool> statistics(FitResult& r, const ParameterLayout& layout, const 
   r.aic = akaike(n, rss, k);
   r.bic = bayes(n, rss, k);
   if (!observations.empty()) {
-    const double mean = sum_y / static_cast<double>(observations.size());
-    double tss = 0;
-    for (double y : observations) tss += (y - mean) * (y - mean);
+    const double tss = sum_of_squares(observations, sum_y / static_cast<double>(observations.size()));
     r.r2 = tss > 0 ? 1.0 - rss / tss : std::numeric_limits<double>::quiet_NaN();
   } else {
     r.r2 = std::numeric_limits<double>::quiet_NaN();
