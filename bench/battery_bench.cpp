@@ -81,6 +81,39 @@ void BM_StepCarried(benchmark::State& state, mb::Model model, mb::Behaviour beha
 BENCHMARK_CAPTURE(BM_StepCarried, cubic_corrected, mb::Model::cubic, mb::Behaviour::corrected);
 BENCHMARK_CAPTURE(BM_StepCarried, cubic_corrected_at_table_speed, mb::Model::cubic, mb::Behaviour::corrected, 0.07);
 
+// A swarm as the simulator steps it: every robot's battery once per tick, 50 robots as in the
+// paper's execution-time experiments (Fig. 13), each with its own charge and speed (robot r at
+// r mod 16 cm/s, plus 0.37 cm/s for odd r: half on a speed table, half between two). One
+// robot's tick does not wait on another's, so the processor overlaps them: this is the cost per
+// robot per tick that a swarm simulation pays, where BM_Step above is the latency of one robot's
+// chain of ticks (each waiting on the last: the plug-in's Cardano root, glibc's cbrt included).
+void BM_SwarmStep(benchmark::State& state, mb::Model model, mb::Behaviour behaviour) {
+  constexpr int kRobots = 50;
+  const mb::Tables& t = mb::plugin_tables();
+  const double dt = 0.1;
+  std::vector<double> charge(kRobots), dpos(kRobots);
+  std::vector<mb::corrected::CubicHints> hints(kRobots);
+  for (int r = 0; r < kRobots; ++r) {
+    charge[static_cast<std::size_t>(r)] = 0.95 - 0.005 * r;
+    dpos[static_cast<std::size_t>(r)] = (0.01 * (r % 16) + (r % 2 ? 0.0037 : 0.0)) * dt;
+  }
+  for (auto _ : state) {
+    for (std::size_t r = 0; r < kRobots; ++r) {
+      double c = mb::step(model, behaviour, t, charge[r], dpos[r], dt, hints[r]);
+      if (c <= 0.01) c = 0.95;
+      charge[r] = c;
+    }
+    benchmark::DoNotOptimize(charge.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["ns_per_robot_step"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * kRobots * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK_CAPTURE(BM_SwarmStep, cubic_argos, mb::Model::cubic, mb::Behaviour::argos_compatible);
+BENCHMARK_CAPTURE(BM_SwarmStep, cubic_corrected, mb::Model::cubic, mb::Behaviour::corrected);
+BENCHMARK_CAPTURE(BM_SwarmStep, linear_argos, mb::Model::linear, mb::Behaviour::argos_compatible);
+BENCHMARK_CAPTURE(BM_SwarmStep, approximated_argos, mb::Model::approximated, mb::Behaviour::argos_compatible);
+
 }  // namespace
 
 int main(int argc, char** argv) {
