@@ -5,7 +5,8 @@
 // (J^T J)^-1 at the solution, scaled by the residual variance s^2 = RSS / (n - p). The covariance
 // is computed from the Jacobian with its columns equilibrated and a column-pivoted QR, so that
 // badly scaled parameters (a cubic's t^3 coefficient beside its intercept, NIST's Misra or
-// Bennett problems) keep their digits.
+// Bennett problems) keep their digits; for a model linear in its parameters whose equilibrated
+// normal equations are well conditioned (kNormalEquationsMaxCondition), from those equations.
 #pragma once
 
 #include <ceres/ceres.h>
@@ -418,8 +419,8 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     r.bic = bayes(r.observations, r.rss, free);
   }
   if (options.compute_covariance && r.usable) {
-    // The Jacobian the linear start factored, when it is the same matrix (always, for a model
-    // that is truly affine in its parameters): its factorization is reused, not repeated.
+    // The Jacobian the linear start solved with, when it is the same matrix (always, for a model
+    // that is truly affine in its parameters): its (J^T J)^-1 is reused, not computed again.
     const bool same_jacobian = linear_started && start_jacobian.rows() == jacobian.rows() &&
                                start_jacobian.cols() == jacobian.cols() &&
                                std::memcmp(start_jacobian.data(), jacobian.data(),
