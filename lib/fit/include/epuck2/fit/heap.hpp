@@ -13,8 +13,9 @@ namespace epuck2::fit {
 /// (M_TRIM_THRESHOLD), and serves blocks above 128 KiB by mmap (M_MMAP_THRESHOLD, raised only
 /// after such a block is freed). A fit of a few thousand rows frees more than that at its end
 /// (Ceres' Jacobian, its evaluation scratch, the recorded residuals), so each following fit
-/// faulted the same pages in again: 18-30 page faults and up to 60 % of a battery cubic fit's
-/// time, depending on what happened to be allocated before (bench/README.md). With both
+/// faulted the same pages in again: 18-30 page faults per battery cubic fit, which then took up
+/// to 65 % longer (166 against 101 us for 3207 rows), depending on what happened to be allocated
+/// before (bench/README.md). With both
 /// thresholds raised, the pages stay mapped and are reused. Call once, at the start of main; it
 /// changes nothing but where freed memory waits (the process keeps up to its peak heap until it
 /// exits). A no-op on other C libraries.
