@@ -279,7 +279,13 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     if (j >= 0 && j < P) free_column[static_cast<std::size_t>(j)] = false;
   // Residuals y - model(p, x) at p and, when `jacobian` is given, their Jacobian by Jets (what
   // Ceres' automatic derivatives compute). False when a residual is not finite.
-  auto evaluate = [&](const std::vector<double>& p, std::vector<double>* residuals, Eigen::MatrixXd* jacobian) {
+  // With `sums`, the same pass also sums the normal equations J^T J (lower triangle) and J^T r.
+  struct NormalSums {
+    double normal[P][P] = {};
+    double gradient[P] = {};
+  };
+  auto evaluate = [&](const std::vector<double>& p, std::vector<double>* residuals, Eigen::MatrixXd* jacobian,
+                      NormalSums* sums = nullptr) {
     residuals->resize(x.size());
     bool finite = true;
     using std::isfinite;
@@ -299,6 +305,11 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
       (*residuals)[i] = r.a;
       jacobian->row(static_cast<Eigen::Index>(i)) = r.v.transpose();
       finite = finite && isfinite(r);
+      if (sums != nullptr)
+        for (int a = 0; a < P; ++a) {
+          sums->gradient[a] += r.v[a] * r.a;
+          for (int b = 0; b <= a; ++b) sums->normal[a][b] += r.v[a] * r.v[b];
+        }
     }
     return finite;
   };
@@ -306,65 +317,47 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
   // solve from any p0 gives the minimum, and the same factorization gives (J^T J)^-1.
   // The solve takes the normal equations, summed in the same pass as the Jacobian, when they are
   // well conditioned (the battery cubic's equilibrated J has condition number 86: 4 of 16 digits
-  // lost, and Ceres' confirming step then refines them as one step of iterative refinement on
-  // residuals computed afresh); otherwise J's column-pivoted QR.
+  // lost, then recovered by one step of iterative refinement); otherwise J's column-pivoted QR,
+  // from the same pass's Jacobian and residuals.
   Eigen::MatrixXd start_jacobian, start_inverse_normal;
   bool linear_started = false;
   if constexpr (is_linear_in_parameters<Model>::value) {
-    if (options.linear_start && !options.robust) {
-      const std::size_t n = x.size();
-      using Jet = ceres::Jet<double, P>;
-      Jet pj[P];
-      for (int j = 0; j < P; ++j) pj[j] = Jet(initial[static_cast<std::size_t>(j)], j);
-      start_jacobian.resize(static_cast<Eigen::Index>(n), P);
-      double* jac = start_jacobian.data();
-      double normal[P][P] = {}, gradient[P] = {};
-      bool finite = true;
-      using std::isfinite;
-      for (std::size_t i = 0; i < n && finite; ++i) {
-        const Jet r = Jet(y[i]) - model(pj, x[i]);
-        finite = isfinite(r);
-        for (int a = 0; a < P; ++a) {
-          jac[static_cast<std::size_t>(a) * n + i] = r.v[a];
-          gradient[a] += r.v[a] * r.a;
-          for (int b = 0; b <= a; ++b) normal[a][b] += r.v[a] * r.v[b];
-        }
+    std::vector<double> r0;
+    NormalSums sums;
+    if (options.linear_start && !options.robust && evaluate(initial, &r0, &start_jacobian, &sums)) {
+      Eigen::MatrixXd N(P, P);
+      Eigen::VectorXd g(P);
+      for (int a = 0; a < P; ++a) {
+        g(a) = sums.gradient[a];
+        for (int b = 0; b <= a; ++b) N(a, b) = sums.normal[a][b];
       }
-      if (finite) {
-        Eigen::MatrixXd N(P, P);
-        Eigen::VectorXd g(P);
-        for (int a = 0; a < P; ++a) {
-          g(a) = gradient[a];
-          for (int b = 0; b <= a; ++b) N(a, b) = normal[a][b];
+      Eigen::VectorXd step;
+      linear_started = normal_equations_least_squares(N, g, free_column, &step, &start_inverse_normal);
+      if (linear_started) {
+        // One step of iterative refinement: the residuals at the solution found, computed
+        // afresh, through the same normal equations (r(p + d) = r(p) + J d for this model). It
+        // recovers the digits the normal equations lose, so that Ceres has nothing left to do.
+        std::vector<double> p1 = initial;
+        for (int j = 0; j < P; ++j) p1[static_cast<std::size_t>(j)] += step(j);
+        const std::size_t n = x.size();
+        const double* jac = start_jacobian.data();
+        double refined_gradient[P] = {};
+        for (std::size_t i = 0; i < n; ++i) {
+          const double r = y[i] - model(p1.data(), x[i]);
+          for (int a = 0; a < P; ++a) refined_gradient[a] += jac[static_cast<std::size_t>(a) * n + i] * r;
         }
-        Eigen::VectorXd step;
-        linear_started = normal_equations_least_squares(N, g, free_column, &step, &start_inverse_normal);
-        if (linear_started) {
-          // One step of iterative refinement: the residuals at the solution found, computed
-          // afresh, through the same normal equations (r(p + d) = r(p) + J d for this model). It
-          // recovers the digits the normal equations lose, so that Ceres has nothing left to do.
-          std::vector<double> p1 = initial;
-          for (int j = 0; j < P; ++j) p1[static_cast<std::size_t>(j)] += step(j);
-          double refined_gradient[P] = {};
-          for (std::size_t i = 0; i < n; ++i) {
-            const double r = y[i] - model(p1.data(), x[i]);
-            for (int a = 0; a < P; ++a) refined_gradient[a] += jac[static_cast<std::size_t>(a) * n + i] * r;
-          }
-          for (int a = 0; a < P; ++a) g(a) = refined_gradient[a];
-          Eigen::VectorXd correction;
-          if (normal_equations_least_squares(N, g, free_column, &correction)) step += correction;
-        }
-        if (!linear_started) {
-          // Rank-deficient or non-finite: Ceres starts from `initial` and reports what it finds.
-          std::vector<double> r0;
-          linear_started = evaluate(initial, &r0, &start_jacobian) &&
-                           linear_least_squares(start_jacobian,
-                                                Eigen::Map<const Eigen::VectorXd>(r0.data(), static_cast<Eigen::Index>(r0.size())),
-                                                free_column, &step, &start_inverse_normal);
-        }
-        if (linear_started)
-          for (int j = 0; j < P; ++j) initial[static_cast<std::size_t>(j)] += step(j);
+        for (int a = 0; a < P; ++a) g(a) = refined_gradient[a];
+        Eigen::VectorXd correction;
+        if (normal_equations_least_squares(N, g, free_column, &correction)) step += correction;
+      } else {
+        // Ill-conditioned normal equations: J's own QR. Rank-deficient or non-finite: Ceres
+        // starts from `initial` and reports what it finds.
+        linear_started = linear_least_squares(
+            start_jacobian, Eigen::Map<const Eigen::VectorXd>(r0.data(), static_cast<Eigen::Index>(r0.size())),
+            free_column, &step, &start_inverse_normal);
       }
+      if (linear_started)
+        for (int j = 0; j < P; ++j) initial[static_cast<std::size_t>(j)] += step(j);
     }
   }
   RecordedEvaluation recorded;
