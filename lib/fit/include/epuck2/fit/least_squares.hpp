@@ -279,14 +279,15 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     if (j >= 0 && j < P) free_column[static_cast<std::size_t>(j)] = false;
   // Residuals y - model(p, x) at p and, when `jacobian` is given, their Jacobian by Jets (what
   // Ceres' automatic derivatives compute). False when a residual is not finite.
-  // With `sums`, the same pass also sums the normal equations J^T J (lower triangle) and J^T r.
+  // With `sums`, the same pass also sums the normal equations J^T J (lower triangle) and J^T r;
+  // `residuals` may then be null (the sums hold what a solve needs).
   struct NormalSums {
     double normal[P][P] = {};
     double gradient[P] = {};
   };
   auto evaluate = [&](const std::vector<double>& p, std::vector<double>* residuals, Eigen::MatrixXd* jacobian,
                       NormalSums* sums = nullptr) {
-    residuals->resize(x.size());
+    if (residuals != nullptr) residuals->resize(x.size());
     bool finite = true;
     using std::isfinite;
     if (jacobian == nullptr) {
@@ -302,7 +303,7 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     jacobian->resize(static_cast<Eigen::Index>(x.size()), P);
     for (std::size_t i = 0; i < x.size(); ++i) {
       const Jet r = Jet(y[i]) - model(pj, x[i]);
-      (*residuals)[i] = r.a;
+      if (residuals != nullptr) (*residuals)[i] = r.a;
       jacobian->row(static_cast<Eigen::Index>(i)) = r.v.transpose();
       finite = finite && isfinite(r);
       if (sums != nullptr)
@@ -318,13 +319,12 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
   // The solve takes the normal equations, summed in the same pass as the Jacobian, when they are
   // well conditioned (the battery cubic's equilibrated J has condition number 86: 4 of 16 digits
   // lost, then recovered by one step of iterative refinement); otherwise J's column-pivoted QR,
-  // from the same pass's Jacobian and residuals.
+  // from the same pass's Jacobian.
   Eigen::MatrixXd start_jacobian, start_inverse_normal;
   bool linear_started = false;
   if constexpr (is_linear_in_parameters<Model>::value) {
-    std::vector<double> r0;
     NormalSums sums;
-    if (options.linear_start && !options.robust && evaluate(initial, &r0, &start_jacobian, &sums)) {
+    if (options.linear_start && !options.robust && evaluate(initial, nullptr, &start_jacobian, &sums)) {
       Eigen::MatrixXd N(P, P);
       Eigen::VectorXd g(P);
       for (int a = 0; a < P; ++a) {
@@ -350,8 +350,11 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
         Eigen::VectorXd correction;
         if (normal_equations_least_squares(N, g, free_column, &correction)) step += correction;
       } else {
-        // Ill-conditioned normal equations: J's own QR. Rank-deficient or non-finite: Ceres
-        // starts from `initial` and reports what it finds.
+        // Ill-conditioned normal equations: J's own QR, with the residuals (evaluated again here,
+        // on this rare path, rather than stored on every fit). Rank-deficient or non-finite:
+        // Ceres starts from `initial` and reports what it finds.
+        std::vector<double> r0;
+        evaluate(initial, &r0, nullptr);
         linear_started = linear_least_squares(
             start_jacobian, Eigen::Map<const Eigen::VectorXd>(r0.data(), static_cast<Eigen::Index>(r0.size())),
             free_column, &step, &start_inverse_normal);
