@@ -19,6 +19,7 @@ struct BatteryOptions {
   std::string plot;
   std::string plot_lifetime;
   bool robust = false;
+  bool least_squares = false;
   double robust_scale = 0.05;
 };
 
@@ -46,6 +47,12 @@ void print_report(const fit::BatteryFit& f) {
               f.simple_static_std_error, f.simple_moving_slope_per_s, f.simple_moving_std_error);
   std::printf("Average MSE over speeds: simple %.4f, linear %.4f, cubic %.4f, approximated %.4f\n", f.mse.simple,
               f.mse.linear, f.mse.cubic, f.mse.approximated);
+  std::size_t wild = 0;
+  for (const auto& s : f.speeds) wild += s.outliers.size();
+  std::printf("Readings left out as wild (more than 6 robust sd from their speed's cubic; --least-squares keeps them): %zu\n", wild);
+  for (const auto& s : f.speeds)
+    for (std::size_t i = 0; i < s.outliers.size() && i < 3; ++i)
+      std::printf("  %.2f cm/s: %s\n", s.speed_cm_s, s.outliers[i].c_str());
   if (!f.tables) std::printf("(the logs do not cover every speed 0..15 cm/s: no complete model tables)\n");
 }
 
@@ -55,7 +62,7 @@ int run_battery(const BatteryOptions& o) {
   fit::FitOptions options;
   options.robust = o.robust;
   options.robust_scale = o.robust_scale;
-  const fit::BatteryFit f = fit::fit_battery(runs, options);
+  const fit::BatteryFit f = fit::fit_battery(runs, options, o.least_squares ? 0.0 : fit::kBatteryRejectSd);
   std::string unusable;
   for (const auto& s : f.speeds) {
     if (!s.cubic.usable) unusable += " cubic at " + std::to_string(s.speed_cm_s) + " cm/s: " + s.cubic.message + ";";
@@ -93,6 +100,8 @@ void setup_battery(CLI::App& app, Action& action) {
   sub->add_option("--plot", o->plot, "Draw the logs and the four fitted models per speed (PNG)");
   sub->add_option("--plot-lifetime", o->plot_lifetime, "Draw lifetime against speed, as the paper's Fig. 10b (PNG)");
   sub->add_flag("--robust", o->robust, "Huber loss instead of least squares");
+  sub->add_flag("--least-squares", o->least_squares,
+                "Keep every reading (by default readings more than 6 robust sd from a speed's cubic are left out and listed)");
   sub->add_option("--robust-scale", o->robust_scale, "Huber threshold in charge units")->capture_default_str();
   sub->callback([o, &action] { action = [o] { return run_battery(*o); }; });
 }

@@ -17,14 +17,16 @@ void print_report(const fit::CameraFit& f) {
   const auto& r = f.result;
   std::printf("Camera: px = cx - f y/x, py = cy - f z/x, f = 80 / tan(fov/2) (160x120 image)\n");
   std::printf("%zu LED observations\n\n", f.observations.size());
-  std::printf("horizontal field of view fov_deg = %.3f +- %.3f deg\n", r.value("fov_deg"), r.std_error("fov_deg"));
+  app::sensors::print_parameter(r, "fov_deg", "deg (horizontal field of view)", "");
   std::printf("  (ARGoS aperture on the diagonal: %.3f deg)\n",
               s::rad_to_deg(s::aperture_from_horizontal_fov_rad(s::deg_to_rad(r.value("fov_deg")))));
-  std::printf("image centre cx_px = %.2f +- %.2f, cy_px = %.2f +- %.2f\n", r.value("cx_px"), r.std_error("cx_px"),
-              r.value("cy_px"), r.std_error("cy_px"));
+  app::sensors::print_parameter(r, "cx_px", "px (image centre column)", "");
+  app::sensors::print_parameter(r, "cy_px", "px (image centre row)", "");
+  app::sensors::print_handling(r);
   std::printf("MSE %.3f px^2 (plug-in, 29.97 deg centred at (80, 60): %.3f px^2)\n", r.mse, f.plugin_mse);
   std::printf("Table 4 method (alpha from the pixel offset, centre taken as column 80), %zu points: %.2f +- %.2f deg\n",
               f.table4_points, f.table4_alpha_mean_deg, f.table4_alpha_sd_deg);
+  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
 void draw(const std::string& path, const fit::CameraFit& f) {
@@ -54,21 +56,39 @@ void draw(const std::string& path, const fit::CameraFit& f) {
   });
 }
 
-int run_camera(const app::sensors::SensorOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::camera);
-  const fit::CameraFit f = fit::fit_camera(logs);
+nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, fit::CameraFit* keep) {
+  fit::CameraFit f = fit::fit_camera(logs, o.fit_options());
   app::sensors::require_usable(f.result, "camera fit");
-  nlohmann::json j = app::sensors::skeleton("camera", o.logs);
-  app::sensors::add_parameters(j, f.result);
+  std::vector<std::string> sources;
+  for (const auto& l : logs) sources.push_back(l.path);
+  nlohmann::json j = app::sensors::skeleton("camera", sources);
+  app::sensors::add_parameters(j, f.result, "", "projection");
   j["parameters"]["aperture_deg"] = s::rad_to_deg(s::aperture_from_horizontal_fov_rad(s::deg_to_rad(f.result.value("fov_deg"))));
   j["parameters"]["width_px"] = s::kCameraWidth_px;
   j["parameters"]["height_px"] = s::kCameraHeight_px;
   j["parameters"]["range_m"] = s::kCameraRange_m;
+  for (const char* held : {"width_px", "height_px", "range_m"}) j["std_errors"][held] = 0.0;
+  // The aperture is a function of the field of view: its error follows through the derivative.
+  const double h = 1e-6, fov = f.result.value("fov_deg");
+  const double slope = (s::aperture_from_horizontal_fov_rad(s::deg_to_rad(fov + h)) -
+                        s::aperture_from_horizontal_fov_rad(s::deg_to_rad(fov - h))) / (2 * s::deg_to_rad(h));
+  j["std_errors"]["aperture_deg"] = app::sensors::number(std::abs(slope) * f.result.std_error("fov_deg"));
+  if (!std::isfinite(f.result.std_error("fov_deg"))) j["std_error_why"]["aperture_deg"] = "follows fov_deg";
   j["mse"] = f.result.mse;
   j["observations"] = f.observations.size();
   j["units"] = {{"fov_deg", "degrees, horizontal"}, {"aperture_deg", "ARGoS half-angle on the diagonal"}, {"mse", "px^2"}};
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
   j["table4"] = {{"alpha_mean_deg", f.table4_alpha_mean_deg}, {"alpha_sd_deg", f.table4_alpha_sd_deg}, {"points", f.table4_points}};
+  app::sensors::add_warnings(j, f.warnings);
+  if (keep != nullptr) *keep = std::move(f);
+  return j;
+}
+
+int run_camera(const app::sensors::SensorOptions& o) {
+  const auto logs = app::sensors::select_robot(logs::read_logs(o.logs, logs::Kind::camera), o.robot);
+  fit::CameraFit f;
+  nlohmann::json j = camera_json(logs, o, &f);
+  app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return camera_json(mine, o, nullptr); });
   return app::sensors::finish("camera", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
 }
 

@@ -145,6 +145,9 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   j["residual_structure"] = scores(r.structure_after);
   j["residual_structure_before"] = scores(r.structure_before);
   j["effects_considered"] = r.effects_considered;
+  j["outliers"] = {{"count", r.outliers.size()}, {"rows", r.outliers}};
+  j["censored"] = r.censored;
+  j["warnings"] = r.warnings;
   nlohmann::json trials = nlohmann::json::array();
   for (const auto& t : r.trials)
     trials.push_back({{"step", t.step}, {"cause", t.cause}, {"delta_bic", t.delta_bic},
@@ -200,6 +203,11 @@ void print_report(const dg::Report& r) {
       std::printf("Note: these logs cannot tell %s from %s (they fit almost as well).\n", f.cause.c_str(), alts.c_str());
     }
   for (const auto& n : r.notes) std::printf("Note: %s.\n", n.c_str());
+  if (r.censored > 0) std::printf("Readings on a sensor's rails: %zu (modelled through the clamp).\n", r.censored);
+  if (!r.outliers.empty()) {
+    std::printf("Wild readings left out before the diagnosis: %zu\n", r.outliers.size());
+    for (std::size_t k = 0; k < r.outliers.size() && k < 5; ++k) std::printf("  %s\n", r.outliers[k].c_str());
+  }
   if (r.findings.empty()) std::printf("No effect of the catalogue passes both the BIC and the held-out test.\n");
   std::printf("Residual structure left:");
   for (std::size_t k = 0; k < r.structure_after.size() && k < 4; ++k)
@@ -265,6 +273,7 @@ int run_diagnose(const DiagnoseOptions& o) {
     options.battery_tables = fit::battery_tables_from_json(read_json(o.coefficients), o.coefficients);
   const dg::Report r = dg::diagnose(logs, options);
   if (!r.supported) throw UsageError(r.message);
+  for (const auto& w : r.warnings) std::fprintf(stderr, "diagnose: warning: %s\n", w.c_str());
   if (o.json != "-") print_report(r);
   if (!o.json.empty()) write_json(to_json(r, o.logs), o.json);
   if (!o.plot_dir.empty()) draw(o.plot_dir, r);

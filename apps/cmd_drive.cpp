@@ -16,18 +16,22 @@ namespace s = models::sensors;
 
 void print_report(const fit::DriveFit& f) {
   std::printf("Drive runs: %zu\n\n", f.runs.size());
-  std::printf("Encoders: steps = steps_per_m * commanded distance (%zu rows)\n", f.steps_rows);
-  std::printf("  steps_per_m = %.3f +- %.3f  (plug-in 7763.656)  MSE %.3f steps^2\n", f.steps.value("steps_per_m"),
-              f.steps.std_error("steps_per_m"), f.steps.mse);
-  for (const auto& p : f.excluded_from_steps)
-    std::printf("  left out (commands above the firmware's 1100 steps/s = 14.17 cm/s): %s\n", p.c_str());
-  std::printf("\nToF: tof_mm = scale * 1000 (D - travel) + offset, travel = encoder travel lagged by tau (%zu rows, %zu at the clamps left out)\n",
-              f.tof_rows, f.tof_censored);
+  std::printf("Encoders: steps = steps_per_m * commanded distance (%zu rows; commands above the firmware's 1100 steps/s = "
+              "14.17 cm/s taken as that limit: %zu rows)\n",
+              f.steps_rows, f.capped_rows);
+  app::sensors::print_parameter(f.steps, "steps_per_m", "(plug-in 7763.656)");
+  app::sensors::print_handling(f.steps);
+  for (const auto& p : f.over_limit_runs) std::printf("  commands above the limit (capped): %s\n", p.c_str());
+  std::printf("\nToF: tof_mm = scale * 1000 (D - travel) + offset, travel = encoder travel lagged by tau (%zu rows; %zu at the "
+              "20/2000 mm rails or out-of-range codes, censored; %zu codes >= 8190)\n",
+              f.tof_rows, f.tof_censored, f.tof_out_of_range_codes);
   const auto& t = f.tof;
-  std::printf("  tof_scale = %.5f +- %.5f\n  tof_offset_mm = %.3f +- %.3f\n  slip_time_constant_s = %.4f +- %.4f\n",
-              t.value("tof_scale"), t.std_error("tof_scale"), t.value("tof_offset_mm"), t.std_error("tof_offset_mm"),
-              t.value("slip_time_constant_s"), t.std_error("slip_time_constant_s"));
+  app::sensors::print_parameter(t, "tof_scale");
+  app::sensors::print_parameter(t, "tof_offset_mm", "mm");
+  app::sensors::print_parameter(t, "slip_time_constant_s", "s");
+  app::sensors::print_handling(t);
   std::printf("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
+  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
 void draw(const std::string& path, const fit::DriveFit& f) {
@@ -38,7 +42,7 @@ void draw(const std::string& path, const fit::DriveFit& f) {
     for (std::size_t r = 0; r < f.runs.size(); ++r) {
       const auto& run = f.runs[r];
       const std::vector<double> travel = fit::lagged_travel_m(run, spm, tau);
-      const std::vector<double> enc = fit::lagged_travel_m(run, s::kPluginStepsPerMetre, 1e-9);
+      const std::vector<double> enc = fit::lagged_travel_m(run, s::kPluginStepsPerMetre, 0.0);
       std::vector<std::vector<double>> rows;
       double commanded = 0;
       for (std::size_t k = 0; k < run.time_s.size(); ++k) {
@@ -64,23 +68,35 @@ void draw(const std::string& path, const fit::DriveFit& f) {
   });
 }
 
-int run_drive(const app::sensors::SensorOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::drive);
-  const fit::DriveFit f = fit::fit_drive(logs);
+nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, fit::DriveFit* keep) {
+  fit::DriveFit f = fit::fit_drive(logs, o.fit_options());
   app::sensors::require_usable(f.steps, "encoder fit");
   app::sensors::require_usable(f.tof, "ToF fit");
-  nlohmann::json j = app::sensors::skeleton("drive", o.logs);
-  app::sensors::add_parameters(j, f.steps);
-  app::sensors::add_parameters(j, f.tof);
+  std::vector<std::string> sources;
+  for (const auto& l : logs) sources.push_back(l.path);
+  nlohmann::json j = app::sensors::skeleton("drive", sources);
+  app::sensors::add_parameters(j, f.steps, "", "steps");
+  app::sensors::add_parameters(j, f.tof, "", "tof");
   j["mse"] = f.tof.mse;
   j["steps_mse"] = f.steps.mse;
   j["observations"] = f.tof.observations;
   j["steps_observations"] = f.steps.observations;
-  j["tof_censored"] = f.tof_censored;
-  j["excluded_from_steps"] = f.excluded_from_steps;
-  j["units"] = {{"steps_per_m", "steps per metre"}, {"tof_offset_mm", "mm"}, {"slip_time_constant_s", "s"},
+  j["tof_out_of_range_codes"] = f.tof_out_of_range_codes;
+  j["capped_rows"] = f.capped_rows;
+  j["over_limit_runs"] = f.over_limit_runs;
+  j["units"] = {{"steps_per_m", "steps per metre"}, {"tof_offset_mm", "mm"}, {"tof_scale", "1"}, {"slip_time_constant_s", "s"},
                 {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}};
   j["reference_mse"] = {{"plugin_tof", f.plugin_tof_mse}};
+  app::sensors::add_warnings(j, f.warnings);
+  if (keep != nullptr) *keep = std::move(f);
+  return j;
+}
+
+int run_drive(const app::sensors::SensorOptions& o) {
+  const auto logs = app::sensors::select_robot(logs::read_logs(o.logs, logs::Kind::drive), o.robot);
+  fit::DriveFit f;
+  nlohmann::json j = drive_json(logs, o, &f);
+  app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return drive_json(mine, o, nullptr); });
   return app::sensors::finish("drive", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
 }
 

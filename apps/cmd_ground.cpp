@@ -15,14 +15,19 @@ const char* kSensorNames[] = {"0 (right)", "1 (centre)", "2 (left)"};
 
 void print_report(const fit::GroundFit& f) {
   std::printf("Ground sensors: reading = offset + gain * grey (grey 0 = black, 1 = white)\n");
-  std::printf("%zu readings, %zu at the 0/1023 clamps left out\n\n", f.readings, f.censored);
+  std::printf("%zu readings, %zu on the 0/1023 rails (censored)\n\n", f.readings, f.censored);
   std::printf("%-11s %22s %22s %10s %12s\n", "sensor", "gain_raw", "offset_raw", "MSE", "plug-in MSE");
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
     const auto& r = f.sensors[k];
-    std::printf("%-11s %12.3f +- %6.3f %12.3f +- %6.3f %10.3f %12.1f\n", kSensorNames[k], r.value("gain"), r.std_error("gain"),
+    std::printf("%-11s %12.3f +- %6.2g %12.3f +- %6.2g %10.3f %12.1f\n", kSensorNames[k], r.value("gain"), r.std_error("gain"),
                 r.value("offset"), r.std_error("offset"), r.mse, f.plugin_mse[k]);
   }
-  std::printf("Plug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0. Pooled MSE %.3f counts^2\n", f.mse);
+  for (std::size_t k = 0; k < f.sensors.size(); ++k) {
+    std::printf("\nSensor %s:\n", kSensorNames[k]);
+    app::sensors::print_handling(f.sensors[k]);
+  }
+  std::printf("\nPlug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0. Pooled MSE %.3f counts^2\n", f.mse);
+  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
 void draw(const std::string& path, const fit::GroundFit& f) {
@@ -50,22 +55,28 @@ void draw(const std::string& path, const fit::GroundFit& f) {
   });
 }
 
-int run_ground(const app::sensors::SensorOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::ground);
-  const fit::GroundFit f = fit::fit_ground(logs);
-  nlohmann::json j = app::sensors::skeleton("ground", o.logs);
+nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, fit::GroundFit* keep) {
+  fit::GroundFit f = fit::fit_ground(logs, o.fit_options());
+  std::vector<std::string> sources;
+  for (const auto& l : logs) sources.push_back(l.path);
+  nlohmann::json j = app::sensors::skeleton("ground", sources);
   nlohmann::json gain = nlohmann::json::array(), offset = nlohmann::json::array(), gain_se = nlohmann::json::array(),
                  offset_se = nlohmann::json::array(), mse = nlohmann::json::array(), n = nlohmann::json::array();
   std::size_t observations = 0;
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
-    app::sensors::require_usable(f.sensors[k], std::string("ground sensor ") + kSensorNames[k]);
-    gain.push_back(f.sensors[k].value("gain"));
-    offset.push_back(f.sensors[k].value("offset"));
-    gain_se.push_back(app::sensors::number(f.sensors[k].std_error("gain")));
-    offset_se.push_back(app::sensors::number(f.sensors[k].std_error("offset")));
-    mse.push_back(f.sensors[k].mse);
-    n.push_back(f.sensors[k].observations);
-    observations += f.sensors[k].observations;
+    const auto& r = f.sensors[k];
+    app::sensors::require_usable(r, std::string("ground sensor ") + kSensorNames[k]);
+    gain.push_back(r.value("gain"));
+    offset.push_back(r.value("offset"));
+    gain_se.push_back(app::sensors::number(r.std_error("gain")));
+    offset_se.push_back(app::sensors::number(r.std_error("offset")));
+    for (const char* name : {"gain", "offset"})
+      if (!std::isfinite(r.std_error(name)))
+        j["std_error_why"][std::string(name) + "[" + std::to_string(k) + "]"] = app::sensors::std_error_reason(r, name);
+    mse.push_back(r.mse);
+    n.push_back(r.observations);
+    observations += r.observations;
+    app::sensors::add_aggregates(j, r, "sensor_" + std::to_string(k), "sensor_" + std::to_string(k) + ".");
   }
   j["parameters"]["gain"] = gain;
   j["parameters"]["offset"] = offset;
@@ -76,9 +87,19 @@ int run_ground(const app::sensors::SensorOptions& o) {
   j["observations"] = observations;
   j["observations_per_sensor"] = n;
   j["readings"] = f.readings;
-  j["censored"] = f.censored;
   j["model"] = "value_raw = offset + gain * grey, grey in [0, 1], sensors 0 right, 1 centre, 2 left";
+  j["units"] = {{"gain", "raw counts (white minus black)"}, {"offset", "raw counts (black)"}, {"mse", "counts^2"}};
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
+  app::sensors::add_warnings(j, f.warnings);
+  if (keep != nullptr) *keep = std::move(f);
+  return j;
+}
+
+int run_ground(const app::sensors::SensorOptions& o) {
+  const auto logs = app::sensors::select_robot(logs::read_logs(o.logs, logs::Kind::ground), o.robot);
+  fit::GroundFit f;
+  nlohmann::json j = ground_json(logs, o, &f);
+  app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return ground_json(mine, o, nullptr); });
   return app::sensors::finish("ground", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
 }
 

@@ -15,14 +15,20 @@ namespace s = models::sensors;
 
 void print_report(const fit::LightFit& f) {
   std::printf("Ambient light sensor, paper Eq. 2: reading/4095 = 1 - (gamma I / d)^2\n");
-  std::printf("%zu readings, %zu used (%zu saturated, dark or out of range left out)\n\n", f.readings,
-              f.observations.size(), f.censored);
-  std::printf("gamma = %.6f +- %.2g m  (MSE %.3e, normalised units)\n", f.gamma.value("gamma"), f.gamma.std_error("gamma"),
-              f.gamma.mse);
-  for (std::size_t i = 0; i < f.sensors.size(); ++i)
-    std::printf("  sensor %d alone: gamma = %.6f +- %.2g m  (MSE %.3e)\n", f.sensors[i], f.gamma_per_sensor[i].value("gamma"),
-                f.gamma_per_sensor[i].std_error("gamma"), f.gamma_per_sensor[i].mse);
-  std::printf("Plug-in: gamma = 1/13.3333 = 0.075 m, MSE on the same readings %.3e\n", f.plugin_mse);
+  std::printf("%zu readings: %zu enter the fits (%zu of them on a rail, 0 = saturated or 4095 = dark: censored), %zu left out "
+              "(no light in range)\n\n",
+              f.readings, f.observations.size(), f.censored, f.left_out.size());
+  std::printf("All sensors together:\n");
+  app::sensors::print_parameter(f.gamma, "gamma", "m");
+  app::sensors::print_handling(f.gamma);
+  std::printf("  MSE %.3e (normalised units)\n", f.gamma.mse);
+  for (std::size_t i = 0; i < f.sensors.size(); ++i) {
+    std::printf("Sensor %d alone:\n", f.sensors[i]);
+    app::sensors::print_parameter(f.gamma_per_sensor[i], "gamma", "m");
+    app::sensors::print_handling(f.gamma_per_sensor[i]);
+  }
+  std::printf("Plug-in: gamma = 1/13.3333 = 0.075 m, MSE on the readings inside the rails %.3e\n", f.plugin_mse);
+  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
 void draw(const std::string& path, const fit::LightFit& f) {
@@ -54,25 +60,42 @@ void draw(const std::string& path, const fit::LightFit& f) {
   });
 }
 
-int run_light(const app::sensors::SensorOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::light);
-  const fit::LightFit f = fit::fit_light(logs);
+nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, fit::LightFit* keep) {
+  fit::LightFit f = fit::fit_light(logs, o.fit_options());
   app::sensors::require_usable(f.gamma, "light fit");
-  nlohmann::json j = app::sensors::skeleton("light", o.logs);
-  app::sensors::add_parameters(j, f.gamma);
+  std::vector<std::string> sources;
+  for (const auto& l : logs) sources.push_back(l.path);
+  nlohmann::json j = app::sensors::skeleton("light", sources);
+  app::sensors::add_parameters(j, f.gamma, "", "gamma");
   j["parameters"]["range_m"] = s::kPluginLight.range_m;
+  j["std_errors"]["range_m"] = 0.0;
   j["mse"] = f.gamma.mse;
   j["observations"] = f.gamma.observations;
   j["readings"] = f.readings;
-  j["censored"] = f.censored;
-  j["units"] = {{"gamma", "m per intensity unit"}, {"mse", "(reading / 4095)^2"}};
+  j["units"] = {{"gamma", "m per intensity unit"}, {"mse", "(reading / 4095)^2"}, {"range_m", "m (held)"}};
   nlohmann::json per = nlohmann::json::array();
-  for (std::size_t i = 0; i < f.sensors.size(); ++i)
-    per.push_back({{"sensor", f.sensors[i]}, {"gamma", app::sensors::number(f.gamma_per_sensor[i].value("gamma"))},
-                   {"std_error", app::sensors::number(f.gamma_per_sensor[i].std_error("gamma"))},
-                   {"mse", f.gamma_per_sensor[i].mse}});
+  for (std::size_t i = 0; i < f.sensors.size(); ++i) {
+    const auto& r = f.gamma_per_sensor[i];
+    nlohmann::json one = {{"sensor", f.sensors[i]}, {"usable", r.usable}, {"gamma", app::sensors::number(r.value("gamma"))},
+                          {"std_error", app::sensors::number(r.std_error("gamma"))}, {"mse", app::sensors::number(r.mse)},
+                          {"fit", app::sensors::fit_details(r)}};
+    if (!std::isfinite(r.std_error("gamma"))) one["std_error_why"] = r.usable ? app::sensors::std_error_reason(r, "gamma") : r.message;
+    per.push_back(one);
+  }
   j["per_sensor"] = per;
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
+  std::vector<fit::LeftOut> left_out = f.left_out;
+  app::sensors::add_left_out(j, left_out);
+  app::sensors::add_warnings(j, f.warnings);
+  if (keep != nullptr) *keep = std::move(f);
+  return j;
+}
+
+int run_light(const app::sensors::SensorOptions& o) {
+  const auto logs = app::sensors::select_robot(logs::read_logs(o.logs, logs::Kind::light), o.robot);
+  fit::LightFit f;
+  nlohmann::json j = light_json(logs, o, &f);
+  app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return light_json(mine, o, nullptr); });
   return app::sensors::finish("light", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
 }
 

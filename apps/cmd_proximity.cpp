@@ -20,21 +20,34 @@ std::string poly(double a, double b, double c) {
 }
 
 void print_report(const fit::ProximityFit& f) {
-  std::printf("Proximity sensor, paper Eq. 1: v(d) = a d^2 + b d + c (normalised 0..1), d <= 0.05 m\n");
-  std::printf("%zu readings at %zu distances\n\n", f.readings, f.points.size());
-  std::printf("%10s %8s %8s %8s %8s  %s\n", "distance_m", "readings", "min", "mean", "max", "used");
+  std::printf("Proximity sensor, paper Eq. 1: v(d) = a d^2 + b d + c (normalised 0..1), d <= 0.05 m,\n"
+              "held non-increasing with distance over [0, 0.05 m] (slopes at 0 and at 0.05 m bounded at 0)\n");
+  std::printf("%zu readings at %zu distances; %zu on a rail (0 or 4095, censored); %zu left out\n\n", f.readings,
+              f.points.size(), f.censored_readings, f.left_out.size());
+  std::printf("%10s %8s %6s %8s %8s %8s  %s\n", "distance_m", "readings", "kept", "min", "mean", "max", "used");
   for (const auto& p : f.points)
-    std::printf("%10.4f %8zu %8.4f %8.4f %8.4f  %s\n", p.distance_m, p.readings, p.min, p.mean, p.max,
+    std::printf("%10.4f %8zu %6zu %8.4f %8.4f %8.4f%s  %s\n", p.distance_m, p.readings, p.kept, p.min, p.mean, p.max,
+                p.max_censoring == fit::Censoring::at_or_above   ? "+"
+                : p.max_censoring == fit::Censoring::at_or_below ? "-"
+                                                                 : " ",
                 p.used ? "yes" : ("no: " + p.excluded_why).c_str());
-  auto line = [](const char* what, const fit::FitResult& r, double plugin, double v1) {
+  std::printf("(+: on the 4095 rail, at least this; -: on the 0 rail, at most this)\n");
+  std::size_t shown = 0;
+  for (const auto& l : f.left_out)
+    if (l.why.rfind("wild", 0) == 0 && shown++ < 5) std::printf("left out: %s: %s\n", l.where.c_str(), l.why.c_str());
+  auto line = [](const char* what, const fit::RobustFit& r, double plugin, double v1) {
     std::printf("\n%s (%zu points):\n", what, r.observations);
-    for (const auto& p : r.parameters) std::printf("  %s = %12.6g +- %.3g\n", p.name.c_str(), p.value, p.std_error);
+    app::sensors::print_parameter(r, "a", "1/m^2");
+    app::sensors::print_parameter(r, "b", "1/m");
+    app::sensors::print_parameter(r, "c");
+    app::sensors::print_handling(r);
     std::printf("  MSE %.3e   (plug-in polynomial: %.3e; E-Puck v1 298.701 d^2 - 36.8961 d + 1.08212: %.3e)\n", r.mse,
                 plugin, v1);
   };
   line("Fitted to the maxima", f.maxima, f.plugin_mse_maxima, f.epuck1_mse_maxima);
   line("Fitted to the means", f.means, f.plugin_mse_means, f.epuck1_mse_means);
   std::printf("\nPlug-in (paper, fitted to maxima): a = 197.8633, b = -30.47182, c = 1.011635\n");
+  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
 void draw(const std::string& path, const fit::ProximityFit& f) {
@@ -60,27 +73,45 @@ void draw(const std::string& path, const fit::ProximityFit& f) {
   });
 }
 
-int run_proximity(const app::sensors::SensorOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::proximity);
-  const fit::ProximityFit f = fit::fit_proximity(logs);
+nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, fit::ProximityFit* keep) {
+  fit::ProximityFit f = fit::fit_proximity(logs, o.fit_options());
   app::sensors::require_usable(f.maxima, "proximity fit to the maxima");
   app::sensors::require_usable(f.means, "proximity fit to the means");
-  nlohmann::json j = app::sensors::skeleton("proximity", o.logs);
-  app::sensors::add_parameters(j, f.maxima);
-  app::sensors::add_parameters(j, f.means, "mean_");
+  std::vector<std::string> sources;
+  for (const auto& l : logs) sources.push_back(l.path);
+  nlohmann::json j = app::sensors::skeleton("proximity", sources);
+  app::sensors::add_parameters(j, f.maxima, "", "maxima");
+  app::sensors::add_parameters(j, f.means, "mean_", "means");
   j["parameters"]["range_m"] = s::kPluginProximity.range_m;
+  j["std_errors"]["range_m"] = 0.0;
   j["mse"] = f.maxima.mse;
   j["mean_mse"] = f.means.mse;
   j["observations"] = f.maxima.observations;
   j["readings"] = f.readings;
-  j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"values", "reading / 4095"}};
+  j["censored_readings"] = f.censored_readings;
+  j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"values", "reading / 4095"}, {"range_m", "m (held)"}};
   j["reference_mse"] = {{"plugin_maxima", f.plugin_mse_maxima}, {"plugin_means", f.plugin_mse_means},
                         {"epuck1_maxima", f.epuck1_mse_maxima}, {"epuck1_means", f.epuck1_mse_means}};
   nlohmann::json points = nlohmann::json::array();
+  auto rail = [](fit::Censoring c) {
+    return c == fit::Censoring::at_or_above ? "at_or_above" : c == fit::Censoring::at_or_below ? "at_or_below" : "none";
+  };
   for (const auto& p : f.points)
     points.push_back({{"distance_m", p.distance_m}, {"max", p.max}, {"mean", p.mean}, {"min", p.min},
-                      {"readings", p.readings}, {"used", p.used}});
+                      {"readings", p.readings}, {"kept", p.kept}, {"used", p.used}, {"max_censoring", rail(p.max_censoring)},
+                      {"mean_censoring", rail(p.mean_censoring)}});
   j["points"] = points;
+  app::sensors::add_left_out(j, f.left_out);
+  app::sensors::add_warnings(j, f.warnings);
+  if (keep != nullptr) *keep = std::move(f);
+  return j;
+}
+
+int run_proximity(const app::sensors::SensorOptions& o) {
+  const auto logs = app::sensors::select_robot(logs::read_logs(o.logs, logs::Kind::proximity), o.robot);
+  fit::ProximityFit f;
+  nlohmann::json j = proximity_json(logs, o, &f);
+  app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return proximity_json(mine, o, nullptr); });
   return app::sensors::finish("proximity", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
 }
 

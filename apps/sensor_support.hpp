@@ -3,8 +3,12 @@
 // the plot, then --json or the human report).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -15,6 +19,8 @@
 #include "app_support.hpp"
 #include "commands.hpp"
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/robust.hpp"
+#include "epuck2/fit/sensors.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace epuck2::app::sensors {
@@ -24,6 +30,15 @@ struct SensorOptions {
   bool json = false;
   std::string output;
   std::string plot;
+  bool least_squares = false;  ///< plain least squares: no reading left out as an outlier
+  double reject_sd = 4.0;      ///< robust: readings farther than this many noise sd are outliers
+  std::string robot;           ///< fit only this robot's logs
+  fit::SensorFitOptions fit_options() const {
+    fit::SensorFitOptions f;
+    f.robust = !least_squares;
+    f.reject_sd = reject_sd;
+    return f;
+  }
 };
 
 /// Adds LOGS..., --json, -o/--output and --plot to a subcommand.
@@ -32,6 +47,36 @@ inline void add_common_options(CLI::App* sub, SensorOptions& o, const std::strin
   sub->add_flag("--json", o.json, "Print one JSON object instead of the report");
   sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically");
   sub->add_option("--plot", o.plot, "Draw the data, the fitted curve and the plug-in's curve (PNG)");
+  sub->add_flag("--least-squares", o.least_squares,
+                "Plain least squares: no reading is left out as an outlier (readings on a rail stay censored)");
+  sub->add_option("--reject-sd", o.reject_sd, "Robust fits: readings farther than this many noise sd are outliers")
+      ->check(CLI::Range(2.0, 100.0));
+  sub->add_option("--robot", o.robot, "Fit only this robot's logs (# robot: metadata, a robot column, or the file name)");
+}
+
+/// The logs of `robot` (all when empty); exit 2 listing the robots when none is that one.
+inline std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::string& robot) {
+  if (robot.empty()) return all;
+  std::vector<logs::Log> out;
+  std::vector<std::string> names;
+  for (auto& l : all) {
+    if (std::find(names.begin(), names.end(), l.robot) == names.end()) names.push_back(l.robot);
+    if (l.robot == robot) out.push_back(std::move(l));
+  }
+  if (out.empty()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw UsageError("--robot " + robot + ": no log of that robot; these logs are of " + list);
+  }
+  return out;
+}
+
+/// The robots of the logs, in order of first appearance.
+inline std::vector<std::string> robots_of(const std::vector<logs::Log>& all) {
+  std::vector<std::string> names;
+  for (const auto& l : all)
+    if (std::find(names.begin(), names.end(), l.robot) == names.end()) names.push_back(l.robot);
+  return names;
 }
 
 /// {"kind", "parameters": {}, "std_errors": {}, "mse", "observations", "sources"}: the shape the
@@ -48,12 +93,183 @@ inline nlohmann::json skeleton(const std::string& kind, const std::vector<std::s
 /// A JSON number, or null for NaN/infinity (JSON has no NaN).
 inline nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-/// Copies a fit's parameters (named `prefix` + name) and standard errors into the skeleton.
-inline void add_parameters(nlohmann::json& j, const fit::FitResult& r, const std::string& prefix = "") {
+/// Appends to a JSON array member, creating it.
+inline void append(nlohmann::json& j, const std::string& key, const nlohmann::json& v) {
+  if (!j.contains(key)) j[key] = nlohmann::json::array();
+  j[key].push_back(v);
+}
+
+/// What a fit did with the readings, for the coefficient file's `fits` (docs/coefficient-files.md).
+inline nlohmann::json fit_details(const fit::RobustFit& r) {
+  nlohmann::json d;
+  d["method"] = r.method;
+  d["observations"] = r.observations;
+  d["inside_rails"] = r.exact;
+  d["censored"] = {{"at_or_below", r.censored_below}, {"at_or_above", r.censored_above}};
+  d["outliers"] = r.outliers.size();
+  d["noise_sd"] = number(r.noise_sd);
+  d["rss"] = number(r.rss);
+  d["mse"] = number(r.mse);
+  d["r2"] = number(r.r2);
+  d["log_likelihood"] = number(r.log_likelihood);
+  d["aic"] = number(r.aic);
+  d["bic"] = number(r.bic);
+  d["free_parameters"] = r.free_parameters;
+  if (r.lack_of_fit.tested)
+    d["lack_of_fit"] = {{"reduced_chi2", number(r.lack_of_fit.reduced_chi2)}, {"p_value", number(r.lack_of_fit.p_value)},
+                        {"replicate_sd", number(r.lack_of_fit.replicate_sd)}, {"groups", r.lack_of_fit.groups},
+                        {"dof_lack", r.lack_of_fit.dof_lack}, {"dof_pure", r.lack_of_fit.dof_pure}};
+  else
+    d["lack_of_fit"] = {{"tested", false}, {"why", r.lack_of_fit.why_not}};
+  return d;
+}
+
+/// Copies a fit's parameters (named `prefix` + name) and standard errors into the skeleton, with
+/// a reason for every standard error that is null, and what the fit did into `fits`, `censored`,
+/// `outliers`, `not_identifiable` and `warnings`. `key` names the fit in `fits`.
+/// What a fit did (under `fits`.`key`), added to the file's totals: `censored`, `outliers`,
+/// `not_identifiable` (names with `prefix`), `lack_of_fit`.`key`.
+inline void add_aggregates(nlohmann::json& j, const fit::RobustFit& r, const std::string& key, const std::string& prefix = "") {
+  for (const auto& n : r.not_identifiable) append(j, "not_identifiable", prefix + n);
+  j["fits"][key] = fit_details(r);
+  j["censored"] = j.value("censored", std::size_t{0}) + r.censored();
+  if (!j.contains("outliers")) j["outliers"] = {{"count", 0}, {"rows", nlohmann::json::array()}};
+  j["outliers"]["count"] = j["outliers"]["count"].get<std::size_t>() + r.outlier_where.size();
+  for (const auto& w : r.outlier_where) j["outliers"]["rows"].push_back(w);
+  if (r.lack_of_fit.tested) j["lack_of_fit"][key] = j["fits"][key]["lack_of_fit"];
+}
+
+/// The reason a standard error is null.
+inline std::string std_error_reason(const fit::RobustFit& r, const std::string& name) {
+  const auto why = r.std_error_why.find(name);
+  return why != r.std_error_why.end() ? why->second : "the covariance could not be computed";
+}
+
+inline void add_parameters(nlohmann::json& j, const fit::RobustFit& r, const std::string& prefix = "",
+                           const std::string& key = "fit") {
   for (const auto& p : r.parameters) {
     j["parameters"][prefix + p.name] = number(p.value);
     j["std_errors"][prefix + p.name] = number(p.std_error);
+    if (!std::isfinite(p.std_error)) j["std_error_why"][prefix + p.name] = std_error_reason(r, p.name);
   }
+  add_aggregates(j, r, key, prefix);
+}
+
+/// Readings left out before a fit (wild, beyond a range), each with its reason.
+inline void add_left_out(nlohmann::json& j, const std::vector<fit::LeftOut>& rows) {
+  if (!j.contains("outliers")) j["outliers"] = {{"count", 0}, {"rows", nlohmann::json::array()}};
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& r : rows) {
+    list.push_back({{"where", r.where}, {"why", r.why}});
+    if (r.why.rfind("wild", 0) == 0) {
+      j["outliers"]["count"] = j["outliers"]["count"].get<std::size_t>() + 1;
+      j["outliers"]["rows"].push_back(r.where);
+    }
+  }
+  j["left_out"] = {{"count", rows.size()}, {"rows", list}};
+}
+
+inline void add_warnings(nlohmann::json& j, const std::vector<std::string>& warnings) {
+  if (!j.contains("warnings")) j["warnings"] = nlohmann::json::array();
+  for (const auto& w : warnings) j["warnings"].push_back(w);
+}
+
+/// Several robots: each robot's logs fitted alone (`fit` gives the same JSON as the pooled file),
+/// their parameters and standard errors under `robots`, and for every parameter whether the
+/// robots differ beyond their own uncertainties (Cochran's Q against chi^2, p < 0.01) under
+/// `robot_spread`, with a warning when they do: the pooled set then describes no robot.
+inline void add_robots(nlohmann::json& j, const std::vector<logs::Log>& all,
+                       const std::function<nlohmann::json(const std::vector<logs::Log>&)>& fit_logs) {
+  const std::vector<std::string> names = robots_of(all);
+  if (names.size() < 2) return;
+  std::map<std::string, std::vector<std::pair<double, double>>> by_parameter;  // value, se per robot
+  for (const auto& name : names) {
+    std::vector<logs::Log> mine;
+    std::vector<std::string> files;
+    for (const auto& l : all)
+      if (l.robot == name) {
+        mine.push_back(l);
+        files.push_back(l.path);
+      }
+    nlohmann::json r;
+    try {
+      r = fit_logs(mine);
+    } catch (const NoUsableFit& e) {
+      j["robots"][name] = {{"logs", files}, {"usable", false}, {"why", e.what()}};
+      continue;
+    }
+    j["robots"][name] = {{"logs", files}, {"usable", true}, {"parameters", r["parameters"]}, {"std_errors", r["std_errors"]}};
+    if (r.contains("not_identifiable")) j["robots"][name]["not_identifiable"] = r["not_identifiable"];
+    for (auto it = r["parameters"].begin(); it != r["parameters"].end(); ++it) {
+      const auto& se = r["std_errors"].value(it.key(), nlohmann::json());
+      if (it->is_number() && se.is_number()) by_parameter[it.key()].push_back({it->get<double>(), se.get<double>()});
+      if (it->is_array() && se.is_array())
+        for (std::size_t i = 0; i < it->size() && i < se.size(); ++i)
+          if ((*it)[i].is_number() && se[i].is_number())
+            by_parameter[it.key() + "[" + std::to_string(i) + "]"].push_back({(*it)[i].get<double>(), se[i].get<double>()});
+    }
+  }
+  nlohmann::json spread = nlohmann::json::array();
+  for (const auto& [name, values] : by_parameter) {
+    std::vector<fit::FitResult> fits(values.size());
+    std::vector<const fit::FitResult*> ptrs;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      fits[i].usable = true;
+      fits[i].parameters = {{name, values[i].first, values[i].second}};
+      ptrs.push_back(&fits[i]);
+    }
+    for (const fit::RobotSpread& s : fit::robot_spread(ptrs)) {
+      spread.push_back({{"parameter", name}, {"spread_sd", number(s.spread_sd)}, {"q", number(s.q)}, {"dof", s.dof},
+                        {"p_value", number(s.p_value)}, {"exceeds_uncertainty", s.exceeds}});
+      if (s.exceeds) {
+        char buf[300];
+        std::snprintf(buf, sizeof buf,
+                      "the robots differ in %s beyond their own uncertainties (sd between robots %.4g, Q = %.3g, p = %.2g): "
+                      "the pooled value describes no robot; use `robots` or --robot ID.",
+                      name.c_str(), s.spread_sd, s.q, s.p_value);
+        append(j, "warnings", std::string(buf));
+      }
+    }
+  }
+  j["robot_spread"] = spread;
+}
+
+/// The human report's lines on what a fit did with the readings.
+inline void print_handling(const fit::RobustFit& r, const char* indent = "  ") {
+  std::printf("%s%s\n", indent, r.method.c_str());
+  std::printf("%s%zu observations: %zu inside the rails, %zu censored (%zu at or below the low rail, %zu at or above the high), "
+              "%zu outliers left out\n",
+              indent, r.observations + r.outliers.size(), r.exact, r.censored(), r.censored_below, r.censored_above,
+              r.outliers.size());
+  for (std::size_t i = 0; i < r.outlier_where.size() && i < 5; ++i) std::printf("%s  outlier: %s\n", indent, r.outlier_where[i].c_str());
+  if (r.outlier_where.size() > 5) std::printf("%s  ... and %zu more (all in the JSON)\n", indent, r.outlier_where.size() - 5);
+  std::printf("%snoise sd %.4g; n %zu, free parameters %d, RSS %.4g, R^2 %.6f, AIC %.2f, BIC %.2f\n", indent, r.noise_sd,
+              r.observations, r.free_parameters, r.rss, r.r2, r.aic, r.bic);
+  if (r.lack_of_fit.tested)
+    std::printf("%slack of fit against %zu replicate groups: reduced chi^2 %.3g (p = %.3g), replicate sd %.4g\n", indent,
+                r.lack_of_fit.groups, r.lack_of_fit.reduced_chi2, r.lack_of_fit.p_value, r.lack_of_fit.replicate_sd);
+  for (const auto& n : r.not_identifiable) {
+    const auto why = r.std_error_why.find(n);
+    std::printf("%snot identifiable: %s (%s)\n", indent, n.c_str(), why == r.std_error_why.end() ? "" : why->second.c_str());
+  }
+}
+
+/// A parameter line: value +- standard error, or the reason there is none.
+inline void print_parameter(const fit::RobustFit& r, const std::string& name, const char* unit = "", const char* indent = "  ") {
+  const double v = r.value(name), e = r.std_error(name);
+  if (std::isfinite(e)) {
+    std::printf("%s%s = %.8g +- %.2g %s\n", indent, name.c_str(), v, e, unit);
+  } else {
+    const auto why = r.std_error_why.find(name);
+    std::printf("%s%s = %.8g %s (no standard error: %s)\n", indent, name.c_str(), v, unit,
+                why == r.std_error_why.end() ? "not computed" : why->second.c_str());
+  }
+}
+
+/// Warnings on standard error, each once.
+inline void print_warnings(const std::string& kind, const nlohmann::json& j) {
+  if (!j.contains("warnings")) return;
+  for (const auto& w : j["warnings"]) std::cerr << kind << ": warning: " << w.get<std::string>() << '\n';
 }
 
 /// Throws NoUsableFit when the fit is not usable.
@@ -64,6 +280,7 @@ inline void require_usable(const fit::FitResult& r, const std::string& what) {
 /// -o first (atomic), then the plot, then the JSON or the report on standard output.
 template <class Report, class Plot>
 int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json& j, Report report, Plot plot) {
+  print_warnings(kind, j);
   if (!o.output.empty()) {
     write_json(j, o.output);
     std::cerr << kind << ": wrote " << o.output << '\n';

@@ -50,8 +50,11 @@ TEST(ProximityFit, MaximaRecoverTheEnvelopeAndMeansLieBelow) {
       EXPECT_NEAR(s::proximity_polynomial(m, d), envelope, kProximityEnvelopeTolerance) << "seed " << seed << " d " << d;
       EXPECT_LT(s::proximity_polynomial(mm, d), s::proximity_polynomial(m, d)) << "means below maxima at " << d;
     }
-    // The points the fits use: 0.005..0.045 m (0 m is saturated, 0.05 m sees nothing, beyond is out of range).
-    EXPECT_EQ(f.maxima.observations, 9u);
+    // The points: 0.005..0.045 m inside the rails; 0 m saturated (a lower bound on the curve) and
+    // 0.05 m where nothing is detected (an upper bound) enter censored; beyond is out of range.
+    EXPECT_EQ(f.maxima.exact, 9u);
+    EXPECT_EQ(f.maxima.censored_above, 1u);
+    EXPECT_EQ(f.maxima.censored_below, 1u);
     // The plug-in's polynomial is the envelope itself: its MSE on the maxima is small, on the means large.
     EXPECT_LT(f.plugin_mse_maxima, kProximityEnvelopeTolerance * kProximityEnvelopeTolerance);
     EXPECT_GT(f.plugin_mse_means, 10 * f.means.mse);
@@ -140,7 +143,9 @@ TEST(DriveFit, RecoversStepsPerMetreTofAndSlip) {
   ASSERT_TRUE(f.steps.usable) << f.steps.message;
   ASSERT_TRUE(f.tof.usable) << f.tof.message;
   EXPECT_NEAR(f.steps.value("steps_per_m"), truth.steps_per_m, kStepsPerMetreRelTolerance * truth.steps_per_m);
-  EXPECT_EQ(f.excluded_from_steps.size(), 2u);  // the two 15 cm/s runs exceed 1100 steps/s
+  // The two 15 cm/s runs exceed 1100 steps/s: their commands are taken as the limit.
+  EXPECT_EQ(f.over_limit_runs.size(), 2u);
+  EXPECT_GT(f.capped_rows, 0u);
   EXPECT_NEAR(f.tof.value("tof_scale"), truth.tof_scale, kTofScaleTolerance);
   EXPECT_NEAR(f.tof.value("tof_offset_mm"), truth.tof_offset_mm, kTofOffsetTolerance_mm);
   EXPECT_NEAR(f.tof.value("slip_time_constant_s"), truth.slip_time_constant_s,

@@ -151,6 +151,7 @@ std::vector<BatteryRun> battery_runs(const std::vector<logs::Log>& all) {
     run.robot = log.robot;
     run.time_s = log.col("time_s");
     run.charge = log.col("charge");
+    run.line = log.line_of_row;
     const auto& speed = log.col("speed_cm_s");
     constexpr double kSameSpeed_cm_s = 0.005;  // speeds are logged to 0.01 cm/s at best
     run.speed_cm_s = std::abs(speed.front());
@@ -193,7 +194,7 @@ double analytic_charge(const SpeedFit& s, const BatteryFit& all, mb::Model m, do
   return 0;
 }
 
-BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& options) {
+BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& options, double reject_sd) {
   BatteryFit out;
   std::map<long, std::vector<const BatteryRun*>> by_speed;  // key: speed in 0.01 cm/s
   for (const BatteryRun& r : runs) {
@@ -205,20 +206,54 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
     s.speed_cm_s = static_cast<double>(key) / 100.0;
     s.runs = group.size();
     std::vector<double> lifetimes, t, y;
+    std::vector<std::string> where;
     for (const BatteryRun* r : group) {
       lifetimes.push_back(r->lifetime_s);
       t.insert(t.end(), r->time_s.begin(), r->time_s.end());
       y.insert(y.end(), r->charge.begin(), r->charge.end());
+      for (std::size_t i = 0; i < r->time_s.size(); ++i)
+        where.push_back(r->path + ":" + (i < r->line.size() ? std::to_string(r->line[i]) : "?"));
     }
-    s.observations = t.size();
     s.lifetime_s = mean_of(lifetimes);
     s.lifetime_std_error_s = std_error_of_mean(lifetimes);
     const double L = s.lifetime_s;
     std::vector<double> u(t.size());
     for (std::size_t i = 0; i < t.size(); ++i) u[i] = t[i] / L;
 
-    // Cubic, in scaled time, back to seconds.
+    // Cubic, in scaled time, back to seconds. Robust: readings far from it (a wild reading of
+    // the charge) leave every model at this speed, and the cubic is fitted again without them.
+    // Cheap when there are none: one pass over the residuals.
     s.cubic = fit_curve(CubicInScaledTime{}, u, y, {1.0, -1.0, 0.0, 0.0}, {"d", "c", "b", "a"}, options);
+    for (int pass = 0; pass < 5 && reject_sd > 0 && s.cubic.usable; ++pass) {
+      const std::vector<double> p = s.cubic.values();
+      std::vector<double> r(u.size()), dev(u.size());
+      for (std::size_t i = 0; i < u.size(); ++i) {
+        r[i] = y[i] - CubicInScaledTime{}(p.data(), u[i]);
+        dev[i] = std::abs(r[i]);
+      }
+      std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2), dev.end());
+      s.noise_sd = 1.482602218505602 * dev[dev.size() / 2];
+      const double limit = reject_sd * s.noise_sd;
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < u.size(); ++i) {
+        if (std::abs(r[i]) > limit && limit > 0) {
+          s.outliers.push_back(where[i]);
+          continue;
+        }
+        u[kept] = u[i];
+        t[kept] = t[i];
+        y[kept] = y[i];
+        where[kept] = where[i];
+        ++kept;
+      }
+      if (kept == u.size()) break;
+      u.resize(kept);
+      t.resize(kept);
+      y.resize(kept);
+      where.resize(kept);
+      s.cubic = fit_curve(CubicInScaledTime{}, u, y, {1.0, -1.0, 0.0, 0.0}, {"d", "c", "b", "a"}, options);
+    }
+    s.observations = t.size();
     rescale(s.cubic, {1.0, 1.0 / L, 1.0 / (L * L), 1.0 / (L * L * L)}, {"d", "c", "b", "a"});
 
     s.free_line = fit_curve(LineInScaledTime{}, u, y, {1.0, -1.0}, {"intercept", "slope_per_s"}, options);

@@ -36,6 +36,7 @@ double number_at(const json& j, const std::string& key, const std::string& path,
 
 json battery_fit_to_json(const BatteryFit& fit) {
   json speeds = json::array();
+  std::vector<std::string> outlier_rows;
   for (const SpeedFit& s : fit.speeds) {
     json segs = json::array();
     for (const mb::Segment& g : s.segments)
@@ -57,13 +58,19 @@ json battery_fit_to_json(const BatteryFit& fit) {
         {"segments", segs},
         {"mse", mse_json(s.mse)},
         {"fit", {{"cubic", fit_stats(s.cubic)}, {"free_line", fit_stats(s.free_line)}, {"piecewise", fit_stats(s.piecewise)}}},
+        {"noise_sd", s.noise_sd},
+        {"outliers", s.outliers},
     });
+    outlier_rows.insert(outlier_rows.end(), s.outliers.begin(), s.outliers.end());
   }
   return json{
       {"kind", "battery"},
       {"units", {{"time", "s"}, {"speed", "cm/s"}, {"charge", "normalised, 1 = full"}}},
       {"models", "paper Appendix: simple, linear, cubic, approximated; see docs/battery-models.md"},
       {"sources", fit.sources},
+      {"outliers", {{"count", outlier_rows.size()}, {"rows", outlier_rows}}},
+      {"censored", 0},
+      {"not_identifiable", json::array()},
       {"speeds", speeds},
       {"simple", {{"static_slope_per_s", fit.simple_static_slope_per_s},
                   {"static_std_error", fit.simple_static_std_error},

@@ -10,6 +10,7 @@
 
 #include "diagnose_problem.hpp"
 #include "epuck2/fit/diagnose.hpp"
+#include "epuck2/fit/screening.hpp"
 #include "epuck2/fit/least_squares.hpp"
 
 namespace epuck2::fit::diagnose {
@@ -482,14 +483,22 @@ void settle_noise(Engine& engine, const std::vector<int>& free, Engine::Fitted& 
 
 }  // namespace
 
-Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
+Report diagnose(const std::vector<logs::Log>& all_logs, const Options& options) {
   Report report;
-  if (logs.empty()) {
+  if (all_logs.empty()) {
     report.message = "no logs";
     return report;
   }
-  report.kind = logs.front().kind;
-  for (const auto& l : logs) report.rows += l.rows();
+  report.kind = all_logs.front().kind;
+  for (const auto& l : all_logs) report.rows += l.rows();
+  // Wild readings (far from the others under the same conditions) would be "explained" by
+  // whatever effect bends the curve towards them: they leave before anything is fitted.
+  std::vector<WildReading> wild;
+  const std::vector<logs::Log> logs = drop_wild_readings(all_logs, &wild);
+  for (const WildReading& w : wild) report.outliers.push_back(w.where + ": " + w.why);
+  if (!wild.empty())
+    report.warnings.push_back(std::to_string(wild.size()) + " wild readings left out before the diagnosis (listed under outliers).");
+  report.censored = readings_on_rails(all_logs);
   std::string why;
   std::unique_ptr<Problem> problem = detail::make_problem(logs, options, why);
   if (!problem) {
@@ -680,6 +689,16 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
   }
   for (std::size_t k = 0; k < order.size(); ++k) report.findings[k].parameters = named(p, current, p.effects[order[k]].params);
   if (!p.base_free.empty()) report.recalibrated = named(p, current, p.base_free);
+
+  // A finding whose parameter the logs do not pin down (standard error above its size, or none)
+  // names a direction of misfit, not a measured effect: say so.
+  for (const Finding& f : report.findings)
+    for (const NamedValue& v : f.parameters)
+      if (!(std::abs(v.std_error) <= std::abs(v.value)))
+        report.warnings.push_back("finding " + f.cause + ": " + v.name + " = " + std::to_string(v.value) +
+                                  " is not determined by these logs (standard error " +
+                                  (std::isfinite(v.std_error) ? std::to_string(v.std_error) : std::string("undefined")) +
+                                  "); read it as a direction, not a size.");
 
   // Step 5: residual structure before (recalibrated base) and after (final model).
   report.residual_before = engine.residuals(base_values);

@@ -1,5 +1,7 @@
 // Sensor calibration fits (see epuck2/fit/sensors.hpp): proximity, light, ground, camera, drive,
-// and the loaders of the coefficient files the CLI writes.
+// and the loaders of the coefficient files the CLI writes. Every fit goes through fit_robust
+// (epuck2/fit/robust.hpp): readings on a sensor's rails are censored, wild readings are left out
+// and listed by file:line, parameters the logs cannot determine keep the plug-in's value.
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -24,101 +26,93 @@ double mse_of(const std::vector<double>& residuals) {
   return sum / static_cast<double>(residuals.size());
 }
 
-// Eq. 1's quadratic, normalised response against the distance: y = a d^2 + b d + c.
-struct ProximityModel {
-  static constexpr int kParameters = 3;
-  template <typename T>
-  T operator()(const T* abc, double distance_m) const {
-    return s::proximity_polynomial(abc, distance_m);
-  }
-};
+std::string where(const logs::Log& log, std::size_t row) {
+  return log.path + ":" + std::to_string(log.line_of_row.at(row));
+}
 
-// Eq. 2 for one light: y = 1 - (gamma x)^2 with x = intensity / distance (per metre), since the
-// response depends on the two only through their ratio.
-struct LightModel {
-  static constexpr int kParameters = 1;
-  template <typename T>
-  T operator()(const T* gamma_m, double intensity_per_m) const {
-    return s::light_response(gamma_m[0], intensity_per_m, 1.0);
-  }
-};
+std::string fmt(double v, int digits = 4) {
+  std::ostringstream os;
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
 
-// Ground: y = offset + gain grey, p = {gain_raw, offset_raw}.
-struct GroundModel {
-  static constexpr int kParameters = 2;
-  template <typename T>
-  T operator()(const T* p, double grey) const {
-    return s::ground_response(p[0], p[1], grey);
-  }
-};
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
 
-// Encoder steps against the commanded distance: y = steps_per_m x.
-struct StepsModel {
-  static constexpr int kParameters = 1;
-  template <typename T>
-  T operator()(const T* steps_per_m, double distance_m) const {
-    return steps_per_m[0] * distance_m;
-  }
-};
+/// A reading's censoring against a sensor's two rails.
+Censoring rail_of(double value, double low, double high) {
+  if (value <= low) return Censoring::at_or_below;
+  if (value >= high) return Censoring::at_or_above;
+  return Censoring::none;
+}
 
-// Camera: residuals (px - px_model, py - py_model) in pixels, with
-// px_model = cx - f y/x, py_model = cy - f z/x, f = (W/2)/tan(fov/2), fov in degrees.
-class CameraResidual {
- public:
-  explicit CameraResidual(const CameraObservation& o) : o_(o) {}
+// Eq. 1's quadratic over the distances of `x`, parametrised by its slopes so that it cannot rise
+// with distance inside [0, range]: p = {u, w, c} with u = -b (minus the slope at 0) and
+// w = -(b + 2 a range) (minus the slope at the range), both >= 0; a = (u - w) / (2 range), b = -u.
+struct MonotoneProximity {
+  std::vector<double> x;
+  double range_m;
   template <typename T>
-  bool operator()(const T* p, T* residual) const {
-    T px, py;
-    s::camera_projection(T(s::deg_to_rad(1.0)) * p[0], p[1], p[2], s::kCameraWidth_px, o_.forward_m, o_.lateral_m,
-                         o_.vertical_m, &px, &py);
-    residual[0] = T(o_.px) - px;
-    residual[1] = T(o_.py) - py;
+  bool operator()(const T* p, T* out) const {
+    const T a = (p[0] - p[1]) / (2.0 * range_m);
+    const T abc[3] = {a, -p[0], p[2]};
+    for (std::size_t i = 0; i < x.size(); ++i) out[i] = s::proximity_polynomial(abc, x[i]);
     return true;
   }
-  static ceres::CostFunction* Create(const CameraObservation& o) {
-    return new ceres::AutoDiffCostFunction<CameraResidual, 2, 3>(new CameraResidual(o));
-  }
-
- private:
-  const CameraObservation o_;
 };
 
-// ToF along one run: residual_k = tof_k - (scale 1000 (D - g_k) + offset), g = the encoders'
-// wheel travel lagged by tau (lagged_travel_m), p = {tof_scale, tof_offset_mm, tau_s}. Rows at
-// the sensor's clamps (20 and 2000 mm) are skipped.
-class TofRunResidual {
- public:
-  TofRunResidual(const DriveRun& run, double steps_per_m, std::vector<std::size_t> rows)
-      : run_(run), steps_per_m_(steps_per_m), rows_(std::move(rows)) {}
-  template <typename T>
-  bool operator()(T const* const* params, T* residual) const {
-    const T* p = params[0];
-    const std::vector<T> travel = lagged_travel_m(run_, steps_per_m_, p[2]);
-    for (std::size_t i = 0; i < rows_.size(); ++i) {
-      const std::size_t k = rows_[i];
-      residual[i] = T(run_.tof_mm[k]) - s::tof_response_mm(p[0], p[1], T(run_.obstacle_distance_m) - travel[k]);
-    }
-    return true;
+/// {u, w, c} -> {a, b, c} with its covariance, names a, b, c.
+void to_abc(RobustFit& f, double range_m) {
+  if (!f.usable) return;
+  Eigen::Matrix3d M;
+  M << 1 / (2 * range_m), -1 / (2 * range_m), 0, -1, 0, 0, 0, 0, 1;
+  const Eigen::Vector3d uwc(f.FitResult::parameters[0].value, f.FitResult::parameters[1].value,
+                            f.FitResult::parameters[2].value);
+  const Eigen::Vector3d abc = M * uwc;
+  const Eigen::Matrix3d cov = M * f.covariance * M.transpose();
+  const char* names[3] = {"a", "b", "c"};
+  // A parameter held (not identifiable) in {u, w, c} leaves its combinations without an error.
+  const bool any_nan = std::any_of(f.FitResult::parameters.begin(), f.FitResult::parameters.end(),
+                                   [](const ParameterEstimate& e) { return !std::isfinite(e.std_error); });
+  for (int j = 0; j < 3; ++j) {
+    f.FitResult::parameters[static_cast<std::size_t>(j)].name = names[j];
+    f.FitResult::parameters[static_cast<std::size_t>(j)].value = abc(j);
+    f.FitResult::parameters[static_cast<std::size_t>(j)].std_error =
+        any_nan && j < 2 ? std::numeric_limits<double>::quiet_NaN() : std::sqrt(std::max(cov(j, j), 0.0));
   }
-  static ceres::CostFunction* Create(const DriveRun& run, double steps_per_m, std::vector<std::size_t> rows) {
-    const int n = static_cast<int>(rows.size());
-    auto* f = new ceres::DynamicAutoDiffCostFunction<TofRunResidual, 4>(new TofRunResidual(run, steps_per_m, std::move(rows)));
-    f->AddParameterBlock(3);
-    f->SetNumResiduals(n);
-    return f;
-  }
+  f.covariance = cov;
+}
 
- private:
-  const DriveRun& run_;
-  const double steps_per_m_;
-  const std::vector<std::size_t> rows_;
-};
+std::vector<Parameter> proximity_parameters(const s::ProximityCoefficients& start) {
+  const double u = -start.b_per_m, w = -(start.b_per_m + 2 * start.a_per_m2 * start.range_m);
+  const double inf = std::numeric_limits<double>::infinity();
+  return {{"slope_at_0", std::max(u, 0.0), u, 0.0, inf},
+          {"slope_at_range", std::max(w, 0.0), w, 0.0, inf},
+          {"c", start.c, start.c, -inf, inf}};
+}
 
-FitResult unusable(const std::string& why) {
-  FitResult r;
-  r.message = why;
+void collect(std::vector<std::string>& into, const std::string& prefix, const std::vector<std::string>& from) {
+  for (const std::string& w : from) into.push_back(prefix + w);
+}
+
+RobustOptions robust_options(const SensorFitOptions& o, double noise_floor) {
+  RobustOptions r;
+  r.robust = o.robust;
+  r.reject_sd = o.reject_sd;
+  r.noise_floor = noise_floor;
   return r;
 }
+
+// The VL53L0X's "no target in range" codes (8190, 8191): a reading beyond its ceiling.
+constexpr double kTofOutOfRangeCode_mm = 8190.0;
+
+// Quantisation noise of an integer reading: 1/sqrt(12) of a count.
+constexpr double kQuantisationSd = 0.28867513459481287;
 
 }  // namespace
 
@@ -126,51 +120,187 @@ FitResult unusable(const std::string& why) {
 // Proximity
 // ================================================================================================
 
-ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const s::ProximityCoefficients& start) {
+namespace {
+// A reading farther than this many robust sd (1.4826 MAD, at least half the median of all
+// distances' and at least 2 counts) from its distance's median is wild. The virtual robot's
+// one-sided scatter reaches about 4.5 such sd below the median in 360 readings; 8 leaves margin.
+constexpr double kProximityWildSd = 8.0;
+// A distance whose readings average under this fraction of full scale detected nothing.
+constexpr double kProximityUndetectedFraction = 0.01;
+// Peeling a maximum that the curve rejects: at most this fraction of a distance's readings (and
+// at least one) are taken away before the point itself is left out.
+constexpr double kProximityMaxPeelFraction = 0.02;
+}  // namespace
+
+ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOptions& options,
+                           const s::ProximityCoefficients& start) {
   ProximityFit out;
-  std::map<double, std::vector<double>> by_distance;
+  struct Reading {
+    double value;
+    std::string where;
+  };
+  std::map<double, std::vector<Reading>> by_distance;
   for (const logs::Log& log : logs) {
     const auto& d = log.col("distance_m");
     const auto& v = log.col("value");
-    for (std::size_t i = 0; i < log.rows(); ++i) by_distance[d[i]].push_back(v[i] / s::kProximityFullScale_raw);
+    for (std::size_t i = 0; i < log.rows(); ++i) by_distance[d[i]].push_back({v[i], where(log, i)});
     out.readings += log.rows();
   }
-  std::vector<double> x, ymax, ymean;
-  for (const auto& [d, values] : by_distance) {
+  const double full = s::kProximityFullScale_raw;
+  // 1. Wild readings: far from their distance's median (rails are censored information, not wild).
+  std::map<double, double> sd_of;
+  std::vector<double> sds;
+  for (const auto& [d, rs] : by_distance) {
+    std::vector<double> inside;
+    for (const Reading& r : rs)
+      if (r.value > 0 && r.value < full) inside.push_back(r.value);
+    if (inside.size() < 5) continue;
+    const double med = median(inside);
+    std::vector<double> dev;
+    for (double v : inside) dev.push_back(std::abs(v - med));
+    sd_of[d] = 1.482602218505602 * median(dev);
+    sds.push_back(sd_of[d]);
+  }
+  const double typical_sd = median(sds);
+  std::map<double, std::vector<Reading>> kept;
+  for (const auto& [d, rs] : by_distance) {
     ProximityPoint p;
     p.distance_m = d;
-    p.readings = values.size();
-    p.max = *std::max_element(values.begin(), values.end());
-    p.min = *std::min_element(values.begin(), values.end());
-    p.mean = std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
+    p.readings = rs.size();
+    std::vector<double> values;
+    for (const Reading& r : rs) values.push_back(r.value);
+    const double med = median(values);
+    const double sd = std::max({sd_of.count(d) ? sd_of[d] : typical_sd, 0.5 * typical_sd, 2.0});
+    for (const Reading& r : rs) {
+      if (r.value == 0 || r.value == full) ++out.censored_readings;
+      const bool on_rail = r.value <= 0 || r.value >= full;
+      if (options.robust && !on_rail && std::abs(r.value - med) > kProximityWildSd * sd)
+        out.left_out.push_back({r.where, "wild: " + fmt(r.value) + " where the readings at " + fmt(d * 1000) +
+                                             " mm centre on " + fmt(med)});
+      else
+        kept[d].push_back(r);
+    }
     if (d > start.range_m) {
-      p.excluded_why = "beyond the sensor's range";
-    } else if (p.max >= 1.0) {
-      p.excluded_why = "saturated (4095)";
-    } else if (p.mean < kProximityUndetectedFraction) {
-      p.excluded_why = "nothing detected";
-    } else {
-      p.used = true;
-      x.push_back(d);
-      ymax.push_back(p.max);
-      ymean.push_back(p.mean);
+      p.excluded_why = "beyond the sensor's range (" + fmt(start.range_m * 1000) + " mm)";
+      for (const Reading& r : kept[d]) out.left_out.push_back({r.where, "beyond the range"});
+      kept[d].clear();
     }
     out.points.push_back(p);
   }
-  const std::vector<double> initial{start.a_per_m2, start.b_per_m, start.c};
-  const std::vector<std::string> names{"a", "b", "c"};
-  out.maxima = fit_curve(ProximityModel{}, x, ymax, initial, names);
-  out.means = fit_curve(ProximityModel{}, x, ymean, initial, names);
-  auto reference_mse = [&](const s::ProximityCoefficients& k, const std::vector<double>& y) {
+
+  // 2. The maxima: peel a maximum the curve rejects (a wild reading that escaped step 1).
+  std::map<double, std::size_t> peeled;
+  std::map<double, bool> point_out;
+  const std::vector<Parameter> params = proximity_parameters(start);
+  for (int round = 0;; ++round) {
+    std::vector<double> x;
+    std::vector<Observation> obs;
+    std::vector<double> dist_of_obs;
+    for (ProximityPoint& p : out.points) {
+      auto& rs = kept[p.distance_m];
+      if (rs.empty() || point_out[p.distance_m]) continue;
+      const auto top = std::max_element(rs.begin(), rs.end(), [](const Reading& a, const Reading& b) { return a.value < b.value; });
+      p.max = top->value / full;
+      p.max_where = top->where;
+      p.max_censoring = rail_of(top->value, 0, full);
+      // Nothing detected (mean under 1 % of full scale): readings of noise around 0 say only that
+      // the curve is at most this high there.
+      double sum = 0;
+      for (const Reading& r : rs) sum += r.value;
+      if (sum / static_cast<double>(rs.size()) < kProximityUndetectedFraction * full) p.max_censoring = Censoring::at_or_below;
+      x.push_back(p.distance_m);
+      dist_of_obs.push_back(p.distance_m);
+      obs.push_back({p.max, p.max_censoring, top->where, -1});
+    }
+    RobustOptions ro = robust_options(options, kQuantisationSd / full);
+    out.maxima = fit_robust(MonotoneProximity{x, start.range_m}, obs, params, ro);
+    if (!out.maxima.usable || !options.robust || round > 200) break;
+    bool again = false;
+    for (std::size_t i : out.maxima.outliers) {
+      const double d = dist_of_obs[i];
+      auto& rs = kept[d];
+      const std::size_t limit = std::max<std::size_t>(1, static_cast<std::size_t>(kProximityMaxPeelFraction * static_cast<double>(rs.size() + peeled[d])));
+      if (peeled[d] >= limit) {
+        point_out[d] = true;
+        out.warnings.push_back("the readings at " + fmt(d * 1000) + " mm do not fit the curve even without their " +
+                               std::to_string(peeled[d]) + " highest: that distance is left out of the maxima fit.");
+      } else {
+        const auto top = std::max_element(rs.begin(), rs.end(), [](const Reading& a, const Reading& b) { return a.value < b.value; });
+        out.left_out.push_back({top->where, "wild: " + fmt(top->value) + " at " + fmt(d * 1000) +
+                                                " mm, far above the curve through the other distances' maxima"});
+        rs.erase(top);
+        ++peeled[d];
+      }
+      again = true;
+    }
+    if (!again) break;
+  }
+  to_abc(out.maxima, start.range_m);
+
+  // 3. The means, over the readings kept; a distance with readings on a rail gives a bound.
+  std::vector<double> x;
+  std::vector<Observation> obs;
+  for (ProximityPoint& p : out.points) {
+    const auto& rs = kept[p.distance_m];
+    p.kept = rs.size();
+    if (rs.empty()) {
+      if (p.excluded_why.empty()) p.excluded_why = "no reading kept";
+      continue;
+    }
+    p.used = true;
+    double sum = 0, lo = full, hi = 0;
+    bool at_top = false, at_bottom = false;
+    for (const Reading& r : rs) {
+      sum += r.value;
+      lo = std::min(lo, r.value);
+      hi = std::max(hi, r.value);
+      at_top = at_top || r.value >= full;
+      at_bottom = at_bottom || r.value <= 0;
+    }
+    p.mean = sum / static_cast<double>(rs.size()) / full;
+    p.min = lo / full;
+    double ss = 0;
+    for (const Reading& r : rs) ss += (r.value / full - p.mean) * (r.value / full - p.mean);
+    p.mean_se = rs.size() > 1 ? std::sqrt(ss / static_cast<double>(rs.size() - 1) / static_cast<double>(rs.size())) : 0.0;
+    // Readings on the top rail were at least full scale: the true mean is at least this one.
+    p.mean_censoring = at_top && !at_bottom ? Censoring::at_or_above
+                       : at_bottom && !at_top ? Censoring::at_or_below
+                                              : Censoring::none;
+    if (p.mean < kProximityUndetectedFraction) p.mean_censoring = Censoring::at_or_below;
+    x.push_back(p.distance_m);
+    obs.push_back({p.mean, p.mean_censoring, "mean at " + fmt(p.distance_m * 1000) + " mm", -1});
+  }
+  // The readings were screened one by one above: a mean is not a reading to leave out.
+  RobustOptions means_options = robust_options(options, kQuantisationSd / full);
+  means_options.robust = false;
+  out.means = fit_robust(MonotoneProximity{x, start.range_m}, obs, params, means_options);
+  to_abc(out.means, start.range_m);
+
+  // 4. References and plausibility.
+  auto reference_mse = [&](const s::ProximityCoefficients& k, bool maxima) {
     std::vector<double> r;
     const double abc[3] = {k.a_per_m2, k.b_per_m, k.c};
-    for (std::size_t i = 0; i < x.size(); ++i) r.push_back(y[i] - s::proximity_polynomial(abc, x[i]));
+    for (const ProximityPoint& p : out.points) {
+      if (!p.used) continue;
+      const Censoring c = maxima ? p.max_censoring : p.mean_censoring;
+      if (c != Censoring::none) continue;
+      r.push_back((maxima ? p.max : p.mean) - std::clamp(s::proximity_polynomial(abc, p.distance_m), 0.0, 1.0));
+    }
     return mse_of(r);
   };
-  out.plugin_mse_maxima = reference_mse(s::kPluginProximity, ymax);
-  out.plugin_mse_means = reference_mse(s::kPluginProximity, ymean);
-  out.epuck1_mse_maxima = reference_mse(s::kEpuck1Proximity, ymax);
-  out.epuck1_mse_means = reference_mse(s::kEpuck1Proximity, ymean);
+  out.plugin_mse_maxima = reference_mse(s::kPluginProximity, true);
+  out.plugin_mse_means = reference_mse(s::kPluginProximity, false);
+  out.epuck1_mse_maxima = reference_mse(s::kEpuck1Proximity, true);
+  out.epuck1_mse_means = reference_mse(s::kEpuck1Proximity, false);
+  for (const auto* f : {&out.maxima, &out.means}) {
+    const std::string which = f == &out.maxima ? "maxima fit: " : "means fit: ";
+    collect(out.warnings, which, f->warnings);
+    if (!f->usable) continue;
+    const double abc[3] = {f->value("a"), f->value("b"), f->value("c")};
+    if (s::proximity_polynomial(abc, 0.0) < 0.05)
+      out.warnings.push_back(which + "the curve reads under 5 % of full scale at contact (c = " + fmt(abc[2]) +
+                             "): a proximity sensor touching a surface reads near full scale.");
+  }
   return out;
 }
 
@@ -178,10 +308,38 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const s::Proximit
 // Light
 // ================================================================================================
 
-LightFit fit_light(const std::vector<logs::Log>& logs) {
+namespace {
+// Eq. 2 for one light: y = 1 - g (gamma I / d)^2 over the observations' x = I / d (per metre).
+struct LightCurve {
+  std::vector<double> intensity_per_m;
+  template <typename T>
+  bool operator()(const T* gamma_m, T* out) const {
+    for (std::size_t i = 0; i < intensity_per_m.size(); ++i) out[i] = s::light_response(gamma_m[0], intensity_per_m[i], 1.0);
+    return true;
+  }
+};
+
+RobustFit fit_gamma(const std::vector<LightObservation>& obs_in, const SensorFitOptions& options, int sensor) {
+  const double full = s::kProximityFullScale_raw;
+  std::vector<double> x;
+  std::vector<Observation> obs;
+  std::map<std::tuple<int, double, double>, int> groups;
+  for (const LightObservation& o : obs_in) {
+    if (sensor >= 0 && o.sensor != sensor) continue;
+    x.push_back(o.intensity / o.distance_m);
+    const auto key = std::make_tuple(o.sensor, o.distance_m, o.intensity);
+    const int group = groups.emplace(key, static_cast<int>(groups.size())).first->second;
+    obs.push_back({std::clamp(o.value_raw / full, 0.0, 1.0), rail_of(o.value_raw, 0, full), o.where, group});
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  return fit_robust(LightCurve{x}, obs, {{"gamma", s::kPluginLight.gamma_m, s::kPluginLight.gamma_m, 1e-9, inf}},
+                    robust_options(options, kQuantisationSd / full));
+}
+}  // namespace
+
+LightFit fit_light(const std::vector<logs::Log>& logs, const SensorFitOptions& options) {
   LightFit out;
-  std::map<int, std::pair<std::vector<double>, std::vector<double>>> per_sensor;
-  std::vector<double> x, y;
+  std::map<int, bool> seen;
   for (const logs::Log& log : logs) {
     const auto& d = log.col("distance_m");
     const auto& in = log.col("intensity");
@@ -189,28 +347,33 @@ LightFit fit_light(const std::vector<logs::Log>& logs) {
     const auto& v = log.col("value");
     out.readings += log.rows();
     for (std::size_t i = 0; i < log.rows(); ++i) {
-      // Saturated (0), dark (4095), a light out of range or of no intensity: no information on gamma.
-      if (v[i] <= 0.0 || v[i] >= s::kProximityFullScale_raw || !(d[i] > 0) || d[i] > s::kPluginLight.range_m ||
-          !(in[i] > 0)) {
-        ++out.censored;
+      // A light out of range or of no intensity leaves the reading dark whatever gamma is.
+      if (!(d[i] > 0) || d[i] > s::kPluginLight.range_m) {
+        out.left_out.push_back({where(log, i), "light beyond the sensor's range (0.5 m)"});
+        continue;
+      }
+      if (!(in[i] > 0)) {
+        out.left_out.push_back({where(log, i), "no light (intensity 0)"});
         continue;
       }
       const int sensor = static_cast<int>(sen[i]);
-      out.observations.push_back({d[i], in[i], sensor, v[i]});
-      x.push_back(in[i] / d[i]);
-      y.push_back(v[i] / s::kProximityFullScale_raw);
-      per_sensor[sensor].first.push_back(x.back());
-      per_sensor[sensor].second.push_back(y.back());
+      seen[sensor] = true;
+      if (v[i] <= 0 || v[i] >= s::kProximityFullScale_raw) ++out.censored;
+      out.observations.push_back({d[i], in[i], sensor, v[i], where(log, i)});
     }
   }
-  const std::vector<double> initial{s::kPluginLight.gamma_m};
-  out.gamma = fit_curve(LightModel{}, x, y, initial, {"gamma"});
-  for (const auto& [sensor, xy] : per_sensor) {
+  out.gamma = fit_gamma(out.observations, options, -1);
+  collect(out.warnings, "pooled gamma: ", out.gamma.warnings);
+  for (const auto& [sensor, yes] : seen) {
+    (void)yes;
     out.sensors.push_back(sensor);
-    out.gamma_per_sensor.push_back(fit_curve(LightModel{}, xy.first, xy.second, initial, {"gamma"}));
+    out.gamma_per_sensor.push_back(fit_gamma(out.observations, options, sensor));
+    collect(out.warnings, "sensor " + std::to_string(sensor) + ": ", out.gamma_per_sensor.back().warnings);
   }
   std::vector<double> r;
-  for (std::size_t i = 0; i < x.size(); ++i) r.push_back(y[i] - s::light_response(s::kPluginLight.gamma_m, x[i], 1.0));
+  for (const LightObservation& o : out.observations)
+    if (o.value_raw > 0 && o.value_raw < s::kProximityFullScale_raw)
+      r.push_back(o.value_raw / s::kProximityFullScale_raw - s::light_response(s::kPluginLight.gamma_m, o.intensity, o.distance_m));
   out.plugin_mse = mse_of(r);
   return out;
 }
@@ -219,38 +382,59 @@ LightFit fit_light(const std::vector<logs::Log>& logs) {
 // Ground
 // ================================================================================================
 
-GroundFit fit_ground(const std::vector<logs::Log>& logs) {
+namespace {
+struct GroundLine {
+  std::vector<double> grey;
+  template <typename T>
+  bool operator()(const T* p, T* out) const {
+    for (std::size_t i = 0; i < grey.size(); ++i) out[i] = s::ground_response(p[0], p[1], grey[i]);
+    return true;
+  }
+};
+}  // namespace
+
+GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions& options) {
   GroundFit out;
+  const double full = s::kGroundFullScale_raw;
+  std::array<std::vector<Observation>, s::kGroundCount> obs;
   for (const logs::Log& log : logs) {
     const auto& g = log.col("grey");
     const auto& sen = log.col("sensor");
     const auto& v = log.col("value");
     out.readings += log.rows();
     for (std::size_t i = 0; i < log.rows(); ++i) {
-      // A reading at 0 or 1023 is clamped: it bounds the response without measuring it.
-      if (v[i] <= 0.0 || v[i] >= s::kGroundFullScale_raw) {
-        ++out.censored;
-        continue;
-      }
       const auto k = static_cast<std::size_t>(sen[i]);
+      const Censoring c = rail_of(v[i], 0, full);
+      if (c != Censoring::none) ++out.censored;
       out.grey[k].push_back(g[i]);
       out.value_raw[k].push_back(v[i]);
+      // Replicates: the same grey level (to a tenth of a percent).
+      obs[k].push_back({v[i], c, where(log, i), static_cast<int>(std::lround(g[i] * 1000))});
     }
   }
   double rss = 0;
   std::size_t n = 0;
-  for (int k = 0; k < s::kGroundCount; ++k) {
-    const auto kk = static_cast<std::size_t>(k);
-    out.sensors[kk] = fit_curve(GroundModel{}, out.grey[kk], out.value_raw[kk],
-                                {s::kPluginGround.gain_raw, s::kPluginGround.offset_raw}, {"gain", "offset"});
-    if (out.sensors[kk].usable) {
-      rss += out.sensors[kk].rss;
-      n += out.sensors[kk].observations;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < static_cast<std::size_t>(s::kGroundCount); ++k) {
+    if (obs[k].empty()) {
+      out.sensors[k].message = "no readings of this sensor";
+      continue;
+    }
+    // Gains positive (white reflects more than black); the offset is what black reads.
+    out.sensors[k] = fit_robust(GroundLine{out.grey[k]}, obs[k],
+                                {{"gain", s::kPluginGround.gain_raw, s::kPluginGround.gain_raw, 1e-9, inf},
+                                 {"offset", s::kPluginGround.offset_raw, s::kPluginGround.offset_raw, -inf, inf}},
+                                robust_options(options, kQuantisationSd));
+    collect(out.warnings, "sensor " + std::to_string(k) + ": ", out.sensors[k].warnings);
+    if (out.sensors[k].usable) {
+      rss += out.sensors[k].rss;
+      n += out.sensors[k].exact;
     }
     std::vector<double> r;
-    for (std::size_t i = 0; i < out.grey[kk].size(); ++i)
-      r.push_back(out.value_raw[kk][i] - s::ground_response(s::kPluginGround.gain_raw, s::kPluginGround.offset_raw, out.grey[kk][i]));
-    out.plugin_mse[kk] = mse_of(r);
+    for (std::size_t i = 0; i < out.grey[k].size(); ++i)
+      if (obs[k][i].censoring == Censoring::none)
+        r.push_back(out.value_raw[k][i] - s::ground_response(s::kPluginGround.gain_raw, s::kPluginGround.offset_raw, out.grey[k][i]));
+    out.plugin_mse[k] = mse_of(r);
   }
   out.mse = n ? rss / static_cast<double>(n) : 0.0;
   return out;
@@ -260,36 +444,53 @@ GroundFit fit_ground(const std::vector<logs::Log>& logs) {
 // Camera
 // ================================================================================================
 
-CameraFit fit_camera(const std::vector<logs::Log>& logs) {
+namespace {
+// px and py of every observation (2 per LED sighting), p = {fov_deg, cx_px, cy_px}:
+// px = cx - f y / x, py = cy - f z / x, f = (W/2) / tan(fov/2).
+struct CameraModel {
+  std::vector<CameraObservation> obs;
+  template <typename T>
+  bool operator()(const T* p, T* out) const {
+    for (std::size_t i = 0; i < obs.size(); ++i)
+      s::camera_projection(T(s::deg_to_rad(1.0)) * p[0], p[1], p[2], s::kCameraWidth_px, obs[i].forward_m, obs[i].lateral_m,
+                           obs[i].vertical_m, &out[2 * i], &out[2 * i + 1]);
+    return true;
+  }
+};
+}  // namespace
+
+CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions& options) {
   CameraFit out;
+  std::vector<Observation> obs;
+  std::map<std::tuple<double, double, double>, int> groups;
   for (const logs::Log& log : logs) {
     const auto& x = log.col("forward_m");
     const auto& y = log.col("lateral_m");
     const auto& z = log.col("vertical_m");
     const auto& px = log.col("px");
     const auto& py = log.col("py");
-    for (std::size_t i = 0; i < log.rows(); ++i) out.observations.push_back({x[i], y[i], z[i], px[i], py[i]});
+    for (std::size_t i = 0; i < log.rows(); ++i) {
+      out.observations.push_back({x[i], y[i], z[i], px[i], py[i], where(log, i)});
+      const int g = groups.emplace(std::make_tuple(x[i], y[i], z[i]), static_cast<int>(groups.size())).first->second;
+      obs.push_back({px[i], Censoring::none, where(log, i), 2 * g});
+      obs.push_back({py[i], Censoring::none, where(log, i), 2 * g + 1});
+    }
   }
   const s::CameraCoefficients plugin = s::plugin_camera();
-  if (out.observations.size() < 3) {
-    out.result = unusable("too few camera observations (" + std::to_string(out.observations.size()) + ") for 3 parameters");
+  if (out.observations.size() < 2) {
+    out.result.message = "too few camera observations (" + std::to_string(out.observations.size()) +
+                         ") for 3 parameters and their noise";
     return out;
   }
-  std::vector<double> p{s::rad_to_deg(plugin.horizontal_fov_rad), plugin.cx_px, plugin.cy_px};
-  ceres::Problem problem;
-  std::vector<double> observed;
-  FitOptions options;
-  for (const auto& o : out.observations) {
-    problem.AddResidualBlock(CameraResidual::Create(o), options.make_loss(), p.data());
-    observed.push_back(o.px);
-    observed.push_back(o.py);
-  }
-  // The field of view stays within (0, 180) degrees.
-  problem.SetParameterLowerBound(p.data(), 0, 1e-3);
-  problem.SetParameterUpperBound(p.data(), 0, 179.0);
-  ceres::Solver::Summary summary;
-  ceres::Solve(options.solver_options(), &problem, &summary);
-  out.result = summarize(problem, ParameterLayout{{p.data()}, {3}, {"fov_deg", "cx_px", "cy_px"}}, observed, summary, options);
+  const double fov = s::rad_to_deg(plugin.horizontal_fov_rad);
+  const double inf = std::numeric_limits<double>::infinity();
+  // The field of view lies within (0, 180) degrees.
+  out.result = fit_robust(CameraModel{out.observations}, obs,
+                          {{"fov_deg", fov, fov, 1e-3, 179.9},
+                           {"cx_px", plugin.cx_px, plugin.cx_px, -inf, inf},
+                           {"cy_px", plugin.cy_px, plugin.cy_px, -inf, inf}},
+                          robust_options(options, kQuantisationSd));
+  collect(out.warnings, "", out.result.warnings);
 
   std::vector<double> r, alphas;
   for (const auto& o : out.observations) {
@@ -329,72 +530,114 @@ DriveRun drive_run_from_log(const logs::Log& log) {
   const auto& sr = log.col("right_steps");
   const auto& tof = log.col("tof_mm");
   const std::vector<double> ul = s::unwrap_steps(sl), ur = s::unwrap_steps(sr);
+  const double cap = kFirmwareSpeedLimit_m_s;
   for (std::size_t i = 0; i < log.rows(); ++i) {
     run.time_s.push_back(t[i]);
-    const double v = 0.5 * (vl[i] + vr[i]) / 100.0;
-    run.command_m_s.push_back(v);
-    if (std::abs(vl[i]) / 100.0 > kFirmwareSpeedLimit_m_s || std::abs(vr[i]) / 100.0 > kFirmwareSpeedLimit_m_s)
+    run.line.push_back(log.line_of_row.at(i));
+    // The firmware runs a wheel commanded above its limit at the limit.
+    const double l = std::clamp(vl[i] / 100.0, -cap, cap), r = std::clamp(vr[i] / 100.0, -cap, cap);
+    if (l != vl[i] / 100.0 || r != vr[i] / 100.0) {
       run.over_speed_limit = true;
+      ++run.capped_rows;
+    }
+    run.command_m_s.push_back(0.5 * (l + r));
     run.steps.push_back(0.5 * (ul[i] + ur[i]));
     run.tof_mm.push_back(tof[i]);
   }
   return run;
 }
 
-DriveFit fit_drive(const std::vector<logs::Log>& logs) {
+namespace {
+// Encoder steps against the commanded distance: y = steps_per_m x.
+struct StepsLine {
+  std::vector<double> distance_m;
+  template <typename T>
+  bool operator()(const T* p, T* out) const {
+    for (std::size_t i = 0; i < distance_m.size(); ++i) out[i] = p[0] * distance_m[i];
+    return true;
+  }
+};
+
+// The ToF of every row of every run: latent = scale 1000 (D - g) + offset, g the encoders'
+// wheel travel lagged by tau (lagged_travel_m); p = {tof_offset_mm, tof_scale, slip_time_constant_s}.
+struct TofModel {
+  const std::vector<DriveRun>* runs;
+  double steps_per_m;
+  template <typename T>
+  bool operator()(const T* p, T* out) const {
+    std::size_t i = 0;
+    for (const DriveRun& run : *runs) {
+      const std::vector<T> travel = lagged_travel_m(run, steps_per_m, p[2]);
+      for (std::size_t k = 0; k < run.time_s.size(); ++k)
+        out[i++] = s::tof_response_mm(p[1], p[0], T(run.obstacle_distance_m) - travel[k]);
+    }
+    return true;
+  }
+};
+}  // namespace
+
+DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& options) {
   DriveFit out;
-  for (const logs::Log& log : logs) out.runs.push_back(drive_run_from_log(log));
+  for (const logs::Log& log : logs) {
+    out.runs.push_back(drive_run_from_log(log));
+    if (out.runs.back().over_speed_limit) out.over_limit_runs.push_back(log.path);
+    out.capped_rows += out.runs.back().capped_rows;
+  }
+  const double nominal = s::kPluginStepsPerMetre;
 
   // 1. Steps per metre: encoder steps against the commanded distance (a command holds until the
-  //    next row), over the runs whose commands the firmware could follow.
-  std::vector<double> x, y;
+  //    next row), commands above the firmware's limit taken as the limit.
+  std::vector<double> x;
+  std::vector<Observation> obs;
   for (const DriveRun& run : out.runs) {
-    if (run.over_speed_limit) {
-      out.excluded_from_steps.push_back(run.path);
-      continue;
-    }
     double commanded_m = 0;
     for (std::size_t k = 0; k < run.time_s.size(); ++k) {
       x.push_back(commanded_m);
-      y.push_back(run.steps[k]);
+      obs.push_back({run.steps[k], Censoring::none, run.path + ":" + std::to_string(run.line[k]), -1});
       if (k + 1 < run.time_s.size()) commanded_m += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
     }
   }
   out.steps_rows = x.size();
-  out.steps = fit_curve(StepsModel{}, x, y, {s::kPluginStepsPerMetre}, {"steps_per_m"});
-  const double steps_per_m = out.steps.usable ? out.steps.value("steps_per_m") : s::kPluginStepsPerMetre;
+  // Within +-20 % of the nominal 41 mm wheel; steps are whole numbers.
+  out.steps = fit_robust(StepsLine{x}, obs, {{"steps_per_m", nominal, nominal, 0.8 * nominal, 1.2 * nominal}},
+                         robust_options(options, kQuantisationSd));
+  collect(out.warnings, "steps per metre: ", out.steps.warnings);
+  const double steps_per_m = out.steps.usable ? out.steps.value("steps_per_m") : nominal;
 
-  // 2. ToF scale and offset, with the slip lag, from every run.
-  std::vector<double> p{1.0, 0.0, 0.05};  // scale, offset_mm, tau_s
-  ceres::Problem problem;
-  std::vector<double> observed, plugin_r;
-  FitOptions options;
+  // 2. ToF offset and scale with the slip lag, from every row of every run: readings at the
+  //    sensor's floor (20 mm) or ceiling (2000 mm, and the out-of-range codes >= 8190) censored.
+  std::vector<Observation> tobs;
+  std::vector<double> plugin_r;
   for (const DriveRun& run : out.runs) {
-    std::vector<std::size_t> rows;
-    const std::vector<double> enc_travel = lagged_travel_m(run, s::kPluginStepsPerMetre, 1e-9);
+    const std::vector<double> enc_travel = lagged_travel_m(run, nominal, 0.0);
     for (std::size_t k = 0; k < run.time_s.size(); ++k) {
-      if (run.tof_mm[k] <= s::kPluginTof.min_mm || run.tof_mm[k] >= s::kPluginTof.max_mm) {
-        ++out.tof_censored;
-        continue;
+      const double mm = run.tof_mm[k];
+      Observation o{mm, Censoring::none, run.path + ":" + std::to_string(run.line[k]), -1};
+      if (mm >= kTofOutOfRangeCode_mm) ++out.tof_out_of_range_codes;
+      if (mm <= s::kPluginTof.min_mm) {
+        o = {s::kPluginTof.min_mm, Censoring::at_or_below, o.where, -1};
+      } else if (mm >= s::kPluginTof.max_mm) {
+        o = {s::kPluginTof.max_mm, Censoring::at_or_above, o.where, -1};
+      } else {
+        plugin_r.push_back(mm - 1000.0 * (run.obstacle_distance_m - enc_travel[k]));
       }
-      rows.push_back(k);
-      observed.push_back(run.tof_mm[k]);
-      plugin_r.push_back(run.tof_mm[k] - 1000.0 * (run.obstacle_distance_m - enc_travel[k]));
+      if (o.censoring != Censoring::none) ++out.tof_censored;
+      tobs.push_back(o);
     }
-    if (rows.empty()) continue;
-    problem.AddResidualBlock(TofRunResidual::Create(run, steps_per_m, rows), options.make_loss(), p.data());
   }
-  out.tof_rows = observed.size();
+  out.tof_rows = tobs.size();
   out.plugin_tof_mse = mse_of(plugin_r);
-  if (observed.size() < 4) {
-    out.tof = unusable("too few ToF readings (" + std::to_string(observed.size()) + ") for 3 parameters");
-    return out;
-  }
-  problem.SetParameterLowerBound(p.data(), 2, 1e-4);  // the lag's time constant stays positive
-  ceres::Solver::Summary summary;
-  ceres::Solve(options.solver_options(), &problem, &summary);
-  out.tof = summarize(problem, ParameterLayout{{p.data()}, {3}, {"tof_scale", "tof_offset_mm", "slip_time_constant_s"}},
-                      observed, summary, options);
+  // Scale within a factor of two of a true range; the lag between none and 2 s. Declared order
+  // decides what a log that cannot tell them apart keeps: the scale and the lag before the offset.
+  out.tof = fit_robust(TofModel{&out.runs, steps_per_m}, tobs,
+                       {{"tof_offset_mm", 0.0, s::kPluginTof.offset_mm, -500.0, 500.0},
+                        {"tof_scale", 1.0, s::kPluginTof.scale, 0.5, 2.0},
+                        {"slip_time_constant_s", 0.05, 0.0, 0.0, 2.0}},
+                       robust_options(options, kQuantisationSd));
+  collect(out.warnings, "ToF: ", out.tof.warnings);
+  if (!out.over_limit_runs.empty())
+    out.warnings.push_back(std::to_string(out.capped_rows) + " rows command more than the firmware's limit (" +
+                           fmt(kFirmwareSpeedLimit_m_s * 100) + " cm/s): taken as the limit, which is what the robot does.");
   return out;
 }
 

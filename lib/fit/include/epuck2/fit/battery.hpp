@@ -34,6 +34,7 @@ struct BatteryRun {
   std::vector<double> time_s;
   std::vector<double> charge;
   std::vector<models::battery::ProfilePoint> profile;  ///< the logged speed profile
+  std::vector<int> line;  ///< source line of each row
 };
 
 /// Turns validated battery logs into runs. A run must hold one speed (the calibration protocol);
@@ -59,6 +60,8 @@ struct SpeedFit {
   FitResult piecewise;              ///< knots x1_s, x2_s, y1, y2, y3 (x0 = 0, y0 = 1, x3 = lifetime - 1)
   std::array<models::battery::Segment, models::battery::kSegmentCount> segments{};
   ModelMse mse;                     ///< analytic MSE of each model's function against these logs
+  std::vector<std::string> outliers;  ///< readings left out of every model at this speed (file:line)
+  double noise_sd = 0;              ///< robust sd of the cubic's residuals (1.4826 MAD)
 };
 
 struct BatteryFit {
@@ -73,7 +76,12 @@ struct BatteryFit {
 
 /// Fits everything. Never throws for numerical trouble: a speed whose fit is unusable carries
 /// the reason in its FitResult::message.
-BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& options = {});
+/// Readings farther than `reject_sd` robust sd (1.4826 MAD of the cubic's residuals) from the
+/// per-speed cubic are left out of every model at that speed and listed (0: keep every reading,
+/// plain least squares).
+inline constexpr double kBatteryRejectSd = 6.0;
+BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& options = {},
+                       double reject_sd = kBatteryRejectSd);
 
 /// The four models' analytic charge at time t for one speed's fit.
 double analytic_charge(const SpeedFit& s, const BatteryFit& all, models::battery::Model m, double t_s);

@@ -82,6 +82,10 @@ struct Report {
   std::vector<Trial> trials;
   std::vector<std::string> effects_considered;
   std::vector<std::string> notes;  ///< decisions worth telling (e.g. a finding undone)
+  /// Wild readings left out before anything was fitted (file:line and why; static kinds only).
+  std::vector<std::string> outliers;
+  std::size_t censored = 0;          ///< readings on a sensor's rails (modelled through the clamp)
+  std::vector<std::string> warnings;  ///< sentences: what the report should not be read without
   /// For plots: per residual, the residual before (recalibrated base) and after (final model), and
   /// the covariates' values.
   std::vector<double> residual_before, residual_after;

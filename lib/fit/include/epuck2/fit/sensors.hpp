@@ -15,36 +15,56 @@
 #include <vector>
 
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/sensors.hpp"
 
 namespace epuck2::fit {
+
+/// How the sensor fits treat the readings (docs/fitting.md): robust with outliers left out, or
+/// plain least squares; readings on a rail are censored either way.
+struct SensorFitOptions {
+  bool robust = true;
+  double reject_sd = 4.0;
+};
+
+/// A reading left out of a fit, and why (listed by file:line in the reports).
+struct LeftOut {
+  std::string where;  ///< file:line
+  std::string why;
+};
 
 // ----- Proximity -------------------------------------------------------------------------------
 
 /// Readings at one distance, normalised by 4095.
 struct ProximityPoint {
   double distance_m = 0;
-  double max = 0, mean = 0, min = 0;
-  std::size_t readings = 0;
-  bool used = false;        ///< within range and neither saturated nor undetected
-  std::string excluded_why;  ///< empty when used
+  double max = 0, mean = 0, min = 0;  ///< over the readings kept (not wild)
+  std::size_t readings = 0;           ///< all readings at this distance
+  std::size_t kept = 0;               ///< readings kept (not wild)
+  bool used = false;                  ///< within range: enters both fits
+  Censoring max_censoring = Censoring::none;   ///< the maximum sits on a rail
+  Censoring mean_censoring = Censoring::none;  ///< some reading sits on a rail: the mean is a bound
+  double mean_se = 0;                 ///< standard error of the mean (replicates)
+  std::string max_where;              ///< file:line of the maximum
+  std::string excluded_why;           ///< empty when used
 };
 
 struct ProximityFit {
   std::vector<ProximityPoint> points;  ///< one per distance, ascending
-  FitResult maxima;                    ///< a, b, c of Eq. 1 fitted to the per-distance maxima
-  FitResult means;                     ///< the same fitted to the per-distance means
+  RobustFit maxima;                    ///< a, b, c of Eq. 1 fitted to the per-distance maxima
+  RobustFit means;                     ///< the same fitted to the per-distance means
   double plugin_mse_maxima = 0, plugin_mse_means = 0;  ///< the plug-in's polynomial on the same points
   double epuck1_mse_maxima = 0, epuck1_mse_means = 0;  ///< the E-Puck (v1) polynomial on the same points
   std::size_t readings = 0;
+  std::size_t censored_readings = 0;   ///< readings on a rail (0 or 4095)
+  std::vector<LeftOut> left_out;       ///< wild readings and readings beyond the range
+  std::vector<std::string> warnings;   ///< plausibility and what the fits said
 };
 
-/// The points (d <= range) whose maximum is 4095 (saturated) or whose mean is below this fraction
-/// of full scale (nothing detected) carry only an inequality and are left out of the fits.
-inline constexpr double kProximityUndetectedFraction = 0.01;
-
-ProximityFit fit_proximity(const std::vector<logs::Log>& logs,
+/// Fits Eq. 1 with the curve held non-increasing over [0, range] (b <= 0 and b + 2 a range <= 0):
+/// parametrised by the slopes at 0 and at the range, both bounded at 0.
+ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {},
                            const models::sensors::ProximityCoefficients& start = models::sensors::kPluginProximity);
 
 // ----- Light -----------------------------------------------------------------------------------
@@ -53,48 +73,54 @@ struct LightObservation {
   double distance_m = 0, intensity = 0;
   int sensor = 0;
   double value_raw = 0;
+  std::string where;
 };
 
 struct LightFit {
-  std::vector<LightObservation> observations;  ///< the readings used (unsaturated, not dark)
-  FitResult gamma;                             ///< one gamma_m for all sensors
+  std::vector<LightObservation> observations;  ///< the readings that enter the fits (rails included)
+  RobustFit gamma;                             ///< one gamma for all sensors
   std::vector<int> sensors;                    ///< sensors seen, ascending
-  std::vector<FitResult> gamma_per_sensor;     ///< same order as `sensors`
-  double plugin_mse = 0;                       ///< the plug-in's gamma = 0.075 on the same readings (normalised units)
-  std::size_t readings = 0, censored = 0;
+  std::vector<RobustFit> gamma_per_sensor;     ///< same order as `sensors`
+  double plugin_mse = 0;                       ///< the plug-in's gamma = 0.075 on the readings inside the rails (normalised units)
+  std::size_t readings = 0, censored = 0;      ///< all readings; readings on a rail (0 or 4095)
+  std::vector<LeftOut> left_out;               ///< beyond the range, no light
+  std::vector<std::string> warnings;
 };
 
-LightFit fit_light(const std::vector<logs::Log>& logs);
+LightFit fit_light(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {});
 
 // ----- Ground ----------------------------------------------------------------------------------
 
 struct GroundFit {
-  std::array<FitResult, models::sensors::kGroundCount> sensors;  ///< gain_raw, offset_raw per sensor
-  std::array<std::vector<double>, models::sensors::kGroundCount> grey, value_raw;  ///< data used
+  std::array<RobustFit, models::sensors::kGroundCount> sensors;  ///< gain_raw, offset_raw per sensor
+  std::array<std::vector<double>, models::sensors::kGroundCount> grey, value_raw;  ///< readings (rails included)
   std::array<double, models::sensors::kGroundCount> plugin_mse{};  ///< gain 1023, offset 0
   double mse = 0;  ///< pooled over the three sensors
   std::size_t readings = 0, censored = 0;
+  std::vector<std::string> warnings;
 };
 
-GroundFit fit_ground(const std::vector<logs::Log>& logs);
+GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {});
 
 // ----- Camera ----------------------------------------------------------------------------------
 
 struct CameraObservation {
   double forward_m = 0, lateral_m = 0, vertical_m = 0, px = 0, py = 0;
+  std::string where;
 };
 
 struct CameraFit {
   std::vector<CameraObservation> observations;
-  FitResult result;        ///< fov_deg (horizontal), cx_px, cy_px; residuals in pixels (px and py)
+  RobustFit result;        ///< fov_deg (horizontal), cx_px, cy_px; residuals in pixels (px and py)
   double plugin_mse = 0;   ///< the plug-in's 29.97 deg centred camera on the same points (px^2)
   /// The paper's Table 4 method, applied to each observation far from the centre column (more
   /// than a quarter width away) with the centre taken as W/2 = 80: mean and spread of alpha.
   double table4_alpha_mean_deg = 0, table4_alpha_sd_deg = 0;
   std::size_t table4_points = 0;
+  std::vector<std::string> warnings;
 };
 
-CameraFit fit_camera(const std::vector<logs::Log>& logs);
+CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {});
 
 // ----- Drive: encoders and ToF -----------------------------------------------------------------
 
@@ -102,38 +128,47 @@ struct DriveRun {
   std::string path;
   double obstacle_distance_m = 0;
   std::vector<double> time_s, command_m_s, steps, tof_mm;  ///< steps unwrapped, mean of both wheels
-  bool over_speed_limit = false;  ///< some command exceeds the firmware's limit
+  std::vector<int> line;                                   ///< source line of each row
+  bool over_speed_limit = false;  ///< some command exceeds the firmware's limit (taken as the limit)
+  std::size_t capped_rows = 0;    ///< rows whose command was above the limit
 };
 
 struct DriveFit {
   std::vector<DriveRun> runs;
-  FitResult steps;   ///< steps_per_m: encoder steps against the commanded distance
-  FitResult tof;     ///< tof_scale, tof_offset_mm, slip_time_constant_s
+  RobustFit steps;   ///< steps_per_m: encoder steps against the commanded distance (commands capped)
+  RobustFit tof;     ///< tof_offset_mm, tof_scale, slip_time_constant_s
   double plugin_tof_mse = 0;  ///< the plug-in's ToF (scale 1, offset 0, no slip) on the same rows, mm^2
-  std::size_t steps_rows = 0, tof_rows = 0, tof_censored = 0;
-  std::vector<std::string> excluded_from_steps;  ///< runs over the firmware's speed limit
+  std::size_t steps_rows = 0, tof_rows = 0, tof_censored = 0, tof_out_of_range_codes = 0, capped_rows = 0;
+  std::vector<std::string> over_limit_runs;  ///< runs with a command above the firmware's limit
+  std::vector<std::string> warnings;
 };
 
 /// The firmware's speed limit in m/s: MOTOR_SPEED_LIMIT / the plug-in's steps per metre.
 inline constexpr double kFirmwareSpeedLimit_m_s =
     models::sensors::kFirmwareSpeedLimit_steps_s / models::sensors::kPluginStepsPerMetre;
 
+/// A drive log's rows; commands above the firmware's limit are taken as the limit (what the robot does).
 DriveRun drive_run_from_log(const logs::Log& log);
-DriveFit fit_drive(const std::vector<logs::Log>& logs);
+DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {});
 
 /// Ground travel (m) at each row of a run: the wheel travel from the encoders (steps / steps_per_m,
 /// constant speed between rows) followed by a first-order lag of time constant tau_s, integrated
-/// exactly between rows. Templated for the fit; used by the plots too.
+/// exactly between rows (tau_s = 0: no lag). Templated for the fit; used by the plots too.
 template <typename T>
 std::vector<T> lagged_travel_m(const DriveRun& run, double steps_per_m, const T& tau_s) {
   using std::exp;
   std::vector<T> out(run.time_s.size(), T(0.0));
   T speed(0.0), travel(0.0);
+  const bool lag = scalar_value(tau_s) > 0;
   for (std::size_t k = 0; k + 1 < run.time_s.size(); ++k) {
     out[k] = travel;
     const double dt = run.time_s[k + 1] - run.time_s[k];
     if (!(dt > 0)) continue;
     const double wheel = (run.steps[k + 1] - run.steps[k]) / steps_per_m / dt;
+    if (!lag) {
+      travel += T(wheel * dt);
+      continue;
+    }
     const T decay = exp(-dt / tau_s);
     travel += wheel * dt + (speed - wheel) * tau_s * (1.0 - decay);
     speed = wheel + (speed - wheel) * decay;

@@ -1,0 +1,621 @@
+// The censored, robust fit of epuck2/fit/robust.hpp: Tobit likelihood in Ceres, Cauchy-weighted
+// first pass, outliers left out beyond reject_sd, noise by EM, identifiability by the equilibrated
+// normal matrix, lack of fit against replicates, and the distributions the tests need.
+#include "epuck2/fit/robust.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+namespace epuck2::fit {
+
+// ================================================================================================
+// Distributions
+// ================================================================================================
+
+namespace {
+constexpr double kSqrt2 = 1.41421356237309504880;
+constexpr double kLogSqrt2Pi = 0.91893853320467274178;  // log(sqrt(2 pi))
+// Below this z the asymptotic series replaces erfc (erfc(21) ~ 1e-193 is still exact; the series
+// is accurate to 1e-10 there).
+constexpr double kTailZ = -30.0;
+
+double gamma_series(double a, double x) {  // P(a, x), x < a + 1
+  double sum = 1.0 / a, term = sum, ap = a;
+  for (int n = 0; n < 1000; ++n) {
+    ap += 1;
+    term *= x / ap;
+    sum += term;
+    if (std::abs(term) < std::abs(sum) * 1e-16) break;
+  }
+  return sum * std::exp(-x + a * std::log(x) - std::lgamma(a));
+}
+
+double gamma_continued_fraction(double a, double x) {  // Q(a, x), x >= a + 1 (modified Lentz)
+  const double tiny = 1e-300;
+  double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d;
+  for (int i = 1; i < 1000; ++i) {
+    const double an = -i * (i - a);
+    b += 2;
+    d = an * d + b;
+    if (std::abs(d) < tiny) d = tiny;
+    c = b + an / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1 / d;
+    const double del = d * c;
+    h *= del;
+    if (std::abs(del - 1) < 1e-16) break;
+  }
+  return std::exp(-x + a * std::log(x) - std::lgamma(a)) * h;
+}
+
+double beta_continued_fraction(double a, double b, double x) {
+  const double tiny = 1e-300;
+  const double qab = a + b, qap = a + 1, qam = a - 1;
+  double c = 1, d = 1 - qab * x / qap;
+  if (std::abs(d) < tiny) d = tiny;
+  d = 1 / d;
+  double h = d;
+  for (int m = 1; m < 1000; ++m) {
+    const int m2 = 2 * m;
+    double aa = m * (b - m) * x / ((qam + m2) * (a + m2));
+    d = 1 + aa * d;
+    if (std::abs(d) < tiny) d = tiny;
+    c = 1 + aa / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1 / d;
+    h *= d * c;
+    aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
+    d = 1 + aa * d;
+    if (std::abs(d) < tiny) d = tiny;
+    c = 1 + aa / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1 / d;
+    const double del = d * c;
+    h *= del;
+    if (std::abs(del - 1) < 1e-16) break;
+  }
+  return h;
+}
+
+/// Regularised incomplete beta I_x(a, b).
+double incomplete_beta(double a, double b, double x) {
+  if (x <= 0) return 0;
+  if (x >= 1) return 1;
+  const double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x));
+  if (x < (a + 1) / (a + b + 2)) return front * beta_continued_fraction(a, b, x) / a;
+  return 1 - front * beta_continued_fraction(b, a, 1 - x) / b;
+}
+}  // namespace
+
+double gamma_q(double a, double x) {
+  if (!(a > 0) || !(x >= 0)) return std::numeric_limits<double>::quiet_NaN();
+  if (x == 0) return 1;
+  if (x < a + 1) return 1 - gamma_series(a, x);
+  return gamma_continued_fraction(a, x);
+}
+
+double chi2_upper_tail(double chi2, double dof) { return gamma_q(0.5 * dof, 0.5 * std::max(chi2, 0.0)); }
+
+double f_upper_tail(double f, double d1, double d2) {
+  if (!(f > 0)) return 1;
+  return incomplete_beta(0.5 * d2, 0.5 * d1, d2 / (d2 + d1 * f));
+}
+
+double log_normal_cdf(double z) {
+  if (z > kTailZ) return std::log(0.5 * std::erfc(-z / kSqrt2));
+  const double z2 = z * z;
+  return -0.5 * z2 - std::log(-z) - kLogSqrt2Pi + std::log1p(-1 / z2 + 3 / (z2 * z2) - 15 / (z2 * z2 * z2));
+}
+
+double normal_hazard_lower(double z) {
+  if (z > kTailZ) {
+    const double phi = std::exp(-0.5 * z * z - kLogSqrt2Pi);
+    return phi / (0.5 * std::erfc(-z / kSqrt2));
+  }
+  const double z2 = z * z;
+  return -z / (1 - 1 / z2 + 3 / (z2 * z2) - 15 / (z2 * z2 * z2));
+}
+
+// ================================================================================================
+// The Tobit problem for Ceres
+// ================================================================================================
+
+namespace {
+
+// Residuals, for observation i with latent prediction f_i and weight w_i (0 leaves it out):
+//   exact:        r_i = sqrt(w_i) (y_i - f_i) / sigma
+//   at_or_above:  r_i = sqrt(-2 log Phi((f_i - rail) / sigma))   (w_i = 0: 0)
+//   at_or_below:  r_i = sqrt(-2 log Phi((rail - f_i) / sigma))
+// so that 1/2 sum r_i^2 is the negative log-likelihood up to constants.
+class TobitCost : public ceres::CostFunction {
+ public:
+  TobitCost(const ModelEvaluator& model, const std::vector<Observation>& obs, const std::vector<double>& weights,
+            double sigma, bool use_censored, int parameters)
+      : model_(model), obs_(obs), weights_(weights), sigma_(sigma), use_censored_(use_censored), m_(parameters) {
+    set_num_residuals(static_cast<int>(obs.size()));
+    mutable_parameter_block_sizes()->push_back(parameters);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const std::size_t n = obs_.size(), m = static_cast<std::size_t>(m_);
+    pred_.resize(n);
+    const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
+    if (want_jacobian) jac_.resize(n * m);
+    if (!model_(parameters[0], pred_.data(), want_jacobian ? jac_.data() : nullptr)) return false;
+    for (std::size_t i = 0; i < n; ++i) {
+      double dr_df = 0;  // d r_i / d f_i
+      const Observation& o = obs_[i];
+      if (weights_[i] <= 0 || (o.censoring != Censoring::none && !use_censored_)) {
+        residuals[i] = 0;
+      } else if (o.censoring == Censoring::none) {
+        const double sw = std::sqrt(weights_[i]) / sigma_;
+        residuals[i] = sw * (o.value - pred_[i]);
+        dr_df = -sw;
+      } else {
+        const double sign = o.censoring == Censoring::at_or_above ? 1.0 : -1.0;
+        const double z = sign * (pred_[i] - o.value) / sigma_;
+        const double g = -2 * log_normal_cdf(z);
+        const double sw = std::sqrt(weights_[i]);
+        const double r = std::sqrt(std::max(g, 0.0));
+        residuals[i] = sw * r;
+        // d r / d z = -(phi/Phi) / r; negligible where the observation carries no information.
+        dr_df = r > 1e-150 ? -sw * normal_hazard_lower(z) / r * sign / sigma_ : 0.0;
+      }
+      if (!std::isfinite(residuals[i])) return false;
+      if (want_jacobian)
+        for (std::size_t j = 0; j < m; ++j) jacobians[0][i * m + j] = dr_df * jac_[i * m + j];
+    }
+    return true;
+  }
+
+ private:
+  const ModelEvaluator& model_;
+  const std::vector<Observation>& obs_;
+  const std::vector<double>& weights_;
+  const double sigma_;
+  const bool use_censored_;
+  const int m_;
+  mutable std::vector<double> pred_, jac_;
+};
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  double m = v[mid];
+  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+  return m;
+}
+
+struct Solution {
+  bool ok = false;
+  std::string message;
+  std::vector<double> predictions;
+};
+
+// One Ceres solve with the given weights and sigma, parameters in and out of `p`.
+Solution solve_once(const ModelEvaluator& model, const std::vector<Observation>& obs, std::vector<double>& p,
+                    const std::vector<Parameter>& params, const std::vector<bool>& held, const std::vector<double>& w,
+                    double sigma, bool use_censored) {
+  const int m = static_cast<int>(p.size());
+  ceres::Problem::Options po;
+  ceres::Problem problem(po);
+  problem.AddResidualBlock(new TobitCost(model, obs, w, sigma, use_censored, m), nullptr, p.data());
+  std::vector<int> held_idx;
+  for (int j = 0; j < m; ++j)
+    if (held[static_cast<std::size_t>(j)]) held_idx.push_back(j);
+  if (static_cast<int>(held_idx.size()) == m) {
+    problem.SetParameterBlockConstant(p.data());
+  } else {
+    if (!held_idx.empty()) problem.SetManifold(p.data(), new ceres::SubsetManifold(m, held_idx));
+    for (int j = 0; j < m; ++j) {
+      const Parameter& q = params[static_cast<std::size_t>(j)];
+      if (held[static_cast<std::size_t>(j)]) continue;
+      if (std::isfinite(q.lower)) problem.SetParameterLowerBound(p.data(), j, q.lower);
+      if (std::isfinite(q.upper)) problem.SetParameterUpperBound(p.data(), j, q.upper);
+    }
+  }
+  FitOptions fo;
+  fo.function_tolerance = 1e-14;
+  fo.gradient_tolerance = 1e-14;
+  fo.parameter_tolerance = 1e-12;
+  fo.max_iterations = 200;
+  ceres::Solver::Summary summary;
+  ceres::Solve(fo.solver_options(), &problem, &summary);
+  Solution s;
+  s.ok = summary.IsSolutionUsable();
+  s.message = summary.message;
+  s.predictions.resize(obs.size());
+  if (!model(p.data(), s.predictions.data(), nullptr)) {
+    s.ok = false;
+    s.message = "the model is not finite at the solution";
+  }
+  return s;
+}
+
+std::string fmt(double v, int digits = 4) {
+  std::ostringstream os;
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+// ================================================================================================
+// fit_robust
+// ================================================================================================
+
+RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>& obs, std::vector<Parameter> params,
+                     const RobustOptions& opt) {
+  RobustFit out;
+  const std::size_t n = obs.size(), m = params.size();
+  out.FitResult::parameters.resize(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    out.FitResult::parameters[j].name = params[j].name;
+    out.FitResult::parameters[j].value = std::numeric_limits<double>::quiet_NaN();
+    out.FitResult::parameters[j].std_error = std::numeric_limits<double>::quiet_NaN();
+  }
+  out.final_parameters = params;
+  out.method = opt.robust ? "robust: Cauchy-reweighted start, readings beyond " + fmt(opt.reject_sd) +
+                                " noise sd left out as outliers; readings on a rail censored (Tobit)"
+                          : "least squares; readings on a rail censored (Tobit)";
+  for (const Observation& o : obs) {
+    if (o.censoring == Censoring::none) ++out.exact;
+    if (o.censoring == Censoring::at_or_below) ++out.censored_below;
+    if (o.censoring == Censoring::at_or_above) ++out.censored_above;
+  }
+  if (m == 0 || m > static_cast<std::size_t>(kMaxRobustParameters)) {
+    out.message = "internal: a robust fit takes 1 to " + std::to_string(kMaxRobustParameters) + " parameters";
+    return out;
+  }
+  std::vector<bool> held(m, false);
+  for (std::size_t j = 0; j < m; ++j) {
+    held[j] = params[j].fixed;
+    params[j].value = std::clamp(params[j].value, params[j].lower, params[j].upper);
+  }
+  const bool sigma_given = std::isfinite(opt.noise_sd) && opt.noise_sd > 0;
+  if (out.exact == 0 && !sigma_given) {
+    out.message = "every reading is on a rail: the noise cannot be estimated";
+    return out;
+  }
+
+  std::vector<double> w(n, 1.0), p(m), predictions;
+  double sigma = sigma_given ? opt.noise_sd : 1.0;
+  auto exact_residuals = [&](const std::vector<double>& f, const std::vector<double>& weights) {
+    std::vector<double> r;
+    for (std::size_t i = 0; i < n; ++i)
+      if (obs[i].censoring == Censoring::none && weights[i] > 0) r.push_back(obs[i].value - f[i]);
+    return r;
+  };
+  auto robust_sigma = [&](const std::vector<double>& f, const std::vector<double>& weights) {
+    std::vector<double> r = exact_residuals(f, weights);
+    for (double& x : r) x = std::abs(x);
+    double s = 1.482602218505602 * median_of(r);
+    if (!(s > 0)) {  // more than half exact: fall back on the root mean square
+      double ss = 0;
+      for (double x : r) ss += x * x;
+      s = r.empty() ? 0 : std::sqrt(ss / static_cast<double>(r.size()));
+    }
+    return std::max(s, opt.noise_floor);
+  };
+
+  for (;;) {  // until every free parameter is identifiable
+    for (std::size_t j = 0; j < m; ++j) p[j] = params[j].value;
+    std::fill(w.begin(), w.end(), 1.0);
+    // 1. Start: the exact readings alone, plain least squares.
+    Solution s = solve_once(model, obs, p, params, held, w, 1.0, false);
+    if (!s.ok) {
+      out.message = "no solution: " + s.message;
+      return out;
+    }
+    if (!sigma_given) sigma = robust_sigma(s.predictions, w);
+    if (!(sigma > 0)) sigma = std::max(opt.noise_floor, 1e-12);
+    // 2. Robust: Cauchy weights, sigma from the median absolute residual.
+    if (opt.robust) {
+      for (int pass = 0; pass < 10; ++pass) {
+        for (std::size_t i = 0; i < n; ++i) {
+          double dev = obs[i].value - s.predictions[i];
+          // A railed reading pulls only when the curve is on the wrong side of its rail.
+          if (obs[i].censoring == Censoring::at_or_above) dev = std::max(dev, 0.0);
+          if (obs[i].censoring == Censoring::at_or_below) dev = std::min(dev, 0.0);
+          const double u = dev / (opt.cauchy_scale_sd * sigma);
+          w[i] = 1 / (1 + u * u);
+        }
+        const std::vector<double> before = p;
+        s = solve_once(model, obs, p, params, held, w, sigma, true);
+        if (!s.ok) break;
+        if (!sigma_given) sigma = robust_sigma(s.predictions, std::vector<double>(n, 1.0));
+        double change = 0;
+        for (std::size_t j = 0; j < m; ++j) change = std::max(change, std::abs(p[j] - before[j]) / (std::abs(p[j]) + 1e-12));
+        if (change < 1e-9) break;
+      }
+      if (!s.ok) {
+        out.message = "no solution in the reweighted pass: " + s.message;
+        return out;
+      }
+    }
+    // 3. Outliers out (robust), the rest by Tobit maximum likelihood, sigma by EM.
+    std::vector<double> hard(n, 1.0);
+    for (int pass = 0; pass < opt.max_passes; ++pass) {
+      std::vector<double> next(n, 1.0);
+      if (opt.robust)
+        for (std::size_t i = 0; i < n; ++i) {
+          const double dev = (obs[i].value - s.predictions[i]) / sigma;
+          if (obs[i].censoring == Censoring::none && std::abs(dev) > opt.reject_sd) next[i] = 0;
+          // A rail reading the curve puts far on the other side of the rail is just as wild.
+          if (obs[i].censoring == Censoring::at_or_above && -dev < -opt.reject_sd) next[i] = 0;
+          if (obs[i].censoring == Censoring::at_or_below && dev < -opt.reject_sd) next[i] = 0;
+        }
+      const bool same_set = pass > 0 && next == hard;
+      hard = next;
+      const std::vector<double> before = p;
+      const double sigma_before = sigma;
+      s = solve_once(model, obs, p, params, held, hard, sigma, true);
+      if (!s.ok) {
+        out.message = "no solution: " + s.message;
+        return out;
+      }
+      if (!sigma_given) {
+        double ss = 0, count = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+          if (hard[i] <= 0) continue;
+          const Observation& o = obs[i];
+          if (o.censoring == Censoring::none) {
+            ss += (o.value - s.predictions[i]) * (o.value - s.predictions[i]);
+          } else {
+            // E[(y* - f)^2 | beyond the rail] = sigma^2 (1 + c lambda), c the rail in sd beyond f.
+            const double c = (o.censoring == Censoring::at_or_above ? 1.0 : -1.0) * (o.value - s.predictions[i]) / sigma;
+            ss += sigma * sigma * (1 + c * normal_hazard_lower(-c));
+          }
+          count += 1;
+        }
+        sigma = std::max(std::sqrt(ss / std::max(count, 1.0)), opt.noise_floor);
+      }
+      double change = std::abs(sigma - sigma_before) / sigma_before;
+      for (std::size_t j = 0; j < m; ++j) change = std::max(change, std::abs(p[j] - before[j]) / (std::abs(p[j]) + 1e-12));
+      if (same_set && change < 1e-8) break;
+    }
+    w = hard;
+    predictions = s.predictions;
+
+    // 4. Identifiability: the Jacobian of the residuals over the free parameters.
+    TobitCost cost(model, obs, w, sigma, true, static_cast<int>(m));
+    std::vector<double> r(n), jrow(n * m);
+    double* jac[1] = {jrow.data()};
+    const double* pp[1] = {p.data()};
+    if (!cost.Evaluate(pp, r.data(), jac)) {
+      out.message = "the model is not finite at the solution";
+      return out;
+    }
+    std::vector<std::size_t> free_idx;
+    for (std::size_t j = 0; j < m; ++j)
+      if (!held[j]) free_idx.push_back(j);
+    const std::size_t k = free_idx.size();
+    Eigen::MatrixXd J(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(k));
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t c = 0; c < k; ++c) J(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c)) = jrow[i * m + free_idx[c]];
+    std::size_t to_hold = m;  // none
+    std::string why;
+    Eigen::VectorXd norms = J.colwise().norm();
+    for (std::size_t c = 0; c < k && to_hold == m; ++c)
+      if (!(norms(static_cast<Eigen::Index>(c)) > 0)) {
+        to_hold = free_idx[c];
+        why = "the logs do not depend on it";
+      }
+    Eigen::MatrixXd cov_free;
+    if (to_hold == m && k > 0) {
+      Eigen::MatrixXd Je = J;
+      for (Eigen::Index c = 0; c < Je.cols(); ++c) Je.col(c) /= norms(c);
+      const Eigen::MatrixXd N = Je.transpose() * Je;
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(N);
+      const double lo = eig.eigenvalues()(0), hi = eig.eigenvalues()(eig.eigenvalues().size() - 1);
+      if (!(lo > 0) || hi / lo > opt.max_condition) {
+        const Eigen::VectorXd v = eig.eigenvectors().col(0).cwiseAbs();
+        const double vmax = v.maxCoeff();
+        for (std::size_t c = 0; c < k; ++c)
+          if (v(static_cast<Eigen::Index>(c)) >= 0.5 * vmax) to_hold = free_idx[c];  // the last declared
+        std::vector<std::string> along;
+        for (std::size_t c = 0; c < k; ++c)
+          if (v(static_cast<Eigen::Index>(c)) >= 0.2 * vmax) along.push_back(params[free_idx[c]].name);
+        why = "the logs determine only a combination of ";
+        for (std::size_t a = 0; a < along.size(); ++a) why += (a ? (a + 1 == along.size() ? " and " : ", ") : "") + along[a];
+        why += lo > 0 ? " (condition number " + fmt(hi / lo) + ")" : " (they enter the logs only together)";
+      } else {
+        const Eigen::MatrixXd inv = eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() *
+                                    eig.eigenvectors().transpose();
+        cov_free = inv;
+        for (Eigen::Index a = 0; a < inv.rows(); ++a)
+          for (Eigen::Index b = 0; b < inv.cols(); ++b) cov_free(a, b) = inv(a, b) / (norms(a) * norms(b));
+      }
+    }
+    if (to_hold != m) {
+      held[to_hold] = true;
+      const double fallback = params[to_hold].fallback;
+      if (!std::isfinite(fallback)) {
+        out.message = params[to_hold].name + " is not identifiable from these logs (" + why +
+                          ") and has no documented default";
+        return out;
+      }
+      params[to_hold].value = fallback;
+      out.not_identifiable.push_back(params[to_hold].name);
+      out.std_error_why[params[to_hold].name] = "not identifiable: " + why + "; held at its documented default " + fmt(fallback, 10);
+      out.warnings.push_back(params[to_hold].name + " is not identifiable from these logs: " + why +
+                             "; it keeps its documented default " + fmt(fallback, 10) + ".");
+      continue;
+    }
+
+    // 5. Statistics. Sigma with the degrees of freedom taken by the free parameters.
+    std::size_t kept_exact = 0, kept_censored = 0;
+    double rss = 0, ybar = 0, loglik = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (w[i] <= 0) continue;
+      if (obs[i].censoring == Censoring::none) {
+        ++kept_exact;
+        ybar += obs[i].value;
+        rss += (obs[i].value - predictions[i]) * (obs[i].value - predictions[i]);
+      } else {
+        ++kept_censored;
+      }
+    }
+    ybar /= std::max<std::size_t>(kept_exact, 1);
+    double tss = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (w[i] > 0 && obs[i].censoring == Censoring::none) tss += (obs[i].value - ybar) * (obs[i].value - ybar);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (w[i] <= 0) continue;
+      if (obs[i].censoring == Censoring::none) {
+        const double z = (obs[i].value - predictions[i]) / sigma;
+        loglik += -std::log(sigma) - kLogSqrt2Pi - 0.5 * z * z;
+      } else {
+        const double sign = obs[i].censoring == Censoring::at_or_above ? 1.0 : -1.0;
+        loglik += log_normal_cdf(sign * (predictions[i] - obs[i].value) / sigma);
+      }
+    }
+    const std::size_t kept = kept_exact + kept_censored;
+    const double dof_scale =
+        (!sigma_given && kept_exact > k) ? static_cast<double>(kept_exact) / static_cast<double>(kept_exact - k) : 1.0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (w[i] <= 0) {
+        out.outliers.push_back(i);
+        out.outlier_where.push_back(obs[i].where);
+      }
+    FitResult& f = out;
+    f.usable = true;
+    f.message = s.message;
+    f.observations = kept;
+    f.rss = rss;
+    f.mse = kept_exact ? rss / static_cast<double>(kept_exact) : 0.0;
+    f.residual_variance = sigma * sigma * dof_scale;
+    f.r2 = tss > 0 ? 1 - rss / tss : std::numeric_limits<double>::quiet_NaN();
+    f.free_parameters = static_cast<int>(k);
+    const double nparams = static_cast<double>(k + (sigma_given ? 0 : 1));
+    f.aic = -2 * loglik + 2 * nparams;
+    f.bic = -2 * loglik + nparams * std::log(static_cast<double>(std::max<std::size_t>(kept, 1)));
+    out.log_likelihood = loglik;
+    out.noise_sd = sigma * std::sqrt(dof_scale);
+    f.covariance = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    for (std::size_t a = 0; a < k; ++a)
+      for (std::size_t b = 0; b < k; ++b)
+        f.covariance(static_cast<Eigen::Index>(free_idx[a]), static_cast<Eigen::Index>(free_idx[b])) =
+            cov_free(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) * dof_scale;
+    for (std::size_t j = 0; j < m; ++j) {
+      params[j].value = p[j];
+      f.parameters[j].value = p[j];
+      if (held[j]) {
+        const bool not_identifiable =
+            std::find(out.not_identifiable.begin(), out.not_identifiable.end(), params[j].name) != out.not_identifiable.end();
+        f.parameters[j].std_error = not_identifiable ? std::numeric_limits<double>::quiet_NaN() : 0.0;
+        continue;
+      }
+      const double var = f.covariance(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j));
+      f.parameters[j].std_error = var >= 0 ? std::sqrt(var) : std::numeric_limits<double>::quiet_NaN();
+      if (!std::isfinite(f.parameters[j].std_error)) out.std_error_why[params[j].name] = "the covariance is not finite";
+      const bool at_lower = std::isfinite(params[j].lower) && p[j] <= params[j].lower + 1e-12 * (1 + std::abs(p[j]));
+      const bool at_upper = std::isfinite(params[j].upper) && p[j] >= params[j].upper - 1e-12 * (1 + std::abs(p[j]));
+      if (at_lower || at_upper)
+        out.warnings.push_back(params[j].name + " = " + fmt(p[j]) + " sits on its physical bound; the data push it beyond, "
+                               "and its standard error assumes the bound is not there.");
+    }
+    f.iterations = 0;
+    out.final_parameters = params;
+    out.predictions = predictions;
+    if (kept_exact <= k)
+      out.warnings.push_back("only " + std::to_string(kept_exact) + " readings inside the rails for " + std::to_string(k) +
+                             " free parameters: the noise is not estimated from the fit.");
+
+    // 6. Lack of fit against the replicates (groups without censored or left-out readings).
+    std::map<int, std::vector<std::size_t>> groups;
+    std::map<int, bool> spoilt;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (obs[i].group < 0) continue;
+      if (obs[i].censoring != Censoring::none) spoilt[obs[i].group] = true;
+      if (w[i] > 0) groups[obs[i].group].push_back(i);
+    }
+    LackOfFit& lof = out.lack_of_fit;
+    double ss_pure = 0, ss_resid = 0;
+    std::size_t count = 0, g = 0;
+    for (const auto& [id, members] : groups) {
+      if (spoilt[id] || members.empty()) continue;
+      ++g;
+      double mean = 0;
+      for (std::size_t i : members) mean += obs[i].value;
+      mean /= static_cast<double>(members.size());
+      for (std::size_t i : members) {
+        ss_pure += (obs[i].value - mean) * (obs[i].value - mean);
+        ss_resid += (obs[i].value - predictions[i]) * (obs[i].value - predictions[i]);
+        ++count;
+      }
+    }
+    if (g == 0) {
+      lof.why_not = "no repeated readings under the same conditions";
+    } else if (count <= g || g <= k) {
+      lof.why_not = "too few replicate groups (" + std::to_string(g) + ") or readings for the test";
+    } else {
+      lof.tested = true;
+      lof.groups = g;
+      lof.dof_pure = count - g;
+      lof.dof_lack = g - k;
+      const double pure_var = ss_pure / static_cast<double>(lof.dof_pure);
+      lof.replicate_sd = std::sqrt(pure_var);
+      const double lack = std::max(ss_resid - ss_pure, 0.0) / static_cast<double>(lof.dof_lack);
+      lof.reduced_chi2 = pure_var > 0 ? lack / pure_var : std::numeric_limits<double>::infinity();
+      lof.p_value = pure_var > 0 ? f_upper_tail(lof.reduced_chi2, static_cast<double>(lof.dof_lack),
+                                                static_cast<double>(lof.dof_pure))
+                                 : 0.0;
+      if (lof.p_value < 1e-3)
+        out.warnings.push_back("the model does not fit these data within their noise: lack-of-fit reduced chi^2 " +
+                               fmt(lof.reduced_chi2) + " (p = " + fmt(lof.p_value) + ") against the replicates' sd " +
+                               fmt(lof.replicate_sd) + ".");
+    }
+    return out;
+  }
+}
+
+// ================================================================================================
+// Several robots
+// ================================================================================================
+
+std::vector<RobotSpread> robot_spread(const std::vector<const FitResult*>& robots) {
+  std::vector<RobotSpread> out;
+  if (robots.empty() || robots.front() == nullptr) return out;
+  for (const ParameterEstimate& first : robots.front()->parameters) {
+    std::vector<double> x, se;
+    for (const FitResult* r : robots) {
+      if (r == nullptr || !r->usable) continue;
+      const double v = r->value(first.name), e = r->std_error(first.name);
+      if (std::isfinite(v) && std::isfinite(e) && e > 0) {
+        x.push_back(v);
+        se.push_back(e);
+      }
+    }
+    if (x.size() < 2) continue;
+    RobotSpread s;
+    s.parameter = first.name;
+    double sw = 0, swx = 0, mean = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      sw += 1 / (se[i] * se[i]);
+      swx += x[i] / (se[i] * se[i]);
+      mean += x[i];
+    }
+    mean /= static_cast<double>(x.size());
+    const double xw = swx / sw;
+    double ss = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      s.q += (x[i] - xw) * (x[i] - xw) / (se[i] * se[i]);
+      ss += (x[i] - mean) * (x[i] - mean);
+    }
+    s.spread_sd = std::sqrt(ss / static_cast<double>(x.size() - 1));
+    s.dof = x.size() - 1;
+    s.p_value = chi2_upper_tail(s.q, static_cast<double>(s.dof));
+    s.exceeds = s.p_value < kRobotSpreadP;
+    out.push_back(s);
+  }
+  return out;
+}
+
+}  // namespace epuck2::fit

@@ -1,0 +1,155 @@
+// Wild readings in static logs: see epuck2/fit/screening.hpp.
+#include "epuck2/fit/screening.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace epuck2::fit {
+
+namespace {
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Rule {
+  std::vector<std::string> conditions;  ///< columns that define "the same conditions"
+  std::vector<std::string> readings;    ///< columns screened
+  double low = -1e300, high = 1e300;    ///< rails (readings on them are censored, not wild)
+  double floor = 2.0;                   ///< smallest robust sd (a few counts of quantisation)
+};
+
+bool rule_for(logs::Kind kind, Rule* r) {
+  switch (kind) {
+    case logs::Kind::proximity: *r = {{"distance_m", "sensor", "angle_deg"}, {"value"}, 0, 4095, 2.0}; return true;
+    case logs::Kind::light: *r = {{"distance_m", "intensity", "sensor"}, {"value"}, 0, 4095, 2.0}; return true;
+    case logs::Kind::ground: *r = {{"grey", "sensor"}, {"value"}, 0, 1023, 2.0}; return true;
+    case logs::Kind::camera: *r = {{"forward_m", "lateral_m", "vertical_m"}, {"px", "py"}, -1e300, 1e300, 1.0}; return true;
+    default: return false;
+  }
+}
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+logs::Log without_rows(const logs::Log& log, const std::vector<bool>& drop) {
+  logs::Log out = log;
+  const std::size_t n = log.rows(), m = log.columns.size();
+  for (auto& [name, col] : out.numeric) {
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!drop[i]) col[k++] = col[i];
+    col.resize(k);
+  }
+  for (auto& [name, col] : out.text) {
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!drop[i]) col[k++] = col[i];
+    col.resize(k);
+  }
+  out.line_of_row.clear();
+  out.cell_start.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (drop[i]) continue;
+    out.line_of_row.push_back(log.line_of_row[i]);
+    for (std::size_t c = 0; c < m && i * m + c < log.cell_start.size(); ++c) out.cell_start.push_back(log.cell_start[i * m + c]);
+  }
+  return out;
+}
+
+std::vector<logs::Log> drop_wild_readings(const std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
+  if (all.empty()) return all;
+  Rule rule;
+  if (!rule_for(all.front().kind, &rule)) return all;
+  // Groups over all logs: the conditions' values as a key.
+  struct Member {
+    std::size_t log, row;
+  };
+  std::vector<std::vector<bool>> drop(all.size());
+  for (std::size_t l = 0; l < all.size(); ++l) drop[l].assign(all[l].rows(), false);
+  for (const std::string& reading : rule.readings) {
+    std::map<std::vector<double>, std::vector<Member>> groups;
+    for (std::size_t l = 0; l < all.size(); ++l) {
+      const logs::Log& log = all[l];
+      if (!log.has(reading)) continue;
+      for (std::size_t i = 0; i < log.rows(); ++i) {
+        std::vector<double> key;
+        for (const std::string& c : rule.conditions) key.push_back(log.has(c) ? log.col(c)[i] : 0.0);
+        groups[key].push_back({l, i});
+      }
+    }
+    auto value = [&](const Member& m) { return all[m.log].col(reading)[m.row]; };
+    auto inside = [&](double v) { return v > rule.low && v < rule.high; };
+    std::map<std::vector<double>, double> sd_of;
+    std::vector<double> sds;
+    for (const auto& [key, members] : groups) {
+      std::vector<double> v;
+      for (const Member& m : members)
+        if (inside(value(m))) v.push_back(value(m));
+      if (v.size() < 5) continue;
+      const double med = median_of(v);
+      for (double& x : v) x = std::abs(x - med);
+      sd_of[key] = 1.482602218505602 * median_of(v);
+      sds.push_back(sd_of[key]);
+    }
+    const double typical = median_of(sds);
+    for (const auto& [key, members] : groups) {
+      if (members.size() < 5) continue;  // too few readings to call one of them wild
+      std::vector<double> v;
+      std::size_t on_rails = 0;
+      for (const Member& m : members) {
+        v.push_back(value(m));
+        on_rails += inside(value(m)) ? 0 : 1;
+      }
+      const double med = median_of(v);
+      const double sd = std::max({sd_of.count(key) ? sd_of.at(key) : typical, 0.5 * typical, rule.floor});
+      for (const Member& m : members) {
+        const double x = value(m);
+        // Inside the rails: far from the median. On a rail: the only one of its group there,
+        // and far from the median too (a stray full-scale glitch, not a sensor near its clamp).
+        const bool wild = inside(x) ? std::abs(x - med) > kWildReadingSd * sd
+                                    : on_rails == 1 && std::abs(x - med) > 0.5 * kWildReadingSd * sd;
+        if (!wild || drop[m.log][m.row]) continue;
+        drop[m.log][m.row] = true;
+        if (dropped != nullptr)
+          dropped->push_back({all[m.log].path + ":" + std::to_string(all[m.log].line_of_row[m.row]),
+                              reading + " " + fmt(x) + " where the readings under the same conditions centre on " + fmt(med) +
+                                  " (robust sd " + fmt(sd) + ")"});
+      }
+    }
+  }
+  std::vector<logs::Log> out;
+  for (std::size_t l = 0; l < all.size(); ++l) out.push_back(without_rows(all[l], drop[l]));
+  return out;
+}
+
+std::size_t readings_on_rails(const std::vector<logs::Log>& all) {
+  std::size_t n = 0;
+  for (const logs::Log& log : all) {
+    auto count = [&](const std::string& column, double low, double high) {
+      if (!log.has(column)) return;
+      for (double v : log.col(column)) n += (v <= low || v >= high) ? 1 : 0;
+    };
+    switch (log.kind) {
+      case logs::Kind::proximity:
+      case logs::Kind::light: count("value", 0, 4095); break;
+      case logs::Kind::ground: count("value", 0, 1023); break;
+      case logs::Kind::drive: count("tof_mm", 20, 2000); break;
+      default: break;
+    }
+  }
+  return n;
+}
+
+}  // namespace epuck2::fit
