@@ -1,5 +1,5 @@
 // Sensor models (lib/models sensors.hpp): the plug-in's hand-checked values of
-// shared/reference/epuck2-plugin.md section 2, the encoder's int16 wrap and carried partial steps,
+// the plug-in's source, the encoder's int16 wrap and carried partial steps,
 // and every fitted formula instantiated for double, float and ceres::Jet with its autodiff checked
 // against central differences at the awkward points (distance 0, the cut-off, saturation).
 #include <ceres/jet.h>

@@ -2,7 +2,7 @@
 // Algorithms 1-4), driven by coefficient tables, in two behaviours:
 //
 //  * Behaviour::argos_compatible reproduces the E-Puck2 ARGoS plug-in's arithmetic to the last bit
-//    (shared/reference/epuck2-plugin.md sections 3 and 5): speed rounded to 0.01 cm/s, floor/ceil
+//    (as in the plug-in's source, its battery discharge code): speed rounded to 0.01 cm/s, floor/ceil
 //    tables, the interpolation that always starts from the smaller value, Cardano's root clamped
 //    at 0, the drop on the first tick from a full charge, the Linear model's interpolation in
 //    float, the Approximated update m*(x + dt) + h.

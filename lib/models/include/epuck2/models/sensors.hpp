@@ -6,7 +6,7 @@
 //    gain/offset, camera projection) is a template on the scalar, with no branch on a parameter,
 //    so that lib/fit evaluates the very same code with ceres::Jet;
 //  * the run-time reading (clamp, noise, quantisation) is plain double and reproduces the E-Puck2
-//    ARGoS plug-in's arithmetic (shared/reference/epuck2-plugin.md sections 2 and 5, "plug-in
+//    ARGoS plug-in's arithmetic (as in the plug-in's source, its sensor models, "plug-in
 //    compatible") when given the plug-in's coefficients, and the project's fitted ones otherwise
 //    (data/fitted/<kind>.json, loaded by lib/fit's sensors.hpp, or compile-time constants).
 //
@@ -73,7 +73,7 @@ inline constexpr double kWheelRadius_m = 0.0205;          ///< reference section
 /// ToF sensor position in the robot frame (reference section 1).
 inline constexpr std::array<double, 3> kTofPosition_m{0.032, 0.0, 0.036};
 /// Ground sensors (x, y) in the robot frame, index 0 = right, 1 = centre, 2 = left (reference
-/// section 1; shared/spec/logs.md for the index order).
+/// section 1; docs/logs.md for the index order).
 inline constexpr std::array<std::array<double, 2>, kGroundCount> kGroundPositions_m{
     {{0.03, -0.009}, {0.03, 0.0}, {0.03, 0.009}}};
 
@@ -307,7 +307,7 @@ inline double unwrap_steps(double previous_unwrapped, double reading) {
 }
 
 /// A register's readings unwrapped from the first, which is taken as is (the encoders read 0 at
-/// time 0, shared/spec/logs.md).
+/// time 0, docs/logs.md).
 inline std::vector<double> unwrap_steps(const std::vector<double>& readings) {
   std::vector<double> out(readings.size());
   for (std::size_t i = 0; i < readings.size(); ++i) out[i] = i ? unwrap_steps(out[i - 1], readings[i]) : readings[i];

@@ -129,7 +129,7 @@ struct SimulationOptions {
   double max_time_s = 48 * 3600.0;  ///< stop simulating here if the robot still runs
 };
 
-/// One logged row (shared/spec/logs.md battery kind, with the optional voltage_v).
+/// One logged row (docs/logs.md battery kind, with the optional voltage_v).
 struct Row {
   double time_s = 0;
   double speed_cm_s = 0;  ///< commanded wheel speed (spinning in place)
