@@ -43,7 +43,7 @@ T pow_data(double base, const T& exponent) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// ground: v = 1023 grey (reference section 2.3); catalogue: black_offset, white_level,
+// ground: v = 1023 grey (the plug-in's source); catalogue: black_offset, white_level,
 // sensor_gain, nonlinear_response. Combined: v = offset + (level - offset) g_s grey^p.
 class Ground : public ProblemOf<Ground> {
  public:
@@ -236,7 +236,7 @@ class Light : public ProblemOf<Light> {
 };
 
 // ---------------------------------------------------------------------------------------------
-// camera: pinhole with square pixels, centre (80, 60), f = 80 / tan(h/2) (reference section 1);
+// camera: pinhole with square pixels, centre (80, 60), f = 80 / tan(h/2) (the plug-in's source);
 // h free (fov_deg, 30 nominal). Catalogue: principal_offset, radial_distortion. Two residuals per
 // row: px then py.
 class Camera : public ProblemOf<Camera> {
@@ -267,7 +267,7 @@ class Camera : public ProblemOf<Camera> {
       }
     }
     // Nominal horizontal field of view: 30 deg (docs/diagnose.md; the plug-in's 18.5 deg
-    // aperture on the diagonal gives 29.97 deg, reference section 1).
+    // aperture on the diagonal gives 29.97 deg, the plug-in's source).
     constexpr double kNominalFov_deg = 30.0;
     fov_ = add_param(*this, "fov_deg", kNominalFov_deg, kNominalFov_deg, 1.0, 170.0);
     base_free = {fov_};
@@ -671,7 +671,7 @@ class Battery : public ProblemOf<Battery> {
   void simulate(double k, std::vector<double>& out) const {
     namespace mb = models::battery;
     // The calibration protocol spins in place: each wheel moves at the logged speed, the robot
-    // turns about its centre, and the model sees that speed (reference section 3).
+    // turns about its centre, and the model sees that speed (the plug-in's source).
     for (const Run& r : runs_) {
       double charge = r.start_charge;
       for (std::size_t i = r.first; i < r.last; ++i) {
