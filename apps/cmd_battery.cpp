@@ -5,6 +5,7 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
+#include "log_help.hpp"
 #include "epuck2/fit/battery.hpp"
 #include "epuck2/fit/battery_json.hpp"
 #include "epuck2/plot/battery_figures.hpp"
@@ -94,7 +95,7 @@ int run_battery(const BatteryOptions& o) {
 void setup_battery(CLI::App& app, Action& action) {
   auto o = std::make_shared<BatteryOptions>();
   CLI::App* sub = app.add_subcommand("battery", "Fit the four discharge models (simple, linear, cubic, approximated) per speed");
-  sub->add_option("logs", o->logs, "Battery discharge logs (CSV, shared/spec/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->add_option("logs", o->logs, "Battery discharge logs (CSV, docs/logs.md#battery)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o->json, "Print one JSON object instead of the report");
   sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically");
   sub->add_option("--plot", o->plot, "Draw the logs and the four fitted models per speed (PNG)");
@@ -103,6 +104,7 @@ void setup_battery(CLI::App& app, Action& action) {
   sub->add_flag("--least-squares", o->least_squares,
                 "Keep every reading (by default readings more than 6 robust sd from a speed's cubic are left out and listed)");
   sub->add_option("--robust-scale", o->robust_scale, "Huber threshold in charge units")->capture_default_str();
+  sub->footer(log_format_footer(logs::Kind::battery, "Optional: voltage_v. One speed per run; the last row is the moment the robot stopped."));
   sub->callback([o, &action] { action = [o] { return run_battery(*o); }; });
 }
 

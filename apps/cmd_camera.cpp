@@ -98,6 +98,7 @@ void setup_camera(CLI::App& app, Action& action) {
   auto o = std::make_shared<app::sensors::SensorOptions>();
   CLI::App* sub = app.add_subcommand("camera", "Calibrate the camera: horizontal field of view and image centre");
   app::sensors::add_common_options(sub, *o, "Camera");
+  sub->footer(log_format_footer(logs::Kind::camera, "px 0..159 from the left, py 0..119 from the top; lateral_m > 0 to the left."));
   sub->callback([o, &action] { action = [o] { return run_camera(*o); }; });
 }
 

@@ -1,6 +1,6 @@
 // epuck2-fit diagnose [--kind KIND] [--json FILE|-] [--plot DIR] LOGS...: what the plug-in's model
 // gets wrong on these logs, the cause from the catalogue, and the held-out gain of fixing it
-// (shared/spec/diagnose.md).
+// (docs/diagnose.md).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +10,7 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
+#include "log_help.hpp"
 #include "epuck2/fit/battery_json.hpp"
 #include "epuck2/fit/diagnose.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
@@ -292,7 +293,8 @@ void setup_diagnose(CLI::App& app, Action& action) {
       ->capture_default_str();
   sub->add_option("--coefficients", o->coefficients,
                   "battery: coefficient tables: fitted (compiled in, default), plugin (the plug-in's published ones) or a battery JSON FILE");
-  sub->add_option("logs", o->logs, "Log files (shared/spec/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->add_option("logs", o->logs, "Log files of one kind (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->footer(all_log_formats_footer());
   sub->callback([o, &action] { action = [o] { return run_diagnose(*o); }; });
 }
 

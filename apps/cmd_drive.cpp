@@ -106,6 +106,7 @@ void setup_drive(CLI::App& app, Action& action) {
   auto o = std::make_shared<app::sensors::SensorOptions>();
   CLI::App* sub = app.add_subcommand("drive", "Calibrate encoders and ToF from straight runs towards/away from an obstacle");
   app::sensors::add_common_options(sub, *o, "Drive");
+  sub->footer(log_format_footer(logs::Kind::drive, "Required metadata: '# obstacle_distance_m: D' (m, at time 0). tof_mm 20..2000."));
   sub->callback([o, &action] { action = [o] { return run_drive(*o); }; });
 }
 

@@ -109,6 +109,7 @@ void setup_ground(CLI::App& app, Action& action) {
   auto o = std::make_shared<app::sensors::SensorOptions>();
   CLI::App* sub = app.add_subcommand("ground", "Calibrate the ground sensors: gain and offset per sensor");
   app::sensors::add_common_options(sub, *o, "Ground");
+  sub->footer(log_format_footer(logs::Kind::ground, "grey: 0 = black, 1 = white; sensor 0 right, 1 centre, 2 left; value 0..1023."));
   sub->callback([o, &action] { action = [o] { return run_ground(*o); }; });
 }
 

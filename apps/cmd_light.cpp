@@ -105,6 +105,7 @@ void setup_light(CLI::App& app, Action& action) {
   auto o = std::make_shared<app::sensors::SensorOptions>();
   CLI::App* sub = app.add_subcommand("light", "Calibrate the ambient light sensors: gamma of Eq. 2");
   app::sensors::add_common_options(sub, *o, "Light");
+  sub->footer(log_format_footer(logs::Kind::light, "value: 4095 = dark, 0 = saturated; both are left out of the fit."));
   sub->callback([o, &action] { action = [o] { return run_light(*o); }; });
 }
 

@@ -121,6 +121,7 @@ void setup_proximity(CLI::App& app, Action& action) {
   auto o = std::make_shared<app::sensors::SensorOptions>();
   CLI::App* sub = app.add_subcommand("proximity", "Calibrate the proximity sensors: Eq. 1 fitted to the maxima and to the means");
   app::sensors::add_common_options(sub, *o, "Proximity");
+  sub->footer(log_format_footer(logs::Kind::proximity, "Optional: angle_deg (incidence angle). value: 0 = nothing detected, 4095 = touching."));
   sub->callback([o, &action] { action = [o] { return run_proximity(*o); }; });
 }
 

@@ -86,7 +86,7 @@ void setup_simulate(CLI::App& app, Action& action) {
                   "Coefficient file (JSON from `epuck2-fit battery -o`), or `plugin` (the plug-in's published "
                   "tables), or `fitted` (the compiled-in data/fitted tables). Default: plugin with --compat argos, "
                   "else fitted");
-  sub->add_option("--profile", o->profile, "CSV with time_s,speed_cm_s (a command holds until the next row)")
+  sub->add_option("--profile", o->profile, "CSV with columns time_s,speed_cm_s (a command holds until the next row; docs/logs.md#speed-profile-for-simulate-battery)")
       ->required()
       ->check(CLI::ExistingFile);
   sub->add_option("--dt", o->dt_s, "Tick in seconds")->capture_default_str();

@@ -8,6 +8,7 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
+#include "log_help.hpp"
 #include "epuck2/fit/battery.hpp"
 #include "epuck2/fit/published.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
@@ -92,6 +93,7 @@ void setup_table5(CLI::App& app, Action& action) {
   sub->add_flag("--json", o->json, "Print one JSON object instead of the table");
   sub->add_option("-o,--output", o->output, "Also write the JSON report to this file (atomically)");
   sub->add_option("--dt", o->dt_s, "Simulation tick in seconds")->capture_default_str();
+  sub->footer(log_format_footer(logs::Kind::battery, "One speed per run; runs at every speed 0, 1, ..., 15 cm/s are needed."));
   sub->callback([o, &action] { action = [o] { return run_table5(*o); }; });
 }
 

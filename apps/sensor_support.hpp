@@ -18,6 +18,7 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
+#include "log_help.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/fit/sensors.hpp"
@@ -43,7 +44,7 @@ struct SensorOptions {
 
 /// Adds LOGS..., --json, -o/--output and --plot to a subcommand.
 inline void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what) {
-  sub->add_option("logs", o.logs, what + " logs (CSV, shared/spec/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->add_option("logs", o.logs, what + " logs (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o.json, "Print one JSON object instead of the report");
   sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically");
   sub->add_option("--plot", o.plot, "Draw the data, the fitted curve and the plug-in's curve (PNG)");
@@ -80,7 +81,7 @@ inline std::vector<std::string> robots_of(const std::vector<logs::Log>& all) {
 }
 
 /// {"kind", "parameters": {}, "std_errors": {}, "mse", "observations", "sources"}: the shape the
-/// codegen reads (shared/spec/cli.md).
+/// codegen reads (docs/coefficient-files.md).
 inline nlohmann::json skeleton(const std::string& kind, const std::vector<std::string>& sources) {
   nlohmann::json j;
   j["kind"] = kind;

@@ -1,5 +1,5 @@
 // Seeded logs with one effect hidden in them, for the diagnosis tests (tests/test_diagnose.cpp)
-// and the sweep (bench/diagnose_sweep.cpp): an effect of the catalogue (shared/spec/diagnose.md)
+// and the sweep (bench/diagnose_sweep.cpp): an effect of the catalogue (docs/diagnose.md)
 // drawn with a random size, none, or an effect outside the catalogue (a reading that depends
 // quadratically on an extra temperature_c column). Every log has a temperature_c column, so that
 // `covariate:temperature_c` is always a candidate. Noise is Gaussian (Box-Muller from

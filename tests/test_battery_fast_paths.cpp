@@ -3,7 +3,7 @@
 // argos_compatible: the step reorders independent work (both speed tables' cube roots before
 // either table's end) and rounds the speed without a library call; it must still give the
 // plug-in's doubles bit for bit. The reference below is the plug-in's arithmetic written the
-// plain way (shared/reference/epuck2-plugin.md section 3), as battery.hpp had it before.
+// plain way (as in the plug-in's source), as battery.hpp had it before.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // The battery models: plug-in compatible arithmetic against the plug-in's observed values
-// (shared/reference/epuck2-plugin.md section 3, "Observed when the plug-in runs in ARGoS 3"),
+// (as observed when the plug-in runs in ARGoS 3),
 // the quirks one by one, and the corrected behaviour's fixes.
 #include <ceres/jet.h>
 #include <gtest/gtest.h>

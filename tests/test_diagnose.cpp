@@ -1,4 +1,4 @@
-// epuck2-fit diagnose (shared/spec/diagnose.md): seeded logs with an effect hidden in them, drawn
+// epuck2-fit diagnose (docs/diagnose.md): seeded logs with an effect hidden in them, drawn
 // from the catalogue with a random size and realistic noise (tests/diagnose_generators.hpp); rates
 // over seeds of the right verdict and of parameters within 10 %, `none` on logs without an effect,
 // `unexplained` with the right covariate first for an effect outside the catalogue. This is the

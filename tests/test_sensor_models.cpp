@@ -1,5 +1,5 @@
 // Sensor models (lib/models sensors.hpp): the plug-in's hand-checked values of
-// shared/reference/epuck2-plugin.md section 2, the encoder's int16 wrap and carried partial steps,
+// the plug-in's source, the encoder's int16 wrap and carried partial steps,
 // and every fitted formula instantiated for double, float and ceres::Jet with its autodiff checked
 // against central differences at the awkward points (distance 0, the cut-off, saturation).
 #include <ceres/jet.h>
@@ -51,7 +51,7 @@ void expect_jet_matches_numeric(const F& f, std::array<double, N> p, const char*
 // ----- Proximity -----------------------------------------------------------------------------
 
 TEST(Proximity, PluginPolynomialMatchesReferenceSampleValues) {
-  // reference section 2.1: d -> new (E-Puck2) / old (E-Puck v1) readings.
+  // the plug-in's source: d -> new (E-Puck2) / old (E-Puck v1) readings.
   struct Row {
     double d_m;
     int new_raw, old_raw;
@@ -68,7 +68,7 @@ TEST(Proximity, ClampsCutsOffAndSaturates) {
   EXPECT_EQ(s::proximity_reading(s::kPluginProximity, 0.049), 0);        // past the zero crossing 0.04843
   EXPECT_EQ(s::proximity_reading(s::kPluginProximity, 0.0500001), 0);    // beyond the range
   EXPECT_EQ(s::proximity_reading(s::kPluginProximity, std::nullopt), 0); // no hit
-  // Zero crossings of reference section 2.1.
+  // Zero crossings of the two polynomials (the plug-in's source).
   const double abc_new[3] = {s::kPluginProximity.a_per_m2, s::kPluginProximity.b_per_m, s::kPluginProximity.c};
   const double abc_old[3] = {s::kEpuck1Proximity.a_per_m2, s::kEpuck1Proximity.b_per_m, s::kEpuck1Proximity.c};
   EXPECT_GT(s::proximity_polynomial(abc_new, 0.04842), 0.0);
@@ -111,7 +111,7 @@ TEST(Proximity, PolynomialForFloatDoubleAndJet) {
 // ----- Light ---------------------------------------------------------------------------------
 
 TEST(Light, PluginMatchesReferenceValues) {
-  // reference section 2.2: intensity 1 saturates at d <= 0.075 m; 0.1 m -> 1792; 0.2 m -> 3519.
+  // the plug-in's source: intensity 1 saturates at d <= 0.075 m; 0.1 m -> 1792; 0.2 m -> 3519.
   EXPECT_EQ(s::light_reading(s::kPluginLight, 1.0, 0.1), 1792);
   EXPECT_EQ(s::light_reading(s::kPluginLight, 1.0, 0.2), 3519);
   EXPECT_EQ(s::light_reading(s::kPluginLight, 1.0, 0.075), 0);
@@ -137,7 +137,7 @@ TEST(Light, ResponseForFloatDoubleAndJet) {
 // ----- Ground --------------------------------------------------------------------------------
 
 TEST(Ground, PluginMatchesReference) {
-  // reference section 2.3: grey * 4.011764706, rounded, clamped to [0, 1023].
+  // the plug-in's source: grey * 4.011764706, rounded, clamped to [0, 1023].
   EXPECT_EQ(s::ground_reading_plugin(0), 0);
   EXPECT_EQ(s::ground_reading_plugin(255), 1023);
   EXPECT_EQ(s::ground_reading_plugin(128), 514);  // 513.506
@@ -227,7 +227,7 @@ TEST(Encoder, UnwrapUndoesTheWrap) {
 // ----- Camera --------------------------------------------------------------------------------
 
 TEST(Camera, ApertureGivesThePapersThirtyDegrees) {
-  // reference section 1: 18.5 deg on the diagonal = 29.97 deg horizontally (the paper's alpha = 30).
+  // the plug-in's source: 18.5 deg on the diagonal = 29.97 deg horizontally (the paper's alpha = 30).
   const double hfov_deg = s::rad_to_deg(s::horizontal_fov_from_aperture_rad(s::deg_to_rad(18.5)));
   EXPECT_NEAR(hfov_deg, 29.97, 0.005);
   EXPECT_NEAR(s::rad_to_deg(s::aperture_from_horizontal_fov_rad(s::deg_to_rad(hfov_deg))), 18.5, 1e-12);
@@ -238,7 +238,7 @@ TEST(Camera, ApertureGivesThePapersThirtyDegrees) {
 
 TEST(Camera, ProjectionMatchesThePluginPixelMapping) {
   // The plug-in: scale the camera-frame vector by f/x, then i = -W/Wm (y' - Wm/2), j = -H/Hm (z' - Hm/2),
-  // with Hm = 2 f tan(aperture)/sqrt(1 + AR^2), Wm = Hm AR (reference section 1).
+  // with Hm = 2 f tan(aperture)/sqrt(1 + AR^2), Wm = Hm AR (the plug-in's source).
   const auto cam = s::plugin_camera();
   const double f = s::kCameraFocal_m, ar = 160.0 / 120.0, ap = s::deg_to_rad(s::kCameraAperture_deg);
   const double hm = 2 * f * std::tan(ap) / std::sqrt(1 + ar * ar), wm = hm * ar;

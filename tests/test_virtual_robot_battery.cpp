@@ -143,7 +143,7 @@ TEST(VirtualBattery, ScatterMatchesTable5) {
     EXPECT_LT(ours, paper * kTable5Factor);
     EXPECT_GT(ours, paper / kTable5Factor);
   }
-  // No reading above the reader's 1.05 limit (shared/spec/logs.md).
+  // No reading above the reader's 1.05 limit (docs/logs.md).
   for (const auto& robot : noisy)
     for (const auto& run : robot)
       for (const auto& row : run.rows) ASSERT_LE(row.charge, 1.05);

@@ -1,5 +1,5 @@
 // The diagnosis engine: recalibration, greedy forward search over the catalogue's effects with
-// BIC and held-out error, residual structure (shared/spec/diagnose.md, steps 2 to 5).
+// BIC and held-out error, residual structure (docs/diagnose.md, steps 2 to 5).
 #include <ceres/ceres.h>
 
 #include <algorithm>

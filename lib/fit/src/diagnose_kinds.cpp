@@ -1,4 +1,4 @@
-// The kinds' base models and catalogue effects for the diagnosis (shared/spec/diagnose.md, "The
+// The kinds' base models and catalogue effects for the diagnosis (docs/diagnose.md, "The
 // catalogue"), each written once, templated on the scalar, over every row of the logs. Every
 // effect is a parameter set whose neutral values give back the base model, so that the engine
 // switches effects on by freeing their parameters.
@@ -43,7 +43,7 @@ T pow_data(double base, const T& exponent) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// ground: v = 1023 grey (reference section 2.3); catalogue: black_offset, white_level,
+// ground: v = 1023 grey (the plug-in's source); catalogue: black_offset, white_level,
 // sensor_gain, nonlinear_response. Combined: v = offset + (level - offset) g_s grey^p.
 class Ground : public ProblemOf<Ground> {
  public:
@@ -236,7 +236,7 @@ class Light : public ProblemOf<Light> {
 };
 
 // ---------------------------------------------------------------------------------------------
-// camera: pinhole with square pixels, centre (80, 60), f = 80 / tan(h/2) (reference section 1);
+// camera: pinhole with square pixels, centre (80, 60), f = 80 / tan(h/2) (the plug-in's source);
 // h free (fov_deg, 30 nominal). Catalogue: principal_offset, radial_distortion. Two residuals per
 // row: px then py.
 class Camera : public ProblemOf<Camera> {
@@ -266,8 +266,8 @@ class Camera : public ProblemOf<Camera> {
         ++rows;
       }
     }
-    // Nominal horizontal field of view: 30 deg (shared/spec/diagnose.md; the plug-in's 18.5 deg
-    // aperture on the diagonal gives 29.97 deg, reference section 1).
+    // Nominal horizontal field of view: 30 deg (docs/diagnose.md; the plug-in's 18.5 deg
+    // aperture on the diagonal gives 29.97 deg, the plug-in's source).
     constexpr double kNominalFov_deg = 30.0;
     fov_ = add_param(*this, "fov_deg", kNominalFov_deg, kNominalFov_deg, 1.0, 170.0);
     base_free = {fov_};
@@ -301,8 +301,8 @@ class Camera : public ProblemOf<Camera> {
 
 // ---------------------------------------------------------------------------------------------
 // drive: v_w = v_c (zero-order hold between rows), v_g = v_w; steps = floor(7763.656 x_w), int16
-// wrap; tof = clamp(round(1000 (D - x_g)), 20, 2000) (shared/spec/diagnose.md; reference sections
-// 2.4 and 2.5). Free parameters: none. Catalogue: speed_limit, accel_limit, wheel_slip,
+// wrap; tof = clamp(round(1000 (D - x_g)), 20, 2000) (docs/diagnose.md; the plug-in's
+// ToF and encoder models). Free parameters: none. Catalogue: speed_limit, accel_limit, wheel_slip,
 // speed_scale, latency, tof_offset, tof_scale, all in one model:
 //   u_w = clamp(v_c, -max, max); v_w follows u_w with |dv_w/dt| <= accel;
 //   dv_g/dt = (k_speed v_w - v_g) / tau; tof(t) = k_tof 1000 (D - x_g(t - delay)) + offset.
@@ -610,7 +610,7 @@ class Battery : public ProblemOf<Battery> {
       const auto& t = log.col("time_s");
       const auto& v = log.col("speed_cm_s");
       const auto& c = log.col("charge");
-      // A discharge run starts fully charged (shared/spec/logs.md): a first reading near full is
+      // A discharge run starts fully charged (docs/logs.md): a first reading near full is
       // that full charge seen through the sensor's noise, and starting from the noisy reading
       // would shift the whole curve in time (the Cubic starts at its intercept d ~ 1). A run
       // that starts part-way (first reading below 0.9) starts from its first reading.
@@ -619,7 +619,7 @@ class Battery : public ProblemOf<Battery> {
       for (std::size_t i = 0; i < log.rows(); ++i) {
         time_.push_back(t[i]);
         speed_.push_back(std::abs(v[i]));
-        // The last row is the moment the robot stopped (shared/spec/logs.md): its time is the
+        // The last row is the moment the robot stopped (docs/logs.md): its time is the
         // lifetime, and the model's charge there sits on the edge where it drops to 0 at its own
         // lifetime. It is simulated, not compared.
         if (i + 1 < log.rows() || log.rows() == 1) {
@@ -671,7 +671,7 @@ class Battery : public ProblemOf<Battery> {
   void simulate(double k, std::vector<double>& out) const {
     namespace mb = models::battery;
     // The calibration protocol spins in place: each wheel moves at the logged speed, the robot
-    // turns about its centre, and the model sees that speed (reference section 3).
+    // turns about its centre, and the model sees that speed (the plug-in's source).
     for (const Run& r : runs_) {
       double charge = r.start_charge;
       for (std::size_t i = r.first; i < r.last; ++i) {
@@ -723,7 +723,7 @@ std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const 
       why = "diagnose does not support the kind '" + std::string(logs::to_string(kind)) + "' yet";
       return nullptr;
   }
-  // The kinds' optional columns of shared/spec/logs.md are inputs of the model (angle_deg) or a
+  // The kinds' optional columns of docs/logs.md are inputs of the model (angle_deg) or a
   // consequence of the measured quantity (voltage_v), never `covariate:` candidates.
   add_common_covariates(*p, logs, {"angle_deg", "voltage_v"});
   return p;

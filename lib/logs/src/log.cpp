@@ -16,7 +16,7 @@ struct Range {
   const char* what;
 };
 
-// Physical ranges of the spec's columns (shared/spec/logs.md). A value outside is rejected.
+// Physical ranges of the columns (docs/logs.md). A value outside is rejected.
 std::optional<Range> range_of(Kind kind, const std::string& column) {
   if (column == "time_s") return Range{0.0, 1e9, "a time >= 0 s"};
   if (column == "distance_m") return Range{0.0, 1e3, "a distance >= 0 m"};

@@ -29,7 +29,7 @@ std::vector<GeneratedFile> proximity_logs(const ProximityTruth& truth, std::uint
       for (int i = 0; i < truth.readings_per_distance; ++i) {
         const double scatter = std::abs(noise()) * (truth.scatter_floor + truth.scatter_slope * envelope);
         const double v = (envelope > 0 ? envelope - scatter : 0.0) + noise() * truth.noise_raw / s::kProximityFullScale_raw;
-        // The firmware reports max(0, delta - offset) (reference section 4), on 12 bits.
+        // The e-puck2 firmware reports max(0, delta - offset), on 12 bits.
         const double raw = std::clamp(std::round(v * s::kProximityFullScale_raw), 0.0, s::kProximityFullScale_raw);
         const double t = std::round(static_cast<double>(k++) * period_s * 1e6) / 1e6;  // microseconds
         w.row({t, d, static_cast<double>(truth.sensor), raw}, 0);

@@ -1,5 +1,5 @@
 // The battery coefficient file (data/fitted/battery.json): what `epuck2-fit battery -o` writes and
-// what codegen, simulate and table5 read back. Layout follows shared/spec/cli.md (`speeds` with
+// what codegen, simulate and table5 read back. Layout in docs/coefficient-files.md (`speeds` with
 // speed_cm_s, lifetime_s, cubic [d, c, b, a], linear_slope, segments, mse; `mse` averages) plus
 // every standard error and fit statistic.
 #pragma once

@@ -1,4 +1,4 @@
-// Diagnosis (shared/spec/diagnose.md): what the plug-in's model of a sensor gets wrong on a set of
+// Diagnosis (docs/diagnose.md): what the plug-in's model of a sensor gets wrong on a set of
 // logs of one kind, why, and what fixing it gains on rows the fit did not see.
 //
 // For every row the base model of the kind (the plug-in's formula, lib/models) predicts the
@@ -9,7 +9,7 @@
 // A greedy forward search keeps several. What the residuals still depend on is scored against
 // every covariate (log columns and derived quantities).
 //
-// Supported kinds: every kind of shared/spec/logs.md (see diagnose_kinds.cpp).
+// Supported kinds: every kind of docs/logs.md (see diagnose_kinds.cpp).
 #pragma once
 
 #include <optional>
@@ -78,7 +78,7 @@ struct Report {
   double heldout_weighted_base = 0, heldout_weighted_final = 0;  ///< every channel, weighted
   std::vector<Finding> findings;
   std::vector<CovariateScore> structure_before;  ///< residuals of the recalibrated base model
-  std::vector<CovariateScore> structure_after;   ///< residuals after the findings (the spec's residual_structure)
+  std::vector<CovariateScore> structure_after;   ///< residuals after the findings (the JSON report's residual_structure)
   std::vector<Trial> trials;
   std::vector<std::string> effects_considered;
   std::vector<std::string> notes;  ///< decisions worth telling (e.g. a finding undone)
@@ -99,7 +99,7 @@ struct Options {
   double min_heldout_gain = 0.03;      ///< held-out MSE must fall by at least this fraction
   double structure_threshold = 0.03;   ///< practical size of a residual dependence (fraction of variance)
   int max_findings = 5;
-  /// battery: the discharge model simulated (the spec's --battery-model, Cubic by default), in the
+  /// battery: the discharge model simulated (--battery-model, Cubic by default), in the
   /// corrected behaviour (smooth in its parameters), with these tables; none given: the project's
   /// compiled-in fitted tables (data/fitted), or the plug-in's when the build has none.
   models::battery::Model battery_model = models::battery::Model::cubic;

@@ -1,4 +1,4 @@
-// Calibrating the sensors from raw logs (shared/spec/logs.md) with Ceres: proximity (paper Eq. 1
+// Calibrating the sensors from raw logs (docs/logs.md) with Ceres: proximity (paper Eq. 1
 // fitted to the per-distance maxima and means, section 4.1.1), ambient light (Eq. 2's gamma,
 // section 4.1.2), ground (gain and offset per sensor, section 4.1.3), camera (horizontal field of
 // view and image centre, section 4.1.6 and Table 4), drive (encoder steps per metre and the ToF's

@@ -1,4 +1,4 @@
-// Raw robot logs (shared/spec/logs.md): one validated reader for every kind.
+// Raw robot logs (docs/logs.md): one validated reader for every kind.
 //
 // A log is read whole and checked: required columns per kind, every numeric cell a finite number,
 // physical ranges, time_s never decreasing, at least one data row. Any failure throws InputError
@@ -19,7 +19,7 @@ enum class Kind { battery, proximity, light, ground, camera, drive };
 std::string_view to_string(Kind kind);
 std::optional<Kind> parse_kind(std::string_view name);
 const std::vector<Kind>& all_kinds();
-/// The columns a log of this kind must have (shared/spec/logs.md).
+/// The columns a log of this kind must have (docs/logs.md).
 const std::vector<std::string>& required_columns(Kind kind);
 
 /// Bad input: file, line (1-based, 0 when the whole file is meant), column (1-based character

@@ -1,5 +1,5 @@
 // Writing results: whole or not at all (temporary file in the same folder, then rename), and
-// logs in the spec's CSV format (what the virtual robot and the simulator write).
+// logs in the CSV format of docs/logs.md (what the virtual robot and the simulator write).
 #pragma once
 
 #include <map>
@@ -18,7 +18,7 @@ std::string format_number(double value);
 /// Fixed number of significant digits ("%.*g").
 std::string format_number(double value, int significant_digits);
 
-/// A log in shared/spec/logs.md format, built in memory.
+/// A log in docs/logs.md format, built in memory.
 class LogWriter {
  public:
   explicit LogWriter(std::vector<std::string> columns) : columns_(std::move(columns)) {}

@@ -2,7 +2,7 @@
 // Algorithms 1-4), driven by coefficient tables, in two behaviours:
 //
 //  * Behaviour::argos_compatible reproduces the E-Puck2 ARGoS plug-in's arithmetic to the last bit
-//    (shared/reference/epuck2-plugin.md sections 3 and 5): speed rounded to 0.01 cm/s, floor/ceil
+//    (as in the plug-in's source, its battery discharge code): speed rounded to 0.01 cm/s, floor/ceil
 //    tables, the interpolation that always starts from the smaller value, Cardano's root clamped
 //    at 0, the drop on the first tick from a full charge, the Linear model's interpolation in
 //    float, the Approximated update m*(x + dt) + h.
@@ -28,7 +28,7 @@ inline constexpr int kSpeedCount = 16;    ///< tables for 0, 1, ..., 15 cm/s
 inline constexpr int kSegmentCount = 4;   ///< Approximated model: M1..M4 (M4 = the final drop)
 inline constexpr double kMaxSpeed_m_s = 0.150;  ///< the plug-in clamps the speed to [0, 0.15] m/s
 /// Half the inter-wheel distance; the plug-in converts an in-place rotation angle to wheel
-/// travel with it (reference section 3). The plug-in writes the literal as the float 0.0265f.
+/// travel with it (the plug-in's source). The plug-in writes the literal as the float 0.0265f.
 inline constexpr double kHalfAxle_m = 0.0265;
 inline constexpr float kHalfAxleFloat_m = 0.0265f;
 
@@ -145,7 +145,7 @@ inline double exact_speed_cm_s(double delta_pos_m, double dt_s) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Plug-in compatible arithmetic (reference section 3); every expression in the source's order.
+// Plug-in compatible arithmetic (the plug-in's source); every expression in the source's order.
 // ---------------------------------------------------------------------------------------------
 namespace argos {
 
@@ -265,7 +265,7 @@ inline double step(Model model, const Tables& t, double charge, double delta_pos
 namespace corrected {
 
 /// The firmware's battery reading is an exponential moving average, 0.8 old + 0.2 new every
-/// 500 ms (reference section 4): a time constant of 0.5 / ln(1.25) = 2.24 s. A full battery
+/// 500 ms (the e-puck2 firmware): a time constant of 0.5 / ln(1.25) = 2.24 s. A full battery
 /// reads 1 and falls to the curve's intercept d (the voltage under load) with that lag, instead of
 /// jumping there in one tick as the plug-in's Cubic does.
 inline constexpr double kFirmwareFilterTau_s = 2.2407;
@@ -444,7 +444,7 @@ inline double step(Model model, Behaviour behaviour, const Tables& t, double cha
 }
 
 /// What the plug-in's Linear and Simple models are defined by: lines from 1 at t = 0 to 0 at the
-/// lifetime (reference section 5.4).
+/// lifetime (the plug-in's source).
 inline double lifetime_slope_per_s(double lifetime_s) { return -1.0 / lifetime_s; }
 
 }  // namespace epuck2::models::battery

@@ -1,11 +1,11 @@
 // The E-Puck2 ARGoS plug-in's battery discharge tables, verbatim.
 //
 // Source: ADARS e-puck2 ARGoS plug-in (MIT licence), upstream gitlab.uni.lu/adars/e-puck2,
-// commit 0c30e1e (2024-01-25), battery discharge models; transcribed in
-// shared/reference/epuck2-plugin.md section 3 "Coefficient tables (verbatim)". These numbers were
+// commit 0c30e1e (2024-01-25), battery discharge models: the coefficient tables copied from the
+// plug-in's source. These numbers were
 // fitted by the plug-in authors to their real robots' logs (paper: Fig. 10, Table 5).
 // They are the reference for "plug-in compatible" behaviour; the project's own fitted tables are
-// generated into data/fitted/include/epuck2/fitted/battery_coefficients.hpp by `epuck2-fit codegen`.
+// generated into data/fitted/include/epuck2/fitted/coefficients.hpp by `epuck2-fit codegen`.
 #pragma once
 
 #include "epuck2/models/battery.hpp"

@@ -6,7 +6,7 @@
 //    gain/offset, camera projection) is a template on the scalar, with no branch on a parameter,
 //    so that lib/fit evaluates the very same code with ceres::Jet;
 //  * the run-time reading (clamp, noise, quantisation) is plain double and reproduces the E-Puck2
-//    ARGoS plug-in's arithmetic (shared/reference/epuck2-plugin.md sections 2 and 5, "plug-in
+//    ARGoS plug-in's arithmetic (as in the plug-in's source, its sensor models, "plug-in
 //    compatible") when given the plug-in's coefficients, and the project's fitted ones otherwise
 //    (data/fitted/<kind>.json, loaded by lib/fit's sensors.hpp, or compile-time constants).
 //
@@ -26,7 +26,7 @@
 namespace epuck2::models::sensors {
 
 // =============================================================================================
-// Noise: ARGoS's uniform noise in [-1, 1] times a level (reference section 2.6)
+// Noise: ARGoS's uniform noise in [-1, 1] times a level (the plug-in's source)
 // =============================================================================================
 
 /// A seedable source of uniform numbers in [0, 1) built from std::mt19937_64's bits (whose
@@ -56,24 +56,24 @@ struct NoNoise {
 };
 
 // =============================================================================================
-// Geometry (reference section 1)
+// Geometry (the plug-in's source)
 // =============================================================================================
 
 inline constexpr int kProximityCount = 8;
 inline constexpr int kGroundCount = 3;
-/// Proximity and light sensor angles, index 0..7, from the plug-in's source (reference section 1;
+/// Proximity and light sensor angles, index 0..7, from the plug-in's source (docs/logs.md;
 /// index 0 front-right, clockwise, negative = right side). The paper's Table 3 lists 15, 50, 90,
 /// 150, 210, 270, 310, 345 degrees instead.
 inline constexpr std::array<double, kProximityCount> kProximityAngles_deg{-17, -50, -90, -150, 150, 90, 50, 17};
-inline constexpr double kProximityRingRadius_m = 0.036;   ///< reference section 1
-inline constexpr double kProximityElevation_m = 0.043;    ///< reference section 1
-inline constexpr double kBodyRadius_m = 0.035;            ///< reference section 1
-inline constexpr double kInterWheel_m = 0.053;            ///< reference section 1
-inline constexpr double kWheelRadius_m = 0.0205;          ///< reference section 1
-/// ToF sensor position in the robot frame (reference section 1).
+inline constexpr double kProximityRingRadius_m = 0.036;   ///< the plug-in's source
+inline constexpr double kProximityElevation_m = 0.043;    ///< the plug-in's source
+inline constexpr double kBodyRadius_m = 0.035;            ///< the plug-in's source
+inline constexpr double kInterWheel_m = 0.053;            ///< the plug-in's source
+inline constexpr double kWheelRadius_m = 0.0205;          ///< the plug-in's source
+/// ToF sensor position in the robot frame (the plug-in's source).
 inline constexpr std::array<double, 3> kTofPosition_m{0.032, 0.0, 0.036};
 /// Ground sensors (x, y) in the robot frame, index 0 = right, 1 = centre, 2 = left (reference
-/// section 1; shared/spec/logs.md for the index order).
+/// section 1; docs/logs.md for the index order).
 inline constexpr std::array<std::array<double, 2>, kGroundCount> kGroundPositions_m{
     {{0.03, -0.009}, {0.03, 0.0}, {0.03, 0.009}}};
 
@@ -82,7 +82,7 @@ inline constexpr double deg_to_rad(double deg) { return deg * (kPi / 180.0); }
 inline constexpr double rad_to_deg(double rad) { return rad * (180.0 / kPi); }
 
 // =============================================================================================
-// 1. Proximity (paper Eq. 1; reference sections 2.1 and 5.7)
+// 1. Proximity (paper Eq. 1; the plug-in's source)
 // =============================================================================================
 
 /// The response v(d) = a d^2 + b d + c (normalised to 0..1) for d <= range, else 0.
@@ -90,15 +90,15 @@ struct ProximityCoefficients {
   double a_per_m2 = 0;
   double b_per_m = 0;
   double c = 0;
-  double range_m = 0.05;  ///< reference section 1: the ray is 0.05 m long
+  double range_m = 0.05;  ///< the plug-in's source: the ray is 0.05 m long
 };
 
 /// The E-Puck2 plug-in's polynomial, fitted by the paper to the maxima (paper section 4.1.1;
-/// reference section 2.1).
+/// the plug-in's source).
 inline constexpr ProximityCoefficients kPluginProximity{197.8633, -30.47182, 1.011635, 0.05};
 /// The E-Puck (v1) polynomial (Garattoni and Francesca; paper section 4.1.1; reference 2.1).
 inline constexpr ProximityCoefficients kEpuck1Proximity{298.701, -36.8961, 1.08212, 0.05};
-/// Full scale of a proximity and light reading: 12-bit ADC (reference section 2).
+/// Full scale of a proximity and light reading: 12-bit ADC (the plug-in's source).
 inline constexpr double kProximityFullScale_raw = 4095.0;
 
 /// The polynomial of Eq. 1 without its clamp: p = {a, b, c}. What a fit adjusts.
@@ -129,14 +129,14 @@ inline int proximity_reading(const ProximityCoefficients& k, std::optional<doubl
 }
 
 // =============================================================================================
-// 2. Ambient light (paper Eq. 2; reference sections 2.2 and 5.8)
+// 2. Ambient light (paper Eq. 2; the plug-in's source)
 // =============================================================================================
 
 struct LightCoefficients {
   /// Eq. 2's gamma (m per intensity unit): each light adds (gamma I)^2 / d^2. The plug-in divides
-  /// I by 13.3333333333333 (reference section 2.2), i.e. gamma = 0.075 (paper section 4.1.2).
+  /// I by 13.3333333333333 (the plug-in's source), i.e. gamma = 0.075 (paper section 4.1.2).
   double gamma_m = 1.0 / 13.3333333333333;
-  double range_m = 0.50;  ///< lights farther than this are ignored (reference section 1)
+  double range_m = 0.50;  ///< lights farther than this are ignored (the plug-in's source)
 };
 inline constexpr LightCoefficients kPluginLight{};
 
@@ -177,18 +177,18 @@ inline int light_reading(const LightCoefficients& k, double intensity, double di
 }
 
 // =============================================================================================
-// 3. Ground (reference sections 2.3 and 5.9)
+// 3. Ground (the plug-in's source)
 // =============================================================================================
 
 /// value = offset + gain * grey, grey in [0, 1] (0 = black). The plug-in has offset 0 and gain
-/// 1023: it multiplies a 0..255 grey level by 4.011764706 = 1023/255 (reference section 2.3).
+/// 1023: it multiplies a 0..255 grey level by 4.011764706 = 1023/255 (the plug-in's source).
 struct GroundCoefficients {
   double gain_raw = 1023.0;   ///< reading of white minus reading of black, raw counts
   double offset_raw = 0.0;    ///< reading over black (the paper's residual detections)
 };
 inline constexpr GroundCoefficients kPluginGround{};
 inline constexpr double kGroundFullScale_raw = 1023.0;        ///< 10-bit reading (reference 2.3)
-inline constexpr double kPluginGroundPerGreyLevel = 4.011764706;  ///< reference section 2.3
+inline constexpr double kPluginGroundPerGreyLevel = 4.011764706;  ///< the plug-in's source
 
 /// The noiseless response to a grey level in [0, 1]. What a fit adjusts.
 template <typename T>
@@ -197,7 +197,7 @@ T ground_response(const T& gain_raw, const T& offset_raw, double grey) {
 }
 
 /// The plug-in's reading from a 0..255 grey level: grey * 4.011764706 + noise * 1023, rounded,
-/// clamped to [0, 1023] (reference section 2.3).
+/// clamped to [0, 1023] (the plug-in's source).
 template <class UnitRandom>
 int ground_reading_plugin(double grey_level_0_255, double noise_level, UnitRandom& unit) {
   const double v = grey_level_0_255 * kPluginGroundPerGreyLevel + uniform_noise(unit, noise_level) * kGroundFullScale_raw;
@@ -222,13 +222,13 @@ inline int ground_reading(const GroundCoefficients& k, double grey) {
 }
 
 // =============================================================================================
-// 4. Time of flight (reference sections 2.4 and 5.10)
+// 4. Time of flight (the plug-in's source)
 // =============================================================================================
 
 struct TofCoefficients {
-  double range_m = 2.0;       ///< reference section 1: one 2.0 m ray
-  double min_mm = 20.0;       ///< VL53L0X minimum (reference sections 2.4, 4)
-  double max_mm = 2000.0;     ///< reference section 2.4
+  double range_m = 2.0;       ///< the plug-in's source: one 2.0 m ray
+  double min_mm = 20.0;       ///< VL53L0X minimum (the plug-in's source and the e-puck2 firmware)
+  double max_mm = 2000.0;     ///< the plug-in's source
   double scale = 1.0;         ///< measured = scale * true distance + offset (plug-in: 1, 0)
   double offset_mm = 0.0;
 };
@@ -254,13 +254,13 @@ inline int tof_reading_mm(const TofCoefficients& k, std::optional<double> hit_di
 }
 
 // =============================================================================================
-// 5. Encoders (reference sections 2.5, 4 and 5.6; paper section 3.5)
+// 5. Encoders (the plug-in's source and the e-puck2 firmware; paper section 3.5)
 // =============================================================================================
 
 /// 1000 steps per wheel revolution over a 0.0205 m wheel radius: 1000 / (2 pi 0.0205) =
-/// 7763.656 steps per metre (reference section 2.5; the source names it StepsPerCm).
+/// 7763.656 steps per metre (the plug-in's source; the source names it StepsPerCm).
 inline constexpr double kPluginStepsPerMetre = 7763.656;
-/// The firmware's MOTOR_SPEED_LIMIT (reference sections 1 and 4).
+/// The firmware's MOTOR_SPEED_LIMIT (the plug-in's source and the e-puck2 firmware).
 inline constexpr double kFirmwareSpeedLimit_steps_s = 1100.0;
 
 struct EncoderCoefficients {
@@ -290,7 +290,7 @@ class Encoder {
   void set_count(double c) { count_ = c; }
 
  private:
-  static constexpr double kInt16Max = 32767.0;  ///< the noise scale of reference section 2.5
+  static constexpr double kInt16Max = 32767.0;  ///< the plug-in's noise scale
   static constexpr double kWrap = 32768.0;      ///< int16 range is [-32768, 32768)
   EncoderCoefficients k_;
   double count_ = 0.0;
@@ -307,7 +307,7 @@ inline double unwrap_steps(double previous_unwrapped, double reading) {
 }
 
 /// A register's readings unwrapped from the first, which is taken as is (the encoders read 0 at
-/// time 0, shared/spec/logs.md).
+/// time 0, docs/logs.md).
 inline std::vector<double> unwrap_steps(const std::vector<double>& readings) {
   std::vector<double> out(readings.size());
   for (std::size_t i = 0; i < readings.size(); ++i) out[i] = i ? unwrap_steps(out[i - 1], readings[i]) : readings[i];
@@ -315,20 +315,20 @@ inline std::vector<double> unwrap_steps(const std::vector<double>& readings) {
 }
 
 // =============================================================================================
-// 6. Camera (reference section 1; paper section 4.1.6)
+// 6. Camera (the plug-in's source; paper section 4.1.6)
 // =============================================================================================
 
-inline constexpr int kCameraWidth_px = 160;    ///< reference section 1
-inline constexpr int kCameraHeight_px = 120;   ///< reference section 1
+inline constexpr int kCameraWidth_px = 160;    ///< the plug-in's source
+inline constexpr int kCameraHeight_px = 120;   ///< the plug-in's source
 inline constexpr double kCameraAperture_deg = 18.5;  ///< plug-in since 2024-01-25 (reference 1)
-inline constexpr double kCameraRange_m = 1.0;        ///< reference section 1; paper 4.1.6
-inline constexpr double kCameraFocal_m = 0.035;      ///< reference section 1 (cancels out)
-/// Camera position in the robot frame (reference section 1).
+inline constexpr double kCameraRange_m = 1.0;        ///< the plug-in's source; paper 4.1.6
+inline constexpr double kCameraFocal_m = 0.035;      ///< the plug-in's source (cancels out)
+/// Camera position in the robot frame (the plug-in's source).
 inline constexpr std::array<double, 3> kCameraPosition_m{0.035, 0.0, 0.032};
 
 /// ARGoS's aperture is the half-angle of the visibility cone on the image diagonal. The image
 /// plane's width is 2 f tan(aperture) W / sqrt(W^2 + H^2), so the horizontal field of view is
-/// 2 atan(W / sqrt(W^2 + H^2) tan(aperture)) (= 29.97 deg for 18.5 deg; reference section 1).
+/// 2 atan(W / sqrt(W^2 + H^2) tan(aperture)) (= 29.97 deg for 18.5 deg; the plug-in's source).
 inline double horizontal_fov_from_aperture_rad(double aperture_rad, int width_px = kCameraWidth_px,
                                                int height_px = kCameraHeight_px) {
   const double w = width_px, h = height_px;
@@ -357,7 +357,7 @@ inline CameraCoefficients plugin_camera() {
 
 /// Projection of a point (forward x > 0, lateral y to the left, vertical z up, camera frame) to
 /// pixel coordinates: px = cx - f y/x, py = cy - f z/x, f = (W/2)/tan(hfov/2). This is the
-/// plug-in's i = -W/Wm (y f/x - Wm/2), j = -H/Hm (z f/x - Hm/2) (reference section 1) written with
+/// plug-in's i = -W/Wm (y f/x - Wm/2), j = -H/Hm (z f/x - Hm/2) (the plug-in's source) written with
 /// the field of view and the image centre as the parameters. What a fit adjusts.
 template <typename T>
 void camera_projection(const T& hfov_rad, const T& cx_px, const T& cy_px, double width_px, double forward_m,
@@ -369,7 +369,7 @@ void camera_projection(const T& hfov_rad, const T& cx_px, const T& cy_px, double
 }
 
 /// The plug-in's visibility test: inside the cone of half-angle `aperture` about the axis and
-/// nearer than the range along the axis (reference section 1).
+/// nearer than the range along the axis (the plug-in's source).
 inline bool camera_sees(double aperture_rad, double range_m, double forward_m, double lateral_m, double vertical_m) {
   const double norm = std::sqrt(forward_m * forward_m + lateral_m * lateral_m + vertical_m * vertical_m);
   if (!(forward_m > 0.0) || norm == 0.0) return false;
@@ -387,7 +387,7 @@ inline double alpha_from_pixel_offset_rad(double forward, double lateral, double
 }
 
 // =============================================================================================
-// LEDs (paper Table 2; reference section 1)
+// LEDs (paper Table 2; the plug-in's source)
 // =============================================================================================
 
 enum class LedColour { red, rgb, green };
@@ -406,8 +406,8 @@ struct Led {
   bool on_ring = false;  ///< LEDs 1..8: on the ring at angle_deg; 9 and 10: no position given
   double angle_deg = 0;  ///< ring angle (LEDs 1..8)
 };
-inline constexpr double kLedRingRadius_m = 0.037;   ///< reference section 1
-inline constexpr double kLedElevation_m = 0.048;    ///< reference section 1
+inline constexpr double kLedRingRadius_m = 0.037;   ///< the plug-in's source
+inline constexpr double kLedElevation_m = 0.048;    ///< the plug-in's source
 /// Paper Table 2: 1..8 around the ring at 0, 45, ..., 315 deg (RED, RGB alternating), 9 the front
 /// LED (red), 10 the body LED (green). The reference gives no position for 9 and 10.
 inline constexpr std::array<Led, 10> kLeds{{{1, LedColour::red, true, 0},

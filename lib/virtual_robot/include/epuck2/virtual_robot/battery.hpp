@@ -13,7 +13,7 @@
 //    spring contacts, switch).
 //  * The robot stops when V falls below a speed-dependent stop level (steppers stall; at 0 cm/s
 //    the run ends at the low-battery level), so the published curves end at charge 0.09-0.26.
-//  * Firmware battery monitor (reference section 4): every 500 ms a burst of 32 ADC samples
+//  * Firmware battery monitor (the e-puck2 firmware): every 500 ms a burst of 32 ADC samples
 //    (819.2 counts per volt through the 220k/330k divider), their mean, an exponential moving
 //    average 0.8 old + 0.2 new; charge = (V_filtered - 3.4) / (4.2 - 3.4), not clamped.
 //  * Measurement scatter: pulsed loads (stepper phase switching, the radio that streams the log)
@@ -47,7 +47,7 @@ namespace mb = epuck2::models::battery;
 inline constexpr double kNominalCapacity_Ah = 1.8;
 inline constexpr double kSecondsPerHour = 3600.0;
 
-// --- Firmware battery monitor (reference section 4, e-puck2_main-processor) --------------------
+// --- Firmware battery monitor (e-puck2 firmware, e-puck2_main-processor) --------------------
 inline constexpr double kAdcCountsPerVolt = 819.2;   ///< divider 220k/330k, VREF 3.0 V, 12 bit
 inline constexpr int kAdcSamplesPerReading = 32;     ///< each reading is a 32-sample mean
 inline constexpr double kFilterKeep = 0.8;           ///< EMA: 0.8 old + 0.2 new
@@ -129,7 +129,7 @@ struct SimulationOptions {
   double max_time_s = 48 * 3600.0;  ///< stop simulating here if the robot still runs
 };
 
-/// One logged row (shared/spec/logs.md battery kind, with the optional voltage_v).
+/// One logged row (docs/logs.md battery kind, with the optional voltage_v).
 struct Row {
   double time_s = 0;
   double speed_cm_s = 0;  ///< commanded wheel speed (spinning in place)

@@ -11,7 +11,7 @@
 
 namespace epuck2::virtual_robot {
 
-/// One log file: its name inside the kind's folder and its CSV text (shared/spec/logs.md).
+/// One log file: its name inside the kind's folder and its CSV text (docs/logs.md).
 struct GeneratedFile {
   std::string name;
   std::string content;

@@ -3,7 +3,7 @@
 // Gaussian noise it draws. The fits are checked against these values (tests/test_sensor_fits.cpp).
 //
 // These are not measured numbers: they are the synthetic robot's design, chosen from what the
-// paper (section 4.1) and the firmware facts of shared/reference/epuck2-plugin.md section 4 report.
+// paper (section 4.1) and the e-puck2 firmware's source report.
 #pragma once
 
 #include <array>
