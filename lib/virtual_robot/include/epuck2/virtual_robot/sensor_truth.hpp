@@ -55,9 +55,10 @@ inline double whole_count(double v, double full_scale) {
 inline std::string robot_id(std::size_t r) { return "virtual-epuck2-" + std::to_string(r + 1); }
 
 /// Occasional wild readings (a glitch, a reflection, a stuck register) from their own seeded
-/// stream: every reading draws two numbers whatever the fraction, so a fraction of 0 leaves every
-/// other reading exactly as it was. wild() is true for about `fraction` of the readings; value()
-/// is then uniform over [lo, hi], rounded to a whole count when `whole`.
+/// stream: next() draws two numbers for every reading whatever the fraction, so a fraction of 0
+/// leaves every other reading exactly as it was. It is true for about `fraction` of the readings,
+/// and the wild value is uniform over [lo, hi] (every whole count from lo to hi equally likely
+/// when `whole`).
 class WildReadings {
  public:
   WildReadings(std::uint64_t seed, double fraction) : unit_(seed), fraction_(fraction) {}
@@ -88,7 +89,7 @@ struct ProximityTruth {
                                   0.035, 0.040, 0.045, 0.050, 0.055, 0.060};
   int readings_per_distance = 360;  ///< about 24 readings/s for 15 s (paper section 4.1.1)
   int sensor = 0;                   ///< PROX0, the front-right sensor the paper used
-  /// Rails: at this many of the nearest distances (0 mm) the receiver saturates, whatever the
+  /// Rails: at the first this many of distances_m (the nearest: 0 mm) the receiver saturates, whatever the
   /// robot's gain: the latent reading is the rail (4095) plus the electronic noise only (no
   /// scatter), then clipped, so about half the readings land on 4095 and half just inside.
   /// 0 disables (the envelope, clamped to 1, minus scatter, as at every other distance).
