@@ -6,6 +6,7 @@
 // paper (section 4.1) and the e-puck2 firmware's source report.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -43,6 +44,36 @@ class Gaussian {
   bool has_spare_ = false;
 };
 
+/// A reading rounded to a whole count and clamped to [0, full_scale]; never "-0" in a log (the
+/// rounding of a small negative value is -0, which std::clamp keeps).
+inline double whole_count(double v, double full_scale) {
+  const double r = std::clamp(std::round(v), 0.0, full_scale);
+  return r == 0.0 ? 0.0 : r;
+}
+
+/// The robots' names in the logs (`# robot: ...`): robot r (0-based) is "virtual-epuck2-<r+1>".
+inline std::string robot_id(std::size_t r) { return "virtual-epuck2-" + std::to_string(r + 1); }
+
+/// Occasional wild readings (a glitch, a reflection, a stuck register) from their own seeded
+/// stream: next() draws two numbers for every reading whatever the fraction, so a fraction of 0
+/// leaves every other reading exactly as it was. It is true for about `fraction` of the readings,
+/// and the wild value is uniform over [lo, hi] (every whole count from lo to hi equally likely
+/// when `whole`).
+class WildReadings {
+ public:
+  WildReadings(std::uint64_t seed, double fraction) : unit_(seed), fraction_(fraction) {}
+  /// Draws for the next reading: whether it is wild, and the wild value in [lo, hi].
+  bool next(double lo, double hi, bool whole, double* value) {
+    const double u = unit_(), w = unit_();
+    *value = whole ? std::floor(lo + (hi - lo + 1.0) * w) : lo + (hi - lo) * w;
+    return u < fraction_;
+  }
+
+ private:
+  models::sensors::UnitUniform unit_;
+  double fraction_;
+};
+
 // ----- Proximity (paper section 4.1.1) ---------------------------------------------------------
 struct ProximityTruth {
   /// The upper envelope of the readings: the paper's polynomial fitted to the maxima.
@@ -58,6 +89,14 @@ struct ProximityTruth {
                                   0.035, 0.040, 0.045, 0.050, 0.055, 0.060};
   int readings_per_distance = 360;  ///< about 24 readings/s for 15 s (paper section 4.1.1)
   int sensor = 0;                   ///< PROX0, the front-right sensor the paper used
+  /// Rails: at the first this many of distances_m (the nearest: 0 mm) the receiver saturates, whatever the
+  /// robot's gain: the latent reading is the rail (4095) plus the electronic noise only (no
+  /// scatter), then clipped, so about half the readings land on 4095 and half just inside.
+  /// 0 disables (the envelope, clamped to 1, minus scatter, as at every other distance).
+  int saturated_distances = 1;
+  /// Wild readings: this fraction of the readings is replaced by a value uniform over 0..4095
+  /// (WildReadings, own stream). 0 disables.
+  double wild_fraction = 0.002;
 };
 
 // ----- Light (paper section 4.1.2) -------------------------------------------------------------
@@ -70,6 +109,16 @@ struct LightTruth {
   std::vector<double> distances_m{0.10, 0.15, 0.20, 0.25, 0.30, 0.35, 0.40, 0.45, 0.50};
   std::vector<double> intensities{0.5, 1.0, 1.5, 2.0};
   int readings = 24;
+  /// Two robots differ: robot r's gamma is gamma_m * robot_gamma_scale[r] (robot 2's is 1 % smaller,
+  /// 0.07425 m). Robot 1 writes light_intensity_I.csv, robot r > 1 light_intensity_I_<robot>.csv.
+  /// One element: one robot.
+  std::vector<double> robot_gamma_scale{1.00, 0.99};
+  /// Rails: this many extra readings per robot and sensor in the brightest intensity's file, at the
+  /// distance (to 0.1 mm) where robot 1's first sensor's latent reading is the rail 0, so about half
+  /// of that sensor's land on 0 and half just inside. 0 disables.
+  int rail_readings = 48;
+  /// Wild readings: this fraction replaced by a value uniform over 0..4095 (own stream). 0 disables.
+  double wild_fraction = 0.002;
 };
 
 // ----- Ground (paper section 4.1.3) -------------------------------------------------------------
@@ -80,6 +129,16 @@ struct GroundTruth {
   double noise_raw = 5.0;  ///< one sigma, counts
   int grey_steps = 10;     ///< grey = 0, 0.1, ..., 1
   int readings = 40;
+  /// Two robots differ: robot r's gains are gain_raw * robot_gain_scale[r] (robot 2's 2 % higher),
+  /// same offsets. Robot r writes ground_<robot>.csv. One element: one robot.
+  std::vector<double> robot_gain_scale{1.00, 1.02};
+  /// Rails: robot 2's centre sensor (offset 48) has the gain that brings its white (grey 1) latent
+  /// reading to this value, 1023 = the rail (gain 975 instead of 940 x 1.02 = 958.8), so about half
+  /// its white readings land on 1023 and half just inside. 0 disables. The black rail is not
+  /// modelled: every offset stays 48..75 counts (10..15 noise sd) above 0, see README.md.
+  double white_rail_raw = 1023.0;
+  /// Wild readings: this fraction replaced by a value uniform over 0..1023 (own stream). 0 disables.
+  double wild_fraction = 0.002;
 };
 
 // ----- Camera (paper section 4.1.6) -------------------------------------------------------------
@@ -92,6 +151,12 @@ struct CameraTruth {
   int columns = 9;  ///< LED positions across the field of view per depth
   int rows = 3;     ///< heights per depth
   int frames = 3;   ///< images per LED position
+  /// Two robots differ: robot r's optical axis column is cx_px + robot_cx_shift_px[r] (robot 2's
+  /// at 82.1). Robot r writes camera_<robot>.csv. One element: one robot.
+  std::vector<double> robot_cx_shift_px{0.0, 0.5};
+  /// Wild readings: the blob detector locks onto a reflection in this fraction of the frames: the
+  /// centroid is uniform over the image (px 0..159, py 0..119, whole pixels; own stream). 0 disables.
+  double wild_fraction = 0.01;
 };
 
 // ----- Drive: encoders and ToF (paper sections 4.1.4 and 4.1.5) --------------------------------
@@ -111,6 +176,36 @@ struct DriveTruth {
   double sample_period_s = 0.1;        ///< ~10 Hz over Wi-Fi ...
   double sample_jitter_s = 0.02;       ///< ... +- this (uniform; paper section 4.1.5)
   double physics_step_s = 0.001;
+  /// Above the cap: speeds_cm_s holds 15 cm/s, which the host sends as 1165 steps/s and the
+  /// firmware caps at speed_limit_steps_s (1100 = 14.17 cm/s).
+  ///
+  /// Two robots differ: robot r's wheels travel 1/steps_per_m_scale[r] of the nominal distance per
+  /// step (robot 2's true steps_per_m is 0.5 % higher, 7802.47: a wheel 0.2 mm smaller) while its host
+  /// still converts commands with steps_per_m. Robot 1 runs speeds_cm_s and the extra runs below;
+  /// robot r > 1 runs other_robot_speeds_cm_s, both directions, drive_*_<robot>.csv. One element: one robot.
+  std::vector<double> steps_per_m_scale{1.000, 1.005};
+  std::vector<double> other_robot_speeds_cm_s{5.0, 10.0};
+  /// Static run: robot 1 stands still (all commands 0) this long, drive_static.csv. 0 disables.
+  double static_run_s = 10.0;
+  /// Rail at the ToF floor: a run that starts 11.2 mm from the obstacle (`# obstacle_distance_m:
+  /// 0.0112`), where the latent ToF reading is the 20 mm floor ((20 - tof_offset_mm) / tof_scale),
+  /// stands still there for floor_run_pause_s (about half the readings on 20), then drives away at
+  /// this speed for floor_run_travel_m, drive_away_floor_SS.S_cm_s.csv. 0 disables.
+  double floor_run_speed_cm_s = 5.0;
+  double floor_run_pause_s = 3.0;
+  double floor_run_travel_m = 0.10;
+  /// Out of range, and the rail at 2000 mm: a run away from the obstacle at this speed for
+  /// far_run_travel_m, drive_away_far_SS.S_cm_s.csv. Beyond tof_range_m the VL53L0X finds no target
+  /// and reports tof_out_of_range_mm; within it readings clamp at 2000 (the latent reading is 2000 at
+  /// 2.021 m, 2077 at 2.10 m). 0 disables.
+  double far_run_speed_cm_s = 10.0;
+  double far_run_travel_m = 2.0;
+  double tof_range_m = 2.10;
+  double tof_out_of_range_mm = 8190.0;
+  /// Dropouts: this fraction of the ToF readings reads tof_out_of_range_mm (own stream). 0 disables.
+  double tof_dropout_fraction = 0.002;
+  /// Wild readings: this fraction of the ToF readings is uniform over 20..2000 mm (own stream). 0 disables.
+  double tof_wild_fraction = 0.002;
 };
 
 // The protocols with a given truth (the *_reference_logs functions use the defaults above).
