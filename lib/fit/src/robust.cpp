@@ -2,6 +2,7 @@
 // first pass, outliers left out beyond reject_sd, noise by EM, identifiability by the equilibrated
 // normal matrix, lack of fit against replicates, and the distributions the tests need.
 #include "epuck2/fit/robust.hpp"
+#include "epuck2/fit/screening.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -284,6 +285,21 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     return out;
   }
 
+  // Readings that repeat under the same conditions are judged wild against their replicates, not
+  // against the curve (a model that misses some conditions would otherwise shed good readings).
+  std::vector<double> values(n);
+  std::vector<int> groups(n);
+  std::vector<bool> on_rail(n), judged_by_replicates(n, false);
+  std::map<int, std::size_t> group_size;
+  for (std::size_t i = 0; i < n; ++i) {
+    values[i] = obs[i].value;
+    groups[i] = obs[i].group;
+    on_rail[i] = obs[i].censoring != Censoring::none;
+    if (obs[i].group >= 0) ++group_size[obs[i].group];
+  }
+  for (std::size_t i = 0; i < n; ++i) judged_by_replicates[i] = obs[i].group >= 0 && group_size[obs[i].group] >= 5;
+  const std::vector<bool> replicate_wild =
+      opt.robust ? flag_wild_replicates(values, groups, on_rail, opt.noise_floor) : std::vector<bool>(n, false);
   std::vector<double> w(n, 1.0), p(m), predictions;
   double sigma = sigma_given ? opt.noise_sd : 1.0;
   auto exact_residuals = [&](const std::vector<double>& f, const std::vector<double>& weights) {
@@ -306,7 +322,7 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
 
   for (;;) {  // until every free parameter is identifiable
     for (std::size_t j = 0; j < m; ++j) p[j] = params[j].value;
-    std::fill(w.begin(), w.end(), 1.0);
+    for (std::size_t i = 0; i < n; ++i) w[i] = replicate_wild[i] ? 0.0 : 1.0;
     // 1. Start: the exact readings alone, plain least squares.
     Solution s = solve_once(model, obs, p, params, held, w, 1.0, false);
     if (!s.ok) {
@@ -319,6 +335,7 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     if (opt.robust) {
       for (int pass = 0; pass < 10; ++pass) {
         for (std::size_t i = 0; i < n; ++i) {
+          if (judged_by_replicates[i]) continue;
           double dev = obs[i].value - s.predictions[i];
           // A railed reading pulls only when the curve is on the wrong side of its rail.
           if (obs[i].censoring == Censoring::at_or_above) dev = std::max(dev, 0.0);
@@ -329,7 +346,7 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
         const std::vector<double> before = p;
         s = solve_once(model, obs, p, params, held, w, sigma, true);
         if (!s.ok) break;
-        if (!sigma_given) sigma = robust_sigma(s.predictions, std::vector<double>(n, 1.0));
+        if (!sigma_given) sigma = robust_sigma(s.predictions, w);
         double change = 0;
         for (std::size_t j = 0; j < m; ++j) change = std::max(change, std::abs(p[j] - before[j]) / (std::abs(p[j]) + 1e-12));
         if (change < 1e-9) break;
@@ -343,8 +360,10 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     std::vector<double> hard(n, 1.0);
     for (int pass = 0; pass < opt.max_passes; ++pass) {
       std::vector<double> next(n, 1.0);
+      for (std::size_t i = 0; i < n; ++i) next[i] = replicate_wild[i] ? 0.0 : 1.0;
       if (opt.robust)
         for (std::size_t i = 0; i < n; ++i) {
+          if (judged_by_replicates[i]) continue;
           const double dev = (obs[i].value - s.predictions[i]) / sigma;
           if (obs[i].censoring == Censoring::none && std::abs(dev) > opt.reject_sd) next[i] = 0;
           // A rail reading the curve puts far on the other side of the rail is just as wild.

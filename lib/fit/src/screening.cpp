@@ -68,65 +68,82 @@ logs::Log without_rows(const logs::Log& log, const std::vector<bool>& drop) {
   return out;
 }
 
+std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const std::vector<int>& group,
+                                       const std::vector<bool>& on_rail, double floor_sd, std::vector<std::string>* why) {
+  const std::size_t n = values.size();
+  std::vector<bool> wild(n, false);
+  if (why != nullptr) why->assign(n, "");
+  std::map<int, std::vector<std::size_t>> groups;
+  for (std::size_t i = 0; i < n; ++i)
+    if (group[i] >= 0) groups[group[i]].push_back(i);
+  std::map<int, double> sd_of;
+  std::vector<double> sds;
+  for (const auto& [g, members] : groups) {
+    std::vector<double> v;
+    for (std::size_t i : members)
+      if (!on_rail[i]) v.push_back(values[i]);
+    if (v.size() < 5) continue;
+    const double med = median_of(v);
+    for (double& x : v) x = std::abs(x - med);
+    sd_of[g] = 1.482602218505602 * median_of(v);
+    sds.push_back(sd_of[g]);
+  }
+  const double typical = median_of(sds);
+  for (const auto& [g, members] : groups) {
+    if (members.size() < 5) continue;  // too few readings to call one of them wild
+    std::vector<double> v;
+    std::size_t railed = 0;
+    for (std::size_t i : members) {
+      v.push_back(values[i]);
+      railed += on_rail[i] ? 1 : 0;
+    }
+    const double med = median_of(v);
+    const double sd = std::max({sd_of.count(g) ? sd_of.at(g) : typical, 0.5 * typical, floor_sd});
+    for (std::size_t i : members) {
+      const double dev = std::abs(values[i] - med);
+      wild[i] = on_rail[i] ? railed == 1 && dev > 0.5 * kWildReadingSd * sd : dev > kWildReadingSd * sd;
+      if (wild[i] && why != nullptr)
+        (*why)[i] = fmt(values[i]) + " where the readings under the same conditions centre on " + fmt(med) + " (robust sd " +
+                    fmt(sd) + ")";
+    }
+  }
+  return wild;
+}
+
 std::vector<logs::Log> drop_wild_readings(const std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
   if (all.empty()) return all;
   Rule rule;
   if (!rule_for(all.front().kind, &rule)) return all;
-  // Groups over all logs: the conditions' values as a key.
-  struct Member {
-    std::size_t log, row;
-  };
   std::vector<std::vector<bool>> drop(all.size());
   for (std::size_t l = 0; l < all.size(); ++l) drop[l].assign(all[l].rows(), false);
   for (const std::string& reading : rule.readings) {
-    std::map<std::vector<double>, std::vector<Member>> groups;
+    // One group per combination of the conditions' values, over all logs.
+    std::map<std::vector<double>, int> ids;
+    std::vector<double> values;
+    std::vector<int> group;
+    std::vector<bool> on_rail;
+    std::vector<std::pair<std::size_t, std::size_t>> at;
     for (std::size_t l = 0; l < all.size(); ++l) {
       const logs::Log& log = all[l];
       if (!log.has(reading)) continue;
       for (std::size_t i = 0; i < log.rows(); ++i) {
         std::vector<double> key;
         for (const std::string& c : rule.conditions) key.push_back(log.has(c) ? log.col(c)[i] : 0.0);
-        groups[key].push_back({l, i});
+        group.push_back(ids.emplace(key, static_cast<int>(ids.size())).first->second);
+        const double x = log.col(reading)[i];
+        values.push_back(x);
+        on_rail.push_back(x <= rule.low || x >= rule.high);
+        at.emplace_back(l, i);
       }
     }
-    auto value = [&](const Member& m) { return all[m.log].col(reading)[m.row]; };
-    auto inside = [&](double v) { return v > rule.low && v < rule.high; };
-    std::map<std::vector<double>, double> sd_of;
-    std::vector<double> sds;
-    for (const auto& [key, members] : groups) {
-      std::vector<double> v;
-      for (const Member& m : members)
-        if (inside(value(m))) v.push_back(value(m));
-      if (v.size() < 5) continue;
-      const double med = median_of(v);
-      for (double& x : v) x = std::abs(x - med);
-      sd_of[key] = 1.482602218505602 * median_of(v);
-      sds.push_back(sd_of[key]);
-    }
-    const double typical = median_of(sds);
-    for (const auto& [key, members] : groups) {
-      if (members.size() < 5) continue;  // too few readings to call one of them wild
-      std::vector<double> v;
-      std::size_t on_rails = 0;
-      for (const Member& m : members) {
-        v.push_back(value(m));
-        on_rails += inside(value(m)) ? 0 : 1;
-      }
-      const double med = median_of(v);
-      const double sd = std::max({sd_of.count(key) ? sd_of.at(key) : typical, 0.5 * typical, rule.floor});
-      for (const Member& m : members) {
-        const double x = value(m);
-        // Inside the rails: far from the median. On a rail: the only one of its group there,
-        // and far from the median too (a stray full-scale glitch, not a sensor near its clamp).
-        const bool wild = inside(x) ? std::abs(x - med) > kWildReadingSd * sd
-                                    : on_rails == 1 && std::abs(x - med) > 0.5 * kWildReadingSd * sd;
-        if (!wild || drop[m.log][m.row]) continue;
-        drop[m.log][m.row] = true;
-        if (dropped != nullptr)
-          dropped->push_back({all[m.log].path + ":" + std::to_string(all[m.log].line_of_row[m.row]),
-                              reading + " " + fmt(x) + " where the readings under the same conditions centre on " + fmt(med) +
-                                  " (robust sd " + fmt(sd) + ")"});
-      }
+    std::vector<std::string> why;
+    const std::vector<bool> wild = flag_wild_replicates(values, group, on_rail, rule.floor, &why);
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      if (!wild[k] || drop[at[k].first][at[k].second]) continue;
+      drop[at[k].first][at[k].second] = true;
+      if (dropped != nullptr)
+        dropped->push_back({all[at[k].first].path + ":" + std::to_string(all[at[k].first].line_of_row[at[k].second]),
+                            reading + " " + why[k]});
     }
   }
   std::vector<logs::Log> out;

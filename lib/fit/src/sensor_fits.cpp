@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "epuck2/fit/screening.hpp"
 #include "epuck2/fit/sensors.hpp"
 
 namespace epuck2::fit {
@@ -35,13 +36,6 @@ std::string fmt(double v, int digits = 4) {
   os.precision(digits);
   os << v;
   return os.str();
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 /// A reading's censoring against a sensor's two rails.
@@ -121,10 +115,6 @@ constexpr double kQuantisationSd = 0.28867513459481287;
 // ================================================================================================
 
 namespace {
-// A reading farther than this many robust sd (1.4826 MAD, at least half the median of all
-// distances' and at least 2 counts) from its distance's median is wild. The virtual robot's
-// one-sided scatter reaches about 4.5 such sd below the median in 360 readings; 8 leaves margin.
-constexpr double kProximityWildSd = 8.0;
 // A distance whose readings average under this fraction of full scale detected nothing.
 constexpr double kProximityUndetectedFraction = 0.01;
 // Peeling a maximum that the curve rejects: at most this fraction of a distance's readings (and
@@ -147,38 +137,37 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
     out.readings += log.rows();
   }
   const double full = s::kProximityFullScale_raw;
-  // 1. Wild readings: far from their distance's median (rails are censored information, not wild).
-  std::map<double, double> sd_of;
-  std::vector<double> sds;
+  // 1. Wild readings: far from the other readings at their distance (rails are censored
+  //    information, not wild, unless one stray reading sits there alone).
+  std::vector<double> values;
+  std::vector<int> group;
+  std::vector<bool> on_rail;
+  std::map<double, int> group_of;
   for (const auto& [d, rs] : by_distance) {
-    std::vector<double> inside;
-    for (const Reading& r : rs)
-      if (r.value > 0 && r.value < full) inside.push_back(r.value);
-    if (inside.size() < 5) continue;
-    const double med = median(inside);
-    std::vector<double> dev;
-    for (double v : inside) dev.push_back(std::abs(v - med));
-    sd_of[d] = 1.482602218505602 * median(dev);
-    sds.push_back(sd_of[d]);
+    const int g = static_cast<int>(group_of.size());
+    group_of[d] = g;
+    for (const Reading& r : rs) {
+      values.push_back(r.value);
+      group.push_back(g);
+      on_rail.push_back(r.value <= 0 || r.value >= full);
+    }
   }
-  const double typical_sd = median(sds);
+  std::vector<std::string> why;
+  const std::vector<bool> wild =
+      options.robust ? flag_wild_replicates(values, group, on_rail, 2.0, &why) : std::vector<bool>(values.size(), false);
   std::map<double, std::vector<Reading>> kept;
+  std::size_t k = 0;
   for (const auto& [d, rs] : by_distance) {
     ProximityPoint p;
     p.distance_m = d;
     p.readings = rs.size();
-    std::vector<double> values;
-    for (const Reading& r : rs) values.push_back(r.value);
-    const double med = median(values);
-    const double sd = std::max({sd_of.count(d) ? sd_of[d] : typical_sd, 0.5 * typical_sd, 2.0});
     for (const Reading& r : rs) {
-      if (r.value == 0 || r.value == full) ++out.censored_readings;
-      const bool on_rail = r.value <= 0 || r.value >= full;
-      if (options.robust && !on_rail && std::abs(r.value - med) > kProximityWildSd * sd)
-        out.left_out.push_back({r.where, "wild: " + fmt(r.value) + " where the readings at " + fmt(d * 1000) +
-                                             " mm centre on " + fmt(med)});
+      if (on_rail[k]) ++out.censored_readings;
+      if (wild[k])
+        out.left_out.push_back({r.where, "wild: " + why[k] + " at " + fmt(d * 1000) + " mm"});
       else
         kept[d].push_back(r);
+      ++k;
     }
     if (d > start.range_m) {
       p.excluded_why = "beyond the sensor's range (" + fmt(start.range_m * 1000) + " mm)";
