@@ -18,7 +18,7 @@ std::string format_number(double value);
 /// Fixed number of significant digits ("%.*g").
 std::string format_number(double value, int significant_digits);
 
-/// A log in shared/spec/logs.md format, built in memory.
+/// A log in the format read_log reads (log.hpp), built in memory.
 class LogWriter {
  public:
   explicit LogWriter(std::vector<std::string> columns) : columns_(std::move(columns)) {}
