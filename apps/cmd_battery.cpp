@@ -20,6 +20,7 @@ struct BatteryOptions {
   std::string plot_lifetime;
   bool robust = false;
   double robust_scale = 0.05;
+  bool skip_bad_rows = false;
 };
 
 void print_report(const fit::BatteryFit& f) {
@@ -50,7 +51,7 @@ void print_report(const fit::BatteryFit& f) {
 }
 
 int run_battery(const BatteryOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::battery);
+  const auto logs = read_logs_reporting("battery", o.logs, logs::Kind::battery, o.skip_bad_rows);
   const auto runs = fit::battery_runs(logs);
   fit::FitOptions options;
   options.robust = o.robust;
@@ -87,13 +88,14 @@ int run_battery(const BatteryOptions& o) {
 void setup_battery(CLI::App& app, Action& action) {
   auto o = std::make_shared<BatteryOptions>();
   CLI::App* sub = app.add_subcommand("battery", "Fit the four discharge models (simple, linear, cubic, approximated) per speed");
-  sub->add_option("logs", o->logs, "Battery discharge logs (CSV, shared/spec/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->add_option("logs", o->logs, "Battery discharge logs (CSV)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o->json, "Print one JSON object instead of the report");
   sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically");
   sub->add_option("--plot", o->plot, "Draw the logs and the four fitted models per speed (PNG)");
   sub->add_option("--plot-lifetime", o->plot_lifetime, "Draw lifetime against speed, as the paper's Fig. 10b (PNG)");
   sub->add_flag("--robust", o->robust, "Huber loss instead of least squares");
   sub->add_option("--robust-scale", o->robust_scale, "Huber threshold in charge units")->capture_default_str();
+  add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_battery(*o); }; });
 }
 

@@ -55,7 +55,7 @@ void draw(const std::string& path, const fit::CameraFit& f) {
 }
 
 int run_camera(const app::sensors::SensorOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::camera);
+  const auto logs = read_logs_reporting("camera", o.logs, logs::Kind::camera, o.skip_bad_rows);
   const fit::CameraFit f = fit::fit_camera(logs);
   app::sensors::require_usable(f.result, "camera fit");
   nlohmann::json j = app::sensors::skeleton("camera", o.logs);

@@ -1,6 +1,6 @@
 // epuck2-fit diagnose [--kind KIND] [--json FILE|-] [--plot DIR] LOGS...: what the plug-in's model
 // gets wrong on these logs, the cause from the catalogue, and the held-out gain of fixing it
-// (shared/spec/diagnose.md).
+// (the catalogue of effects is in lib/fit/src/diagnose_kinds.cpp).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -29,6 +29,7 @@ struct DiagnoseOptions {
   std::string battery_model = "cubic";
   std::string coefficients;
   std::vector<std::string> logs;
+  bool skip_bad_rows = false;
 };
 
 std::string units(logs::Kind k) {
@@ -250,7 +251,7 @@ int run_diagnose(const DiagnoseOptions& o) {
     kind = logs::parse_kind(o.kind);
     if (!kind) throw UsageError("--kind: unknown kind '" + o.kind + "'");
   }
-  const auto logs = logs::read_logs(o.logs, kind);
+  const auto logs = read_logs_reporting("diagnose", o.logs, kind, o.skip_bad_rows);
   if (logs.empty()) throw UsageError("no logs given");
   if (!dg::supported(logs.front().kind))
     throw UsageError("diagnose does not support the kind '" + std::string(logs::to_string(logs.front().kind)) +
@@ -283,7 +284,8 @@ void setup_diagnose(CLI::App& app, Action& action) {
       ->capture_default_str();
   sub->add_option("--coefficients", o->coefficients,
                   "battery: coefficient tables: fitted (compiled in, default), plugin (the plug-in's published ones) or a battery JSON FILE");
-  sub->add_option("logs", o->logs, "Log files (shared/spec/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->add_option("logs", o->logs, "Log files (CSV)")->required()->check(CLI::ExistingFile);
+  add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_diagnose(*o); }; });
 }
 

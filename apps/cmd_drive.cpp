@@ -65,7 +65,7 @@ void draw(const std::string& path, const fit::DriveFit& f) {
 }
 
 int run_drive(const app::sensors::SensorOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::drive);
+  const auto logs = read_logs_reporting("drive", o.logs, logs::Kind::drive, o.skip_bad_rows);
   const fit::DriveFit f = fit::fit_drive(logs);
   app::sensors::require_usable(f.steps, "encoder fit");
   app::sensors::require_usable(f.tof, "ToF fit");

@@ -51,7 +51,7 @@ void draw(const std::string& path, const fit::GroundFit& f) {
 }
 
 int run_ground(const app::sensors::SensorOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::ground);
+  const auto logs = read_logs_reporting("ground", o.logs, logs::Kind::ground, o.skip_bad_rows);
   const fit::GroundFit f = fit::fit_ground(logs);
   nlohmann::json j = app::sensors::skeleton("ground", o.logs);
   nlohmann::json gain = nlohmann::json::array(), offset = nlohmann::json::array(), gain_se = nlohmann::json::array(),

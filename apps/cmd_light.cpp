@@ -55,7 +55,7 @@ void draw(const std::string& path, const fit::LightFit& f) {
 }
 
 int run_light(const app::sensors::SensorOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::light);
+  const auto logs = read_logs_reporting("light", o.logs, logs::Kind::light, o.skip_bad_rows);
   const fit::LightFit f = fit::fit_light(logs);
   app::sensors::require_usable(f.gamma, "light fit");
   nlohmann::json j = app::sensors::skeleton("light", o.logs);

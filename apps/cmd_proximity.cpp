@@ -61,7 +61,7 @@ void draw(const std::string& path, const fit::ProximityFit& f) {
 }
 
 int run_proximity(const app::sensors::SensorOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::proximity);
+  const auto logs = read_logs_reporting("proximity", o.logs, logs::Kind::proximity, o.skip_bad_rows);
   const fit::ProximityFit f = fit::fit_proximity(logs);
   app::sensors::require_usable(f.maxima, "proximity fit to the maxima");
   app::sensors::require_usable(f.means, "proximity fit to the means");

@@ -24,18 +24,20 @@ struct SensorOptions {
   bool json = false;
   std::string output;
   std::string plot;
+  bool skip_bad_rows = false;
 };
 
-/// Adds LOGS..., --json, -o/--output and --plot to a subcommand.
+/// Adds LOGS..., --json, -o/--output, --plot and --skip-bad-rows to a subcommand.
 inline void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what) {
-  sub->add_option("logs", o.logs, what + " logs (CSV, shared/spec/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->add_option("logs", o.logs, what + " logs (CSV)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o.json, "Print one JSON object instead of the report");
   sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically");
   sub->add_option("--plot", o.plot, "Draw the data, the fitted curve and the plug-in's curve (PNG)");
+  add_skip_bad_rows(sub, o.skip_bad_rows);
 }
 
 /// {"kind", "parameters": {}, "std_errors": {}, "mse", "observations", "sources"}: the shape the
-/// codegen reads (shared/spec/cli.md).
+/// codegen reads (apps/cmd_codegen.cpp).
 inline nlohmann::json skeleton(const std::string& kind, const std::vector<std::string>& sources) {
   nlohmann::json j;
   j["kind"] = kind;
