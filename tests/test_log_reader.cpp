@@ -163,6 +163,21 @@ TEST(LogReader, MissingColumnWithATypoGetsDidYouMean) {
   EXPECT_FALSE(contains(far.message(), "did you mean")) << far.what();
 }
 
+TEST(LogReader, UnrecognisedKindSaysWhichColumnIsClose) {
+  // No kind given: the kind whose missing columns are all explained by close names is named.
+  const InputError e = error_of("# robot: r\nsensor,value,Distnace_m\n0,1971,0.02\n", std::nullopt);
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_EQ(e.column(), 14);
+  EXPECT_TRUE(contains(e.message(), "cannot recognise the kind")) << e.what();
+  EXPECT_TRUE(contains(e.message(), "as a proximity log it lacks 'distance_m': the header has 'distnace_m': did you mean")) << e.what();
+  // The most specific kind: light has four columns, proximity three.
+  const InputError light = error_of("distance_mm,intensity,sensor,value\n20,1,0,3519\n", std::nullopt);
+  EXPECT_TRUE(contains(light.message(), "as a light log it lacks 'distance_m': column 'distance_mm' has the unit mm")) << light.what();
+  const InputError none = error_of("a,b\n1,2\n", std::nullopt);
+  EXPECT_EQ(none.column(), 1);
+  EXPECT_FALSE(contains(none.message(), "lacks")) << none.what();
+}
+
 // ---- 6. Metadata errors name their line ----------------------------------------------------------
 
 TEST(LogReader, MetadataErrorsNameTheirLine) {
@@ -477,6 +492,20 @@ TEST_F(ReaderCli, RefusalsExitTwoWithFileLineColumn) {
     EXPECT_EQ(r.exit_code, 2) << c.file << ": " << r.err;
     EXPECT_TRUE(contains(r.err, "error: " + path + ":" + c.expected)) << c.file << ": " << r.err;
   }
+}
+
+TEST_F(ReaderCli, DiagnoseAndCodegenNameTheLine) {
+  const std::string typo = write("typo.csv", "sensor,value,distnace_m\n0,1971,0.02\n");
+  const CliRun d = run("diagnose \"" + typo + "\"");
+  EXPECT_EQ(d.exit_code, 2);
+  EXPECT_TRUE(contains(d.err, "error: " + typo + ":1:14: cannot recognise the kind")) << d.err;
+  EXPECT_TRUE(contains(d.err, "did you mean 'distance_m'?")) << d.err;
+  // A coefficient file whose kind is no C++ identifier: the line of "kind".
+  const std::string bad = write("bad.json", "{\n  \"parameters\": {\"a\": 1},\n  \"kind\": \"two words\"\n}\n");
+  const CliRun c = run("codegen \"" + bad + "\" -o \"" + (dir_ / "out.hpp").string() + "\"");
+  EXPECT_EQ(c.exit_code, 2);
+  EXPECT_TRUE(contains(c.err, "error: " + bad + ":3:11: kind 'two words' is not a C++ identifier (at JSON path /kind)")) << c.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out.hpp"));
 }
 
 TEST_F(ReaderCli, TofOutOfRangeCodesAndObstacleZeroReachTheFit) {

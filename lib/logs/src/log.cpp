@@ -380,10 +380,40 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
         best = required_columns(k).size();
       }
     }
-    if (!kind)
-      throw InputError(name, header_line, 1,
+    if (!kind) {
+      // A kind whose every missing column has a close name in the header (a typo, another unit):
+      // say so, for the most specific such kind.
+      std::string hint;
+      int column = 1;
+      std::size_t most = 0;
+      for (Kind k : all_kinds()) {
+        const auto& need = required_columns(k);
+        std::string why;
+        int at = 1;
+        bool explained = true;
+        for (const std::string& c : need) {
+          if (std::find(header.begin(), header.end(), c) != header.end()) continue;
+          int col = 1;
+          const std::string w = explain_missing(c, header, header_columns, need, col);
+          if (w.empty()) {
+            explained = false;
+            break;
+          }
+          if (why.empty()) {
+            why = "; as a " + std::string(to_string(k)) + " log it lacks '" + c + "': " + w;
+            at = col;
+          }
+        }
+        if (explained && !why.empty() && need.size() > most) {
+          most = need.size();
+          hint = why;
+          column = at;
+        }
+      }
+      throw InputError(name, header_line, column,
                        "cannot recognise the kind of log from its columns; expected e.g. time_s,speed_cm_s,charge "
-                       "(battery) or distance_m,sensor,value (proximity); or give --kind");
+                       "(battery) or distance_m,sensor,value (proximity); or give --kind" + hint);
+    }
   }
   log.kind = *kind;
   const auto& req = table_columns ? *table_columns : required_columns(*kind);
