@@ -1,15 +1,30 @@
-// Shared by the subcommands: JSON output (stdout or atomically to a file), the repository's
-// data folder.
+// Shared by the subcommands: JSON output (stdout or atomically to a file), JSON input with
+// file:line:column errors, and reading logs with --skip-bad-rows.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <vector>
+
+#include "epuck2/logs/log.hpp"
 
 namespace epuck2::app {
 
 /// Writes `j` (indented, trailing newline) to `path` atomically; "-" means standard output.
 void write_json(const nlohmann::json& j, const std::string& path);
-/// Reads a JSON file; errors name the file (and line/column for a parse error).
+/// Reads a JSON file; every error names the file, and the line and column where the text shows
+/// them (a syntax error, a number too large for a double such as 1e999).
 nlohmann::json read_json(const std::string& path);
+
+/// Adds --skip-bad-rows (the same help text on every subcommand that reads logs).
+void add_skip_bad_rows(CLI::App* sub, bool& flag);
+/// Reads the logs (logs::read_logs), then reports on standard error every row left out under
+/// --skip-bad-rows: the count, then the first 10 as file:line:column: why.
+std::vector<logs::Log> read_logs_reporting(const std::string& command, const std::vector<std::string>& paths,
+                                           std::optional<logs::Kind> kind, bool skip_bad_rows);
+/// Reports on standard error the rows left out of these logs (nothing when none was).
+void report_skipped(const std::string& command, const std::vector<logs::Log>& logs);
 
 }  // namespace epuck2::app

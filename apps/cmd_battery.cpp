@@ -22,6 +22,7 @@ struct BatteryOptions {
   bool robust = false;
   bool least_squares = false;
   double robust_scale = 0.05;
+  bool skip_bad_rows = false;
 };
 
 void print_report(const fit::BatteryFit& f) {
@@ -58,7 +59,7 @@ void print_report(const fit::BatteryFit& f) {
 }
 
 int run_battery(const BatteryOptions& o) {
-  const auto logs = logs::read_logs(o.logs, logs::Kind::battery);
+  const auto logs = read_logs_reporting("battery", o.logs, logs::Kind::battery, o.skip_bad_rows);
   const auto runs = fit::battery_runs(logs);
   fit::FitOptions options;
   options.robust = o.robust;
@@ -105,6 +106,7 @@ void setup_battery(CLI::App& app, Action& action) {
                 "Keep every reading (by default readings more than 6 robust sd from a speed's cubic are left out and listed)");
   sub->add_option("--robust-scale", o->robust_scale, "Huber threshold in charge units")->capture_default_str();
   sub->footer(log_format_footer(logs::Kind::battery, "Optional: voltage_v. One speed per run; the last row is the moment the robot stopped."));
+  add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_battery(*o); }; });
 }
 

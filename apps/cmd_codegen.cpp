@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app_support.hpp"
+#include "epuck2/logs/json_location.hpp"
 #include "commands.hpp"
 #include "epuck2/fit/battery_json.hpp"
 #include "epuck2/logs/output.hpp"
@@ -32,6 +33,13 @@ std::uint64_t fnv1a64(const std::string& bytes) {
 }
 
 std::string num(double v) { return logs::format_number(v); }
+
+/// A key as one token of a JSON pointer (RFC 6901: ~ and / escaped).
+std::string pointer_token(const std::string& key) {
+  std::string t;
+  for (const char c : key) t += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  return t;
+}
 
 bool is_identifier(const std::string& s) {
   if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
@@ -71,14 +79,16 @@ void emit_parameters(std::ostringstream& os, const nlohmann::json& j, const std:
   for (const char* section : {"parameters", "std_errors"}) {
     if (!j.contains(section)) {
       if (std::string(section) == "parameters")
-        throw logs::InputError(path, 0, 0, "expected a 'parameters' object");
+        throw logs::json_file_error(path, "", "expected a 'parameters' object");
       continue;
     }
     const nlohmann::json& p = j.at(section);
-    if (!p.is_object()) throw logs::InputError(path, 0, 0, std::string("'") + section + "' must be an object");
+    if (!p.is_object()) throw logs::json_file_error(path, std::string("/") + section, std::string("'") + section + "' must be an object");
     const std::string suffix = std::string(section) == "std_errors" ? "_std_error" : "";
     for (const auto& [key, value] : p.items()) {
-      if (!is_identifier(key)) throw logs::InputError(path, 0, 0, "parameter name '" + key + "' is not a C++ identifier");
+      if (!is_identifier(key))
+        throw logs::json_file_error(path, std::string("/") + section + "/" + pointer_token(key),
+                                    "parameter name '" + key + "' is not a C++ identifier");
       if (value.is_number()) {
         os << "inline constexpr double " << key << suffix << " = " << num(value.get<double>()) << ";\n";
       } else if (value.is_array() && !value.empty() && std::all_of(value.begin(), value.end(), [](const auto& v) { return v.is_number(); })) {
@@ -108,9 +118,10 @@ int run_codegen(const CodegenOptions& o) {
     head << "// source: " << in << " fnv1a64 " << hash << "\n";
     const nlohmann::json j = read_json(in);
     if (!j.is_object() || !j.contains("kind") || !j.at("kind").is_string())
-      throw logs::InputError(in, 0, 0, "not a coefficient file: expected an object with a string 'kind'");
+      throw logs::json_file_error(in, j.is_object() && j.contains("kind") ? "/kind" : "",
+                                  "not a coefficient file: expected an object with a string 'kind'");
     const std::string kind = j.at("kind").get<std::string>();
-    if (!is_identifier(kind)) throw logs::InputError(in, 0, 0, "kind '" + kind + "' is not a C++ identifier");
+    if (!is_identifier(kind)) throw logs::json_file_error(in, "/kind", "kind '" + kind + "' is not a C++ identifier");
     body << "\n// ---- " << kind << " (" << in << ") ----\n";
     if (kind == "battery") {
       emit_battery(body, j, in);

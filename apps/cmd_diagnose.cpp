@@ -30,6 +30,7 @@ struct DiagnoseOptions {
   std::string battery_model = "cubic";
   std::string coefficients;
   std::vector<std::string> logs;
+  bool skip_bad_rows = false;
 };
 
 std::string units(logs::Kind k) {
@@ -259,7 +260,7 @@ int run_diagnose(const DiagnoseOptions& o) {
     kind = logs::parse_kind(o.kind);
     if (!kind) throw UsageError("--kind: unknown kind '" + o.kind + "'");
   }
-  const auto logs = logs::read_logs(o.logs, kind);
+  const auto logs = read_logs_reporting("diagnose", o.logs, kind, o.skip_bad_rows);
   if (logs.empty()) throw UsageError("no logs given");
   if (!dg::supported(logs.front().kind))
     throw UsageError("diagnose does not support the kind '" + std::string(logs::to_string(logs.front().kind)) +
@@ -295,6 +296,7 @@ void setup_diagnose(CLI::App& app, Action& action) {
                   "battery: coefficient tables: fitted (compiled in, default), plugin (the plug-in's published ones) or a battery JSON FILE");
   sub->add_option("logs", o->logs, "Log files of one kind (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->footer(all_log_formats_footer());
+  add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_diagnose(*o); }; });
 }
 

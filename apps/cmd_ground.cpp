@@ -96,7 +96,7 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
 }
 
 int run_ground(const app::sensors::SensorOptions& o) {
-  const auto logs = app::sensors::select_robot(logs::read_logs(o.logs, logs::Kind::ground), o.robot);
+  const auto logs = app::sensors::select_robot(read_logs_reporting("ground", o.logs, logs::Kind::ground, o.skip_bad_rows), o.robot);
   fit::GroundFit f;
   nlohmann::json j = ground_json(logs, o, &f);
   app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return ground_json(mine, o, nullptr); });

@@ -92,7 +92,7 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
 }
 
 int run_light(const app::sensors::SensorOptions& o) {
-  const auto logs = app::sensors::select_robot(logs::read_logs(o.logs, logs::Kind::light), o.robot);
+  const auto logs = app::sensors::select_robot(read_logs_reporting("light", o.logs, logs::Kind::light, o.skip_bad_rows), o.robot);
   fit::LightFit f;
   nlohmann::json j = light_json(logs, o, &f);
   app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return light_json(mine, o, nullptr); });

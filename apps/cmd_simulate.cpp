@@ -26,6 +26,7 @@ struct SimulateOptions {
   std::string profile;
   std::string output;
   double dt_s = 0.1;
+  bool skip_bad_rows = false;
 };
 
 mb::Tables choose_tables(const SimulateOptions& o, bool argos) {
@@ -50,7 +51,10 @@ int run_simulate(const SimulateOptions& o) {
   if (!(o.dt_s > 0)) throw UsageError("--dt must be > 0");
   const bool argos = o.compat == "argos";
   const mb::Tables tables = choose_tables(o, argos);
-  const logs::Log profile_log = logs::read_table(o.profile, {"time_s", "speed_cm_s"});
+  logs::ReadOptions read_options;
+  read_options.skip_bad_rows = o.skip_bad_rows;
+  const logs::Log profile_log = logs::read_table(o.profile, {"time_s", "speed_cm_s"}, read_options);
+  report_skipped("simulate", {profile_log});
   std::vector<mb::ProfilePoint> profile;
   const auto& t = profile_log.col("time_s");
   const auto& v = profile_log.col("speed_cm_s");
@@ -90,6 +94,7 @@ void setup_simulate(CLI::App& app, Action& action) {
       ->required()
       ->check(CLI::ExistingFile);
   sub->add_option("--dt", o->dt_s, "Tick in seconds")->capture_default_str();
+  add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output");
   sub->callback([o, &action] { action = [o] { return run_simulate(*o); }; });
 }

@@ -23,6 +23,7 @@ struct Table5Options {
   bool json = false;
   std::string output;
   double dt_s = 0.1;
+  bool skip_bad_rows = false;
 };
 
 nlohmann::json as_json(const fit::ModelMse& m) {
@@ -33,7 +34,7 @@ nlohmann::json as_json(const fit::ModelMse& m) {
 
 int run_table5(const Table5Options& o) {
   if (!(o.dt_s > 0)) throw UsageError("--dt must be > 0");
-  const auto runs = fit::battery_runs(logs::read_logs(o.logs, logs::Kind::battery));
+  const auto runs = fit::battery_runs(read_logs_reporting("table5", o.logs, logs::Kind::battery, o.skip_bad_rows));
   const fit::BatteryFit f = fit::fit_battery(runs);
   if (!f.tables)
     throw NoUsableFit("table5 needs logs at every speed 0..15 cm/s to build the model tables; these logs cover " +
@@ -94,6 +95,7 @@ void setup_table5(CLI::App& app, Action& action) {
   sub->add_option("-o,--output", o->output, "Also write the JSON report to this file (atomically)");
   sub->add_option("--dt", o->dt_s, "Simulation tick in seconds")->capture_default_str();
   sub->footer(log_format_footer(logs::Kind::battery, "One speed per run; runs at every speed 0, 1, ..., 15 cm/s are needed."));
+  add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_table5(*o); }; });
 }
 

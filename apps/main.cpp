@@ -48,13 +48,14 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << '\n';
     return 2;
   } catch (const UsageError& e) {
-    std::cerr << "error: " << e.what() << '\n';
+    // Messages may quote input (robot names, JSON keys): control characters are escaped.
+    std::cerr << "error: " << epuck2::logs::escape_control(e.what()) << '\n';
     return 2;
   } catch (const NoUsableFit& e) {
-    std::cerr << "error: no usable fit: " << e.what() << '\n';
+    std::cerr << "error: no usable fit: " << epuck2::logs::escape_control(e.what()) << '\n';
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << '\n';
+    std::cerr << "error: " << epuck2::logs::escape_control(e.what()) << '\n';
     return 2;
   }
 }

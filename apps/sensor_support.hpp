@@ -40,9 +40,10 @@ struct SensorOptions {
     f.reject_sd = reject_sd;
     return f;
   }
+  bool skip_bad_rows = false;  ///< skip rows with a bad cell, each reported
 };
 
-/// Adds LOGS..., --json, -o/--output and --plot to a subcommand.
+/// Adds LOGS..., --json, -o/--output, --plot and --skip-bad-rows to a subcommand.
 inline void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what) {
   sub->add_option("logs", o.logs, what + " logs (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o.json, "Print one JSON object instead of the report");
@@ -53,6 +54,7 @@ inline void add_common_options(CLI::App* sub, SensorOptions& o, const std::strin
   sub->add_option("--reject-sd", o.reject_sd, "Robust fits: readings farther than this many noise sd are outliers")
       ->check(CLI::Range(2.0, 100.0));
   sub->add_option("--robot", o.robot, "Fit only this robot's logs (# robot: metadata, a robot column, or the file name)");
+  add_skip_bad_rows(sub, o.skip_bad_rows);
 }
 
 /// The logs of `robot` (all when empty); exit 2 listing the robots when none is that one.

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "epuck2/logs/json_location.hpp"
+
 namespace epuck2::fit {
 
 namespace mb = models::battery;
@@ -26,9 +28,12 @@ json mse_json(const ModelMse& m) {
   return j;
 }
 
-double number_at(const json& j, const std::string& key, const std::string& path, const std::string& where) {
+// `pointer` is where `j` is in the file (a JSON pointer): errors name the line of the offending
+// key (logs::json_file_error reads the file again to find it).
+double number_at(const json& j, const std::string& key, const std::string& path, const std::string& where,
+                 const std::string& pointer) {
   if (!j.is_object() || !j.contains(key) || !j.at(key).is_number())
-    throw logs::InputError(path, 0, 0, where + ": expected a number '" + key + "'");
+    throw logs::json_file_error(path, pointer + "/" + key, where + ": expected a number '" + key + "'");
   return j.at(key).get<double>();
 }
 
@@ -83,39 +88,44 @@ json battery_fit_to_json(const BatteryFit& fit) {
 
 mb::Tables battery_tables_from_json(const json& j, const std::string& path) {
   if (!j.is_object() || !j.contains("speeds") || !j.at("speeds").is_array())
-    throw logs::InputError(path, 0, 0, "not a battery coefficient file: expected an object with a 'speeds' array");
+    throw logs::json_file_error(path, j.is_object() && j.contains("speeds") ? "/speeds" : "",
+                                "not a battery coefficient file: expected an object with a 'speeds' array");
   const json& speeds = j.at("speeds");
   if (speeds.size() != mb::kSpeedCount)
-    throw logs::InputError(path, 0, 0, "expected 16 entries in 'speeds' (0..15 cm/s), found " + std::to_string(speeds.size()));
+    throw logs::json_file_error(path, "/speeds",
+                                "expected 16 entries in 'speeds' (0..15 cm/s), found " + std::to_string(speeds.size()));
   mb::Tables t{};
   for (std::size_t s = 0; s < speeds.size(); ++s) {
     const json& e = speeds.at(s);
     const std::string where = "speeds[" + std::to_string(s) + "]";
-    const double v = number_at(e, "speed_cm_s", path, where);
+    const std::string at = "/speeds/" + std::to_string(s);
+    const double v = number_at(e, "speed_cm_s", path, where, at);
     if (std::abs(v - static_cast<double>(s)) > 1e-9)
-      throw logs::InputError(path, 0, 0, where + ": expected speed_cm_s " + std::to_string(s));
+      throw logs::json_file_error(path, at + "/speed_cm_s", where + ": expected speed_cm_s " + std::to_string(s));
     if (!e.contains("cubic") || !e.at("cubic").is_array() || e.at("cubic").size() != 4)
-      throw logs::InputError(path, 0, 0, where + ": expected 'cubic' as [d, c, b, a]");
+      throw logs::json_file_error(path, at + "/cubic", where + ": expected 'cubic' as [d, c, b, a]");
     const json& c = e.at("cubic");
-    for (const json& x : c)
-      if (!x.is_number()) throw logs::InputError(path, 0, 0, where + ": 'cubic' must hold numbers");
-    const double life = number_at(e, "lifetime_s", path, where);
+    for (std::size_t k = 0; k < c.size(); ++k)
+      if (!c.at(k).is_number())
+        throw logs::json_file_error(path, at + "/cubic/" + std::to_string(k), where + ": 'cubic' must hold numbers");
+    const double life = number_at(e, "lifetime_s", path, where, at);
     t.cubic[s] = mb::CubicRow{c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>(), c.at(3).get<double>(), life};
     t.lifetime_s[s] = life;
-    t.linear_slope_per_s[s] = number_at(e, "linear_slope", path, where);
+    t.linear_slope_per_s[s] = number_at(e, "linear_slope", path, where, at);
     if (!e.contains("segments") || !e.at("segments").is_array() || e.at("segments").size() != mb::kSegmentCount)
-      throw logs::InputError(path, 0, 0, where + ": expected 4 'segments'");
+      throw logs::json_file_error(path, at + "/segments", where + ": expected 4 'segments'");
     for (std::size_t k = 0; k < mb::kSegmentCount; ++k) {
       const json& g = e.at("segments").at(k);
       const std::string gw = where + ".segments[" + std::to_string(k) + "]";
-      t.segments[s][k] = mb::Segment{number_at(g, "h", path, gw), number_at(g, "m", path, gw),
-                                     number_at(g, "x1_s", path, gw), number_at(g, "x2_s", path, gw),
-                                     number_at(g, "y1", path, gw), number_at(g, "y2", path, gw)};
+      const std::string ga = at + "/segments/" + std::to_string(k);
+      t.segments[s][k] = mb::Segment{number_at(g, "h", path, gw, ga), number_at(g, "m", path, gw, ga),
+                                     number_at(g, "x1_s", path, gw, ga), number_at(g, "x2_s", path, gw, ga),
+                                     number_at(g, "y1", path, gw, ga), number_at(g, "y2", path, gw, ga)};
     }
   }
-  if (!j.contains("simple")) throw logs::InputError(path, 0, 0, "expected a 'simple' object");
-  t.simple_static_slope_per_s = number_at(j.at("simple"), "static_slope_per_s", path, "simple");
-  t.simple_moving_slope_per_s = number_at(j.at("simple"), "moving_slope_per_s", path, "simple");
+  if (!j.contains("simple")) throw logs::json_file_error(path, "", "expected a 'simple' object");
+  t.simple_static_slope_per_s = number_at(j.at("simple"), "static_slope_per_s", path, "simple", "/simple");
+  t.simple_moving_slope_per_s = number_at(j.at("simple"), "moving_slope_per_s", path, "simple", "/simple");
   return t;
 }
 

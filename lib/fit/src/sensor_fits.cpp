@@ -13,6 +13,7 @@
 
 #include "epuck2/fit/screening.hpp"
 #include "epuck2/fit/sensors.hpp"
+#include "epuck2/logs/json_location.hpp"
 
 namespace epuck2::fit {
 
@@ -101,9 +102,6 @@ RobustOptions robust_options(const SensorFitOptions& o, double noise_floor) {
   r.noise_floor = noise_floor;
   return r;
 }
-
-// The VL53L0X's "no target in range" codes (8190, 8191): a reading beyond its ceiling.
-constexpr double kTofOutOfRangeCode_mm = 8190.0;
 
 // Quantisation noise of an integer reading: 1/sqrt(12) of a count.
 constexpr double kQuantisationSd = 0.28867513459481287;
@@ -602,7 +600,7 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
     for (std::size_t k = 0; k < run.time_s.size(); ++k) {
       const double mm = run.tof_mm[k];
       Observation o{mm, Censoring::none, run.path + ":" + std::to_string(run.line[k]), -1};
-      if (mm >= kTofOutOfRangeCode_mm) ++out.tof_out_of_range_codes;
+      if (logs::is_tof_out_of_range(mm)) ++out.tof_out_of_range_codes;
       if (mm <= s::kPluginTof.min_mm) {
         o = {s::kPluginTof.min_mm, Censoring::at_or_below, o.where, -1};
       } else if (mm >= s::kPluginTof.max_mm) {
@@ -636,90 +634,101 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
 
 namespace {
 
-nlohmann::json load_parameters(const std::string& path, const std::string& kind) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open the coefficient file");
+// A coefficient file's text (kept to place errors at their line) and its "parameters" object.
+struct CoefficientFile {
+  std::string path;
+  std::string text;
+  nlohmann::json parameters;
+};
+
+CoefficientFile load_parameters(const std::string& path, const std::string& kind) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw logs::InputError(path, 0, 0, "cannot open the coefficient file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  CoefficientFile f{path, ss.str(), {}};
   nlohmann::json j;
   try {
-    in >> j;
+    j = nlohmann::json::parse(f.text);
   } catch (const nlohmann::json::parse_error& e) {
-    throw std::runtime_error(path + ": not JSON: " + e.what());
-  }
-  try {
-    if (j.contains("kind") && j.at("kind").get<std::string>() != kind)
-      throw std::runtime_error("a " + j.at("kind").get<std::string>() + " file, expected " + kind);
-    return j.at("parameters");
+    const logs::SourcePos at = logs::position_of(f.text, e.byte > 0 ? e.byte - 1 : 0);
+    throw logs::InputError(path, at.line, at.column, std::string("not JSON: ") + e.what());
   } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(path + ": " + e.what());
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error(path + ": " + e.what());
+    const logs::SourcePos at = logs::locate_json_overflow(f.text);  // e.g. 1e999
+    throw logs::InputError(path, at.line, at.column, std::string("not JSON: ") + e.what());
   }
+  if (!j.is_object()) throw logs::json_error(path, f.text, "", "expected an object with 'kind' and 'parameters'");
+  if (j.contains("kind")) {
+    if (!j.at("kind").is_string()) throw logs::json_error(path, f.text, "/kind", "expected 'kind' as a string");
+    if (j.at("kind").get<std::string>() != kind)
+      throw logs::json_error(path, f.text, "/kind", "a " + j.at("kind").get<std::string>() + " file, expected " + kind);
+  }
+  if (!j.contains("parameters") || !j.at("parameters").is_object())
+    throw logs::json_error(path, f.text, "/parameters", "expected a 'parameters' object");
+  f.parameters = j.at("parameters");
+  return f;
 }
 
-template <class F>
-auto with_path(const std::string& path, F f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(path + ": " + e.what());
-  }
+double number(const CoefficientFile& f, const std::string& key) {
+  if (!f.parameters.contains(key) || !f.parameters.at(key).is_number())
+    throw logs::json_error(f.path, f.text, "/parameters/" + key, "expected a number 'parameters." + key + "'");
+  return f.parameters.at(key).get<double>();
+}
+
+double number(const CoefficientFile& f, const std::string& key, std::size_t index, std::size_t count) {
+  const std::string what = "expected 'parameters." + key + "' as an array of " + std::to_string(count) + " numbers";
+  if (!f.parameters.contains(key) || !f.parameters.at(key).is_array() || f.parameters.at(key).size() != count)
+    throw logs::json_error(f.path, f.text, "/parameters/" + key, what);
+  const nlohmann::json& v = f.parameters.at(key).at(index);
+  if (!v.is_number()) throw logs::json_error(f.path, f.text, "/parameters/" + key + "/" + std::to_string(index), what);
+  return v.get<double>();
 }
 
 }  // namespace
 
 s::ProximityCoefficients load_proximity_coefficients(const std::string& path) {
-  const nlohmann::json p = load_parameters(path, "proximity");
-  return with_path(path, [&] {
-    s::ProximityCoefficients k;
-    k.a_per_m2 = p.at("a").get<double>();
-    k.b_per_m = p.at("b").get<double>();
-    k.c = p.at("c").get<double>();
-    return k;
-  });
+  const CoefficientFile f = load_parameters(path, "proximity");
+  s::ProximityCoefficients k;
+  k.a_per_m2 = number(f, "a");
+  k.b_per_m = number(f, "b");
+  k.c = number(f, "c");
+  return k;
 }
 
 s::LightCoefficients load_light_coefficients(const std::string& path) {
-  const nlohmann::json p = load_parameters(path, "light");
-  return with_path(path, [&] {
-    s::LightCoefficients k;
-    k.gamma_m = p.at("gamma").get<double>();
-    return k;
-  });
+  const CoefficientFile f = load_parameters(path, "light");
+  s::LightCoefficients k;
+  k.gamma_m = number(f, "gamma");
+  return k;
 }
 
 std::array<s::GroundCoefficients, s::kGroundCount> load_ground_coefficients(const std::string& path) {
-  const nlohmann::json p = load_parameters(path, "ground");
-  return with_path(path, [&] {
-    std::array<s::GroundCoefficients, s::kGroundCount> k;
-    for (std::size_t i = 0; i < k.size(); ++i) {
-      k[i].gain_raw = p.at("gain").at(i).get<double>();
-      k[i].offset_raw = p.at("offset").at(i).get<double>();
-    }
-    return k;
-  });
+  const CoefficientFile f = load_parameters(path, "ground");
+  std::array<s::GroundCoefficients, s::kGroundCount> k;
+  for (std::size_t i = 0; i < k.size(); ++i) {
+    k[i].gain_raw = number(f, "gain", i, k.size());
+    k[i].offset_raw = number(f, "offset", i, k.size());
+  }
+  return k;
 }
 
 s::CameraCoefficients load_camera_coefficients(const std::string& path) {
-  const nlohmann::json p = load_parameters(path, "camera");
-  return with_path(path, [&] {
-    s::CameraCoefficients k;
-    k.horizontal_fov_rad = s::deg_to_rad(p.at("fov_deg").get<double>());
-    k.cx_px = p.at("cx_px").get<double>();
-    k.cy_px = p.at("cy_px").get<double>();
-    return k;
-  });
+  const CoefficientFile f = load_parameters(path, "camera");
+  s::CameraCoefficients k;
+  k.horizontal_fov_rad = s::deg_to_rad(number(f, "fov_deg"));
+  k.cx_px = number(f, "cx_px");
+  k.cy_px = number(f, "cy_px");
+  return k;
 }
 
 DriveCoefficients load_drive_coefficients(const std::string& path) {
-  const nlohmann::json p = load_parameters(path, "drive");
-  return with_path(path, [&] {
-    DriveCoefficients k;
-    k.encoder.steps_per_m = p.at("steps_per_m").get<double>();
-    k.tof.scale = p.at("tof_scale").get<double>();
-    k.tof.offset_mm = p.at("tof_offset_mm").get<double>();
-    if (p.contains("slip_time_constant_s")) k.slip_time_constant_s = p.at("slip_time_constant_s").get<double>();
-    return k;
-  });
+  const CoefficientFile f = load_parameters(path, "drive");
+  DriveCoefficients k;
+  k.encoder.steps_per_m = number(f, "steps_per_m");
+  k.tof.scale = number(f, "tof_scale");
+  k.tof.offset_mm = number(f, "tof_offset_mm");
+  if (f.parameters.contains("slip_time_constant_s")) k.slip_time_constant_s = number(f, "slip_time_constant_s");
+  return k;
 }
 
 }  // namespace epuck2::fit

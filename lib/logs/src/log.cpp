@@ -16,7 +16,8 @@ struct Range {
   const char* what;
 };
 
-// Physical ranges of the columns (docs/logs.md). A value outside is rejected.
+// Physical ranges of the columns (docs/logs.md). A value outside is rejected (tof_mm also takes the
+// out-of-range code, see kTofOutOfRangeCode_mm).
 std::optional<Range> range_of(Kind kind, const std::string& column) {
   if (column == "time_s") return Range{0.0, 1e9, "a time >= 0 s"};
   if (column == "distance_m") return Range{0.0, 1e3, "a distance >= 0 m"};
@@ -49,7 +50,7 @@ std::optional<Range> range_of(Kind kind, const std::string& column) {
     case Kind::drive:
       if (column == "left_steps" || column == "right_steps")
         return Range{-32768, 32767, "a 16-bit encoder count -32768..32767"};
-      if (column == "tof_mm") return Range{20, 2000, "a ToF reading 20..2000 mm"};
+      if (column == "tof_mm") return Range{20, 2000, "a ToF reading 20..2000 mm, or >= 8190 (no target in range)"};
       if (column == "left_speed_cm_s" || column == "right_speed_cm_s")
         return Range{-1e3, 1e3, "a speed in cm/s"};
       break;
@@ -67,6 +68,26 @@ std::string trim(std::string_view s) {
   while (b < e && (s[b] == ' ' || s[b] == '\t' || s[b] == '\r')) ++b;
   while (e > b && (s[e - 1] == ' ' || s[e - 1] == '\t' || s[e - 1] == '\r')) --e;
   return std::string(s.substr(b, e - b));
+}
+
+std::string lower(std::string s) {
+  for (char& c : s)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  return s;
+}
+
+// The lines of a text: LF, CRLF and a lone CR (old Mac) each end a line.
+std::vector<std::string_view> split_lines(std::string_view s) {
+  std::vector<std::string_view> lines;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] != '\n' && s[i] != '\r') continue;
+    lines.push_back(s.substr(start, i - start));
+    if (s[i] == '\r' && i + 1 < s.size() && s[i + 1] == '\n') ++i;
+    start = i + 1;
+  }
+  if (start < s.size()) lines.push_back(s.substr(start));
+  return lines;
 }
 
 struct Cell {
@@ -110,14 +131,85 @@ std::string format_message(const std::string& file, int line, int column, const 
   return os.str();
 }
 
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+// A column name as quantity and unit ("speed_cm_s" -> "speed", "cm_s"); no unit -> "".
+std::pair<std::string, std::string> split_unit(const std::string& name) {
+  for (const char* unit : {"cm_s", "mm", "deg", "s", "m", "v"}) {
+    const std::string suffix = std::string("_") + unit;
+    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+      return {name.substr(0, name.size() - suffix.size()), unit};
+  }
+  return {name, ""};
+}
+
+// Why a required column may be missing: a header column with the same quantity in another unit,
+// or a close name (a typo). Empty when nothing is close; `column` gets the header cell's position.
+std::string explain_missing(const std::string& missing, const std::vector<std::string>& header,
+                            const std::vector<int>& header_columns, const std::vector<std::string>& required, int& column) {
+  const auto [quantity, unit] = split_unit(missing);
+  for (std::size_t j = 0; j < header.size(); ++j) {
+    const std::string& h = header[j];
+    if (std::find(required.begin(), required.end(), h) != required.end() || unit.empty()) continue;
+    column = header_columns[j];
+    if (h == quantity)
+      return "column '" + h + "' has no unit; this column must be in " + unit + " (named '" + missing + "')";
+    if (h.size() > quantity.size() + 1 && h.compare(0, quantity.size() + 1, quantity + "_") == 0)
+      return "column '" + h + "' has the unit " + h.substr(quantity.size() + 1) + "; this column must be in " + unit;
+  }
+  std::size_t best = 0, best_distance = 3;
+  for (std::size_t j = 0; j < header.size(); ++j) {
+    const std::string& h = header[j];
+    if (std::find(required.begin(), required.end(), h) != required.end()) continue;
+    const std::size_t d = edit_distance(h, missing);
+    if (d < best_distance && 2 * d < missing.size()) {
+      best = j;
+      best_distance = d;
+    }
+  }
+  if (best_distance <= 2) {
+    column = header_columns[best];
+    return "the header has '" + header[best] + "': did you mean '" + missing + "'?";
+  }
+  column = 1;
+  return "";
+}
+
 }  // namespace
 
+std::string escape_control(std::string_view text) {
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  out.reserve(text.size());
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if ((c < 0x20 && c != '\t') || c == 0x7f) {
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 0xf];
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
 InputError::InputError(std::string file, int line, int column, std::string message)
-    : std::runtime_error(format_message(file, line, column, message)),
-      file_(std::move(file)),
+    : std::runtime_error(format_message(escape_control(file), line, column, escape_control(message))),
+      file_(escape_control(file)),
       line_(line),
       column_(column),
-      message_(std::move(message)) {}
+      message_(escape_control(message)) {}
 
 std::string_view to_string(Kind kind) {
   switch (kind) {
@@ -163,10 +255,15 @@ const std::vector<double>& Log::col(const std::string& column) const {
 
 double Log::metadata_number(const std::string& key) const {
   const auto it = metadata.find(key);
-  if (it == metadata.end()) throw InputError(path, 0, 0, "missing metadata line '# " + key + ": VALUE'");
+  if (it == metadata.end())
+    throw InputError(path, header_line, header_line > 0 ? 1 : 0,
+                     "missing metadata line '# " + key + ": VALUE' (before the header)");
+  const auto at = metadata_at.find(key);
+  const SourcePos pos = at == metadata_at.end() ? SourcePos{} : at->second;
   double v = 0;
   if (parse_number(it->second, v) != NumberStatus::ok)
-    throw InputError(path, 0, 0, "metadata '" + key + "': expected a finite number, got '" + it->second + "'");
+    throw InputError(path, pos.line, pos.column,
+                     "metadata '" + key + "': expected a finite number, got '" + it->second + "'");
   return v;
 }
 
@@ -185,56 +282,87 @@ std::vector<std::string> Log::extra_numeric_columns() const {
 }
 
 namespace {
+
+// A bad cell or row: where, and what was expected.
+struct Problem {
+  int line = 0;
+  int column = 0;
+  std::string message;
+};
+bool before(const Problem& a, const Problem& b) { return a.line != b.line ? a.line < b.line : a.column < b.column; }
+
+std::string range_text(const Range& r) { return r.what; }
+
+// The range check of a numeric cell, with the ToF's out-of-range code let through.
+bool in_range(Kind kind, const std::string& column, const Range& r, double v) {
+  if (kind == Kind::drive && column == "tof_mm" && is_tof_out_of_range(v)) return true;
+  return v >= r.lo && v <= r.hi;
+}
+
 Log parse_impl(const std::string& content, const std::string& name, std::optional<Kind> kind,
-               const std::vector<std::string>* table_columns) {
+               const std::vector<std::string>* table_columns, const ReadOptions& options) {
   Log log;
   log.path = name;
-  std::istringstream in(content);
-  std::string line;
   int line_no = 0;
   int header_line = 0;
-  std::vector<std::string> header;
+  std::vector<std::string> header;       // lower case
+  std::vector<std::string> header_as_written;
+  std::vector<int> header_columns;       // character column of each header cell
   std::vector<std::vector<Cell>> raw_rows;
   std::vector<int> raw_lines;
-  while (std::getline(in, line)) {
+  std::vector<int> raw_length;           // characters in each data row's line
+  for (const std::string_view view : split_lines(content)) {
     ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::string line(view);
     if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // UTF-8 BOM
     const std::string t = trim(line);
     if (t.empty()) continue;
     if (t[0] == '#') {
-      if (header.empty()) {
-        const std::size_t colon = t.find(':');
+      if (header_line == 0) {
+        const std::size_t hash = line.find('#');
+        const std::size_t colon = line.find(':', hash);
         if (colon != std::string::npos) {
-          const std::string key = trim(std::string_view(t).substr(1, colon - 1));
-          if (!key.empty() && key.find(' ') == std::string::npos)
-            log.metadata[key] = trim(std::string_view(t).substr(colon + 1));
+          const std::string key = lower(trim(std::string_view(line).substr(hash + 1, colon - hash - 1)));
+          if (!key.empty() && key.find(' ') == std::string::npos) {
+            std::size_t value_start = colon + 1;
+            while (value_start < line.size() && (line[value_start] == ' ' || line[value_start] == '\t')) ++value_start;
+            log.metadata[key] = trim(std::string_view(line).substr(colon + 1));
+            log.metadata_at[key] = SourcePos{line_no, static_cast<int>(value_start) + 1};
+          }
         }
       }
       continue;
     }
-    if (header.empty()) {
+    if (header_line == 0) {
       header_line = line_no;
-      for (const Cell& c : split(line)) {
+      std::vector<Cell> cells = split(line);
+      if (cells.size() > 1 && cells.back().text.empty()) cells.pop_back();  // a trailing delimiter
+      for (const Cell& c : cells) {
         if (c.text.empty()) throw InputError(name, line_no, c.column, "empty column name in the header");
-        if (std::find(header.begin(), header.end(), c.text) != header.end())
-          throw InputError(name, line_no, c.column, "column '" + c.text + "' appears twice in the header");
-        header.push_back(c.text);
+        const std::string lc = lower(c.text);
+        const auto twin = std::find(header.begin(), header.end(), lc);
+        if (twin != header.end()) {
+          const std::string& first = header_as_written[static_cast<std::size_t>(twin - header.begin())];
+          throw InputError(name, line_no, c.column,
+                           "column '" + c.text + "' appears twice in the header" +
+                               (first == c.text ? std::string() : " (as '" + first + "' and '" + c.text + "': letter case is ignored)"));
+        }
+        header.push_back(lc);
+        header_as_written.push_back(c.text);
+        header_columns.push_back(c.column);
       }
       continue;
     }
     std::vector<Cell> cells = split(line);
-    if (cells.size() != header.size()) {
-      const int col = cells.size() > header.size() ? cells[header.size()].column : static_cast<int>(line.size()) + 1;
-      throw InputError(name, line_no, col,
-                       "expected " + std::to_string(header.size()) + " comma-separated cells (as in the header on line " +
-                           std::to_string(header_line) + "), found " + std::to_string(cells.size()));
-    }
+    // A trailing delimiter: one empty cell past the header's columns.
+    if (cells.size() == header.size() + 1 && cells.back().text.empty()) cells.pop_back();
     raw_rows.push_back(std::move(cells));
     raw_lines.push_back(line_no);
+    raw_length.push_back(static_cast<int>(line.size()));
   }
-  if (header.empty()) throw InputError(name, 0, 0, "empty file: expected a header line and data rows");
-  if (raw_rows.empty()) throw InputError(name, header_line, 0, "no data rows after the header");
+  log.header_line = header_line;
+  if (header_line == 0) throw InputError(name, 1, 1, "empty file: expected a header line and data rows");
+  if (raw_rows.empty()) throw InputError(name, header_line, 1, "no data rows after the header");
   log.columns = header;
 
   // Kind: given, or recognised from the required columns (the most specific match).
@@ -252,72 +380,178 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
         best = required_columns(k).size();
       }
     }
-    if (!kind)
-      throw InputError(name, header_line, 1,
+    if (!kind) {
+      // A kind whose every missing column has a close name in the header (a typo, another unit):
+      // say so, for the most specific such kind.
+      std::string hint;
+      int column = 1;
+      std::size_t most = 0;
+      for (Kind k : all_kinds()) {
+        const auto& need = required_columns(k);
+        std::string why;
+        int at = 1;
+        bool explained = true;
+        for (const std::string& c : need) {
+          if (std::find(header.begin(), header.end(), c) != header.end()) continue;
+          int col = 1;
+          const std::string w = explain_missing(c, header, header_columns, need, col);
+          if (w.empty()) {
+            explained = false;
+            break;
+          }
+          if (why.empty()) {
+            why = "; as a " + std::string(to_string(k)) + " log it lacks '" + c + "': " + w;
+            at = col;
+          }
+        }
+        if (explained && !why.empty() && need.size() > most) {
+          most = need.size();
+          hint = why;
+          column = at;
+        }
+      }
+      throw InputError(name, header_line, column,
                        "cannot recognise the kind of log from its columns; expected e.g. time_s,speed_cm_s,charge "
-                       "(battery) or distance_m,sensor,value (proximity); or give --kind");
+                       "(battery) or distance_m,sensor,value (proximity); or give --kind" + hint);
+    }
   }
   log.kind = *kind;
   const auto& req = table_columns ? *table_columns : required_columns(*kind);
   for (const std::string& c : req) {
-    if (std::find(header.begin(), header.end(), c) == header.end())
-      throw InputError(name, header_line, 1, "missing required column '" + c + "'" +
-                                                 (table_columns ? std::string() : " for a " + std::string(to_string(*kind)) + " log"));
+    if (std::find(header.begin(), header.end(), c) != header.end()) continue;
+    int column = 1;
+    const std::string why = explain_missing(c, header, header_columns, req, column);
+    throw InputError(name, header_line, column,
+                     "missing required column '" + c + "'" +
+                         (table_columns ? std::string() : " for a " + std::string(to_string(*kind)) + " log") +
+                         (why.empty() ? std::string() : "; " + why));
   }
 
-  // Columns: required ones must be numeric in every row; an extra column is numeric if all of
-  // its cells are, else kept as text.
-  for (std::size_t j = 0; j < header.size(); ++j) {
+  // Cells. Required (and known optional) columns must be numbers in every row; an extra column is
+  // numeric if all of its cells are, else kept as text. Each row's leftmost problem is kept.
+  const std::size_t n = raw_rows.size(), m = header.size();
+  std::vector<std::optional<Problem>> problem(n);
+  auto note = [&](std::size_t i, int column, std::string message) {
+    Problem p{raw_lines[i], column, std::move(message)};
+    if (!problem[i] || before(p, *problem[i])) problem[i] = std::move(p);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& cells = raw_rows[i];
+    if (cells.size() == m) continue;
+    const int col = cells.size() > m ? cells[m].column : raw_length[i] + 1;
+    note(i, col,
+         "expected " + std::to_string(m) + " comma-separated cells (as in the header on line " + std::to_string(header_line) +
+             "), found " + std::to_string(cells.size()));
+  }
+  std::vector<bool> is_numeric(m, true);
+  std::vector<std::vector<double>> values(m, std::vector<double>(n, 0.0));
+  auto check_cell = [&](std::size_t i, std::size_t j) {
+    const Cell& cell = raw_rows[i][j];
     const std::string& cname = header[j];
-    const bool required = std::find(req.begin(), req.end(), cname) != req.end() || cname == "angle_deg" ||
-                          cname == "voltage_v";
-    std::vector<double> values(raw_rows.size());
-    bool numeric = true;
-    for (std::size_t i = 0; i < raw_rows.size() && numeric; ++i) {
-      const Cell& cell = raw_rows[i][j];
-      const NumberStatus st = parse_number(cell.text, values[i]);
-      if (st == NumberStatus::ok) continue;
-      if (st == NumberStatus::not_finite)
-        throw InputError(name, raw_lines[i], cell.column,
-                         "column '" + cname + "': expected a finite number, got '" + cell.text + "'");
-      if (required)
-        throw InputError(name, raw_lines[i], cell.column,
-                         "column '" + cname + "': expected a number, got '" + cell.text + "'");
-      numeric = false;
-    }
-    if (!numeric) {
-      std::vector<std::string> texts;
-      texts.reserve(raw_rows.size());
-      for (const auto& row : raw_rows) texts.push_back(row[j].text);
-      log.text[cname] = std::move(texts);
+    double& v = values[j][i];
+    const NumberStatus st = parse_number(cell.text, v);
+    if (st == NumberStatus::not_finite)
+      return note(i, cell.column, "column '" + cname + "': expected a finite number, got '" + cell.text + "'");
+    if (st == NumberStatus::not_a_number)
+      return note(i, cell.column, "column '" + cname + "': expected a number, got '" + cell.text + "'");
+    const std::optional<Range> r = range_of(*kind, cname);
+    if (r && !in_range(*kind, cname, *r, v))
+      return note(i, cell.column, "column '" + cname + "': value " + cell.text + " out of range, expected " + range_text(*r));
+    if (must_be_integer(*kind, cname) && v != std::floor(v))
+      return note(i, cell.column, "column '" + cname + "': expected an integer, got '" + cell.text + "'");
+  };
+  std::vector<std::size_t> extra;
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::string& cname = header[j];
+    const bool required = std::find(req.begin(), req.end(), cname) != req.end() || cname == "angle_deg" || cname == "voltage_v";
+    if (!required) {
+      extra.push_back(j);
       continue;
     }
-    const std::optional<Range> r = range_of(*kind, cname);
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      const double v = values[i];
-      if (r && (v < r->lo || v > r->hi))
-        throw InputError(name, raw_lines[i], raw_rows[i][j].column,
-                         "column '" + cname + "': value " + raw_rows[i][j].text + " out of range, expected " + r->what);
-      if (must_be_integer(*kind, cname) && v != std::floor(v))
-        throw InputError(name, raw_lines[i], raw_rows[i][j].column,
-                         "column '" + cname + "': expected an integer, got '" + raw_rows[i][j].text + "'");
-      if (cname == "time_s" && i > 0 && v < values[i - 1])
-        throw InputError(name, raw_lines[i], raw_rows[i][j].column,
-                         "column 'time_s': time decreases from " + raw_rows[i - 1][j].text + " to " +
-                             raw_rows[i][j].text + "; expected a non-decreasing time");
-    }
-    log.numeric[cname] = std::move(values);
+    for (std::size_t i = 0; i < n; ++i)
+      if (raw_rows[i].size() == m) check_cell(i, j);
   }
-  log.line_of_row = raw_lines;
-  log.cell_start.reserve(raw_rows.size() * header.size());
-  for (const auto& row : raw_rows)
-    for (const Cell& c : row) log.cell_start.push_back(c.column);
+  for (const std::size_t j : extra) {
+    // Numeric when every cell of the rows that are otherwise good reads as a number (finite or not).
+    for (std::size_t i = 0; i < n && is_numeric[j]; ++i) {
+      if (problem[i]) continue;
+      double v = 0;
+      if (parse_number(raw_rows[i][j].text, v) == NumberStatus::not_a_number) is_numeric[j] = false;
+    }
+    if (!is_numeric[j]) continue;
+    for (std::size_t i = 0; i < n; ++i)
+      if (raw_rows[i].size() == m) check_cell(i, j);
+  }
+
+  // Time never decreases over the rows kept; this stays an error under skip_bad_rows.
+  std::optional<Problem> time_problem;
+  const auto time_it = std::find(header.begin(), header.end(), std::string("time_s"));
+  if (time_it != header.end() && is_numeric[static_cast<std::size_t>(time_it - header.begin())]) {
+    const std::size_t j = static_cast<std::size_t>(time_it - header.begin());
+    std::optional<std::size_t> previous;
+    for (std::size_t i = 0; i < n && !time_problem; ++i) {
+      if (problem[i]) continue;
+      if (previous && values[j][i] < values[j][*previous])
+        time_problem = Problem{raw_lines[i], raw_rows[i][j].column,
+                               "column 'time_s': time decreases from " + raw_rows[*previous][j].text + " (line " +
+                                   std::to_string(raw_lines[*previous]) + ") to " + raw_rows[i][j].text +
+                                   "; expected a non-decreasing time" +
+                                   (options.skip_bad_rows ? " (--skip-bad-rows does not skip this: the order of the rows is in doubt)" : "")};
+      previous = i;
+    }
+  }
+  std::optional<Problem> first;
+  for (const auto& p : problem)
+    if (p) {
+      first = p;
+      break;
+    }
+  if (time_problem && (options.skip_bad_rows || !first || before(*time_problem, *first)))
+    throw InputError(name, time_problem->line, time_problem->column, time_problem->message);
+  if (first && !options.skip_bad_rows) throw InputError(name, first->line, first->column, first->message);
+
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (problem[i])
+      log.skipped.push_back(SkippedRow{problem[i]->line, problem[i]->column, escape_control(problem[i]->message)});
+    else
+      kept.push_back(i);
+  }
+  if (kept.empty())
+    throw InputError(name, header_line, 1,
+                     "no data rows left: all " + std::to_string(n) + " were skipped as bad (--skip-bad-rows); the first, line " +
+                         std::to_string(first->line) + ", column " + std::to_string(first->column) + ": " + first->message);
+
+  for (std::size_t j = 0; j < m; ++j) {
+    if (is_numeric[j]) {
+      std::vector<double> col;
+      col.reserve(kept.size());
+      for (const std::size_t i : kept) col.push_back(values[j][i]);
+      log.numeric[header[j]] = std::move(col);
+    } else {
+      std::vector<std::string> texts;
+      texts.reserve(kept.size());
+      for (const std::size_t i : kept) texts.push_back(raw_rows[i][j].text);
+      log.text[header[j]] = std::move(texts);
+    }
+  }
+  log.line_of_row.reserve(kept.size());
+  log.cell_start.reserve(kept.size() * m);
+  for (const std::size_t i : kept) {
+    log.line_of_row.push_back(raw_lines[i]);
+    for (const Cell& c : raw_rows[i]) log.cell_start.push_back(c.column);
+  }
 
   if (!table_columns && *kind == Kind::drive) {
     if (!log.metadata.count("obstacle_distance_m"))
-      throw InputError(name, header_line, 0, "missing required metadata line '# obstacle_distance_m: D' for a drive log");
+      throw InputError(name, header_line, 1,
+                       "missing required metadata line '# obstacle_distance_m: D' (before the header) for a drive log");
     const double d = log.metadata_number("obstacle_distance_m");
-    if (d <= 0) throw InputError(name, 0, 0, "metadata 'obstacle_distance_m' must be > 0");
+    if (d < 0) {
+      const SourcePos at = log.metadata_at.at("obstacle_distance_m");
+      throw InputError(name, at.line, at.column, "metadata 'obstacle_distance_m': expected a distance >= 0 m, got " +
+                                                    log.metadata.at("obstacle_distance_m"));
+    }
   }
 
   if (auto it = log.metadata.find("robot"); it != log.metadata.end() && !it->second.empty()) {
@@ -329,33 +563,45 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
   }
   return log;
 }
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, 0, "cannot open the file for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
 }  // namespace
 
-Log parse_log(const std::string& content, const std::string& name, std::optional<Kind> kind) {
-  return parse_impl(content, name, kind, nullptr);
+Log parse_log(const std::string& content, const std::string& name, std::optional<Kind> kind, const ReadOptions& options) {
+  return parse_impl(content, name, kind, nullptr, options);
 }
 
-Log read_table(const std::string& path, const std::vector<std::string>& columns) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, 0, "cannot open the file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_impl(ss.str(), path, std::nullopt, &columns);
+Log read_table(const std::string& path, const std::vector<std::string>& columns, const ReadOptions& options) {
+  return parse_impl(slurp(path), path, std::nullopt, &columns, options);
 }
 
-Log read_log(const std::string& path, std::optional<Kind> kind) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, 0, "cannot open the file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_log(ss.str(), path, kind);
+Log read_log(const std::string& path, std::optional<Kind> kind, const ReadOptions& options) {
+  return parse_log(slurp(path), path, kind, options);
 }
 
-std::vector<Log> read_logs(const std::vector<std::string>& paths, std::optional<Kind> kind) {
+std::vector<Log> read_logs(const std::vector<std::string>& paths, std::optional<Kind> kind, const ReadOptions& options) {
+  // The same file twice would count its rows twice: refuse it before reading anything.
+  std::map<std::string, std::string> seen;  // canonical path -> as given
+  for (const std::string& p : paths) {
+    std::error_code ec;
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(p, ec);
+    const std::string key = ec ? p : canonical.string();
+    const auto [it, fresh] = seen.emplace(key, p);
+    if (!fresh)
+      throw InputError(p, 0, 0,
+                       it->second == p ? "given twice; give each log once"
+                                       : "is the same file as " + it->second + " (given twice); give each log once");
+  }
   std::vector<Log> logs;
   logs.reserve(paths.size());
   for (const std::string& p : paths) {
-    logs.push_back(read_log(p, kind));
+    logs.push_back(read_log(p, kind, options));
     if (!kind) kind = logs.front().kind;
     if (logs.back().kind != logs.front().kind)
       throw InputError(p, 0, 0, "is a " + std::string(to_string(logs.back().kind)) + " log, but " +
