@@ -117,8 +117,15 @@ TEST(BatteryFit, RobustLossResistsOutliers) {
   ef::FitOptions robust;
   robust.robust = true;
   robust.robust_scale = 0.03;
-  const auto plain = ef::fit_battery({r}).speeds[0].cubic;
-  const auto huber = ef::fit_battery({r}, robust).speeds[0].cubic;
+  // Plain least squares: every reading kept (reject_sd 0).
+  const auto plain = ef::fit_battery({r}, {}, 0.0).speeds[0].cubic;
+  const auto huber = ef::fit_battery({r}, robust, 0.0).speeds[0].cubic;
   const double d_true = mb::plugin_tables().cubic[6].d;
   EXPECT_LT(std::abs(huber.value("d") - d_true), std::abs(plain.value("d") - d_true));
+  // The default: the dropouts (0.4 = 40 noise sd) are left out and listed, and the cubic is the
+  // one fitted without them.
+  const ef::BatteryFit rejected = ef::fit_battery({r});
+  const std::size_t dropouts = (r.charge.size() - 50 + 96) / 97;
+  EXPECT_EQ(rejected.speeds[0].outliers.size(), dropouts);
+  EXPECT_LT(std::abs(rejected.speeds[0].cubic.value("d") - d_true), std::abs(huber.value("d") - d_true));
 }

@@ -550,3 +550,14 @@ TEST_F(MeasuredCli, BatteryLeavesAWildChargeReadingOutAndListsIt) {
   const auto jl = nlohmann::json::parse(ls.out);
   EXPECT_EQ(jl["outliers"]["count"].get<int>(), 0);
 }
+
+TEST_F(MeasuredCli, ADriveRunCommandingAboveTheCapIsFittedNotRefused) {
+  // One run that once commands 15 cm/s (the firmware runs 14.17): before, "too few observations (0)".
+  const std::string log = write("cap.csv", drive_log({5, 10, 15, 10, 0}, 0.8, 9));
+  const CliRun r = run("drive " + log + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["capped_rows"].get<int>(), 10);
+  EXPECT_NEAR(j["parameters"]["steps_per_m"].get<double>(), 7763.656, 3);
+  EXPECT_NE(r.err.find("taken as the limit"), std::string::npos);
+}

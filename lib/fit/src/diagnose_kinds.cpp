@@ -368,7 +368,10 @@ class Drive : public ProblemOf<Drive> {
         // An encoder register that has not changed since the previous row adds no observation:
         // its rounding error is the previous row's again (a standing robot would otherwise count
         // one error many times). It is left out.
-        const double values[3] = {tof[i], ul[i], ur[i]};
+        // The VL53L0X's out-of-range codes (>= 8190) say the target is beyond the 2000 mm rail:
+        // the clamped model's reading there is the rail itself.
+        const double tof_i = logs::is_tof_out_of_range(tof[i]) ? s::kPluginTof.max_mm : tof[i];
+        const double values[3] = {tof_i, ul[i], ur[i]};
         // In a straight run with both wheels commanded alike, a right register equal to the left
         // one is the same count (and the same rounding) twice: it is left out too.
         const bool same = r.symmetric && ur[i] == ul[i];

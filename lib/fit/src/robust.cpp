@@ -284,6 +284,14 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     out.message = "every reading is on a rail: the noise cannot be estimated";
     return out;
   }
+  // Too few readings for the parameters and the noise: no calibration, whatever the solver says.
+  std::size_t free_count = 0;
+  for (const Parameter& q : params) free_count += q.fixed ? 0 : 1;
+  if (out.exact < free_count + (sigma_given ? 0 : 1)) {
+    out.message = "too few readings inside the rails (" + std::to_string(out.exact) + ") for " +
+                  std::to_string(free_count) + " parameters" + (sigma_given ? "" : " and the noise");
+    return out;
+  }
 
   // Readings that repeat under the same conditions are judged wild against their replicates, not
   // against the curve (a model that misses some conditions would otherwise shed good readings).
@@ -297,7 +305,7 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     on_rail[i] = obs[i].censoring != Censoring::none;
     if (obs[i].group >= 0) ++group_size[obs[i].group];
   }
-  for (std::size_t i = 0; i < n; ++i) judged_by_replicates[i] = obs[i].group >= 0 && group_size[obs[i].group] >= 5;
+  for (std::size_t i = 0; i < n; ++i) judged_by_replicates[i] = obs[i].group >= 0 && group_size[obs[i].group] >= kMinReplicates;
   const std::vector<bool> replicate_wild =
       opt.robust ? flag_wild_replicates(values, groups, on_rail, opt.noise_floor) : std::vector<bool>(n, false);
   std::vector<double> w(n, 1.0), p(m), predictions;

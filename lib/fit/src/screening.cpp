@@ -82,7 +82,7 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
     std::vector<double> v;
     for (std::size_t i : members)
       if (!on_rail[i]) v.push_back(values[i]);
-    if (v.size() < 5) continue;
+    if (v.size() < kMinReplicates) continue;
     const double med = median_of(v);
     for (double& x : v) x = std::abs(x - med);
     sd_of[g] = 1.482602218505602 * median_of(v);
@@ -90,7 +90,7 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
   }
   const double typical = median_of(sds);
   for (const auto& [g, members] : groups) {
-    if (members.size() < 5) continue;  // too few readings to call one of them wild
+    if (members.size() < kMinReplicates) continue;  // too few readings to call one of them wild
     std::vector<double> v;
     std::size_t railed = 0;
     for (std::size_t i : members) {
@@ -110,8 +110,51 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
   return wild;
 }
 
+namespace {
+// Drive logs are sequences, not replicates: a ToF reading is a spike when it stands far from the
+// line through its two neighbours (d_i = tof_i - (tof_{i-1} + tof_{i+1}) / 2) compared with how
+// far the run's readings usually stand (1.4826 MAD of d), by at least kSpikeFloor_mm. Only rows
+// whose command repeats the previous row's are dropped, so that no command is lost.
+constexpr double kSpikeFloor_mm = 50.0;
+
+std::vector<logs::Log> drop_tof_spikes(const std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
+  std::vector<logs::Log> out;
+  for (const logs::Log& log : all) {
+    const std::size_t n = log.rows();
+    std::vector<bool> drop(n, false);
+    if (log.has("tof_mm") && log.has("left_speed_cm_s") && log.has("right_speed_cm_s") && n >= 5) {
+      const auto& tof = log.col("tof_mm");
+      const auto& cl = log.col("left_speed_cm_s");
+      const auto& cr = log.col("right_speed_cm_s");
+      auto inside = [](double v) { return v > 20 && v < 2000; };
+      std::vector<double> d(n, 0.0), dev;
+      for (std::size_t i = 1; i + 1 < n; ++i)
+        if (inside(tof[i - 1]) && inside(tof[i]) && inside(tof[i + 1])) {
+          d[i] = tof[i] - 0.5 * (tof[i - 1] + tof[i + 1]);
+          dev.push_back(std::abs(d[i]));
+        }
+      const double sd = 1.482602218505602 * median_of(dev);
+      const double limit = std::max(kWildReadingSd * sd, kSpikeFloor_mm);
+      for (std::size_t i = 1; i + 1 < n; ++i) {
+        // A spike pushes its neighbours' d the other way by half as much: judge the largest first.
+        if (!(std::abs(d[i]) > limit) || cl[i] != cl[i - 1] || cr[i] != cr[i - 1]) continue;
+        if (std::abs(d[i]) < std::abs(d[i - 1]) || std::abs(d[i]) < std::abs(d[i + 1])) continue;
+        drop[i] = true;
+        if (dropped != nullptr)
+          dropped->push_back({log.path + ":" + std::to_string(log.line_of_row[i]),
+                              "tof_mm " + fmt(tof[i]) + " where its neighbours read " + fmt(tof[i - 1]) + " and " +
+                                  fmt(tof[i + 1]) + " (a spike of " + fmt(d[i]) + " mm; the run's typical " + fmt(sd) + ")"});
+      }
+    }
+    out.push_back(without_rows(log, drop));
+  }
+  return out;
+}
+}  // namespace
+
 std::vector<logs::Log> drop_wild_readings(const std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
   if (all.empty()) return all;
+  if (all.front().kind == logs::Kind::drive) return drop_tof_spikes(all, dropped);
   Rule rule;
   if (!rule_for(all.front().kind, &rule)) return all;
   std::vector<std::vector<bool>> drop(all.size());

@@ -19,11 +19,15 @@ struct WildReading {
 /// A reading farther than this many robust sd (1.4826 MAD of its group, at least half the typical
 /// group's and at least the floor) from its group's median is wild.
 inline constexpr double kWildReadingSd = 8.0;
+/// Readings under the same conditions needed to judge one of them against the others (a camera
+/// takes 3 frames of an LED position; the robust sd then has a floor, so only a jump of 8 floors
+/// counts).
+inline constexpr std::size_t kMinReplicates = 3;
 
 /// Flags wild values among replicates: `group[i]` is value i's group of readings taken under the
 /// same conditions (-1: none, never wild here), `on_rail[i]` whether it sits on a sensor's rail.
 /// A value inside the rails is wild when farther than kWildReadingSd robust sd from its group's
-/// median (groups of at least 5; the sd is the group's 1.4826 MAD, at least half the typical
+/// median (groups of at least kMinReplicates; the sd is the group's 1.4826 MAD, at least half the typical
 /// group's and at least `floor_sd`); a railed value when it is its group's only railed one and
 /// farther than half that (a stray glitch, not a sensor near its clamp). `why`, when given,
 /// receives a sentence per wild value (empty for the others).
@@ -31,8 +35,9 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
                                        const std::vector<bool>& on_rail, double floor_sd,
                                        std::vector<std::string>* why = nullptr);
 
-/// The logs without their wild readings (rows dropped whole), and what was dropped. Battery and
-/// drive logs (sequences, not replicates) come back unchanged.
+/// The logs without their wild readings (rows dropped whole), and what was dropped. Drive logs
+/// (sequences, not replicates) lose their ToF spikes: a reading far from the line through its two
+/// neighbours, on a row whose command repeats the previous one. Battery logs come back unchanged.
 std::vector<logs::Log> drop_wild_readings(const std::vector<logs::Log>& logs, std::vector<WildReading>* dropped);
 
 /// Readings on a sensor's rails (proximity and light 0/4095, ground 0/1023, ToF <= 20 or >= 2000
