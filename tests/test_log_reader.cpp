@@ -399,6 +399,14 @@ TEST(LogReader, ControlCharactersAreEscapedInMessages) {
   EXPECT_TRUE(contains(log.skipped[0].reason, "'\\x07'")) << log.skipped[0].reason;
 }
 
+TEST(LogReader, TextFromTheFileIsStoredEscaped) {
+  const auto log = logs::parse_log("# robot: r\x1b" "1\ngrey,sensor,value,tag\x07\n0.5,1,512,a\x1b" "b\n", "t.csv", Kind::ground);
+  EXPECT_EQ(log.robot, "r\\x1b1");
+  EXPECT_EQ(log.columns.back(), "tag\\x07");
+  EXPECT_EQ(log.text.at("tag\\x07"), (std::vector<std::string>{"a\\x1bb"}));
+  EXPECT_EQ(log.col("value"), (std::vector<double>{512}));
+}
+
 // ---- 10. The same file twice -----------------------------------------------------------------------
 
 TEST_F(CoefficientFiles, TheSameLogTwiceIsRefused) {

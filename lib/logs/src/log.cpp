@@ -322,11 +322,11 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
         const std::size_t hash = line.find('#');
         const std::size_t colon = line.find(':', hash);
         if (colon != std::string::npos) {
-          const std::string key = lower(trim(std::string_view(line).substr(hash + 1, colon - hash - 1)));
+          const std::string key = lower(escape_control(trim(std::string_view(line).substr(hash + 1, colon - hash - 1))));
           if (!key.empty() && key.find(' ') == std::string::npos) {
             std::size_t value_start = colon + 1;
             while (value_start < line.size() && (line[value_start] == ' ' || line[value_start] == '\t')) ++value_start;
-            log.metadata[key] = trim(std::string_view(line).substr(colon + 1));
+            log.metadata[key] = escape_control(trim(std::string_view(line).substr(colon + 1)));
             log.metadata_at[key] = SourcePos{line_no, static_cast<int>(value_start) + 1};
           }
         }
@@ -339,7 +339,7 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
       if (cells.size() > 1 && cells.back().text.empty()) cells.pop_back();  // a trailing delimiter
       for (const Cell& c : cells) {
         if (c.text.empty()) throw InputError(name, line_no, c.column, "empty column name in the header");
-        const std::string lc = lower(c.text);
+        const std::string lc = lower(escape_control(c.text));
         const auto twin = std::find(header.begin(), header.end(), lc);
         if (twin != header.end()) {
           const std::string& first = header_as_written[static_cast<std::size_t>(twin - header.begin())];
@@ -531,7 +531,7 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
     } else {
       std::vector<std::string> texts;
       texts.reserve(kept.size());
-      for (const std::size_t i : kept) texts.push_back(raw_rows[i][j].text);
+      for (const std::size_t i : kept) texts.push_back(escape_control(raw_rows[i][j].text));
       log.text[header[j]] = std::move(texts);
     }
   }
@@ -559,7 +559,7 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
   } else if (auto t = log.text.find("robot"); t != log.text.end() && !t->second.empty()) {
     log.robot = t->second.front();
   } else {
-    log.robot = std::filesystem::path(name).stem().string();
+    log.robot = escape_control(std::filesystem::path(name).stem().string());
   }
   return log;
 }

@@ -87,6 +87,8 @@ struct Log {
   std::vector<std::string> columns;               ///< header order, names in lower case
   std::map<std::string, std::vector<double>> numeric;    ///< every all-numeric column
   std::map<std::string, std::vector<std::string>> text;  ///< the other columns, kept as text
+  // Text taken from the file (column names, metadata keys and values, text cells) is stored with
+  // its control characters escaped (escape_control): reports can print it as it is.
   std::vector<int> line_of_row;                   ///< source line of each data row
   std::vector<int> cell_start;                    ///< 1-based character column of each cell, row-major
   std::vector<SkippedRow> skipped;                ///< rows left out (ReadOptions::skip_bad_rows), in file order
