@@ -266,12 +266,13 @@ TEST(MeasuredProximity, TheCurveNeverRisesAgainInsideTheRange) {
   // Readings that fall to 0 at 33 mm and rise again towards 45 mm (a U-shaped quadratic): the fit
   // stays non-increasing over [0, 50 mm] and says that its constraint is active.
   ProximityLog gen;
-  gen.a = 2500;  // 0 from 29 to 40 mm, 870 counts again at 45 mm
-  gen.b = -170;
-  gen.c = 2.8;
+  gen.a = 900;  // vertex at 38 mm: 0 from 33 to 42 mm, about 100 counts again at 45 mm
+  gen.b = -68.4;
+  gen.c = 1.2796;
   gen.noise_raw = 4;
   const auto f = fit::fit_proximity({parse(gen.text(2), "u.csv", Kind::proximity)});
-  ASSERT_TRUE(f.maxima.usable);
+  ASSERT_TRUE(f.maxima.usable) << f.maxima.message;
+  ASSERT_TRUE(f.means.usable) << f.means.message;
   for (const auto* r : {&f.maxima, &f.means}) {
     const double a = r->value("a"), b = r->value("b");
     EXPECT_LE(b, 1e-9);
