@@ -678,6 +678,9 @@ class Battery : public ProblemOf<Battery> {
         out[i] = charge;
         if (i + 1 == r.last) break;
         const double dt = (time_[i + 1] - time_[i]) / k;
+        // A repeated time stamp (the format allows it: time never decreases) is a step of no
+        // length: no discharge, and no speed to compute as 0/0.
+        if (dt == 0) continue;
         charge = mb::corrected::step(model_, tables_, charge, speed_[i] / 100.0 * dt, dt);
       }
     }
