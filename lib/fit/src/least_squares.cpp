@@ -190,6 +190,35 @@ Eigen::MatrixXd columns(const Eigen::MatrixXd& jacobian, const std::vector<Eigen
   for (std::size_t c = 0; c < cols.size(); ++c) Jf.col(static_cast<Eigen::Index>(c)) = jacobian.col(cols[c]);
   return Jf;
 }
+// Why a parameter's standard error stays NaN (ParameterEstimate::std_error_why): a free column of
+// zeros (the data do not depend on it), or no degrees of freedom left over the estimable columns
+// `cols`; the estimable ones get a provisional reason that the covariance clears.
+void explain_undetermined(FitResult& r, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
+                          const std::vector<Eigen::Index>& cols) {
+  const std::size_t n = static_cast<std::size_t>(jacobian.rows());
+  for (Eigen::Index j = 0; j < jacobian.cols() && static_cast<std::size_t>(j) < r.parameters.size(); ++j) {
+    ParameterEstimate& p = r.parameters[static_cast<std::size_t>(j)];
+    const bool is_free = static_cast<std::size_t>(j) >= free_column.size() || free_column[static_cast<std::size_t>(j)];
+    if (!is_free) continue;
+    if (!(jacobian.col(j).squaredNorm() > 0))
+      p.std_error_why = "not identifiable: the model does not depend on " + p.name +
+                        " at the solution on these data (its Jacobian column is zero)";
+    else if (n <= cols.size())
+      p.std_error_why = "undefined: " + std::to_string(n) + " residuals for " + std::to_string(cols.size()) +
+                        " estimable parameters leave no degree of freedom to estimate the noise";
+    else
+      p.std_error_why = "the covariance was not computed";
+  }
+}
+
+void explain_rank_deficient(FitResult& r, const std::vector<Eigen::Index>& cols) {
+  for (Eigen::Index j : cols)
+    if (static_cast<std::size_t>(j) < r.parameters.size()) {
+      ParameterEstimate& p = r.parameters[static_cast<std::size_t>(j)];
+      p.std_error_why = "not identifiable: these data do not determine " + p.name +
+                        " separately from the other parameters (rank-deficient Jacobian)";
+    }
+}
 }  // namespace
 
 bool inverse_normal_matrix(const Eigen::MatrixXd& jacobian, Eigen::MatrixXd* inverse) {
@@ -273,6 +302,7 @@ void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::ve
   const std::vector<Eigen::Index> cols = estimable_columns(jacobian, free_column);
   const auto m = static_cast<Eigen::Index>(cols.size());
   const Eigen::Index n = jacobian.rows();
+  explain_undetermined(r, jacobian, free_column, cols);
   if (m == 0 || n <= m) return;
   const double s2 = r.rss / static_cast<double>(n - m);
   r.covariance = Eigen::MatrixXd::Zero(total, total);
@@ -281,8 +311,11 @@ void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::ve
     covf = *inverse_normal;
   } else if (!inverse_normal_matrix(columns(jacobian, cols), &covf)) {
     r.message += " (covariance rank-deficient: standard errors unavailable)";
+    explain_rank_deficient(r, cols);
     return;
   }
+  for (Eigen::Index j : cols)
+    if (static_cast<std::size_t>(j) < r.parameters.size()) r.parameters[static_cast<std::size_t>(j)].std_error_why.clear();
   for (Eigen::Index a = 0; a < m; ++a)
     for (Eigen::Index b = 0; b < m; ++b)
       r.covariance(cols[static_cast<std::size_t>(a)], cols[static_cast<std::size_t>(b)]) = covf(a, b) * s2;
@@ -397,6 +430,8 @@ std::vector<bool> statistics(FitResult& r, const ParameterLayout& layout, const 
   const bool converged = summary.IsSolutionUsable() && std::isfinite(rss);
   r.usable = evaluated && converged;
   if (!evaluated) r.message = "the model could not be evaluated at the solution";
+  for (auto& p : r.parameters)
+    p.std_error_why = r.usable ? "the covariance was not computed" : "the fit is not usable: " + r.message;
   return is_free;
 }
 }  // namespace
@@ -426,42 +461,24 @@ FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
   const std::vector<bool> is_free = statistics(r, layout, constant_block, residuals, evaluated, observations, summary);
   if (!r.usable) return r;
   const std::size_t n = r.observations;
-  const double rss = r.rss;
   const int k = r.free_parameters;
   const int total = static_cast<int>(is_free.size());
 
-  if (options.compute_covariance && k > 0 && n > static_cast<std::size_t>(k)) {
-    // Dense Jacobian restricted to free columns (with subset manifolds, Ceres still reports the
-    // ambient columns; a fixed parameter's column is dropped here when the caller marks it so).
-    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), total);
-    for (int row = 0; row < jac.num_rows; ++row)
-      for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx)
-        J(row, jac.cols[static_cast<std::size_t>(idx)]) = jac.values[static_cast<std::size_t>(idx)];
-    // Columns with a SubsetManifold that holds them fixed have zero tangent: detect all-zero
-    // columns of free blocks and treat them as fixed too.
-    std::vector<int> cols;
-    for (int j = 0; j < total; ++j)
-      if (is_free[static_cast<std::size_t>(j)] && J.col(j).squaredNorm() > 0) cols.push_back(j);
-    const int m = static_cast<int>(cols.size());
-    Eigen::MatrixXd Jf(J.rows(), m);
-    for (int c = 0; c < m; ++c) Jf.col(c) = J.col(cols[static_cast<std::size_t>(c)]);
-    const double s2 = rss / static_cast<double>(n - static_cast<std::size_t>(m));
-    r.covariance = Eigen::MatrixXd::Zero(total, total);
-    Eigen::MatrixXd covf;
-    if (inverse_normal_matrix(Jf, &covf)) {
-      for (int a = 0; a < m; ++a)
-        for (int b = 0; b < m; ++b)
-          r.covariance(cols[static_cast<std::size_t>(a)], cols[static_cast<std::size_t>(b)]) = covf(a, b) * s2;
-      for (int c = 0; c < m; ++c) {
-        const int j = cols[static_cast<std::size_t>(c)];
-        r.parameters[static_cast<std::size_t>(j)].std_error = std::sqrt(std::max(0.0, r.covariance(j, j)));
-      }
-      for (int j = 0; j < total; ++j)
-        if (!is_free[static_cast<std::size_t>(j)]) r.parameters[static_cast<std::size_t>(j)].std_error = 0.0;
-    } else {
-      r.message += " (covariance rank-deficient: standard errors unavailable)";
-    }
+  if (!options.compute_covariance) {
+    for (auto& p : r.parameters) p.std_error_why = "standard errors were not asked for";
+    return r;
   }
+  if (k == 0) return r;
+  // Dense Jacobian over every column (with subset manifolds, Ceres still reports the ambient
+  // columns). Columns with a SubsetManifold that holds them fixed have zero tangent: all-zero
+  // columns of free blocks are left out of the covariance, as set_covariance does.
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), total);
+  for (int row = 0; row < jac.num_rows; ++row)
+    for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx)
+      J(row, jac.cols[static_cast<std::size_t>(idx)]) = jac.values[static_cast<std::size_t>(idx)];
+  // No QR of an empty matrix: set_covariance stops when no free column is estimable (every
+  // free column zero) or no degree of freedom is left, and says why.
+  set_covariance(r, J, is_free);
   return r;
 }
 
