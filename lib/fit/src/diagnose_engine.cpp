@@ -496,11 +496,25 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
     report.message = why;
     return report;
   }
-  report.supported = true;
-  report.message = problem->notes;
   Engine engine(*problem, options);
   Problem& p = *problem;
   report.residuals = engine.size();
+  {
+    // Enough rows for the held-out test (a row in every block of every fold) and for the largest
+    // model (more residuals than twice its parameters)? Otherwise every finding would be noise.
+    const std::size_t blocks = static_cast<std::size_t>(std::max(1, options.folds * options.blocks_per_fold));
+    const std::size_t min_residuals = 2 * p.params.size() + 1;
+    if (report.rows < blocks || engine.size() < min_residuals) {
+      report.too_few_rows = true;
+      report.message = "too few rows to diagnose: " + std::to_string(report.rows) + " rows (" +
+                       std::to_string(engine.size()) + " residuals); the held-out test needs at least " +
+                       std::to_string(blocks) + " rows and the model at least " + std::to_string(min_residuals) +
+                       " residuals";
+      return report;
+    }
+  }
+  report.supported = true;
+  report.message = problem->notes;
   for (const auto& e : p.effects) report.effects_considered.push_back(e.cause);
 
   // The values where the effects are off and the base model is the plug-in's.

@@ -62,6 +62,10 @@ struct Trial {
 struct Report {
   logs::Kind kind = logs::Kind::ground;
   bool supported = false;
+  /// Too few rows to diagnose (supported stays false; `message` says how many are needed): the
+  /// held-out test needs a row in every block of every fold, and every fit more residuals than
+  /// twice the parameters it could free.
+  bool too_few_rows = false;
   std::string message;  ///< why not supported, or notes
   std::size_t rows = 0;       ///< data rows in all logs
   std::size_t residuals = 0;  ///< residuals fitted (camera: two per row)
