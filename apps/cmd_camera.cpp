@@ -27,7 +27,7 @@ void print_report(const fit::CameraFit& f) {
               f.table4_points, f.table4_alpha_mean_deg, f.table4_alpha_sd_deg);
 }
 
-void draw(const std::string& path, const fit::CameraFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const fit::CameraFit& f) {
   const double fov = s::deg_to_rad(f.result.value("fov_deg")), cx = f.result.value("cx_px"), cy = f.result.value("cy_px");
   const auto plugin = s::plugin_camera();
   std::vector<std::vector<double>> rows;
@@ -38,7 +38,7 @@ void draw(const std::string& path, const fit::CameraFit& f) {
                          o.vertical_m, &qx, &qy);
     rows.push_back({o.lateral_m / o.forward_m, o.px, mx, qx, o.vertical_m / o.forward_m, o.py, my, qy});
   }
-  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << app::sensors::datablock("obs", rows);
     gp << "set multiplot layout 1,2 title 'Camera (paper section 4.1.6): pixel against the LED direction'\n";
     gp << "set grid\nset key top right\n";
@@ -69,7 +69,7 @@ int run_camera(const app::sensors::SensorOptions& o) {
   j["units"] = {{"fov_deg", "degrees, horizontal"}, {"aperture_deg", "ARGoS half-angle on the diagonal"}, {"mse", "px^2"}};
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
   j["table4"] = {{"alpha_mean_deg", f.table4_alpha_mean_deg}, {"alpha_sd_deg", f.table4_alpha_sd_deg}, {"points", f.table4_points}};
-  return app::sensors::finish("camera", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+  return app::sensors::finish("camera", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
 }  // namespace

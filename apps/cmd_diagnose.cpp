@@ -213,7 +213,8 @@ void print_report(const dg::Report& r) {
   std::printf("\n");
 }
 
-void draw(const std::string& dir, const dg::Report& r) {
+/// Stages the residual plot in `stage`; returns its path ("" when there is nothing to draw).
+std::string draw(logs::OutputStage& stage, const std::string& dir, const dg::Report& r) {
   namespace fs = std::filesystem;
   // Residuals before (recalibrated base) and after (final model) against the covariate the
   // residuals depended on most before.
@@ -226,9 +227,9 @@ void draw(const std::string& dir, const dg::Report& r) {
       if (c.first == "row") x = &c.second;
     name = "row";
   }
-  if (!x) return;
+  if (!x) return "";
   const std::string path = (fs::path(dir) / ("diagnose_" + std::string(logs::to_string(r.kind)) + ".png")).string();
-  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << "$before << EOD\n";
     for (std::size_t i = 0; i < x->size(); ++i) gp << (*x)[i] << ' ' << r.residual_before[i] << '\n';
     gp << "EOD\n$after << EOD\n";
@@ -241,7 +242,7 @@ void draw(const std::string& dir, const dg::Report& r) {
     gp << "set title 'with the findings'\nplot $after using 1:2 with points pt 7 ps 0.4 lc rgb '#1f77b4' notitle\n";
     gp << "unset multiplot\n";
   });
-  std::printf("Residual plot: %s\n", path.c_str());
+  return path;
 }
 
 int run_diagnose(const DiagnoseOptions& o) {
@@ -264,10 +265,20 @@ int run_diagnose(const DiagnoseOptions& o) {
   else if (!o.coefficients.empty() && o.coefficients != "fitted")
     options.battery_tables = fit::battery_tables_from_json(read_json(o.coefficients), o.coefficients);
   const dg::Report r = dg::diagnose(logs, options);
+  if (r.too_few_rows) throw NoUsableFit(r.message);
   if (!r.supported) throw UsageError(r.message);
+  // All or nothing: the JSON report and the plot are renamed into place together, then printed.
+  const std::string text = o.json.empty() ? std::string() : json_text(to_json(r, o.logs));
+  logs::OutputStage stage;
+  if (!o.json.empty() && o.json != "-") stage.write(o.json, text);
+  const std::string plot_path = o.plot_dir.empty() ? std::string() : draw(stage, o.plot_dir, r);
+  stage.commit();
   if (o.json != "-") print_report(r);
-  if (!o.json.empty()) write_json(to_json(r, o.logs), o.json);
-  if (!o.plot_dir.empty()) draw(o.plot_dir, r);
+  if (o.json == "-") std::cout << text;
+  if (!plot_path.empty()) {
+    if (o.json == "-") std::cerr << "Residual plot: " << plot_path << '\n';  // stdout holds the JSON
+    else std::printf("Residual plot: %s\n", plot_path.c_str());
+  }
   return 0;
 }
 

@@ -30,10 +30,10 @@ void print_report(const fit::DriveFit& f) {
   std::printf("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
 }
 
-void draw(const std::string& path, const fit::DriveFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const fit::DriveFit& f) {
   const double spm = f.steps.value("steps_per_m");
   const double scale = f.tof.value("tof_scale"), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
-  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     std::string plot_tof = "plot ", plot_steps = "plot ";
     for (std::size_t r = 0; r < f.runs.size(); ++r) {
       const auto& run = f.runs[r];
@@ -81,7 +81,7 @@ int run_drive(const app::sensors::SensorOptions& o) {
   j["units"] = {{"steps_per_m", "steps per metre"}, {"tof_offset_mm", "mm"}, {"slip_time_constant_s", "s"},
                 {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}};
   j["reference_mse"] = {{"plugin_tof", f.plugin_tof_mse}};
-  return app::sensors::finish("drive", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+  return app::sensors::finish("drive", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
 }  // namespace

@@ -25,8 +25,8 @@ void print_report(const fit::GroundFit& f) {
   std::printf("Plug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0. Pooled MSE %.3f counts^2\n", f.mse);
 }
 
-void draw(const std::string& path, const fit::GroundFit& f) {
-  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+void draw(logs::OutputStage& stage, const std::string& path, const fit::GroundFit& f) {
+  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     for (std::size_t k = 0; k < f.sensors.size(); ++k) {
       std::vector<std::vector<double>> rows;
       for (std::size_t i = 0; i < f.grey[k].size(); ++i) rows.push_back({f.grey[k][i] + (double(k) - 1) * 0.006, f.value_raw[k][i]});
@@ -79,7 +79,7 @@ int run_ground(const app::sensors::SensorOptions& o) {
   j["censored"] = f.censored;
   j["model"] = "value_raw = offset + gain * grey, grey in [0, 1], sensors 0 right, 1 centre, 2 left";
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
-  return app::sensors::finish("ground", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+  return app::sensors::finish("ground", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
 }  // namespace

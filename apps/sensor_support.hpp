@@ -16,6 +16,7 @@
 #include "commands.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/logs/log.hpp"
+#include "epuck2/logs/output.hpp"
 
 namespace epuck2::app::sensors {
 
@@ -48,12 +49,26 @@ inline nlohmann::json skeleton(const std::string& kind, const std::vector<std::s
 /// A JSON number, or null for NaN/infinity (JSON has no NaN).
 inline nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-/// Copies a fit's parameters (named `prefix` + name) and standard errors into the skeleton.
+/// Copies a fit's parameters (named `prefix` + name) and standard errors into the skeleton. A
+/// standard error the data do not determine is written as null, with its reason under
+/// "std_error_why" (same name): the file says why instead of holding a bare null.
 inline void add_parameters(nlohmann::json& j, const fit::FitResult& r, const std::string& prefix = "") {
   for (const auto& p : r.parameters) {
-    j["parameters"][prefix + p.name] = number(p.value);
-    j["std_errors"][prefix + p.name] = number(p.std_error);
+    j["parameters"][prefix + p.name] = p.value;  // a NaN value is not a usable fit: json_text refuses it
+    if (std::isfinite(p.std_error)) {
+      j["std_errors"][prefix + p.name] = p.std_error;
+    } else {
+      j["std_errors"][prefix + p.name] = nullptr;
+      j["std_error_why"][prefix + p.name] = p.std_error_why.empty() ? std::string("undefined") : p.std_error_why;
+    }
   }
+}
+
+/// One warning on standard error per standard error written as null, with its reason.
+inline void warn_undefined_std_errors(const std::string& kind, const nlohmann::json& j) {
+  if (!j.contains("std_error_why")) return;
+  for (const auto& [name, why] : j.at("std_error_why").items())
+    std::cerr << kind << ": warning: no standard error for " << name << ": " << why.get<std::string>() << '\n';
 }
 
 /// Throws NoUsableFit when the fit is not usable.
@@ -61,19 +76,20 @@ inline void require_usable(const fit::FitResult& r, const std::string& what) {
   if (!r.usable) throw NoUsableFit(what + ": " + (r.message.empty() ? std::string("the solver found no solution") : r.message));
 }
 
-/// -o first (atomic), then the plot, then the JSON or the report on standard output.
+/// The outputs all or nothing: -o and the plot staged, renamed into place only when both were
+/// written; then the JSON or the report on standard output. `plot(stage, path)` stages the figure.
 template <class Report, class Plot>
 int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json& j, Report report, Plot plot) {
-  if (!o.output.empty()) {
-    write_json(j, o.output);
-    std::cerr << kind << ": wrote " << o.output << '\n';
-  }
-  if (!o.plot.empty()) {
-    plot(o.plot);
-    std::cerr << kind << ": drew " << o.plot << '\n';
-  }
+  logs::OutputStage stage;
+  const std::string text = json_text(j);  // refuses a NaN before anything is written
+  warn_undefined_std_errors(kind, j);
+  if (!o.output.empty()) stage.write(o.output, text);
+  if (!o.plot.empty()) plot(stage, o.plot);
+  stage.commit();
+  if (!o.output.empty()) std::cerr << kind << ": wrote " << o.output << '\n';
+  if (!o.plot.empty()) std::cerr << kind << ": drew " << o.plot << '\n';
   if (o.json) {
-    write_json(j, "-");
+    std::cout << text;
   } else {
     report();
   }
