@@ -10,8 +10,9 @@ using nlohmann::json;
 namespace {
 
 json fit_stats(const FitResult& r) {
+  // r2 is null (not NaN) when the charge never changes: no variance to explain.
   return json{{"usable", r.usable}, {"rss", r.rss}, {"mse", r.mse},
-              {"r2", std::isfinite(r.r2) ? json(r.r2) : json(nullptr)},  // none when the charge never changes {"aic", r.aic},
+              {"r2", std::isfinite(r.r2) ? json(r.r2) : json(nullptr)}, {"aic", r.aic},
               {"bic", r.bic}, {"iterations", r.iterations}, {"observations", r.observations}};
 }
 
