@@ -251,7 +251,7 @@ int run_diagnose(const DiagnoseOptions& o) {
     kind = logs::parse_kind(o.kind);
     if (!kind) throw UsageError("--kind: unknown kind '" + o.kind + "'");
   }
-  const auto logs = logs::read_logs(o.logs, kind);
+  auto logs = logs::read_logs(o.logs, kind);
   if (logs.empty()) throw UsageError("no logs given");
   if (!dg::supported(logs.front().kind))
     throw UsageError("diagnose does not support the kind '" + std::string(logs::to_string(logs.front().kind)) +
@@ -264,7 +264,7 @@ int run_diagnose(const DiagnoseOptions& o) {
   if (o.coefficients == "plugin") options.battery_tables = models::battery::plugin_tables();
   else if (!o.coefficients.empty() && o.coefficients != "fitted")
     options.battery_tables = fit::battery_tables_from_json(read_json(o.coefficients), o.coefficients);
-  const dg::Report r = dg::diagnose(logs, options);
+  const dg::Report r = dg::diagnose(std::move(logs), options);  // the logs are released once read
   if (r.too_few_rows) throw NoUsableFit(r.message);
   if (!r.supported) throw UsageError(r.message);
   // All or nothing: the JSON report and the plot are renamed into place together, then printed.

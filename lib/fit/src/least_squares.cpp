@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 namespace epuck2::fit {
@@ -193,14 +194,14 @@ Eigen::MatrixXd columns(const Eigen::MatrixXd& jacobian, const std::vector<Eigen
 // Why a parameter's standard error stays NaN (ParameterEstimate::std_error_why): a free column of
 // zeros (the data do not depend on it), or no degrees of freedom left over the estimable columns
 // `cols`; the estimable ones get a provisional reason that the covariance clears.
-void explain_undetermined(FitResult& r, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
-                          const std::vector<Eigen::Index>& cols) {
-  const std::size_t n = static_cast<std::size_t>(jacobian.rows());
-  for (Eigen::Index j = 0; j < jacobian.cols() && static_cast<std::size_t>(j) < r.parameters.size(); ++j) {
-    ParameterEstimate& p = r.parameters[static_cast<std::size_t>(j)];
-    const bool is_free = static_cast<std::size_t>(j) >= free_column.size() || free_column[static_cast<std::size_t>(j)];
+void explain_undetermined(FitResult& r, Eigen::Index n_rows, const std::vector<bool>& free_column,
+                          const std::vector<bool>& zero_column, const std::vector<Eigen::Index>& cols) {
+  const std::size_t n = static_cast<std::size_t>(n_rows);
+  for (std::size_t j = 0; j < zero_column.size() && j < r.parameters.size(); ++j) {
+    ParameterEstimate& p = r.parameters[j];
+    const bool is_free = j >= free_column.size() || free_column[j];
     if (!is_free) continue;
-    if (!(jacobian.col(j).squaredNorm() > 0))
+    if (zero_column[j])
       p.std_error_why = "not identifiable: the model does not depend on " + p.name +
                         " at the solution on these data (its Jacobian column is zero)";
     else if (n <= cols.size())
@@ -296,24 +297,27 @@ bool normal_equations_least_squares(const Eigen::MatrixXd& normal, const Eigen::
   return true;
 }
 
-void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
-                    const Eigen::MatrixXd* inverse_normal) {
-  const Eigen::Index total = jacobian.cols();
-  const std::vector<Eigen::Index> cols = estimable_columns(jacobian, free_column);
+namespace {
+// set_covariance's work over the estimable columns `cols` (parameter indices, `total` in all) of an
+// n-row Jacobian: `estimable` gives those columns only (n x m), called when no `inverse_normal`
+// of the right size is given.
+void covariance_over(FitResult& r, Eigen::Index total, Eigen::Index n, const std::vector<Eigen::Index>& cols,
+                     const std::vector<bool>& free_column, const std::vector<bool>& zero_column,
+                     const std::function<Eigen::MatrixXd()>& estimable, const Eigen::MatrixXd* inverse_normal) {
   const auto m = static_cast<Eigen::Index>(cols.size());
-  const Eigen::Index n = jacobian.rows();
-  explain_undetermined(r, jacobian, free_column, cols);
+  explain_undetermined(r, n, free_column, zero_column, cols);
   if (m == 0 || n <= m) return;
   const double s2 = r.rss / static_cast<double>(n - m);
-  r.covariance = Eigen::MatrixXd::Zero(total, total);
   Eigen::MatrixXd covf;
   if (inverse_normal != nullptr && inverse_normal->rows() == m && inverse_normal->cols() == m) {
     covf = *inverse_normal;
-  } else if (!inverse_normal_matrix(columns(jacobian, cols), &covf)) {
+  } else if (!inverse_normal_matrix(estimable(), &covf)) {
+    r.covariance = Eigen::MatrixXd::Zero(total, total);
     r.message += " (covariance rank-deficient: standard errors unavailable)";
     explain_rank_deficient(r, cols);
     return;
   }
+  r.covariance = Eigen::MatrixXd::Zero(total, total);
   for (Eigen::Index j : cols)
     if (static_cast<std::size_t>(j) < r.parameters.size()) r.parameters[static_cast<std::size_t>(j)].std_error_why.clear();
   for (Eigen::Index a = 0; a < m; ++a)
@@ -326,6 +330,16 @@ void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::ve
     if (static_cast<std::size_t>(j) < free_column.size() && !free_column[static_cast<std::size_t>(j)] &&
         static_cast<std::size_t>(j) < r.parameters.size())
       r.parameters[static_cast<std::size_t>(j)].std_error = 0.0;
+}
+}  // namespace
+
+void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
+                    const Eigen::MatrixXd* inverse_normal) {
+  const std::vector<Eigen::Index> cols = estimable_columns(jacobian, free_column);
+  std::vector<bool> zero_column(static_cast<std::size_t>(jacobian.cols()));
+  for (Eigen::Index j = 0; j < jacobian.cols(); ++j) zero_column[static_cast<std::size_t>(j)] = !(jacobian.col(j).squaredNorm() > 0);
+  covariance_over(r, jacobian.cols(), jacobian.rows(), cols, free_column, zero_column,
+                  [&] { return columns(jacobian, cols); }, inverse_normal);
 }
 
 void set_rss(FitResult& r, double rss) {
@@ -446,39 +460,84 @@ FitResult summarize(const ParameterLayout& layout, const std::vector<double>& re
 FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
                     const std::vector<double>& observations, const ceres::Solver::Summary& summary,
                     const FitOptions& options) {
+  std::vector<bool> constant_block;
+  std::vector<double*> free_blocks;
+  std::vector<int> free_offset;  // each free block's first scalar among all parameters
+  {
+    int offset = 0;
+    for (std::size_t b = 0; b < layout.blocks.size(); ++b) {
+      constant_block.push_back(problem.IsParameterBlockConstant(layout.blocks[b]));
+      if (!constant_block.back()) {
+        free_blocks.push_back(layout.blocks[b]);
+        free_offset.push_back(offset);
+      }
+      offset += layout.sizes[b];
+    }
+  }
+  // The Jacobian over the free blocks only: the constant ones would add n columns of zeros each
+  // (on a long diagnosis log, hundreds of MB as a sparse matrix and again dense).
+  const bool want_jacobian = options.compute_covariance && !free_blocks.empty();
   ceres::Problem::EvaluateOptions eo;
-  eo.parameter_blocks = layout.blocks;
+  eo.parameter_blocks = want_jacobian ? free_blocks : layout.blocks;
   eo.apply_loss_function = false;
   eo.num_threads = 1;
   double cost = 0;
   std::vector<double> residuals;
   ceres::CRSMatrix jac;
-  const bool evaluated = problem.Evaluate(eo, &cost, &residuals, nullptr, options.compute_covariance ? &jac : nullptr);
-  std::vector<bool> constant_block;
-  for (double* block : layout.blocks) constant_block.push_back(problem.IsParameterBlockConstant(block));
+  const bool evaluated = problem.Evaluate(eo, &cost, &residuals, nullptr, want_jacobian ? &jac : nullptr);
 
   FitResult r;
   const std::vector<bool> is_free = statistics(r, layout, constant_block, residuals, evaluated, observations, summary);
   if (!r.usable) return r;
-  const std::size_t n = r.observations;
-  const int k = r.free_parameters;
-  const int total = static_cast<int>(is_free.size());
+  const auto n = static_cast<Eigen::Index>(r.observations);
+  const auto total = static_cast<Eigen::Index>(is_free.size());
 
   if (!options.compute_covariance) {
     for (auto& p : r.parameters) p.std_error_why = "standard errors were not asked for";
     return r;
   }
-  if (k == 0) return r;
-  // Dense Jacobian over every column (with subset manifolds, Ceres still reports the ambient
-  // columns). Columns with a SubsetManifold that holds them fixed have zero tangent: all-zero
-  // columns of free blocks are left out of the covariance, as set_covariance does.
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), total);
-  for (int row = 0; row < jac.num_rows; ++row)
-    for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx)
-      J(row, jac.cols[static_cast<std::size_t>(idx)]) = jac.values[static_cast<std::size_t>(idx)];
-  // No QR of an empty matrix: set_covariance stops when no free column is estimable (every
-  // free column zero) or no degree of freedom is left, and says why.
-  set_covariance(r, J, is_free);
+  if (r.free_parameters == 0) return r;
+  // Column c of `jac` is scalar param_of[c] of the layout.
+  std::vector<Eigen::Index> param_of;
+  for (std::size_t b = 0, k = 0; b < layout.blocks.size(); ++b) {
+    if (constant_block[b]) continue;
+    for (int j = 0; j < layout.sizes[b]; ++j) param_of.push_back(free_offset[k] + j);
+    ++k;
+  }
+  if (jac.num_cols != static_cast<int>(param_of.size()) || jac.num_rows != static_cast<int>(n)) {
+    r.message += " (covariance: unexpected Jacobian shape: standard errors unavailable)";
+    return r;
+  }
+  // A free parameter with a zero column (the data do not depend on it, or a SubsetManifold holds
+  // it) is left out of the covariance, as set_covariance does.
+  std::vector<double> norm2(param_of.size(), 0.0);
+  for (std::size_t idx = 0; idx < jac.values.size(); ++idx)
+    norm2[static_cast<std::size_t>(jac.cols[idx])] += jac.values[idx] * jac.values[idx];
+  std::vector<bool> zero_column(static_cast<std::size_t>(total), false);
+  std::vector<Eigen::Index> cols;       // estimable parameters
+  std::vector<Eigen::Index> col_of(param_of.size(), -1);  // jac column -> column of the estimable Jacobian
+  for (std::size_t c = 0; c < param_of.size(); ++c) {
+    if (norm2[c] > 0) {
+      col_of[c] = static_cast<Eigen::Index>(cols.size());
+      cols.push_back(param_of[c]);
+    } else {
+      zero_column[static_cast<std::size_t>(param_of[c])] = true;
+    }
+  }
+  // No QR of an empty matrix: covariance_over stops when no free column is estimable (every free
+  // column zero) or no degree of freedom is left, and says why.
+  covariance_over(r, total, n, cols, is_free, zero_column,
+                  [&] {
+                    Eigen::MatrixXd Jf = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(cols.size()));
+                    for (int row = 0; row < jac.num_rows; ++row)
+                      for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx) {
+                        const Eigen::Index c = col_of[static_cast<std::size_t>(jac.cols[static_cast<std::size_t>(idx)])];
+                        if (c >= 0) Jf(row, c) = jac.values[static_cast<std::size_t>(idx)];
+                      }
+                    jac = ceres::CRSMatrix();  // no longer needed: not held beside the QR's copies
+                    return Jf;
+                  },
+                  nullptr);
   return r;
 }
 

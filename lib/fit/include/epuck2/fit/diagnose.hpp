@@ -87,7 +87,7 @@ struct Report {
   std::vector<std::string> effects_considered;
   std::vector<std::string> notes;  ///< decisions worth telling (e.g. a finding undone)
   /// For plots: per residual, the residual before (recalibrated base) and after (final model), and
-  /// the covariates' values.
+  /// the values of two covariates: the one the residuals depended on most before, and `row`.
   std::vector<double> residual_before, residual_after;
   std::vector<std::pair<std::string, std::vector<double>>> covariates;
 };
@@ -109,6 +109,9 @@ struct Options {
 /// Diagnoses logs of one kind (all of `logs` must be of that kind). Never throws for numerical
 /// trouble; an unsupported kind gives `supported = false`.
 Report diagnose(const std::vector<logs::Log>& logs, const Options& options = {});
+/// The same, releasing the logs once the diagnosis has taken what it needs from them (long logs:
+/// their parsed cells are not kept beside the fits).
+Report diagnose(std::vector<logs::Log>&& logs, const Options& options = {});
 
 /// Kinds that diagnose() supports.
 bool supported(logs::Kind kind);
