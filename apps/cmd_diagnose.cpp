@@ -91,6 +91,15 @@ void put_parameters(const std::vector<dg::NamedValue>& values, nlohmann::json& v
   }
 }
 
+/// {name: why} for the standard errors written as null (the data do not determine them); empty
+/// when there is none.
+nlohmann::json undefined_errors(const std::vector<dg::NamedValue>& values) {
+  nlohmann::json why = nlohmann::json::object();
+  for (const auto& v : values)
+    if (!std::isfinite(v.std_error)) why[v.name] = v.std_error_why.empty() ? std::string("undefined") : v.std_error_why;
+  return why;
+}
+
 nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& paths) {
   nlohmann::json j;
   j["kind"] = std::string(logs::to_string(r.kind));
@@ -102,6 +111,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   put_parameters(r.recalibrated, rec, rec_se);
   j["recalibrated"] = rec;
   j["recalibrated_uncertainty"] = rec_se;
+  if (const auto why = undefined_errors(r.recalibrated); !why.empty()) j["recalibrated_uncertainty_why"] = why;
   j["heldout_mse_plugin"] = r.heldout_mse_plugin;
   j["heldout_mse_recalibrated"] = r.heldout_mse_base;
   j["heldout_mse_final"] = r.heldout_mse_final;
@@ -123,6 +133,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
     put_parameters(f.parameters, v, e);
     fj["parameters"] = v;
     fj["uncertainty"] = e;
+    if (const auto why = undefined_errors(f.parameters); !why.empty()) fj["uncertainty_why"] = why;
     fj["heldout_mse_before"] = f.heldout_mse_before;
     fj["heldout_mse_after"] = f.heldout_mse_after;
     if (!r.channel_noise_sd.empty()) {

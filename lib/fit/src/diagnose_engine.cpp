@@ -470,7 +470,8 @@ std::vector<NamedValue> named(const Problem& p, const Engine::Fitted& f, const s
   for (int j : which) {
     const auto& e = f.result.parameters.size() > static_cast<std::size_t>(j) ? f.result.parameters[static_cast<std::size_t>(j)]
                                                                              : ParameterEstimate{};
-    out.push_back({p.params[static_cast<std::size_t>(j)].name, f.values[static_cast<std::size_t>(j)], e.std_error});
+    out.push_back({p.params[static_cast<std::size_t>(j)].name, f.values[static_cast<std::size_t>(j)], e.std_error,
+                   std::isfinite(e.std_error) ? std::string() : e.std_error_why});
   }
   return out;
 }

@@ -14,6 +14,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "epuck2/logs/log.hpp"
@@ -22,9 +23,13 @@
 namespace epuck2::fit::diagnose {
 
 struct NamedValue {
+  NamedValue() = default;
+  NamedValue(std::string name_, double value_, double std_error_, std::string why = {})
+      : name(std::move(name_)), value(value_), std_error(std_error_), std_error_why(std::move(why)) {}
   std::string name;
   double value = 0;
   double std_error = 0;  ///< NaN when the covariance could not be computed
+  std::string std_error_why;  ///< why std_error is NaN (ParameterEstimate::std_error_why)
 };
 
 struct Finding {
