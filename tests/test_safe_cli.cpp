@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
@@ -258,4 +259,34 @@ TEST_F(SafeCli, ANegativeOrNonNumericSeedIsABadUsage) {
   }
 }
 
+}  // namespace
+
+namespace {
+// The staged writes, the summarize rewrite and the compaction of the diagnosis change no digit:
+// every shipped coefficient file and report comes out byte for byte.
+TEST_F(SafeCli, TheShippedCoefficientFilesAndReportsRegenerateByteForByte) {
+  const std::string root = EPUCK2_SOURCE_DIR;
+  // Relative paths in name order, as scripts/regenerate.sh gives them (the files name their sources).
+  auto relative_logs = [&](const std::string& kind) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(fs::path(root) / "data" / "raw" / kind))
+      if (e.path().extension() == ".csv") names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    std::string args;
+    for (const auto& n : names) args += " data/raw/" + kind + "/" + n;
+    return args;
+  };
+  const std::string battery = (dir_ / "battery.json").string();
+  ASSERT_EQ(run("battery" + relative_logs("battery") + " -o " + q(battery), root).exit_code, 0);
+  EXPECT_EQ(slurp(battery), slurp(source("data/fitted/battery.json")));
+  const std::string table5 = (dir_ / "table5.json").string();
+  ASSERT_EQ(run("table5" + relative_logs("battery") + " -o " + q(table5), root).exit_code, 0);
+  EXPECT_EQ(slurp(table5), slurp(source("data/fitted/reports/table5.json")));
+  for (const std::string kind : {"proximity", "light", "ground", "camera", "drive"}) {
+    const std::string out = (dir_ / (kind + ".json")).string();
+    const CliRun r = run(kind + relative_logs(kind) + " -o " + q(out), root);
+    ASSERT_EQ(r.exit_code, 0) << kind << ": " << r.err;
+    EXPECT_EQ(slurp(out), slurp(source("data/fitted/" + kind + ".json"))) << kind;
+  }
+}
 }  // namespace
