@@ -1,5 +1,6 @@
 #include "app_support.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -66,10 +67,13 @@ CLI::Validator finite_range(double lo, double hi) {
 CLI::Validator whole_number() {
   return CLI::Validator(
       [](std::string& input) -> std::string {
-        if (input.empty() || input.size() > 20 || input.find_first_not_of("0123456789") != std::string::npos)
+        if (input.empty() || input.find_first_not_of("0123456789") != std::string::npos)
           return "'" + input + "' is not a whole number in [0, 18446744073709551615]";
-        std::uint64_t v = 0;
-        if (!CLI::detail::lexical_cast(input, v)) return input + " is out of range: allowed [0, 18446744073709551615]";
+        // strtoull saturates rather than fail: compare the digits with 2^64 - 1 instead.
+        const std::string max = "18446744073709551615";
+        const std::string digits = input.substr(std::min(input.find_first_not_of('0'), input.size()));
+        if (digits.size() > max.size() || (digits.size() == max.size() && digits > max))
+          return input + " is out of range: allowed [0, 18446744073709551615]";
         return std::string();
       },
       "UINT64");

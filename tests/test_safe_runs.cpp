@@ -14,6 +14,8 @@
 #include <sstream>
 #include <string>
 
+#include "app_support.hpp"
+#include "commands.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/logs/output.hpp"
 #include "epuck2/models/battery.hpp"
@@ -250,4 +252,45 @@ TEST_F(Stage, SigtermAndSigintRemoveTheTemporariesThenEndTheProcessBySignal) {
     EXPECT_EQ(read(target), "old");
     EXPECT_TRUE(hidden().empty()) << hidden().front();
   }
+}
+
+// ---- the apps' JSON writer and option checks (apps/app_support.cpp, compiled in) ----
+
+// fuzz report 7: a NaN left in a result used to be written as a bare null (nlohmann's dump).
+TEST(SafeJson, ANaNOrInfinityAnywhereIsRefusedNamingWhereItIs) {
+  nlohmann::json j;
+  j["kind"] = "camera";
+  j["std_errors"]["fov_deg"] = std::nan("");
+  try {
+    (void)epuck2::app::json_text(j);
+    FAIL() << "a NaN was accepted";
+  } catch (const epuck2::app::NoUsableFit& e) {
+    EXPECT_NE(std::string(e.what()).find("std_errors.fov_deg"), std::string::npos) << e.what();
+  }
+  nlohmann::json a;
+  a["speeds"] = nlohmann::json::array({nlohmann::json{{"cubic", {1.0, std::numeric_limits<double>::infinity()}}}});
+  EXPECT_THROW((void)epuck2::app::json_text(a), epuck2::app::NoUsableFit);
+  nlohmann::json ok;
+  ok["std_errors"]["fov_deg"] = nullptr;
+  ok["std_error_why"]["fov_deg"] = "not identifiable";
+  EXPECT_EQ(epuck2::app::json_text(ok), ok.dump(2) + "\n");
+}
+
+TEST(SafeOptions, FiniteRangeRefusesNaNInfinityAndOutOfRangeNaming) {
+  const CLI::Validator v = epuck2::app::finite_range(1e-3, 10.0);
+  for (std::string bad : {"nan", "inf", "-inf", "0", "1e-300", "11", "abc", ""}) {
+    std::string in = bad;
+    EXPECT_FALSE(v(in).empty()) << bad;
+  }
+  for (std::string good : {"0.001", "0.1", "10"}) {
+    std::string in = good;
+    EXPECT_TRUE(v(in).empty()) << good;
+  }
+  const CLI::Validator w = epuck2::app::whole_number();
+  for (std::string bad : {"-1", "1.5", "abc", "", "18446744073709551616"}) {
+    std::string in = bad;
+    EXPECT_FALSE(w(in).empty()) << bad;
+  }
+  std::string max = "18446744073709551615";
+  EXPECT_TRUE(w(max).empty());
 }
