@@ -1,22 +1,83 @@
 #include "app_support.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "epuck2/logs/json_location.hpp"
 #include "epuck2/logs/log.hpp"
+#include "commands.hpp"
 #include "epuck2/logs/output.hpp"
 
 namespace epuck2::app {
 
+namespace {
+// The first non-finite number in `j`, as a dotted path ("" when there is none).
+bool find_non_finite(const nlohmann::json& j, const std::string& where, std::string& found) {
+  if (j.is_number_float()) {
+    if (std::isfinite(j.get<double>())) return false;
+    found = where.empty() ? "(top level)" : where;
+    return true;
+  }
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items())
+      if (find_non_finite(value, where.empty() ? key : where + "." + key, found)) return true;
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i)
+      if (find_non_finite(j[i], where + "[" + std::to_string(i) + "]", found)) return true;
+  }
+  return false;
+}
+}  // namespace
+
+std::string json_text(const nlohmann::json& j) {
+  std::string where;
+  if (find_non_finite(j, "", where))
+    throw NoUsableFit("the result holds a NaN or infinite value at " + where + "; nothing was written");
+  return j.dump(2) + "\n";
+}
+
+void write_json(logs::OutputStage& stage, const nlohmann::json& j, const std::string& path) {
+  stage.write(path, json_text(j));
+}
+
 void write_json(const nlohmann::json& j, const std::string& path) {
-  const std::string text = j.dump(2) + "\n";
+  const std::string text = json_text(j);
   if (path == "-") {
     std::cout << text;
     return;
   }
   logs::write_file_atomically(path, text);
+}
+
+CLI::Validator finite_range(double lo, double hi) {
+  const std::string range = "[" + logs::format_number(lo) + ", " + logs::format_number(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& input) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(input, v)) return "'" + input + "' is not a number (allowed: " + range + ")";
+        if (!std::isfinite(v) || v < lo || v > hi) return input + " is out of range: allowed a finite number in " + range;
+        return std::string();
+      },
+      "FINITE in " + range);
+}
+
+CLI::Validator whole_number() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        if (input.empty() || input.find_first_not_of("0123456789") != std::string::npos)
+          return "'" + input + "' is not a whole number in [0, 18446744073709551615]";
+        // strtoull saturates rather than fail: compare the digits with 2^64 - 1 instead.
+        const std::string max = "18446744073709551615";
+        const std::string digits = input.substr(std::min(input.find_first_not_of('0'), input.size()));
+        if (digits.size() > max.size() || (digits.size() == max.size() && digits > max))
+          return input + " is out of range: allowed [0, 18446744073709551615]";
+        return std::string();
+      },
+      "UINT64");
 }
 
 nlohmann::json read_json(const std::string& path) {

@@ -72,20 +72,18 @@ int run_battery(const BatteryOptions& o) {
   }
   if (!unusable.empty()) throw NoUsableFit(unusable);
   const nlohmann::json j = fit::battery_fit_to_json(f);
-  if (!o.output.empty()) {
-    write_json(j, o.output);
-    std::cerr << "battery: wrote " << o.output << '\n';
-  }
-  if (!o.plot.empty()) {
-    plot::battery_fits_png(o.plot, runs, f);
-    std::cerr << "battery: drew " << o.plot << '\n';
-  }
-  if (!o.plot_lifetime.empty()) {
-    plot::battery_lifetime_png(o.plot_lifetime, runs, f);
-    std::cerr << "battery: drew " << o.plot_lifetime << '\n';
-  }
+  const std::string text = json_text(j);  // refuses a NaN before anything is written
+  // All or nothing: the coefficient file and the figures are renamed into place together.
+  logs::OutputStage stage;
+  if (!o.output.empty()) stage.write(o.output, text);
+  if (!o.plot.empty()) plot::battery_fits_png(stage, o.plot, runs, f);
+  if (!o.plot_lifetime.empty()) plot::battery_lifetime_png(stage, o.plot_lifetime, runs, f);
+  stage.commit();
+  if (!o.output.empty()) std::cerr << "battery: wrote " << o.output << '\n';
+  for (const std::string& path : {o.plot, o.plot_lifetime})
+    if (!path.empty()) std::cerr << "battery: drew " << path << '\n';
   if (o.json) {
-    write_json(j, "-");
+    std::cout << text;
   } else {
     print_report(f);
   }
@@ -104,7 +102,11 @@ void setup_battery(CLI::App& app, Action& action) {
   sub->add_flag("--robust", o->robust, "Huber loss instead of least squares");
   sub->add_flag("--least-squares", o->least_squares,
                 "Keep every reading (by default readings more than 6 robust sd from a speed's cubic are left out and listed)");
-  sub->add_option("--robust-scale", o->robust_scale, "Huber threshold in charge units")->capture_default_str();
+  // Charge runs from 0 to 1: a threshold above 1 is least squares, and 0 is no loss at all (the
+  // cubic fit then fails).
+  sub->add_option("--robust-scale", o->robust_scale, "Huber threshold in charge units")
+      ->capture_default_str()
+      ->check(finite_range(1e-6, 1.0));
   sub->footer(log_format_footer(logs::Kind::battery, "Optional: voltage_v. One speed per run; the last row is the moment the robot stopped."));
   add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_battery(*o); }; });

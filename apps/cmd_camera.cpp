@@ -29,7 +29,7 @@ void print_report(const fit::CameraFit& f) {
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
-void draw(const std::string& path, const fit::CameraFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const fit::CameraFit& f) {
   const double fov = s::deg_to_rad(f.result.value("fov_deg")), cx = f.result.value("cx_px"), cy = f.result.value("cy_px");
   const auto plugin = s::plugin_camera();
   std::vector<std::vector<double>> rows;
@@ -40,7 +40,7 @@ void draw(const std::string& path, const fit::CameraFit& f) {
                          o.vertical_m, &qx, &qy);
     rows.push_back({o.lateral_m / o.forward_m, o.px, mx, qx, o.vertical_m / o.forward_m, o.py, my, qy});
   }
-  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << app::sensors::datablock("obs", rows);
     gp << "set multiplot layout 1,2 title 'Camera (paper section 4.1.6): pixel against the LED direction'\n";
     gp << "set grid\nset key top right\n";
@@ -89,7 +89,7 @@ int run_camera(const app::sensors::SensorOptions& o) {
   fit::CameraFit f;
   nlohmann::json j = camera_json(logs, o, &f);
   app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return camera_json(mine, o, nullptr); });
-  return app::sensors::finish("camera", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+  return app::sensors::finish("camera", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
 }  // namespace

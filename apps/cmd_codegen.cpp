@@ -2,9 +2,13 @@
 // the runtime model library compiles in (data/fitted/include/epuck2/fitted/coefficients.hpp).
 // Its first lines name every source file and its FNV-1a 64-bit hash; a test regenerates it and
 // fails when the committed copy differs.
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "app_support.hpp"
@@ -48,6 +52,45 @@ bool is_identifier(const std::string& s) {
   return true;
 }
 
+// C++ keywords and alternative tokens (C++20's included: the header may be compiled as C++20).
+const std::set<std::string>& keywords() {
+  static const std::set<std::string> k{
+      "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break", "case", "catch", "char",
+      "char8_t", "char16_t", "char32_t", "class", "compl", "concept", "const", "consteval", "constexpr", "constinit",
+      "const_cast", "continue", "co_await", "co_return", "co_yield", "decltype", "default", "delete", "do", "double",
+      "dynamic_cast", "else", "enum", "explicit", "export", "extern", "false", "float", "for", "friend", "goto", "if",
+      "inline", "int", "long", "mutable", "namespace", "new", "noexcept", "not", "not_eq", "nullptr", "operator", "or",
+      "or_eq", "private", "protected", "public", "register", "reinterpret_cast", "requires", "return", "short",
+      "signed", "sizeof", "static", "static_assert", "static_cast", "struct", "switch", "template", "this",
+      "thread_local", "throw", "true", "try", "typedef", "typeid", "typename", "union", "unsigned", "using",
+      "virtual", "void", "volatile", "wchar_t", "while", "xor", "xor_eq"};
+  return k;
+}
+
+// Names the generated header itself uses unqualified where a kind's namespace or a constant of
+// that name would be found first (`std::array`, `models::battery::Tables`), and lower-case
+// macros of the standard headers it includes.
+const std::set<std::string>& taken_names() {
+  static const std::set<std::string> t{"std", "models", "epuck2", "fitted", "battery_tables", "assert", "errno", "offsetof",
+                                       "setjmp", "va_arg", "va_copy", "va_end", "va_start", "stdin", "stdout",
+                                       "stderr", "math_errhandling"};
+  return t;
+}
+
+/// Why `name` cannot be a C++ name in the generated header ("" when it can): [A-Za-z_][A-Za-z0-9_]*,
+/// not a keyword, not reserved (a double underscore, or an underscore and a capital first), not
+/// a name the header relies on, not all capitals (the macros' convention: NULL, EOF, NAN).
+std::string identifier_problem(const std::string& name) {
+  if (!is_identifier(name)) return "is not a C++ identifier ([A-Za-z_][A-Za-z0-9_]*)";
+  if (keywords().count(name)) return "is a C++ keyword";
+  if (name.find("__") != std::string::npos || (name.size() > 1 && name[0] == '_' && std::isupper(static_cast<unsigned char>(name[1]))))
+    return "is reserved to the implementation (a double underscore, or an underscore and a capital)";
+  if (taken_names().count(name)) return "would hide a name the generated header uses (std, models, ...) or a macro";
+  if (std::none_of(name.begin(), name.end(), [](char c) { return std::islower(static_cast<unsigned char>(c)); }))
+    return "is all capitals, the convention of macros (NULL, EOF, NAN): a macro of that name breaks the header";
+  return "";
+}
+
 void emit_battery(std::ostringstream& os, const nlohmann::json& j, const std::string& path) {
   const mb::Tables t = fit::battery_tables_from_json(j, path);
   os << "#define EPUCK2_FITTED_HAS_BATTERY 1\n\n";
@@ -76,6 +119,15 @@ void emit_battery(std::ostringstream& os, const nlohmann::json& j, const std::st
 // Any other kind: every numeric entry of "parameters" (and "std_errors") as a named constant.
 void emit_parameters(std::ostringstream& os, const nlohmann::json& j, const std::string& path, const std::string& kind) {
   os << "namespace " << kind << " {\n";
+  // Every constant's name, with the parameter it comes from: two of the same name (a parameter
+  // named `mse`, or `x_std_error` beside x's standard error) would not compile.
+  std::map<std::string, std::string> emitted;
+  auto declare = [&](const std::string& name, const std::string& from) {
+    const auto [it, fresh] = emitted.emplace(name, from);
+    if (!fresh)
+      throw logs::InputError(path, 0, 0, "the constant '" + kind + "::" + name + "' would be declared twice (from " +
+                                             it->second + " and from " + from + ")");
+  };
   for (const char* section : {"parameters", "std_errors"}) {
     if (!j.contains(section)) {
       if (std::string(section) == "parameters")
@@ -86,19 +138,26 @@ void emit_parameters(std::ostringstream& os, const nlohmann::json& j, const std:
     if (!p.is_object()) throw logs::json_file_error(path, std::string("/") + section, std::string("'") + section + "' must be an object");
     const std::string suffix = std::string(section) == "std_errors" ? "_std_error" : "";
     for (const auto& [key, value] : p.items()) {
-      if (!is_identifier(key))
+      const std::string problem = identifier_problem(key);
+      if (!problem.empty())
         throw logs::json_file_error(path, std::string("/") + section + "/" + pointer_token(key),
-                                    "parameter name '" + key + "' is not a C++ identifier");
+                                    std::string(section) + ": the name '" + key + "' " + problem);
+      const std::string from = std::string(section) + "." + key;
       if (value.is_number()) {
+        declare(key + suffix, from);
         os << "inline constexpr double " << key << suffix << " = " << num(value.get<double>()) << ";\n";
       } else if (value.is_array() && !value.empty() && std::all_of(value.begin(), value.end(), [](const auto& v) { return v.is_number(); })) {
+        declare(key + suffix, from);
         os << "inline constexpr std::array<double, " << value.size() << "> " << key << suffix << "{";
         for (std::size_t i = 0; i < value.size(); ++i) os << (i ? ", " : "") << num(value.at(i).get<double>());
         os << "};\n";
       }
     }
   }
-  if (j.contains("mse") && j.at("mse").is_number()) os << "inline constexpr double mse = " << num(j.at("mse").get<double>()) << ";\n";
+  if (j.contains("mse") && j.at("mse").is_number()) {
+    declare("mse", "mse");
+    os << "inline constexpr double mse = " << num(j.at("mse").get<double>()) << ";\n";
+  }
   os << "}  // namespace " << kind << "\n";
 }
 
@@ -108,6 +167,7 @@ int run_codegen(const CodegenOptions& o) {
   head << "// GENERATED by `epuck2-fit codegen";
   for (const auto& in : o.inputs) head << ' ' << in;
   head << " -o " << o.output << "`: do not edit; regenerate with scripts/regenerate.sh.\n";
+  std::map<std::string, std::string> kinds;  // kind -> its file
   for (const auto& in : o.inputs) {
     std::ifstream f(in, std::ios::binary);
     if (!f) throw logs::InputError(in, 0, 0, "cannot open the file for reading");
@@ -121,7 +181,14 @@ int run_codegen(const CodegenOptions& o) {
       throw logs::json_file_error(in, j.is_object() && j.contains("kind") ? "/kind" : "",
                                   "not a coefficient file: expected an object with a string 'kind'");
     const std::string kind = j.at("kind").get<std::string>();
-    if (!is_identifier(kind)) throw logs::json_file_error(in, "/kind", "kind '" + kind + "' is not a C++ identifier");
+    const std::string problem = identifier_problem(kind);
+    if (!problem.empty()) throw logs::json_file_error(in, "/kind", "the kind '" + kind + "' " + problem);
+    // One file per kind: a second would define the same namespace's constants (or the battery
+    // tables) twice.
+    const auto [first, fresh] = kinds.emplace(kind, in);
+    if (!fresh)
+      throw logs::json_file_error(in, "/kind", "a second coefficient file of kind '" + kind + "' (the first is " + first->second +
+                                                   "): give one file per kind");
     body << "\n// ---- " << kind << " (" << in << ") ----\n";
     if (kind == "battery") {
       emit_battery(body, j, in);

@@ -93,6 +93,15 @@ void put_parameters(const std::vector<dg::NamedValue>& values, nlohmann::json& v
   }
 }
 
+/// {name: why} for the standard errors written as null (the data do not determine them); empty
+/// when there is none.
+nlohmann::json undefined_errors(const std::vector<dg::NamedValue>& values) {
+  nlohmann::json why = nlohmann::json::object();
+  for (const auto& v : values)
+    if (!std::isfinite(v.std_error)) why[v.name] = v.std_error_why.empty() ? std::string("undefined") : v.std_error_why;
+  return why;
+}
+
 nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& paths) {
   nlohmann::json j;
   j["kind"] = std::string(logs::to_string(r.kind));
@@ -104,6 +113,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   put_parameters(r.recalibrated, rec, rec_se);
   j["recalibrated"] = rec;
   j["recalibrated_uncertainty"] = rec_se;
+  if (const auto why = undefined_errors(r.recalibrated); !why.empty()) j["recalibrated_uncertainty_why"] = why;
   j["heldout_mse_plugin"] = r.heldout_mse_plugin;
   j["heldout_mse_recalibrated"] = r.heldout_mse_base;
   j["heldout_mse_final"] = r.heldout_mse_final;
@@ -125,6 +135,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
     put_parameters(f.parameters, v, e);
     fj["parameters"] = v;
     fj["uncertainty"] = e;
+    if (const auto why = undefined_errors(f.parameters); !why.empty()) fj["uncertainty_why"] = why;
     fj["heldout_mse_before"] = f.heldout_mse_before;
     fj["heldout_mse_after"] = f.heldout_mse_after;
     if (!r.channel_noise_sd.empty()) {
@@ -223,7 +234,8 @@ void print_report(const dg::Report& r) {
   std::printf("\n");
 }
 
-void draw(const std::string& dir, const dg::Report& r) {
+/// Stages the residual plot in `stage`; returns its path ("" when there is nothing to draw).
+std::string draw(logs::OutputStage& stage, const std::string& dir, const dg::Report& r) {
   namespace fs = std::filesystem;
   // Residuals before (recalibrated base) and after (final model) against the covariate the
   // residuals depended on most before.
@@ -236,9 +248,9 @@ void draw(const std::string& dir, const dg::Report& r) {
       if (c.first == "row") x = &c.second;
     name = "row";
   }
-  if (!x) return;
+  if (!x) return "";
   const std::string path = (fs::path(dir) / ("diagnose_" + std::string(logs::to_string(r.kind)) + ".png")).string();
-  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << "$before << EOD\n";
     for (std::size_t i = 0; i < x->size(); ++i) gp << (*x)[i] << ' ' << r.residual_before[i] << '\n';
     gp << "EOD\n$after << EOD\n";
@@ -251,7 +263,7 @@ void draw(const std::string& dir, const dg::Report& r) {
     gp << "set title 'with the findings'\nplot $after using 1:2 with points pt 7 ps 0.4 lc rgb '#1f77b4' notitle\n";
     gp << "unset multiplot\n";
   });
-  std::printf("Residual plot: %s\n", path.c_str());
+  return path;
 }
 
 int run_diagnose(const DiagnoseOptions& o) {
@@ -260,7 +272,7 @@ int run_diagnose(const DiagnoseOptions& o) {
     kind = logs::parse_kind(o.kind);
     if (!kind) throw UsageError("--kind: unknown kind '" + o.kind + "'");
   }
-  const auto logs = read_logs_reporting("diagnose", o.logs, kind, o.skip_bad_rows);
+  auto logs = read_logs_reporting("diagnose", o.logs, kind, o.skip_bad_rows);
   if (logs.empty()) throw UsageError("no logs given");
   if (!dg::supported(logs.front().kind))
     throw UsageError("diagnose does not support the kind '" + std::string(logs::to_string(logs.front().kind)) +
@@ -273,12 +285,22 @@ int run_diagnose(const DiagnoseOptions& o) {
   if (o.coefficients == "plugin") options.battery_tables = models::battery::plugin_tables();
   else if (!o.coefficients.empty() && o.coefficients != "fitted")
     options.battery_tables = fit::battery_tables_from_json(read_json(o.coefficients), o.coefficients);
-  const dg::Report r = dg::diagnose(logs, options);
+  const dg::Report r = dg::diagnose(std::move(logs), options);  // the logs are released once read
+  if (r.too_few_rows) throw NoUsableFit(r.message);
   if (!r.supported) throw UsageError(r.message);
   for (const auto& w : r.warnings) std::fprintf(stderr, "diagnose: warning: %s\n", w.c_str());
+  // All or nothing: the JSON report and the plot are renamed into place together, then printed.
+  const std::string text = o.json.empty() ? std::string() : json_text(to_json(r, o.logs));
+  logs::OutputStage stage;
+  if (!o.json.empty() && o.json != "-") stage.write(o.json, text);
+  const std::string plot_path = o.plot_dir.empty() ? std::string() : draw(stage, o.plot_dir, r);
+  stage.commit();
   if (o.json != "-") print_report(r);
-  if (!o.json.empty()) write_json(to_json(r, o.logs), o.json);
-  if (!o.plot_dir.empty()) draw(o.plot_dir, r);
+  if (o.json == "-") std::cout << text;
+  if (!plot_path.empty()) {
+    if (o.json == "-") std::cerr << "Residual plot: " << plot_path << '\n';  // stdout holds the JSON
+    else std::printf("Residual plot: %s\n", plot_path.c_str());
+  }
   return 0;
 }
 

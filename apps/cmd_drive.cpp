@@ -34,10 +34,10 @@ void print_report(const fit::DriveFit& f) {
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
-void draw(const std::string& path, const fit::DriveFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const fit::DriveFit& f) {
   const double spm = f.steps.value("steps_per_m");
   const double scale = f.tof.value("tof_scale"), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
-  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     std::string plot_tof = "plot ", plot_steps = "plot ";
     for (std::size_t r = 0; r < f.runs.size(); ++r) {
       const auto& run = f.runs[r];
@@ -97,7 +97,7 @@ int run_drive(const app::sensors::SensorOptions& o) {
   fit::DriveFit f;
   nlohmann::json j = drive_json(logs, o, &f);
   app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return drive_json(mine, o, nullptr); });
-  return app::sensors::finish("drive", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+  return app::sensors::finish("drive", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
 }  // namespace

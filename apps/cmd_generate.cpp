@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "app_support.hpp"
 #include "commands.hpp"
 #include "epuck2/logs/output.hpp"
 #include "epuck2/virtual_robot/reference_logs.hpp"
@@ -26,13 +27,19 @@ int run_generate(const GenerateOptions& o) {
   } else {
     throw UsageError("unknown log kind '" + o.kind + "' (expected battery, proximity, light, ground, camera, drive or all)");
   }
+  // All or nothing: every log of every kind is staged, then renamed into place together.
+  logs::OutputStage stage;
+  std::vector<std::string> done;
   for (logs::Kind kind : kinds) {
     const fs::path dir = o.kind == "all" ? fs::path(o.out_dir) / std::string(logs::to_string(kind)) : fs::path(o.out_dir);
     fs::create_directories(dir);
     const auto files = virtual_robot::reference_logs(kind, o.seed);
-    for (const auto& f : files) logs::write_file_atomically((dir / f.name).string(), f.content);
-    std::cerr << "generate: wrote " << files.size() << ' ' << logs::to_string(kind) << " logs to " << dir.string() << '\n';
+    for (const auto& f : files) stage.write((dir / f.name).string(), f.content);
+    done.push_back("generate: wrote " + std::to_string(files.size()) + " " + std::string(logs::to_string(kind)) + " logs to " +
+                   dir.string());
   }
+  stage.commit();
+  for (const auto& line : done) std::cerr << line << '\n';
   return 0;
 }
 }  // namespace
@@ -42,7 +49,7 @@ void setup_generate(CLI::App& app, Action& action) {
   CLI::App* sub = app.add_subcommand("generate", "The virtual robot records reference logs (seeded, deterministic)");
   sub->add_option("kind", opts->kind, "battery, proximity, light, ground, camera, drive or all")->required();
   sub->add_option("-o,--out", opts->out_dir, "Folder to write into (for `all`, one sub-folder per kind)")->required();
-  sub->add_option("--seed", opts->seed, "Random seed")->capture_default_str();
+  sub->add_option("--seed", opts->seed, "Random seed")->capture_default_str()->check(whole_number());
   sub->callback([opts, &action] { action = [opts] { return run_generate(*opts); }; });
 }
 

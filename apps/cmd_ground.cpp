@@ -30,8 +30,8 @@ void print_report(const fit::GroundFit& f) {
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
-void draw(const std::string& path, const fit::GroundFit& f) {
-  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+void draw(logs::OutputStage& stage, const std::string& path, const fit::GroundFit& f) {
+  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     for (std::size_t k = 0; k < f.sensors.size(); ++k) {
       std::vector<std::vector<double>> rows;
       for (std::size_t i = 0; i < f.grey[k].size(); ++i) rows.push_back({f.grey[k][i] + (double(k) - 1) * 0.006, f.value_raw[k][i]});
@@ -100,7 +100,7 @@ int run_ground(const app::sensors::SensorOptions& o) {
   fit::GroundFit f;
   nlohmann::json j = ground_json(logs, o, &f);
   app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return ground_json(mine, o, nullptr); });
-  return app::sensors::finish("ground", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+  return app::sensors::finish("ground", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
 }  // namespace

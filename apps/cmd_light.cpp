@@ -31,11 +31,11 @@ void print_report(const fit::LightFit& f) {
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
-void draw(const std::string& path, const fit::LightFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const fit::LightFit& f) {
   std::map<double, std::vector<std::vector<double>>> by_intensity;
   for (const auto& o : f.observations) by_intensity[o.intensity].push_back({o.distance_m * 100, o.value_raw, double(o.sensor)});
   const double g = f.gamma.value("gamma");
-  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     int k = 0;
     for (const auto& [i, rows] : by_intensity) gp << app::sensors::datablock("i" + std::to_string(k++), rows);
     gp << "set title 'Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance per intensity'\n";
@@ -96,7 +96,7 @@ int run_light(const app::sensors::SensorOptions& o) {
   fit::LightFit f;
   nlohmann::json j = light_json(logs, o, &f);
   app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return light_json(mine, o, nullptr); });
-  return app::sensors::finish("light", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+  return app::sensors::finish("light", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
 }  // namespace

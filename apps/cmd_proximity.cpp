@@ -50,14 +50,14 @@ void print_report(const fit::ProximityFit& f) {
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
-void draw(const std::string& path, const fit::ProximityFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const fit::ProximityFit& f) {
   std::vector<std::vector<double>> pts;
   for (const auto& p : f.points) pts.push_back({p.distance_m * 1000, p.min, p.mean, p.max, p.used ? 1.0 : 0.0});
   const std::string fmax = poly(f.maxima.value("a") * 1e-6, f.maxima.value("b") * 1e-3, f.maxima.value("c"));
   const std::string fmean = poly(f.means.value("a") * 1e-6, f.means.value("b") * 1e-3, f.means.value("c"));
   const std::string fplug = poly(s::kPluginProximity.a_per_m2 * 1e-6, s::kPluginProximity.b_per_m * 1e-3, s::kPluginProximity.c);
   const std::string fv1 = poly(s::kEpuck1Proximity.a_per_m2 * 1e-6, s::kEpuck1Proximity.b_per_m * 1e-3, s::kEpuck1Proximity.c);
-  plot::render_png(path, [&](gnuplotio::Gnuplot& gp) {
+  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << app::sensors::datablock("pts", pts);
     gp << "set title 'Proximity sensor (paper Eq. 1, Fig. 4c): readings / 4095 against distance'\n";
     gp << "set xlabel 'distance to the surface (mm)'\nset ylabel 'normalised reading'\n";
@@ -112,7 +112,7 @@ int run_proximity(const app::sensors::SensorOptions& o) {
   fit::ProximityFit f;
   nlohmann::json j = proximity_json(logs, o, &f);
   app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return proximity_json(mine, o, nullptr); });
-  return app::sensors::finish("proximity", o, j, [&] { print_report(f); }, [&](const std::string& path) { draw(path, f); });
+  return app::sensors::finish("proximity", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
 }  // namespace

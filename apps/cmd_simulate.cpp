@@ -19,6 +19,10 @@ namespace epuck2::app {
 namespace {
 namespace mb = models::battery;
 
+// The tick's bounds: the plug-in ticks at 0.1 s; 1 ms already makes ~1e8 rows over a battery's
+// life (a few GB of CSV), and past 10 s a tick no longer follows a speed profile.
+constexpr double kMinTick_s = 1e-3, kMaxTick_s = 10.0;
+
 struct SimulateOptions {
   std::string model;
   std::string compat;
@@ -48,7 +52,6 @@ int run_simulate(const SimulateOptions& o) {
   if (!mb::parse_model(o.model, model))
     throw UsageError("unknown --model '" + o.model + "' (expected simple, linear, cubic or approximated)");
   if (!o.compat.empty() && o.compat != "argos") throw UsageError("unknown --compat '" + o.compat + "' (expected argos)");
-  if (!(o.dt_s > 0)) throw UsageError("--dt must be > 0");
   const bool argos = o.compat == "argos";
   const mb::Tables tables = choose_tables(o, argos);
   logs::ReadOptions read_options;
@@ -59,8 +62,13 @@ int run_simulate(const SimulateOptions& o) {
   const auto& t = profile_log.col("time_s");
   const auto& v = profile_log.col("speed_cm_s");
   for (std::size_t i = 0; i < t.size(); ++i) profile.push_back({t[i], std::abs(v[i])});
-  const auto samples = mb::simulate_discharge(model, argos ? mb::Behaviour::argos_compatible : mb::Behaviour::corrected,
-                                              tables, profile, o.dt_s, 1.0);
+  std::vector<mb::ChargeSample> samples;
+  try {
+    samples = mb::simulate_discharge(model, argos ? mb::Behaviour::argos_compatible : mb::Behaviour::corrected, tables,
+                                     profile, o.dt_s, 1.0);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError("--profile " + o.profile + " with --dt " + logs::format_number(o.dt_s) + ": " + e.what());
+  }
   std::string csv = "time_s,charge\n";
   csv.reserve(samples.size() * 32);
   char line[96];
@@ -93,7 +101,7 @@ void setup_simulate(CLI::App& app, Action& action) {
   sub->add_option("--profile", o->profile, "CSV with columns time_s,speed_cm_s (a command holds until the next row; docs/logs.md#speed-profile-for-simulate-battery)")
       ->required()
       ->check(CLI::ExistingFile);
-  sub->add_option("--dt", o->dt_s, "Tick in seconds")->capture_default_str();
+  sub->add_option("--dt", o->dt_s, "Tick in seconds")->capture_default_str()->check(finite_range(kMinTick_s, kMaxTick_s));
   add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output");
   sub->callback([o, &action] { action = [o] { return run_simulate(*o); }; });

@@ -33,7 +33,6 @@ nlohmann::json as_json(const fit::ModelMse& m) {
 }
 
 int run_table5(const Table5Options& o) {
-  if (!(o.dt_s > 0)) throw UsageError("--dt must be > 0");
   const auto runs = fit::battery_runs(read_logs_reporting("table5", o.logs, logs::Kind::battery, o.skip_bad_rows));
   const fit::BatteryFit f = fit::fit_battery(runs);
   if (!f.tables)
@@ -61,9 +60,10 @@ int run_table5(const Table5Options& o) {
       {"published", {{"analytic", as_json(pa)}, {"argos", as_json(pg)}}},
       {"ratio_to_published", {{"analytic", ratio_a}, {"simulated", ratio_s}}},
   };
+  const std::string text = json_text(j);
   if (!o.output.empty()) write_json(j, o.output);
   if (o.json) {
-    write_json(j, "-");
+    std::cout << text;
     return 0;
   }
   std::printf("Table 5: average MSE (charge units^2) over %zu speeds, %zu logs\n\n", f.speeds.size(), o.logs.size());
@@ -93,7 +93,8 @@ void setup_table5(CLI::App& app, Action& action) {
   sub->add_option("logs", o->logs, "Battery discharge logs covering speeds 0..15 cm/s")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o->json, "Print one JSON object instead of the table");
   sub->add_option("-o,--output", o->output, "Also write the JSON report to this file (atomically)");
-  sub->add_option("--dt", o->dt_s, "Simulation tick in seconds")->capture_default_str();
+  // As simulate's --dt: 1 ms to 10 s (the plug-in ticks at 0.1 s).
+  sub->add_option("--dt", o->dt_s, "Simulation tick in seconds")->capture_default_str()->check(finite_range(1e-3, 10.0));
   sub->footer(log_format_footer(logs::Kind::battery, "One speed per run; runs at every speed 0, 1, ..., 15 cm/s are needed."));
   add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_table5(*o); }; });

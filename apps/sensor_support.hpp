@@ -23,6 +23,7 @@
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/fit/sensors.hpp"
 #include "epuck2/logs/log.hpp"
+#include "epuck2/logs/output.hpp"
 
 namespace epuck2::app::sensors {
 
@@ -145,7 +146,10 @@ inline void add_aggregates(nlohmann::json& j, const fit::RobustFit& r, const std
 /// The reason a standard error is null.
 inline std::string std_error_reason(const fit::RobustFit& r, const std::string& name) {
   const auto why = r.std_error_why.find(name);
-  return why != r.std_error_why.end() ? why->second : "the covariance could not be computed";
+  if (why != r.std_error_why.end()) return why->second;
+  for (const auto& p : r.parameters)
+    if (p.name == name && !p.std_error_why.empty()) return p.std_error_why;
+  return "the covariance could not be computed";
 }
 
 inline void add_parameters(nlohmann::json& j, const fit::RobustFit& r, const std::string& prefix = "",
@@ -275,25 +279,32 @@ inline void print_warnings(const std::string& kind, const nlohmann::json& j) {
   for (const auto& w : j["warnings"]) std::cerr << kind << ": warning: " << w.get<std::string>() << '\n';
 }
 
+/// One warning on standard error per standard error written as null, with its reason.
+inline void warn_undefined_std_errors(const std::string& kind, const nlohmann::json& j) {
+  if (!j.contains("std_error_why")) return;
+  for (const auto& [name, why] : j.at("std_error_why").items())
+    std::cerr << kind << ": warning: no standard error for " << name << ": " << why.get<std::string>() << '\n';
+}
+
 /// Throws NoUsableFit when the fit is not usable.
 inline void require_usable(const fit::FitResult& r, const std::string& what) {
   if (!r.usable) throw NoUsableFit(what + ": " + (r.message.empty() ? std::string("the solver found no solution") : r.message));
 }
 
-/// -o first (atomic), then the plot, then the JSON or the report on standard output.
+/// The outputs all or nothing: -o and the plot staged, renamed into place only when both were
+/// written; then the JSON or the report on standard output. `plot(stage, path)` stages the figure.
 template <class Report, class Plot>
 int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json& j, Report report, Plot plot) {
+  logs::OutputStage stage;
+  const std::string text = json_text(j);  // refuses a NaN before anything is written
   print_warnings(kind, j);
-  if (!o.output.empty()) {
-    write_json(j, o.output);
-    std::cerr << kind << ": wrote " << o.output << '\n';
-  }
-  if (!o.plot.empty()) {
-    plot(o.plot);
-    std::cerr << kind << ": drew " << o.plot << '\n';
-  }
+  if (!o.output.empty()) stage.write(o.output, text);
+  if (!o.plot.empty()) plot(stage, o.plot);
+  stage.commit();
+  if (!o.output.empty()) std::cerr << kind << ": wrote " << o.output << '\n';
+  if (!o.plot.empty()) std::cerr << kind << ": drew " << o.plot << '\n';
   if (o.json) {
-    write_json(j, "-");
+    std::cout << text;
   } else {
     report();
   }

@@ -12,13 +12,25 @@ using nlohmann::json;
 namespace {
 
 json fit_stats(const FitResult& r) {
-  return json{{"usable", r.usable}, {"rss", r.rss}, {"mse", r.mse}, {"r2", r.r2}, {"aic", r.aic},
+  // r2 is null (not NaN) when the charge never changes: no variance to explain.
+  return json{{"usable", r.usable}, {"rss", r.rss}, {"mse", r.mse},
+              {"r2", std::isfinite(r.r2) ? json(r.r2) : json(nullptr)}, {"aic", r.aic},
               {"bic", r.bic}, {"iterations", r.iterations}, {"observations", r.observations}};
 }
 
 json named_values(const FitResult& r, bool std_errors) {
   json j = json::object();
-  for (const auto& p : r.parameters) j[p.name] = std_errors ? p.std_error : p.value;
+  for (const auto& p : r.parameters)
+    j[p.name] = !std_errors ? json(p.value) : std::isfinite(p.std_error) ? json(p.std_error) : json(nullptr);
+  return j;
+}
+
+// {"parameters", "std_errors"} of a fit, and "std_error_why" for the standard errors written as
+// null (the data do not determine them): a reason beside every null.
+json fit_values(const FitResult& r) {
+  json j{{"parameters", named_values(r, false)}, {"std_errors", named_values(r, true)}};
+  for (const auto& p : r.parameters)
+    if (!std::isfinite(p.std_error)) j["std_error_why"][p.name] = p.std_error_why.empty() ? "undefined" : p.std_error_why;
   return j;
 }
 
@@ -46,8 +58,14 @@ json battery_fit_to_json(const BatteryFit& fit) {
     json segs = json::array();
     for (const mb::Segment& g : s.segments)
       segs.push_back({{"h", g.h}, {"m", g.m}, {"x1_s", g.x1_s}, {"x2_s", g.x2_s}, {"y1", g.y1}, {"y2", g.y2}});
-    json cubic_se = json::array();
-    for (const auto& p : s.cubic.parameters) cubic_se.push_back(p.std_error);
+    json cubic_se = json::array(), cubic_why = json::array();
+    bool cubic_undefined = false;
+    for (const auto& p : s.cubic.parameters) {
+      const bool defined = std::isfinite(p.std_error);
+      cubic_se.push_back(defined ? json(p.std_error) : json(nullptr));
+      cubic_why.push_back(defined ? json(nullptr) : json(p.std_error_why.empty() ? "undefined" : p.std_error_why));
+      cubic_undefined = cubic_undefined || !defined;
+    }
     speeds.push_back({
         {"speed_cm_s", s.speed_cm_s},
         {"runs", s.runs},
@@ -58,8 +76,8 @@ json battery_fit_to_json(const BatteryFit& fit) {
         {"cubic_std_errors", cubic_se},
         {"linear_slope", s.linear_slope_per_s},
         {"linear_slope_std_error", s.linear_slope_std_error},
-        {"free_line", {{"parameters", named_values(s.free_line, false)}, {"std_errors", named_values(s.free_line, true)}}},
-        {"breakpoints", {{"parameters", named_values(s.piecewise, false)}, {"std_errors", named_values(s.piecewise, true)}}},
+        {"free_line", fit_values(s.free_line)},
+        {"breakpoints", fit_values(s.piecewise)},
         {"segments", segs},
         {"mse", mse_json(s.mse)},
         {"fit", {{"cubic", fit_stats(s.cubic)}, {"free_line", fit_stats(s.free_line)}, {"piecewise", fit_stats(s.piecewise)}}},
@@ -67,6 +85,7 @@ json battery_fit_to_json(const BatteryFit& fit) {
         {"outliers", s.outliers},
     });
     outlier_rows.insert(outlier_rows.end(), s.outliers.begin(), s.outliers.end());
+    if (cubic_undefined) speeds.back()["cubic_std_error_why"] = cubic_why;
   }
   return json{
       {"kind", "battery"},

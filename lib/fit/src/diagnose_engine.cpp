@@ -36,9 +36,8 @@ void add_common_covariates(Problem& p, const std::vector<logs::Log>& logs, const
     std::vector<double> rows;
     for (const auto& log : logs)
       for (double x : log.col(name)) rows.push_back(x);
-    const std::vector<double> v = per_residual(rows);
-    p.extra_columns.emplace_back(name, v);
-    p.covariates.emplace_back(name, v);
+    p.extra_columns.emplace_back(name, per_residual(rows));  // the covariate:NAME effect's, per residual
+    p.add_row_covariate(name, std::move(rows));                 // scored: once per row
   }
   std::vector<double> index, which;
   for (std::size_t l = 0; l < logs.size(); ++l)
@@ -46,8 +45,8 @@ void add_common_covariates(Problem& p, const std::vector<logs::Log>& logs, const
       index.push_back(static_cast<double>(i));
       which.push_back(static_cast<double>(l));
     }
-  p.covariates.emplace_back("row", per_residual(index));
-  if (logs.size() > 1) p.covariates.emplace_back("log", per_residual(which));
+  p.add_row_covariate("row", std::move(index));
+  if (logs.size() > 1) p.add_row_covariate("log", std::move(which));
 }
 
 }  // namespace detail
@@ -115,6 +114,8 @@ class Engine {
     }
     n_ = p_.y.size();
     if (p_.channel.empty()) p_.channel.assign(n_, 0);
+    p_.channel_lo.resize(p_.channel_names.size(), -detail::kInf);
+    p_.channel_hi.resize(p_.channel_names.size(), detail::kInf);
     if (p_.channel_min_sd.size() < p_.channel_names.size()) p_.channel_min_sd.resize(p_.channel_names.size(), kDefaultMinimumSd);
     set_sigma(std::vector<double>(p_.channel_names.size(), 1.0));
     // Folds: contiguous blocks of rows dealt round-robin.
@@ -127,13 +128,19 @@ class Engine {
   }
 
   std::size_t size() const { return n_; }
+  /// Residual i's weight, sigma[0] / sigma[its channel].
+  double weight(std::size_t i) const { return channel_weight_[static_cast<std::size_t>(p_.channel[i])]; }
+  /// Residual i's clamp (its channel's).
+  double lo(std::size_t i) const { return p_.channel_lo[static_cast<std::size_t>(p_.channel[i])]; }
+  double hi(std::size_t i) const { return p_.channel_hi[static_cast<std::size_t>(p_.channel[i])]; }
 
   /// Noise standard deviation per channel; residuals are weighted by sigma[0] / sigma[channel].
   const std::vector<double>& sigma() const { return sigma_; }
   void set_sigma(const std::vector<double>& sigma) {
     sigma_ = sigma;
-    weight_.resize(n_);
-    for (std::size_t i = 0; i < n_; ++i) weight_[i] = sigma_[0] / sigma_[static_cast<std::size_t>(p_.channel[i])];
+    // Per channel, not per residual: every residual of a channel has the same weight.
+    channel_weight_.resize(sigma_.size());
+    for (std::size_t c = 0; c < sigma_.size(); ++c) channel_weight_[c] = sigma_[0] / sigma_[c];
   }
 
   template <typename T>
@@ -145,7 +152,7 @@ class Engine {
       for (std::size_t i = 0; i < n; ++i)
         if (p_.channel[i] == 0) out[i] += values[s.param] * s.centred[i];
     for (std::size_t i = 0; i < n; ++i)
-      out[i] = expected_clamp(out[i], p_.lo[i], p_.hi[i], sigma_[static_cast<std::size_t>(p_.channel[i])]);
+      out[i] = expected_clamp(out[i], lo(i), hi(i), sigma_[static_cast<std::size_t>(p_.channel[i])]);
   }
   std::vector<double> predict(const std::vector<double>& values) const {
     std::vector<double> out;
@@ -155,7 +162,7 @@ class Engine {
   /// Weighted residuals, in channel 0's units.
   std::vector<double> residuals(const std::vector<double>& values) const {
     std::vector<double> r = predict(values);
-    for (std::size_t i = 0; i < n_; ++i) r[i] = weight_[i] * (p_.y[i] - r[i]);
+    for (std::size_t i = 0; i < n_; ++i) r[i] = weight(i) * (p_.y[i] - r[i]);
     return r;
   }
 
@@ -259,7 +266,7 @@ class Engine {
       // error that changes slowly from row to row does not inflate.
       std::vector<double> last(C, std::nan(""));
       for (std::size_t i = 0; i < n_; ++i) {
-        if (!(p_.y[i] > p_.lo[i] && p_.y[i] < p_.hi[i])) continue;
+        if (!(p_.y[i] > lo(i) && p_.y[i] < hi(i))) continue;
         const std::size_t ch = static_cast<std::size_t>(p_.channel[i]);
         const double r = p_.y[i] - pred[i];
         if (std::isfinite(last[ch])) {
@@ -270,7 +277,7 @@ class Engine {
       }
     } else {
       for (std::size_t i = 0; i < n_; ++i)
-        if (p_.y[i] > p_.lo[i] && p_.y[i] < p_.hi[i]) {
+        if (p_.y[i] > lo(i) && p_.y[i] < hi(i)) {
           const std::size_t ch = static_cast<std::size_t>(p_.channel[i]);
           s[ch] += (p_.y[i] - pred[i]) * (p_.y[i] - pred[i]);
           c[ch] += 1;
@@ -304,7 +311,7 @@ class Engine {
         e_.predict(v.data(), pred);
         e_.p_.needed = std::numeric_limits<std::size_t>::max();
         for (std::size_t k = 0; k < idx_.size(); ++k) {
-          residuals[k] = e_.weight_[idx_[k]] * (e_.p_.y[idx_[k]] - pred[idx_[k]]);
+          residuals[k] = e_.weight(idx_[k]) * (e_.p_.y[idx_[k]] - pred[idx_[k]]);
           if (!std::isfinite(residuals[k])) return false;
         }
         return true;
@@ -327,7 +334,7 @@ class Engine {
       e_.p_.needed = std::numeric_limits<std::size_t>::max();
       for (std::size_t k = 0; k < idx_.size(); ++k) {
         const J& m = pred[idx_[k]];
-        const double w = e_.weight_[idx_[k]];
+        const double w = e_.weight(idx_[k]);
         residuals[k] = w * (e_.p_.y[idx_[k]] - m.a);
         if (!std::isfinite(residuals[k])) return false;
         for (std::size_t j = 0; j < P; ++j)
@@ -342,7 +349,7 @@ class Engine {
 
    private:
     const Engine& e_;
-    const std::vector<std::size_t> idx_;
+    const std::vector<std::size_t>& idx_;  // outlives the problem that owns this cost (Engine::fit)
     const std::vector<int> slot_;
     std::size_t limit_ = 0;  ///< one past the last residual used
   };
@@ -355,7 +362,7 @@ class Engine {
   const Options& o_;
   std::vector<Slope> slopes_;
   std::size_t n_ = 0;
-  std::vector<double> sigma_, weight_;
+  std::vector<double> sigma_, channel_weight_;
   std::vector<int> fold_;
   std::vector<std::size_t> all_;
 };
@@ -450,7 +457,10 @@ std::vector<CovariateScore> structure(const Problem& p, const std::vector<double
     }
     return best;
   };
-  for (const auto& [name, x] : p.covariates) out.push_back(score(name, x));
+  for (std::size_t k = 0; k < p.covariates.size(); ++k) {
+    if (p.is_per_row(k)) out.push_back(score(p.covariates[k].first, p.covariate_values(k)));  // spread one at a time
+    else out.push_back(score(p.covariates[k].first, p.covariates[k].second));
+  }
   out.push_back(score("predicted", predicted));
   std::stable_sort(out.begin(), out.end(), [](const CovariateScore& a, const CovariateScore& b) { return a.score > b.score; });
   return out;
@@ -461,7 +471,8 @@ std::vector<NamedValue> named(const Problem& p, const Engine::Fitted& f, const s
   for (int j : which) {
     const auto& e = f.result.parameters.size() > static_cast<std::size_t>(j) ? f.result.parameters[static_cast<std::size_t>(j)]
                                                                              : ParameterEstimate{};
-    out.push_back({p.params[static_cast<std::size_t>(j)].name, f.values[static_cast<std::size_t>(j)], e.std_error});
+    out.push_back({p.params[static_cast<std::size_t>(j)].name, f.values[static_cast<std::size_t>(j)], e.std_error,
+                   std::isfinite(e.std_error) ? std::string() : e.std_error_why});
   }
   return out;
 }
@@ -483,7 +494,10 @@ void settle_noise(Engine& engine, const std::vector<int>& free, Engine::Fitted& 
 
 }  // namespace
 
-Report diagnose(const std::vector<logs::Log>& all_logs, const Options& options) {
+namespace {
+// diagnose(); `owned`, when given, holds `logs` and is emptied once the problem is built (the
+// problem keeps what it needs: a long log's parsed cells need not stay beside the fits).
+Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& options, std::vector<logs::Log>* owned) {
   Report report;
   if (all_logs.empty()) {
     report.message = "no logs";
@@ -493,23 +507,42 @@ Report diagnose(const std::vector<logs::Log>& all_logs, const Options& options) 
   for (const auto& l : all_logs) report.rows += l.rows();
   // Wild readings (far from the others under the same conditions) would be "explained" by
   // whatever effect bends the curve towards them: they leave before anything is fitted.
+  // (In place when the caller handed the logs over: a long log is not copied.)
   std::vector<WildReading> wild;
-  const std::vector<logs::Log> logs = drop_wild_readings(all_logs, &wild);
+  std::vector<logs::Log> screened;
+  if (owned != nullptr) drop_wild_readings_in_place(*owned, &wild);
+  else screened = drop_wild_readings(all_logs, &wild);
+  const std::vector<logs::Log>& logs = owned != nullptr ? *owned : screened;
   for (const WildReading& w : wild) report.outliers.push_back(w.where + ": " + w.why);
   if (!wild.empty())
     report.warnings.push_back(std::to_string(wild.size()) + " wild readings left out before the diagnosis (listed under outliers).");
-  report.censored = readings_on_rails(all_logs);
+  report.censored = readings_on_rails(logs);
   std::string why;
   std::unique_ptr<Problem> problem = detail::make_problem(logs, options, why);
+  if (owned) std::vector<logs::Log>().swap(*owned);  // `logs` is not used below
   if (!problem) {
     report.message = why;
     return report;
   }
-  report.supported = true;
-  report.message = problem->notes;
   Engine engine(*problem, options);
   Problem& p = *problem;
   report.residuals = engine.size();
+  {
+    // Enough rows for the held-out test (a row in every block of every fold) and for the largest
+    // model (more residuals than twice its parameters)? Otherwise every finding would be noise.
+    const std::size_t blocks = static_cast<std::size_t>(std::max(1, options.folds * options.blocks_per_fold));
+    const std::size_t min_residuals = 2 * p.params.size() + 1;
+    if (report.rows < blocks || engine.size() < min_residuals) {
+      report.too_few_rows = true;
+      report.message = "too few rows to diagnose: " + std::to_string(report.rows) + " rows (" +
+                       std::to_string(engine.size()) + " residuals); the held-out test needs at least " +
+                       std::to_string(blocks) + " rows and the model at least " + std::to_string(min_residuals) +
+                       " residuals";
+      return report;
+    }
+  }
+  report.supported = true;
+  report.message = problem->notes;
   for (const auto& e : p.effects) report.effects_considered.push_back(e.cause);
 
   // The values where the effects are off and the base model is the plug-in's.
@@ -705,7 +738,13 @@ Report diagnose(const std::vector<logs::Log>& all_logs, const Options& options) 
   report.residual_after = engine.residuals(current.values);
   report.structure_before = structure(p, report.residual_before, engine.predict(base_values), options.structure_threshold, engine.sigma());
   report.structure_after = structure(p, report.residual_after, engine.predict(current.values), options.structure_threshold, engine.sigma());
-  report.covariates = p.covariates;
+  // For the plot: the covariate the residuals depended on most before, and `row` (draw's
+  // fallback), per residual; not every covariate again.
+  for (std::size_t k = 0; k < p.covariates.size(); ++k) {
+    const std::string& name = p.covariates[k].first;
+    const bool wanted = name == "row" || (!report.structure_before.empty() && name == report.structure_before.front().covariate);
+    if (wanted) report.covariates.emplace_back(name, p.is_per_row(k) ? p.covariate_values(k) : std::move(p.covariates[k].second));
+  }
   bool left = false;
   for (const auto& s : report.structure_after) left = left || s.significant;
   if (left) report.verdict = "unexplained";
@@ -713,5 +752,10 @@ Report diagnose(const std::vector<logs::Log>& all_logs, const Options& options) 
   else report.verdict = "none";
   return report;
 }
+}  // namespace
+
+Report diagnose(const std::vector<logs::Log>& logs, const Options& options) { return run_diagnosis(logs, options, nullptr); }
+
+Report diagnose(std::vector<logs::Log>&& logs, const Options& options) { return run_diagnosis(logs, options, &logs); }
 
 }  // namespace epuck2::fit::diagnose

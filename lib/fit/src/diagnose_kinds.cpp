@@ -3,7 +3,9 @@
 // effect is a parameter set whose neutral values give back the base model, so that the engine
 // switches effects on by freeing their parameters.
 #include <algorithm>
+#include <deque>
 #include <cmath>
+#include <cstdint>
 #include <set>
 #include <type_traits>
 
@@ -56,11 +58,11 @@ class Ground : public ProblemOf<Ground> {
         grey_.push_back(g[i]);
         sensor_.push_back(static_cast<int>(sn[i]));
         y.push_back(v[i]);
-        lo.push_back(0.0);
-        hi.push_back(s::kGroundFullScale_raw);
         row.push_back(rows++);
       }
     }
+    channel_lo = {0.0};
+    channel_hi = {s::kGroundFullScale_raw};
     offset_ = add_param(*this, "offset", 0.0, 20.0, -s::kGroundFullScale_raw, s::kGroundFullScale_raw);
     level_ = add_param(*this, "level", s::kGroundFullScale_raw, s::kGroundFullScale_raw, 1.0, 4.0 * s::kGroundFullScale_raw);
     Effect gains{"sensor_gain", {}};
@@ -72,7 +74,7 @@ class Ground : public ProblemOf<Ground> {
     if (gains.params.size() >= 2) effects.push_back(gains);
     std::vector<double> sensor_d(sensor_.begin(), sensor_.end());
     covariates.emplace_back("grey", grey_);
-    covariates.emplace_back("sensor", sensor_d);
+    covariates.emplace_back("sensor", std::move(sensor_d));
   }
   template <typename T>
   void eval(const T* p, T* out) const {
@@ -95,6 +97,8 @@ class Ground : public ProblemOf<Ground> {
 class Proximity : public ProblemOf<Proximity> {
  public:
   explicit Proximity(const std::vector<logs::Log>& logs) {
+    channel_lo = {0.0};
+    channel_hi = {s::kProximityFullScale_raw};
     bool angle = true;
     for (const auto& log : logs) angle = angle && log.has("angle_deg");
     for (const auto& log : logs) {
@@ -106,8 +110,6 @@ class Proximity : public ProblemOf<Proximity> {
         sensor_.push_back(static_cast<int>(sn[i]));
         cos_.push_back(angle ? std::cos(s::deg_to_rad(log.col("angle_deg")[i])) : 1.0);
         y.push_back(v[i]);
-        lo.push_back(0.0);
-        hi.push_back(s::kProximityFullScale_raw);
         row.push_back(rows++);
       }
     }
@@ -139,12 +141,12 @@ class Proximity : public ProblemOf<Proximity> {
     range_m_ = k.range_m;
     std::vector<double> sensor_d(sensor_.begin(), sensor_.end());
     covariates.emplace_back("distance_m", distance_);
-    covariates.emplace_back("sensor", sensor_d);
+    covariates.emplace_back("sensor", std::move(sensor_d));
     if (angle) {
       std::vector<double> a;
       for (const auto& log : logs)
         for (double x : log.col("angle_deg")) a.push_back(x);
-      covariates.emplace_back("angle_deg", a);
+      covariates.emplace_back("angle_deg", std::move(a));
     }
   }
   template <typename T>
@@ -179,6 +181,8 @@ class Proximity : public ProblemOf<Proximity> {
 class Light : public ProblemOf<Light> {
  public:
   explicit Light(const std::vector<logs::Log>& logs) {
+    channel_lo = {0.0};
+    channel_hi = {s::kProximityFullScale_raw};
     for (const auto& log : logs) {
       const auto& d = log.col("distance_m");
       const auto& in = log.col("intensity");
@@ -189,8 +193,6 @@ class Light : public ProblemOf<Light> {
         intensity_.push_back(in[i]);
         sensor_.push_back(static_cast<int>(sn[i]));
         y.push_back(v[i]);
-        lo.push_back(0.0);
-        hi.push_back(s::kProximityFullScale_raw);
         row.push_back(rows++);
       }
     }
@@ -211,7 +213,7 @@ class Light : public ProblemOf<Light> {
     std::vector<double> sensor_d(sensor_.begin(), sensor_.end());
     covariates.emplace_back("distance_m", distance_);
     covariates.emplace_back("intensity", intensity_);
-    covariates.emplace_back("sensor", sensor_d);
+    covariates.emplace_back("sensor", std::move(sensor_d));
   }
   template <typename T>
   void eval(const T* p, T* out) const {
@@ -254,8 +256,6 @@ class Camera : public ProblemOf<Camera> {
         z_.push_back(v[i] / f[i]);
         for (int a = 0; a < 2; ++a) {
           y.push_back(a == 0 ? px[i] : py[i]);
-          lo.push_back(-kInf);
-          hi.push_back(kInf);
           row.push_back(rows);
           fw.push_back(f[i]);
           lat.push_back(l[i]);
@@ -275,11 +275,11 @@ class Camera : public ProblemOf<Camera> {
     dy_ = add_param(*this, "dy_px", 0.0, 0.0);
     k1_ = add_param(*this, "k1", 0.0, 0.0, -10.0, 10.0);
     effects = {{"principal_offset", {dx_, dy_}}, {"radial_distortion", {k1_}}};
-    covariates.emplace_back("forward_m", fw);
-    covariates.emplace_back("lateral_m", lat);
-    covariates.emplace_back("vertical_m", ver);
-    covariates.emplace_back("axis", axis);
-    covariates.emplace_back("radius2", r2);
+    covariates.emplace_back("forward_m", std::move(fw));
+    covariates.emplace_back("lateral_m", std::move(lat));
+    covariates.emplace_back("vertical_m", std::move(ver));
+    covariates.emplace_back("axis", std::move(axis));
+    covariates.emplace_back("radius2", std::move(r2));
   }
   template <typename T>
   void eval(const T* p, T* out) const {
@@ -319,6 +319,8 @@ class Drive : public ProblemOf<Drive> {
  public:
   explicit Drive(const std::vector<logs::Log>& logs) {
     channel_names = {"tof_mm", "steps"};
+    channel_lo = {s::kPluginTof.min_mm, -kInf};
+    channel_hi = {s::kPluginTof.max_mm, kInf};
     // ToF readings are whole mm; encoder registers whole steps (rounding: sqrt(1/12)).
     channel_min_sd = {0.3, 0.29};
     // An encoder register's error is its rounding, the same for every row until the wheel turns
@@ -377,22 +379,21 @@ class Drive : public ProblemOf<Drive> {
         const bool same = r.symmetric && ur[i] == ul[i];
         const bool fresh[3] = {true, i == 0 || ul[i] != ul[i - 1], !same && (i == 0 || ur[i] != ur[i - 1])};
         for (int c = 0; c < 3; ++c) {
-          slot_[c].push_back(fresh[c] ? static_cast<long>(y.size()) : -1);
+          slot_[c].push_back(fresh[c] ? static_cast<std::int32_t>(y.size()) : -1);
           if (!fresh[c]) continue;
           y.push_back(values[c]);
-          lo.push_back(c == 0 ? s::kPluginTof.min_mm : -kInf);
-          hi.push_back(c == 0 ? s::kPluginTof.max_mm : kInf);
           channel.push_back(c == 0 ? 0 : 1);
-          row.push_back(rows);
-          cov_time.push_back(t[i]);
-          cov_cmd.push_back(0.5 * (cl[i] + cr[i]));
-          cov_speed.push_back(speed[i]);
-          cov_acc.push_back(acc[i]);
-          cov_dist.push_back(dist[i]);
-          cov_range.push_back(r.obstacle_m - dist[i]);
-          cov_since.push_back(t[i] - since);
+          row.push_back(static_cast<std::uint32_t>(rows));
           cov_channel.push_back(c);
         }
+        // Once per row, not per residual (up to three a row): spread through `row` when scored.
+        cov_time.push_back(t[i]);
+        cov_cmd.push_back(0.5 * (cl[i] + cr[i]));
+        cov_speed.push_back(speed[i]);
+        cov_acc.push_back(acc[i]);
+        cov_dist.push_back(dist[i]);
+        cov_range.push_back(r.obstacle_m - dist[i]);
+        cov_since.push_back(t[i] - since);
         ++rows;
       }
       r.last = time_.size();
@@ -411,50 +412,52 @@ class Drive : public ProblemOf<Drive> {
     tof_k_ = add_param(*this, "k", 1.0, 1.0, 0.2, 5.0);
     effects = {{"speed_limit", {max_}},  {"accel_limit", {accel_}}, {"wheel_slip", {tau_}}, {"speed_scale", {speed_k_}},
                {"latency", {delay_}},    {"tof_offset", {offset_}}, {"tof_scale", {tof_k_}}};
-    covariates.emplace_back("time_s", cov_time);
-    covariates.emplace_back("commanded_cm_s", cov_cmd);
-    covariates.emplace_back("speed_cm_s", cov_speed);
-    covariates.emplace_back("acceleration_cm_s2", cov_acc);
-    covariates.emplace_back("distance_m", cov_dist);
-    covariates.emplace_back("range_m", cov_range);
-    covariates.emplace_back("time_since_command_s", cov_since);
-    covariates.emplace_back("channel", cov_channel);
+    add_row_covariate("time_s", std::move(cov_time));
+    add_row_covariate("commanded_cm_s", std::move(cov_cmd));
+    add_row_covariate("speed_cm_s", std::move(cov_speed));
+    add_row_covariate("acceleration_cm_s2", std::move(cov_acc));
+    add_row_covariate("distance_m", std::move(cov_dist));
+    add_row_covariate("range_m", std::move(cov_range));
+    add_row_covariate("time_since_command_s", std::move(cov_since));
+    covariates.emplace_back("channel", std::move(cov_channel));
+    for (auto* v : {&time_, &left_, &right_}) v->shrink_to_fit();
+    for (auto& v : slot_) v.shrink_to_fit();
   }
 
   template <typename T>
   void eval(const T* p, T* out) const {
-    std::vector<State<T>> states;
+    // With a latency, the ToF reading at t is the true one at t - delay: the state at the start of
+    // the row k in which t - delay falls, advanced to it. Only the states of rows k..i are kept
+    // (a window of delay / dt rows), not one per row of the log (144 B a row with 2-wide Jets).
+    std::deque<State<T>> window;
     const bool delayed = value_of(p[delay_]) > 0;
     for (const Run& r : runs_) {
       if (static_cast<std::size_t>(slot_[0][r.first]) >= needed) break;
       State<T> st;
-      states.clear();
-      std::size_t end = r.last;
+      window.clear();
+      std::size_t k = r.first;  // window.front() is the state at the start of row k
       for (std::size_t i = r.first; i < r.last; ++i) {
-        if (static_cast<std::size_t>(slot_[0][i]) >= needed) {
-          end = i;
-          break;
-        }
-        if (delayed) states.push_back(st);
+        if (static_cast<std::size_t>(slot_[0][i]) >= needed) break;
         if (slot_[1][i] >= 0) out[slot_[1][i]] = encoder(st.xl);
         if (slot_[2][i] >= 0) out[slot_[2][i]] = encoder(st.xr);
-        if (!delayed) out[slot_[0][i]] = tof(p, r, st.xg);
-        if (i + 1 < r.last) advance(p, i, T(time_[i + 1] - time_[i]), st, r.symmetric);
-      }
-      if (!delayed) continue;
-      // The ToF reading at t is the true one at t - delay: the state of the row before that
-      // time, advanced to it.
-      std::size_t k = r.first;
-      for (std::size_t i = r.first; i < end; ++i) {
-        const T when = time_[i] - p[delay_];
-        while (k + 1 < i + 1 && value_of(when) >= time_[k + 1]) ++k;
-        if (value_of(when) < time_[r.first]) {
-          out[slot_[0][i]] = tof(p, r, T(0.0));
-          continue;
+        if (!delayed) {
+          out[slot_[0][i]] = tof(p, r, st.xg);
+        } else {
+          window.push_back(st);
+          const T when = time_[i] - p[delay_];
+          while (k + 1 < i + 1 && value_of(when) >= time_[k + 1]) {
+            ++k;
+            window.pop_front();
+          }
+          if (value_of(when) < time_[r.first]) {
+            out[slot_[0][i]] = tof(p, r, T(0.0));
+          } else {
+            State<T> at = window.front();
+            advance(p, k, when - time_[k], at, r.symmetric);
+            out[slot_[0][i]] = tof(p, r, at.xg);
+          }
         }
-        State<T> st = states[k - r.first];
-        advance(p, k, when - time_[k], st, r.symmetric);
-        out[slot_[0][i]] = tof(p, r, st.xg);
+        if (i + 1 < r.last) advance(p, i, T(time_[i + 1] - time_[i]), st, r.symmetric);
       }
     }
   }
@@ -587,7 +590,7 @@ class Drive : public ProblemOf<Drive> {
 
   std::vector<double> time_, left_, right_;
   /// Per row: the residual index of the ToF reading and of each encoder register (-1: left out).
-  std::array<std::vector<long>, 3> slot_;
+  std::array<std::vector<std::int32_t>, 3> slot_;
   std::vector<Run> runs_;
   int max_ = 0, accel_ = 0, tau_ = 0, speed_k_ = 0, delay_ = 0, offset_ = 0, tof_k_ = 0;
 };
@@ -628,8 +631,6 @@ class Battery : public ProblemOf<Battery> {
         if (i + 1 < log.rows() || log.rows() == 1) {
           simulated_row_.push_back(time_.size() - 1);
           y.push_back(c[i]);
-          lo.push_back(-kInf);
-          hi.push_back(kInf);
           row.push_back(rows);
           cov_time.push_back(t[i]);
           cov_speed.push_back(std::abs(v[i]));
@@ -641,8 +642,8 @@ class Battery : public ProblemOf<Battery> {
     }
     k_ = add_param(*this, "k", 1.0, 1.0, 0.05, 20.0);
     effects = {{"capacity_scale", {k_}}};
-    covariates.emplace_back("time_s", cov_time);
-    covariates.emplace_back("speed_cm_s", cov_speed);
+    covariates.emplace_back("time_s", std::move(cov_time));
+    covariates.emplace_back("speed_cm_s", std::move(cov_speed));
   }
 
   template <typename T>
@@ -681,6 +682,9 @@ class Battery : public ProblemOf<Battery> {
         out[i] = charge;
         if (i + 1 == r.last) break;
         const double dt = (time_[i + 1] - time_[i]) / k;
+        // A repeated time stamp (the format allows it: time never decreases) is a step of no
+        // length: no discharge, and no speed to compute as 0/0.
+        if (dt == 0) continue;
         charge = mb::corrected::step(model_, tables_, charge, speed_[i] / 100.0 * dt, dt);
       }
     }
@@ -729,6 +733,13 @@ std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const 
   // The kinds' optional columns of docs/logs.md are inputs of the model (angle_deg) or a
   // consequence of the measured quantity (voltage_v), never `covariate:` candidates.
   add_common_covariates(*p, logs, {"angle_deg", "voltage_v"});
+  // Per-residual vectors grew by push_back (up to twice their size): give the slack back before
+  // the fits, which run beside them.
+  p->y.shrink_to_fit();
+  p->row.shrink_to_fit();
+  p->channel.shrink_to_fit();
+  for (auto& c : p->covariates) c.second.shrink_to_fit();
+  for (auto& c : p->extra_columns) c.second.shrink_to_fit();
   return p;
 }
 

@@ -5,6 +5,7 @@
 #include <ceres/jet.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
@@ -63,8 +64,7 @@ class Problem {
 
   // Per residual (one per row; camera: two per row, px then py).
   std::vector<double> y;       ///< the measured reading
-  std::vector<double> lo, hi;  ///< the reading's clamp (±inf: none)
-  std::vector<std::size_t> row;  ///< the residual's row, numbered across all logs
+  std::vector<std::uint32_t> row;  ///< the residual's row, numbered across all logs (< 2^32)
   std::size_t rows = 0;
   /// Per residual: which measured quantity it is (drive: 0 ToF in mm, 1 and 2 the encoders in
   /// steps). Empty: one channel. Each channel has its own noise level; residuals are weighted by
@@ -72,6 +72,9 @@ class Problem {
   /// reading; encoders count what the wheels turned).
   std::vector<int> channel;
   std::vector<std::string> channel_names{"reading"};
+  /// Per channel: the reading's clamp (±inf, or missing: none). A clamp is the sensor's, the same
+  /// for every residual of a channel: it is not stored per residual.
+  std::vector<double> channel_lo, channel_hi;
   /// Per channel: the smallest noise standard deviation believed (empty: 0.3, a whole count's
   /// rounding).
   std::vector<double> channel_min_sd;
@@ -80,8 +83,25 @@ class Problem {
   std::vector<double> channel_min_structure;
   /// Rows are a time series: the noise is estimated from successive residuals (drive).
   bool noise_from_differences = false;
-  /// Covariates scored against the residuals, per residual (log columns and derived ones).
+  /// Covariates scored against the residuals (log columns and derived ones): per residual, or per
+  /// row where covariate_per_row says so (a kind with several residuals a row stores a row's value
+  /// once; covariate_values spreads it through `row`).
   std::vector<std::pair<std::string, std::vector<double>>> covariates;
+  std::vector<bool> covariate_per_row;  ///< parallel to covariates; missing entries: per residual
+  void add_row_covariate(std::string name, std::vector<double> per_row) {
+    covariate_per_row.resize(covariates.size(), false);
+    covariates.emplace_back(std::move(name), std::move(per_row));
+    covariate_per_row.push_back(true);
+  }
+  bool is_per_row(std::size_t k) const { return k < covariate_per_row.size() && covariate_per_row[k]; }
+  /// Covariate k's value for every residual.
+  std::vector<double> covariate_values(std::size_t k) const {
+    if (!is_per_row(k)) return covariates[k].second;
+    const std::vector<double>& per_row = covariates[k].second;
+    std::vector<double> v(row.size());
+    for (std::size_t i = 0; i < row.size(); ++i) v[i] = per_row[row[i]];
+    return v;
+  }
   /// Extra numeric columns, per residual: candidates for `covariate:NAME`.
   std::vector<std::pair<std::string, std::vector<double>>> extra_columns;
   std::string notes;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 namespace epuck2::fit {
@@ -190,6 +191,35 @@ Eigen::MatrixXd columns(const Eigen::MatrixXd& jacobian, const std::vector<Eigen
   for (std::size_t c = 0; c < cols.size(); ++c) Jf.col(static_cast<Eigen::Index>(c)) = jacobian.col(cols[c]);
   return Jf;
 }
+// Why a parameter's standard error stays NaN (ParameterEstimate::std_error_why): a free column of
+// zeros (the data do not depend on it), or no degrees of freedom left over the estimable columns
+// `cols`; the estimable ones get a provisional reason that the covariance clears.
+void explain_undetermined(FitResult& r, Eigen::Index n_rows, const std::vector<bool>& free_column,
+                          const std::vector<bool>& zero_column, const std::vector<Eigen::Index>& cols) {
+  const std::size_t n = static_cast<std::size_t>(n_rows);
+  for (std::size_t j = 0; j < zero_column.size() && j < r.parameters.size(); ++j) {
+    ParameterEstimate& p = r.parameters[j];
+    const bool is_free = j >= free_column.size() || free_column[j];
+    if (!is_free) continue;
+    if (zero_column[j])
+      p.std_error_why = "not identifiable: the model does not depend on " + p.name +
+                        " at the solution on these data (its Jacobian column is zero)";
+    else if (n <= cols.size())
+      p.std_error_why = "undefined: " + std::to_string(n) + " residuals for " + std::to_string(cols.size()) +
+                        " estimable parameters leave no degree of freedom to estimate the noise";
+    else
+      p.std_error_why = "the covariance was not computed";
+  }
+}
+
+void explain_rank_deficient(FitResult& r, const std::vector<Eigen::Index>& cols) {
+  for (Eigen::Index j : cols)
+    if (static_cast<std::size_t>(j) < r.parameters.size()) {
+      ParameterEstimate& p = r.parameters[static_cast<std::size_t>(j)];
+      p.std_error_why = "not identifiable: these data do not determine " + p.name +
+                        " separately from the other parameters (rank-deficient Jacobian)";
+    }
+}
 }  // namespace
 
 bool inverse_normal_matrix(const Eigen::MatrixXd& jacobian, Eigen::MatrixXd* inverse) {
@@ -267,22 +297,29 @@ bool normal_equations_least_squares(const Eigen::MatrixXd& normal, const Eigen::
   return true;
 }
 
-void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
-                    const Eigen::MatrixXd* inverse_normal) {
-  const Eigen::Index total = jacobian.cols();
-  const std::vector<Eigen::Index> cols = estimable_columns(jacobian, free_column);
+namespace {
+// set_covariance's work over the estimable columns `cols` (parameter indices, `total` in all) of an
+// n-row Jacobian: `estimable` gives those columns only (n x m), called when no `inverse_normal`
+// of the right size is given.
+void covariance_over(FitResult& r, Eigen::Index total, Eigen::Index n, const std::vector<Eigen::Index>& cols,
+                     const std::vector<bool>& free_column, const std::vector<bool>& zero_column,
+                     const std::function<Eigen::MatrixXd()>& estimable, const Eigen::MatrixXd* inverse_normal) {
   const auto m = static_cast<Eigen::Index>(cols.size());
-  const Eigen::Index n = jacobian.rows();
+  explain_undetermined(r, n, free_column, zero_column, cols);
   if (m == 0 || n <= m) return;
   const double s2 = r.rss / static_cast<double>(n - m);
-  r.covariance = Eigen::MatrixXd::Zero(total, total);
   Eigen::MatrixXd covf;
   if (inverse_normal != nullptr && inverse_normal->rows() == m && inverse_normal->cols() == m) {
     covf = *inverse_normal;
-  } else if (!inverse_normal_matrix(columns(jacobian, cols), &covf)) {
+  } else if (!inverse_normal_matrix(estimable(), &covf)) {
+    r.covariance = Eigen::MatrixXd::Zero(total, total);
     r.message += " (covariance rank-deficient: standard errors unavailable)";
+    explain_rank_deficient(r, cols);
     return;
   }
+  r.covariance = Eigen::MatrixXd::Zero(total, total);
+  for (Eigen::Index j : cols)
+    if (static_cast<std::size_t>(j) < r.parameters.size()) r.parameters[static_cast<std::size_t>(j)].std_error_why.clear();
   for (Eigen::Index a = 0; a < m; ++a)
     for (Eigen::Index b = 0; b < m; ++b)
       r.covariance(cols[static_cast<std::size_t>(a)], cols[static_cast<std::size_t>(b)]) = covf(a, b) * s2;
@@ -293,6 +330,16 @@ void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::ve
     if (static_cast<std::size_t>(j) < free_column.size() && !free_column[static_cast<std::size_t>(j)] &&
         static_cast<std::size_t>(j) < r.parameters.size())
       r.parameters[static_cast<std::size_t>(j)].std_error = 0.0;
+}
+}  // namespace
+
+void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
+                    const Eigen::MatrixXd* inverse_normal) {
+  const std::vector<Eigen::Index> cols = estimable_columns(jacobian, free_column);
+  std::vector<bool> zero_column(static_cast<std::size_t>(jacobian.cols()));
+  for (Eigen::Index j = 0; j < jacobian.cols(); ++j) zero_column[static_cast<std::size_t>(j)] = !(jacobian.col(j).squaredNorm() > 0);
+  covariance_over(r, jacobian.cols(), jacobian.rows(), cols, free_column, zero_column,
+                  [&] { return columns(jacobian, cols); }, inverse_normal);
 }
 
 void set_rss(FitResult& r, double rss) {
@@ -397,6 +444,8 @@ std::vector<bool> statistics(FitResult& r, const ParameterLayout& layout, const 
   const bool converged = summary.IsSolutionUsable() && std::isfinite(rss);
   r.usable = evaluated && converged;
   if (!evaluated) r.message = "the model could not be evaluated at the solution";
+  for (auto& p : r.parameters)
+    p.std_error_why = r.usable ? "the covariance was not computed" : "the fit is not usable: " + r.message;
   return is_free;
 }
 }  // namespace
@@ -411,57 +460,84 @@ FitResult summarize(const ParameterLayout& layout, const std::vector<double>& re
 FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
                     const std::vector<double>& observations, const ceres::Solver::Summary& summary,
                     const FitOptions& options) {
+  std::vector<bool> constant_block;
+  std::vector<double*> free_blocks;
+  std::vector<int> free_offset;  // each free block's first scalar among all parameters
+  {
+    int offset = 0;
+    for (std::size_t b = 0; b < layout.blocks.size(); ++b) {
+      constant_block.push_back(problem.IsParameterBlockConstant(layout.blocks[b]));
+      if (!constant_block.back()) {
+        free_blocks.push_back(layout.blocks[b]);
+        free_offset.push_back(offset);
+      }
+      offset += layout.sizes[b];
+    }
+  }
+  // The Jacobian over the free blocks only: the constant ones would add n columns of zeros each
+  // (on a long diagnosis log, hundreds of MB as a sparse matrix and again dense).
+  const bool want_jacobian = options.compute_covariance && !free_blocks.empty();
   ceres::Problem::EvaluateOptions eo;
-  eo.parameter_blocks = layout.blocks;
+  eo.parameter_blocks = want_jacobian ? free_blocks : layout.blocks;
   eo.apply_loss_function = false;
   eo.num_threads = 1;
   double cost = 0;
   std::vector<double> residuals;
   ceres::CRSMatrix jac;
-  const bool evaluated = problem.Evaluate(eo, &cost, &residuals, nullptr, options.compute_covariance ? &jac : nullptr);
-  std::vector<bool> constant_block;
-  for (double* block : layout.blocks) constant_block.push_back(problem.IsParameterBlockConstant(block));
+  const bool evaluated = problem.Evaluate(eo, &cost, &residuals, nullptr, want_jacobian ? &jac : nullptr);
 
   FitResult r;
   const std::vector<bool> is_free = statistics(r, layout, constant_block, residuals, evaluated, observations, summary);
   if (!r.usable) return r;
-  const std::size_t n = r.observations;
-  const double rss = r.rss;
-  const int k = r.free_parameters;
-  const int total = static_cast<int>(is_free.size());
+  const auto n = static_cast<Eigen::Index>(r.observations);
+  const auto total = static_cast<Eigen::Index>(is_free.size());
 
-  if (options.compute_covariance && k > 0 && n > static_cast<std::size_t>(k)) {
-    // Dense Jacobian restricted to free columns (with subset manifolds, Ceres still reports the
-    // ambient columns; a fixed parameter's column is dropped here when the caller marks it so).
-    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), total);
-    for (int row = 0; row < jac.num_rows; ++row)
-      for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx)
-        J(row, jac.cols[static_cast<std::size_t>(idx)]) = jac.values[static_cast<std::size_t>(idx)];
-    // Columns with a SubsetManifold that holds them fixed have zero tangent: detect all-zero
-    // columns of free blocks and treat them as fixed too.
-    std::vector<int> cols;
-    for (int j = 0; j < total; ++j)
-      if (is_free[static_cast<std::size_t>(j)] && J.col(j).squaredNorm() > 0) cols.push_back(j);
-    const int m = static_cast<int>(cols.size());
-    Eigen::MatrixXd Jf(J.rows(), m);
-    for (int c = 0; c < m; ++c) Jf.col(c) = J.col(cols[static_cast<std::size_t>(c)]);
-    const double s2 = rss / static_cast<double>(n - static_cast<std::size_t>(m));
-    r.covariance = Eigen::MatrixXd::Zero(total, total);
-    Eigen::MatrixXd covf;
-    if (inverse_normal_matrix(Jf, &covf)) {
-      for (int a = 0; a < m; ++a)
-        for (int b = 0; b < m; ++b)
-          r.covariance(cols[static_cast<std::size_t>(a)], cols[static_cast<std::size_t>(b)]) = covf(a, b) * s2;
-      for (int c = 0; c < m; ++c) {
-        const int j = cols[static_cast<std::size_t>(c)];
-        r.parameters[static_cast<std::size_t>(j)].std_error = std::sqrt(std::max(0.0, r.covariance(j, j)));
-      }
-      for (int j = 0; j < total; ++j)
-        if (!is_free[static_cast<std::size_t>(j)]) r.parameters[static_cast<std::size_t>(j)].std_error = 0.0;
+  if (!options.compute_covariance) {
+    for (auto& p : r.parameters) p.std_error_why = "standard errors were not asked for";
+    return r;
+  }
+  if (r.free_parameters == 0) return r;
+  // Column c of `jac` is scalar param_of[c] of the layout.
+  std::vector<Eigen::Index> param_of;
+  for (std::size_t b = 0, k = 0; b < layout.blocks.size(); ++b) {
+    if (constant_block[b]) continue;
+    for (int j = 0; j < layout.sizes[b]; ++j) param_of.push_back(free_offset[k] + j);
+    ++k;
+  }
+  if (jac.num_cols != static_cast<int>(param_of.size()) || jac.num_rows != static_cast<int>(n)) {
+    r.message += " (covariance: unexpected Jacobian shape: standard errors unavailable)";
+    return r;
+  }
+  // A free parameter with a zero column (the data do not depend on it, or a SubsetManifold holds
+  // it) is left out of the covariance, as set_covariance does.
+  std::vector<double> norm2(param_of.size(), 0.0);
+  for (std::size_t idx = 0; idx < jac.values.size(); ++idx)
+    norm2[static_cast<std::size_t>(jac.cols[idx])] += jac.values[idx] * jac.values[idx];
+  std::vector<bool> zero_column(static_cast<std::size_t>(total), false);
+  std::vector<Eigen::Index> cols;       // estimable parameters
+  std::vector<Eigen::Index> col_of(param_of.size(), -1);  // jac column -> column of the estimable Jacobian
+  for (std::size_t c = 0; c < param_of.size(); ++c) {
+    if (norm2[c] > 0) {
+      col_of[c] = static_cast<Eigen::Index>(cols.size());
+      cols.push_back(param_of[c]);
     } else {
-      r.message += " (covariance rank-deficient: standard errors unavailable)";
+      zero_column[static_cast<std::size_t>(param_of[c])] = true;
     }
   }
+  // No QR of an empty matrix: covariance_over stops when no free column is estimable (every free
+  // column zero) or no degree of freedom is left, and says why.
+  covariance_over(r, total, n, cols, is_free, zero_column,
+                  [&] {
+                    Eigen::MatrixXd Jf = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(cols.size()));
+                    for (int row = 0; row < jac.num_rows; ++row)
+                      for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx) {
+                        const Eigen::Index c = col_of[static_cast<std::size_t>(jac.cols[static_cast<std::size_t>(idx)])];
+                        if (c >= 0) Jf(row, c) = jac.values[static_cast<std::size_t>(idx)];
+                      }
+                    jac = ceres::CRSMatrix();  // no longer needed: not held beside the QR's copies
+                    return Jf;
+                  },
+                  nullptr);
   return r;
 }
 

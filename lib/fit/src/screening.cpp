@@ -43,28 +43,34 @@ std::string fmt(double v) {
 
 }  // namespace
 
-logs::Log without_rows(const logs::Log& log, const std::vector<bool>& drop) {
-  logs::Log out = log;
+void remove_rows(logs::Log& log, const std::vector<bool>& drop) {
   const std::size_t n = log.rows(), m = log.columns.size();
-  for (auto& [name, col] : out.numeric) {
+  if (std::find(drop.begin(), drop.end(), true) == drop.end()) return;
+  for (auto& [name, col] : log.numeric) {
     std::size_t k = 0;
     for (std::size_t i = 0; i < n; ++i)
       if (!drop[i]) col[k++] = col[i];
     col.resize(k);
   }
-  for (auto& [name, col] : out.text) {
+  for (auto& [name, col] : log.text) {
     std::size_t k = 0;
     for (std::size_t i = 0; i < n; ++i)
       if (!drop[i]) col[k++] = col[i];
     col.resize(k);
   }
-  out.line_of_row.clear();
-  out.cell_start.clear();
+  std::size_t k = 0, c = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (drop[i]) continue;
-    out.line_of_row.push_back(log.line_of_row[i]);
-    for (std::size_t c = 0; c < m && i * m + c < log.cell_start.size(); ++c) out.cell_start.push_back(log.cell_start[i * m + c]);
+    log.line_of_row[k++] = log.line_of_row[i];
+    for (std::size_t j = 0; j < m && i * m + j < log.cell_start.size(); ++j) log.cell_start[c++] = log.cell_start[i * m + j];
   }
+  log.line_of_row.resize(k);
+  log.cell_start.resize(std::min(c, log.cell_start.size()));
+}
+
+logs::Log without_rows(const logs::Log& log, const std::vector<bool>& drop) {
+  logs::Log out = log;
+  remove_rows(out, drop);
   return out;
 }
 
@@ -117,8 +123,8 @@ namespace {
 // whose command repeats the previous row's are dropped, so that no command is lost.
 constexpr double kSpikeFloor_mm = 50.0;
 
-std::vector<logs::Log> drop_tof_spikes(const std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
-  std::vector<logs::Log> out;
+std::vector<std::vector<bool>> tof_spikes(const std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
+  std::vector<std::vector<bool>> out;
   for (const logs::Log& log : all) {
     const std::size_t n = log.rows();
     std::vector<bool> drop(n, false);
@@ -146,19 +152,19 @@ std::vector<logs::Log> drop_tof_spikes(const std::vector<logs::Log>& all, std::v
                                   fmt(tof[i + 1]) + " (a spike of " + fmt(d[i]) + " mm; the run's typical " + fmt(sd) + ")"});
       }
     }
-    out.push_back(without_rows(log, drop));
+    out.push_back(std::move(drop));
   }
   return out;
 }
 }  // namespace
 
-std::vector<logs::Log> drop_wild_readings(const std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
-  if (all.empty()) return all;
-  if (all.front().kind == logs::Kind::drive) return drop_tof_spikes(all, dropped);
-  Rule rule;
-  if (!rule_for(all.front().kind, &rule)) return all;
+std::vector<std::vector<bool>> wild_rows(const std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
   std::vector<std::vector<bool>> drop(all.size());
   for (std::size_t l = 0; l < all.size(); ++l) drop[l].assign(all[l].rows(), false);
+  if (all.empty()) return drop;
+  if (all.front().kind == logs::Kind::drive) return tof_spikes(all, dropped);
+  Rule rule;
+  if (!rule_for(all.front().kind, &rule)) return drop;
   for (const std::string& reading : rule.readings) {
     // One group per combination of the conditions' values, over all logs.
     std::map<std::vector<double>, int> ids;
@@ -189,9 +195,19 @@ std::vector<logs::Log> drop_wild_readings(const std::vector<logs::Log>& all, std
                             reading + " " + why[k]});
     }
   }
+  return drop;
+}
+
+std::vector<logs::Log> drop_wild_readings(const std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
+  const std::vector<std::vector<bool>> drop = wild_rows(all, dropped);
   std::vector<logs::Log> out;
   for (std::size_t l = 0; l < all.size(); ++l) out.push_back(without_rows(all[l], drop[l]));
   return out;
+}
+
+void drop_wild_readings_in_place(std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
+  const std::vector<std::vector<bool>> drop = wild_rows(all, dropped);
+  for (std::size_t l = 0; l < all.size(); ++l) remove_rows(all[l], drop[l]);
 }
 
 std::size_t readings_on_rails(const std::vector<logs::Log>& all) {

@@ -12,12 +12,12 @@ namespace epuck2::plot {
 
 namespace mb = models::battery;
 
-void battery_fits_png(const std::string& path, const std::vector<fit::BatteryRun>& runs, const fit::BatteryFit& f) {
+void battery_fits_png(logs::OutputStage& stage, const std::string& path, const std::vector<fit::BatteryRun>& runs, const fit::BatteryFit& f) {
   const int n = static_cast<int>(f.speeds.size());
   const int cols = n <= 4 ? n : 4;
   const int rows = (n + cols - 1) / cols;
   render_png(
-      path,
+      stage, path,
       [&](gnuplotio::Gnuplot& gp) {
         gp << "set multiplot layout " << rows << "," << cols
            << " title 'Battery discharge: logs (grey) and the four fitted models' font ',14'\n";
@@ -61,9 +61,9 @@ void battery_fits_png(const std::string& path, const std::vector<fit::BatteryRun
       1800, 1400);
 }
 
-void battery_lifetime_png(const std::string& path, const std::vector<fit::BatteryRun>& runs, const fit::BatteryFit& f) {
+void battery_lifetime_png(logs::OutputStage& stage, const std::string& path, const std::vector<fit::BatteryRun>& runs, const fit::BatteryFit& f) {
   render_png(
-      path,
+      stage, path,
       [&](gnuplotio::Gnuplot& gp) {
         std::vector<std::tuple<double, double>> each;
         for (const auto& r : runs) each.emplace_back(r.speed_cm_s, r.lifetime_s / 3600.0);

@@ -14,6 +14,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "epuck2/logs/log.hpp"
@@ -22,9 +23,13 @@
 namespace epuck2::fit::diagnose {
 
 struct NamedValue {
+  NamedValue() = default;
+  NamedValue(std::string name_, double value_, double std_error_, std::string why = {})
+      : name(std::move(name_)), value(value_), std_error(std_error_), std_error_why(std::move(why)) {}
   std::string name;
   double value = 0;
   double std_error = 0;  ///< NaN when the covariance could not be computed
+  std::string std_error_why;  ///< why std_error is NaN (ParameterEstimate::std_error_why)
 };
 
 struct Finding {
@@ -62,6 +67,10 @@ struct Trial {
 struct Report {
   logs::Kind kind = logs::Kind::ground;
   bool supported = false;
+  /// Too few rows to diagnose (supported stays false; `message` says how many are needed): the
+  /// held-out test needs a row in every block of every fold, and every fit more residuals than
+  /// twice the parameters it could free.
+  bool too_few_rows = false;
   std::string message;  ///< why not supported, or notes
   std::size_t rows = 0;       ///< data rows in all logs
   std::size_t residuals = 0;  ///< residuals fitted (camera: two per row)
@@ -87,7 +96,7 @@ struct Report {
   std::size_t censored = 0;          ///< readings on a sensor's rails (modelled through the clamp)
   std::vector<std::string> warnings;  ///< sentences: what the report should not be read without
   /// For plots: per residual, the residual before (recalibrated base) and after (final model), and
-  /// the covariates' values.
+  /// the values of two covariates: the one the residuals depended on most before, and `row`.
   std::vector<double> residual_before, residual_after;
   std::vector<std::pair<std::string, std::vector<double>>> covariates;
 };
@@ -109,6 +118,9 @@ struct Options {
 /// Diagnoses logs of one kind (all of `logs` must be of that kind). Never throws for numerical
 /// trouble; an unsupported kind gives `supported = false`.
 Report diagnose(const std::vector<logs::Log>& logs, const Options& options = {});
+/// The same, releasing the logs once the diagnosis has taken what it needs from them (long logs:
+/// their parsed cells are not kept beside the fits).
+Report diagnose(std::vector<logs::Log>&& logs, const Options& options = {});
 
 /// Kinds that diagnose() supports.
 bool supported(logs::Kind kind);

@@ -22,9 +22,16 @@
 namespace epuck2::fit {
 
 struct ParameterEstimate {
+  ParameterEstimate() = default;
+  ParameterEstimate(std::string name_, double value_, double std_error_, std::string why = {})
+      : name(std::move(name_)), value(value_), std_error(std_error_), std_error_why(std::move(why)) {}
   std::string name;
   double value = 0;
   double std_error = 0;  ///< NaN when the covariance could not be computed
+  /// Why std_error is NaN, in words (empty when it is a number): not identifiable from these data
+  /// (its Jacobian column is zero, or it is not separable from the others), no degrees of freedom
+  /// left, covariance not computed, or the fit not usable.
+  std::string std_error_why;
 };
 
 struct FitResult {

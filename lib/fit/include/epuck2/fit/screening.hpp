@@ -40,11 +40,16 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
 /// neighbours, on a row whose command repeats the previous one. Battery logs come back unchanged.
 std::vector<logs::Log> drop_wild_readings(const std::vector<logs::Log>& logs, std::vector<WildReading>* dropped);
 
+/// The same, in place (a long log is not copied).
+void drop_wild_readings_in_place(std::vector<logs::Log>& logs, std::vector<WildReading>* dropped);
+
 /// Readings on a sensor's rails (proximity and light 0/4095, ground 0/1023, ToF <= 20 or >= 2000
 /// mm including the out-of-range codes): the censored ones.
 std::size_t readings_on_rails(const std::vector<logs::Log>& logs);
 
 /// A copy of `log` without the rows flagged in `drop`.
 logs::Log without_rows(const logs::Log& log, const std::vector<bool>& drop);
+/// `log` without the rows flagged in `drop`, in place.
+void remove_rows(logs::Log& log, const std::vector<bool>& drop);
 
 }  // namespace epuck2::fit

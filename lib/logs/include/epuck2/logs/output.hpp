@@ -9,8 +9,55 @@
 
 namespace epuck2::logs {
 
+/// Every output file of one run, all or nothing. Each file is first written whole to a temporary
+/// file in its target's folder, named `.NAME.epuck2-tmp.PID`; commit() renames them all onto
+/// their targets once the run has succeeded. A stage destroyed without commit() (an exception, an
+/// early return) removes its temporaries, and so does SIGINT or SIGTERM (a handler unlinks the
+/// registered temporaries, then the signal is raised again with its default action). A temporary
+/// left by a process that no longer runs (SIGKILL, power loss) is swept on the next write to the
+/// same target.
+///
+/// Targets: a symlink is followed (the link stays, the file it points to is replaced); a replaced
+/// file keeps its permission bits; a new file gets 0666 minus the umask.
+class OutputStage {
+ public:
+  OutputStage() = default;
+  ~OutputStage();
+  OutputStage(const OutputStage&) = delete;
+  OutputStage& operator=(const OutputStage&) = delete;
+
+  /// Writes `content` to the temporary file of `path` now (a missing folder or a full disk fails
+  /// here, before anything is replaced). Throws std::runtime_error naming `path`.
+  void write(const std::string& path, const std::string& content);
+  /// Reserves (creates empty) the temporary file of `path` for a writer of its own (gnuplot) and
+  /// returns its name; the writer fills it before commit(). Throws std::runtime_error.
+  std::string reserve(const std::string& path);
+  /// Renames every staged file onto its target, in the order staged. Throws std::runtime_error
+  /// (and removes the temporaries not yet renamed) when a rename fails.
+  void commit();
+  /// Removes every staged temporary; the targets are left as they were.
+  void discard();
+  /// The files staged so far (their targets, as given).
+  std::vector<std::string> targets() const;
+
+ private:
+  struct Entry {
+    std::string target;     ///< as given (for messages)
+    std::string resolved;   ///< the file that is replaced (symlinks followed)
+    std::string temporary;
+    int slot = -1;          ///< in the signal handler's table
+  };
+  Entry& stage(const std::string& path);
+  std::vector<Entry> entries_;
+};
+
+/// The temporary file name a stage uses for `target` in this process: `.NAME.epuck2-tmp.PID` in
+/// the target's folder.
+std::string temporary_name_for(const std::string& target, long pid);
+
 /// Writes `content` to `path` through a temporary file in the same folder and an atomic rename:
-/// an existing file is either replaced whole or left untouched. Throws std::runtime_error.
+/// an existing file is either replaced whole or left untouched (a one-file OutputStage).
+/// Throws std::runtime_error.
 void write_file_atomically(const std::string& path, const std::string& content);
 
 /// Shortest text that reads back to the same double (up to 17 significant digits).

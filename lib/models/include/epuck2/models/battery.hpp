@@ -133,14 +133,18 @@ inline double round_non_negative(double x) {
   return std::copysign(x - t >= 0.5 ? t + 1.0 : t, x);
 }
 
-/// The plug-in's speed: round(clamp(delta_pos/dt, 0, 0.15) * 10000) / 100, in cm/s.
+/// The plug-in's speed: round(clamp(delta_pos/dt, 0, 0.15) * 10000) / 100, in cm/s. A step of
+/// no length (a repeated time stamp, dt = 0) has no speed: 0, not 0/0.
 inline double plugin_speed_cm_s(double delta_pos_m, double dt_s) {
+  if (!(dt_s > 0)) return 0.0;
   const double v = std::clamp(delta_pos_m / dt_s, 0.0, kMaxSpeed_m_s);
   return round_non_negative(v * 10000.0) / 100.0;
 }
 
-/// The corrected behaviour's speed: clamp(delta_pos/dt, 0, 0.15) in cm/s, not rounded.
+/// The corrected behaviour's speed: clamp(delta_pos/dt, 0, 0.15) in cm/s, not rounded; 0 for a
+/// step of no length.
 inline double exact_speed_cm_s(double delta_pos_m, double dt_s) {
+  if (!(dt_s > 0)) return 0.0;
   return std::clamp(delta_pos_m / dt_s, 0.0, kMaxSpeed_m_s) * 100.0;
 }
 
@@ -211,8 +215,10 @@ inline double approximated_next(const std::array<Segment, kSegmentCount>& segs, 
 }
 
 /// One tick of a model as the plug-in computes it, from the distance the robot moved in the
-/// tick (an in-place rotation already converted to angle * 0.0265f).
+/// tick (an in-place rotation already converted to angle * 0.0265f). A step of no length
+/// (dt = 0: a log's repeated time stamp) discharges nothing: the charge is returned unchanged.
 inline double step(Model model, const Tables& t, double charge, double delta_pos_m, double dt_s) {
+  if (dt_s == 0) return charge;
   if (model == Model::simple) {
     return charge + (delta_pos_m == 0 ? t.simple_static_slope_per_s : t.simple_moving_slope_per_s) *
                         dt_s;
@@ -392,6 +398,7 @@ inline double lerp(double a, double b, double w) { return a + (b - a) * w; }
 /// carries the Cubic model's root searches from tick to tick (see CubicHints).
 inline double step(Model model, const Tables& t, double charge, double delta_pos_m, double dt_s,
                    CubicHints& hints) {
+  if (dt_s == 0) return charge;  // a step of no length: no discharge (and no speed to look up)
   const double speed = exact_speed_cm_s(delta_pos_m, dt_s);
   const int lo = std::min(kSpeedCount - 1, static_cast<int>(std::floor(speed)));
   const int hi = std::min(kSpeedCount - 1, lo + 1);

@@ -11,8 +11,11 @@
 // Behaviour::corrected runs tick k at the command in effect at its start, (k - 1) dt, exactly.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "epuck2/models/battery.hpp"
@@ -60,23 +63,34 @@ class ProfileCursor {
   double speed_ = 0;
 };
 
+/// Samples reserved up front: a profile's end says how long the simulation may run, not how long
+/// it does (it stops when the battery is empty), so the rest grows as it goes.
+inline constexpr std::size_t kReservedSamples = std::size_t{1} << 16;
+
 /// Charge from `start_charge` at time 0, one sample after each tick, until the profile's last
-/// time or an empty battery (the last sample then reads 0).
+/// time or an empty battery (the last sample then reads 0). Throws std::invalid_argument when
+/// `dt_s` is not a finite number > 0 or the profile holds more than 2^53 ticks of it.
 inline std::vector<ChargeSample> simulate_discharge(Model model, Behaviour behaviour,
                                                     const Tables& tables,
                                                     const std::vector<ProfilePoint>& profile,
                                                     double dt_s = 0.1, double start_charge = 1.0) {
   std::vector<ChargeSample> out;
+  if (!(dt_s > 0) || !std::isfinite(dt_s))
+    throw std::invalid_argument("simulate_discharge: the tick must be a finite number of seconds > 0");
   if (profile.empty()) return out;
   const double end_s = profile.back().time_s;
-  const auto ticks = static_cast<std::size_t>(std::floor(end_s / dt_s + 1e-9));
-  out.reserve(ticks + 1);
+  // The tick count as a double first: a cast of a value beyond size_t's range is undefined.
+  const double last_tick = std::floor(end_s / dt_s + 1e-9);
+  if (!(last_tick <= 9007199254740992.0))
+    throw std::invalid_argument("simulate_discharge: the profile holds more than 2^53 ticks");
+  const auto ticks = last_tick > 0 ? static_cast<std::uint64_t>(last_tick) : std::uint64_t{0};
+  out.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(ticks + 1, kReservedSamples)));
   out.push_back({0.0, start_charge});
   double charge = start_charge;
   double previous_cmd_m_s = 0;   // ARGoS: the wheel command of the previous tick
   ProfileCursor cursor(profile);
   corrected::CubicHints hints;  // the corrected Cubic's root searches, carried tick to tick
-  for (std::size_t k = 1; k <= ticks && charge > 0; ++k) {
+  for (std::uint64_t k = 1; k <= ticks && charge > 0; ++k) {
     double delta_pos_m = 0;
     if (behaviour == Behaviour::argos_compatible) {
       double wheel_m_s = 0;
