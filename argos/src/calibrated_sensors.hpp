@@ -21,6 +21,8 @@
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_ground_rotzonly_sensor.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_light_default_sensor.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_proximity_default_sensor.h>
+// The plug-in's ToF sensor header uses the ToF entity without including it.
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_default_sensor.h>
 
 #include <epuck2/models/sensors.hpp>
