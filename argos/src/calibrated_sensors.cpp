@@ -9,6 +9,7 @@
 #include <argos3/core/simulator/entity/floor_entity.h>
 #include <argos3/core/simulator/simulator.h>
 #include <argos3/core/utility/string_utilities.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_camera_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_encoder_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
 #include <argos3/plugins/simulator/entities/ground_sensor_equipped_entity.h>
@@ -363,6 +364,56 @@ REGISTER_SENSOR(CEPuck2CalibratedLightSensor, "epuck2_light", "calibrated", "epu
                 "                robot=\"ID\" noise=\"true\" noise_level=\"0.0\" />\n\n"
                 "noise: a Gaussian of fits.light.noise_sd (normalised units) when present, else\n"
                 "uniform noise of noise_level.",
+                "Usable");
+
+/****************************************/
+/* Camera                               */
+/****************************************/
+
+void CEPuck2CalibratedCameraSensor::Init(TConfigurationNode& t_tree) {
+  const std::string strName = "epuck2_colored_blob_perspective_camera";
+  SCommon s = ReadCommon(t_tree, strName, {"camera"});
+  Checked(strName, [&] {
+    const SInt32 nW = m_pcCamEntity->GetImagePxWidth(), nH = m_pcCamEntity->GetImagePxHeight();
+    /* The fitted horizontal field of view as ARGoS's aperture (half-angle on the diagonal) */
+    const double fAperture =
+        ms::aperture_from_horizontal_fov_rad(ms::deg_to_rad(s.File->scalar("fov_deg")), nW, nH);
+    m_pcCamEntity->SetAperture(CRadians(fAperture));
+    m_pcCamEntity->SetRange(s.File->scalar_or("range_m", m_pcCamEntity->GetRange()));
+    /* The image size in metres follows the aperture */
+    m_pcCamEntity->SetImagePxSize(nW, nH);
+    m_nShiftX = static_cast<SInt32>(std::lround(s.File->scalar_or("cx_px", nW / 2.0) - nW / 2.0));
+    m_nShiftY = static_cast<SInt32>(std::lround(s.File->scalar_or("cy_px", nH / 2.0) - nH / 2.0));
+  });
+  CEPuck2ColoredBlobPerspectiveCameraDefaultSensor::Init(t_tree);
+}
+
+void CEPuck2CalibratedCameraSensor::Update() {
+  CEPuck2ColoredBlobPerspectiveCameraDefaultSensor::Update();
+  if (m_nShiftX == 0 && m_nShiftY == 0) return;
+  auto& tBlobs = m_sReadings.BlobList;
+  const SInt32 nW = m_pcCamEntity->GetImagePxWidth(), nH = m_pcCamEntity->GetImagePxHeight();
+  std::size_t unKept = 0;
+  for (std::size_t i = 0; i < tBlobs.size(); ++i) {
+    tBlobs[i]->X += m_nShiftX;
+    tBlobs[i]->Y += m_nShiftY;
+    if (tBlobs[i]->X < 0 || tBlobs[i]->X >= nW || tBlobs[i]->Y < 0 || tBlobs[i]->Y >= nH) {
+      delete tBlobs[i];
+    } else {
+      tBlobs[unKept++] = tBlobs[i];
+    }
+  }
+  tBlobs.resize(unKept);
+}
+
+REGISTER_SENSOR(CEPuck2CalibratedCameraSensor, "epuck2_colored_blob_perspective_camera", "calibrated", "epuck2-fit",
+                "1.0", "The E-Puck2 camera with the field of view and image centre fitted by epuck2-fit.",
+                "The plug-in's colored blob perspective camera with the camera coefficient file's\n"
+                "horizontal field of view fov_deg (set as ARGoS's aperture, the half-angle on the\n"
+                "image diagonal), range_m, and image centre cx_px, cy_px (blobs shifted by the\n"
+                "centre's offset from the middle of the image, in whole pixels).\n\n"
+                "  <epuck2_colored_blob_perspective_camera implementation=\"calibrated\"\n"
+                "      coefficients=\"camera.json\" medium=\"leds\" />",
                 "Usable");
 
 }  // namespace argos

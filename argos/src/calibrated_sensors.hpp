@@ -10,6 +10,8 @@
 //   <epuck2_tof       implementation="calibrated" coefficients="drive.json" .../>
 //   <epuck2_encoder   implementation="calibrated" coefficients="drive.json" .../>
 //   <epuck2_light     implementation="calibrated" coefficients="light.json" .../>
+//   <epuck2_colored_blob_perspective_camera implementation="calibrated" coefficients="camera.json"
+//                     medium="leds" .../>
 // Noise (noise="true", the default): a Gaussian of the file's fits.<name>.noise_sd when the file
 // has one (<name> = proximity, ground, tof, encoder, light; in the fit's units), else the plug-in's
 // uniform noise of the noise_level attribute (0: none). noise="false": none.
@@ -17,6 +19,7 @@
 
 #include <vector>
 
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_colored_blob_perspective_camera_default_sensor.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_encoder_default_sensor.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_ground_rotzonly_sensor.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_light_default_sensor.h>
@@ -83,6 +86,18 @@ class CEPuck2CalibratedLightSensor : public CEPuck2LightDefaultSensor {
  private:
   std::vector<epuck2::models::sensors::LightCoefficients> m_vecCoefficients;
   epuck2::argos_plugin::ArgosNoise m_cNoise;
+};
+
+/// The camera: the plug-in's projection with the fitted field of view (as ARGoS's aperture, the
+/// half-angle on the diagonal) and range; the fitted image centre shifts the blobs by whole
+/// pixels (the plug-in's blob coordinates are integers).
+class CEPuck2CalibratedCameraSensor : public CEPuck2ColoredBlobPerspectiveCameraDefaultSensor {
+ public:
+  void Init(TConfigurationNode& t_tree) override;
+  void Update() override;
+
+ private:
+  SInt32 m_nShiftX = 0, m_nShiftY = 0;
 };
 
 }  // namespace argos
