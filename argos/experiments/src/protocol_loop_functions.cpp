@@ -344,4 +344,15 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
 
 REGISTER_LOOP_FUNCTIONS(CEPuck2ProtocolLoopFunctions, "epuck2_protocol")
 
+/// A floor of grey bands 0.1 m wide and nothing else: bench/argos_cost.sh's arena.
+class CEPuck2BenchFloorLoopFunctions : public CLoopFunctions {
+ public:
+  CColor GetFloorColor(const CVector2& c_pos) override {
+    const UInt8 v = static_cast<UInt8>(static_cast<int>(std::floor(c_pos.GetX() * 10.0)) * 37 & 0xFF);
+    return CColor(v, v, v);
+  }
+};
+
+REGISTER_LOOP_FUNCTIONS(CEPuck2BenchFloorLoopFunctions, "epuck2_bench_floor")
+
 }  // namespace argos

@@ -2,7 +2,10 @@
 
 namespace argos {
 
-void CEPuck2RecorderController::Init(TConfigurationNode&) {
+void CEPuck2RecorderController::Init(TConfigurationNode& t_node) {
+  /* Optional constant wheel speeds (cm/s), e.g. for the cost bench: <params left="5" right="4"/> */
+  GetNodeAttributeOrDefault(t_node, "left", m_fLeft, m_fLeft);
+  GetNodeAttributeOrDefault(t_node, "right", m_fRight, m_fRight);
   if (HasActuator("differential_steering"))
     m_pcWheels = GetActuator<CCI_DifferentialSteeringActuator>("differential_steering");
   if (HasSensor("epuck2_proximity")) m_pcProximity = GetSensor<CCI_EPuck2ProximitySensor>("epuck2_proximity");
