@@ -22,6 +22,19 @@ case "$KIND" in
     run "$FIT" "$fitkind" "$WORK"/recorded/*.csv -o "$WORK/refit.json" > "$WORK/refit.txt"
     run python3 "$HERE/compare_coefficients.py" "$kind" "$WORK/refit.json" plugin
     ;;
+  battery)
+    # Recorded with behaviour="corrected". With the plug-in's arithmetic (its own models, or
+    # behaviour="argos") the run's starting level is the table of the FIRST tick's speed: from a
+    # full charge the plug-in drops to that table's d at once, and dynamics2d gives the spinning
+    # robot 90 % of its command on the first tick (10 cm/s reads 9.00), so a run at s cm/s follows
+    # table s shifted in time whenever table s-1 starts lower: the refit then misses d at 10, 12,
+    # 13 and 14 cm/s (by 2-3 standard errors). docs/argos.md, "The battery round trip".
+    export EPUCK2_BATTERY_BEHAVIOUR=corrected EPUCK2_BATTERY_MODEL=cubic
+    run "$FIT" battery "$ROOT"/data/raw/battery/*.csv -o "$WORK/fitted.json" > "$WORK/fitted.txt"
+    run "$ROOT/scripts/argos-record.sh" battery "$WORK/fitted.json" "$WORK/recorded"
+    run "$FIT" battery "$WORK"/recorded/*.csv -o "$WORK/refit.json" > "$WORK/refit.txt"
+    run python3 "$HERE/compare_coefficients.py" battery "$WORK/refit.json" "$WORK/fitted.json"
+    ;;
   *)
     run "$FIT" "$KIND" "$ROOT"/data/raw/"$KIND"/*.csv -o "$WORK/fitted.json" > "$WORK/fitted.txt"
     run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/fitted.json" "$WORK/recorded"

@@ -185,6 +185,9 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   }
 
   void Destroy() override {
+    for (const SBatteryRun& r : m_vecBattery)
+      LOG << "[epuck2_protocol] battery: commanded " << r.Speed << " cm/s, the discharge model saw "
+          << r.MinSpeed << ".." << r.MaxSpeed << " cm/s" << std::endl;
     m_cOut.close();
     m_vecBattery.clear();
   }
@@ -195,6 +198,10 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     std::unique_ptr<std::ofstream> Out;
     bool Done = false;
     Real LastTime = 0, LastCharge = 1;
+    /* The speed the plug-in's discharge models compute from the body's motion (0.01 cm/s) */
+    CVector3 OldPosition;
+    CQuaternion OldOrientation;
+    Real MinSpeed = 1e9, MaxSpeed = -1e9;
   };
 
   CEPuck2RecorderController& Controller(std::size_t i) {
@@ -320,6 +327,20 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
         continue;
       }
       bAll = false;
+      /* The speed as the discharge models see it: displacement, or rotation angle x 0.0265f */
+      const SAnchor& sBody = m_vecRobots[i]->GetEmbodiedEntity().GetOriginAnchor();
+      if (tick > 1) {
+        Real fDelta = Distance(sBody.Position, r.OldPosition);
+        CRadians cAngle;
+        CVector3 cAxis;
+        (r.OldOrientation.Inverse() * sBody.Orientation).ToAngleAxis(cAngle, cAxis);
+        if (fDelta == 0.0 && cAngle.GetValue() != 0.0) fDelta = cAngle.GetValue() * 0.0265f;
+        const Real fSpeed = std::round(std::max(0.0, std::min(0.150, fDelta / m_fTick)) * 10000.0) / 100.0;
+        r.MinSpeed = std::min(r.MinSpeed, fSpeed);
+        r.MaxSpeed = std::max(r.MaxSpeed, fSpeed);
+      }
+      r.OldPosition = sBody.Position;
+      r.OldOrientation = sBody.Orientation;
       if (tick % period == 0) *r.Out << Num(t, 8) << ',' << Num(r.Speed) << ',' << Num(q) << '\n';
       r.LastTime = t;
       r.LastCharge = q;
