@@ -126,7 +126,8 @@ double number_at(const json& o, const char* key, const std::string& path, const 
 mb::Tables load_battery_tables(const std::string& path) {
   const json j = parse_file(path);
   if (j.contains("kind") && j.at("kind") != "battery")
-    throw std::runtime_error(path + ": a '" + j.at("kind").dump() + "' file, expected battery");
+    throw std::runtime_error(path + ": a '" + (j.at("kind").is_string() ? j.at("kind").get<std::string>() : j.at("kind").dump()) +
+                             "' file, expected battery");
   if (!j.contains("speeds") || !j.at("speeds").is_array())
     throw std::runtime_error(path + ": not a battery coefficient file: expected an object with a 'speeds' array");
   const json& speeds = j.at("speeds");
