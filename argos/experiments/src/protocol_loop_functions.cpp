@@ -114,6 +114,8 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       }
     } else if (m_strKind == "battery") {
       GetNodeAttributeOrDefault(t_tree, "period", m_fPeriod, m_fPeriod);
+      /* Significant digits of the charge (the firmware's percentage/100 has 6; 17 for bit-exact comparisons) */
+      GetNodeAttributeOrDefault(t_tree, "charge_digits", m_nChargeDigits, m_nChargeDigits);
       for (std::size_t i = 0; i < m_vecRobots.size(); ++i) {
         /* Robot i spins at speed i cm/s (its id's number when it has one) */
         Real fSpeed = static_cast<Real>(i);
@@ -320,7 +322,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       if (q <= 0.0) {
         /* Stopped: the last row is the last tick with charge left (its time is the lifetime) */
         if (tick == 1 || std::lround(r.LastTime / m_fTick) % period != 0)
-          *r.Out << Num(r.LastTime, 8) << ',' << Num(r.Speed) << ',' << Num(r.LastCharge) << '\n';
+          *r.Out << Num(r.LastTime, 8) << ',' << Num(r.Speed) << ',' << Num(r.LastCharge, m_nChargeDigits) << '\n';
         r.Done = true;
         r.Out->close();
         Controller(i).SetWheels(0, 0);
@@ -341,7 +343,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       }
       r.OldPosition = sBody.Position;
       r.OldOrientation = sBody.Orientation;
-      if (tick % period == 0) *r.Out << Num(t, 8) << ',' << Num(r.Speed) << ',' << Num(q) << '\n';
+      if (tick % period == 0) *r.Out << Num(t, 8) << ',' << Num(r.Speed) << ',' << Num(q, m_nChargeDigits) << '\n';
       r.LastTime = t;
       r.LastCharge = q;
     }
@@ -360,6 +362,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   CLightEntity* m_pcLight = nullptr;
   Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0;
   SInt32 m_nStartLeft = 0, m_nStartRight = 0;
+  int m_nChargeDigits = 6;
   std::vector<SBatteryRun> m_vecBattery;
 };
 
