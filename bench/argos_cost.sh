@@ -71,7 +71,7 @@ XML
 median() { sort -g | awk '{a[NR]=$1} END{print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) logical cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "argos3: $(argos3 --version 2>&1 | head -n1)"
+echo "argos3: $(argos3 -n --version 2>&1 | head -n1)"
 echo "simulated time ${SECONDS_SIM} s at 10 ticks/s, median of $REPEATS runs (wall seconds)"
 printf "%-22s %6s %12s %12s %8s\n" what robots default_s calibrated_s ratio
 for n in $ROBOTS; do
