@@ -1,0 +1,419 @@
+#include "calibrated_sensors.hpp"
+
+#include <optional>
+#include <string>
+
+#include <argos3/core/simulator/entity/composable_entity.h>
+#include <argos3/core/simulator/entity/controllable_entity.h>
+#include <argos3/core/simulator/entity/embodied_entity.h>
+#include <argos3/core/simulator/entity/floor_entity.h>
+#include <argos3/core/simulator/simulator.h>
+#include <argos3/core/utility/string_utilities.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_camera_equipped_entity.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_encoder_equipped_entity.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
+#include <argos3/plugins/simulator/entities/ground_sensor_equipped_entity.h>
+#include <argos3/plugins/simulator/entities/light_entity.h>
+#include <argos3/plugins/simulator/entities/light_sensor_equipped_entity.h>
+#include <argos3/plugins/simulator/entities/proximity_sensor_equipped_entity.h>
+
+#include "coefficient_file.hpp"
+
+namespace argos {
+
+namespace ms = epuck2::models::sensors;
+using epuck2::argos_plugin::CoefficientFile;
+
+namespace {
+
+/// What every calibrated sensor reads from its XML node: the coefficient file (loaded, with the
+/// robot's set when `robot` is given), whether noise is on and the uniform noise level.
+struct SCommon {
+  std::optional<CoefficientFile> File;
+  bool Noise = true;
+  Real NoiseLevel = 0.0;
+};
+
+SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor,
+                   const std::vector<std::string>& vec_kinds) {
+  SCommon s;
+  std::string strFile, strRobot;
+  GetNodeAttributeOrDefault(t_tree, "coefficients", strFile, strFile);
+  if (strFile.empty())
+    THROW_ARGOSEXCEPTION("calibrated " << str_sensor
+                                       << ": the attribute 'coefficients' is required (a coefficient file written by epuck2-fit)");
+  ExpandEnvVariables(strFile);
+  GetNodeAttributeOrDefault(t_tree, "robot", strRobot, strRobot);
+  GetNodeAttributeOrDefault(t_tree, "noise", s.Noise, s.Noise);
+  GetNodeAttributeOrDefault(t_tree, "noise_level", s.NoiseLevel, s.NoiseLevel);
+  if (s.NoiseLevel < 0) THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": noise_level must not be negative");
+  const std::string strPath =
+      epuck2::argos_plugin::resolve_coefficient_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
+  try {
+    s.File = CoefficientFile::load(strPath, vec_kinds, strRobot);
+  } catch (const std::exception& ex) {
+    THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": " << ex.what());
+  }
+  return s;
+}
+
+/// Runs `f` and turns a coefficient-file error into an ARGoS exception naming the sensor.
+template <class F>
+void Checked(const std::string& str_sensor, F&& f) {
+  try {
+    f();
+  } catch (const CARGoSException&) {
+    throw;
+  } catch (const std::exception& ex) {
+    THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": " << ex.what());
+  }
+}
+
+/// The ray of a ray-casting sensor (proximity, ToF) in world coordinates.
+template <class SENSOR>
+CRay3 WorldRay(const SENSOR& s_sensor) {
+  CVector3 cStart = s_sensor.Offset;
+  cStart.Rotate(s_sensor.Anchor.Orientation);
+  cStart += s_sensor.Anchor.Position;
+  CVector3 cEnd = s_sensor.Offset;
+  cEnd += s_sensor.Direction;
+  cEnd.Rotate(s_sensor.Anchor.Orientation);
+  cEnd += s_sensor.Anchor.Position;
+  return CRay3(cStart, cEnd);
+}
+
+}  // namespace
+
+/****************************************/
+/* Proximity                            */
+/****************************************/
+
+void CEPuck2CalibratedProximitySensor::Init(TConfigurationNode& t_tree) {
+  const std::string strName = "epuck2_proximity";
+  CEPuck2ProximityDefaultSensor::Init(t_tree);
+  SCommon s = ReadCommon(t_tree, strName, {"proximity"});
+  std::string strCurve = "max";
+  GetNodeAttributeOrDefault(t_tree, "curve", strCurve, strCurve);
+  if (strCurve != "max" && strCurve != "mean")
+    THROW_ARGOSEXCEPTION("calibrated " << strName << ": curve must be 'max' (Eq. 1 fitted to the maxima) or 'mean'");
+  const std::string strPrefix = strCurve == "mean" ? "mean_" : "";
+  Checked(strName, [&] {
+    const std::size_t n = m_tReadings.size();
+    const auto a = s.File->per_sensor(strPrefix + "a", n), b = s.File->per_sensor(strPrefix + "b", n),
+               c = s.File->per_sensor(strPrefix + "c", n);
+    const double fRange = s.File->scalar_or("range_m", ms::kPluginProximity.range_m);
+    m_vecCoefficients.resize(n);
+    for (std::size_t i = 0; i < n; ++i) m_vecCoefficients[i] = ms::ProximityCoefficients{a[i], b[i], c[i], fRange};
+    /* The model adds the noise to the normalised response: scale 1 */
+    m_cNoise.configure(s.Noise, s.File->noise_sd("proximity"), s.NoiseLevel, 1.0);
+  });
+  m_bAddNoise = false;
+}
+
+Real CEPuck2CalibratedProximitySensor::CalculateReading(Real f_distance) {
+  return m_vecCoefficients.empty() ? 0.0 : ms::proximity_response(m_vecCoefficients[0], f_distance);
+}
+
+void CEPuck2CalibratedProximitySensor::Update() {
+  SEmbodiedEntityIntersectionItem sIntersection;
+  for (UInt32 i = 0; i < m_tReadings.size(); ++i) {
+    CRay3 cRay = WorldRay(m_pcProximityEntity->GetSensor(i));
+    std::optional<double> fDistance;
+    if (GetClosestEmbodiedEntityIntersectedByRay(sIntersection, cRay, *m_pcEmbodiedEntity)) {
+      if (m_bShowRays) {
+        m_pcControllableEntity->AddIntersectionPoint(cRay, sIntersection.TOnRay);
+        m_pcControllableEntity->AddCheckedRay(true, cRay);
+      }
+      fDistance = cRay.GetDistance(sIntersection.TOnRay);
+    } else if (m_bShowRays) {
+      m_pcControllableEntity->AddCheckedRay(false, cRay);
+    }
+    m_tReadings[i].Value = ms::proximity_reading(m_vecCoefficients[i], fDistance, m_cNoise.level(), m_cNoise);
+  }
+}
+
+REGISTER_SENSOR(CEPuck2CalibratedProximitySensor, "epuck2_proximity", "calibrated", "epuck2-fit", "1.0",
+                "The E-Puck2 proximity sensors with coefficients fitted by epuck2-fit.",
+                "Same rays and control interface as the default implementation; the reading is\n"
+                "Eq. 1, v = a d^2 + b d + c (clamped to [0, 1], 0 beyond range_m), times 4095,\n"
+                "with a, b, c (each a number or an array of 8, one per sensor) from the\n"
+                "coefficient file's parameters (or mean_a, mean_b, mean_c with curve=\"mean\").\n\n"
+                "  <epuck2_proximity implementation=\"calibrated\" coefficients=\"proximity.json\"\n"
+                "                    robot=\"ID\" curve=\"max\" noise=\"true\" noise_level=\"0.0\" />\n\n"
+                "coefficients: the file (relative: to the .argos file, then the working directory).\n"
+                "robot: use the file's robots.ID set. noise: a Gaussian of fits.proximity.noise_sd\n"
+                "(normalised units) when the file has it, else uniform noise of noise_level.",
+                "Usable");
+
+/****************************************/
+/* Ground                               */
+/****************************************/
+
+void CEPuck2CalibratedGroundSensor::Init(TConfigurationNode& t_tree) {
+  const std::string strName = "epuck2_ground";
+  CEPuck2GroundRotZOnlySensor::Init(t_tree);
+  SCommon s = ReadCommon(t_tree, strName, {"ground"});
+  Checked(strName, [&] {
+    const std::size_t n = m_tReadings.size();
+    const auto gain = s.File->per_sensor("gain", n), offset = s.File->per_sensor("offset", n);
+    m_vecCoefficients.resize(n);
+    for (std::size_t i = 0; i < n; ++i) m_vecCoefficients[i] = ms::GroundCoefficients{gain[i], offset[i]};
+    /* The model scales a unit noise by the full scale, 1023 counts */
+    m_cNoise.configure(s.Noise, s.File->noise_sd("ground"), s.NoiseLevel, ms::kGroundFullScale_raw);
+  });
+  m_bAddNoise = false;
+}
+
+void CEPuck2CalibratedGroundSensor::Update() {
+  CRadians cRotZ, cRotY, cRotX;
+  CVector2 cCenterPos, cSensorPos;
+  for (UInt32 i = 0; i < m_tReadings.size(); ++i) {
+    CGroundSensorEquippedEntity::SSensor& sSens = m_pcGroundSensorEntity->GetSensor(i);
+    cCenterPos.Set(sSens.Anchor.Position.GetX(), sSens.Anchor.Position.GetY());
+    sSens.Anchor.Orientation.ToEulerAngles(cRotZ, cRotY, cRotX);
+    cSensorPos = sSens.Offset;
+    cSensorPos.Rotate(cRotZ);
+    cSensorPos += cCenterPos;
+    const CColor& cColor = m_pcFloorEntity->GetColorAtPoint(cSensorPos.GetX(), cSensorPos.GetY());
+    /* grey in [0, 1], 0 = black */
+    const double fGrey = cColor.ToGrayScale() / 255.0;
+    m_tReadings[i] = ms::ground_reading(m_vecCoefficients[i], fGrey, m_cNoise.level(), m_cNoise);
+  }
+}
+
+REGISTER_SENSOR(CEPuck2CalibratedGroundSensor, "epuck2_ground", "calibrated", "epuck2-fit", "1.0",
+                "The E-Puck2 ground sensors with coefficients fitted by epuck2-fit.",
+                "Same control interface and floor sampling as the rot_z_only implementation; the\n"
+                "reading is offset + gain * grey (grey in [0, 1], 0 = black), rounded and clamped\n"
+                "to [0, 1023], with gain and offset (numbers or arrays of 3: right, centre, left)\n"
+                "from the coefficient file.\n\n"
+                "  <epuck2_ground implementation=\"calibrated\" coefficients=\"ground.json\"\n"
+                "                 robot=\"ID\" noise=\"true\" noise_level=\"0.0\" />\n\n"
+                "noise: a Gaussian of fits.ground.noise_sd (counts) when present, else uniform\n"
+                "noise of noise_level x 1023.",
+                "Usable");
+
+/****************************************/
+/* Time of flight                       */
+/****************************************/
+
+void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
+  const std::string strName = "epuck2_tof";
+  CEPuck2TOFDefaultSensor::Init(t_tree);
+  SCommon s = ReadCommon(t_tree, strName, {"drive", "tof"});
+  Checked(strName, [&] {
+    m_sCoefficients.scale = s.File->scalar("tof_scale");
+    m_sCoefficients.offset_mm = s.File->scalar("tof_offset_mm");
+    m_sCoefficients.range_m = m_pcTOFEntity->GetSensor(0).Direction.Length();
+    /* The model scales a unit noise by the range, in mm */
+    m_cNoise.configure(s.Noise, s.File->noise_sd("tof"), s.NoiseLevel, m_sCoefficients.range_m * 1000.0);
+  });
+  m_bAddNoise = false;
+}
+
+void CEPuck2CalibratedTOFSensor::Update() {
+  SEmbodiedEntityIntersectionItem sIntersection;
+  CRay3 cRay = WorldRay(m_pcTOFEntity->GetSensor(0));
+  std::optional<double> fDistance;
+  if (GetClosestEmbodiedEntityIntersectedByRay(sIntersection, cRay, *m_pcEmbodiedEntity)) {
+    if (m_bShowRays) {
+      m_pcControllableEntity->AddIntersectionPoint(cRay, sIntersection.TOnRay);
+      m_pcControllableEntity->AddCheckedRay(true, cRay);
+    }
+    fDistance = cRay.GetDistance(sIntersection.TOnRay);
+  } else if (m_bShowRays) {
+    m_pcControllableEntity->AddCheckedRay(false, cRay);
+  }
+  m_iReading = ms::tof_reading_mm(m_sCoefficients, fDistance, m_cNoise.level(), m_cNoise);
+}
+
+REGISTER_SENSOR(CEPuck2CalibratedTOFSensor, "epuck2_tof", "calibrated", "epuck2-fit", "1.0",
+                "The E-Puck2 time-of-flight sensor with coefficients fitted by epuck2-fit.",
+                "Same ray and control interface as the default implementation; the reading is\n"
+                "tof_scale * distance + tof_offset_mm in mm, rounded and clamped to [20, 2000],\n"
+                "with tof_scale and tof_offset_mm from a drive coefficient file.\n\n"
+                "  <epuck2_tof implementation=\"calibrated\" coefficients=\"drive.json\"\n"
+                "              robot=\"ID\" noise=\"true\" noise_level=\"0.0\" />\n\n"
+                "noise: a Gaussian of fits.tof.noise_sd (mm) when present, else uniform noise of\n"
+                "noise_level x range.",
+                "Usable");
+
+/****************************************/
+/* Encoders                             */
+/****************************************/
+
+void CEPuck2CalibratedEncoderSensor::Init(TConfigurationNode& t_tree) {
+  const std::string strName = "epuck2_encoder";
+  CEPuck2EncoderDefaultSensor::Init(t_tree);
+  SCommon s = ReadCommon(t_tree, strName, {"drive", "encoder"});
+  Checked(strName, [&] {
+    m_sCoefficients.steps_per_m = s.File->scalar("steps_per_m");
+    if (!(m_sCoefficients.steps_per_m > 0)) throw std::runtime_error(s.File->path() + ": steps_per_m must be positive");
+    /* The model scales a unit noise by 32767 steps */
+    m_cNoise.configure(s.Noise, s.File->noise_sd("encoder"), s.NoiseLevel, 32767.0);
+  });
+  m_bAddNoise = false;
+  Reset();
+}
+
+void CEPuck2CalibratedEncoderSensor::Reset() {
+  m_cLeft = epuck2::models::sensors::Encoder(m_sCoefficients);
+  m_cRight = epuck2::models::sensors::Encoder(m_sCoefficients);
+  m_tReadings.EncoderLeftWheel = 0;
+  m_tReadings.EncoderRightWheel = 0;
+}
+
+void CEPuck2CalibratedEncoderSensor::Update() {
+  if (m_pcEncoderEntity->GetNumSensors() == 0) {
+    Reset();
+    return;
+  }
+  CEPuck2EncoderEquippedEntity::SSensor& sSens = m_pcEncoderEntity->GetSensor(0);
+  const Real fDeltaT = CPhysicsEngine::GetSimulationClockTick();
+  /* Wheel velocities in m/s */
+  m_cLeft.tick(sSens.Wheels.GetWheelVelocity(0), fDeltaT, m_cNoise.level(), m_cNoise);
+  m_cRight.tick(sSens.Wheels.GetWheelVelocity(1), fDeltaT, m_cNoise.level(), m_cNoise);
+  m_tReadings.EncoderLeftWheel = m_cLeft.reading();
+  m_tReadings.EncoderRightWheel = m_cRight.reading();
+}
+
+REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", "epuck2-fit", "1.0",
+                "The E-Puck2 wheel encoders with coefficients fitted by epuck2-fit.",
+                "Same control interface as the default implementation; each wheel's register\n"
+                "counts steps_per_m * wheel speed * dt (int16 wrap, read as floor), with\n"
+                "steps_per_m from a drive coefficient file.\n\n"
+                "  <epuck2_encoder implementation=\"calibrated\" coefficients=\"drive.json\"\n"
+                "                  robot=\"ID\" noise=\"true\" noise_level=\"0.0\" />\n\n"
+                "noise: a Gaussian of fits.encoder.noise_sd (steps per tick) when present, else\n"
+                "uniform noise of noise_level x 32767.",
+                "Usable");
+
+/****************************************/
+/* Ambient light                        */
+/****************************************/
+
+void CEPuck2CalibratedLightSensor::Init(TConfigurationNode& t_tree) {
+  const std::string strName = "epuck2_light";
+  CEPuck2LightDefaultSensor::Init(t_tree);
+  SCommon s = ReadCommon(t_tree, strName, {"light"});
+  Checked(strName, [&] {
+    const std::size_t n = m_tReadings.size();
+    const auto gamma = s.File->per_sensor("gamma", n);
+    m_vecCoefficients.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      m_vecCoefficients[i].gamma_m = gamma[i];
+      m_vecCoefficients[i].range_m = m_pcLightEntity->GetSensor(i).Direction.Length();
+    }
+    /* Per-sensor fits (light.json's per_sensor list) replace the common gamma; a robot's set
+       has them in robots.ID.per_sensor */
+    nlohmann::json jPer = s.File->root().value("per_sensor", nlohmann::json::array());
+    std::string strRobot;
+    GetNodeAttributeOrDefault(t_tree, "robot", strRobot, strRobot);
+    if (!strRobot.empty() && s.File->root().contains("robots"))
+      jPer = s.File->root().at("robots").at(strRobot).value("per_sensor", jPer);
+    for (const auto& e : jPer) {
+      if (!e.is_object() || !e.contains("sensor") || !e.contains("gamma") || !e.at("sensor").is_number_integer() ||
+          !e.at("gamma").is_number())
+        throw std::runtime_error(s.File->path() + ": per_sensor entries need an integer 'sensor' and a number 'gamma'");
+      const int i = e.at("sensor").get<int>();
+      if (i < 0 || static_cast<std::size_t>(i) >= n)
+        throw std::runtime_error(s.File->path() + ": per_sensor: no sensor " + std::to_string(i));
+      m_vecCoefficients[i].gamma_m = e.at("gamma").get<double>();
+    }
+    m_cNoise.configure(s.Noise, s.File->noise_sd("light"), s.NoiseLevel, 1.0);
+  });
+  m_bAddNoise = false;
+}
+
+void CEPuck2CalibratedLightSensor::Update() {
+  SEmbodiedEntityIntersectionItem sIntersection;
+  std::vector<ms::LightSource> vecLights;
+  CSpace::TMapPerTypePerId::iterator itLights = m_cSpace.GetEntityMapPerTypePerId().find("light");
+  for (UInt32 i = 0; i < m_tReadings.size(); ++i) {
+    vecLights.clear();
+    CVector3 cRayStart = m_pcLightEntity->GetSensor(i).Position;
+    cRayStart.Rotate(m_pcLightEntity->GetSensor(i).Anchor.Orientation);
+    cRayStart += m_pcLightEntity->GetSensor(i).Anchor.Position;
+    if (itLights != m_cSpace.GetEntityMapPerTypePerId().end()) {
+      for (auto& tLight : itLights->second) {
+        CLightEntity& cLight = *any_cast<CLightEntity*>(tLight.second);
+        if (cLight.GetIntensity() <= 0.0) continue;
+        CRay3 cRay(cRayStart, cLight.GetPosition());
+        if (cRay.GetLength() > m_vecCoefficients[i].range_m) continue;
+        if (GetClosestEmbodiedEntityIntersectedByRay(sIntersection, cRay)) {
+          if (m_bShowRays) {
+            m_pcControllableEntity->AddIntersectionPoint(cRay, sIntersection.TOnRay);
+            m_pcControllableEntity->AddCheckedRay(true, cRay);
+          }
+          continue;
+        }
+        if (m_bShowRays) m_pcControllableEntity->AddCheckedRay(false, cRay);
+        vecLights.push_back(ms::LightSource{cRay.GetLength(), cLight.GetIntensity()});
+      }
+    }
+    m_tReadings[i].Value = ms::light_reading(m_vecCoefficients[i], vecLights, m_cNoise.level(), m_cNoise);
+  }
+}
+
+REGISTER_SENSOR(CEPuck2CalibratedLightSensor, "epuck2_light", "calibrated", "epuck2-fit", "1.0",
+                "The E-Puck2 ambient light sensors with coefficients fitted by epuck2-fit.",
+                "Same rays, occlusions and control interface as the default implementation; the\n"
+                "reading is (1 - sum over visible lights of (gamma I / d)^2) x 4095, rounded and\n"
+                "clamped, with gamma from the coefficient file (per_sensor entries override it).\n\n"
+                "  <epuck2_light implementation=\"calibrated\" coefficients=\"light.json\"\n"
+                "                robot=\"ID\" noise=\"true\" noise_level=\"0.0\" />\n\n"
+                "noise: a Gaussian of fits.light.noise_sd (normalised units) when present, else\n"
+                "uniform noise of noise_level.",
+                "Usable");
+
+/****************************************/
+/* Camera                               */
+/****************************************/
+
+void CEPuck2CalibratedCameraSensor::Init(TConfigurationNode& t_tree) {
+  const std::string strName = "epuck2_colored_blob_perspective_camera";
+  SCommon s = ReadCommon(t_tree, strName, {"camera"});
+  Checked(strName, [&] {
+    const SInt32 nW = m_pcCamEntity->GetImagePxWidth(), nH = m_pcCamEntity->GetImagePxHeight();
+    /* The fitted horizontal field of view as ARGoS's aperture (half-angle on the diagonal) */
+    const double fAperture =
+        ms::aperture_from_horizontal_fov_rad(ms::deg_to_rad(s.File->scalar("fov_deg")), nW, nH);
+    m_pcCamEntity->SetAperture(CRadians(fAperture));
+    m_pcCamEntity->SetRange(s.File->scalar_or("range_m", m_pcCamEntity->GetRange()));
+    /* The image size in metres follows the aperture */
+    m_pcCamEntity->SetImagePxSize(nW, nH);
+    m_nShiftX = static_cast<SInt32>(std::lround(s.File->scalar_or("cx_px", nW / 2.0) - nW / 2.0));
+    m_nShiftY = static_cast<SInt32>(std::lround(s.File->scalar_or("cy_px", nH / 2.0) - nH / 2.0));
+  });
+  CEPuck2ColoredBlobPerspectiveCameraDefaultSensor::Init(t_tree);
+}
+
+void CEPuck2CalibratedCameraSensor::Update() {
+  CEPuck2ColoredBlobPerspectiveCameraDefaultSensor::Update();
+  if (m_nShiftX == 0 && m_nShiftY == 0) return;
+  auto& tBlobs = m_sReadings.BlobList;
+  const SInt32 nW = m_pcCamEntity->GetImagePxWidth(), nH = m_pcCamEntity->GetImagePxHeight();
+  std::size_t unKept = 0;
+  for (std::size_t i = 0; i < tBlobs.size(); ++i) {
+    tBlobs[i]->X += m_nShiftX;
+    tBlobs[i]->Y += m_nShiftY;
+    if (tBlobs[i]->X < 0 || tBlobs[i]->X >= nW || tBlobs[i]->Y < 0 || tBlobs[i]->Y >= nH) {
+      delete tBlobs[i];
+    } else {
+      tBlobs[unKept++] = tBlobs[i];
+    }
+  }
+  tBlobs.resize(unKept);
+}
+
+REGISTER_SENSOR(CEPuck2CalibratedCameraSensor, "epuck2_colored_blob_perspective_camera", "calibrated", "epuck2-fit",
+                "1.0", "The E-Puck2 camera with the field of view and image centre fitted by epuck2-fit.",
+                "The plug-in's colored blob perspective camera with the camera coefficient file's\n"
+                "horizontal field of view fov_deg (set as ARGoS's aperture, the half-angle on the\n"
+                "image diagonal), range_m, and image centre cx_px, cy_px (blobs shifted by the\n"
+                "centre's offset from the middle of the image, in whole pixels).\n\n"
+                "  <epuck2_colored_blob_perspective_camera implementation=\"calibrated\"\n"
+                "      coefficients=\"camera.json\" medium=\"leds\" />",
+                "Usable");
+
+}  // namespace argos

@@ -1,0 +1,103 @@
+// The `calibrated` implementations of the E-Puck2 plug-in's sensors. Each derives from the
+// plug-in's own implementation (same control interface, same entities, same rays), reads its
+// coefficients from a project coefficient file at Init, and computes its readings with
+// epuck2::models::sensors; what is here is only the ARGoS plumbing (rays, floor, lights, wheels).
+//
+// XML (inside <sensors>):
+//   <epuck2_proximity implementation="calibrated" coefficients="proximity.json" [robot="ID"]
+//                     [curve="max|mean"] [noise="true|false"] [noise_level="0.05"] [show_rays="true"]/>
+//   <epuck2_ground    implementation="calibrated" coefficients="ground.json" .../>
+//   <epuck2_tof       implementation="calibrated" coefficients="drive.json" .../>
+//   <epuck2_encoder   implementation="calibrated" coefficients="drive.json" .../>
+//   <epuck2_light     implementation="calibrated" coefficients="light.json" .../>
+//   <epuck2_colored_blob_perspective_camera implementation="calibrated" coefficients="camera.json"
+//                     medium="leds" .../>
+// Noise (noise="true", the default): a Gaussian of the file's fits.<name>.noise_sd when the file
+// has one (<name> = proximity, ground, tof, encoder, light; in the fit's units), else the plug-in's
+// uniform noise of the noise_level attribute (0: none). noise="false": none.
+#pragma once
+
+#include <vector>
+
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_colored_blob_perspective_camera_default_sensor.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_encoder_default_sensor.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_ground_rotzonly_sensor.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_light_default_sensor.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_proximity_default_sensor.h>
+// The plug-in's ToF sensor header uses the ToF entity without including it.
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_default_sensor.h>
+
+#include <epuck2/models/sensors.hpp>
+
+#include "argos_noise.hpp"
+
+namespace argos {
+
+class CEPuck2CalibratedProximitySensor : public CEPuck2ProximityDefaultSensor {
+ public:
+  void Init(TConfigurationNode& t_tree) override;
+  void Update() override;
+  /// Sensor 0's noiseless normalised response (the plug-in's virtual, kept meaningful).
+  Real CalculateReading(Real f_distance) override;
+
+ private:
+  std::vector<epuck2::models::sensors::ProximityCoefficients> m_vecCoefficients;
+  epuck2::argos_plugin::ArgosNoise m_cNoise;
+};
+
+class CEPuck2CalibratedGroundSensor : public CEPuck2GroundRotZOnlySensor {
+ public:
+  void Init(TConfigurationNode& t_tree) override;
+  void Update() override;
+
+ private:
+  std::vector<epuck2::models::sensors::GroundCoefficients> m_vecCoefficients;
+  epuck2::argos_plugin::ArgosNoise m_cNoise;
+};
+
+class CEPuck2CalibratedTOFSensor : public CEPuck2TOFDefaultSensor {
+ public:
+  void Init(TConfigurationNode& t_tree) override;
+  void Update() override;
+
+ private:
+  epuck2::models::sensors::TofCoefficients m_sCoefficients;
+  epuck2::argos_plugin::ArgosNoise m_cNoise;
+};
+
+class CEPuck2CalibratedEncoderSensor : public CEPuck2EncoderDefaultSensor {
+ public:
+  void Init(TConfigurationNode& t_tree) override;
+  void Update() override;
+  void Reset() override;
+
+ private:
+  epuck2::models::sensors::EncoderCoefficients m_sCoefficients;
+  epuck2::models::sensors::Encoder m_cLeft, m_cRight;
+  epuck2::argos_plugin::ArgosNoise m_cNoise;
+};
+
+class CEPuck2CalibratedLightSensor : public CEPuck2LightDefaultSensor {
+ public:
+  void Init(TConfigurationNode& t_tree) override;
+  void Update() override;
+
+ private:
+  std::vector<epuck2::models::sensors::LightCoefficients> m_vecCoefficients;
+  epuck2::argos_plugin::ArgosNoise m_cNoise;
+};
+
+/// The camera: the plug-in's projection with the fitted field of view (as ARGoS's aperture, the
+/// half-angle on the diagonal) and range; the fitted image centre shifts the blobs by whole
+/// pixels (the plug-in's blob coordinates are integers).
+class CEPuck2CalibratedCameraSensor : public CEPuck2ColoredBlobPerspectiveCameraDefaultSensor {
+ public:
+  void Init(TConfigurationNode& t_tree) override;
+  void Update() override;
+
+ private:
+  SInt32 m_nShiftX = 0, m_nShiftY = 0;
+};
+
+}  // namespace argos

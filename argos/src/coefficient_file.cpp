@@ -1,0 +1,178 @@
+#include "coefficient_file.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace epuck2::argos_plugin {
+
+namespace fs = std::filesystem;
+namespace mb = epuck2::models::battery;
+using nlohmann::json;
+
+namespace {
+
+json parse_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open the coefficient file");
+  try {
+    json j;
+    in >> j;
+    if (!j.is_object()) throw std::runtime_error(path + ": not a coefficient file (expected a JSON object)");
+    return j;
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(path + ": not JSON: " + e.what());
+  }
+}
+
+/// `over`'s members replace `base`'s (one level deep).
+json merged(json base, const json& over) {
+  if (!base.is_object()) base = json::object();
+  if (over.is_object())
+    for (auto it = over.begin(); it != over.end(); ++it) base[it.key()] = it.value();
+  return base;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : " or ") + x;
+  return s;
+}
+
+}  // namespace
+
+CoefficientFile CoefficientFile::load(const std::string& path, const std::vector<std::string>& kinds,
+                                      const std::string& robot) {
+  CoefficientFile f;
+  f.path_ = path;
+  f.robot_ = robot;
+  f.root_ = parse_file(path);
+  if (f.root_.contains("kind")) {
+    const json& k = f.root_.at("kind");
+    bool ok = false;
+    for (const auto& want : kinds) ok = ok || (k.is_string() && k.get<std::string>() == want);
+    if (!ok) f.fail("a '" + (k.is_string() ? k.get<std::string>() : k.dump()) + "' file, expected " + join(kinds));
+  }
+  if (!f.root_.contains("parameters") || !f.root_.at("parameters").is_object())
+    f.fail("no 'parameters' object");
+  f.parameters_ = f.root_.at("parameters");
+  f.fits_ = f.root_.value("fits", json::object());
+  if (!robot.empty()) {
+    const json robots = f.root_.value("robots", json::object());
+    if (!robots.is_object() || !robots.contains(robot)) {
+      std::string known;
+      if (robots.is_object())
+        for (auto it = robots.begin(); it != robots.end(); ++it) known += (known.empty() ? "" : ", ") + it.key();
+      f.fail("no coefficients for robot '" + robot + "' (robots in the file: " + (known.empty() ? "none" : known) + ")");
+    }
+    const json& r = robots.at(robot);
+    f.parameters_ = merged(f.parameters_, r.value("parameters", json::object()));
+    f.fits_ = merged(f.fits_, r.value("fits", json::object()));
+  }
+  return f;
+}
+
+void CoefficientFile::fail(const std::string& what) const {
+  throw std::runtime_error(path_ + (robot_.empty() ? "" : " (robot " + robot_ + ")") + ": " + what);
+}
+
+bool CoefficientFile::has(const std::string& name) const { return parameters_.contains(name); }
+
+double CoefficientFile::scalar(const std::string& name) const {
+  if (!parameters_.contains(name)) fail("missing parameter '" + name + "'");
+  const json& v = parameters_.at(name);
+  if (!v.is_number()) fail("parameter '" + name + "' must be a number, found " + v.dump());
+  return v.get<double>();
+}
+
+double CoefficientFile::scalar_or(const std::string& name, double fallback) const {
+  return has(name) ? scalar(name) : fallback;
+}
+
+std::vector<double> CoefficientFile::per_sensor(const std::string& name, std::size_t count) const {
+  if (!parameters_.contains(name)) fail("missing parameter '" + name + "'");
+  const json& v = parameters_.at(name);
+  if (v.is_number()) return std::vector<double>(count, v.get<double>());
+  if (!v.is_array() || v.size() != count)
+    fail("parameter '" + name + "' must be a number or an array of " + std::to_string(count) + " numbers, found " + v.dump());
+  std::vector<double> out;
+  for (const json& x : v) {
+    if (!x.is_number()) fail("parameter '" + name + "' must hold numbers, found " + x.dump());
+    out.push_back(x.get<double>());
+  }
+  return out;
+}
+
+std::optional<double> CoefficientFile::noise_sd(const std::string& name) const {
+  if (!fits_.is_object() || !fits_.contains(name)) return std::nullopt;
+  const json& f = fits_.at(name);
+  if (!f.is_object() || !f.contains("noise_sd")) return std::nullopt;
+  const json& v = f.at("noise_sd");
+  if (!v.is_number() || v.get<double>() < 0) fail("fits." + name + ".noise_sd must be a non-negative number");
+  return v.get<double>();
+}
+
+namespace {
+
+double number_at(const json& o, const char* key, const std::string& path, const std::string& where) {
+  if (!o.is_object() || !o.contains(key) || !o.at(key).is_number())
+    throw std::runtime_error(path + ": " + where + ": missing number '" + key + "'");
+  return o.at(key).get<double>();
+}
+
+}  // namespace
+
+mb::Tables load_battery_tables(const std::string& path) {
+  const json j = parse_file(path);
+  if (j.contains("kind") && j.at("kind") != "battery")
+    throw std::runtime_error(path + ": a '" + (j.at("kind").is_string() ? j.at("kind").get<std::string>() : j.at("kind").dump()) +
+                             "' file, expected battery");
+  if (!j.contains("speeds") || !j.at("speeds").is_array())
+    throw std::runtime_error(path + ": not a battery coefficient file: expected an object with a 'speeds' array");
+  const json& speeds = j.at("speeds");
+  if (speeds.size() != mb::kSpeedCount)
+    throw std::runtime_error(path + ": expected 16 entries in 'speeds' (0..15 cm/s), found " + std::to_string(speeds.size()));
+  mb::Tables t{};
+  for (std::size_t s = 0; s < speeds.size(); ++s) {
+    const json& e = speeds.at(s);
+    const std::string where = "speeds[" + std::to_string(s) + "]";
+    if (std::abs(number_at(e, "speed_cm_s", path, where) - static_cast<double>(s)) > 1e-9)
+      throw std::runtime_error(path + ": " + where + ": expected speed_cm_s " + std::to_string(s));
+    if (!e.contains("cubic") || !e.at("cubic").is_array() || e.at("cubic").size() != 4)
+      throw std::runtime_error(path + ": " + where + ": expected 'cubic' as [d, c, b, a]");
+    const json& c = e.at("cubic");
+    for (const json& x : c)
+      if (!x.is_number()) throw std::runtime_error(path + ": " + where + ": 'cubic' must hold numbers");
+    const double life = number_at(e, "lifetime_s", path, where);
+    t.cubic[s] = mb::CubicRow{c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>(),
+                              c.at(3).get<double>(), life};
+    t.lifetime_s[s] = life;
+    t.linear_slope_per_s[s] = number_at(e, "linear_slope", path, where);
+    if (!e.contains("segments") || !e.at("segments").is_array() || e.at("segments").size() != mb::kSegmentCount)
+      throw std::runtime_error(path + ": " + where + ": expected 4 'segments'");
+    for (std::size_t k = 0; k < mb::kSegmentCount; ++k) {
+      const json& g = e.at("segments").at(k);
+      const std::string gw = where + ".segments[" + std::to_string(k) + "]";
+      t.segments[s][k] = mb::Segment{number_at(g, "h", path, gw),    number_at(g, "m", path, gw),
+                                     number_at(g, "x1_s", path, gw), number_at(g, "x2_s", path, gw),
+                                     number_at(g, "y1", path, gw),   number_at(g, "y2", path, gw)};
+    }
+  }
+  if (!j.contains("simple")) throw std::runtime_error(path + ": expected a 'simple' object");
+  t.simple_static_slope_per_s = number_at(j.at("simple"), "static_slope_per_s", path, "simple");
+  t.simple_moving_slope_per_s = number_at(j.at("simple"), "moving_slope_per_s", path, "simple");
+  return t;
+}
+
+std::string resolve_coefficient_path(const std::string& name, const std::string& experiment_file) {
+  const fs::path p(name);
+  if (p.is_absolute()) return name;
+  std::error_code ec;
+  const fs::path beside = fs::path(experiment_file).parent_path() / p;
+  if (!experiment_file.empty() && fs::exists(beside, ec)) return beside.lexically_normal().string();
+  if (fs::exists(p, ec)) return name;
+  return experiment_file.empty() ? name : beside.lexically_normal().string();
+}
+
+}  // namespace epuck2::argos_plugin

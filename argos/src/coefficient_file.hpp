@@ -1,0 +1,61 @@
+// Reading the project's coefficient files (data/fitted/<kind>.json, written by epuck2-fit) inside
+// the ARGoS plug-in. Only the few fields the run-time models need are read here; the formulas
+// themselves are epuck2::models'. No ARGoS dependency: errors are std::runtime_error whose message
+// starts with the file's path, which the sensors turn into ARGoS exceptions at Init.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include <epuck2/models/battery.hpp>
+
+namespace epuck2::argos_plugin {
+
+/// A sensor coefficient file: `parameters` {name: number or array}, optional `std_errors`,
+/// optional `robots` {ID: {parameters, std_errors, fits}} and optional `fits` {name: {noise_sd}}.
+class CoefficientFile {
+ public:
+  /// Loads `path` and checks that its `kind` (when present) is one of `kinds`. With a non-empty
+  /// `robot`, the file's `robots.<robot>` set overrides the top-level parameters (and it is an
+  /// error if the file has no such robot).
+  static CoefficientFile load(const std::string& path, const std::vector<std::string>& kinds,
+                              const std::string& robot = "");
+
+  const std::string& path() const { return path_; }
+  const nlohmann::json& root() const { return root_; }
+
+  bool has(const std::string& name) const;
+  /// A scalar parameter; an error when missing or not a number.
+  double scalar(const std::string& name) const;
+  /// A scalar parameter, or `fallback` when the file does not have it.
+  double scalar_or(const std::string& name, double fallback) const;
+  /// A per-sensor parameter: an array of `count` numbers, or one number used for every sensor.
+  std::vector<double> per_sensor(const std::string& name, std::size_t count) const;
+  /// `fits.<name>.noise_sd` (the robot's set first), when the file has it; in the fit's units.
+  std::optional<double> noise_sd(const std::string& name) const;
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const;
+  std::string path_;
+  std::string robot_;
+  nlohmann::json root_;
+  nlohmann::json parameters_;  ///< top level, with the robot's set merged over it
+  nlohmann::json fits_;        ///< top level, with the robot's set merged over it
+};
+
+/// The battery tables of a battery coefficient file (the layout lib/fit's battery_json.cpp
+/// writes: `speeds` [16 x {speed_cm_s, cubic [d,c,b,a], lifetime_s, linear_slope, segments [4 x
+/// {h,m,x1_s,x2_s,y1,y2}]}], `simple` {static_slope_per_s, moving_slope_per_s}).
+epuck2::models::battery::Tables load_battery_tables(const std::string& path);
+
+/// A coefficient file name as written in the XML: environment variables expanded by the caller;
+/// a relative name is looked up next to the experiment file first, then in the working
+/// directory. Returns the first that exists, else the name relative to the experiment file.
+std::string resolve_coefficient_path(const std::string& name, const std::string& experiment_file);
+
+}  // namespace epuck2::argos_plugin

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The calibrated discharge model with behaviour="argos" and the plug-in's own tables must give, in
+# ARGoS, the same charges as the plug-in's own model, printed with 17 significant digits (every bit of the double), for all 16 speeds.
+#   usage: battery_bitexact.sh MODEL PLUGIN_TABLES_WRITER ARGOS_LIBDIR WORK_DIR
+set -euo pipefail
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+ROOT="$(cd "$HERE/../.." && pwd)"
+MODEL="$1"; WRITER="$2"; LIBDIR="$3"; WORK="$4/bitexact_$1"
+if ! command -v argos3 >/dev/null 2>&1; then echo "SKIPPED: argos3 is not installed"; exit 77; fi
+export EPUCK2_BUILD_DIR="$(dirname "$(dirname "$LIBDIR")")" EPUCK2_BATTERY_MODEL="$MODEL" EPUCK2_BATTERY_BEHAVIOUR=argos EPUCK2_ARGOS_CHARGE_DIGITS=17
+rm -rf "$WORK"; mkdir -p "$WORK"
+"$WRITER" "$WORK/plugin_tables.json"
+"$ROOT/scripts/argos-record.sh" battery default "$WORK/plugin"
+"$ROOT/scripts/argos-record.sh" battery "$WORK/plugin_tables.json" "$WORK/calibrated"
+n=0
+for f in "$WORK"/plugin/*.csv; do
+  cmp -s "$f" "$WORK/calibrated/$(basename "$f")" || { echo "DIFFERENT: $(basename "$f")"; diff "$f" "$WORK/calibrated/$(basename "$f")" | head -5; exit 1; }
+  n=$((n + 1))
+done
+echo "identical: $n logs ($MODEL, plug-in model against calibrated behaviour=argos with the plug-in's tables)"

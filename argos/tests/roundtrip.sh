@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The ARGoS round trip for one kind: fit the shipped logs (data/raw/KIND) with epuck2-fit, record
+# the protocol in ARGoS with the calibrated plug-in and that coefficient file, refit the recorded
+# logs, and check that every coefficient comes back (compare_coefficients.py). default_KIND
+# records with the E-Puck2 plug-in's own implementations and checks for its published
+# coefficients.
+#   usage: roundtrip.sh KIND EPUCK2_FIT ARGOS_LIBDIR WORK_DIR
+# Exit 77 (CTest: skipped) when argos3 is not installed.
+set -euo pipefail
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+ROOT="$(cd "$HERE/../.." && pwd)"
+KIND="$1"; FIT="$2"; LIBDIR="$3"; WORK="$4/$1"
+if ! command -v argos3 >/dev/null 2>&1; then echo "SKIPPED: argos3 is not installed"; exit 77; fi
+export EPUCK2_BUILD_DIR="$(dirname "$(dirname "$LIBDIR")")"
+rm -rf "$WORK"; mkdir -p "$WORK/recorded"
+run() { echo "+ $*"; "$@"; }
+case "$KIND" in
+  default_*)
+    kind="${KIND#default_}"
+    fitkind="$kind"
+    run "$ROOT/scripts/argos-record.sh" "$kind" default "$WORK/recorded"
+    run "$FIT" "$fitkind" "$WORK"/recorded/*.csv -o "$WORK/refit.json" > "$WORK/refit.txt"
+    run python3 "$HERE/compare_coefficients.py" "$kind" "$WORK/refit.json" plugin
+    ;;
+  battery)
+    # Recorded with behaviour="corrected". With the plug-in's arithmetic (its own models, or
+    # behaviour="argos") the run's starting level is the table of the FIRST tick's speed: from a
+    # full charge the plug-in drops to that table's d at once, and dynamics2d gives the spinning
+    # robot 90 % of its command on the first tick (10 cm/s reads 9.00), so a run at s cm/s follows
+    # table s shifted in time whenever table s-1 starts lower: the refit then misses d at 10, 12,
+    # 13 and 14 cm/s (by 2-3 standard errors). docs/argos.md, "The battery round trip".
+    export EPUCK2_BATTERY_BEHAVIOUR=corrected EPUCK2_BATTERY_MODEL=cubic
+    run "$FIT" battery "$ROOT"/data/raw/battery/*.csv -o "$WORK/fitted.json" > "$WORK/fitted.txt"
+    run "$ROOT/scripts/argos-record.sh" battery "$WORK/fitted.json" "$WORK/recorded"
+    run "$FIT" battery "$WORK"/recorded/*.csv -o "$WORK/refit.json" > "$WORK/refit.txt"
+    run python3 "$HERE/compare_coefficients.py" battery "$WORK/refit.json" "$WORK/fitted.json"
+    ;;
+  *)
+    run "$FIT" "$KIND" "$ROOT"/data/raw/"$KIND"/*.csv -o "$WORK/fitted.json" > "$WORK/fitted.txt"
+    run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/fitted.json" "$WORK/recorded"
+    run "$FIT" "$KIND" "$WORK"/recorded/*.csv -o "$WORK/refit.json" > "$WORK/refit.txt"
+    run python3 "$HERE/compare_coefficients.py" "$KIND" "$WORK/refit.json" "$WORK/fitted.json"
+    ;;
+esac
