@@ -5,7 +5,9 @@ Runs every subcommand (battery, table5, proximity, light, ground, camera, drive,
 simulate, codegen) on a few hundred inputs derived from the shipped logs and coefficient files by
 seeded mutations (byte flips, truncations, duplicated and deleted lines, huge / NaN / inf numbers,
 CR-only line ends, NUL and ESC bytes, tiny logs) and on out-of-range numeric options, and checks
-the command line's contract:
+the command line's contract. A fixed set of cases runs first whatever the seed (tiny logs and
+repeated times of every kind through its fit and diagnose, every numeric option at the edges of its
+domain, infinite numbers in the coefficient files codegen reads); then --cases random ones.
 
   * no signal and no hang: the exit code is 0, 1 or 2;
   * every exit 2 names the bad input: FILE:LINE:COLUMN of the mutated file, or the option (or,
@@ -233,12 +235,15 @@ class Smoke:
             f.write(data)
         return p
 
+    def case_dir(self, case):
+        return os.path.join(self.work, ("case%06d" if case >= 100000 else "case%04d") % case)
+
     def fail(self, case, cmd, why, rc, err, files):
         msg = "case %d: %s\n    command: %s\n    exit %s; stderr: %s" % (
             case, why, " ".join(cmd), rc, err.strip()[-600:].replace("\n", "\n      "))
         if self.keep:
-            dest = os.path.join(self.keep, "case%04d" % case)
-            shutil.copytree(os.path.join(self.work, "case%04d" % case), dest, dirs_exist_ok=True)
+            dest = os.path.join(self.keep, os.path.basename(self.case_dir(case)))
+            shutil.copytree(self.case_dir(case), dest, dirs_exist_ok=True)
             msg += "\n    inputs kept in " + dest
         self.failures.append(msg)
 
@@ -266,15 +271,17 @@ class Smoke:
         self.codes[rc] += 1
         if rc == 2:
             names = [re.escape(m) for m in mutated]
-            where = re.search(r"(?:%s):\d+:\d+" % "|".join(names), err) if names else None
+            # FILE:LINE:COLUMN, or FILE:LINE: for what concerns a whole line (no data rows after
+            # the header line).
+            where = re.search(r"(?:%s):\d+:(?:\d+:)? " % "|".join(names), err) if names else None
             opt = option and option in err
             # Two other ways to name the place: a coefficient file's entry (JSON path such as
             # speeds[3].segments[3]), and the file alone when it is empty (no line to name).
             if not where and names:
                 entry = re.search(r"(?:%s): [A-Za-z_]\w*(?:\[\d+\])?(?:\.\w+(?:\[\d+\])?)*: " % "|".join(names), err)
                 where = entry and any(m.endswith(".json") for m in mutated)
-                empty = any(os.path.exists(os.path.join(self.work, "case%04d" % case, m)) and
-                            os.path.getsize(os.path.join(self.work, "case%04d" % case, m)) == 0 for m in mutated)
+                empty = any(os.path.exists(os.path.join(self.case_dir(case), m)) and
+                            os.path.getsize(os.path.join(self.case_dir(case), m)) == 0 for m in mutated)
                 where = where or (empty and re.search(r"(?:%s): " % "|".join(names), err))
             if not where and not opt:
                 self.fail(case, cmd, "exit 2 without FILE:LINE:COLUMN of %s%s" % (
@@ -315,10 +322,71 @@ class Smoke:
                       c.stderr.decode("utf-8", "replace"), [])
 
     # ----- the cases ---------------------------------------------------------------------------
+    def fixed_cases(self, bases, fitted):
+        """The inputs every run tries, whatever the seed: tiny logs of every kind through its fit
+        and diagnose, repeated times (dt = 0), and every numeric option at the edges of its domain.
+        Numbered from 100000 so that they do not collide with the random cases."""
+        case = 100000
+        for kind in KINDS:
+            lines = self.head(bases[kind][0]).split(b"\n")
+            h = 0
+            while lines[h].startswith(b"#"):
+                h += 1
+            tiny = {"rows1": lines[:h + 2], "rows2": lines[:h + 3],
+                    "same_time": lines[:h + 2] + [lines[h + 1]] * 3}
+            for label, rows in tiny.items():
+                name = "%s_%s.csv" % (kind, label)
+                out = os.path.join(self.work, "case%06d" % case, "out.json")
+                log = self.write6(case, name, b"\n".join(rows) + b"\n")
+                cmd = "battery" if kind == "battery" else kind
+                self.run(case, [cmd, log, "-o", out], [name], output=out, json_output=True)
+                case += 1
+                out = os.path.join(self.work, "case%06d" % case, "out.json")
+                log = self.write6(case, name, b"\n".join(rows) + b"\n")
+                self.run(case, ["diagnose", "--json", out, log], [name], output=out)
+                case += 1
+        battery_logs = [p for p in bases["battery"] if "robot-a" in p]
+        for bad in ["0", "-1", "nan", "inf", "-inf", "1e999", "abc"]:
+            out = os.path.join(self.work, "case%06d" % case, "out.csv")
+            prof = self.write6(case, "profile.csv", b"time_s,speed_cm_s\n0,7\n60,3\n")
+            self.run(case, ["simulate", "battery", "--model", "cubic", "--profile", prof, "--dt", bad, "-o", out], [],
+                     output=out, option="--dt")
+            case += 1
+            out = os.path.join(self.work, "case%06d" % case, "out.json")
+            logs = [self.write6(case, os.path.basename(p), self.head(p, 40)) for p in battery_logs]
+            self.run(case, ["table5"] + logs + ["--dt", bad, "-o", out], [], output=out, option="--dt")
+            case += 1
+            out = os.path.join(self.work, "case%06d" % case, "out.json")
+            log = self.write6(case, "b.csv", self.head(battery_logs[3]))
+            self.run(case, ["battery", log, "--robust", "--robust-scale", bad, "-o", out], [], output=out,
+                     option="--robust-scale", json_output=True)
+            case += 1
+        # Coefficient files with an infinite or huge number where codegen copies it into C++.
+        for token in [b"1e999", b"-1e999", b"1e308", b"4.9e-324"]:
+            header = os.path.join(self.work, "case%06d" % case, "coefficients.hpp")
+            files = []
+            for k, path in fitted.items():
+                data = read(path)
+                if k == "battery":
+                    m = NUMBER_RE.search(data, data.find(b'"linear_slope"'))
+                    data = data[:m.start()] + token + data[m.end():]
+                files.append(self.write6(case, k + ".json", data))
+            self.run(case, ["codegen"] + files + ["-o", header], ["battery.json"], output=header, header=True)
+            case += 1
+
+    def write6(self, case, name, data):
+        d = os.path.join(self.work, "case%06d" % case)
+        os.makedirs(d, exist_ok=True)
+        p = os.path.join(d, name)
+        with open(p, "wb") as f:
+            f.write(data)
+        return p
+
     def main(self, cases, seed):
         rng = random.Random(seed)
         bases = {k: self.shipped(k) for k in KINDS}
         fitted = {k: os.path.join(self.src, "data", "fitted", k + ".json") for k in ["battery"] + SENSOR_COMMANDS}
+        self.fixed_cases(bases, fitted)
         kinds_cycle = ["battery", "table5", "diagnose", "simulate", "codegen", "options"] + SENSOR_COMMANDS
         for case in range(cases):
             what = kinds_cycle[case % len(kinds_cycle)]
