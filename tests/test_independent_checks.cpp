@@ -21,6 +21,7 @@
 #include "epuck2/models/battery.hpp"
 #include "epuck2/models/sensors.hpp"
 #include "epuck2/virtual_robot/battery.hpp"
+#include "epuck2/virtual_robot/sensor_truth.hpp"
 
 namespace {
 
@@ -54,6 +55,11 @@ TEST(HandComputed, LightAtNonDefaultGamma) {
   const std::vector<s::LightSource> two{{0.12, 0.8}, {0.2, 0.5}};
   s::NoNoise none;
   EXPECT_EQ(s::light_reading(k, two, 0.0, none), 3348);
+  // Beyond the range (0.5 m) a light is ignored: 4095 (dark). Counted, I = 1 at 0.6 m would add
+  // (0.06 / 0.6)^2 = 0.01 and read round(0.99 * 4095) = 4054. At the range it counts:
+  // (0.06 / 0.5)^2 = 0.0144, round(0.9856 * 4095) = round(4036.03) = 4036.
+  EXPECT_EQ(s::light_reading(k, 1.0, 0.6), 4095);
+  EXPECT_EQ(s::light_reading(k, 1.0, 0.5), 4036);
 }
 
 // Ground: value = offset + gain * grey. Gain 900, offset 40: grey 0.5 -> 40 + 450 = 490,
@@ -194,6 +200,29 @@ TEST(IndependentFit, LightGammaAtNonDefaultValue) {
   ASSERT_TRUE(f.gamma.usable) << f.gamma.message;
   EXPECT_NEAR(f.gamma.value("gamma"), kLightGammaTruth, kLightGammaRelTolerance * kLightGammaTruth);
   EXPECT_EQ(f.censored, 1u);  // I = 1 at 0.06 m: term 1, reading 0
+}
+
+// The ToF's far clamp: with the obstacle at 1.5 m, runs 1.2 m towards it and 0.8 m away from it
+// read 0.3..2.3 m, and the sensor clamps everything beyond 2000 mm (0.985 x 2300 + 9 = 2275 mm at
+// the far end). Those rows bound the reading without measuring it and must be left out; kept,
+// they pull the scale down by several hundredths. The virtual robot draws ToF noise of 2 mm + 3 mm
+// per metre: over these ~580 rows the scale's standard error is 7e-4 and the offset's 0.9 mm
+// (printed below); the tolerances are 0.005 (7 standard errors) and 4 mm (4.4).
+TEST(IndependentFit, TofFarClampIsCensored) {
+  epuck2::virtual_robot::DriveTruth truth;
+  truth.obstacle_distance_m = 1.5;
+  truth.toward_travel_m = 1.2;
+  truth.away_travel_m = 0.8;
+  truth.speeds_cm_s = {5.0, 10.0};
+  std::vector<epuck2::logs::Log> logs;
+  for (const auto& f : epuck2::virtual_robot::drive_logs(truth, 11)) logs.push_back(parse_log(f.content, f.name, Kind::drive));
+  const auto f = fit::fit_drive(logs);
+  ASSERT_TRUE(f.tof.usable) << f.tof.message;
+  EXPECT_GT(f.tof_censored, 0u);
+  EXPECT_NEAR(f.tof.value("tof_scale"), truth.tof_scale, 0.005);
+  EXPECT_NEAR(f.tof.value("tof_offset_mm"), truth.tof_offset_mm, 4.0);
+  std::printf("tof_censored %zu of %zu; scale %.5f +- %.5f, offset %.2f +- %.2f\n", f.tof_censored, f.tof_rows + f.tof_censored,
+              f.tof.value("tof_scale"), f.tof.std_error("tof_scale"), f.tof.value("tof_offset_mm"), f.tof.std_error("tof_offset_mm"));
 }
 
 // ----- The diagnosis's two gates, each on both sides of its threshold --------------------------
