@@ -6,7 +6,7 @@
 # come from the cache), checks that the chosen tests pass unmutated, then for each mutant: applies
 # the edit to the copy, rebuilds only the targets the mutant's tests need, runs those tests (ctest
 # -R, with a per-mutant timeout), and restores the file. A mutant is killed when a test fails or
-# times out (or the edit does not compile), survived when every test passes.
+# times out, survived when every test passes; one that does not compile is invalid (not counted).
 #
 #   scripts/mutate.sh                 every mutant
 #   scripts/mutate.sh light tof       only the mutants whose name contains one of these words
@@ -61,7 +61,7 @@ MUTANTS = [
     ("camera_full_angle_focal", M, "const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);", "const T f_px = T(width_px / 2.0) / tan(hfov_rad);", SENSORS),
     ("tof_censoring_removed", FS, "if (run.tof_mm[k] <= s::kPluginTof.min_mm || run.tof_mm[k] >= s::kPluginTof.max_mm) {", "if (false) {", SENSORS),
     ("encoder_unwrap_off_by_one", M, "if (delta > 32767.0) delta -= 65536.0;", "if (delta > 32767.0) delta -= 65535.0;", SENSORS),
-    ("slip_lag_forgets_speed", FH, "speed = wheel + (speed - wheel) * decay;", "speed = wheel;", SENSORS),
+    ("slip_lag_decay_complement", FH, "speed = wheel + (speed - wheel) * decay;", "speed = wheel + (speed - wheel) * (1.0 - decay);", SENSORS),
     ("light_range_ignored", M, "if (l.intensity > 0 && l.distance_m <= k.range_m) sum +=", "if (l.intensity > 0) sum +=", SENSORS),
     ("battery_lerp_reversed", B, "inline double lerp(double a, double b, double w) { return a + (b - a) * w; }", "inline double lerp(double a, double b, double w) { return a + (b - a) * (1.0 - w); }", BATTERY),
     ("diagnose_bic_margin_default", DH, "double min_delta_bic = 10.0;", "double min_delta_bic = 6.0;", DIAGNOSE),
@@ -175,7 +175,8 @@ def main():
                 f.write(pristine.replace(old, new))
             ok, log = build(targets, fast=True)
             if not ok:
-                verdict, why = "killed", "does not compile"
+                # A mutant that does not compile says nothing about the tests: not counted.
+                verdict, why = "invalid", "does not compile"
             else:
                 passed, why, _ = run_tests(pattern)
                 verdict = "survived" if passed else "killed"
