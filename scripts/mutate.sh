@@ -1,0 +1,201 @@
+#!/usr/bin/env bash
+# Mutation testing: does the test suite notice plausible bugs? Each mutant is one small edit of the
+# models, the fits or the diagnosis's decision rules (the list below). The script copies the
+# checkout into build-mut/src (never edits the checkout itself), builds the test programs once in
+# build-mut/src/build (Release, ccache: under the same relative paths as build/, so most objects
+# come from the cache), checks that the chosen tests pass unmutated, then for each mutant: applies
+# the edit to the copy, rebuilds only the targets the mutant's tests need, runs those tests (ctest
+# -R, with a per-mutant timeout), and restores the file. A mutant is killed when a test fails or
+# times out, survived when every test passes; one that does not compile is invalid (not counted).
+#
+#   scripts/mutate.sh                 every mutant
+#   scripts/mutate.sh light tof       only the mutants whose name contains one of these words
+#   EPUCK2_MUT_TIMEOUT=600 scripts/mutate.sh   per-mutant test timeout in seconds (default 420)
+#
+# Prints killed/survived per mutant and the score; exit 0 when the score is >= 90 %.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT="$PWD"
+export EPUCK2_MUT_ROOT="$ROOT"
+exec /usr/bin/python3 - "$@" <<'PY'
+import os, shutil, subprocess, sys, time
+
+ROOT = os.environ["EPUCK2_MUT_ROOT"]
+MUT = os.path.join(ROOT, "build-mut")
+SRC = os.path.join(MUT, "src")
+BUILD = os.path.join(SRC, "build")
+JOBS = os.environ.get("EPUCK2_JOBS", str(os.cpu_count() or 2))
+TIMEOUT = int(os.environ.get("EPUCK2_MUT_TIMEOUT", "420"))
+
+M = "lib/models/include/epuck2/models/sensors.hpp"
+B = "lib/models/include/epuck2/models/battery.hpp"
+FS = "lib/fit/src/sensor_fits.cpp"
+FH = "lib/fit/include/epuck2/fit/sensors.hpp"
+DE = "lib/fit/src/diagnose_engine.cpp"
+DH = "lib/fit/include/epuck2/fit/diagnose.hpp"
+
+# Test groups: the test programs to build and the ctest -R pattern of the tests to run.
+SENSORS = (["test_sensor_models", "test_sensor_fits", "test_independent_checks"],
+           r"^(Sensor|Proximity|Light|Ground|Tof|Encoder|Camera|Drive|Leds|HandComputed|IndependentFit)")
+BATTERY = (["test_battery_models", "test_battery_fit", "test_virtual_robot_battery", "test_independent_checks"],
+           r"^(Battery|VirtualBattery|HandComputed)")
+DIAGNOSE = (["test_diagnose", "test_independent_checks"],
+            r"^(DiagnoseHidden\.(Ground|Light|NoEffect)|DiagnoseGates)")
+
+# name, file, original text (must occur exactly once), mutated text, test group.
+MUTANTS = [
+    # The seven that survived the suite before tests/test_independent_checks.cpp:
+    ("light_term_plus_1pct", M, "  return r * r;", "  return 1.01 * r * r;", SENSORS),
+    ("ground_censoring_removed", FS, "if (v[i] <= 0.0 || v[i] >= s::kGroundFullScale_raw) {", "if (false) {", SENSORS),
+    ("diagnose_bic_gate_sign", DE, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (t.delta_bic <= options.min_delta_bic) passing", DIAGNOSE),
+    ("diagnose_heldout_gate_flipped", DE, "t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain)", "t.heldout_mse <= current_cv * (1.0 + options.min_heldout_gain)", DIAGNOSE),
+    ("battery_filter_tau_plus_1pct", B, "kFirmwareFilterTau_s = 2.2407;", "kFirmwareFilterTau_s = 2.2631;", BATTERY),
+    ("ground_offset_meaning", M, "  return offset_raw + gain_raw * grey;", "  return offset_raw * (1.0 - grey) + gain_raw * grey;", SENSORS),
+    ("tof_offset_inside_scale", M, "  return scale * distance_m * 1000.0 + offset_mm;", "  return scale * (distance_m * 1000.0 + offset_mm);", SENSORS),
+    # Other plausible slips in the models, the fits and the diagnosis's decision rules:
+    ("light_dark_rail_kept", FS, "if (v[i] <= 0.0 || v[i] >= s::kProximityFullScale_raw || !(d[i] > 0)", "if (v[i] < 0.0 || v[i] > s::kProximityFullScale_raw || !(d[i] > 0)", SENSORS),
+    ("ground_low_rail_only", FS, "if (v[i] <= 0.0 || v[i] >= s::kGroundFullScale_raw) {", "if (v[i] <= 0.0) {", SENSORS),
+    ("ground_high_rail_only", FS, "if (v[i] <= 0.0 || v[i] >= s::kGroundFullScale_raw) {", "if (v[i] >= s::kGroundFullScale_raw) {", SENSORS),
+    ("proximity_linear_sign", M, "return (abc[0] * distance_m + abc[1]) * distance_m + abc[2];", "return (abc[0] * distance_m - abc[1]) * distance_m + abc[2];", SENSORS),
+    ("camera_px_sign", M, "px[0] = cx_px - f_px * (lateral_m / forward_m);", "px[0] = cx_px + f_px * (lateral_m / forward_m);", SENSORS),
+    ("camera_full_angle_focal", M, "const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);", "const T f_px = T(width_px / 2.0) / tan(hfov_rad);", SENSORS),
+    ("tof_censoring_removed", FS, "if (run.tof_mm[k] <= s::kPluginTof.min_mm || run.tof_mm[k] >= s::kPluginTof.max_mm) {", "if (false) {", SENSORS),
+    ("encoder_unwrap_off_by_one", M, "if (delta > 32767.0) delta -= 65536.0;", "if (delta > 32767.0) delta -= 65535.0;", SENSORS),
+    ("slip_lag_decay_complement", FH, "speed = wheel + (speed - wheel) * decay;", "speed = wheel + (speed - wheel) * (1.0 - decay);", SENSORS),
+    ("light_range_ignored", M, "if (l.intensity > 0 && l.distance_m <= k.range_m) sum +=", "if (l.intensity > 0) sum +=", SENSORS),
+    ("battery_lerp_reversed", B, "inline double lerp(double a, double b, double w) { return a + (b - a) * w; }", "inline double lerp(double a, double b, double w) { return a + (b - a) * (1.0 - w); }", BATTERY),
+    ("diagnose_bic_margin_default", DH, "double min_delta_bic = 10.0;", "double min_delta_bic = 6.0;", DIAGNOSE),
+    ("diagnose_heldout_gain_default", DH, "double min_heldout_gain = 0.03;", "double min_heldout_gain = 0.01;", DIAGNOSE),
+    ("diagnose_heldout_gate_ignored", DE, "const bool gain = t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain);", "const bool gain = true;", DIAGNOSE),
+    ("diagnose_bic_gate_ignored", DE, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (true) passing", DIAGNOSE),
+    ("diagnose_structure_or", DE, "s.significant = s.score >= threshold && chi2 > chi2_critical(df1);", "s.significant = s.score >= threshold || chi2 > chi2_critical(df1);", DIAGNOSE),
+    ("battery_transient_no_slope", B, "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s) + q.c * dt_s;", "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s);", BATTERY),
+]
+
+
+def sh(cmd, **kw):
+    return subprocess.run(cmd, cwd=kw.pop("cwd", ROOT), **kw)
+
+
+def copy_source():
+    """Copies the checkout (without build folders, .git and the fuzz corpus) into SRC, keeping
+    SRC/build and its objects."""
+    os.makedirs(SRC, exist_ok=True)
+    for name in os.listdir(SRC):
+        if name != "build":
+            p = os.path.join(SRC, name)
+            shutil.rmtree(p) if os.path.isdir(p) and not os.path.islink(p) else os.remove(p)
+    skip_top = lambda n: n.startswith("build") or n == ".git"
+    for name in os.listdir(ROOT):
+        if skip_top(name):
+            continue
+        p = os.path.join(ROOT, name)
+        if os.path.isdir(p):
+            shutil.copytree(p, os.path.join(SRC, name), symlinks=True,
+                            ignore=lambda d, names: ["corpus"] if d.endswith("/fuzz") else [])
+        else:
+            shutil.copy2(p, os.path.join(SRC, name))
+
+
+def configure():
+    cmd = ["cmake", "-S", SRC, "-B", BUILD, "-DCMAKE_BUILD_TYPE=Release", "-DEPUCK2_BUILD_APPS=ON",
+           "-DEPUCK2_BUILD_BENCH=OFF"]
+    if shutil.which("ccache"):
+        cmd.append("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
+    sh(cmd, check=True, stdout=subprocess.DEVNULL)
+
+
+def build(targets, fast=False):
+    """fast: rebuild the libraries, then only the test programs (make's TARGET/fast skips their
+    dependency on the CLI, which the mutants' tests do not run)."""
+    if not fast:
+        cmd = ["cmake", "--build", BUILD, "-j" + JOBS, "--target"] + sorted(set(targets))
+        r = sh(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        return r.returncode == 0, r.stdout[-3000:]
+    r = sh(["cmake", "--build", BUILD, "-j" + JOBS, "--target", "epuck2_fit", "epuck2_virtual_robot"],
+           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        return False, r.stdout[-3000:]
+    # TARGET/fast skips the "depend" step that gathers the compiler's header dependencies (CMake
+    # >= 3.20): run it first, or a test program that includes a mutated header is not rebuilt.
+    for t in sorted(set(targets)):
+        r = sh(["make", "-f", "tests/CMakeFiles/%s.dir/build.make" % t, "tests/CMakeFiles/%s.dir/depend" % t],
+               cwd=BUILD, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if r.returncode != 0:
+            return False, r.stdout[-3000:]
+    r = sh(["make", "-C", BUILD, "-j" + JOBS] + [t + "/fast" for t in sorted(set(targets))],
+           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return r.returncode == 0, r.stdout[-3000:]
+
+
+def run_tests(pattern):
+    start = time.monotonic()
+    try:
+        r = sh(["ctest", "--test-dir", BUILD, "-R", pattern, "--stop-on-failure", "--timeout", str(TIMEOUT),
+                "-j" + JOBS], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=TIMEOUT + 60)
+    except subprocess.TimeoutExpired:
+        return False, "timeout", time.monotonic() - start
+    failed = [l.strip() for l in r.stdout.splitlines() if "***Failed" in l or "***Timeout" in l or "***Exception" in l]
+    if "No tests were found" in r.stdout:
+        return False, "no tests matched " + pattern, time.monotonic() - start
+    return r.returncode == 0, "; ".join(failed[:3]), time.monotonic() - start
+
+
+def main():
+    words = sys.argv[1:]
+    mutants = [m for m in MUTANTS if not words or any(w in m[0] for w in words)]
+    copy_source()
+    configure()
+    groups = {}
+    for m in mutants:
+        groups.setdefault((tuple(m[4][0]), m[4][1]), m[4])
+    # Baseline: every group's tests must pass before any mutant is judged.
+    all_targets = sorted({t for g in groups.values() for t in g[0]})
+    print("mutate: building %s in %s" % (" ".join(all_targets), BUILD), flush=True)
+    ok, log = build(all_targets)
+    if not ok:
+        print(log)
+        sys.exit("mutate: the unmutated copy does not build")
+    for g in groups.values():
+        passed, why, took = run_tests(g[1])
+        if not passed:
+            sys.exit("mutate: the unmutated tests fail (%s): %s" % (g[1], why))
+        print("mutate: baseline %s passes (%.0f s)" % (g[1], took), flush=True)
+    results = []
+    for name, path, old, new, (targets, pattern) in mutants:
+        file = os.path.join(SRC, path)
+        pristine = open(file).read()
+        if pristine.count(old) != 1:
+            results.append((name, "invalid", "the original text occurs %d times in %s" % (pristine.count(old), path)))
+            print("%-32s INVALID (%s)" % (name, results[-1][2]), flush=True)
+            continue
+        start = time.monotonic()
+        try:
+            with open(file, "w") as f:
+                f.write(pristine.replace(old, new))
+            ok, log = build(targets, fast=True)
+            if not ok:
+                # A mutant that does not compile says nothing about the tests: not counted.
+                verdict, why = "invalid", "does not compile"
+            else:
+                passed, why, _ = run_tests(pattern)
+                verdict = "survived" if passed else "killed"
+        finally:
+            with open(file, "w") as f:
+                f.write(pristine)
+        results.append((name, verdict, why))
+        print("%-32s %-8s %5.0f s  %s" % (name, verdict.upper(), time.monotonic() - start, why), flush=True)
+    # Leave the build matching the source again (cheap: ccache).
+    build(all_targets, fast=True)
+    judged = [r for r in results if r[1] in ("killed", "survived")]
+    killed = sum(1 for r in judged if r[1] == "killed")
+    score = 100.0 * killed / len(judged) if judged else 0.0
+    print("\nmutate: %d of %d mutants killed: score %.0f %%" % (killed, len(judged), score))
+    survivors = [r[0] for r in judged if r[1] == "survived"]
+    if survivors:
+        print("mutate: survived: " + ", ".join(survivors))
+    sys.exit(0 if score >= 90.0 else 1)
+
+
+main()
+PY

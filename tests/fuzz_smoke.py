@@ -1,0 +1,501 @@
+#!/usr/bin/python3
+"""Mutation smoke test of the epuck2-fit command line (CTest: fuzz_smoke).
+
+Runs every subcommand (battery, table5, proximity, light, ground, camera, drive, diagnose,
+simulate, codegen) on a few hundred inputs derived from the shipped logs and coefficient files by
+seeded mutations (byte flips, truncations, duplicated and deleted lines, huge / NaN / inf numbers,
+CR-only line ends, NUL and ESC bytes, tiny logs) and on out-of-range numeric options, and checks
+the command line's contract. A fixed set of cases runs first whatever the seed (tiny logs and
+repeated times of every kind through its fit and diagnose, every numeric option at the edges of its
+domain, infinite numbers in the coefficient files codegen reads); then --cases random ones.
+
+  * no signal and no hang: the exit code is 0, 1 or 2;
+  * every exit 2 names the bad input: FILE:LINE:COLUMN of the mutated file, or the option (or,
+    for a coefficient file, the entry: FILE: speeds[3].lifetime_s; for an empty file, FILE);
+  * a coefficient file written (exit 0) holds no NaN, and no null unless its object says why
+    (a key containing "reason");
+  * on failure (exit 1 or 2) the -o output is untouched: it is created beforehand with known
+    bytes and compared afterwards;
+  * a header written by `codegen` compiles (c++ -fsyntax-only against lib/models).
+
+Usage: fuzz_smoke.py --exe build/bin/epuck2-fit --source . [--cases 300] [--seed 1]
+Exit status 0 when every case holds, 1 otherwise; each violation is listed with the command and
+the input that triggered it (kept under --keep DIR when given).
+"""
+import argparse
+import json
+import math
+import os
+import random
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+KINDS = ["battery", "proximity", "light", "ground", "camera", "drive"]
+SENSOR_COMMANDS = ["proximity", "light", "ground", "camera", "drive"]
+HEAD_LINES = 60          # lines of each shipped log a base input keeps (keeps every run short)
+RUN_TIMEOUT_S = 60       # a run slower than this on a 60-line log is reported as a hang
+SENTINEL = b"epuck2 fuzz_smoke sentinel: a failed run must leave this file as it is\n"
+
+NUMBER_RE = re.compile(rb"-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
+SPECIAL_NUMBERS = [b"nan", b"NaN", b"inf", b"-inf", b"Infinity", b"1e999", b"-1e999", b"1e308", b"-1e308",
+                   b"4.9e-324", b"0x1p3", b"1e", b"--1", b"", b" ", b"1,5", b"99999999999999999999",
+                   b"-0", b"0", b"1e-320"]
+
+
+def read(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+# ----- mutations ---------------------------------------------------------------------------------
+
+def m_byte_flip(rng, data):
+    if not data:
+        return data
+    b = bytearray(data)
+    for _ in range(rng.randint(1, 4)):
+        i = rng.randrange(len(b))
+        b[i] ^= 1 << rng.randrange(8)
+    return bytes(b)
+
+
+def m_truncate(rng, data):
+    return data[:rng.randrange(len(data) + 1)]
+
+
+def split_lines(data):
+    return data.split(b"\n")
+
+
+def m_duplicate_line(rng, data):
+    lines = split_lines(data)
+    i = rng.randrange(len(lines))
+    lines.insert(i, lines[i])
+    return b"\n".join(lines)
+
+
+def m_delete_line(rng, data):
+    lines = split_lines(data)
+    if len(lines) > 1:
+        del lines[rng.randrange(len(lines))]
+    return b"\n".join(lines)
+
+
+def m_special_number(rng, data):
+    spans = [m.span() for m in NUMBER_RE.finditer(data)]
+    if not spans:
+        return data
+    for _ in range(rng.randint(1, 3)):
+        a, b = rng.choice(spans)
+        data = data[:a] + rng.choice(SPECIAL_NUMBERS) + data[b:]
+        spans = [m.span() for m in NUMBER_RE.finditer(data)]
+        if not spans:
+            break
+    return data
+
+
+def m_scale_number(rng, data):
+    """A plausible but wrong number: one value times 10^k or negated."""
+    spans = [m.span() for m in NUMBER_RE.finditer(data)]
+    if not spans:
+        return data
+    a, b = rng.choice(spans)
+    try:
+        v = float(data[a:b])
+    except ValueError:
+        return data
+    v = -v if rng.random() < 0.3 else v * 10.0 ** rng.choice([-300, -5, 3, 12, 300])
+    return data[:a] + repr(v).encode() + data[b:]
+
+
+def m_cr_only(rng, data):
+    return data.replace(b"\n", b"\r")
+
+
+def m_crlf(rng, data):
+    return data.replace(b"\n", b"\r\n")
+
+
+def m_nul(rng, data):
+    i = rng.randrange(len(data) + 1)
+    return data[:i] + b"\0" + data[i:]
+
+
+def m_esc(rng, data):
+    i = rng.randrange(len(data) + 1)
+    return data[:i] + rng.choice([b"\x1b[31m", b"\x1b", b"\x1b]0;x\x07"]) + data[i:]
+
+
+def m_tiny(rng, data):
+    """The header (with any comment lines) and 0, 1 or 2 data rows."""
+    lines = split_lines(data)
+    header = 0
+    while header < len(lines) and lines[header].startswith(b"#"):
+        header += 1
+    return b"\n".join(lines[:header + 1 + rng.randint(0, 2)]) + b"\n"
+
+
+def m_swap_columns(rng, data):
+    lines = split_lines(data)
+    h = 0
+    while h < len(lines) and lines[h].startswith(b"#"):
+        h += 1
+    if h >= len(lines):
+        return data
+    cols = lines[h].split(b",")
+    if len(cols) > 1:
+        i, j = rng.sample(range(len(cols)), 2)
+        cols[i], cols[j] = cols[j], cols[i]
+        lines[h] = b",".join(cols)
+    return b"\n".join(lines)
+
+
+def m_long_line(rng, data):
+    lines = split_lines(data)
+    i = rng.randrange(len(lines))
+    lines[i] = lines[i] + b"," + b"9" * rng.choice([100, 5000, 100000])
+    return b"\n".join(lines)
+
+
+def m_bom(rng, data):
+    return b"\xef\xbb\xbf" + data
+
+
+MUTATIONS = [m_byte_flip, m_truncate, m_duplicate_line, m_delete_line, m_special_number, m_special_number,
+             m_scale_number, m_cr_only, m_crlf, m_nul, m_esc, m_tiny, m_swap_columns, m_long_line, m_bom]
+
+
+def mutate(rng, data):
+    names = []
+    for _ in range(rng.choice([1, 1, 1, 2])):
+        m = rng.choice(MUTATIONS)
+        data = m(rng, data)
+        names.append(m.__name__[2:])
+    return data, "+".join(names)
+
+
+# ----- checks ------------------------------------------------------------------------------------
+
+def nulls_without_reason(node, where="$", parent_has_reason=False):
+    """Paths of NaN/inf numbers and of nulls whose object (or its parent) has no 'reason' key."""
+    bad = []
+    if isinstance(node, dict):
+        here = parent_has_reason or any("reason" in k for k in node)
+        for k, v in node.items():
+            if v is None and not here:
+                bad.append(where + "." + k + " is null")
+            else:
+                bad += nulls_without_reason(v, where + "." + k, here)
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            if v is None and not parent_has_reason:
+                bad.append("%s[%d] is null" % (where, i))
+            else:
+                bad += nulls_without_reason(v, "%s[%d]" % (where, i), parent_has_reason)
+    elif isinstance(node, float) and not math.isfinite(node):
+        bad.append(where + " is " + repr(node))
+    return bad
+
+
+def parse_json_strict(text):
+    def reject(token):
+        raise ValueError("non-standard JSON number " + token)
+    return json.loads(text, parse_constant=reject)
+
+
+class Smoke:
+    def __init__(self, args):
+        self.exe = os.path.abspath(args.exe)
+        self.src = os.path.abspath(args.source)
+        self.cxx = args.cxx
+        self.work = tempfile.mkdtemp(prefix="epuck2_fuzz_smoke_")
+        self.keep = args.keep
+        self.failures = []
+        self.runs = 0
+        self.codes = {0: 0, 1: 0, 2: 0}
+        self.compiled_headers = 0
+
+    # Base inputs: the first HEAD_LINES lines of the shipped logs.
+    def shipped(self, kind):
+        d = os.path.join(self.src, "data", "raw", kind)
+        return sorted(os.path.join(d, f) for f in os.listdir(d) if f.endswith(".csv"))
+
+    def head(self, path, lines=HEAD_LINES):
+        return b"\n".join(read(path).split(b"\n")[:lines]) + b"\n"
+
+    def write(self, case, name, data):
+        d = os.path.join(self.work, "case%04d" % case)
+        os.makedirs(d, exist_ok=True)
+        p = os.path.join(d, name)
+        with open(p, "wb") as f:
+            f.write(data)
+        return p
+
+    def case_dir(self, case):
+        return os.path.join(self.work, ("case%06d" if case >= 100000 else "case%04d") % case)
+
+    def fail(self, case, cmd, why, rc, err, files):
+        msg = "case %d: %s\n    command: %s\n    exit %s; stderr: %s" % (
+            case, why, " ".join(cmd), rc, err.strip()[-600:].replace("\n", "\n      "))
+        if self.keep:
+            dest = os.path.join(self.keep, os.path.basename(self.case_dir(case)))
+            shutil.copytree(self.case_dir(case), dest, dirs_exist_ok=True)
+            msg += "\n    inputs kept in " + dest
+        self.failures.append(msg)
+
+    def run(self, case, args, mutated, output=None, option=None, json_output=False, header=False):
+        """Runs epuck2-fit ARGS and checks the contract. `mutated`: the file names (basenames) an
+        exit 2 may name; `option`: the option an exit 2 may name instead."""
+        if output:
+            with open(output, "wb") as f:
+                f.write(SENTINEL)
+        cmd = [self.exe] + args
+        self.runs += 1
+        try:
+            p = subprocess.run(cmd, capture_output=True, timeout=RUN_TIMEOUT_S, cwd=self.work)
+        except subprocess.TimeoutExpired:
+            self.fail(case, cmd, "hang: no exit within %d s" % RUN_TIMEOUT_S, "timeout", "", mutated)
+            return
+        rc = p.returncode
+        err = p.stderr.decode("utf-8", "replace")
+        if rc < 0:
+            self.fail(case, cmd, "killed by signal %d" % -rc, rc, err, mutated)
+            return
+        if rc not in (0, 1, 2):
+            self.fail(case, cmd, "exit code %d (allowed: 0, 1, 2)" % rc, rc, err, mutated)
+            return
+        self.codes[rc] += 1
+        if rc == 2:
+            names = [re.escape(m) for m in mutated]
+            # FILE:LINE:COLUMN, or FILE:LINE: for what concerns a whole line (no data rows after
+            # the header line).
+            where = re.search(r"(?:%s):\d+:(?:\d+:)? " % "|".join(names), err) if names else None
+            opt = option and option in err
+            # Two other ways to name the place: a coefficient file's entry (JSON path such as
+            # speeds[3].segments[3]), and the file alone when it is empty (no line to name).
+            if not where and names:
+                entry = re.search(r"(?:%s): [A-Za-z_]\w*(?:\[\d+\])?(?:\.\w+(?:\[\d+\])?)*: " % "|".join(names), err)
+                where = entry and any(m.endswith(".json") for m in mutated)
+                empty = any(os.path.exists(os.path.join(self.case_dir(case), m)) and
+                            os.path.getsize(os.path.join(self.case_dir(case), m)) == 0 for m in mutated)
+                where = where or (empty and re.search(r"(?:%s): " % "|".join(names), err))
+            if not where and not opt:
+                self.fail(case, cmd, "exit 2 without FILE:LINE:COLUMN of %s%s" % (
+                    " or ".join(mutated) or "-", (" or the option " + option) if option else ""), rc, err, mutated)
+        if output and rc != 0:
+            now = read(output) if os.path.exists(output) else None
+            if now != SENTINEL:
+                self.fail(case, cmd, "failed run changed its -o output (%s)" % (
+                    "deleted" if now is None else "%d bytes now" % len(now)), rc, err, mutated)
+        if output and rc == 0:
+            body = read(output)
+            if body == SENTINEL:
+                self.fail(case, cmd, "exit 0 but the -o output was not written", rc, err, mutated)
+            elif json_output:
+                try:
+                    bad = nulls_without_reason(parse_json_strict(body.decode("utf-8")))
+                except (ValueError, UnicodeDecodeError) as e:
+                    bad = ["not strict JSON: %s" % e]
+                if bad:
+                    self.fail(case, cmd, "coefficient file written with " + "; ".join(bad[:5]), rc, err, mutated)
+            elif header:
+                self.compile_header(case, cmd, output)
+
+    def compile_header(self, case, cmd, header):
+        # The header is meant to be included as epuck2/fitted/coefficients.hpp next to lib/models.
+        inc = os.path.join(os.path.dirname(header), "inc")
+        os.makedirs(os.path.join(inc, "epuck2", "fitted"), exist_ok=True)
+        shutil.copy(header, os.path.join(inc, "epuck2", "fitted", "coefficients.hpp"))
+        tu = os.path.join(os.path.dirname(header), "tu.cpp")
+        with open(tu, "w") as f:
+            f.write('#include "epuck2/fitted/coefficients.hpp"\nint main() { return 0; }\n')
+        c = subprocess.run([self.cxx, "-std=c++17", "-fsyntax-only", "-I", inc,
+                            "-I", os.path.join(self.src, "lib", "models", "include"), tu],
+                           capture_output=True, timeout=120)
+        self.compiled_headers += 1
+        if c.returncode != 0:
+            self.fail(case, cmd, "codegen wrote a header that does not compile", 0,
+                      c.stderr.decode("utf-8", "replace"), [])
+
+    # ----- the cases ---------------------------------------------------------------------------
+    def fixed_cases(self, bases, fitted):
+        """The inputs every run tries, whatever the seed: tiny logs of every kind through its fit
+        and diagnose, repeated times (dt = 0), and every numeric option at the edges of its domain.
+        Numbered from 100000 so that they do not collide with the random cases."""
+        case = 100000
+        for kind in KINDS:
+            lines = self.head(bases[kind][0]).split(b"\n")
+            h = 0
+            while lines[h].startswith(b"#"):
+                h += 1
+            tiny = {"rows1": lines[:h + 2], "rows2": lines[:h + 3],
+                    "same_time": lines[:h + 2] + [lines[h + 1]] * 3}
+            for label, rows in tiny.items():
+                name = "%s_%s.csv" % (kind, label)
+                out = os.path.join(self.work, "case%06d" % case, "out.json")
+                log = self.write6(case, name, b"\n".join(rows) + b"\n")
+                cmd = "battery" if kind == "battery" else kind
+                self.run(case, [cmd, log, "-o", out], [name], output=out, json_output=True)
+                case += 1
+                out = os.path.join(self.work, "case%06d" % case, "out.json")
+                log = self.write6(case, name, b"\n".join(rows) + b"\n")
+                self.run(case, ["diagnose", "--json", out, log], [name], output=out)
+                case += 1
+        battery_logs = [p for p in bases["battery"] if "robot-a" in p]
+        for bad in ["0", "-1", "nan", "inf", "-inf", "1e999", "abc"]:
+            out = os.path.join(self.work, "case%06d" % case, "out.csv")
+            prof = self.write6(case, "profile.csv", b"time_s,speed_cm_s\n0,7\n60,3\n")
+            self.run(case, ["simulate", "battery", "--model", "cubic", "--profile", prof, "--dt", bad, "-o", out], [],
+                     output=out, option="--dt")
+            case += 1
+            out = os.path.join(self.work, "case%06d" % case, "out.json")
+            logs = [self.write6(case, os.path.basename(p), self.head(p, 40)) for p in battery_logs]
+            self.run(case, ["table5"] + logs + ["--dt", bad, "-o", out], [], output=out, option="--dt")
+            case += 1
+            out = os.path.join(self.work, "case%06d" % case, "out.json")
+            log = self.write6(case, "b.csv", self.head(battery_logs[3]))
+            self.run(case, ["battery", log, "--robust", "--robust-scale", bad, "-o", out], [], output=out,
+                     option="--robust-scale", json_output=True)
+            case += 1
+        # Coefficient files with an infinite or huge number where codegen copies it into C++.
+        for token in [b"1e999", b"-1e999", b"1e308", b"4.9e-324"]:
+            header = os.path.join(self.work, "case%06d" % case, "coefficients.hpp")
+            files = []
+            for k, path in fitted.items():
+                data = read(path)
+                if k == "battery":
+                    m = NUMBER_RE.search(data, data.find(b'"linear_slope"'))
+                    data = data[:m.start()] + token + data[m.end():]
+                files.append(self.write6(case, k + ".json", data))
+            self.run(case, ["codegen"] + files + ["-o", header], ["battery.json"], output=header, header=True)
+            case += 1
+
+    def write6(self, case, name, data):
+        d = os.path.join(self.work, "case%06d" % case)
+        os.makedirs(d, exist_ok=True)
+        p = os.path.join(d, name)
+        with open(p, "wb") as f:
+            f.write(data)
+        return p
+
+    def main(self, cases, seed):
+        rng = random.Random(seed)
+        bases = {k: self.shipped(k) for k in KINDS}
+        fitted = {k: os.path.join(self.src, "data", "fitted", k + ".json") for k in ["battery"] + SENSOR_COMMANDS}
+        self.fixed_cases(bases, fitted)
+        kinds_cycle = ["battery", "table5", "diagnose", "simulate", "codegen", "options"] + SENSOR_COMMANDS
+        for case in range(cases):
+            what = kinds_cycle[case % len(kinds_cycle)]
+            out_json = os.path.join(self.work, "case%04d" % case, "out.json")
+            if what in SENSOR_COMMANDS or what == "battery":
+                src = rng.choice(bases[what])
+                data, how = mutate(rng, self.head(src))
+                name = "%s_%s.csv" % (what, how)
+                log = self.write(case, name, data)
+                self.run(case, [what, log, "-o", out_json], [name], output=out_json, json_output=True)
+            elif what == "table5":
+                # Every speed of one robot, one of them mutated: the tables can be built.
+                logs = []
+                victim = rng.randrange(16)
+                name = "x"
+                for i, src in enumerate(p for p in bases["battery"] if "robot-a" in p):
+                    data = self.head(src, 40)
+                    n = os.path.basename(src)
+                    if i == victim:
+                        data, how = mutate(rng, data)
+                        n = name = "t5_%s_%s" % (how, n)
+                    logs.append(self.write(case, n, data))
+                self.run(case, ["table5"] + logs + ["-o", out_json], [name], output=out_json, json_output=False)
+            elif what == "diagnose":
+                kind = rng.choice(KINDS)
+                data, how = mutate(rng, self.head(rng.choice(bases[kind])))
+                name = "diag_%s_%s.csv" % (kind, how)
+                log = self.write(case, name, data)
+                args = ["diagnose", "--json", out_json, log]
+                if rng.random() < 0.5:
+                    args[1:1] = ["--kind", kind]
+                self.run(case, args, [name], output=out_json, json_output=False)
+            elif what == "simulate":
+                out_csv = os.path.join(self.work, "case%04d" % case, "out.csv")
+                model = rng.choice(["simple", "linear", "cubic", "approximated"])
+                if rng.random() < 0.5:
+                    profile = b"time_s,speed_cm_s\n0,7\n30,3\n60,15\n90,0\n"
+                    data, how = mutate(rng, profile)
+                    name = "profile_%s.csv" % how
+                    prof = self.write(case, name, data)
+                    self.run(case, ["simulate", "battery", "--model", model, "--profile", prof, "-o", out_csv],
+                             [name], output=out_csv)
+                else:
+                    prof = self.write(case, "profile.csv", b"time_s,speed_cm_s\n0,7\n60,3\n")
+                    data, how = mutate(rng, read(fitted["battery"]))
+                    name = "battery_%s.json" % how
+                    coeff = self.write(case, name, data)
+                    self.run(case, ["simulate", "battery", "--model", model, "--coefficients", coeff, "--profile", prof,
+                                    "-o", out_csv], [name], output=out_csv)
+            elif what == "codegen":
+                header = os.path.join(self.work, "case%04d" % case, "coefficients.hpp")
+                files, names = [], []
+                victim = rng.choice(list(fitted))
+                for k, path in fitted.items():
+                    data = read(path)
+                    n = k + ".json"
+                    if k == victim:
+                        data, how = mutate(rng, data)
+                        n = "%s_%s.json" % (k, how)
+                        names.append(n)
+                    files.append(self.write(case, n, data))
+                self.run(case, ["codegen"] + files + ["-o", header], names, output=header, header=True)
+            else:
+                self.option_case(case, rng, bases, out_json)
+
+    def option_case(self, case, rng, bases, out_json):
+        """A numeric option out of its domain: exit 2 naming the option, output untouched."""
+        bad = rng.choice(["0", "-1", "nan", "inf", "-inf", "1e999", "1e-320", "abc", ""])
+        choice = rng.randrange(3)
+        if choice == 0:
+            prof = self.write(case, "profile.csv", b"time_s,speed_cm_s\n0,7\n60,3\n")
+            out_csv = os.path.join(self.work, "case%04d" % case, "out.csv")
+            self.run(case, ["simulate", "battery", "--model", "cubic", "--profile", prof, "--dt", bad, "-o", out_csv],
+                     [], output=out_csv, option="--dt")
+        elif choice == 1:
+            logs = [self.write(case, os.path.basename(p), self.head(p, 40)) for p in bases["battery"] if "robot-a" in p]
+            self.run(case, ["table5"] + logs + ["--dt", bad, "-o", out_json], [], output=out_json, option="--dt")
+        else:
+            log = self.write(case, "b.csv", self.head(bases["battery"][3]))
+            self.run(case, ["battery", log, "--robust", "--robust-scale", bad, "-o", out_json], [], output=out_json,
+                     option="--robust-scale", json_output=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--exe", required=True, help="the epuck2-fit binary")
+    ap.add_argument("--source", required=True, help="the source checkout (data/raw, data/fitted, lib/models)")
+    ap.add_argument("--cases", type=int, default=300)
+    ap.add_argument("--seed", type=int, default=20261123)
+    ap.add_argument("--cxx", default=os.environ.get("CXX", "c++"), help="compiler for the codegen headers")
+    ap.add_argument("--keep", help="copy the inputs of failing cases into this folder")
+    args = ap.parse_args()
+    s = Smoke(args)
+    start = time.monotonic()
+    try:
+        s.main(args.cases, args.seed)
+    finally:
+        shutil.rmtree(s.work, ignore_errors=True)
+    took = time.monotonic() - start
+    print("fuzz_smoke: %d runs (%d cases, seed %d) in %.1f s: exit 0 x%d, 1 x%d, 2 x%d; %d codegen headers compiled"
+          % (s.runs, args.cases, args.seed, took, s.codes[0], s.codes[1], s.codes[2], s.compiled_headers))
+    if s.failures:
+        print("fuzz_smoke: %d VIOLATIONS of the command line's contract:" % len(s.failures))
+        for f in s.failures:
+            print("  " + f)
+        return 1
+    print("fuzz_smoke: every run kept the contract")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
