@@ -76,6 +76,10 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
   nlohmann::json per = nlohmann::json::array();
   for (std::size_t i = 0; i < f.sensors.size(); ++i) {
     const auto& r = f.gamma_per_sensor[i];
+    if (!r.usable) {  // e.g. too few readings of this sensor: said, not written as a null gamma
+      per.push_back({{"sensor", f.sensors[i]}, {"usable", false}, {"why", r.message}});
+      continue;
+    }
     nlohmann::json one = {{"sensor", f.sensors[i]}, {"usable", r.usable}, {"gamma", app::sensors::number(r.value("gamma"))},
                           {"std_error", app::sensors::number(r.std_error("gamma"))}, {"mse", app::sensors::number(r.mse)},
                           {"fit", app::sensors::fit_details(r)}};

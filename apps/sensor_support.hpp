@@ -115,6 +115,7 @@ inline nlohmann::json fit_details(const fit::RobustFit& r) {
   d["rss"] = number(r.rss);
   d["mse"] = number(r.mse);
   d["r2"] = number(r.r2);
+  if (!std::isfinite(r.r2)) d["r2_why"] = "the readings inside the rails do not vary: there is no variance to explain";
   d["log_likelihood"] = number(r.log_likelihood);
   d["aic"] = number(r.aic);
   d["bic"] = number(r.bic);

@@ -180,22 +180,39 @@ def mutate(rng, data):
 
 # ----- checks ------------------------------------------------------------------------------------
 
-def nulls_without_reason(node, where="$", parent_has_reason=False):
-    """Paths of NaN/inf numbers and of nulls whose object (or its parent) has no 'reason' key."""
+def nulls_without_reason(node, where="$", excused=False, parent=None, name=None, grandparent=None):
+    """Paths of NaN/inf numbers and of nulls that no reason covers. A reason is a key holding
+    'reason' or named 'why' in the null's object or above it, a sibling 'NAME_why', or, for a
+    standard error (std_errors.NAME, std_errors.NAME[i]), an entry NAME (NAME[i]) of the
+    'std_error_why' object beside 'std_errors' (the coefficient files' contract)."""
     bad = []
+
+    def why_beside_std_errors(key):
+        holder = parent if name == "std_errors" else None
+        return isinstance(holder, dict) and isinstance(holder.get("std_error_why"), dict) and key in holder["std_error_why"]
+
     if isinstance(node, dict):
-        here = parent_has_reason or any("reason" in k for k in node)
+        here = excused or any(("reason" in k) or k == "why" for k in node)
         for k, v in node.items():
-            if v is None and not here:
-                bad.append(where + "." + k + " is null")
+            if v is None:
+                if not (here or (k + "_why") in node or why_beside_std_errors(k)):
+                    bad.append(where + "." + k + " is null")
             else:
-                bad += nulls_without_reason(v, where + "." + k, here)
+                # A list of standard errors may carry its reasons beside it (cubic_std_error_why).
+                list_why = isinstance(v, list) and ((k + "_why") in node or
+                                                    (k.endswith("_std_errors") and (k[:-1] + "_why") in node))
+                bad += nulls_without_reason(v, where + "." + k, here or list_why, node, k, parent)
     elif isinstance(node, list):
         for i, v in enumerate(node):
-            if v is None and not parent_has_reason:
-                bad.append("%s[%d] is null" % (where, i))
+            if v is None:
+                in_std_errors = (isinstance(grandparent, dict) and isinstance(parent, dict)
+                                 and parent is grandparent.get("std_errors")
+                                 and isinstance(grandparent.get("std_error_why"), dict)
+                                 and "%s[%d]" % (name, i) in grandparent["std_error_why"])
+                if not (excused or in_std_errors):
+                    bad.append("%s[%d] is null" % (where, i))
             else:
-                bad += nulls_without_reason(v, "%s[%d]" % (where, i), parent_has_reason)
+                bad += nulls_without_reason(v, "%s[%d]" % (where, i), excused, node, name, parent)
     elif isinstance(node, float) and not math.isfinite(node):
         bad.append(where + " is " + repr(node))
     return bad

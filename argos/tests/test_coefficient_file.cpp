@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "../src/coefficient_file.hpp"
@@ -33,15 +34,23 @@ std::string error_of(const std::function<void()>& f) {
 }
 
 TEST(CoefficientFile, ShippedSensorFilesLoad) {
+  // What the loader gives is what the file says (read here with nlohmann-json directly).
+  auto json_of = [](const std::string& path) {
+    std::ifstream in(path);
+    return nlohmann::json::parse(in);
+  };
   const auto prox = ap::CoefficientFile::load(fitted("proximity.json"), {"proximity"});
-  EXPECT_NEAR(prox.scalar("a"), 196.8, 0.1);
+  EXPECT_EQ(prox.scalar("a"), json_of(fitted("proximity.json")).at("parameters").at("a").get<double>());
   EXPECT_EQ(prox.per_sensor("a", 8).size(), 8u);
   const auto ground = ap::CoefficientFile::load(fitted("ground.json"), {"ground"});
   const auto gain = ground.per_sensor("gain", 3);
-  EXPECT_NEAR(gain[1], 940.9, 0.1);
+  EXPECT_EQ(gain[1], json_of(fitted("ground.json")).at("parameters").at("gain").at(1).get<double>());
   const auto drive = ap::CoefficientFile::load(fitted("drive.json"), {"drive", "tof"});
-  EXPECT_NEAR(drive.scalar("tof_scale"), 0.9856, 1e-4);
-  EXPECT_FALSE(drive.noise_sd("tof").has_value());
+  const auto dj = json_of(fitted("drive.json"));
+  EXPECT_EQ(drive.scalar("tof_scale"), dj.at("parameters").at("tof_scale").get<double>());
+  // The fit's reading noise (fits.tof.noise_sd) is what the calibrated ToF draws from.
+  ASSERT_TRUE(drive.noise_sd("tof").has_value());
+  EXPECT_EQ(*drive.noise_sd("tof"), dj.at("fits").at("tof").at("noise_sd").get<double>());
 }
 
 TEST(CoefficientFile, ShippedBatteryFileLoads) {

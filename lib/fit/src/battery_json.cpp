@@ -13,9 +13,11 @@ namespace {
 
 json fit_stats(const FitResult& r) {
   // r2 is null (not NaN) when the charge never changes: no variance to explain.
-  return json{{"usable", r.usable}, {"rss", r.rss}, {"mse", r.mse},
-              {"r2", std::isfinite(r.r2) ? json(r.r2) : json(nullptr)}, {"aic", r.aic},
-              {"bic", r.bic}, {"iterations", r.iterations}, {"observations", r.observations}};
+  json j{{"usable", r.usable}, {"rss", r.rss}, {"mse", r.mse},
+         {"r2", std::isfinite(r.r2) ? json(r.r2) : json(nullptr)}, {"aic", r.aic},
+         {"bic", r.bic}, {"iterations", r.iterations}, {"observations", r.observations}};
+  if (!std::isfinite(r.r2)) j["r2_why"] = "the charge does not vary: there is no variance to explain";
+  return j;
 }
 
 json named_values(const FitResult& r, bool std_errors) {
