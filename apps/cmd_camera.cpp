@@ -85,11 +85,7 @@ nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensor
 }
 
 int run_camera(const app::sensors::SensorOptions& o) {
-  const auto logs = app::sensors::select_robot(read_logs_reporting("camera", o.logs, logs::Kind::camera, o.skip_bad_rows), o.robot);
-  fit::CameraFit f;
-  nlohmann::json j = camera_json(logs, o, &f);
-  app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return camera_json(mine, o, nullptr); });
-  return app::sensors::finish("camera", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
+  return app::sensors::run_sensor<fit::CameraFit>("camera", logs::Kind::camera, o, camera_json, print_report, draw);
 }
 
 }  // namespace

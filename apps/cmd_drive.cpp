@@ -93,11 +93,7 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
 }
 
 int run_drive(const app::sensors::SensorOptions& o) {
-  const auto logs = app::sensors::select_robot(read_logs_reporting("drive", o.logs, logs::Kind::drive, o.skip_bad_rows), o.robot);
-  fit::DriveFit f;
-  nlohmann::json j = drive_json(logs, o, &f);
-  app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return drive_json(mine, o, nullptr); });
-  return app::sensors::finish("drive", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
+  return app::sensors::run_sensor<fit::DriveFit>("drive", logs::Kind::drive, o, drive_json, print_report, draw);
 }
 
 }  // namespace

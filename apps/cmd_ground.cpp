@@ -96,11 +96,7 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
 }
 
 int run_ground(const app::sensors::SensorOptions& o) {
-  const auto logs = app::sensors::select_robot(read_logs_reporting("ground", o.logs, logs::Kind::ground, o.skip_bad_rows), o.robot);
-  fit::GroundFit f;
-  nlohmann::json j = ground_json(logs, o, &f);
-  app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return ground_json(mine, o, nullptr); });
-  return app::sensors::finish("ground", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
+  return app::sensors::run_sensor<fit::GroundFit>("ground", logs::Kind::ground, o, ground_json, print_report, draw);
 }
 
 }  // namespace

@@ -96,11 +96,7 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
 }
 
 int run_light(const app::sensors::SensorOptions& o) {
-  const auto logs = app::sensors::select_robot(read_logs_reporting("light", o.logs, logs::Kind::light, o.skip_bad_rows), o.robot);
-  fit::LightFit f;
-  nlohmann::json j = light_json(logs, o, &f);
-  app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return light_json(mine, o, nullptr); });
-  return app::sensors::finish("light", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
+  return app::sensors::run_sensor<fit::LightFit>("light", logs::Kind::light, o, light_json, print_report, draw);
 }
 
 }  // namespace

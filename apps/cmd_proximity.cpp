@@ -108,11 +108,7 @@ nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sen
 }
 
 int run_proximity(const app::sensors::SensorOptions& o) {
-  const auto logs = app::sensors::select_robot(read_logs_reporting("proximity", o.logs, logs::Kind::proximity, o.skip_bad_rows), o.robot);
-  fit::ProximityFit f;
-  nlohmann::json j = proximity_json(logs, o, &f);
-  app::sensors::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return proximity_json(mine, o, nullptr); });
-  return app::sensors::finish("proximity", o, j, [&] { print_report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
+  return app::sensors::run_sensor<fit::ProximityFit>("proximity", logs::Kind::proximity, o, proximity_json, print_report, draw);
 }
 
 }  // namespace

@@ -312,6 +312,19 @@ int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json
   return 0;
 }
 
+/// A sensor subcommand from its parts: the logs read (--skip-bad-rows) and selected (--robot),
+/// `to_json(logs, options, &fit)` for the pooled file, the same per robot when there are several,
+/// then finish() with `report(fit)` and `draw(stage, path, fit)`.
+template <class Fit, class ToJson, class Report, class Draw>
+int run_sensor(const std::string& kind, logs::Kind log_kind, const SensorOptions& o, ToJson to_json, Report report,
+               Draw draw) {
+  const auto logs = select_robot(read_logs_reporting(kind, o.logs, log_kind, o.skip_bad_rows), o.robot);
+  Fit f;
+  nlohmann::json j = to_json(logs, o, &f);
+  add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return to_json(mine, o, nullptr); });
+  return finish(kind, o, j, [&] { report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
+}
+
 /// A gnuplot datablock: `$name << EOD`, rows, `EOD`.
 inline std::string datablock(const std::string& name, const std::vector<std::vector<double>>& rows) {
   std::ostringstream os;

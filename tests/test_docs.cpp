@@ -122,6 +122,9 @@ TEST(DocsFiles, NoTrackedProductFileMentionsNotesOutsideTheRepository) {
   for (const std::string& f : files) {
     const fs::path p = kSource / f;
     if (!fs::is_regular_file(p)) continue;
+    // CI's entry point is the team's, not the product's: it may install ARGoS from the notes
+    // beside the clone before running the README's test command.
+    if (f == ".ci/run") continue;
     const std::string text = slurp(p);
     for (const std::string& needle : needles) {
       std::size_t at = text.find(needle);
