@@ -33,10 +33,11 @@ FS = "lib/fit/src/sensor_fits.cpp"
 FH = "lib/fit/include/epuck2/fit/sensors.hpp"
 DE = "lib/fit/src/diagnose_engine.cpp"
 DH = "lib/fit/include/epuck2/fit/diagnose.hpp"
+RB = "lib/fit/src/robust.cpp"
 
 # Test groups: the test programs to build and the ctest -R pattern of the tests to run.
-SENSORS = (["test_sensor_models", "test_sensor_fits", "test_independent_checks"],
-           r"^(Sensor|Proximity|Light|Ground|Tof|Encoder|Camera|Drive|Leds|HandComputed|IndependentFit)")
+SENSORS = (["test_sensor_models", "test_sensor_fits", "test_independent_checks", "test_measured_logs"],
+           r"^(Sensor|Proximity|Light|Ground|Tof|Encoder|Camera|Drive|Leds|HandComputed|IndependentFit|Measured|RobustEngine|Distributions)")
 BATTERY = (["test_battery_models", "test_battery_fit", "test_virtual_robot_battery", "test_independent_checks"],
            r"^(Battery|VirtualBattery|HandComputed)")
 DIAGNOSE = (["test_diagnose", "test_independent_checks"],
@@ -46,20 +47,24 @@ DIAGNOSE = (["test_diagnose", "test_independent_checks"],
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
     ("light_term_plus_1pct", M, "  return r * r;", "  return 1.01 * r * r;", SENSORS),
-    ("ground_censoring_removed", FS, "if (v[i] <= 0.0 || v[i] >= s::kGroundFullScale_raw) {", "if (false) {", SENSORS),
+    ("ground_censoring_removed", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
     ("diagnose_bic_gate_sign", DE, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (t.delta_bic <= options.min_delta_bic) passing", DIAGNOSE),
     ("diagnose_heldout_gate_flipped", DE, "t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain)", "t.heldout_mse <= current_cv * (1.0 + options.min_heldout_gain)", DIAGNOSE),
     ("battery_filter_tau_plus_1pct", B, "kFirmwareFilterTau_s = 2.2407;", "kFirmwareFilterTau_s = 2.2631;", BATTERY),
     ("ground_offset_meaning", M, "  return offset_raw + gain_raw * grey;", "  return offset_raw * (1.0 - grey) + gain_raw * grey;", SENSORS),
     ("tof_offset_inside_scale", M, "  return scale * distance_m * 1000.0 + offset_mm;", "  return scale * (distance_m * 1000.0 + offset_mm);", SENSORS),
     # Other plausible slips in the models, the fits and the diagnosis's decision rules:
-    ("light_dark_rail_kept", FS, "if (v[i] <= 0.0 || v[i] >= s::kProximityFullScale_raw || !(d[i] > 0)", "if (v[i] < 0.0 || v[i] > s::kProximityFullScale_raw || !(d[i] > 0)", SENSORS),
-    ("ground_low_rail_only", FS, "if (v[i] <= 0.0 || v[i] >= s::kGroundFullScale_raw) {", "if (v[i] <= 0.0) {", SENSORS),
-    ("ground_high_rail_only", FS, "if (v[i] <= 0.0 || v[i] >= s::kGroundFullScale_raw) {", "if (v[i] >= s::kGroundFullScale_raw) {", SENSORS),
+    ("light_rails_not_censored", FS, "rail_of(o.value_raw, 0, full), o.where, group});", "rail_of(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
+    ("ground_low_rail_only", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], 0, 1e300);", SENSORS),
+    ("ground_high_rail_only", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], -1e300, full);", SENSORS),
     ("proximity_linear_sign", M, "return (abc[0] * distance_m + abc[1]) * distance_m + abc[2];", "return (abc[0] * distance_m - abc[1]) * distance_m + abc[2];", SENSORS),
     ("camera_px_sign", M, "px[0] = cx_px - f_px * (lateral_m / forward_m);", "px[0] = cx_px + f_px * (lateral_m / forward_m);", SENSORS),
     ("camera_full_angle_focal", M, "const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);", "const T f_px = T(width_px / 2.0) / tan(hfov_rad);", SENSORS),
-    ("tof_censoring_removed", FS, "if (run.tof_mm[k] <= s::kPluginTof.min_mm || run.tof_mm[k] >= s::kPluginTof.max_mm) {", "if (false) {", SENSORS),
+    ("tof_floor_censoring_removed", FS, "      if (mm <= s::kPluginTof.min_mm) {", "      if (false) {", SENSORS),
+    ("tof_ceiling_censoring_removed", FS, "      } else if (mm >= s::kPluginTof.max_mm) {", "      } else if (false) {", SENSORS),
+    # The censored, robust engine (lib/fit/src/robust.cpp):
+    ("tobit_rail_side_flipped", RB, "const double z = sign * (pred_[i] - o.value) / sigma_;", "const double z = -sign * (pred_[i] - o.value) / sigma_;", SENSORS),
+    ("outliers_never_left_out", RB, "if (obs[i].censoring == Censoring::none && std::abs(dev) > opt.reject_sd) next[i] = 0;", "if (false) next[i] = 0;", SENSORS),
     ("encoder_unwrap_off_by_one", M, "if (delta > 32767.0) delta -= 65536.0;", "if (delta > 32767.0) delta -= 65535.0;", SENSORS),
     ("slip_lag_decay_complement", FH, "speed = wheel + (speed - wheel) * decay;", "speed = wheel + (speed - wheel) * (1.0 - decay);", SENSORS),
     ("light_range_ignored", M, "if (l.intensity > 0 && l.distance_m <= k.range_m) sum +=", "if (l.intensity > 0) sum +=", SENSORS),
