@@ -562,3 +562,18 @@ TEST_F(MeasuredCli, ADriveRunCommandingAboveTheCapIsFittedNotRefused) {
   EXPECT_NEAR(j["parameters"]["steps_per_m"].get<double>(), 7763.656, 3);
   EXPECT_NE(r.err.find("taken as the limit"), std::string::npos);
 }
+
+TEST(MeasuredDrive, ReadingsAtTheToFFloorAreCensoredNotTakenAsDistances) {
+  // Driving 0.26 m towards an obstacle 0.25 m away (the robot pushes on against it: the commanded
+  // travel goes past it): the last readings sit on the sensor's 20 mm floor while the true
+  // distance is below 20 mm, or 0. Taken as exact, those readings pull the scale and offset even
+  // in plain least squares; censored, they only say "at most 20 mm".
+  const std::string t = drive_log({5, 5, 5, 5, 5, 1.0, 0}, 0.25, 13);
+  fit::SensorFitOptions plain;
+  plain.robust = false;
+  const auto f = fit::fit_drive({parse(t, "floor.csv", Kind::drive)}, plain);
+  ASSERT_TRUE(f.tof.usable) << f.tof.message;
+  EXPECT_GE(f.tof.censored_below, 5u);
+  EXPECT_NEAR(f.tof.value("tof_scale"), 1.0, 3 * f.tof.std_error("tof_scale"));
+  EXPECT_NEAR(f.tof.value("tof_offset_mm"), 0.0, 3 * f.tof.std_error("tof_offset_mm"));
+}
