@@ -4,7 +4,7 @@
 // source: data/fitted/light.json fnv1a64 26775dad3ebca51b
 // source: data/fitted/ground.json fnv1a64 954dcaa8cf1f0f07
 // source: data/fitted/camera.json fnv1a64 bb25dcec56356f69
-// source: data/fitted/drive.json fnv1a64 b95f6b509f1086bc
+// source: data/fitted/drive.json fnv1a64 dc7920f1afa298af
 // Coefficients fitted by epuck2-fit from the raw logs in data/raw (see data/fitted/README.md).
 #pragma once
 
@@ -214,15 +214,15 @@ inline constexpr double mse = 0.4131015863132729;
 
 // ---- drive (data/fitted/drive.json) ----
 namespace drive {
-inline constexpr double slip_time_constant_s = 0.12431239464619676;
+inline constexpr double slip_time_constant_s = 0.12431239464619678;
 inline constexpr double steps_per_m = 7760.5203370046975;
-inline constexpr double tof_offset_mm = 9.0004530857455;
-inline constexpr double tof_scale = 0.9845480501098358;
-inline constexpr double slip_time_constant_s_std_error = 0.0020324152048037244;
+inline constexpr double tof_offset_mm = 9.000453085745523;
+inline constexpr double tof_scale = 0.9845480501098357;
+inline constexpr double slip_time_constant_s_std_error = 0.0020324152048037275;
 inline constexpr double steps_per_m_std_error = 0.02352317112700979;
-inline constexpr double tof_offset_mm_std_error = 0.15954111124351622;
-inline constexpr double tof_scale_std_error = 0.000327422245387889;
-inline constexpr double mse = 13.223728002736646;
+inline constexpr double tof_offset_mm_std_error = 0.15954111124351675;
+inline constexpr double tof_scale_std_error = 0.0003274222453878902;
+inline constexpr double mse = 13.223728002736667;
 }  // namespace drive
 
 }  // namespace epuck2::fitted
