@@ -13,6 +13,7 @@
 #include "log_help.hpp"
 #include "epuck2/calibrate/battery_json.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/diagnose/extended_model.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 #if __has_include("epuck2/fitted/coefficients.hpp")
 #include "epuck2/fitted/coefficients.hpp"  // the CLI's `--coefficients fitted` (epuck2::fitted)
@@ -171,6 +172,16 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
                       {"kept", t.kept}, {"screened_out", t.screened_out}});
   j["search"] = trials;
   j["notes"] = r.notes;
+  // The extended model (base in the final joint fit, the findings as effects, the final noise):
+  // the report doubles as a coefficient file for `simulate KIND --like`, `codegen` and ARGoS.
+  nlohmann::json model = dg::extended_model_json(r);
+  if (!model.empty()) {
+    nlohmann::json fb, fb_se;
+    put_parameters(r.final_base.empty() ? r.recalibrated : r.final_base, fb, fb_se);
+    j["final_base"] = fb;
+    for (const char* key : {"parameters", "effects", "noise", "effects_not_in_model"})
+      if (model.contains(key)) j[key] = model[key];
+  }
   return j;
 }
 

@@ -87,7 +87,7 @@ int run_simulate(const SimulateOptions& o) {
 
 void setup_simulate(CLI::App& app, Action& action) {
   auto o = std::make_shared<SimulateOptions>();
-  CLI::App* sim = app.add_subcommand("simulate", "Run a runtime model (see `simulate battery --help`)");
+  CLI::App* sim = app.add_subcommand("simulate", "Run a runtime model: `simulate battery` over a speed profile, `simulate KIND --like LOG` on a measured log's conditions");
   sim->require_subcommand(1);
   CLI::App* sub = sim->add_subcommand("battery", "Run a discharge model over a speed profile from a full charge");
   sub->add_option("--model", o->model, "simple, linear, cubic or approximated")->required();
@@ -105,6 +105,7 @@ void setup_simulate(CLI::App& app, Action& action) {
   add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output");
   sub->callback([o, &action] { action = [o] { return run_simulate(*o); }; });
+  setup_simulate_like(*sim, action);
 }
 
 }  // namespace epuck2::app

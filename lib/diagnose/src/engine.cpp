@@ -282,11 +282,27 @@ class Engine {
         last[ch] = r;
       }
     } else {
+      // Readings whose mean lies near a rail have their noise clipped on one side: their
+      // residuals are left out (a mean within 3 of the current sd of a rail), unless too few
+      // readings remain.
+      std::vector<double> s_far(C, 0.0), c_far(C, 0.0);
       for (std::size_t i = 0; i < n_; ++i)
         if (p_.y[i] > lo(i) && p_.y[i] < hi(i)) {
           const std::size_t ch = static_cast<std::size_t>(p_.channel[i]);
-          s[ch] += (p_.y[i] - pred[i]) * (p_.y[i] - pred[i]);
+          const double r2 = (p_.y[i] - pred[i]) * (p_.y[i] - pred[i]);
+          s[ch] += r2;
           c[ch] += 1;
+          const double margin = 3.0 * sigma_[ch];
+          if (pred[i] - lo(i) > margin && hi(i) - pred[i] > margin) {
+            s_far[ch] += r2;
+            c_far[ch] += 1;
+          }
+        }
+      constexpr double kEnoughFar = 30;
+      for (std::size_t ch = 0; ch < C; ++ch)
+        if (c_far[ch] >= kEnoughFar) {
+          s[ch] = s_far[ch];
+          c[ch] = c_far[ch];
         }
     }
     std::vector<double> out(C);
@@ -721,13 +737,18 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
   current = engine.fit(free, current.values, engine.all(), true);
   report.heldout_mse_final = current_h.reading;
   report.heldout_weighted_final = current_h.all;
-  report.noise_sd = std::sqrt(current.result.mse);
+  // The noise of a reading: residuals of readings away from the sensor's rails (a reading on a
+  // rail has its noise clipped; the MSE over all rows counts the clipped zeros of every reading
+  // beyond the proximity sensor's range).
+  const std::vector<double> sd = engine.noise_sd(current.values);
+  report.noise_sd = sd.front();
   if (p.channel_names.size() > 1) {
-    const std::vector<double> sd = engine.noise_sd(current.values);
     for (std::size_t c = 0; c < sd.size(); ++c) report.channel_noise_sd.push_back({p.channel_names[c], sd[c], 0.0});
   }
   for (std::size_t k = 0; k < order.size(); ++k) report.findings[k].parameters = named(p, current, p.effects[order[k]].params);
-  if (!p.base_free.empty()) report.recalibrated = named(p, current, p.base_free);
+  // The recalibration alone stays in `recalibrated` (step 2's fit); the base parameters of the
+  // joint fit with every finding are the extended model's.
+  if (!p.base_free.empty()) report.final_base = named(p, current, p.base_free);
 
   // A finding whose parameter the logs do not pin down (standard error above its size, or none)
   // names a direction of misfit, not a measured effect: say so.

@@ -75,7 +75,10 @@ struct Report {
   std::size_t rows = 0;       ///< data rows in all logs
   std::size_t residuals = 0;  ///< residuals fitted (camera: two per row)
   std::string verdict = "none";
-  std::vector<NamedValue> recalibrated;  ///< the base model's free parameters (empty: none)
+  std::vector<NamedValue> recalibrated;  ///< the base model's free parameters recalibrated alone (empty: none)
+  /// The base model's free parameters in the final joint fit with every finding (what the extended
+  /// model carries; the same as `recalibrated` without findings).
+  std::vector<NamedValue> final_base;
   double noise_sd = 0;                   ///< residual standard deviation of the final model
   /// With several measured quantities (drive: ToF in mm, encoders in steps): each one's noise
   /// standard deviation, in its own units. Residuals are weighted by them and MSEs are given in

@@ -3,6 +3,7 @@
 // unless a name says _deg. Umbrella: sensors.hpp.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <random>
 
@@ -32,6 +33,31 @@ double uniform_noise(UnitRandom& unit, double level) {
 /// No noise: the functor to pass when noise is off.
 struct NoNoise {
   double operator()() const { return 0.5; }
+};
+
+/// Standard normal numbers from a UnitUniform by the Box-Muller transform, written out so that a
+/// seed gives the same numbers with every standard library (std::normal_distribution's algorithm
+/// is the library's choice).
+class StandardNormal {
+ public:
+  explicit StandardNormal(std::uint64_t seed) : unit_(seed) {}
+  double operator()() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    // 1 - u lies in (0, 1]: no log of 0.
+    const double r = std::sqrt(-2.0 * std::log(1.0 - unit_()));
+    const double angle = 2.0 * 3.14159265358979323846 * unit_();
+    spare_ = r * std::sin(angle);
+    has_spare_ = true;
+    return r * std::cos(angle);
+  }
+
+ private:
+  UnitUniform unit_;
+  double spare_ = 0.0;
+  bool has_spare_ = false;
 };
 
 }  // namespace epuck2::models::sensors
