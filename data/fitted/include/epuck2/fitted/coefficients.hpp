@@ -11,6 +11,7 @@
 #include <array>
 
 #include "epuck2/models/battery.hpp"
+#include "epuck2/models/kinds.hpp"
 
 namespace epuck2::fitted {
 
@@ -174,6 +175,19 @@ inline constexpr double mean_c_std_error = 0.01543279438115728;
 inline constexpr double range_m_std_error = 0;
 inline constexpr double mse = 2.2816868757525212e-07;
 }  // namespace proximity
+/// The proximity model of data/fitted/proximity.json: base, effects, reading noise (counts).
+inline models::sensors::ProximityModel proximity_model() {
+  models::sensors::ProximityModel m;
+  m.base = {197.14676857534056, -30.397020968449567, 1.0110413396127684, 0.05};
+  m.effects.ambient.offset_raw = 0;
+  m.effects.gains.gain = {1, 1, 1, 1, 1, 1, 1, 1};
+  m.effects.tail.amplitude_raw = 0;
+  m.effects.tail.length_m = 0.02;
+  m.effects.incidence.k = 0;
+  m.effects.saturation.level_raw = 1e+09;
+  m.noise_sd_raw = {0, 0, 0, 0, 0, 0, 0, 0};
+  return m;
+}
 
 // ---- light (data/fitted/light.json) ----
 namespace light {
@@ -183,6 +197,17 @@ inline constexpr double gamma_std_error = 2.2048045023639547e-05;
 inline constexpr double range_m_std_error = 0;
 inline constexpr double mse = 0.00012130694359537849;
 }  // namespace light
+/// The light model of data/fitted/light.json: base, effects, reading noise (counts).
+inline models::sensors::LightModel light_model() {
+  models::sensors::LightModel m;
+  m.base.gamma_m = 0.07369075463203062;
+  m.base.range_m = 0.5;
+  m.effects.ambient.offset_raw = 0;
+  m.effects.falloff.exponent = 2;
+  m.effects.gains.gain = {1, 1, 1, 1, 1, 1, 1, 1};
+  m.noise_sd_raw = {0, 0, 0, 0, 0, 0, 0, 0};
+  return m;
+}
 
 // ---- ground (data/fitted/ground.json) ----
 namespace ground {
@@ -192,6 +217,16 @@ inline constexpr std::array<double, 3> gain_std_error{0.7713974728286326, 1.3001
 inline constexpr std::array<double, 3> offset_std_error{0.4554848498852644, 0.7632016665445395, 0.464736816665701};
 inline constexpr double mse = 79.89585635649114;
 }  // namespace ground
+/// The ground model of data/fitted/ground.json: per-sensor gain and black offset, effects, reading noise (counts).
+inline models::sensors::GroundModel ground_model() {
+  models::sensors::GroundModel m;
+  m.sensors[0] = {914.7051266959891, 61.399099653847394};
+  m.sensors[1] = {958.0839705016184, 47.44179005579662};
+  m.sensors[2] = {878.6793578517238, 75.15873087738107};
+  m.effects.exponent = 1;
+  m.noise_sd_raw = {0, 0, 0};
+  return m;
+}
 
 // ---- camera (data/fitted/camera.json) ----
 namespace camera {
@@ -211,6 +246,16 @@ inline constexpr double range_m_std_error = 0;
 inline constexpr double width_px_std_error = 0;
 inline constexpr double mse = 0.4131015863132729;
 }  // namespace camera
+/// The camera model of data/fitted/camera.json (field of view in radians), distortion, pixel noise.
+inline models::sensors::CameraModel camera_model() {
+  models::sensors::CameraModel m;
+  m.base.horizontal_fov_rad = 0.5375015636951458;
+  m.base.cx_px = 81.81161173670161;
+  m.base.cy_px = 57.92416519777999;
+  m.distortion.k1 = 0;
+  m.noise_sd_px = 0;
+  return m;
+}
 
 // ---- drive (data/fitted/drive.json) ----
 namespace drive {
@@ -224,5 +269,20 @@ inline constexpr double tof_offset_mm_std_error = 0.15954111124351675;
 inline constexpr double tof_scale_std_error = 0.0003274222453878902;
 inline constexpr double mse = 13.223728002736667;
 }  // namespace drive
+/// The drive model of data/fitted/drive.json: encoders, effects, ToF and encoder noise.
+inline models::sensors::DriveModel drive_model() {
+  models::sensors::DriveModel m;
+  m.steps_per_m = 7760.5203370046975;
+  m.effects.speed_limit.max_cm_s = 1e+06;
+  m.effects.accel_limit.accel_cm_s2 = 1e+06;
+  m.effects.slip.tau_s = 0.12431239464619678;
+  m.effects.speed_scale.k = 1;
+  m.effects.latency.delay_s = 0;
+  m.effects.tof_offset.offset_mm = 9.000453085745523;
+  m.effects.tof_scale.k = 0.9845480501098357;
+  m.tof_noise_sd_mm = 0;
+  m.encoder_noise_sd_steps = 0;
+  return m;
+}
 
 }  // namespace epuck2::fitted
