@@ -181,10 +181,11 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   for (const auto& [v, label] : probe.categories) longest = std::max(longest, label.size());
   const bool rotate = probe.categorical && (longest > 6 || probe.categories.size() > 12);
   const int rows = std::max<int>(1, static_cast<int>(panels.size()));
-  const int width = 1500, plot_h = 400, top_px = 110, key_px = 370;
-  // Long tic labels stand upright (gnuplot makes room for their whole length, about 7 px a
-  // character at 9 pt).
-  const int tics_px = rotate ? static_cast<int>(7.0 * static_cast<double>(longest)) + 12 : 22;
+  const int width = 1500, plot_h = 400, top_px = 110, key_px = 400;
+  // Long tic labels stand upright (about 6.5 px a character at 9 pt, in every format). gnuplot
+  // would put the x label below the room it reckons they take at the default font's width, which
+  // differs from terminal to terminal: the label is placed by hand just below them instead.
+  const int tics_px = rotate ? static_cast<int>(7.0 * static_cast<double>(longest)) + 14 : 22;
   const int below_px = tics_px + 32;  // tic labels and the x label
   const int gap_px = below_px + 45;   // ... and the next panel's title
   const int height = top_px + rows * plot_h + (rows - 1) * gap_px + below_px + 10;
@@ -296,7 +297,16 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
           if (stride > 1) panel_title += "; 1 in " + std::to_string(stride) + " drawn, means from all";
           gp << "set title " << quoted(panel_title) << " font ',12'\n";
           gp << "set ylabel " << quoted("measured − simulated (" + p.unit + ")") << "\n";
-          gp << "set xlabel " << quoted(axis.label) << "\n";
+          if (rotate) {
+            // This panel's lower border, then the tic labels' length below it.
+            const double panel_h = (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
+            const double border = layout.top - p_index * panel_h - (p_index - 1) * layout.vspace;
+            const double y = border - (tics_px + 16.0) / height;
+            gp << "unset xlabel\nset label 90 " << quoted(axis.label) << " at screen " << num((layout.left + layout.right) / 2)
+               << "," << num(y) << " center front\n";
+          } else {
+            gp << "set xlabel " << quoted(axis.label) << "\n";
+          }
           gp << "set yrange [" << num(lo) << ":" << num(hi) << "]\n";
           if (axis.categorical) {
             gp << "set xrange [-0.6:" << static_cast<double>(axis.categories.size()) - 0.4 << "]\n";
