@@ -179,7 +179,7 @@ const std::string& coefficient_file(const std::string& source) {
 
 CLI::Validator figure_file() {
   return CLI::Validator(
-      [](std::string& input) -> std::string { return plot::why_not_a_figure(input); }, "FILE.{png,svg,pdf}");
+      [](std::string& input) -> std::string { return plot::why_not_a_figure(input); }, "{.png,.svg,.pdf}");
 }
 
 void add_skip_bad_rows(CLI::App* sub, bool& flag) {

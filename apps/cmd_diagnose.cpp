@@ -298,7 +298,7 @@ void setup_diagnose(CLI::App& app, Action& action) {
   sub->add_flag("--json", o->json,
                 "Print the JSON report instead of the human one (the old spellings --json FILE.json and "
                 "--json - still work: the first is -o FILE.json)");
-  sub->add_option("-o,--output", o->output, "Write the JSON report to FILE, atomically");
+  sub->add_option("-o,--output", o->output, "Write the JSON report to FILE, atomically")->type_name("FILE");
   sub->add_option("--json-file", o->json_file)->group("");  // what main.cpp makes of the old --json FILE.json
   sub->add_option("--plot", o->plot,
                   "Draw the residuals before and after the findings, one panel per measured quantity, to FILE "
@@ -310,7 +310,8 @@ void setup_diagnose(CLI::App& app, Action& action) {
             if (why.empty() || std::filesystem::is_directory(input)) return std::string();
             return why + " (or an existing folder, the old spelling: DIR/diagnose_<kind>.png)";
           },
-          "FILE.{png,svg,pdf}"));
+          "{.png,.svg,.pdf}|DIR"))
+      ->type_name("FILE");
   sub->add_option("--battery-model", o->battery_model, "battery: the discharge model simulated")
       ->capture_default_str()
       ->check(one_of({"simple", "linear", "cubic", "approximated"}, "discharge model"));

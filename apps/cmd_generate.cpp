@@ -58,7 +58,8 @@ void setup_generate(CLI::App& app, Action& action) {
   std::vector<std::string> kinds = kind_names();
   kinds.push_back("all");
   sub->add_option("KIND", opts->kind, "The kind of logs to record, or all")->required()->check(one_of(kinds, "kind"));
-  sub->add_option("--out-dir", opts->out_dir, "Folder to write into, created if needed (for `all`, one sub-folder per kind); required");
+  sub->add_option("--out-dir", opts->out_dir, "Folder to write into, created if needed (for `all`, one sub-folder per kind); required")
+      ->type_name("DIR");
   sub->add_option("-o,--out", opts->old_out)->group("");  // the spellings published first
   sub->add_option("--seed", opts->seed, "Random seed")->capture_default_str()->check(whole_number());
   sub->callback([opts, &action] { action = [opts] { return run_generate(*opts); }; });

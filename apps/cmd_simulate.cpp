@@ -107,7 +107,7 @@ void setup_simulate(CLI::App& app, Action& action) {
       ->check(CLI::ExistingFile);
   sub->add_option("--dt", o->dt_s, "Tick in seconds")->capture_default_str()->check(finite_range(kMinTick_s, kMaxTick_s));
   add_skip_bad_rows(sub, o->skip_bad_rows);
-  sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output");
+  sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output")->type_name("FILE");
   sub->callback([o, &action] { action = [o] { return run_simulate(*o); }; });
 }
 

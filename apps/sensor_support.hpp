@@ -48,9 +48,10 @@ struct SensorOptions {
 inline void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what) {
   sub->add_option("logs", o.logs, what + " logs (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o.json, "Print one JSON object instead of the report");
-  sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically");
+  sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically")->type_name("FILE");
   sub->add_option("--plot", o.plot,
                   "Draw the data, the fitted curve and the plug-in's curve to FILE (.png, .svg or .pdf, by the extension)")
+      ->type_name("FILE")
       ->check(figure_file());
   sub->add_flag("--least-squares", o.least_squares,
                 "Plain least squares: no reading is left out as an outlier (readings on a rail stay censored)");
