@@ -60,7 +60,7 @@ const std::vector<Figure>& figures() {
       // after in one legend; the shipped logs of two robots give the `log` verdict, whose
       // categories are labelled with the file names.
       {"diagnose_battery", "diagnose --coefficients " + kFittedBattery + logs_of("battery"), "--plot",
-       {"measured − simulated (fraction of full charge)", "robot-a_speed-00.csv", "robot-b_speed-15.csv", "log file",
+       {"measured − simulated (fraction of full charge)", "robot-a_speed-00.csv", "robot-b_speed-15.csv", "log (file name)",
         "before:", "after:"}},
       {"diagnose_proximity", "diagnose" + logs_of("proximity"), "--plot",
        {"measured − simulated (counts, 0..4095)", "proximity_virtual-epuck2-2.csv", "before:", "after:"}},

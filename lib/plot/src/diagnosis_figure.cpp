@@ -101,7 +101,10 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
       }
       a.categories[v] = label;
     }
-    a.label = name == "log" ? "log file" : name == "sensor" ? "sensor (id)" : name == "axis" ? "image axis" : "measured quantity";
+    a.label = name == "log"      ? "log (file name)"
+              : name == "sensor" ? "sensor (id)"
+              : name == "axis"   ? "image axis (px: column, py: row)"
+                                 : "measured quantity (channel)";
     return a;
   }
   const bool drive = r.kind == logs::Kind::drive;
