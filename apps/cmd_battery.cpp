@@ -1,5 +1,5 @@
 // epuck2-fit battery LOGS...: fits the paper's four discharge models per speed; human report,
-// --json, -o coefficient file (atomic), --plot figures.
+// --json, -o coefficient file (atomic), --plot and --plot-lifetime figures (PNG, SVG or PDF).
 #include <cstdio>
 #include <iostream>
 
@@ -76,8 +76,8 @@ int run_battery(const BatteryOptions& o) {
   // All or nothing: the coefficient file and the figures are renamed into place together.
   logs::OutputStage stage;
   if (!o.output.empty()) stage.write(o.output, text);
-  if (!o.plot.empty()) plot::battery_fits_png(stage, o.plot, runs, f);
-  if (!o.plot_lifetime.empty()) plot::battery_lifetime_png(stage, o.plot_lifetime, runs, f);
+  if (!o.plot.empty()) plot::battery_fits_figure(stage, o.plot, runs, f);
+  if (!o.plot_lifetime.empty()) plot::battery_lifetime_figure(stage, o.plot_lifetime, runs, f);
   stage.commit();
   if (!o.output.empty()) std::cerr << "battery: wrote " << o.output << '\n';
   for (const std::string& path : {o.plot, o.plot_lifetime})
@@ -96,9 +96,14 @@ void setup_battery(CLI::App& app, Action& action) {
   CLI::App* sub = app.add_subcommand("battery", "Fit the four discharge models (simple, linear, cubic, approximated) per speed");
   sub->add_option("logs", o->logs, "Battery discharge logs (CSV, docs/logs.md#battery)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o->json, "Print one JSON object instead of the report");
-  sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically");
-  sub->add_option("--plot", o->plot, "Draw the logs and the four fitted models per speed (PNG)");
-  sub->add_option("--plot-lifetime", o->plot_lifetime, "Draw lifetime against speed, as the paper's Fig. 10b (PNG)");
+  sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically")->type_name("FILE");
+  sub->add_option("--plot", o->plot, "Draw the logs and the four fitted models per speed to FILE (.png, .svg or .pdf, by the extension)")
+      ->type_name("FILE")
+      ->check(figure_file());
+  sub->add_option("--plot-lifetime", o->plot_lifetime,
+                  "Draw lifetime against speed, as the paper's Fig. 10b, to FILE (.png, .svg or .pdf, by the extension)")
+      ->type_name("FILE")
+      ->check(figure_file());
   sub->add_flag("--robust", o->robust, "Huber loss instead of least squares");
   sub->add_flag("--least-squares", o->least_squares,
                 "Keep every reading (by default readings more than 6 robust sd from a speed's cubic are left out and listed)");

@@ -9,7 +9,7 @@ FIT=build/bin/epuck2-fit
 [ -x "$FIT" ] || { echo "regenerate: $FIT is missing: run scripts/build.sh first" >&2; exit 2; }
 if [ "${1:-}" = "--raw" ]; then
   for kind in battery proximity light ground camera drive; do
-    "$FIT" generate "$kind" --out "data/raw/$kind"
+    "$FIT" generate "$kind" --out-dir "data/raw/$kind"
   done
 fi
 mkdir -p data/fitted/reports data/fitted/plots data/fitted/include/epuck2/fitted
@@ -37,8 +37,8 @@ for kind in battery proximity light ground camera drive; do
   if ls data/raw/$kind/*.csv >/dev/null 2>&1; then
     extra=()
     [ "$kind" = battery ] && extra=(--coefficients data/fitted/battery.json)
-    "$FIT" diagnose "${extra[@]}" data/raw/$kind/*.csv --json "data/fitted/reports/diagnose_$kind.json" \
-      --plot data/fitted/plots > "data/fitted/reports/diagnose_$kind.txt"
+    "$FIT" diagnose "${extra[@]}" data/raw/$kind/*.csv -o "data/fitted/reports/diagnose_$kind.json" \
+      --plot "data/fitted/plots/diagnose_$kind.png" > "data/fitted/reports/diagnose_$kind.txt"
   fi
 done
 

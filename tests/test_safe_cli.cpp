@@ -100,9 +100,11 @@ TEST_F(SafeCli, BatteryWithAFigureThatCannotBeWrittenLeavesEveryOutputAlone) {
 }
 
 TEST_F(SafeCli, TheSameFileForTwoOutputsIsABadUsage) {
-  const auto out = write("o.json", "old\n");
+  // A figure's name must end in its format (.png here); -o takes any name, so both can be one file.
+  const auto out = write("o.png", "old\n");
   const CliRun r = run("camera" + shipped("camera") + " -o " + q(out) + " --plot " + q(out));
   EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("o.png"), std::string::npos) << r.err;
   EXPECT_EQ(slurp(out), "old\n");
 }
 

@@ -765,18 +765,27 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
   report.residual_after = engine.residuals(current.values);
   report.structure_before = structure(p, report.residual_before, engine.predict(base_values), options.structure_threshold, engine.sigma());
   report.structure_after = structure(p, report.residual_after, engine.predict(current.values), options.structure_threshold, engine.sigma());
-  // For the plot: the covariate the residuals depended on most before, and `row` (draw's
-  // fallback), per residual; not every covariate again.
-  for (std::size_t k = 0; k < p.covariates.size(); ++k) {
-    const std::string& name = p.covariates[k].first;
-    const bool wanted = name == "row" || (!report.structure_before.empty() && name == report.structure_before.front().covariate);
-    if (wanted) report.covariates.emplace_back(name, p.is_per_row(k) ? p.covariate_values(k) : std::move(p.covariates[k].second));
-  }
   bool left = false;
   for (const auto& s : report.structure_after) left = left || s.significant;
   if (left) report.verdict = "unexplained";
   else if (!report.findings.empty()) report.verdict = report.findings.front().cause;
   else report.verdict = "none";
+  // For the figure: the covariate it is drawn against (Report::covariates), one, not every one
+  // again; the residuals in their channels' own units (the weights were for the fits and scores).
+  std::string wanted = "row";
+  if (report.verdict == "unexplained") wanted = report.structure_after.front().covariate;
+  else if (!report.structure_before.empty() && report.structure_before.front().significant) wanted = report.structure_before.front().covariate;
+  if (wanted == "predicted") report.covariates.emplace_back(wanted, engine.predict(base_values));
+  for (std::size_t k = 0; k < p.covariates.size(); ++k)
+    if (p.covariates[k].first == wanted)
+      report.covariates.emplace_back(wanted, p.is_per_row(k) ? p.covariate_values(k) : std::move(p.covariates[k].second));
+  if (p.channel_names.size() > 1) {
+    report.residual_channel.assign(p.channel.begin(), p.channel.end());
+    for (std::size_t i = 0; i < engine.size(); ++i) {
+      report.residual_before[i] /= engine.weight(i);
+      report.residual_after[i] /= engine.weight(i);
+    }
+  }
   return report;
 }
 }  // namespace

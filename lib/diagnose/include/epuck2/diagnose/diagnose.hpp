@@ -12,6 +12,7 @@
 // Supported kinds: every kind of docs/logs.md (see diagnose_kinds.cpp).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -98,10 +99,15 @@ struct Report {
   std::vector<std::string> outliers;
   std::size_t censored = 0;          ///< readings on a sensor's rails (modelled through the clamp)
   std::vector<std::string> warnings;  ///< sentences: what the report should not be read without
-  /// For plots: per residual, the residual before (recalibrated base) and after (final model), and
-  /// the values of two covariates: the one the residuals depended on most before, and `row`.
+  /// For the figure (lib/plot): per residual, measured minus model before (recalibrated base) and
+  /// after (final model), each in its own channel's units (drive: ToF in mm, encoders in steps;
+  /// camera: two residuals per row, px then py), and the values of one covariate: the one the
+  /// verdict names (unexplained), else the one the residuals depended on most before the findings
+  /// when significant, else `row` ("predicted": the recalibrated base model's prediction).
   std::vector<double> residual_before, residual_after;
   std::vector<std::pair<std::string, std::vector<double>>> covariates;
+  /// With several channels: each residual's channel (index into channel_noise_sd); empty with one.
+  std::vector<std::uint8_t> residual_channel;
 };
 
 struct Options {
