@@ -43,7 +43,8 @@ int run_table5(const Table5Options& o) {
   if (!f.tables) {
     const calibrate::SpeedCoverage c = calibrate::speed_coverage(f);
     std::string why = "table5 needs runs at every speed 0, 1, ..., 15 cm/s (and only those) to build the model tables; these logs cover " +
-                      std::to_string(c.covered.size()) + " speeds: " + calibrate::speeds_text(c.covered) +
+                      std::to_string(c.covered.size()) + (c.covered.size() == 1 ? " speed: " : " speeds: ") +
+                      calibrate::speeds_text(c.covered) +
                       " cm/s; missing: " + calibrate::speeds_text(c.missing) + " cm/s";
     if (!c.other.empty()) why += "; not one of 0..15: " + calibrate::speeds_text(c.other) + " cm/s";
     if (o.json)  // the coverage by value for a program reading standard output; the exit status stays 1
