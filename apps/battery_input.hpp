@@ -40,8 +40,10 @@ inline void add_charge_map_option(CLI::App* sub, std::string& file) {
       ->check(CLI::ExistingFile);
 }
 
+/// `fit_map`: fit the map to the logs with both columns even when no log needs it (battery writes
+/// it); otherwise only when some log is voltage-only.
 inline BatteryInput read_battery_input(const std::string& command, const std::vector<std::string>& paths, bool skip_bad_rows,
-                                       const std::string& charge_map_file) {
+                                       const std::string& charge_map_file, bool fit_map) {
   BatteryInput in;
   const auto logs = read_logs_reporting(command, paths, logs::Kind::battery, skip_bad_rows);
   bool voltage_only = false;
@@ -49,7 +51,7 @@ inline BatteryInput read_battery_input(const std::string& command, const std::ve
   if (!charge_map_file.empty()) {
     in.map = calibrate::charge_map_from_json(read_json(charge_map_file), charge_map_file);
     in.map_from_file = charge_map_file;
-  } else {
+  } else if (fit_map || voltage_only) {
     std::vector<std::string> sources;
     in.map_rows = calibrate::charge_samples(logs, &sources);
     if (!in.map_rows.empty()) {

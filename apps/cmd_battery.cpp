@@ -94,7 +94,7 @@ void print_report(const calibrate::BatteryFit& f) {
 }
 
 int run_battery(const BatteryOptions& o) {
-  const BatteryInput in = read_battery_input("battery", o.logs, o.skip_bad_rows, o.charge_map);
+  const BatteryInput in = read_battery_input("battery", o.logs, o.skip_bad_rows, o.charge_map, true);
   const auto& runs = in.runs;
   if (!o.plot_charge_map.empty() && !in.map)
     throw UsageError("--plot-charge-map: there is no voltage->charge map to draw (no log has both charge and voltage_v, and no --charge-map)");

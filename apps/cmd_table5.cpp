@@ -35,7 +35,7 @@ nlohmann::json as_json(const calibrate::ModelMse& m) {
 }
 
 int run_table5(const Table5Options& o) {
-  const BatteryInput in = read_battery_input("table5", o.logs, o.skip_bad_rows, o.charge_map);
+  const BatteryInput in = read_battery_input("table5", o.logs, o.skip_bad_rows, o.charge_map, false);
   const auto& runs = in.runs;
   const calibrate::BatteryFit f = calibrate::fit_battery(runs);
   report_conversion("table5", in);
@@ -83,7 +83,7 @@ int run_table5(const Table5Options& o) {
       {"ratio_to_published", {{"analytic", ratio_a}, {"simulated", ratio_s}}},
   };
   if (const nlohmann::json c = conversion_json(in); !c.is_null()) j["charge_conversion"] = c;
-  if (in.map) {
+  if (in.map && in.conversion.logs > 0) {  // the map that gave the charge of voltage-only logs
     j["charge_map"] = calibrate::charge_map_to_json(*in.map);
     if (!in.map_from_file.empty()) j["charge_map"]["from_file"] = in.map_from_file;
   }

@@ -309,8 +309,12 @@ ChargeMapFit fit_charge_map(const std::vector<ChargeSample>& rows, const std::ve
         m.load_why = "kept: one voltage offset per speed lowers the BIC by " + fmt(-m.delta_bic_load, 3) +
                      " (residual sd " + fmt(m.residual_sd_without_load, 3) + " -> " + fmt(with.residual_sd, 3) + ")";
       } else {
-        m.load_why = "dropped: one voltage offset per speed changes the BIC by " + fmt(m.delta_bic_load, 3) +
-                     " (needs " + fmt(-options.min_delta_bic, 3) + " or less): charge does not depend on the speed beyond the voltage";
+        m.load_why = std::string("dropped: one voltage offset per speed ") +
+                     (m.delta_bic_load > 0 ? "raises the BIC by " + fmt(m.delta_bic_load, 3)
+                                           : "lowers the BIC by only " + fmt(-m.delta_bic_load, 3)) +
+                     " (it must lower it by " + fmt(options.min_delta_bic, 3) +
+                     " or more): charge does not depend on the speed beyond the voltage (residual sd " +
+                     fmt(m.residual_sd_without_load, 3) + " without, " + fmt(with.residual_sd, 3) + " with)";
       }
     }
   }
