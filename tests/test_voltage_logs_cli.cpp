@@ -173,6 +173,10 @@ TEST_F(VoltageLogsCli, AVoltageOnlyLogWithoutAMapIsExit2SayingHowToGiveOne) {
     EXPECT_NE(r.err.find("--charge-map FILE"), std::string::npos) << r.err;
     EXPECT_EQ(r.out, "") << command;
   }
+  // diagnose compares charges: it says so at the header too.
+  const CliRun d = run("diagnose" + args(volts));
+  EXPECT_EQ(d.exit_code, 2);
+  EXPECT_NE(d.err.find(volts[0].string() + ":5:1: no 'charge' column, only 'voltage_v': diagnose compares"), std::string::npos) << d.err;
 }
 
 TEST_F(VoltageLogsCli, LogsWithBothColumnsGiveTheMapForTheVoltageOnlyOnesInTheSameCall) {
