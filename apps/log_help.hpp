@@ -46,7 +46,7 @@ inline std::string log_format_footer(logs::Kind kind, const std::string& more = 
 inline std::string all_log_formats_footer() {
   std::string out = "Log formats (CSV; the kind is recognised from its required columns, or given with --kind):\n";
   for (logs::Kind kind : logs::all_kinds())
-    out += "  " + std::string(logs::to_string(kind)) + ": " + required_columns_text(kind) + "\n";
+    out += "  " + std::string(logs::to_string(kind)) + ": " + join_columns(logs::required_columns(kind)) + "\n";  // diagnose needs charge
   out += "  drive logs also need the metadata line '# obstacle_distance_m: D'. Extra numeric columns\n";
   out += "  (e.g. temperature_c) are candidate causes (covariate:NAME).\n";
   out += "  Formats: docs/logs.md; the diagnosis, its catalogue and reports: docs/diagnose.md.\n";
