@@ -2,12 +2,14 @@
 // model gets wrong on these logs, the cause from the catalogue, and the held-out gain of fixing it
 // (docs/diagnose.md). The spellings published before (--json FILE, --json -, --plot DIR) still
 // work: main.cpp turns `--json FILE.json` into the hidden --json-file before parsing.
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <unistd.h>
 
 #include "app_support.hpp"
 #include "commands.hpp"
@@ -39,6 +41,7 @@ struct DiagnoseOptions {
   std::string coefficients;
   std::vector<std::string> logs;
   bool skip_bad_rows = false;
+  bool progress = false;
 };
 
 std::string units(logs::Kind k) {
@@ -117,6 +120,32 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   j["residuals"] = r.residuals;
   j["logs"] = paths;
   j["verdict"] = r.verdict;
+  j["too_few_rows"] = r.too_few_rows;
+  j["minimum_rows"] = r.minimum_rows;
+  if (r.too_few_rows) {
+    // Only the plug-in's error on every row: nothing was fitted, so every other figure is null
+    // with the reason beside it.
+    j["message"] = r.message;
+    const std::string why = "not computed: " + r.message;
+    j["recalibrated"] = nlohmann::json::object();
+    j["recalibrated_uncertainty"] = nlohmann::json::object();
+    j["heldout_mse_plugin"] = r.heldout_mse_plugin;
+    for (const char* key : {"heldout_mse_recalibrated", "heldout_mse_final", "noise_sd"}) {
+      j[key] = nullptr;
+      j[std::string(key) + "_why"] = why;
+    }
+    j["mse_units"] = units(r.kind);
+    j["findings"] = nlohmann::json::array();
+    j["residual_structure"] = nlohmann::json::array();
+    j["residual_structure_before"] = nlohmann::json::array();
+    j["effects_considered"] = r.effects_considered;
+    j["outliers"] = {{"count", r.outliers.size()}, {"rows", r.outliers}};
+    j["censored"] = r.censored;
+    j["warnings"] = r.warnings;
+    j["search"] = nlohmann::json::array();
+    j["notes"] = r.notes;
+    return j;
+  }
   nlohmann::json rec, rec_se;
   put_parameters(r.recalibrated, rec, rec_se);
   j["recalibrated"] = rec;
@@ -207,6 +236,13 @@ void print_report(const dg::Report& r) {
   std::printf("Diagnosis of %zu %s rows (%zu residuals)\n", r.rows, std::string(logs::to_string(r.kind)).c_str(), r.residuals);
   std::printf("The plug-in's model with the coefficients given, before recalibration: MSE %.4g %s.\n", r.heldout_mse_plugin,
               u.c_str());
+  if (r.too_few_rows) {
+    const std::string m = r.message.empty() ? r.message : std::string(1, static_cast<char>(std::toupper(r.message[0]))) + r.message.substr(1);
+    std::printf("%s.\nNo effect was judged: no recalibration, no search, no finding.\n", m.c_str());
+    if (!r.outliers.empty()) std::printf("Wild readings left out before the diagnosis: %zu\n", r.outliers.size());
+    std::printf("Verdict: none (too few rows to judge)\n");
+    return;
+  }
   if (!r.channel_noise_sd.empty()) {
     std::printf("Channels fitted together, each weighted by its noise:");
     for (const auto& c : r.channel_noise_sd) std::printf(" %s (sd %.3g)", c.name.c_str(), c.value);
@@ -290,8 +326,23 @@ int run_diagnose(const DiagnoseOptions& o) {
 #endif
   } else
     options.battery_tables = calibrate::battery_tables_from_json(read_json(coefficient_file(o.coefficients)), o.coefficients);
+  // Progress on standard error (never on standard output, which may hold the JSON report): on a
+  // terminal one line rewritten in place, with --progress elsewhere one line per stage.
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  if (o.progress || tty) {
+    options.progress = [tty](const dg::Progress& p) {
+      std::string line = "diagnose: " + p.stage;
+      if (p.total > 0) line += " " + std::to_string(p.done) + "/" + std::to_string(p.total);
+      if (!p.detail.empty()) line += " (" + p.detail + ")";
+      if (p.step > 0) line += ", search step " + std::to_string(p.step);
+      line += "...";
+      if (tty) std::fprintf(stderr, "\r%s\033[K", line.c_str());
+      else std::fprintf(stderr, "%s\n", line.c_str());
+      std::fflush(stderr);
+    };
+  }
   const dg::Report r = dg::diagnose(std::move(logs), options);  // the logs are released once read
-  if (r.too_few_rows) throw NoUsableFit(r.message);
+  if (options.progress && tty) std::fprintf(stderr, "\r\033[K");
   if (!r.supported) throw UsageError(r.message);
   for (const auto& w : r.warnings) std::fprintf(stderr, "diagnose: warning: %s\n", w.c_str());
   // All or nothing: the JSON report and the figure are renamed into place together, then printed.
@@ -338,6 +389,8 @@ void setup_diagnose(CLI::App& app, Action& action) {
   sub->add_option("--coefficients", o->coefficients,
                   "battery: coefficient tables: plugin (the plug-in's published ones, default), fitted (the CLI's compiled-in data/fitted tables) or a battery JSON FILE");
   sub->add_option("logs", o->logs, "Log files of one kind (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->add_flag("--progress", o->progress,
+                "Show progress on standard error (stage, effect being fitted); on by default when standard error is a terminal");
   sub->footer(all_log_formats_footer());
   add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_diagnose(*o); }; });

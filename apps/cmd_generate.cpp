@@ -1,8 +1,10 @@
 // epuck2-fit generate KIND --out-dir DIR [--seed N]: the virtual robot records the reference logs
 // of one kind (or `all`, into DIR/<kind>/), all or nothing. The spellings published first,
 // -o DIR and --out DIR, still work.
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <unistd.h>
 
 #include "app_support.hpp"
 #include "commands.hpp"
@@ -17,6 +19,7 @@ struct GenerateOptions {
   std::string out_dir;
   std::string old_out;  ///< -o DIR, --out DIR: the spellings published first
   std::uint64_t seed = virtual_robot::kReferenceSeed;
+  bool progress = false;
 };
 
 int run_generate(const GenerateOptions& o) {
@@ -38,7 +41,17 @@ int run_generate(const GenerateOptions& o) {
   // All or nothing: every log of every kind is staged, then renamed into place together.
   logs::OutputStage stage;
   std::vector<std::string> done;
+  // Progress on standard error, one line per kind (the virtual robot records a kind's logs in one
+  // call): on a terminal rewritten in place, with --progress elsewhere one line each.
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  const bool show = o.progress || tty;
+  std::size_t index = 0;
   for (logs::Kind kind : kinds) {
+    if (show) {
+      std::fprintf(stderr, "%sgenerate: recording %s logs (%zu/%zu)...%s", tty ? "\r" : "", std::string(logs::to_string(kind)).c_str(),
+                   ++index, kinds.size(), tty ? "\033[K" : "\n");
+      std::fflush(stderr);
+    }
     const fs::path dir = o.kind == "all" ? fs::path(out_dir) / std::string(logs::to_string(kind)) : fs::path(out_dir);
     fs::create_directories(dir);
     const auto files = virtual_robot::reference_logs(kind, o.seed);
@@ -46,6 +59,7 @@ int run_generate(const GenerateOptions& o) {
     done.push_back("generate: wrote " + std::to_string(files.size()) + " " + std::string(logs::to_string(kind)) + " logs to " +
                    dir.string());
   }
+  if (show && tty) std::fprintf(stderr, "\r\033[K");
   stage.commit();
   for (const auto& line : done) std::cerr << line << '\n';
   return 0;
@@ -62,6 +76,8 @@ void setup_generate(CLI::App& app, Action& action) {
       ->type_name("DIR");
   sub->add_option("-o,--out", opts->old_out)->group("");  // the spellings published first
   sub->add_option("--seed", opts->seed, "Random seed")->capture_default_str()->check(whole_number());
+  sub->add_flag("--progress", opts->progress,
+                "Show progress on standard error (the kind being recorded); on by default when standard error is a terminal");
   sub->callback([opts, &action] { action = [opts] { return run_generate(*opts); }; });
 }
 

@@ -532,6 +532,7 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
   // (In place when the caller handed the logs over: a long log is not copied.)
   std::vector<WildReading> wild;
   std::vector<logs::Log> screened;
+  if (options.progress) options.progress(Progress{"screening", 0, 0, 0, ""});
   if (owned != nullptr) drop_wild_readings_in_place(*owned, &wild);
   else screened = drop_wild_readings(all_logs, &wild);
   const std::vector<logs::Log>& logs = owned != nullptr ? *owned : screened;
@@ -549,28 +550,60 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
   Engine engine(*problem, options);
   Problem& p = *problem;
   report.residuals = engine.size();
+  report.supported = true;
+  for (const auto& e : p.effects) report.effects_considered.push_back(e.cause);
+  auto progress = [&](const char* stage, int step, int done, int total, const std::string& detail) {
+    if (options.progress) options.progress(Progress{stage, step, done, total, detail});
+  };
+
   {
-    // Enough rows for the held-out test (a row in every block of every fold) and for the largest
-    // model (more residuals than twice its parameters)? Otherwise every finding would be noise.
+    // Enough rows to judge an effect? The held-out test cuts the rows into folds; each must hold
+    // rows_per_parameter rows per parameter of the largest model the search tries first (the base
+    // model's free parameters and the largest effect's), and a row in every block of every fold.
+    // The whole problem must also hold more residuals than twice all its parameters. Below that,
+    // any "finding" would be fitted noise: the report says so, with the plug-in's error only.
+    std::size_t largest_effect = 0;
+    std::string largest_cause;
+    for (const auto& e : p.effects)
+      if (e.params.size() > largest_effect) {
+        largest_effect = e.params.size();
+        largest_cause = e.cause;
+      }
+    const std::size_t first_model = p.base_free.size() + largest_effect;
+    const std::size_t folds = static_cast<std::size_t>(std::max(1, options.folds));
     const std::size_t blocks = static_cast<std::size_t>(std::max(1, options.folds * options.blocks_per_fold));
+    const std::size_t per_fold = static_cast<std::size_t>(std::max(1, options.rows_per_parameter)) * std::max<std::size_t>(1, first_model);
     const std::size_t min_residuals = 2 * p.params.size() + 1;
-    if (report.rows < blocks || engine.size() < min_residuals) {
+    report.minimum_rows = std::max(blocks, folds * per_fold);
+    if (report.rows < report.minimum_rows || engine.size() < min_residuals) {
       report.too_few_rows = true;
-      report.message = "too few rows to diagnose: " + std::to_string(report.rows) + " rows (" +
-                       std::to_string(engine.size()) + " residuals); the held-out test needs at least " +
-                       std::to_string(blocks) + " rows and the model at least " + std::to_string(min_residuals) +
-                       " residuals";
+      report.verdict = "none";
+      // The plug-in's error on every row, the one figure that needs no fit (the engine's
+      // default noise of 1 in the clamp's expectation: no estimate from so few rows).
+      const auto r = engine.residuals(p.plugin_values);
+      double sse = 0;
+      std::size_t count = 0;
+      for (std::size_t i = 0; i < r.size(); ++i)
+        if (p.channel.empty() || p.channel[i] == 0) {
+          sse += r[i] * r[i];
+          ++count;
+        }
+      report.heldout_mse_plugin = count ? sse / static_cast<double>(count) : 0.0;
+      std::string why = "too few rows (" + std::to_string(report.rows) + ") to judge effects; need at least " +
+                        std::to_string(report.minimum_rows) + ": the held-out test's " + std::to_string(folds) +
+                        " folds must each hold " + std::to_string(options.rows_per_parameter) +
+                        " rows per parameter of the largest model tried first (" + std::to_string(first_model) +
+                        ": the base model's " + std::to_string(p.base_free.size()) + " free" +
+                        (largest_cause.empty() ? std::string() : " and " + largest_cause + "'s " + std::to_string(largest_effect)) +
+                        "), and a row in each of its " + std::to_string(blocks) + " blocks";
+      if (engine.size() < min_residuals)
+        why += "; the model also needs at least " + std::to_string(min_residuals) + " residuals (it has " +
+               std::to_string(engine.size()) + ")";
+      report.message = why;
+      report.warnings.push_back(why + ". No effect was judged: verdict none.");
       return report;
     }
   }
-  report.supported = true;
-  report.message = problem->notes;
-  for (const auto& e : p.effects) report.effects_considered.push_back(e.cause);
-
-  // The values where the effects are off and the base model is the plug-in's.
-  std::vector<double> neutral(p.params.size());
-  for (std::size_t j = 0; j < p.params.size(); ++j) neutral[j] = p.params[j].neutral;
-
   // Step 1: the plug-in as published; its residuals give the first noise estimate.
   engine.set_sigma(engine.noise_sd(p.plugin_values));
   {
@@ -586,7 +619,14 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
     report.heldout_mse_plugin = count ? sse / static_cast<double>(count) : 0.0;
   }
 
+  report.message = problem->notes;
+
+  // The values where the effects are off and the base model is the plug-in's.
+  std::vector<double> neutral(p.params.size());
+  for (std::size_t j = 0; j < p.params.size(); ++j) neutral[j] = p.params[j].neutral;
+
   // Step 2: recalibrate the base model.
+  progress("recalibrating", 0, 0, 0, "");
   std::vector<int> free = p.base_free;
   Engine::Fitted current = engine.fit(free, neutral, engine.all(), true);
   settle_noise(engine, free, current);
@@ -617,8 +657,11 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
       const auto r = engine.residuals(current.values);
       for (std::size_t i : screen_idx) screen_rss += r[i] * r[i];
     }
+    const int to_try = static_cast<int>(p.effects.size() - kept.size());
+    int tried = 0;
     for (std::size_t e = 0; e < p.effects.size(); ++e) {
       if (kept.count(e)) continue;
+      progress("fitting effect", step, ++tried, to_try, p.effects[e].cause);
       std::vector<int> cand = free;
       std::vector<double> start = current.values;
       std::size_t starts = 1;
@@ -669,9 +712,11 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
     // (its alternatives); the rest need not run.
     std::sort(passing.begin(), passing.end(),
               [&](const Passing& a, const Passing& b) { return report.trials[a.trial].delta_bic < report.trials[b.trial].delta_bic; });
+    int tested = 0;
     for (const Passing& c : passing) {
       Trial& t = report.trials[c.trial];
       if (best >= 0 && t.delta_bic - best_bic >= options.min_delta_bic) break;
+      progress("held-out test", step, ++tested, static_cast<int>(passing.size()), t.cause);
       t.heldout_mse = engine.heldout_mse(c.cand, c.fit.values).all;
       const bool gain = t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain);
       if (gain && best < 0) {
@@ -761,6 +806,7 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
                                   "); read it as a direction, not a size.");
 
   // Step 5: residual structure before (recalibrated base) and after (final model).
+  progress("residual structure", 0, 0, 0, "");
   report.residual_before = engine.residuals(base_values);
   report.residual_after = engine.residuals(current.values);
   report.structure_before = structure(p, report.residual_before, engine.predict(base_values), options.structure_threshold, engine.sigma());

@@ -499,6 +499,10 @@ class Battery : public ProblemOf<Battery> {
       r.first = time_.size();
       const auto& t = log.col("time_s");
       const auto& v = log.col("speed_cm_s");
+      if (!log.has("charge"))
+        throw logs::InputError(log.path, log.header_line, 1,
+                               "no 'charge' column, only 'voltage_v': diagnose compares the discharge models' charge with the "
+                               "logged one; `battery` and `table5` take voltage-only logs (--charge-map), diagnose does not");
       const auto& c = log.col("charge");
       // A discharge run starts fully charged (docs/logs.md): a first reading near full is
       // that full charge seen through the sensor's noise, and starting from the noisy reading
