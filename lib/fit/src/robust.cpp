@@ -487,8 +487,10 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
         rss += (obs[i].value - predictions[i]) * (obs[i].value - predictions[i]);
       } else {
         ++kept_censored;
+        ++(obs[i].censoring == Censoring::at_or_below ? out.kept_censored_below : out.kept_censored_above);
       }
     }
+    out.kept_exact = kept_exact;
     ybar /= std::max<std::size_t>(kept_exact, 1);
     double tss = 0;
     for (std::size_t i = 0; i < n; ++i)
