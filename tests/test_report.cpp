@@ -263,3 +263,97 @@ TEST(Autocorrelation, IndependentNoiseIsLeftAlone) {
 }
 
 }  // namespace
+
+namespace {
+
+// y = mu + u_run + eps: every run has its own offset u ~ N(0, tau^2), rows eps ~ N(0, sigma^2).
+// The mean's true variance is tau^2 / G + sigma^2 / (G m) (G runs of m rows); the lag-1
+// correlation is only tau^2 / (tau^2 + sigma^2), so the AR(1) factor misses most of it, and the
+// cluster-robust errors (runs as clusters) must not.
+TEST(ClusterRobust, RunOffsetsThatTheLagOneFactorMisses) {
+  constexpr int G = 40, m = 100;
+  constexpr double tau = 0.5, sigma = 1.0;
+  const double true_se = std::sqrt(tau * tau / G + sigma * sigma / (G * m));
+  std::mt19937_64 rng(31337);
+  std::normal_distribution<double> u(0.0, tau), eps(0.0, sigma);
+  std::vector<double> x(G * m);
+  std::vector<int> run(G * m);
+  for (int i = 0; i < G * m; ++i) {
+    x[static_cast<std::size_t>(i)] = i;
+    run[static_cast<std::size_t>(i)] = i / m;
+  }
+  constexpr int reps = 300;
+  double naive = 0, ar1_se = 0, cluster = 0, sum = 0, sum2 = 0;
+  for (int r = 0; r < reps; ++r) {
+    std::vector<double> y(G * m);
+    for (int g = 0; g < G; ++g) {
+      const double offset = u(rng);
+      for (int i = 0; i < m; ++i) y[static_cast<std::size_t>(g * m + i)] = 2.0 + offset + eps(rng);
+    }
+    const FitResult f = fit_curve(Constant{}, x, y, {0.0}, {"mean"});
+    ASSERT_TRUE(f.usable) << f.message;
+    const std::vector<double> e = residuals_of(Constant{}, f, x, y);
+    AutocorrelationCorrection a = autocorrelation_correction(e, run);
+    // r = y - mean: dr/dmean = -1 on every row.
+    apply_cluster_robust(a, f, Eigen::MatrixXd::Constant(G * m, 1, -1.0), e, run);
+    ASSERT_TRUE(a.cluster_robust) << a.cluster_why_not;
+    naive += f.std_error("mean") / reps;
+    ar1_se += f.std_error("mean") * a.factor / reps;
+    cluster += a.std_error("mean") / reps;
+    sum += f.value("mean");
+    sum2 += f.value("mean") * f.value("mean");
+  }
+  const double empirical = std::sqrt((sum2 - sum * sum / reps) / (reps - 1));
+  EXPECT_NEAR(empirical / true_se, 1.0, 0.12);
+  EXPECT_LT(naive / true_se, 0.3);
+  EXPECT_LT(ar1_se / true_se, 0.35);  // lag-1 rho = 0.2: factor 1.22 where 4.6 is needed
+  EXPECT_NEAR(cluster / true_se, 1.0, 0.1);
+}
+
+TEST(ClusterRobust, IndependentAr1RunsAgreeWithTheClosedForm) {
+  // 30 runs of 200 rows of AR(1) noise (rho 0.8): the mean's variance is the closed form's for one
+  // run divided by 30.
+  constexpr int G = 30, m = 200;
+  constexpr double rho = 0.8;
+  double s = m;
+  for (int k = 1; k < m; ++k) s += 2.0 * (m - k) * std::pow(rho, k);
+  const double true_se = std::sqrt(s / (1 - rho * rho)) / m / std::sqrt(static_cast<double>(G));
+  std::mt19937_64 rng(99);
+  std::vector<double> x(G * m);
+  std::vector<int> run(G * m);
+  for (int i = 0; i < G * m; ++i) {
+    x[static_cast<std::size_t>(i)] = i;
+    run[static_cast<std::size_t>(i)] = i / m;
+  }
+  constexpr int reps = 300;
+  double cluster = 0, ar1_se = 0;
+  for (int r = 0; r < reps; ++r) {
+    std::vector<double> y;
+    for (int g = 0; g < G; ++g)
+      for (double v : ar1(rng, m, rho)) y.push_back(v + 1.0);
+    const FitResult f = fit_curve(Constant{}, x, y, {0.0}, {"mean"});
+    ASSERT_TRUE(f.usable) << f.message;
+    const std::vector<double> e = residuals_of(Constant{}, f, x, y);
+    AutocorrelationCorrection a = autocorrelation_correction(e, run);
+    apply_cluster_robust(a, f, Eigen::MatrixXd::Constant(G * m, 1, -1.0), e, run);
+    cluster += a.std_error("mean") / reps;
+    ar1_se += f.std_error("mean") * a.factor / reps;
+  }
+  EXPECT_NEAR(cluster / true_se, 1.0, 0.1);
+  EXPECT_NEAR(ar1_se / true_se, 1.0, 0.12);  // here the lag-1 model is the truth: both agree
+}
+
+TEST(ClusterRobust, FewRunsFallBackOnTheLagOneFactorAndSaySo) {
+  FitResult f;
+  f.parameters = {{"mean", 1.0, 0.1}};
+  AutocorrelationCorrection a;
+  a.computed = true;
+  a.factor = 2.0;
+  apply_cluster_robust(a, f, Eigen::MatrixXd::Constant(6, 1, -1.0), {0.1, -0.1, 0.2, 0.0, 0.1, -0.3}, {0, 0, 1, 1, 2, 2});
+  EXPECT_FALSE(a.cluster_robust);
+  EXPECT_NE(a.cluster_why_not.find("3 runs"), std::string::npos) << a.cluster_why_not;
+  EXPECT_DOUBLE_EQ(a.std_error("mean"), 0.2);
+  EXPECT_EQ(a.method, kAutocorrelationMethod);
+}
+
+}  // namespace

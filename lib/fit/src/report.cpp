@@ -204,4 +204,82 @@ AutocorrelationCorrection autocorrelation_correction(const std::vector<double>& 
   return a;
 }
 
+double AutocorrelationCorrection::std_error(const std::string& name) const {
+  for (std::size_t i = 0; i < names.size() && i < std_errors.size(); ++i)
+    if (names[i] == name) return std_errors[i];
+  return kNaN;
+}
+
+void apply_ar1(AutocorrelationCorrection& a, const FitResult& fit) {
+  a.names.clear();
+  a.std_errors.clear();
+  a.cluster_robust = false;
+  const double factor = a.computed ? std::max(1.0, a.factor) : 1.0;
+  for (const auto& p : fit.parameters) {
+    a.names.push_back(p.name);
+    a.std_errors.push_back(std::isfinite(p.std_error) && p.std_error > 0 ? p.std_error * factor : kNaN);
+  }
+  a.method = kAutocorrelationMethod;
+}
+
+void apply_cluster_robust(AutocorrelationCorrection& a, const FitResult& fit, const Eigen::MatrixXd& jacobian,
+                          const std::vector<double>& residuals, const std::vector<int>& run) {
+  apply_ar1(a, fit);
+  const std::size_t m = fit.parameters.size();
+  if (static_cast<std::size_t>(jacobian.cols()) != m || static_cast<std::size_t>(jacobian.rows()) != residuals.size() ||
+      run.size() != residuals.size()) {
+    a.cluster_why_not = "internal: the Jacobian, residuals and runs disagree in size";
+    return;
+  }
+  std::vector<Eigen::Index> cols;
+  for (std::size_t j = 0; j < m; ++j)
+    if (std::isfinite(fit.parameters[j].std_error) && fit.parameters[j].std_error > 0) cols.push_back(static_cast<Eigen::Index>(j));
+  std::vector<Eigen::Index> rows;
+  std::vector<int> runs_seen;
+  for (std::size_t i = 0; i < residuals.size(); ++i)
+    if (std::isfinite(residuals[i]) && run[i] >= 0) {
+      rows.push_back(static_cast<Eigen::Index>(i));
+      if (std::find(runs_seen.begin(), runs_seen.end(), run[i]) == runs_seen.end()) runs_seen.push_back(run[i]);
+    }
+  const std::size_t G = runs_seen.size();
+  if (G < kMinClusters) {
+    a.cluster_why_not = std::to_string(G) + " runs: too few to estimate the spread between runs (cluster-robust needs " +
+                        std::to_string(kMinClusters) + ")";
+    return;
+  }
+  if (cols.empty()) {
+    a.cluster_why_not = "no parameter has a standard error";
+    return;
+  }
+  const auto k = static_cast<Eigen::Index>(cols.size());
+  Eigen::MatrixXd J(static_cast<Eigen::Index>(rows.size()), k);
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (Eigen::Index c = 0; c < k; ++c) J(static_cast<Eigen::Index>(r), c) = jacobian(rows[r], cols[static_cast<std::size_t>(c)]);
+  Eigen::MatrixXd bread;
+  if (!inverse_normal_matrix(J, &bread)) {
+    a.cluster_why_not = "J^T J is singular";
+    return;
+  }
+  // Per run: s = sum of J_i r_i over its rows.
+  std::vector<Eigen::VectorXd> score(G, Eigen::VectorXd::Zero(k));
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const std::size_t g = static_cast<std::size_t>(
+        std::find(runs_seen.begin(), runs_seen.end(), run[static_cast<std::size_t>(rows[r])]) - runs_seen.begin());
+    score[g] += J.row(static_cast<Eigen::Index>(r)).transpose() * residuals[static_cast<std::size_t>(rows[r])];
+  }
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(k, k);
+  for (const auto& s : score) meat += s * s.transpose();
+  const double g = static_cast<double>(G);
+  const Eigen::MatrixXd V = bread * meat * bread * (g / (g - 1.0));
+  for (Eigen::Index c = 0; c < k; ++c) {
+    const std::size_t j = static_cast<std::size_t>(cols[static_cast<std::size_t>(c)]);
+    const double se = std::sqrt(std::max(0.0, V(c, c)));
+    if (std::isfinite(se)) a.std_errors[j] = std::max(se, fit.parameters[j].std_error);
+  }
+  a.cluster_robust = true;
+  a.cluster_why_not.clear();
+  a.series = G;
+  a.method = kClusterRobustMethod;
+}
+
 }  // namespace epuck2::fit

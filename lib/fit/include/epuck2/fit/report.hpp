@@ -76,6 +76,13 @@ FitStatistics fit_statistics(const FitResult& r);
 /// multiplied by factor = sqrt(n / n_eff) = sqrt((1 + rho) / (1 - rho)) (1 when rho <= 0: a
 /// negative correlation is not taken to shrink them). Exact for the mean of an AR(1) series as n
 /// grows, and for a regression on a smooth regressor (time, travel) likewise.
+///
+/// The lag-1 model misses a misfit that persists through a whole run (each log's own offset or
+/// capacity: tiny lag-1 correlation, but the same sign for a thousand rows). With enough runs
+/// (kMinClusters), the corrected errors are instead cluster-robust with each run a cluster (the
+/// sandwich (JᵀJ)⁻¹ (Σ_c s_c s_cᵀ) (JᵀJ)⁻¹ G/(G − 1), s_c = Σ_{i in run c} J_iᵀ r_i), which holds
+/// whatever the correlation inside a run, as long as runs are independent of each other.
+/// Either way a corrected error is never below the covariance's.
 struct AutocorrelationCorrection {
   bool computed = false;
   std::string why_not;     ///< when not computed
@@ -84,11 +91,24 @@ struct AutocorrelationCorrection {
   std::size_t pairs = 0;   ///< neighbouring pairs inside one series
   std::size_t series = 0;  ///< series (runs) the residuals come from
   double n_eff = 0;        ///< effective number of independent residuals (at least 1)
-  double factor = 1;       ///< multiplies every standard error
+  double factor = 1;       ///< AR(1): multiplies every standard error
+  /// The corrected standard errors (apply_ar1 or apply_cluster_robust), by parameter name; NaN
+  /// where the fit gives none.
+  std::vector<std::string> names;
+  std::vector<double> std_errors;
+  bool cluster_robust = false;   ///< std_errors are cluster-robust over runs (else AR(1))
+  std::string cluster_why_not;   ///< why not cluster-robust
+  std::string method;            ///< how std_errors were computed, in words
+  double std_error(const std::string& name) const;  ///< NaN when none
 };
 inline constexpr const char* kAutocorrelationMethod =
     "AR(1): lag-1 autocorrelation rho of the residuals within each run, n_eff = n (1 - rho) / (1 + rho), "
     "standard errors times sqrt(n / n_eff)";
+inline constexpr const char* kClusterRobustMethod =
+    "cluster-robust over runs: (J^T J)^-1 (sum over runs of s s^T) (J^T J)^-1 G/(G-1), s = J^T r over a run's rows, "
+    "G runs; never below the covariance's";
+/// Fewest runs for the cluster-robust errors (below, the AR(1) factor).
+inline constexpr std::size_t kMinClusters = 5;
 
 /// rho = sum of e_i e_{i+1} over neighbouring residuals (same series, both finite) / sum of e_i^2
 /// (finite ones), e the residuals less their mean. `series[i]` names residual i's series (run);
@@ -96,5 +116,16 @@ inline constexpr const char* kAutocorrelationMethod =
 /// (left out, censored) breaks the chain. Not computed with fewer than 3 pairs.
 AutocorrelationCorrection autocorrelation_correction(const std::vector<double>& residuals,
                                                      const std::vector<int>& series);
+
+/// Sets a.names and a.std_errors from the fit: each standard error times a.factor (1 when a is
+/// not computed), never below the covariance's; a.method says so.
+void apply_ar1(AutocorrelationCorrection& a, const FitResult& fit);
+
+/// With at least kMinClusters runs: a.std_errors cluster-robust (above) from `jacobian` (rows:
+/// residuals, columns: the fit's parameters in order; columns of parameters without a standard
+/// error are ignored), `residuals` (rows with a NaN residual or a negative run left out) and each
+/// row's `run`. Fewer runs, or a singular JᵀJ: apply_ar1, with a.cluster_why_not saying why.
+void apply_cluster_robust(AutocorrelationCorrection& a, const FitResult& fit, const Eigen::MatrixXd& jacobian,
+                          const std::vector<double>& residuals, const std::vector<int>& run);
 
 }  // namespace epuck2::fit

@@ -104,6 +104,11 @@ struct RobustFit : FitResult {
   LackOfFit lack_of_fit;
   std::string method;                          ///< loss and censoring, in words
   std::vector<double> predictions;             ///< latent prediction per observation
+  /// At the solution, per observation: the Tobit residual r_i (0 for a reading left out) and its
+  /// derivatives over the parameters (n x m, zero columns for held ones); 1/2 sum r_i^2 is the
+  /// negative log-likelihood, so J_i r_i is an observation's score (for cluster-robust errors).
+  std::vector<double> scaled_residuals;
+  Eigen::MatrixXd jacobian;
   double log_likelihood = 0;
   std::size_t censored() const { return censored_below + censored_above; }
 };
