@@ -361,6 +361,7 @@ void print_report(const dg::Report& r) {
       std::printf("  [corrected for autocorrelation] errors: the covariance's times the AR(1) factor (not cluster-robust: %s)\n",
                   a.cluster_why_not.c_str());
   }
+  for (const auto& w : r.warnings) std::printf("Warning: %s\n", w.c_str());
   std::printf("Residual structure left:");
   for (std::size_t k = 0; k < r.structure_after.size() && k < 4; ++k)
     std::printf(" %s %.3f%s", r.structure_after[k].covariate.c_str(), r.structure_after[k].score,

@@ -149,8 +149,11 @@ inline void add_aggregates(nlohmann::json& j, const fit::RobustFit& r, const std
   if (!j.contains("statistics_conventions")) j["statistics_conventions"] = calibrate::statistics_conventions_json();
   if (!j.contains("correlations")) j["correlations"] = nlohmann::json::array();
   for (const auto& c : calibrate::correlations_json(fit::correlations(r), prefix)) j["correlations"].push_back(c);
+  // Only the parameters with a standard error to correct (the others' reasons: std_error_why).
   if (autocorrelation != nullptr)
-    for (const auto& p : r.parameters) j["std_errors_corrected"][prefix + p.name] = number(autocorrelation->std_error(p.name));
+    for (const auto& p : r.parameters)
+      if (std::isfinite(autocorrelation->std_error(p.name)))
+        j["std_errors_corrected"][prefix + p.name] = autocorrelation->std_error(p.name);
   j["censored"] = j.value("censored", std::size_t{0}) + r.censored();
   if (!j.contains("outliers")) j["outliers"] = {{"count", 0}, {"rows", nlohmann::json::array()}};
   j["outliers"]["count"] = j["outliers"]["count"].get<std::size_t>() + r.outlier_where.size();

@@ -40,7 +40,9 @@ json fit_stats(const FitResult& r, const AutocorrelationCorrection& autocorrelat
 // Standard errors times the autocorrelation correction's factor (null where there is none).
 json corrected_errors(const FitResult& r, const AutocorrelationCorrection& a) {
   json j = json::object();
-  for (const auto& p : r.parameters) j[p.name] = json_number(a.std_error(p.name));
+  // Only the parameters with a standard error to correct (the others' reasons: std_error_why).
+  for (const auto& p : r.parameters)
+    if (std::isfinite(a.std_error(p.name))) j[p.name] = a.std_error(p.name);
   return j;
 }
 
@@ -142,7 +144,10 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
         {"outliers", s.outliers},
     });
     outlier_rows.insert(outlier_rows.end(), s.outliers.begin(), s.outliers.end());
-    if (cubic_undefined) speeds.back()["cubic_std_error_why"] = cubic_why;
+    if (cubic_undefined) {
+      speeds.back()["cubic_std_error_why"] = cubic_why;
+      speeds.back()["cubic_std_errors_corrected_why"] = cubic_why;
+    }
   }
   return json{
       {"kind", "battery"},
