@@ -35,8 +35,10 @@ void print_report(const calibrate::CameraFit& f) {
   app::sensors::print_parameter(r, "cy_px", "px", "", "image centre row");
   app::sensors::print_handling(r, "px");
   std::printf("MSE %.3f px^2 (plug-in, 29.97 deg centred at (80, 60): %.3f px^2)\n", r.mse, f.plugin_mse);
-  std::printf("Table 4 method (alpha from the pixel offset, centre taken as column 80), %zu points: %.2f +- %.2f deg\n",
-              f.table4_points, f.table4_alpha_mean_deg, f.table4_alpha_sd_deg);
+  std::printf("Table 4 method (alpha from the pixel offset, centre taken as column 80), %zu points: mean %s (± the points' sd, "
+              "not a standard error)\n",
+              f.table4_points,
+              fit::format_uncertain(f.table4_alpha_mean_deg, f.table4_alpha_sd_deg, "deg", "one point: no spread").c_str());
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 

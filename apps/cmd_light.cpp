@@ -75,7 +75,7 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
   app::sensors::add_parameters(j, f.gamma, "", "gamma", "(reading / 4095)");
   j["parameters"]["range_m"] = s::kPluginLight.range_m;
   j["std_errors"]["range_m"] = 0.0;
-  app::sensors::add_rounded(j, "range_m", s::kPluginLight.range_m, 0.0, "the sensor's range, held (not fitted)");
+  app::sensors::add_rounded(j, "range_m", s::kPluginLight.range_m, 0.0, "the sensor's range, held: not fitted");
   j["mse"] = f.gamma.mse;
   j["observations"] = f.gamma.observations;
   j["readings"] = f.readings;

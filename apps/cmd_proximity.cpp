@@ -87,7 +87,7 @@ nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sen
   app::sensors::add_parameters(j, f.means, "mean_", "means", "(reading / 4095)");
   j["parameters"]["range_m"] = s::kPluginProximity.range_m;
   j["std_errors"]["range_m"] = 0.0;
-  app::sensors::add_rounded(j, "range_m", s::kPluginProximity.range_m, 0.0, "the sensor's range, held (not fitted)");
+  app::sensors::add_rounded(j, "range_m", s::kPluginProximity.range_m, 0.0, "the sensor's range, held: not fitted");
   j["mse"] = f.maxima.mse;
   j["mean_mse"] = f.means.mse;
   j["observations"] = f.maxima.observations;

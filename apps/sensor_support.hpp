@@ -182,7 +182,8 @@ inline std::string unit_of(const nlohmann::json& j, const std::string& name) {
 /// `rounded`.NAME: the value and its standard error as the report prints them (two significant
 /// digits, the value rounded to match, the unit of `units`), or the value and why it has none.
 inline void add_rounded(nlohmann::json& j, const std::string& name, double value, double std_error, const std::string& why) {
-  j["rounded"][name] = fit::format_uncertain(value, std_error, unit_of(j, name), why);
+  const std::string unit = unit_of(j, name);
+  j["rounded"][name] = fit::format_uncertain(value, std_error, unit == "1" ? "" : unit, why);  // a ratio: no unit
 }
 
 /// Set `units` before: the rounded texts carry them.

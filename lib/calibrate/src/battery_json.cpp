@@ -107,7 +107,12 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
     json segs = json::array();
     for (const mb::Segment& g : s.segments)
       segs.push_back({{"h", g.h}, {"m", g.m}, {"x1_s", g.x1_s}, {"x2_s", g.x2_s}, {"y1", g.y1}, {"y2", g.y2}});
-    json cubic_se = json::array(), cubic_why = json::array(), corrected_cubic = json::array();
+    json cubic_se = json::array(), cubic_why = json::array(), corrected_cubic = json::array(), cubic_rounded = json::array();
+    {
+      // [d, c, b, a], parallel to `cubic`.
+      const json by_name = rounded(s.cubic, {"charge", "charge/s", "charge/s^2", "charge/s^3"});
+      for (const char* name : {"d", "c", "b", "a"}) cubic_rounded.push_back(by_name.value(name, std::string()));
+    }
     for (const auto& p : s.cubic.parameters)
       corrected_cubic.push_back(json_number(s.cubic_autocorrelation.std_error(p.name)));
     bool cubic_undefined = false;
@@ -128,7 +133,7 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
         {"cubic", {s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a")}},
         {"cubic_std_errors", cubic_se},
         {"cubic_std_errors_corrected", corrected_cubic},
-        {"cubic_rounded", rounded(s.cubic, {"charge", "charge/s", "charge/s^2", "charge/s^3"})},
+        {"cubic_rounded", cubic_rounded},
         {"linear_slope", s.linear_slope_per_s},
         {"linear_slope_std_error", s.linear_slope_std_error},
         {"linear_slope_rounded", fit::format_uncertain(s.linear_slope_per_s, s.linear_slope_std_error, "1/s",
