@@ -3,6 +3,7 @@
 // (docs/diagnose.md). The spellings published before (--json FILE, --json -, --plot DIR) still
 // work: main.cpp turns `--json FILE.json` into the hidden --json-file before parsing.
 #include <cctype>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +16,8 @@
 #include "commands.hpp"
 #include "log_help.hpp"
 #include "epuck2/calibrate/battery_json.hpp"
+#include "epuck2/calibrate/report_json.hpp"
+#include "epuck2/fit/report.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/diagnose/extended_model.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
@@ -44,7 +47,7 @@ struct DiagnoseOptions {
   bool progress = false;
 };
 
-std::string units(logs::Kind k) {
+std::string units_of(logs::Kind k) {
   switch (k) {
     case logs::Kind::camera: return "px^2";
     case logs::Kind::drive: return "mm^2 (ToF)";
@@ -52,6 +55,41 @@ std::string units(logs::Kind k) {
     default: return "counts^2";
   }
 }
+
+/// The residuals' unit (the MSE's is its square).
+std::string residual_unit(logs::Kind k) {
+  switch (k) {
+    case logs::Kind::camera: return "px";
+    case logs::Kind::drive: return "mm";
+    case logs::Kind::battery: return "charge";
+    default: return "counts";
+  }
+}
+
+/// A catalogue parameter's unit, from its name (docs/diagnose.md's catalogue).
+std::string parameter_unit(logs::Kind kind, const std::string& name) {
+  const std::string base = name.substr(0, name.find('['));
+  auto ends = [&](const std::string& suffix) {
+    return base.size() >= suffix.size() && base.compare(base.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (ends("_cm_s2")) return "cm/s^2";
+  if (ends("_cm_s")) return "cm/s";
+  if (ends("_mm")) return "mm";
+  if (ends("_px")) return "px";
+  if (ends("_deg")) return "deg";
+  if (ends("_m")) return "m";
+  if (ends("_s")) return "s";
+  if (kind == logs::Kind::proximity && base == "a") return "1/m^2";
+  if (kind == logs::Kind::proximity && base == "b") return "1/m";
+  if (base == "offset" || base == "amplitude" || base == "level") return residual_unit(kind);
+  if (base == "slope") return residual_unit(kind) + " per unit of the column";
+  return "1";
+}
+
+/// How the diagnosis fits, in words (the loss and the censoring).
+const char* kDiagnosisLoss =
+    "least squares on the expected reading E[clamp(model + noise)] (readings on a rail enter through the clamp's "
+    "expected value), each channel's residuals weighted by the reading's noise sd over its own";
 
 /// What a cause means, in plain words.
 std::string meaning(const std::string& cause) {
@@ -82,26 +120,65 @@ std::string meaning(const std::string& cause) {
 }
 
 /// Parameters named "gains[3]" become arrays (null where a sensor was not seen or is the reference).
-void put_parameters(const std::vector<dg::NamedValue>& values, nlohmann::json& value_out, nlohmann::json& error_out) {
+void put_parameters(const std::vector<dg::NamedValue>& values, nlohmann::json& value_out, nlohmann::json& error_out,
+                    nlohmann::json* corrected_out = nullptr, nlohmann::json* jackknife_out = nullptr) {
   value_out = nlohmann::json::object();
   error_out = nlohmann::json::object();
+  nlohmann::json corrected = nlohmann::json::object(), jackknife = nlohmann::json::object();
   auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
   for (const auto& v : values) {
     const auto open = v.name.find('[');
     if (open == std::string::npos) {
       value_out[v.name] = number(v.value);
       error_out[v.name] = number(v.std_error);
+      corrected[v.name] = number(v.std_error_corrected);
+      jackknife[v.name] = number(v.std_error_jackknife);
       continue;
     }
     const std::string key = v.name.substr(0, open);
     const std::size_t index = std::stoul(v.name.substr(open + 1));
-    for (nlohmann::json* j : {&value_out, &error_out}) {
+    for (nlohmann::json* j : {&value_out, &error_out, &corrected, &jackknife}) {
       if (!j->contains(key)) (*j)[key] = nlohmann::json::array();
       while ((*j)[key].size() <= index) (*j)[key].push_back(nullptr);
     }
     value_out[key][index] = number(v.value);
     error_out[key][index] = number(v.std_error);
+    corrected[key][index] = number(v.std_error_corrected);
+    jackknife[key][index] = number(v.std_error_jackknife);
   }
+  if (corrected_out != nullptr) *corrected_out = corrected;
+  if (jackknife_out != nullptr) *jackknife_out = jackknife;
+}
+
+/// "name = value ± error unit": the largest of the standard errors the report has (the
+/// covariance's, the autocorrelation-corrected one for a time series, the jackknife over the
+/// held-out folds), the value rounded to it, and which it is; the others beside it.
+std::string format_value(logs::Kind kind, const dg::NamedValue& v) {
+  std::string why = v.std_error_why;
+  if (why.empty() && v.std_error == 0) why = "held";
+  const std::string unit = parameter_unit(kind, v.name) == "1" ? "" : fit::pretty_unit(parameter_unit(kind, v.name));
+  if (!(std::isfinite(v.std_error) && v.std_error > 0)) return v.name + " = " + fit::format_uncertain(v.value, v.std_error, unit, why);
+  struct Error {
+    double se;
+    const char* what;
+  };
+  std::vector<Error> errors{{v.std_error, "covariance"}};
+  if (std::isfinite(v.std_error_corrected) && v.std_error_corrected > 0)
+    errors.push_back({v.std_error_corrected, "corrected for autocorrelation"});
+  if (std::isfinite(v.std_error_jackknife) && v.std_error_jackknife > 0)
+    errors.push_back({v.std_error_jackknife, "jackknife over the held-out folds"});
+  const auto top = std::max_element(errors.begin(), errors.end(), [](const Error& a, const Error& b) { return a.se < b.se; });
+  std::string text = v.name + " = " + fit::format_uncertain(v.value, top->se, unit) + " (" + top->what;
+  for (const Error& e : errors)
+    if (&e != &*top) text += std::string("; ") + e.what + " ± " + fit::format_error(e.se);
+  return text + ")";
+}
+
+/// {name: "value ± error unit"} as the report prints them.
+nlohmann::json rounded(logs::Kind kind, const std::vector<dg::NamedValue>& values) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& v : values) j[v.name] = format_value(kind, v).substr(v.name.size() + 3);
+  return j;
 }
 
 /// {name: why} for the standard errors written as null (the data do not determine them); empty
@@ -134,7 +211,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
       j[key] = nullptr;
       j[std::string(key) + "_why"] = why;
     }
-    j["mse_units"] = units(r.kind);
+    j["mse_units"] = units_of(r.kind);
     j["findings"] = nlohmann::json::array();
     j["residual_structure"] = nlohmann::json::array();
     j["residual_structure_before"] = nlohmann::json::array();
@@ -146,10 +223,34 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
     j["notes"] = r.notes;
     return j;
   }
-  nlohmann::json rec, rec_se;
-  put_parameters(r.recalibrated, rec, rec_se);
+  nlohmann::json rec, rec_se, rec_corrected;
+  put_parameters(r.recalibrated, rec, rec_se, &rec_corrected);
   j["recalibrated"] = rec;
   j["recalibrated_uncertainty"] = rec_se;
+  j["recalibrated_rounded"] = rounded(r.kind, r.recalibrated);
+  {
+    nlohmann::json unused_values, unused_errors, jackknife;
+    put_parameters(r.recalibrated, unused_values, unused_errors, nullptr, &jackknife);
+    j["recalibrated_uncertainty_jackknife"] = jackknife;
+  }
+  j["jackknife_folds"] = r.jackknife_folds;
+  if (r.time_series) j["recalibrated_uncertainty_corrected"] = rec_corrected;
+  const std::string rss_unit = residual_unit(r.kind) + "^2";
+  j["loss"] = kDiagnosisLoss;
+  j["censored_per_rail"] = {{"at_or_below", r.censored_below}, {"at_or_above", r.censored_above}};
+  j["statistics_conventions"] = calibrate::statistics_conventions_json();
+  j["fit"] = {{"recalibrated", calibrate::statistics_json(r.base_fit, rss_unit)},
+              {"final", calibrate::statistics_json(r.final_fit, rss_unit)}};
+  j["correlations"] = calibrate::correlations_json(r.correlations);
+  if (r.time_series) {
+    j["autocorrelation"] = calibrate::autocorrelation_json(r.autocorrelation);
+    if (r.autocorrelation.computed) j["autocorrelation"]["channel"] = r.autocorrelation_channel;
+  }
+  nlohmann::json units = {{"mse", units_of(r.kind)}, {"rss", rss_unit}, {"noise_sd", residual_unit(r.kind)}};
+  for (const auto& v : r.recalibrated) units[v.name.substr(0, v.name.find('['))] = parameter_unit(r.kind, v.name);
+  for (const auto& f : r.findings)
+    for (const auto& v : f.parameters) units[v.name.substr(0, v.name.find('['))] = parameter_unit(r.kind, v.name);
+  j["units"] = units;
   if (const auto why = undefined_errors(r.recalibrated); !why.empty()) j["recalibrated_uncertainty_why"] = why;
   j["heldout_mse_plugin"] = r.heldout_mse_plugin;
   j["heldout_mse_recalibrated"] = r.heldout_mse_base;
@@ -159,7 +260,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
     j["heldout_weighted_final"] = r.heldout_weighted_final;
   }
   j["noise_sd"] = r.noise_sd;
-  j["mse_units"] = units(r.kind);
+  j["mse_units"] = units_of(r.kind);
   if (!r.channel_noise_sd.empty()) {
     nlohmann::json c = nlohmann::json::object();
     for (const auto& v : r.channel_noise_sd) c[v.name] = v.value;
@@ -167,11 +268,15 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   }
   j["findings"] = nlohmann::json::array();
   for (const auto& f : r.findings) {
-    nlohmann::json fj, v, e;
+    nlohmann::json fj, v, e, corrected, jackknife;
     fj["cause"] = f.cause;
-    put_parameters(f.parameters, v, e);
+    put_parameters(f.parameters, v, e, &corrected, &jackknife);
+    fj["uncertainty_jackknife"] = jackknife;
     fj["parameters"] = v;
     fj["uncertainty"] = e;
+    if (r.time_series) fj["uncertainty_corrected"] = corrected;
+    fj["rounded"] = rounded(r.kind, f.parameters);
+    fj["fit"] = calibrate::statistics_json(f.fit, rss_unit);
     if (const auto why = undefined_errors(f.parameters); !why.empty()) fj["uncertainty_why"] = why;
     fj["heldout_mse_before"] = f.heldout_mse_before;
     fj["heldout_mse_after"] = f.heldout_mse_after;
@@ -218,21 +323,23 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   return j;
 }
 
-std::string format_parameters(const std::vector<dg::NamedValue>& values) {
+std::string format_parameters(logs::Kind kind, const std::vector<dg::NamedValue>& values) {
   std::string out;
-  char buf[160];
-  for (const auto& v : values) {
-    if (std::isfinite(v.std_error) && v.std_error > 0)
-      std::snprintf(buf, sizeof buf, "%s%s = %.4g +- %.2g", out.empty() ? "" : ", ", v.name.c_str(), v.value, v.std_error);
-    else
-      std::snprintf(buf, sizeof buf, "%s%s = %.4g", out.empty() ? "" : ", ", v.name.c_str(), v.value);
-    out += buf;
-  }
+  for (const auto& v : values) out += (out.empty() ? "" : ", ") + format_value(kind, v);
   return out;
 }
 
+/// "n .., k .., RSS .., MSE .., reduced chi^2 .., R^2 .., AIC .., BIC .." of a fit to all rows.
+std::string format_statistics(const fit::FitStatistics& s, const std::string& unit) {
+  char buf[400];
+  const std::string u2 = fit::pretty_unit(unit + "^2");
+  std::snprintf(buf, sizeof buf, "n %zu, k %d, RSS %.4g %s, MSE %.4g %s, reduced χ² = RSS/(n-k) %.4g %s, R² %.5f, AIC %.1f, BIC %.1f",
+                s.n, s.k, s.rss, u2.c_str(), s.mse, u2.c_str(), s.reduced_chi2, u2.c_str(), s.r2, s.aic, s.bic);
+  return buf;
+}
+
 void print_report(const dg::Report& r) {
-  const std::string u = units(r.kind);
+  const std::string u = fit::pretty_unit(units_of(r.kind));
   std::printf("Diagnosis of %zu %s rows (%zu residuals)\n", r.rows, std::string(logs::to_string(r.kind)).c_str(), r.residuals);
   std::printf("The plug-in's model with the coefficients given, before recalibration: MSE %.4g %s.\n", r.heldout_mse_plugin,
               u.c_str());
@@ -248,20 +355,25 @@ void print_report(const dg::Report& r) {
     for (const auto& c : r.channel_noise_sd) std::printf(" %s (sd %.3g)", c.name.c_str(), c.value);
     std::printf("; held-out MSEs below are the %s's.\n", r.channel_noise_sd.front().name.c_str());
   }
+  const std::string ru = residual_unit(r.kind);
+  std::printf("Loss: %s. Readings on a rail: %zu at or below the low one, %zu at or above the high one.\n", kDiagnosisLoss,
+              r.censored_below, r.censored_above);
   if (!r.recalibrated.empty())
     std::printf("Recalibrated base model (%s): held-out MSE %.4g %s. This is what recalibration alone fixes, not an effect.\n",
-                format_parameters(r.recalibrated).c_str(), r.heldout_mse_base, u.c_str());
+                format_parameters(r.kind, r.recalibrated).c_str(), r.heldout_mse_base, u.c_str());
   else
     std::printf("The base model has no free parameter: held-out MSE %.4g %s.\n", r.heldout_mse_base, u.c_str());
+  std::printf("  fit to all rows: %s\n", format_statistics(r.base_fit, ru).c_str());
   if (!r.structure_before.empty() && r.structure_before.front().significant)
     std::printf("Its residuals depend most on %s (%.0f %% of their variance).\n", r.structure_before.front().covariate.c_str(),
                 100 * r.structure_before.front().score);
   for (const auto& f : r.findings) {
     std::printf("Finding: %s (%s); %s explains it; held-out MSE %.4g -> %.4g %s", f.cause.c_str(), meaning(f.cause).c_str(),
-                format_parameters(f.parameters).c_str(), f.heldout_mse_before, f.heldout_mse_after, u.c_str());
+                format_parameters(r.kind, f.parameters).c_str(), f.heldout_mse_before, f.heldout_mse_after, u.c_str());
     if (!r.channel_noise_sd.empty())
       std::printf(", all channels weighted %.4g -> %.4g", f.heldout_weighted_before, f.heldout_weighted_after);
     std::printf(" (BIC %+.1f).\n", f.delta_bic);
+    std::printf("  fit to all rows with it: %s\n", format_statistics(f.fit, ru).c_str());
   }
   for (const auto& f : r.findings)
     if (!f.alternatives.empty()) {
@@ -276,6 +388,31 @@ void print_report(const dg::Report& r) {
     for (std::size_t k = 0; k < r.outliers.size() && k < 5; ++k) std::printf("  %s\n", r.outliers[k].c_str());
   }
   if (r.findings.empty()) std::printf("No effect of the catalogue passes both the BIC and the held-out test.\n");
+  std::printf("Final model: %s (AIC n ln(RSS/n) + 2k, BIC n ln(RSS/n) + k ln n, as lmfit", format_statistics(r.final_fit, ru).c_str());
+  std::printf("%s)\n", r.channel_noise_sd.empty() ? "" : "; residuals weighted by their channel's noise, in the first channel's units");
+  std::printf("  correlations (|r| > 0.1):");
+  if (r.correlations.empty()) std::printf(" none");
+  for (std::size_t k = 0; k < r.correlations.size(); ++k)
+    std::printf("%s %s-%s %+.3f", k ? "," : "", r.correlations[k].a.c_str(), r.correlations[k].b.c_str(), r.correlations[k].r);
+  std::printf("\n");
+  if (r.time_series) {
+    const auto& a = r.autocorrelation;
+    if (a.computed)
+      std::printf("  a log's rows are a time series: the residuals' lag-1 autocorrelation %.5f (%s) gives AR(1) "
+                  "n_eff = n (1-rho)/(1+rho) = %.4g of %zu, factor %.3g\n",
+                  a.rho, r.autocorrelation_channel.c_str(), a.n_eff, a.n, a.factor);
+    else
+      std::printf("  a log's rows are a time series, but the residuals' lag-1 autocorrelation was not estimated (%s)\n",
+                  a.why_not.c_str());
+    if (a.cluster_robust)
+      std::printf("  [corrected for autocorrelation] errors: cluster-robust with each of the %zu logs a cluster (sandwich, "
+                  "G/(G-1)), never below the covariance's: a misfit that lasts a whole log counts once per log\n",
+                  a.series);
+    else
+      std::printf("  [corrected for autocorrelation] errors: the covariance's times the AR(1) factor (not cluster-robust: %s)\n",
+                  a.cluster_why_not.c_str());
+  }
+  for (const auto& w : r.warnings) std::printf("Warning: %s\n", w.c_str());
   std::printf("Residual structure left:");
   for (std::size_t k = 0; k < r.structure_after.size() && k < 4; ++k)
     std::printf(" %s %.3f%s", r.structure_after[k].covariate.c_str(), r.structure_after[k].score,

@@ -20,17 +20,17 @@ void print_report(const calibrate::DriveFit& f) {
   std::printf("Encoders: steps = steps_per_m * commanded distance (%zu rows; commands above the firmware's 1100 steps/s = "
               "14.17 cm/s taken as that limit: %zu rows)\n",
               f.steps_rows, f.capped_rows);
-  app::sensors::print_parameter(f.steps, "steps_per_m", "(plug-in 7763.656)");
-  app::sensors::print_handling(f.steps);
+  app::sensors::print_parameter(f.steps, "steps_per_m", "steps/m", "  ", "plug-in 7763.656", &f.steps_autocorrelation);
+  app::sensors::print_handling(f.steps, "steps", "  ", &f.steps_autocorrelation);
   for (const auto& p : f.over_limit_runs) std::printf("  commands above the limit (capped): %s\n", p.c_str());
   std::printf("\nToF: tof_mm = scale * 1000 (D - travel) + offset, travel = encoder travel lagged by tau (%zu rows; %zu at the "
               "20/2000 mm rails or out-of-range codes, censored; %zu codes >= 8190)\n",
               f.tof_rows, f.tof_censored, f.tof_out_of_range_codes);
   const auto& t = f.tof;
-  app::sensors::print_parameter(t, "tof_scale");
-  app::sensors::print_parameter(t, "tof_offset_mm", "mm");
-  app::sensors::print_parameter(t, "slip_time_constant_s", "s");
-  app::sensors::print_handling(t);
+  app::sensors::print_parameter(t, "tof_scale", "", "  ", "", &f.tof_autocorrelation);
+  app::sensors::print_parameter(t, "tof_offset_mm", "mm", "  ", "", &f.tof_autocorrelation);
+  app::sensors::print_parameter(t, "slip_time_constant_s", "s", "  ", "", &f.tof_autocorrelation);
+  app::sensors::print_handling(t, "mm", "  ", &f.tof_autocorrelation);
   std::printf("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
@@ -95,8 +95,11 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
   std::vector<std::string> sources;
   for (const auto& l : logs) sources.push_back(l.path);
   nlohmann::json j = app::sensors::skeleton("drive", sources);
-  app::sensors::add_parameters(j, f.steps, "", "steps");
-  app::sensors::add_parameters(j, f.tof, "", "tof");
+  j["units"] = {{"steps_per_m", "steps/m"}, {"tof_offset_mm", "mm"}, {"tof_scale", "1"}, {"slip_time_constant_s", "s"},
+                {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}, {"rss", "mm^2 (ToF)"}, {"steps_rss", "steps^2"}};
+  // Rows of a run are a time series: both fits' errors get the autocorrelation correction.
+  app::sensors::add_parameters(j, f.steps, "", "steps", "steps", &f.steps_autocorrelation);
+  app::sensors::add_parameters(j, f.tof, "", "tof", "mm", &f.tof_autocorrelation);
   j["mse"] = f.tof.mse;
   j["steps_mse"] = f.steps.mse;
   j["observations"] = f.tof.observations;
@@ -104,8 +107,6 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
   j["tof_out_of_range_codes"] = f.tof_out_of_range_codes;
   j["capped_rows"] = f.capped_rows;
   j["over_limit_runs"] = f.over_limit_runs;
-  j["units"] = {{"steps_per_m", "steps per metre"}, {"tof_offset_mm", "mm"}, {"tof_scale", "1"}, {"slip_time_constant_s", "s"},
-                {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}};
   j["reference_mse"] = {{"plugin_tof", f.plugin_tof_mse}};
   app::sensors::add_warnings(j, f.warnings);
   if (keep != nullptr) *keep = std::move(f);

@@ -16,17 +16,22 @@ const char* kSensorNames[] = {"0 (right)", "1 (centre)", "2 (left)"};
 void print_report(const calibrate::GroundFit& f) {
   std::printf("Ground sensors: reading = offset + gain * grey (grey 0 = black, 1 = white)\n");
   std::printf("%zu readings, %zu on the 0/1023 rails (censored)\n\n", f.readings, f.censored);
-  std::printf("%-11s %22s %22s %10s %12s\n", "sensor", "gain_raw", "offset_raw", "MSE", "plug-in MSE");
+  std::printf("%-11s %-26s %-26s %10s %12s\n", "sensor", "gain (counts)", "offset (counts)", "MSE", "plug-in MSE");
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
     const auto& r = f.sensors[k];
-    std::printf("%-11s %12.3f +- %6.2g %12.3f +- %6.2g %10.3f %12.1f\n", kSensorNames[k], r.value("gain"), r.std_error("gain"),
-                r.value("offset"), r.std_error("offset"), r.mse, f.plugin_mse[k]);
+    std::printf("%-11s %-26s %-26s %10.3f %12.1f\n", kSensorNames[k],
+                fit::format_uncertain(r.value("gain"), r.std_error("gain"), "", app::sensors::std_error_reason(r, "gain")).c_str(),
+                fit::format_uncertain(r.value("offset"), r.std_error("offset"), "", app::sensors::std_error_reason(r, "offset")).c_str(),
+                r.mse, f.plugin_mse[k]);
   }
+  std::printf("(MSE in counts²)\n");
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
     std::printf("\nSensor %s:\n", kSensorNames[k]);
-    app::sensors::print_handling(f.sensors[k]);
+    app::sensors::print_parameter(f.sensors[k], "gain", "counts");
+    app::sensors::print_parameter(f.sensors[k], "offset", "counts");
+    app::sensors::print_handling(f.sensors[k], "counts");
   }
-  std::printf("\nPlug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0. Pooled MSE %.3f counts^2\n", f.mse);
+  std::printf("\nPlug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0. Pooled MSE %.3f counts²\n", f.mse);
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
@@ -61,6 +66,9 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
   std::vector<std::string> sources;
   for (const auto& l : logs) sources.push_back(l.path);
   nlohmann::json j = app::sensors::skeleton("ground", sources);
+  j["units"] = {{"gain", "counts"}, {"offset", "counts"}, {"mse", "counts^2"}, {"rss", "counts^2"}};
+  j["unit_notes"] = {{"gain", "raw counts from black to white (grey 0 to 1)"}, {"offset", "raw counts over black"}};
+  nlohmann::json correlations = nlohmann::json::array();
   nlohmann::json gain = nlohmann::json::array(), offset = nlohmann::json::array(), gain_se = nlohmann::json::array(),
                  offset_se = nlohmann::json::array(), mse = nlohmann::json::array(), n = nlohmann::json::array();
   std::size_t observations = 0;
@@ -77,8 +85,14 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
     mse.push_back(r.mse);
     n.push_back(r.observations);
     observations += r.observations;
-    app::sensors::add_aggregates(j, r, "sensor_" + std::to_string(k), "sensor_" + std::to_string(k) + ".");
+    app::sensors::add_aggregates(j, r, "sensor_" + std::to_string(k), "sensor_" + std::to_string(k) + ".", "counts");
+    // Named as in `parameters`: gain[k], offset[k].
+    const std::string index = "[" + std::to_string(k) + "]";
+    for (const auto& c : fit::correlations(r)) correlations.push_back({{"a", c.a + index}, {"b", c.b + index}, {"r", c.r}});
+    for (const char* name : {"gain", "offset"})
+      app::sensors::add_rounded(j, name + index, r.value(name), r.std_error(name), app::sensors::std_error_reason(r, name));
   }
+  j["correlations"] = correlations;
   j["parameters"]["gain"] = gain;
   j["parameters"]["offset"] = offset;
   j["std_errors"]["gain"] = gain_se;
@@ -89,7 +103,6 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
   j["observations_per_sensor"] = n;
   j["readings"] = f.readings;
   j["model"] = "value_raw = offset + gain * grey, grey in [0, 1], sensors 0 right, 1 centre, 2 left";
-  j["units"] = {{"gain", "raw counts (white minus black)"}, {"offset", "raw counts (black)"}, {"mse", "counts^2"}};
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
   app::sensors::add_warnings(j, f.warnings);
   if (keep != nullptr) *keep = std::move(f);

@@ -20,14 +20,17 @@ void print_report(const calibrate::LightFit& f) {
               f.readings, f.observations.size(), f.censored, f.left_out.size());
   std::printf("All sensors together:\n");
   app::sensors::print_parameter(f.gamma, "gamma", "m");
-  app::sensors::print_handling(f.gamma);
-  std::printf("  MSE %.3e (normalised units)\n", f.gamma.mse);
+  app::sensors::print_handling(f.gamma, "(reading/4095)");
   for (std::size_t i = 0; i < f.sensors.size(); ++i) {
     std::printf("Sensor %d alone:\n", f.sensors[i]);
+    if (!f.gamma_per_sensor[i].usable) {
+      std::printf("  no fit: %s\n", f.gamma_per_sensor[i].message.c_str());
+      continue;
+    }
     app::sensors::print_parameter(f.gamma_per_sensor[i], "gamma", "m");
-    app::sensors::print_handling(f.gamma_per_sensor[i]);
+    app::sensors::print_handling(f.gamma_per_sensor[i], "(reading/4095)");
   }
-  std::printf("Plug-in: gamma = 1/13.3333 = 0.075 m, MSE on the readings inside the rails %.3e\n", f.plugin_mse);
+  std::printf("Plug-in: gamma = 1/13.3333 = 0.075 m, MSE on the readings inside the rails %.3e (reading/4095)²\n", f.plugin_mse);
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
@@ -74,13 +77,16 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
   std::vector<std::string> sources;
   for (const auto& l : logs) sources.push_back(l.path);
   nlohmann::json j = app::sensors::skeleton("light", sources);
-  app::sensors::add_parameters(j, f.gamma, "", "gamma");
+  j["units"] = {{"gamma", "m"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"rss", "(reading / 4095)^2"}};
+  j["unit_notes"] = {{"gamma", "metres per unit of the light's intensity I: Eq. 2's gamma I / d is a ratio"},
+                     {"range_m", "the sensor's range, held"}};
+  app::sensors::add_parameters(j, f.gamma, "", "gamma", "(reading / 4095)");
   j["parameters"]["range_m"] = s::kPluginLight.range_m;
   j["std_errors"]["range_m"] = 0.0;
+  app::sensors::add_rounded(j, "range_m", s::kPluginLight.range_m, 0.0, "the sensor's range, held: not fitted");
   j["mse"] = f.gamma.mse;
   j["observations"] = f.gamma.observations;
   j["readings"] = f.readings;
-  j["units"] = {{"gamma", "m per intensity unit"}, {"mse", "(reading / 4095)^2"}, {"range_m", "m (held)"}};
   nlohmann::json per = nlohmann::json::array();
   for (std::size_t i = 0; i < f.sensors.size(); ++i) {
     const auto& r = f.gamma_per_sensor[i];
@@ -90,7 +96,9 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
     }
     nlohmann::json one = {{"sensor", f.sensors[i]}, {"usable", r.usable}, {"gamma", app::sensors::number(r.value("gamma"))},
                           {"std_error", app::sensors::number(r.std_error("gamma"))}, {"mse", app::sensors::number(r.mse)},
-                          {"fit", app::sensors::fit_details(r)}};
+                          {"rounded", fit::format_uncertain(r.value("gamma"), r.std_error("gamma"), "m",
+                                                            app::sensors::std_error_reason(r, "gamma"))},
+                          {"fit", app::sensors::fit_details(r, "(reading / 4095)")}};
     if (!std::isfinite(r.std_error("gamma"))) one["std_error_why"] = r.usable ? app::sensors::std_error_reason(r, "gamma") : r.message;
     per.push_back(one);
   }

@@ -40,8 +40,8 @@ void print_report(const calibrate::ProximityFit& f) {
     app::sensors::print_parameter(r, "a", "1/m^2");
     app::sensors::print_parameter(r, "b", "1/m");
     app::sensors::print_parameter(r, "c");
-    app::sensors::print_handling(r);
-    std::printf("  MSE %.3e   (plug-in polynomial: %.3e; E-Puck v1 298.701 d^2 - 36.8961 d + 1.08212: %.3e)\n", r.mse,
+    app::sensors::print_handling(r, "(reading/4095)");
+    std::printf("  MSE %.3e (reading/4095)²   (plug-in polynomial: %.3e; E-Puck v1 298.701 d^2 - 36.8961 d + 1.08212: %.3e)\n", r.mse,
                 plugin, v1);
   };
   line("Fitted to the maxima", f.maxima, f.plugin_mse_maxima, f.epuck1_mse_maxima);
@@ -80,16 +80,19 @@ nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sen
   std::vector<std::string> sources;
   for (const auto& l : logs) sources.push_back(l.path);
   nlohmann::json j = app::sensors::skeleton("proximity", sources);
-  app::sensors::add_parameters(j, f.maxima, "", "maxima");
-  app::sensors::add_parameters(j, f.means, "mean_", "means");
+  j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"mean_a", "1/m^2"}, {"mean_b", "1/m"}, {"mean_c", "1"},
+                {"values", "reading / 4095"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"mean_mse", "(reading / 4095)^2"},
+                {"rss", "(reading / 4095)^2"}};
+  app::sensors::add_parameters(j, f.maxima, "", "maxima", "(reading / 4095)");
+  app::sensors::add_parameters(j, f.means, "mean_", "means", "(reading / 4095)");
   j["parameters"]["range_m"] = s::kPluginProximity.range_m;
   j["std_errors"]["range_m"] = 0.0;
+  app::sensors::add_rounded(j, "range_m", s::kPluginProximity.range_m, 0.0, "the sensor's range, held: not fitted");
   j["mse"] = f.maxima.mse;
   j["mean_mse"] = f.means.mse;
   j["observations"] = f.maxima.observations;
   j["readings"] = f.readings;
   j["censored_readings"] = f.censored_readings;
-  j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"values", "reading / 4095"}, {"range_m", "m (held)"}};
   j["reference_mse"] = {{"plugin_maxima", f.plugin_mse_maxima}, {"plugin_means", f.plugin_mse_means},
                         {"epuck1_maxima", f.epuck1_mse_maxima}, {"epuck1_means", f.epuck1_mse_means}};
   nlohmann::json points = nlohmann::json::array();

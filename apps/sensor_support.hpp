@@ -20,7 +20,9 @@
 #include "commands.hpp"
 #include "log_help.hpp"
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/report.hpp"
 #include "epuck2/fit/robust.hpp"
+#include "epuck2/calibrate/report_json.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/logs/output.hpp"
@@ -106,23 +108,26 @@ inline void append(nlohmann::json& j, const std::string& key, const nlohmann::js
   j[key].push_back(v);
 }
 
-/// What a fit did with the readings, for the coefficient file's `fits` (docs/coefficient-files.md).
-inline nlohmann::json fit_details(const fit::RobustFit& r) {
-  nlohmann::json d;
+/// What a fit did with the readings, for the coefficient file's `fits` (docs/coefficient-files.md):
+/// the loss (`method`) and the censoring, the statistics under lmfit's conventions (n, k, RSS in
+/// `rss_unit`, MSE, reduced chi^2, R^2, AIC, BIC), the Tobit likelihood's criteria, the
+/// correlations, and for a time series (`autocorrelation` given) the correction of its errors.
+inline nlohmann::json fit_details(const fit::RobustFit& r, const std::string& rss_unit = "",
+                                  const fit::AutocorrelationCorrection* autocorrelation = nullptr) {
+  nlohmann::json d = calibrate::statistics_json(calibrate::robust_statistics(r), rss_unit);
   d["method"] = r.method;
   d["observations"] = r.observations;
   d["inside_rails"] = r.exact;
   d["censored"] = {{"at_or_below", r.censored_below}, {"at_or_above", r.censored_above}};
+  d["censored_kept"] = {{"at_or_below", r.kept_censored_below}, {"at_or_above", r.kept_censored_above}};
   d["outliers"] = r.outliers.size();
   d["noise_sd"] = number(r.noise_sd);
-  d["rss"] = number(r.rss);
-  d["mse"] = number(r.mse);
-  d["r2"] = number(r.r2);
   if (!std::isfinite(r.r2)) d["r2_why"] = "the readings inside the rails do not vary: there is no variance to explain";
   d["log_likelihood"] = number(r.log_likelihood);
-  d["aic"] = number(r.aic);
-  d["bic"] = number(r.bic);
-  d["free_parameters"] = r.free_parameters;
+  d["aic_likelihood"] = number(r.aic);
+  d["bic_likelihood"] = number(r.bic);
+  d["correlations"] = calibrate::correlations_json(fit::correlations(r));
+  if (autocorrelation != nullptr) d["autocorrelation"] = calibrate::autocorrelation_json(*autocorrelation);
   if (r.lack_of_fit.tested)
     d["lack_of_fit"] = {{"reduced_chi2", number(r.lack_of_fit.reduced_chi2)}, {"p_value", number(r.lack_of_fit.p_value)},
                         {"replicate_sd", number(r.lack_of_fit.replicate_sd)}, {"groups", r.lack_of_fit.groups},
@@ -137,9 +142,21 @@ inline nlohmann::json fit_details(const fit::RobustFit& r) {
 /// `outliers`, `not_identifiable` and `warnings`. `key` names the fit in `fits`.
 /// What a fit did (under `fits`.`key`), added to the file's totals: `censored`, `outliers`,
 /// `not_identifiable` (names with `prefix`), `lack_of_fit`.`key`.
-inline void add_aggregates(nlohmann::json& j, const fit::RobustFit& r, const std::string& key, const std::string& prefix = "") {
+/// `rss_unit`: the RSS's unit; `autocorrelation`: a time series' correction (its corrected
+/// standard errors go to `std_errors_corrected`). The fit's correlations join the file's
+/// `correlations` (names with `prefix`).
+inline void add_aggregates(nlohmann::json& j, const fit::RobustFit& r, const std::string& key, const std::string& prefix = "",
+                           const std::string& rss_unit = "", const fit::AutocorrelationCorrection* autocorrelation = nullptr) {
   for (const auto& n : r.not_identifiable) append(j, "not_identifiable", prefix + n);
-  j["fits"][key] = fit_details(r);
+  j["fits"][key] = fit_details(r, rss_unit, autocorrelation);
+  if (!j.contains("statistics_conventions")) j["statistics_conventions"] = calibrate::statistics_conventions_json();
+  if (!j.contains("correlations")) j["correlations"] = nlohmann::json::array();
+  for (const auto& c : calibrate::correlations_json(fit::correlations(r), prefix)) j["correlations"].push_back(c);
+  // Only the parameters with a standard error to correct (the others' reasons: std_error_why).
+  if (autocorrelation != nullptr)
+    for (const auto& p : r.parameters)
+      if (std::isfinite(autocorrelation->std_error(p.name)))
+        j["std_errors_corrected"][prefix + p.name] = autocorrelation->std_error(p.name);
   j["censored"] = j.value("censored", std::size_t{0}) + r.censored();
   if (!j.contains("outliers")) j["outliers"] = {{"count", 0}, {"rows", nlohmann::json::array()}};
   j["outliers"]["count"] = j["outliers"]["count"].get<std::size_t>() + r.outlier_where.size();
@@ -156,14 +173,35 @@ inline std::string std_error_reason(const fit::RobustFit& r, const std::string& 
   return "the covariance could not be computed";
 }
 
+/// A parameter's unit from the file's `units` ("" when none).
+inline std::string unit_of(const nlohmann::json& j, const std::string& name) {
+  if (!j.contains("units")) return "";
+  const std::string base = name.substr(0, name.find('['));  // gain[0]: the unit of gain
+  for (const std::string& key : {name, base})
+    if (j["units"].contains(key) && j["units"][key].is_string()) return j["units"][key].get<std::string>();
+  return "";
+}
+
+/// `rounded`.NAME: the value and its standard error as the report prints them (two significant
+/// digits, the value rounded to match, the unit of `units`), or the value and why it has none.
+inline void add_rounded(nlohmann::json& j, const std::string& name, double value, double std_error, const std::string& why) {
+  const std::string unit = unit_of(j, name);
+  j["rounded"][name] = fit::format_uncertain(value, std_error, unit == "1" ? "" : unit, why);  // a ratio: no unit
+}
+
+/// Set `units` before: the rounded texts carry them.
 inline void add_parameters(nlohmann::json& j, const fit::RobustFit& r, const std::string& prefix = "",
-                           const std::string& key = "fit") {
+                           const std::string& key = "fit", const std::string& rss_unit = "",
+                           const fit::AutocorrelationCorrection* autocorrelation = nullptr) {
   for (const auto& p : r.parameters) {
     j["parameters"][prefix + p.name] = number(p.value);
     j["std_errors"][prefix + p.name] = number(p.std_error);
+    const bool has_error = std::isfinite(p.std_error) && p.std_error > 0;
     if (!std::isfinite(p.std_error)) j["std_error_why"][prefix + p.name] = std_error_reason(r, p.name);
+    add_rounded(j, prefix + p.name, p.value, p.std_error,
+                has_error ? "" : std::isfinite(p.std_error) ? "held fixed" : std_error_reason(r, p.name));
   }
-  add_aggregates(j, r, key, prefix);
+  add_aggregates(j, r, key, prefix, rss_unit, autocorrelation);
 }
 
 /// Readings left out before a fit (wild, beyond a range), each with its reason.
@@ -245,8 +283,48 @@ inline void add_robots(nlohmann::json& j, const std::vector<logs::Log>& all,
   j["robot_spread"] = spread;
 }
 
-/// The human report's lines on what a fit did with the readings.
-inline void print_handling(const fit::RobustFit& r, const char* indent = "  ") {
+/// The human report's statistics line (lmfit's conventions) for residuals in `unit`.
+inline void print_statistics(const fit::FitStatistics& s, const std::string& unit, const char* indent = "  ") {
+  const std::string u = unit.empty() ? "" : " " + fit::pretty_unit(unit + "^2");
+  char r2[48];
+  if (std::isfinite(s.r2)) std::snprintf(r2, sizeof r2, "%.6f", s.r2);
+  else std::snprintf(r2, sizeof r2, "undefined (the data do not vary)");
+  std::printf("%sn %zu, k %d free parameters, RSS %.4g%s, MSE %.4g%s, reduced χ² = RSS/(n-k) %.4g%s, R² %s\n", indent, s.n, s.k,
+              s.rss, u.c_str(), s.mse, u.c_str(), s.reduced_chi2, u.c_str(), r2);
+  std::printf("%sAIC %.2f, BIC %.2f (n ln(RSS/n) + 2k and + k ln n, as lmfit)\n", indent, s.aic, s.bic);
+}
+
+/// The correlations with |r| > 0.1, or that there are none.
+inline void print_correlations(const std::vector<fit::Correlation>& c, const char* indent = "  ") {
+  if (c.empty()) {
+    std::printf("%scorrelations: none with |r| > 0.1\n", indent);
+    return;
+  }
+  std::printf("%scorrelations (|r| > 0.1):", indent);
+  for (std::size_t i = 0; i < c.size(); ++i) std::printf("%s %s-%s %+.3f", i ? "," : "", c[i].a.c_str(), c[i].b.c_str(), c[i].r);
+  std::printf("\n");
+}
+
+/// The autocorrelation correction of a time series' standard errors, in words.
+inline void print_autocorrelation(const fit::AutocorrelationCorrection& a, const char* indent = "  ") {
+  if (a.computed)
+    std::printf("%sresiduals' lag-1 autocorrelation %.4f within runs: AR(1) n_eff = n (1-rho)/(1+rho) = %.4g of %zu, factor %.3g\n",
+                indent, a.rho, a.n_eff, a.n, a.factor);
+  else
+    std::printf("%sresiduals' lag-1 autocorrelation not estimated (%s)\n", indent, a.why_not.c_str());
+  if (a.cluster_robust)
+    std::printf("%s[corrected] errors: cluster-robust with each of the %zu runs a cluster (sandwich, G/(G-1)), never below the "
+                "covariance's\n", indent, a.series);
+  else
+    std::printf("%s[corrected] errors: the covariance's times the AR(1) factor (not cluster-robust: %s)\n", indent,
+                a.cluster_why_not.c_str());
+}
+
+/// The human report's lines on what a fit did with the readings: the loss, the censoring per
+/// rail, the outliers, the statistics in `unit` (the readings' unit), the correlations, the
+/// autocorrelation correction when given, the lack of fit.
+inline void print_handling(const fit::RobustFit& r, const std::string& unit = "", const char* indent = "  ",
+                           const fit::AutocorrelationCorrection* autocorrelation = nullptr) {
   std::printf("%s%s\n", indent, r.method.c_str());
   std::printf("%s%zu observations: %zu inside the rails, %zu censored (%zu at or below the low rail, %zu at or above the high), "
               "%zu outliers left out\n",
@@ -254,10 +332,17 @@ inline void print_handling(const fit::RobustFit& r, const char* indent = "  ") {
               r.outliers.size());
   for (std::size_t i = 0; i < r.outlier_where.size() && i < 5; ++i) std::printf("%s  outlier: %s\n", indent, r.outlier_where[i].c_str());
   if (r.outlier_where.size() > 5) std::printf("%s  ... and %zu more (all in the JSON)\n", indent, r.outlier_where.size() - 5);
-  std::printf("%snoise sd %.4g; n %zu, free parameters %d, RSS %.4g, R^2 %.6f, AIC %.2f, BIC %.2f\n", indent, r.noise_sd,
-              r.observations, r.free_parameters, r.rss, r.r2, r.aic, r.bic);
+  std::printf("%skept: %zu inside the rails (the RSS's n), %zu at or below the low rail, %zu at or above the high; noise sd %.4g%s\n",
+              indent, r.kept_exact, r.kept_censored_below, r.kept_censored_above, r.noise_sd,
+              unit.empty() ? "" : (" " + fit::pretty_unit(unit)).c_str());
+  print_statistics(calibrate::robust_statistics(r), unit, indent);
+  std::printf("%sTobit likelihood (censored readings included, sigma estimated): ln L %.2f, AIC %.2f, BIC %.2f "
+              "(-2 ln L + 2(k+1) and + (k+1) ln n)\n",
+              indent, r.log_likelihood, r.aic, r.bic);
+  print_correlations(fit::correlations(r), indent);
+  if (autocorrelation != nullptr) print_autocorrelation(*autocorrelation, indent);
   if (r.lack_of_fit.tested)
-    std::printf("%slack of fit against %zu replicate groups: reduced chi^2 %.3g (p = %.3g), replicate sd %.4g\n", indent,
+    std::printf("%slack of fit against %zu replicate groups: reduced χ² against the replicates' noise %.3g (p = %.3g), replicate sd %.4g\n", indent,
                 r.lack_of_fit.groups, r.lack_of_fit.reduced_chi2, r.lack_of_fit.p_value, r.lack_of_fit.replicate_sd);
   for (const auto& n : r.not_identifiable) {
     const auto why = r.std_error_why.find(n);
@@ -265,16 +350,20 @@ inline void print_handling(const fit::RobustFit& r, const char* indent = "  ") {
   }
 }
 
-/// A parameter line: value +- standard error, or the reason there is none.
-inline void print_parameter(const fit::RobustFit& r, const std::string& name, const char* unit = "", const char* indent = "  ") {
+/// A parameter line: value ± standard error (two significant digits, fit::format_uncertain), or
+/// the reason there is none; `note` follows in parentheses; with an autocorrelation correction,
+/// the corrected error beside the covariance's.
+inline void print_parameter(const fit::RobustFit& r, const std::string& name, const std::string& unit = "",
+                            const char* indent = "  ", const std::string& note = "",
+                            const fit::AutocorrelationCorrection* autocorrelation = nullptr) {
   const double v = r.value(name), e = r.std_error(name);
-  if (std::isfinite(e)) {
-    std::printf("%s%s = %.8g +- %.2g %s\n", indent, name.c_str(), v, e, unit);
-  } else {
-    const auto why = r.std_error_why.find(name);
-    std::printf("%s%s = %.8g %s (no standard error: %s)\n", indent, name.c_str(), v, unit,
-                why == r.std_error_why.end() ? "not computed" : why->second.c_str());
-  }
+  const bool has_error = std::isfinite(e) && e > 0;
+  const std::string why = has_error ? "" : std::isfinite(e) ? "held fixed" : "no standard error: " + std_error_reason(r, name);
+  std::string line = name + " = " + fit::format_uncertain(v, e, fit::pretty_unit(unit), why);
+  if (has_error && autocorrelation != nullptr && autocorrelation->std_error(name) > e)
+    line += " [corrected ± " + fit::format_error(autocorrelation->std_error(name)) + "]";
+  if (!note.empty()) line += " (" + note + ")";
+  std::printf("%s%s\n", indent, line.c_str());
 }
 
 /// Warnings on standard error, each once.

@@ -114,6 +114,22 @@ double polyline_profile(const std::vector<double>& u, const std::vector<double>&
   return rss;
 }
 
+// The autocorrelation correction of a fit in scaled time (before its values are rescaled to
+// seconds): its residuals in row order, each run its own series.
+template <class Model>
+AutocorrelationCorrection run_autocorrelation(const Model& model, const FitResult& f, const std::vector<double>& u,
+                                              const std::vector<double>& y, const std::vector<int>& run_of) {
+  if (!f.usable) {
+    AutocorrelationCorrection a;
+    a.why_not = "the fit is not usable";
+    return a;
+  }
+  const std::vector<double> p = f.values();
+  std::vector<double> e(u.size());
+  for (std::size_t i = 0; i < u.size(); ++i) e[i] = y[i] - model(p.data(), u[i]);
+  return autocorrelation_correction(e, run_of);
+}
+
 double mse_of(const std::vector<double>& t, const std::vector<double>& y, const std::function<double(double)>& f) {
   double ss = 0;
   for (std::size_t i = 0; i < t.size(); ++i) {
@@ -249,10 +265,12 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
     s.runs = group.size();
     std::vector<double> lifetimes, t, y;
     std::vector<std::string> where;
+    std::vector<int> run_of;  // per row: its run (the residuals' series, for the autocorrelation)
     for (const BatteryRun* r : group) {
       lifetimes.push_back(r->lifetime_s);
       t.insert(t.end(), r->time_s.begin(), r->time_s.end());
       y.insert(y.end(), r->charge.begin(), r->charge.end());
+      run_of.insert(run_of.end(), r->time_s.size(), static_cast<int>(lifetimes.size()));
       for (std::size_t i = 0; i < r->time_s.size(); ++i)
         where.push_back(r->path + ":" + (i < r->line.size() ? std::to_string(r->line[i]) : "?"));
     }
@@ -286,6 +304,7 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
         t[kept] = t[i];
         y[kept] = y[i];
         where[kept] = where[i];
+        run_of[kept] = run_of[i];
         ++kept;
       }
       if (kept == u.size()) break;
@@ -293,12 +312,15 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
       t.resize(kept);
       y.resize(kept);
       where.resize(kept);
+      run_of.resize(kept);
       s.cubic = fit_curve(CubicInScaledTime{}, u, y, {1.0, -1.0, 0.0, 0.0}, {"d", "c", "b", "a"}, options);
     }
     s.observations = t.size();
+    s.cubic_autocorrelation = run_autocorrelation(CubicInScaledTime{}, s.cubic, u, y, run_of);
     rescale(s.cubic, {1.0, 1.0 / L, 1.0 / (L * L), 1.0 / (L * L * L)}, {"d", "c", "b", "a"});
 
     s.free_line = fit_curve(LineInScaledTime{}, u, y, {1.0, -1.0}, {"intercept", "slope_per_s"}, options);
+    s.free_line_autocorrelation = run_autocorrelation(LineInScaledTime{}, s.free_line, u, y, run_of);
     rescale(s.free_line, {1.0, 1.0 / L}, {"intercept", "slope_per_s"});
 
     s.linear_slope_per_s = mb::lifetime_slope_per_s(L);
@@ -331,8 +353,18 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
       for (double x2 = c2 - kCoarseStep; x2 <= c2 + kCoarseStep + 1e-12; x2 += kFineStep) consider(x1, x2);
     s.piecewise = fit_curve(PolylineInScaledTime{last_u}, u, y, std::vector<double>(best, best + 5),
                             {"x1_s", "x2_s", "y1", "y2", "y3"}, options);
+    s.piecewise_autocorrelation = run_autocorrelation(PolylineInScaledTime{last_u}, s.piecewise, u, y, run_of);
     rescale(s.piecewise, {L, L, 1.0, 1.0, 1.0}, {"x1_s", "x2_s", "y1", "y2", "y3"});
 
+    // Two runs a speed (the protocol) are too few for errors robust to a misfit that lasts a whole
+    // run: the AR(1) factor corrects them.
+    for (auto [fit_of, a] : {std::pair{&s.cubic, &s.cubic_autocorrelation}, std::pair{&s.free_line, &s.free_line_autocorrelation},
+                             std::pair{&s.piecewise, &s.piecewise_autocorrelation}}) {
+      apply_ar1(*a, *fit_of);
+      a->cluster_why_not = std::to_string(s.runs) + " runs: too few to estimate the spread between runs (cluster-robust needs " +
+                           std::to_string(kMinClusters) + ")";
+      if (s.runs >= kMinClusters) a->cluster_why_not = "not computed for the battery's fits (the AR(1) factor is used)";
+    }
     // The plug-in's segment format M1..M4 (M4: the 1-second drop to 0 at the lifetime).
     const double kx[5] = {0.0, s.piecewise.value("x1_s"), s.piecewise.value("x2_s"), L - 1.0, L};
     const double ky[5] = {1.0, s.piecewise.value("y1"), s.piecewise.value("y2"), s.piecewise.value("y3"), 0.0};

@@ -105,6 +105,28 @@ RobustOptions robust_options(const SensorFitOptions& o, double noise_floor) {
   return r;
 }
 
+// The autocorrelation correction of a fit to rows of runs: the AR(1) factor from the residuals of
+// the readings inside the rails that the fit kept, in row order, NaN elsewhere (a censored or
+// left-out reading breaks the chain), each run its own series; and the cluster-robust errors
+// with each run a cluster (fit::apply_cluster_robust).
+AutocorrelationCorrection run_autocorrelation(const RobustFit& f, const std::vector<Observation>& obs,
+                                              const std::vector<int>& run_of) {
+  std::vector<double> e(obs.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<bool> left_out(obs.size(), false);
+  for (std::size_t i : f.outliers)
+    if (i < left_out.size()) left_out[i] = true;
+  for (std::size_t i = 0; i < obs.size() && i < f.predictions.size(); ++i)
+    if (obs[i].censoring == Censoring::none && !left_out[i]) e[i] = obs[i].value - f.predictions[i];
+  AutocorrelationCorrection a = autocorrelation_correction(e, run_of);
+  // Runs as clusters: every kept reading's score (censored ones too), whatever its correlation
+  // with its neighbours.
+  std::vector<double> r(obs.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < obs.size() && i < f.scaled_residuals.size(); ++i)
+    if (!left_out[i]) r[i] = f.scaled_residuals[i];
+  apply_cluster_robust(a, f, f.jacobian, r, run_of);
+  return a;
+}
+
 // Quantisation noise of an integer reading: 1/sqrt(12) of a count.
 constexpr double kQuantisationSd = 0.28867513459481287;
 
@@ -578,9 +600,11 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
   //    next row), commands above the firmware's limit taken as the limit.
   std::vector<double> x;
   std::vector<Observation> obs;
+  std::vector<int> run_of;  // per row: its run (the residuals' series)
   for (const DriveRun& run : out.runs) {
     double commanded_m = 0;
     for (std::size_t k = 0; k < run.time_s.size(); ++k) {
+      run_of.push_back(static_cast<int>(&run - out.runs.data()));
       x.push_back(commanded_m);
       obs.push_back({run.steps[k], Censoring::none, run.path + ":" + std::to_string(run.line[k]), -1});
       if (k + 1 < run.time_s.size()) commanded_m += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
@@ -591,6 +615,7 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
   out.steps = fit_robust(StepsLine{x}, obs, {{"steps_per_m", nominal, nominal, 0.8 * nominal, 1.2 * nominal}},
                          robust_options(options, kQuantisationSd));
   collect(out.warnings, "steps per metre: ", out.steps.warnings);
+  if (out.steps.usable) out.steps_autocorrelation = run_autocorrelation(out.steps, obs, run_of);
   const double steps_per_m = out.steps.usable ? out.steps.value("steps_per_m") : nominal;
 
   // 2. ToF offset and scale with the slip lag, from every row of every run: readings at the
@@ -624,6 +649,7 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
                         {"slip_time_constant_s", 0.05, 0.0, 0.0, 2.0}},
                        robust_options(options, kQuantisationSd));
   collect(out.warnings, "ToF: ", out.tof.warnings);
+  if (out.tof.usable) out.tof_autocorrelation = run_autocorrelation(out.tof, tobs, run_of);
   if (!out.over_limit_runs.empty())
     out.warnings.push_back(std::to_string(out.capped_rows) + " rows command more than the firmware's limit (" +
                            fmt(kFirmwareSpeedLimit_m_s * 100) + " cm/s): taken as the limit, which is what the robot does.");

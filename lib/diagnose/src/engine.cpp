@@ -61,6 +61,8 @@ namespace {
 
 /// A reading is a whole count: at least the rounding's sqrt(1/12) ~ 0.29 of spread.
 constexpr double kDefaultMinimumSd = 0.3;
+/// One row carrying this share of a parameter's J^T J makes its covariance error suspect.
+constexpr double kOneRowInformation = 0.5;
 /// Above this many residuals, candidate effects are first fitted to the leading ones.
 constexpr std::size_t kScreenResiduals = 20000;
 
@@ -231,19 +233,56 @@ class Engine {
     return f;
   }
 
+  /// The weighted residuals' derivatives at `values` over every parameter (n x P; zero columns
+  /// for those not in `free`), as the fits evaluate them (false when they cannot be evaluated).
+  bool jacobian(const std::vector<int>& free, std::vector<double> values, Eigen::MatrixXd* out) const {
+    const std::size_t P = p_.params.size();
+    std::vector<int> slot(P, -1);
+    int k = 0;
+    for (int j : free) slot[static_cast<std::size_t>(j)] = k++;
+    ceres::Problem problem;
+    std::vector<double*> blocks, free_blocks;
+    std::vector<std::size_t> param_of;
+    for (std::size_t j = 0; j < P; ++j) blocks.push_back(&values[j]);
+    problem.AddResidualBlock(new Cost(*this, all_, slot), nullptr, blocks);
+    for (std::size_t j = 0; j < P; ++j) {
+      if (slot[j] < 0) continue;
+      free_blocks.push_back(blocks[j]);
+      param_of.push_back(j);
+    }
+    *out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n_), static_cast<Eigen::Index>(P));
+    if (free_blocks.empty()) return true;
+    ceres::Problem::EvaluateOptions eo;
+    eo.parameter_blocks = free_blocks;
+    eo.apply_loss_function = false;
+    eo.num_threads = 1;
+    double cost = 0;
+    ceres::CRSMatrix jac;
+    if (!problem.Evaluate(eo, &cost, nullptr, nullptr, &jac)) return false;
+    for (int row = 0; row < jac.num_rows; ++row)
+      for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx)
+        (*out)(row, static_cast<Eigen::Index>(param_of[static_cast<std::size_t>(jac.cols[static_cast<std::size_t>(idx)])])) =
+            jac.values[static_cast<std::size_t>(idx)];
+    return true;
+  }
+
   /// Held-out MSE: each fold predicted by a fit on the other folds.
   /// Held-out MSE of every residual (weighted) and of channel 0's alone (the reading, unweighted).
   struct Heldout {
     double all = 0, reading = 0;
+    /// Each fold's fit (on the other folds): every parameter's value, for the jackknife.
+    std::vector<std::vector<double>> fold_values;
   };
   Heldout heldout_mse(const std::vector<int>& free, const std::vector<double>& start) const {
     double sse = 0, sse0 = 0;
     std::size_t count = 0, count0 = 0;
+    std::vector<std::vector<double>> fold_values;
     for (int f = 0; f < o_.folds; ++f) {
       std::vector<std::size_t> train, test;
       for (std::size_t i = 0; i < n_; ++i) (fold_[i] == f ? test : train).push_back(i);
       if (test.empty() || train.empty()) continue;
       const Fitted fit_f = fit(free, start, train, false);
+      if (fit_f.result.usable) fold_values.push_back(fit_f.values);
       const auto r = residuals(fit_f.values);
       for (std::size_t i : test) {
         sse += r[i] * r[i];
@@ -255,6 +294,7 @@ class Engine {
       count += test.size();
     }
     Heldout h;
+    h.fold_values = std::move(fold_values);
     h.all = count ? sse / static_cast<double>(count) : 0.0;
     h.reading = count0 ? sse0 / static_cast<double>(count0) : 0.0;
     return h;
@@ -499,6 +539,74 @@ std::vector<NamedValue> named(const Problem& p, const Engine::Fitted& f, const s
   return out;
 }
 
+/// The statistics of a fit to every residual (fit::FitStatistics): its RSS over the weighted
+/// residuals, and R^2 against the readings' spread about their channel's mean, weighted alike.
+fit::FitStatistics all_rows_statistics(const Engine& engine, const Problem& p, const Engine::Fitted& f) {
+  const std::size_t C = p.channel_names.size();
+  std::vector<double> sum(C, 0.0), count(C, 0.0);
+  for (std::size_t i = 0; i < engine.size(); ++i) {
+    const std::size_t c = static_cast<std::size_t>(p.channel[i]);
+    sum[c] += p.y[i];
+    count[c] += 1;
+  }
+  double tss = 0;
+  for (std::size_t i = 0; i < engine.size(); ++i) {
+    const std::size_t c = static_cast<std::size_t>(p.channel[i]);
+    const double d = engine.weight(i) * (p.y[i] - sum[c] / count[c]);
+    tss += d * d;
+  }
+  const double r2 = tss > 0 ? 1.0 - f.result.rss / tss : std::numeric_limits<double>::quiet_NaN();
+  return fit::fit_statistics(f.result.observations, f.result.free_parameters, f.result.rss, r2);
+}
+
+/// Time series: the lag-1 autocorrelation of the final residuals within each log, per channel
+/// (a row's residuals of one channel averaged: the drive's two encoders), and the largest
+/// channel's correction; `channel` names it.
+std::vector<double> log_of_rows(const Problem& p) {
+  std::vector<double> log_of_row(p.rows, 0.0);
+  for (std::size_t k = 0; k < p.covariates.size(); ++k)
+    if (p.covariates[k].first == "log" && p.is_per_row(k) && p.covariates[k].second.size() == p.rows) log_of_row = p.covariates[k].second;
+  return log_of_row;
+}
+
+fit::AutocorrelationCorrection residual_autocorrelation(const Engine& engine, const Problem& p,
+                                                        const std::vector<double>& values, std::string& channel) {
+  const std::vector<double> log_of_row = log_of_rows(p);
+  const std::vector<double> r = engine.residuals(values);
+  fit::AutocorrelationCorrection best;
+  best.why_not = "no channel has neighbouring residuals";
+  for (std::size_t c = 0; c < p.channel_names.size(); ++c) {
+    std::vector<double> e;
+    std::vector<int> series;
+    double sum = 0;
+    std::size_t count = 0, last_row = 0;
+    bool open = false;
+    auto flush = [&] {
+      if (!open) return;
+      e.push_back(sum / static_cast<double>(count));
+      series.push_back(static_cast<int>(log_of_row[last_row]));
+      sum = 0;
+      count = 0;
+      open = false;
+    };
+    for (std::size_t i = 0; i < engine.size(); ++i) {
+      if (static_cast<std::size_t>(p.channel[i]) != c) continue;
+      if (open && p.row[i] != last_row) flush();
+      sum += r[i];
+      ++count;
+      last_row = p.row[i];
+      open = true;
+    }
+    flush();
+    const fit::AutocorrelationCorrection a = fit::autocorrelation_correction(e, series);
+    if (a.computed && (!best.computed || a.factor > best.factor)) {
+      best = a;
+      channel = p.channel_names[c];
+    }
+  }
+  return best;
+}
+
 /// The noise estimate and the fit depend on each other through the clamp's expected value:
 /// alternate until the estimate moves by less than 2 %.
 void settle_noise(Engine& engine, const std::vector<int>& free, Engine::Fitted& current) {
@@ -631,6 +739,7 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
   Engine::Fitted current = engine.fit(free, neutral, engine.all(), true);
   settle_noise(engine, free, current);
   report.recalibrated = named(p, current, p.base_free);
+  report.base_fit = all_rows_statistics(engine, p, current);
   Engine::Heldout current_h = engine.heldout_mse(free, current.values);
   double current_cv = current_h.all;
   report.heldout_mse_base = current_h.reading;
@@ -774,6 +883,7 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
                t.heldout_mse <= best_cv * (1.0 + options.min_heldout_gain))
         report.findings.back().alternatives.push_back(t.cause);
     }
+    report.findings.back().fit = all_rows_statistics(engine, p, current);
     current_cv = cv;
     current_h = h;
     report.findings.back().heldout_mse_after = h.reading;
@@ -794,6 +904,85 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
   // The recalibration alone stays in `recalibrated` (step 2's fit); the base parameters of the
   // joint fit with every finding are the extended model's.
   if (!p.base_free.empty()) report.final_base = named(p, current, p.base_free);
+  report.final_fit = all_rows_statistics(engine, p, current);
+  // Jackknife over the held-out folds (each fold's fit leaves out contiguous blocks of rows):
+  // SE^2 = (G - 1)/G sum (theta_g - mean)^2, whatever the residuals' correlation within a block
+  // and whatever the model's smoothness, which the covariance assumes.
+  std::vector<double> jackknife(p.params.size(), std::numeric_limits<double>::quiet_NaN());
+  report.jackknife_folds = current_h.fold_values.size();
+  if (current_h.fold_values.size() >= 3) {
+    const double G = static_cast<double>(current_h.fold_values.size());
+    for (int j : free) {
+      double mean = 0, ss = 0;
+      for (const auto& v : current_h.fold_values) mean += v[static_cast<std::size_t>(j)] / G;
+      for (const auto& v : current_h.fold_values) ss += (v[static_cast<std::size_t>(j)] - mean) * (v[static_cast<std::size_t>(j)] - mean);
+      jackknife[static_cast<std::size_t>(j)] = std::sqrt((G - 1) / G * ss);
+    }
+  }
+  for (std::size_t q = 0; q < report.recalibrated.size() && q < p.base_free.size(); ++q)
+    report.recalibrated[q].std_error_jackknife = jackknife[static_cast<std::size_t>(p.base_free[q])];
+  for (std::size_t k = 0; k < order.size(); ++k)
+    for (std::size_t q = 0; q < report.findings[k].parameters.size() && q < p.effects[order[k]].params.size(); ++q)
+      report.findings[k].parameters[q].std_error_jackknife = jackknife[static_cast<std::size_t>(p.effects[order[k]].params[q])];
+  // Where one row carries most of a parameter's information (J^T J), the covariance's error
+  // rests on that row's derivative: at a jump of the model (a battery's end-of-life drop) a
+  // difference across the jump, not information. Said, with the jackknife's error beside it.
+  Eigen::MatrixXd final_jacobian;
+  const bool have_jacobian = engine.jacobian(free, current.values, &final_jacobian);
+  if (have_jacobian)
+    for (int j : free) {
+      const auto col = final_jacobian.col(j);
+      const double total = col.squaredNorm(), top = col.cwiseAbs2().maxCoeff();
+      if (!(total > 0) || top < kOneRowInformation * total) continue;
+      const std::string name = p.params[static_cast<std::size_t>(j)].name;
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "%s: one row carries %.4g %% of the covariance's information (the model's derivative there is a jump, "
+                    "not a slope): its covariance error %.2g is not what the logs support; the jackknife over the held-out "
+                    "folds gives %.2g.",
+                    name.c_str(), 100 * top / total, current.result.parameters[static_cast<std::size_t>(j)].std_error,
+                    jackknife[static_cast<std::size_t>(j)]);
+      report.warnings.push_back(buf);
+    }
+  report.correlations = fit::correlations(current.result);
+  for (std::size_t i = 0; i < engine.size(); ++i) {
+    if (p.y[i] <= engine.lo(i)) ++report.censored_below;
+    if (p.y[i] >= engine.hi(i)) ++report.censored_above;
+  }
+  if (p.time_series) {
+    // A log's rows are a time series: the covariance's standard errors assume independent
+    // residuals and are too small by the autocorrelation's factor.
+    report.time_series = true;
+    fit::AutocorrelationCorrection& a = report.autocorrelation;
+    a = residual_autocorrelation(engine, p, current.values, report.autocorrelation_channel);
+    // Each log a cluster: robust to a misfit that lasts a whole log (its own capacity, its own
+    // offset), which the lag-1 factor misses.
+    const Eigen::MatrixXd& J = final_jacobian;
+    if (have_jacobian) {
+      const std::vector<double> log_of_row = log_of_rows(p);
+      std::vector<int> log_of(engine.size());
+      for (std::size_t i = 0; i < engine.size(); ++i) log_of[i] = static_cast<int>(log_of_row[p.row[i]]);
+      fit::apply_cluster_robust(a, current.result, J, engine.residuals(current.values), log_of);
+    } else {
+      fit::apply_ar1(a, current.result);
+      a.cluster_why_not = "the Jacobian could not be evaluated";
+    }
+    {
+      // By parameter index: two effects may name their parameter alike (drive: k).
+      auto correct = [&](NamedValue& v, int j) {
+        const double c = static_cast<std::size_t>(j) < a.std_errors.size() ? a.std_errors[static_cast<std::size_t>(j)]
+                                                                          : std::numeric_limits<double>::quiet_NaN();
+        if (std::isfinite(c) && c > 0) v.std_error_corrected = c;
+      };
+      for (std::size_t q = 0; q < report.recalibrated.size() && q < p.base_free.size(); ++q)
+        correct(report.recalibrated[q], p.base_free[q]);
+      for (std::size_t k = 0; k < order.size(); ++k) {
+        const std::vector<int>& params = p.effects[order[k]].params;
+        for (std::size_t q = 0; q < report.findings[k].parameters.size() && q < params.size(); ++q)
+          correct(report.findings[k].parameters[q], params[q]);
+      }
+    }
+  }
 
   // A finding whose parameter the logs do not pin down (standard error above its size, or none)
   // names a direction of misfit, not a measured effect: say so.

@@ -314,6 +314,7 @@ class Drive : public ProblemOf<Drive> {
     // on (not independent noise): a dependence below half a step is that rounding, not an effect.
     channel_min_structure = {0.0, 0.5};
     noise_from_differences = true;
+    time_series = true;
     std::vector<double> cov_time, cov_cmd, cov_speed, cov_acc, cov_dist, cov_range, cov_since, cov_channel;
     double max_command = 0;
     for (const auto& log : logs) {
@@ -492,6 +493,7 @@ class Battery : public ProblemOf<Battery> {
       : model_(model), tables_(tables) {
     // A charge is a fraction: no rounding floor on its noise.
     channel_min_sd = {1e-6};
+    time_series = true;  // a discharge run
     // (Not the measured charge: the residual's own noise correlates with it.)
     std::vector<double> cov_time, cov_speed;
     for (const auto& log : logs) {

@@ -88,6 +88,9 @@ class Problem {
   std::vector<double> channel_min_structure;
   /// Rows are a time series: the noise is estimated from successive residuals (drive).
   bool noise_from_differences = false;
+  /// Rows of a log are a time series (battery, drive): standard errors are corrected for the
+  /// residuals' autocorrelation within each log (Report::autocorrelation).
+  bool time_series = false;
   /// Covariates scored against the residuals (log columns and derived ones): per residual, or per
   /// row where covariate_per_row says so (a kind with several residuals a row stores a row's value
   /// once; covariate_values spreads it through `row`).

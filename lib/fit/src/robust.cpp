@@ -487,8 +487,10 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
         rss += (obs[i].value - predictions[i]) * (obs[i].value - predictions[i]);
       } else {
         ++kept_censored;
+        ++(obs[i].censoring == Censoring::at_or_below ? out.kept_censored_below : out.kept_censored_above);
       }
     }
+    out.kept_exact = kept_exact;
     ybar /= std::max<std::size_t>(kept_exact, 1);
     double tss = 0;
     for (std::size_t i = 0; i < n; ++i)
@@ -551,6 +553,9 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     f.iterations = 0;
     out.final_parameters = params;
     out.predictions = predictions;
+    out.scaled_residuals = r;
+    out.jacobian = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(m));
+    for (std::size_t c = 0; c < k; ++c) out.jacobian.col(static_cast<Eigen::Index>(free_idx[c])) = J.col(static_cast<Eigen::Index>(c));
     if (kept_exact <= k)
       out.warnings.push_back("only " + std::to_string(kept_exact) + " readings inside the rails for " + std::to_string(k) +
                              " free parameters: the noise is not estimated from the fit.");

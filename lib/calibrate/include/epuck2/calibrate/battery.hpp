@@ -20,6 +20,7 @@
 
 #include "epuck2/calibrate/engine.hpp"
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/report.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/battery.hpp"
 #include "epuck2/models/battery_simulation.hpp"
@@ -83,6 +84,9 @@ struct SpeedFit {
   ModelMse mse;                     ///< analytic MSE of each model's function against these logs
   std::vector<std::string> outliers;  ///< readings left out of every model at this speed (file:line)
   double noise_sd = 0;              ///< robust sd of the cubic's residuals (1.4826 MAD)
+  /// A discharge run is a time series: each fit's residuals are autocorrelated within a run, and
+  /// its covariance's standard errors need this correction (epuck2/fit/report.hpp).
+  fit::AutocorrelationCorrection cubic_autocorrelation, free_line_autocorrelation, piecewise_autocorrelation;
 };
 
 struct BatteryFit {

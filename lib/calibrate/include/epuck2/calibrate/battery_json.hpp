@@ -11,7 +11,9 @@
 
 namespace epuck2::calibrate {
 
-nlohmann::json battery_fit_to_json(const BatteryFit& fit);
+/// `robust` and `reject_sd`: how the fits treated the readings (fit_battery's options), for the
+/// file's `method`.
+nlohmann::json battery_fit_to_json(const BatteryFit& fit, bool robust = false, double reject_sd = kBatteryRejectSd);
 
 /// The four models' tables from a coefficient file; `path` names the file in errors, which say
 /// which entry is missing or wrong (InputError).

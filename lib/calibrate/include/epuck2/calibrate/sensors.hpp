@@ -16,6 +16,7 @@
 
 #include "epuck2/calibrate/engine.hpp"
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/report.hpp"
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/sensors.hpp"
@@ -142,6 +143,9 @@ struct DriveFit {
   std::size_t steps_rows = 0, tof_rows = 0, tof_censored = 0, tof_out_of_range_codes = 0, capped_rows = 0;
   std::vector<std::string> over_limit_runs;  ///< runs with a command above the firmware's limit
   std::vector<std::string> warnings;
+  /// Rows of a run are a time series: the residuals of each fit are autocorrelated within a run,
+  /// and its standard errors need this correction (epuck2/fit/report.hpp).
+  fit::AutocorrelationCorrection steps_autocorrelation, tof_autocorrelation;
 };
 
 /// The firmware's speed limit in m/s: MOTOR_SPEED_LIMIT / the plug-in's steps per metre.

@@ -14,11 +14,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "epuck2/fit/report.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/battery.hpp"
 
@@ -32,6 +34,12 @@ struct NamedValue {
   double value = 0;
   double std_error = 0;  ///< NaN when the covariance could not be computed
   std::string std_error_why;  ///< why std_error is NaN (ParameterEstimate::std_error_why)
+  /// Time series (battery, drive): std_error times the residuals' autocorrelation correction
+  /// (Report::autocorrelation); NaN for the other kinds or without a standard error.
+  double std_error_corrected = std::numeric_limits<double>::quiet_NaN();
+  /// Every kind: the delete-a-fold jackknife over the held-out folds' fits (contiguous blocks of
+  /// rows), sqrt((G - 1)/G sum (theta_g - mean)^2); NaN with fewer than 3 folds.
+  double std_error_jackknife = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct Finding {
@@ -46,6 +54,10 @@ struct Finding {
   /// Other effects that fitted almost as well at the same step (BIC within Options::min_delta_bic
   /// and a held-out gain too): the data cannot tell them from this one.
   std::vector<std::string> alternatives;
+  /// The model with this finding and those before it, fitted to all rows at its step: n, k,
+  /// RSS (weighted residuals, in the reading's units squared), reduced chi^2, R^2, AIC, BIC
+  /// (fit::FitStatistics conventions).
+  fit::FitStatistics fit;
 };
 
 struct CovariateScore {
@@ -86,6 +98,22 @@ struct Report {
   /// The base model's free parameters in the final joint fit with every finding (what the extended
   /// model carries; the same as `recalibrated` without findings).
   std::vector<NamedValue> final_base;
+  /// Goodness of fit of the recalibrated base model and of the final one (all rows), under the
+  /// conventions of fit::FitStatistics; R^2 of the weighted residuals against the readings'
+  /// spread about their channel's mean.
+  fit::FitStatistics base_fit, final_fit;
+  /// Correlations (|r| > 0.1) between the final model's free parameters.
+  std::vector<fit::Correlation> correlations;
+  /// The residuals are a time series (battery, drive): their lag-1 autocorrelation within each
+  /// log, per channel, and the correction applied to every standard error (the largest channel's
+  /// factor; NamedValue::std_error_corrected).
+  bool time_series = false;
+  fit::AutocorrelationCorrection autocorrelation;
+  std::string autocorrelation_channel;  ///< the channel whose factor is applied
+  std::size_t jackknife_folds = 0;      ///< folds behind NamedValue::std_error_jackknife
+  /// Readings on a clamp, per rail (the residuals' readings at or below the low clamp, at or
+  /// above the high one).
+  std::size_t censored_below = 0, censored_above = 0;
   double noise_sd = 0;                   ///< residual standard deviation of the final model
   /// With several measured quantities (drive: ToF in mm, encoders in steps): each one's noise
   /// standard deviation, in its own units. Residuals are weighted by them and MSEs are given in

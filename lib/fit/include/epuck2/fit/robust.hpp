@@ -92,7 +92,11 @@ struct RobustFit : FitResult {
   std::vector<Parameter> final_parameters;     ///< final values, bounds and fallbacks
   std::map<std::string, std::string> std_error_why;  ///< reason for every NaN standard error
   double noise_sd = 0;                         ///< estimated (or given) sigma, readings' units
-  std::size_t exact = 0, censored_below = 0, censored_above = 0;
+  std::size_t exact = 0, censored_below = 0, censored_above = 0;  ///< of all readings given
+  /// Readings inside the rails that the final fit kept (not outliers): the residuals of `rss`.
+  std::size_t kept_exact = 0;
+  /// Censored readings the final fit kept, per rail.
+  std::size_t kept_censored_below = 0, kept_censored_above = 0;
   std::vector<std::size_t> outliers;           ///< indices of the readings left out
   std::vector<std::string> outlier_where;      ///< their file:line
   std::vector<std::string> not_identifiable;   ///< held at their fallback
@@ -100,6 +104,11 @@ struct RobustFit : FitResult {
   LackOfFit lack_of_fit;
   std::string method;                          ///< loss and censoring, in words
   std::vector<double> predictions;             ///< latent prediction per observation
+  /// At the solution, per observation: the Tobit residual r_i (0 for a reading left out) and its
+  /// derivatives over the parameters (n x m, zero columns for held ones); 1/2 sum r_i^2 is the
+  /// negative log-likelihood, so J_i r_i is an observation's score (for cluster-robust errors).
+  std::vector<double> scaled_residuals;
+  Eigen::MatrixXd jacobian;
   double log_likelihood = 0;
   std::size_t censored() const { return censored_below + censored_above; }
 };
