@@ -11,10 +11,13 @@
 #   plug-in's Cubic (ratio <= 1.00).
 # Noise is off on both sides (the plug-in's noise_level 0, the calibrated noise="false"): the
 # rows compare the models, not the random number draws.
+# EPUCK2_BENCH_MEASURE=instructions counts the instructions argos3 executes instead (valgrind
+# --tool=callgrind, about 50 times slower; deterministic, so one repeat says it): where the CPU
+# times' run-to-run noise is larger than the difference, the counts decide.
 #   usage: bench/argos_cost.sh [SIM_SECONDS (default 7200)] [REPEATS (default 3)] [ROBOTS (default "1 10 50")] [ROWS]
 #     ROWS: a space-separated subset of: proximity ground tof encoder light battery-simple
 #           battery-linear battery-cubic battery-approximated battery-cubic-corrected (default: all)
-# Environment: EPUCK2_BUILD_DIR (default build).
+# Environment: EPUCK2_BUILD_DIR (default build), EPUCK2_BENCH_MEASURE (cpu, default, or instructions).
 # Needs ARGoS, the E-Puck2 plug-in and the project built with them (build/lib/argos3), python3.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -101,7 +104,20 @@ if os.waitstatus_to_exitcode(status) != 0:
     sys.exit(1)
 print(f"{ru.ru_utime + ru.ru_stime:.6f}")
 PY
-cpu_run() {  # experiment -> CPU seconds on stdout
+MEASURE="${EPUCK2_BENCH_MEASURE:-cpu}"
+case "$MEASURE" in
+  cpu) UNIT="CPU seconds (user + sys) of argos3";;
+  instructions) command -v valgrind >/dev/null || { echo "argos_cost: valgrind not found" >&2; exit 3; }
+                UNIT="instructions executed by argos3 (callgrind), in millions";;
+  *) echo "argos_cost: EPUCK2_BENCH_MEASURE must be cpu or instructions" >&2; exit 2;;
+esac
+cpu_run() {  # experiment -> CPU seconds (or millions of instructions) on stdout
+  if [ "$MEASURE" = instructions ]; then
+    ARGOS_PLUGIN_PATH="$LIBDIR" valgrind --tool=callgrind --callgrind-out-file="$WORK/cg" argos3 -n -z -c "$1" \
+      > "$WORK/log" 2>&1 || { echo "argos_cost: argos3 failed on $1:" >&2; tail -n 20 "$WORK/log" >&2; exit 1; }
+    awk '/^summary:/ {printf "%.3f\n", $2 / 1e6}' "$WORK/cg"
+    return
+  fi
   ARGOS_PLUGIN_PATH="$LIBDIR" python3 "$WORK/cpu.py" "$WORK/log" argos3 -n -z -c "$1" ||
     { echo "argos_cost: argos3 failed on $1:" >&2; tail -n 20 "$WORK/log" >&2; exit 1; }
 }
@@ -112,7 +128,7 @@ echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')"
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) logical cores"
 echo "load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "argos3: $(argos3 -n --version 2>&1 | grep -m1 VERSION | sed 's/\x1b\[[0-9;]*m//g')"
-echo "simulated ${SECONDS_SIM} s at 10 ticks/s; CPU seconds (user + sys) of argos3, median of $REPEATS runs each,"
+echo "simulated ${SECONDS_SIM} s at 10 ticks/s; $UNIT, median of $REPEATS runs each,"
 echo "default and calibrated interleaved (ABBA); ratio = calibrated / default medians; pairs = range of the"
 echo "per-repeat ratios; target: sensors <= 1.05, battery-cubic-corrected <= 1.00"
 printf "%-24s %6s %10s %12s %7s %13s %6s %7s %s\n" what robots default_s calibrated_s ratio pairs target result load
