@@ -6,8 +6,8 @@
 #include "app_support.hpp"
 #include "commands.hpp"
 #include "log_help.hpp"
-#include "epuck2/fit/battery.hpp"
-#include "epuck2/fit/battery_json.hpp"
+#include "epuck2/calibrate/battery.hpp"
+#include "epuck2/calibrate/battery_json.hpp"
 #include "epuck2/plot/battery_figures.hpp"
 
 namespace epuck2::app {
@@ -25,7 +25,7 @@ struct BatteryOptions {
   bool skip_bad_rows = false;
 };
 
-void print_report(const fit::BatteryFit& f) {
+void print_report(const calibrate::BatteryFit& f) {
   std::printf("Battery discharge fits (%zu runs, %zu speeds)\n", f.sources.size(), f.speeds.size());
   std::printf("%6s %4s %6s %16s  %-60s %12s  %8s %8s %8s %8s\n", "speed", "runs", "rows", "lifetime_s",
               "cubic d, c, b, a  (+- standard error)", "linear_slope", "mse_simp", "mse_lin", "mse_cub", "mse_appr");
@@ -60,18 +60,18 @@ void print_report(const fit::BatteryFit& f) {
 
 int run_battery(const BatteryOptions& o) {
   const auto logs = read_logs_reporting("battery", o.logs, logs::Kind::battery, o.skip_bad_rows);
-  const auto runs = fit::battery_runs(logs);
+  const auto runs = calibrate::battery_runs(logs);
   fit::FitOptions options;
   options.robust = o.robust;
   options.robust_scale = o.robust_scale;
-  const fit::BatteryFit f = fit::fit_battery(runs, options, o.least_squares ? 0.0 : fit::kBatteryRejectSd);
+  const calibrate::BatteryFit f = calibrate::fit_battery(runs, options, o.least_squares ? 0.0 : calibrate::kBatteryRejectSd);
   std::string unusable;
   for (const auto& s : f.speeds) {
     if (!s.cubic.usable) unusable += " cubic at " + std::to_string(s.speed_cm_s) + " cm/s: " + s.cubic.message + ";";
     if (!s.piecewise.usable) unusable += " piecewise at " + std::to_string(s.speed_cm_s) + " cm/s: " + s.piecewise.message + ";";
   }
   if (!unusable.empty()) throw NoUsableFit(unusable);
-  const nlohmann::json j = fit::battery_fit_to_json(f);
+  const nlohmann::json j = calibrate::battery_fit_to_json(f);
   const std::string text = json_text(j);  // refuses a NaN before anything is written
   // All or nothing: the coefficient file and the figures are renamed into place together.
   logs::OutputStage stage;

@@ -3,7 +3,7 @@
 // projection), and the paper's Table 4 method (alpha from a pixel offset at a known geometry).
 #include <cstdio>
 
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/png.hpp"
 #include "sensor_support.hpp"
 
@@ -13,7 +13,7 @@ namespace {
 
 namespace s = models::sensors;
 
-void print_report(const fit::CameraFit& f) {
+void print_report(const calibrate::CameraFit& f) {
   const auto& r = f.result;
   std::printf("Camera: px = cx - f y/x, py = cy - f z/x, f = 80 / tan(fov/2) (160x120 image)\n");
   std::printf("%zu LED observations\n\n", f.observations.size());
@@ -29,7 +29,7 @@ void print_report(const fit::CameraFit& f) {
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
-void draw(logs::OutputStage& stage, const std::string& path, const fit::CameraFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const calibrate::CameraFit& f) {
   const double fov = s::deg_to_rad(f.result.value("fov_deg")), cx = f.result.value("cx_px"), cy = f.result.value("cy_px");
   const auto plugin = s::plugin_camera();
   std::vector<std::vector<double>> rows;
@@ -56,8 +56,8 @@ void draw(logs::OutputStage& stage, const std::string& path, const fit::CameraFi
   });
 }
 
-nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, fit::CameraFit* keep) {
-  fit::CameraFit f = fit::fit_camera(logs, o.fit_options());
+nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::CameraFit* keep) {
+  calibrate::CameraFit f = calibrate::fit_camera(logs, o.fit_options());
   app::sensors::require_usable(f.result, "camera fit");
   std::vector<std::string> sources;
   for (const auto& l : logs) sources.push_back(l.path);
@@ -85,7 +85,7 @@ nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensor
 }
 
 int run_camera(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<fit::CameraFit>("camera", logs::Kind::camera, o, camera_json, print_report, draw);
+  return app::sensors::run_sensor<calibrate::CameraFit>("camera", logs::Kind::camera, o, camera_json, print_report, draw);
 }
 
 }  // namespace

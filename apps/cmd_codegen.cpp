@@ -14,7 +14,7 @@
 #include "app_support.hpp"
 #include "epuck2/logs/json_location.hpp"
 #include "commands.hpp"
-#include "epuck2/fit/battery_json.hpp"
+#include "epuck2/calibrate/battery_json.hpp"
 #include "epuck2/logs/output.hpp"
 
 namespace epuck2::app {
@@ -92,7 +92,7 @@ std::string identifier_problem(const std::string& name) {
 }
 
 void emit_battery(std::ostringstream& os, const nlohmann::json& j, const std::string& path) {
-  const mb::Tables t = fit::battery_tables_from_json(j, path);
+  const mb::Tables t = calibrate::battery_tables_from_json(j, path);
   os << "#define EPUCK2_FITTED_HAS_BATTERY 1\n\n";
   os << "/// The four discharge models' tables fitted from " << path << ".\n";
   os << "inline const models::battery::Tables& battery_tables() {\n";

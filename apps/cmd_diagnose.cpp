@@ -11,9 +11,12 @@
 #include "app_support.hpp"
 #include "commands.hpp"
 #include "log_help.hpp"
-#include "epuck2/fit/battery_json.hpp"
-#include "epuck2/fit/diagnose.hpp"
+#include "epuck2/calibrate/battery_json.hpp"
+#include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
+#if __has_include("epuck2/fitted/coefficients.hpp")
+#include "epuck2/fitted/coefficients.hpp"  // the CLI's `--coefficients fitted` (epuck2::fitted)
+#endif
 #include "epuck2/logs/log.hpp"
 #include "epuck2/plot/png.hpp"
 
@@ -21,7 +24,7 @@ namespace epuck2::app {
 
 namespace {
 
-namespace dg = fit::diagnose;
+namespace dg = epuck2::diagnose;
 
 struct DiagnoseOptions {
   std::string kind;
@@ -282,9 +285,15 @@ int run_diagnose(const DiagnoseOptions& o) {
   dg::Options options;
   if (!models::battery::parse_model(o.battery_model, options.battery_model))
     throw UsageError("unknown --battery-model '" + o.battery_model + "' (expected simple, linear, cubic or approximated)");
-  if (o.coefficients == "plugin") options.battery_tables = models::battery::plugin_tables();
-  else if (!o.coefficients.empty() && o.coefficients != "fitted")
-    options.battery_tables = fit::battery_tables_from_json(read_json(o.coefficients), o.coefficients);
+  if (o.coefficients.empty() || o.coefficients == "plugin") options.battery_tables = models::battery::plugin_tables();
+  else if (o.coefficients == "fitted") {
+#ifdef EPUCK2_FITTED_HAS_BATTERY
+    options.battery_tables = fitted::battery_tables();
+#else
+    throw UsageError("this build has no compiled-in fitted battery tables; give --coefficients FILE");
+#endif
+  } else
+    options.battery_tables = calibrate::battery_tables_from_json(read_json(o.coefficients), o.coefficients);
   const dg::Report r = dg::diagnose(std::move(logs), options);  // the logs are released once read
   if (r.too_few_rows) throw NoUsableFit(r.message);
   if (!r.supported) throw UsageError(r.message);
@@ -315,7 +324,7 @@ void setup_diagnose(CLI::App& app, Action& action) {
   sub->add_option("--battery-model", o->battery_model, "battery: the discharge model simulated (simple, linear, cubic, approximated)")
       ->capture_default_str();
   sub->add_option("--coefficients", o->coefficients,
-                  "battery: coefficient tables: fitted (compiled in, default), plugin (the plug-in's published ones) or a battery JSON FILE");
+                  "battery: coefficient tables: plugin (the plug-in's published ones, default), fitted (the CLI's compiled-in data/fitted tables) or a battery JSON FILE");
   sub->add_option("logs", o->logs, "Log files of one kind (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->footer(all_log_formats_footer());
   add_skip_bad_rows(sub, o->skip_bad_rows);

@@ -4,7 +4,7 @@
 // the wheels.
 #include <cstdio>
 
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/png.hpp"
 #include "sensor_support.hpp"
 
@@ -14,7 +14,7 @@ namespace {
 
 namespace s = models::sensors;
 
-void print_report(const fit::DriveFit& f) {
+void print_report(const calibrate::DriveFit& f) {
   std::printf("Drive runs: %zu\n\n", f.runs.size());
   std::printf("Encoders: steps = steps_per_m * commanded distance (%zu rows; commands above the firmware's 1100 steps/s = "
               "14.17 cm/s taken as that limit: %zu rows)\n",
@@ -34,15 +34,15 @@ void print_report(const fit::DriveFit& f) {
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
-void draw(logs::OutputStage& stage, const std::string& path, const fit::DriveFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const calibrate::DriveFit& f) {
   const double spm = f.steps.value("steps_per_m");
   const double scale = f.tof.value("tof_scale"), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
   plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     std::string plot_tof = "plot ", plot_steps = "plot ";
     for (std::size_t r = 0; r < f.runs.size(); ++r) {
       const auto& run = f.runs[r];
-      const std::vector<double> travel = fit::lagged_travel_m(run, spm, tau);
-      const std::vector<double> enc = fit::lagged_travel_m(run, s::kPluginStepsPerMetre, 0.0);
+      const std::vector<double> travel = calibrate::lagged_travel_m(run, spm, tau);
+      const std::vector<double> enc = calibrate::lagged_travel_m(run, s::kPluginStepsPerMetre, 0.0);
       std::vector<std::vector<double>> rows;
       double commanded = 0;
       for (std::size_t k = 0; k < run.time_s.size(); ++k) {
@@ -68,8 +68,8 @@ void draw(logs::OutputStage& stage, const std::string& path, const fit::DriveFit
   });
 }
 
-nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, fit::DriveFit* keep) {
-  fit::DriveFit f = fit::fit_drive(logs, o.fit_options());
+nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::DriveFit* keep) {
+  calibrate::DriveFit f = calibrate::fit_drive(logs, o.fit_options());
   app::sensors::require_usable(f.steps, "encoder fit");
   app::sensors::require_usable(f.tof, "ToF fit");
   std::vector<std::string> sources;
@@ -93,7 +93,7 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
 }
 
 int run_drive(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<fit::DriveFit>("drive", logs::Kind::drive, o, drive_json, print_report, draw);
+  return app::sensors::run_sensor<calibrate::DriveFit>("drive", logs::Kind::drive, o, drive_json, print_report, draw);
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 // 1 = white), beside the plug-in's offset 0 and gain 1023 (paper section 4.1.3).
 #include <cstdio>
 
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/png.hpp"
 #include "sensor_support.hpp"
 
@@ -13,7 +13,7 @@ namespace {
 namespace s = models::sensors;
 const char* kSensorNames[] = {"0 (right)", "1 (centre)", "2 (left)"};
 
-void print_report(const fit::GroundFit& f) {
+void print_report(const calibrate::GroundFit& f) {
   std::printf("Ground sensors: reading = offset + gain * grey (grey 0 = black, 1 = white)\n");
   std::printf("%zu readings, %zu on the 0/1023 rails (censored)\n\n", f.readings, f.censored);
   std::printf("%-11s %22s %22s %10s %12s\n", "sensor", "gain_raw", "offset_raw", "MSE", "plug-in MSE");
@@ -30,7 +30,7 @@ void print_report(const fit::GroundFit& f) {
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
-void draw(logs::OutputStage& stage, const std::string& path, const fit::GroundFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const calibrate::GroundFit& f) {
   plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
     for (std::size_t k = 0; k < f.sensors.size(); ++k) {
       std::vector<std::vector<double>> rows;
@@ -55,8 +55,8 @@ void draw(logs::OutputStage& stage, const std::string& path, const fit::GroundFi
   });
 }
 
-nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, fit::GroundFit* keep) {
-  fit::GroundFit f = fit::fit_ground(logs, o.fit_options());
+nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::GroundFit* keep) {
+  calibrate::GroundFit f = calibrate::fit_ground(logs, o.fit_options());
   std::vector<std::string> sources;
   for (const auto& l : logs) sources.push_back(l.path);
   nlohmann::json j = app::sensors::skeleton("ground", sources);
@@ -96,7 +96,7 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
 }
 
 int run_ground(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<fit::GroundFit>("ground", logs::Kind::ground, o, ground_json, print_report, draw);
+  return app::sensors::run_sensor<calibrate::GroundFit>("ground", logs::Kind::ground, o, ground_json, print_report, draw);
 }
 
 }  // namespace

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <map>
 
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/png.hpp"
 #include "sensor_support.hpp"
 
@@ -13,7 +13,7 @@ namespace {
 
 namespace s = models::sensors;
 
-void print_report(const fit::LightFit& f) {
+void print_report(const calibrate::LightFit& f) {
   std::printf("Ambient light sensor, paper Eq. 2: reading/4095 = 1 - (gamma I / d)^2\n");
   std::printf("%zu readings: %zu enter the fits (%zu of them on a rail, 0 = saturated or 4095 = dark: censored), %zu left out "
               "(no light in range)\n\n",
@@ -31,7 +31,7 @@ void print_report(const fit::LightFit& f) {
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
-void draw(logs::OutputStage& stage, const std::string& path, const fit::LightFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const calibrate::LightFit& f) {
   std::map<double, std::vector<std::vector<double>>> by_intensity;
   for (const auto& o : f.observations) by_intensity[o.intensity].push_back({o.distance_m * 100, o.value_raw, double(o.sensor)});
   const double g = f.gamma.value("gamma");
@@ -60,8 +60,8 @@ void draw(logs::OutputStage& stage, const std::string& path, const fit::LightFit
   });
 }
 
-nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, fit::LightFit* keep) {
-  fit::LightFit f = fit::fit_light(logs, o.fit_options());
+nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::LightFit* keep) {
+  calibrate::LightFit f = calibrate::fit_light(logs, o.fit_options());
   app::sensors::require_usable(f.gamma, "light fit");
   std::vector<std::string> sources;
   for (const auto& l : logs) sources.push_back(l.path);
@@ -88,7 +88,7 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
   }
   j["per_sensor"] = per;
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
-  std::vector<fit::LeftOut> left_out = f.left_out;
+  std::vector<calibrate::LeftOut> left_out = f.left_out;
   app::sensors::add_left_out(j, left_out);
   app::sensors::add_warnings(j, f.warnings);
   if (keep != nullptr) *keep = std::move(f);
@@ -96,7 +96,7 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
 }
 
 int run_light(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<fit::LightFit>("light", logs::Kind::light, o, light_json, print_report, draw);
+  return app::sensors::run_sensor<calibrate::LightFit>("light", logs::Kind::light, o, light_json, print_report, draw);
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
-#include "epuck2/fit/nist.hpp"
+#include "epuck2/nist/nist.hpp"
 
 namespace epuck2::app {
 
@@ -21,7 +21,7 @@ struct NistOptions {
   std::string out;
 };
 
-nlohmann::json to_json(const fit::nist::RunReport& r) {
+nlohmann::json to_json(const nist::RunReport& r) {
   nlohmann::json params = nlohmann::json::array();
   for (const auto& p : r.parameters)
     params.push_back({{"name", p.name},
@@ -53,23 +53,23 @@ int run_nist(const NistOptions& o) {
     if (entry.is_regular_file() && entry.path().extension() == ".dat") files.push_back(entry.path());
   if (files.empty()) throw UsageError("no .dat files in " + o.dir);
   // NIST's order (lower, average, higher difficulty); unknown names last (parse rejects them).
-  const auto& names = fit::nist::problem_names();
+  const auto& names = nist::problem_names();
   auto rank = [&](const fs::path& p) {
     return static_cast<std::size_t>(std::find(names.begin(), names.end(), p.stem().string()) - names.begin());
   };
   std::sort(files.begin(), files.end(), [&](const fs::path& a, const fs::path& b) {
     return rank(a) != rank(b) ? rank(a) < rank(b) : a < b;
   });
-  std::vector<fit::nist::Problem> problems;
-  for (const auto& f : files) problems.push_back(fit::nist::read(f.string()));
+  std::vector<nist::Problem> problems;
+  for (const auto& f : files) problems.push_back(nist::read(f.string()));
 
-  const fit::nist::Target target;
-  std::vector<fit::nist::RunReport> runs;
+  const nist::Target target;
+  std::vector<nist::RunReport> runs;
   for (const auto& p : problems)
-    for (int start : {1, 2}) runs.push_back(fit::nist::run(p, start, fit::nist::default_options(), target));
+    for (int start : {1, 2}) runs.push_back(nist::run(p, start, nist::default_options(), target));
 
   int at_target = 0;
-  double min_lre = fit::nist::kCertifiedDigits, min_se = fit::nist::kCertifiedDigits, min_rss = fit::nist::kCertifiedDigits;
+  double min_lre = nist::kCertifiedDigits, min_se = nist::kCertifiedDigits, min_rss = nist::kCertifiedDigits;
   nlohmann::json jruns = nlohmann::json::array();
   for (const auto& r : runs) {
     at_target += r.at_target ? 1 : 0;
@@ -83,7 +83,7 @@ int run_nist(const NistOptions& o) {
                                    ", standard-error LRE >= " + std::to_string(static_cast<int>(target.std_error_lre)) + ")";
   nlohmann::json j = {{"directory", o.dir},
                       {"target", {{"parameter_lre", target.parameter_lre}, {"std_error_lre", target.std_error_lre}}},
-                      {"certified_digits", fit::nist::kCertifiedDigits},
+                      {"certified_digits", nist::kCertifiedDigits},
                       {"runs", jruns},
                       {"summary",
                        {{"runs", runs.size()},

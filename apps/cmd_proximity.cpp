@@ -3,7 +3,7 @@
 // (v1) polynomials (paper section 4.1.1, Fig. 4c).
 #include <cstdio>
 
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/png.hpp"
 #include "sensor_support.hpp"
 
@@ -19,7 +19,7 @@ std::string poly(double a, double b, double c) {
   return buf;
 }
 
-void print_report(const fit::ProximityFit& f) {
+void print_report(const calibrate::ProximityFit& f) {
   std::printf("Proximity sensor, paper Eq. 1: v(d) = a d^2 + b d + c (normalised 0..1), d <= 0.05 m,\n"
               "held non-increasing with distance over [0, 0.05 m] (slopes at 0 and at 0.05 m bounded at 0)\n");
   std::printf("%zu readings at %zu distances; %zu on a rail (0 or 4095, censored); %zu left out\n\n", f.readings,
@@ -50,7 +50,7 @@ void print_report(const fit::ProximityFit& f) {
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
-void draw(logs::OutputStage& stage, const std::string& path, const fit::ProximityFit& f) {
+void draw(logs::OutputStage& stage, const std::string& path, const calibrate::ProximityFit& f) {
   std::vector<std::vector<double>> pts;
   for (const auto& p : f.points) pts.push_back({p.distance_m * 1000, p.min, p.mean, p.max, p.used ? 1.0 : 0.0});
   const std::string fmax = poly(f.maxima.value("a") * 1e-6, f.maxima.value("b") * 1e-3, f.maxima.value("c"));
@@ -73,8 +73,8 @@ void draw(logs::OutputStage& stage, const std::string& path, const fit::Proximit
   });
 }
 
-nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, fit::ProximityFit* keep) {
-  fit::ProximityFit f = fit::fit_proximity(logs, o.fit_options());
+nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::ProximityFit* keep) {
+  calibrate::ProximityFit f = calibrate::fit_proximity(logs, o.fit_options());
   app::sensors::require_usable(f.maxima, "proximity fit to the maxima");
   app::sensors::require_usable(f.means, "proximity fit to the means");
   std::vector<std::string> sources;
@@ -108,7 +108,7 @@ nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sen
 }
 
 int run_proximity(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<fit::ProximityFit>("proximity", logs::Kind::proximity, o, proximity_json, print_report, draw);
+  return app::sensors::run_sensor<calibrate::ProximityFit>("proximity", logs::Kind::proximity, o, proximity_json, print_report, draw);
 }
 
 }  // namespace

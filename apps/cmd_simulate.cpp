@@ -6,7 +6,7 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
-#include "epuck2/fit/battery_json.hpp"
+#include "epuck2/calibrate/battery_json.hpp"
 #include "epuck2/logs/output.hpp"
 #include "epuck2/models/battery_simulation.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
@@ -44,7 +44,7 @@ mb::Tables choose_tables(const SimulateOptions& o, bool argos) {
     throw UsageError("this build has no compiled-in fitted battery tables; give --coefficients FILE");
 #endif
   }
-  return fit::battery_tables_from_json(read_json(source), source);
+  return calibrate::battery_tables_from_json(read_json(source), source);
 }
 
 int run_simulate(const SimulateOptions& o) {

@@ -9,8 +9,8 @@
 #include "app_support.hpp"
 #include "commands.hpp"
 #include "log_help.hpp"
-#include "epuck2/fit/battery.hpp"
-#include "epuck2/fit/published.hpp"
+#include "epuck2/calibrate/battery.hpp"
+#include "epuck2/calibrate/published.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 
 namespace epuck2::app {
@@ -26,23 +26,23 @@ struct Table5Options {
   bool skip_bad_rows = false;
 };
 
-nlohmann::json as_json(const fit::ModelMse& m) {
+nlohmann::json as_json(const calibrate::ModelMse& m) {
   nlohmann::json j = nlohmann::json::object();
   for (mb::Model model : mb::kAllModels) j[std::string(mb::to_string(model))] = m.get(model);
   return j;
 }
 
 int run_table5(const Table5Options& o) {
-  const auto runs = fit::battery_runs(read_logs_reporting("table5", o.logs, logs::Kind::battery, o.skip_bad_rows));
-  const fit::BatteryFit f = fit::fit_battery(runs);
+  const auto runs = calibrate::battery_runs(read_logs_reporting("table5", o.logs, logs::Kind::battery, o.skip_bad_rows));
+  const calibrate::BatteryFit f = calibrate::fit_battery(runs);
   if (!f.tables)
     throw NoUsableFit("table5 needs logs at every speed 0..15 cm/s to build the model tables; these logs cover " +
                       std::to_string(f.speeds.size()) + " speeds");
-  const fit::ModelMse simulated = fit::simulated_mse(runs, *f.tables, mb::Behaviour::argos_compatible, o.dt_s);
-  const fit::ModelMse corrected = fit::simulated_mse(runs, *f.tables, mb::Behaviour::corrected, o.dt_s);
-  const fit::ModelMse plugin = fit::simulated_mse(runs, mb::plugin_tables(), mb::Behaviour::argos_compatible, o.dt_s);
-  const fit::ModelMse pa = fit::paper_table5_analytic();
-  const fit::ModelMse pg = fit::paper_table5_argos();
+  const calibrate::ModelMse simulated = calibrate::simulated_mse(runs, *f.tables, mb::Behaviour::argos_compatible, o.dt_s);
+  const calibrate::ModelMse corrected = calibrate::simulated_mse(runs, *f.tables, mb::Behaviour::corrected, o.dt_s);
+  const calibrate::ModelMse plugin = calibrate::simulated_mse(runs, mb::plugin_tables(), mb::Behaviour::argos_compatible, o.dt_s);
+  const calibrate::ModelMse pa = calibrate::paper_table5_analytic();
+  const calibrate::ModelMse pg = calibrate::paper_table5_argos();
 
   nlohmann::json ratio_a = nlohmann::json::object(), ratio_s = nlohmann::json::object();
   for (mb::Model m : mb::kAllModels) {
@@ -68,7 +68,7 @@ int run_table5(const Table5Options& o) {
   }
   std::printf("Table 5: average MSE (charge units^2) over %zu speeds, %zu logs\n\n", f.speeds.size(), o.logs.size());
   std::printf("%-34s %9s %9s %9s %13s\n", "source", "Simple", "Linear", "Cubic", "Approximated");
-  auto row = [](const char* name, const fit::ModelMse& m) {
+  auto row = [](const char* name, const calibrate::ModelMse& m) {
     std::printf("%-34s %9.4f %9.4f %9.4f %13.4f\n", name, m.simple, m.linear, m.cubic, m.approximated);
   };
   row("analytic (fitted to these logs)", f.mse);

@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "epuck2/fit/heap.hpp"
+#include "heap.hpp"
 #include "epuck2/logs/log.hpp"
 
 #ifndef EPUCK2_VERSION
@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   FLAGS_minloglevel = google::GLOG_FATAL;
   google::InitGoogleLogging(argv[0]);
   // Battery and diagnosis runs fit hundreds of times: freed memory waits for the next fit.
-  epuck2::fit::keep_freed_heap();
+  epuck2::app::keep_freed_heap();
   CLI::App app{"epuck2-fit: calibrate and diagnose E-Puck2 simulation models from raw robot logs"};
   app.set_version_flag("--version", std::string("epuck2-fit ") + EPUCK2_VERSION);
   app.require_subcommand(1);

@@ -21,7 +21,7 @@
 #include "log_help.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/robust.hpp"
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/logs/output.hpp"
 
@@ -35,8 +35,8 @@ struct SensorOptions {
   bool least_squares = false;  ///< plain least squares: no reading left out as an outlier
   double reject_sd = 4.0;      ///< robust: readings farther than this many noise sd are outliers
   std::string robot;           ///< fit only this robot's logs
-  fit::SensorFitOptions fit_options() const {
-    fit::SensorFitOptions f;
+  calibrate::SensorFitOptions fit_options() const {
+    calibrate::SensorFitOptions f;
     f.robust = !least_squares;
     f.reject_sd = reject_sd;
     return f;
@@ -164,7 +164,7 @@ inline void add_parameters(nlohmann::json& j, const fit::RobustFit& r, const std
 }
 
 /// Readings left out before a fit (wild, beyond a range), each with its reason.
-inline void add_left_out(nlohmann::json& j, const std::vector<fit::LeftOut>& rows) {
+inline void add_left_out(nlohmann::json& j, const std::vector<calibrate::LeftOut>& rows) {
   if (!j.contains("outliers")) j["outliers"] = {{"count", 0}, {"rows", nlohmann::json::array()}};
   nlohmann::json list = nlohmann::json::array();
   for (const auto& r : rows) {

@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "epuck2/fit/battery.hpp"
+#include "epuck2/calibrate/battery.hpp"
 #include "epuck2/models/battery_simulation.hpp"
 #include "epuck2/virtual_robot/battery.hpp"
 #include "machine.hpp"
@@ -33,8 +33,8 @@ int main() {
   for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "battery"))
     if (e.path().extension() == ".csv") paths.push_back(e.path().string());
   std::sort(paths.begin(), paths.end());
-  const auto runs = epuck2::fit::battery_runs(epuck2::logs::read_logs(paths, epuck2::logs::Kind::battery));
-  const auto fit = epuck2::fit::fit_battery(runs);
+  const auto runs = epuck2::calibrate::battery_runs(epuck2::logs::read_logs(paths, epuck2::logs::Kind::battery));
+  const auto fit = epuck2::calibrate::fit_battery(runs);
   if (!fit.tables) {
     std::fprintf(stderr, "the reference logs do not cover 0..15 cm/s\n");
     return 1;
@@ -43,8 +43,8 @@ int main() {
   std::printf("battery_behaviours: plug-in compatible vs corrected, tables fitted to %zu reference logs\n", runs.size());
   std::printf("machine: %s\n\n", epuck2::bench::machine().c_str());
 
-  const auto argos_mse = epuck2::fit::simulated_mse(runs, t, mb::Behaviour::argos_compatible);
-  const auto corr_mse = epuck2::fit::simulated_mse(runs, t, mb::Behaviour::corrected);
+  const auto argos_mse = epuck2::calibrate::simulated_mse(runs, t, mb::Behaviour::argos_compatible);
+  const auto corr_mse = epuck2::calibrate::simulated_mse(runs, t, mb::Behaviour::corrected);
 
   // Lifetime truth: the nominal virtual robot, noise free.
   vr::SimulationOptions clean;

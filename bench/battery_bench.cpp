@@ -9,8 +9,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "epuck2/fit/battery.hpp"
-#include "epuck2/fit/heap.hpp"
+#include "epuck2/calibrate/battery.hpp"
+#include "heap.hpp"  // apps/heap.hpp: the programs' heap setting
 #include "epuck2/models/plugin_battery_tables.hpp"
 #include "machine.hpp"
 
@@ -19,12 +19,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::vector<epuck2::fit::BatteryRun> reference_runs() {
+std::vector<epuck2::calibrate::BatteryRun> reference_runs() {
   std::vector<std::string> paths;
   for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "battery"))
     if (e.path().extension() == ".csv") paths.push_back(e.path().string());
   std::sort(paths.begin(), paths.end());
-  return epuck2::fit::battery_runs(epuck2::logs::read_logs(paths, epuck2::logs::Kind::battery));
+  return epuck2::calibrate::battery_runs(epuck2::logs::read_logs(paths, epuck2::logs::Kind::battery));
 }
 
 // The whole reference set: robust (the default: wild readings beyond 6 robust sd left out) and
@@ -34,13 +34,13 @@ void BM_FitReferenceSet(benchmark::State& state, double reject_sd) {
   std::size_t rows = 0;
   for (const auto& r : runs) rows += r.time_s.size();
   for (auto _ : state) {
-    auto fit = epuck2::fit::fit_battery(runs, {}, reject_sd);
+    auto fit = epuck2::calibrate::fit_battery(runs, {}, reject_sd);
     benchmark::DoNotOptimize(fit);
   }
   state.counters["logs"] = static_cast<double>(runs.size());
   state.counters["rows"] = static_cast<double>(rows);
 }
-BENCHMARK_CAPTURE(BM_FitReferenceSet, robust, epuck2::fit::kBatteryRejectSd)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_FitReferenceSet, robust, epuck2::calibrate::kBatteryRejectSd)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK_CAPTURE(BM_FitReferenceSet, least_squares, 0.0)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 // One tick from charge 0.95 down (restarting at 0.95 when empty), at 6.37 cm/s (between two
@@ -134,7 +134,7 @@ BENCHMARK_CAPTURE(BM_SwarmStep, approximated_argos, mb::Model::approximated, mb:
 
 int main(int argc, char** argv) {
   FLAGS_minloglevel = google::GLOG_FATAL;  // Ceres' solver chatter
-  epuck2::fit::keep_freed_heap();          // as epuck2-fit runs its fits
+  epuck2::app::keep_freed_heap();          // as epuck2-fit runs its fits
   benchmark::AddCustomContext("machine", epuck2::bench::machine());
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   const auto log = logs::parse_log(text, "long_drive.csv", logs::Kind::drive);
   const auto wall0 = std::chrono::steady_clock::now();
   const std::clock_t cpu0 = std::clock();
-  const auto report = fit::diagnose::diagnose({log});
+  const auto report = diagnose::diagnose({log});
   const double cpu = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   std::printf("diagnose drive: %zu rows, %zu residuals, %zu effects considered; machine: %s\n", report.rows, report.residuals,

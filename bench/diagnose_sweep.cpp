@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
         const auto log = logs::parse_log(text, "sweep.csv", kind);
         rows += static_cast<double>(log.rows());
         const auto t0 = std::chrono::steady_clock::now();
-        const auto report = fit::diagnose::diagnose({log});
+        const auto report = diagnose::diagnose({log});
         seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const gen::Outcome o = gen::judge(h, report);
         right += o.verdict_right;

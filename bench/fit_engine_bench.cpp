@@ -3,7 +3,7 @@
 //
 //   bench_fit_engine --nist DIR --battery DIR [--min-seconds S] [--default-heap]
 //
-// The program calls fit::keep_freed_heap() first, as epuck2-fit does (--default-heap: glibc's
+// The program calls epuck2::app::keep_freed_heap() first, as epuck2-fit does (--default-heap: glibc's
 // own trimming, under which each fit faults its pages in again).
 //
 // (a) every NIST StRD problem from start 1, fitted with the NIST options (multi-strategy search
@@ -34,9 +34,9 @@
 #include <utility>
 #include <vector>
 
-#include "epuck2/fit/heap.hpp"
+#include "heap.hpp"  // apps/heap.hpp: the programs' heap setting
 #include "epuck2/fit/least_squares.hpp"
-#include "epuck2/fit/nist.hpp"
+#include "epuck2/nist/nist.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace {
@@ -102,25 +102,25 @@ int main(int argc, char** argv) {
     else return usage();
   }
   if (nist_dir.empty() && battery_dir.empty()) return usage();
-  if (!default_heap) fit::keep_freed_heap();
+  if (!default_heap) epuck2::app::keep_freed_heap();
   FLAGS_minloglevel = google::GLOG_FATAL;  // Ceres' step-by-step complaints are not the report
   try {
     nlohmann::json out;
     out["machine"] = {{"cpu", cpu_model()}, {"hardware_threads", std::thread::hardware_concurrency()}};
     out["min_seconds_per_fit"] = min_seconds;
-    out["heap"] = default_heap ? "glibc defaults" : "keep_freed_heap (epuck2/fit/heap.hpp)";
+    out["heap"] = default_heap ? "glibc defaults" : "keep_freed_heap (heap.hpp)";
 
     if (!nist_dir.empty()) {
-      fit::FitOptions single = fit::nist::default_options();
+      fit::FitOptions single = nist::default_options();
       single.restarts = 0;
       single.try_alternatives = false;
       nlohmann::json runs = nlohmann::json::array();
-      for (const auto& name : fit::nist::problem_names()) {
-        const fit::nist::Problem p = fit::nist::read(nist_dir + "/" + name + ".dat");
-        const fit::FitResult f = fit::nist::fit(p, 1);
-        const fit::FitResult g = fit::nist::fit(p, 1, single);
-        const double t = median_seconds([&] { fit::nist::fit(p, 1); }, min_seconds);
-        const double t_single = median_seconds([&] { fit::nist::fit(p, 1, single); }, min_seconds);
+      for (const auto& name : nist::problem_names()) {
+        const nist::Problem p = nist::read(nist_dir + "/" + name + ".dat");
+        const fit::FitResult f = nist::fit(p, 1);
+        const fit::FitResult g = nist::fit(p, 1, single);
+        const double t = median_seconds([&] { nist::fit(p, 1); }, min_seconds);
+        const double t_single = median_seconds([&] { nist::fit(p, 1, single); }, min_seconds);
         std::vector<double> start;
         for (const auto& c : p.parameters) start.push_back(c.start1);
         runs.push_back({{"problem", name},

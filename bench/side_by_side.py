@@ -112,7 +112,7 @@ def cubic(u, a, b, c, d):
 
 
 def read_dat(path):
-    """Certified values and data of a StRD file (the same fields lib/fit/src/nist.cpp reads)."""
+    """Certified values and data of a StRD file (the same fields validation/nist/nist.cpp reads)."""
     params, rows, in_data = [], [], False
     for line in open(path, encoding="ascii"):
         t = line.split()

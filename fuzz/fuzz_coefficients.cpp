@@ -18,8 +18,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "epuck2/fit/battery_json.hpp"
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/calibrate/battery_json.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 
 namespace {
 
@@ -62,7 +62,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         // text, so that is the caller's business, not this reader's.
         return 0;
       }
-      const auto t = fit::battery_tables_from_json(j, "fuzz.json");
+      const auto t = calibrate::battery_tables_from_json(j, "fuzz.json");
       for (std::size_t s = 0; s < t.cubic.size(); ++s)
         finite({t.cubic[s].a, t.cubic[s].b, t.cubic[s].c, t.cubic[s].d, t.lifetime_s[s], t.linear_slope_per_s[s]});
       return 0;
@@ -73,21 +73,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     switch (pick) {
       case 0: {
-        const auto k = fit::load_proximity_coefficients(temp_path());
+        const auto k = calibrate::load_proximity_coefficients(temp_path());
         finite({k.a_per_m2, k.b_per_m, k.c});
         break;
       }
-      case 1: finite({fit::load_light_coefficients(temp_path()).gamma_m}); break;
+      case 1: finite({calibrate::load_light_coefficients(temp_path()).gamma_m}); break;
       case 2:
-        for (const auto& g : fit::load_ground_coefficients(temp_path())) finite({g.gain_raw, g.offset_raw});
+        for (const auto& g : calibrate::load_ground_coefficients(temp_path())) finite({g.gain_raw, g.offset_raw});
         break;
       case 3: {
-        const auto c = fit::load_camera_coefficients(temp_path());
+        const auto c = calibrate::load_camera_coefficients(temp_path());
         finite({c.horizontal_fov_rad, c.cx_px, c.cy_px});
         break;
       }
       case 4: {
-        const auto d = fit::load_drive_coefficients(temp_path());
+        const auto d = calibrate::load_drive_coefficients(temp_path());
         finite({d.encoder.steps_per_m, d.tof.scale, d.tof.offset_mm, d.slip_time_constant_s});
         break;
       }

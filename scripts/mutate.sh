@@ -29,10 +29,10 @@ TIMEOUT = int(os.environ.get("EPUCK2_MUT_TIMEOUT", "420"))
 
 M = "lib/models/include/epuck2/models/sensors.hpp"
 B = "lib/models/include/epuck2/models/battery.hpp"
-FS = "lib/fit/src/sensor_fits.cpp"
-FH = "lib/fit/include/epuck2/fit/sensors.hpp"
-DE = "lib/fit/src/diagnose_engine.cpp"
-DH = "lib/fit/include/epuck2/fit/diagnose.hpp"
+FS = "lib/calibrate/src/sensor_fits.cpp"
+FH = "lib/calibrate/include/epuck2/calibrate/sensors.hpp"
+DE = "lib/diagnose/src/engine.cpp"
+DH = "lib/diagnose/include/epuck2/diagnose/diagnose.hpp"
 RB = "lib/fit/src/robust.cpp"
 
 # Test groups: the test programs to build and the ctest -R pattern of the tests to run.

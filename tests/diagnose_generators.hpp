@@ -14,13 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "epuck2/fit/diagnose.hpp"
+#include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/battery.hpp"
 #include "epuck2/models/sensors.hpp"
-#if __has_include("epuck2/fitted/coefficients.hpp")
-#include "epuck2/fitted/coefficients.hpp"
-#endif
 #include "epuck2/models/plugin_battery_tables.hpp"
 #include "epuck2/virtual_robot/sensor_truth.hpp"
 
@@ -334,15 +331,12 @@ inline std::string drive_log(std::uint64_t seed, Hidden& h, int rows = 0) {
   return out;
 }
 
-// ----- battery: one discharge run at a constant speed, the project's Cubic (corrected, fitted
+// ----- battery: one discharge run at a constant speed, the Cubic (corrected, the plug-in's
 // tables) with time running 1/k as fast, a reading every 5..30 s, noise N(0, 0.01..0.03) -------
 inline std::string battery_log(std::uint64_t seed, Hidden& h) {
   namespace mb = models::battery;
   Draw d(seed);
-  mb::Tables tables = mb::plugin_tables();
-#ifdef EPUCK2_FITTED_HAS_BATTERY
-  tables = fitted::battery_tables();
-#endif
+  const mb::Tables tables = mb::plugin_tables();  // the diagnosis's default base model
   double k = 1;
   if (h.cause == "capacity_scale") h.truth["k"] = k = 1.0 + d.signed_size(0.04, 0.12);
   const Temperature temp = temperature_effect(h, d, 0.0015, 0.004, 0.0004, 0.0008);
@@ -385,7 +379,7 @@ struct Outcome {
 /// Parameters must come within 10 % of the truth (the brief's target).
 inline constexpr double kParameterTolerance = 0.10;
 
-inline Outcome judge(const Hidden& h, const fit::diagnose::Report& r) {
+inline Outcome judge(const Hidden& h, const epuck2::diagnose::Report& r) {
   Outcome o;
   o.verdict = r.verdict;
   o.first_covariate = r.structure_after.empty() ? "" : r.structure_after.front().covariate;

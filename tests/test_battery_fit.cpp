@@ -5,20 +5,21 @@
 #include <cmath>
 #include <random>
 
-#include "epuck2/fit/battery.hpp"
+#include "epuck2/calibrate/battery.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 
 namespace ef = epuck2::fit;
+namespace calibrate = epuck2::calibrate;
 namespace mb = epuck2::models::battery;
 
 namespace {
 // Synthetic run: charge = published cubic at `speed` + Gaussian noise of `sigma`, every 10 s.
-ef::BatteryRun synthetic_run(int speed, double sigma, std::uint64_t seed, const std::string& robot) {
+calibrate::BatteryRun synthetic_run(int speed, double sigma, std::uint64_t seed, const std::string& robot) {
   const mb::CubicRow& q = mb::plugin_tables().cubic[static_cast<std::size_t>(speed)];
   const double p[4] = {q.d, q.c, q.b, q.a};
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, sigma);
-  ef::BatteryRun r;
+  calibrate::BatteryRun r;
   r.path = robot + "_" + std::to_string(speed);
   r.robot = robot;
   r.speed_cm_s = speed;
@@ -44,7 +45,7 @@ TEST(BatteryFit, RecoversAKnownCubicAndItsStandardErrorsAreHonest) {
   const char* names[4] = {"d", "c", "b", "a"};
   int inside = 0, total = 0;
   for (int seed = 1; seed <= kSeeds; ++seed) {
-    const ef::BatteryFit f = ef::fit_battery({synthetic_run(4, kSigma, static_cast<std::uint64_t>(seed), "x")});
+    const calibrate::BatteryFit f = calibrate::fit_battery({synthetic_run(4, kSigma, static_cast<std::uint64_t>(seed), "x")});
     ASSERT_EQ(f.speeds.size(), 1u);
     const ef::FitResult& c = f.speeds[0].cubic;
     ASSERT_TRUE(c.usable) << c.message;
@@ -60,7 +61,7 @@ TEST(BatteryFit, RecoversAKnownCubicAndItsStandardErrorsAreHonest) {
 }
 
 TEST(BatteryFit, NoiseFreeCubicIsRecoveredToManyDigits) {
-  const ef::BatteryFit f = ef::fit_battery({synthetic_run(9, 0.0, 1, "x")});
+  const calibrate::BatteryFit f = calibrate::fit_battery({synthetic_run(9, 0.0, 1, "x")});
   const mb::CubicRow& q = mb::plugin_tables().cubic[9];
   const auto& c = f.speeds[0].cubic;
   // Log relative error >= 8 digits on every coefficient.
@@ -74,7 +75,7 @@ TEST(BatteryFit, PiecewiseRecoversKnownBreakpoints) {
   const double xs[4] = {0.0, 3000.0, 8000.0, L - 1.0}, ys[4] = {1.0, 0.7, 0.45, 0.15};
   std::mt19937_64 rng(7);
   std::normal_distribution<double> noise(0.0, 0.005);
-  ef::BatteryRun r;
+  calibrate::BatteryRun r;
   r.path = "poly";
   r.speed_cm_s = 3;
   for (double t = 0; t <= L; t += 5.0) {
@@ -83,7 +84,7 @@ TEST(BatteryFit, PiecewiseRecoversKnownBreakpoints) {
     r.profile.push_back({t, 3.0});
   }
   r.lifetime_s = L;
-  const ef::BatteryFit f = ef::fit_battery({r});
+  const calibrate::BatteryFit f = calibrate::fit_battery({r});
   const auto& p = f.speeds[0].piecewise;
   ASSERT_TRUE(p.usable) << p.message;
   EXPECT_NEAR(p.value("x1_s"), 3000.0, 4 * p.std_error("x1_s") + 1.0);
@@ -99,10 +100,10 @@ TEST(BatteryFit, PiecewiseRecoversKnownBreakpoints) {
 }
 
 TEST(BatteryFit, LinesAndSimpleSlopesFollowThePapersDefinitions) {
-  std::vector<ef::BatteryRun> runs;
+  std::vector<calibrate::BatteryRun> runs;
   for (int s : {0, 5, 10})
     for (int k = 0; k < 2; ++k) runs.push_back(synthetic_run(s, 0.01, 100 + s * 2 + k, k ? "a" : "b"));
-  const ef::BatteryFit f = ef::fit_battery(runs);
+  const calibrate::BatteryFit f = calibrate::fit_battery(runs);
   const mb::Tables& pt = mb::plugin_tables();
   ASSERT_EQ(f.speeds.size(), 3u);
   EXPECT_NEAR(f.speeds[1].linear_slope_per_s, -1.0 / pt.lifetime_s[5], 1e-15);
@@ -112,19 +113,19 @@ TEST(BatteryFit, LinesAndSimpleSlopesFollowThePapersDefinitions) {
 }
 
 TEST(BatteryFit, RobustLossResistsOutliers) {
-  ef::BatteryRun r = synthetic_run(6, 0.01, 3, "x");
+  calibrate::BatteryRun r = synthetic_run(6, 0.01, 3, "x");
   for (std::size_t i = 50; i < r.charge.size(); i += 97) r.charge[i] -= 0.4;  // dropouts
   ef::FitOptions robust;
   robust.robust = true;
   robust.robust_scale = 0.03;
   // Plain least squares: every reading kept (reject_sd 0).
-  const auto plain = ef::fit_battery({r}, {}, 0.0).speeds[0].cubic;
-  const auto huber = ef::fit_battery({r}, robust, 0.0).speeds[0].cubic;
+  const auto plain = calibrate::fit_battery({r}, {}, 0.0).speeds[0].cubic;
+  const auto huber = calibrate::fit_battery({r}, robust, 0.0).speeds[0].cubic;
   const double d_true = mb::plugin_tables().cubic[6].d;
   EXPECT_LT(std::abs(huber.value("d") - d_true), std::abs(plain.value("d") - d_true));
   // The default: the dropouts (0.4 = 40 noise sd) are left out and listed, and the cubic is the
   // one fitted without them.
-  const ef::BatteryFit rejected = ef::fit_battery({r});
+  const calibrate::BatteryFit rejected = calibrate::fit_battery({r});
   const std::size_t dropouts = (r.charge.size() - 50 + 96) / 97;
   EXPECT_EQ(rejected.speeds[0].outliers.size(), dropouts);
   EXPECT_LT(std::abs(rejected.speeds[0].cubic.value("d") - d_true), std::abs(huber.value("d") - d_true));

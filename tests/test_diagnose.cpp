@@ -35,7 +35,7 @@ Rates sweep(logs::Kind kind, int seeds, const std::vector<std::string>& skip_par
       gen::Hidden h = gen::hidden(cause);
       const std::uint64_t seed = 7919ULL * static_cast<std::uint64_t>(s + 1) + 31ULL * cause.size();
       const auto log = logs::parse_log(gen::make_log(kind, seed, h), "generated.csv", kind);
-      const auto report = fit::diagnose::diagnose({log});
+      const auto report = diagnose::diagnose({log});
       const gen::Outcome o = gen::judge(h, report);
       ++r.logs;
       r.right += o.verdict_right;
@@ -71,7 +71,7 @@ TEST(DiagnoseHidden, NoEffectGivesNoneAndNoFinding) {
   for (int s = 0; s < 10; ++s) {
     gen::Hidden h = gen::hidden("none");
     const auto log = logs::parse_log(gen::make_log(logs::Kind::ground, 100 + s, h), "g.csv", logs::Kind::ground);
-    const auto r = fit::diagnose::diagnose({log});
+    const auto r = diagnose::diagnose({log});
     EXPECT_EQ(r.verdict, "none");
     EXPECT_TRUE(r.findings.empty());
   }
@@ -84,7 +84,7 @@ TEST(DiagnoseHidden, Battery) { expect_rates(sweep(logs::Kind::battery, 10)); }
 TEST(DiagnoseHidden, EveryKindIsSupported) {
   for (logs::Kind k : {logs::Kind::battery, logs::Kind::proximity, logs::Kind::light, logs::Kind::ground, logs::Kind::camera,
                        logs::Kind::drive}) {
-    EXPECT_TRUE(fit::diagnose::supported(k)) << logs::to_string(k);
+    EXPECT_TRUE(diagnose::supported(k)) << logs::to_string(k);
     EXPECT_FALSE(gen::hidden_effects(k).empty()) << logs::to_string(k);
   }
 }
@@ -95,7 +95,7 @@ TEST(DiagnoseHidden, DriveWithoutAnEffectLeavesNoStructure) {
   for (int s = 0; s < 4; ++s) {
     gen::Hidden h = gen::hidden("none");
     const auto log = logs::parse_log(gen::make_log(logs::Kind::drive, 500 + s, h), "d.csv", logs::Kind::drive);
-    const auto r = fit::diagnose::diagnose({log});
+    const auto r = diagnose::diagnose({log});
     EXPECT_EQ(r.verdict, "none") << (r.structure_after.empty() ? "" : r.structure_after.front().covariate);
     ASSERT_EQ(r.channel_noise_sd.size(), 2u);
     // ToF noise 2 mm + 3 mm per metre at 0.1..1.2 m; encoders: rounding only.

@@ -15,8 +15,8 @@
 
 #include "cli_harness.hpp"
 #include "diagnose_generators.hpp"
-#include "epuck2/fit/diagnose.hpp"
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/battery.hpp"
 #include "epuck2/models/sensors.hpp"
@@ -28,6 +28,8 @@ namespace {
 namespace s = epuck2::models::sensors;
 namespace mb = epuck2::models::battery;
 namespace fit = epuck2::fit;
+namespace calibrate = epuck2::calibrate;
+namespace diagnose = epuck2::diagnose;
 namespace gen = epuck2::testing::diagnose;
 using epuck2::logs::Kind;
 using epuck2::logs::parse_log;
@@ -148,7 +150,7 @@ std::string ground_log(const std::vector<int>& sensors) {
 }
 
 TEST(IndependentFit, GroundLowRailIsCensored) {
-  const auto f = fit::fit_ground({parse_log(ground_log({0}), "low.csv", Kind::ground)});
+  const auto f = calibrate::fit_ground({parse_log(ground_log({0}), "low.csv", Kind::ground)});
   EXPECT_EQ(f.censored, kGroundLowRail);
   ASSERT_TRUE(f.sensors[0].usable) << f.sensors[0].message;
   EXPECT_NEAR(f.sensors[0].value("gain"), 900.0, kExactFitTolerance_raw);
@@ -156,7 +158,7 @@ TEST(IndependentFit, GroundLowRailIsCensored) {
 }
 
 TEST(IndependentFit, GroundHighRailIsCensored) {
-  const auto f = fit::fit_ground({parse_log(ground_log({1}), "high.csv", Kind::ground)});
+  const auto f = calibrate::fit_ground({parse_log(ground_log({1}), "high.csv", Kind::ground)});
   EXPECT_EQ(f.censored, kGroundHighRail);
   ASSERT_TRUE(f.sensors[1].usable) << f.sensors[1].message;
   EXPECT_NEAR(f.sensors[1].value("gain"), 1100.0, kExactFitTolerance_raw);
@@ -164,7 +166,7 @@ TEST(IndependentFit, GroundHighRailIsCensored) {
 }
 
 TEST(IndependentFit, GroundThreeSensorsAtNonDefaultCoefficients) {
-  const auto f = fit::fit_ground({parse_log(ground_log({0, 1, 2}), "all.csv", Kind::ground)});
+  const auto f = calibrate::fit_ground({parse_log(ground_log({0, 1, 2}), "all.csv", Kind::ground)});
   EXPECT_EQ(f.censored, kGroundLowRail + kGroundHighRail);
   EXPECT_EQ(f.readings, 303u);
   for (int k = 0; k < 3; ++k) {
@@ -196,7 +198,7 @@ std::string light_log() {
 }
 
 TEST(IndependentFit, LightGammaAtNonDefaultValue) {
-  const auto f = fit::fit_light({parse_log(light_log(), "light.csv", Kind::light)});
+  const auto f = calibrate::fit_light({parse_log(light_log(), "light.csv", Kind::light)});
   ASSERT_TRUE(f.gamma.usable) << f.gamma.message;
   EXPECT_NEAR(f.gamma.value("gamma"), kLightGammaTruth, kLightGammaRelTolerance * kLightGammaTruth);
   EXPECT_EQ(f.censored, 1u);  // I = 1 at 0.06 m: term 1, reading 0
@@ -216,7 +218,7 @@ TEST(IndependentFit, TofFarClampIsCensored) {
   truth.speeds_cm_s = {5.0, 10.0};
   std::vector<epuck2::logs::Log> logs;
   for (const auto& f : epuck2::virtual_robot::drive_logs(truth, 11)) logs.push_back(parse_log(f.content, f.name, Kind::drive));
-  const auto f = fit::fit_drive(logs);
+  const auto f = calibrate::fit_drive(logs);
   ASSERT_TRUE(f.tof.usable) << f.tof.message;
   EXPECT_GT(f.tof_censored, 0u);
   EXPECT_NEAR(f.tof.value("tof_scale"), truth.tof_scale, 0.005);
@@ -230,15 +232,15 @@ TEST(IndependentFit, TofFarClampIsCensored) {
 // The documented thresholds: BIC must fall by 10 ("very strong" evidence, Kass and Raftery 1995)
 // and the held-out MSE by 3 %.
 TEST(DiagnoseGates, DocumentedDefaults) {
-  const fit::diagnose::Options o;
+  const diagnose::Options o;
   EXPECT_EQ(o.min_delta_bic, 10.0);
   EXPECT_EQ(o.min_heldout_gain, 0.03);
 }
 
 struct GateCase {
   epuck2::logs::Log log;
-  fit::diagnose::Report base;
-  const fit::diagnose::Trial* kept = nullptr;
+  diagnose::Report base;
+  const diagnose::Trial* kept = nullptr;
 };
 
 // A ground log with a black offset hidden in it (seeded); the default diagnosis must find it.
@@ -246,7 +248,7 @@ GateCase gate_case() {
   GateCase c;
   gen::Hidden h = gen::hidden("black_offset");
   c.log = parse_log(gen::make_log(Kind::ground, 20261123, h), "gate.csv", Kind::ground);
-  c.base = fit::diagnose::diagnose({c.log});
+  c.base = diagnose::diagnose({c.log});
   for (const auto& t : c.base.trials)
     if (t.step == 1 && t.kept) c.kept = &t;
   return c;
@@ -262,14 +264,14 @@ TEST(DiagnoseGates, BicMarginOnBothSides) {
   for (const auto& t : c.base.trials)
     if (t.step == 1) lowest = std::min(lowest, t.delta_bic);
   // Margin 5 % below what the effect achieves: kept. 5 % above what any effect achieves: nothing.
-  fit::diagnose::Options below;
+  diagnose::Options below;
   below.min_delta_bic = 0.95 * -c.kept->delta_bic;
-  const auto r_below = fit::diagnose::diagnose({c.log}, below);
+  const auto r_below = diagnose::diagnose({c.log}, below);
   ASSERT_FALSE(r_below.findings.empty());
   EXPECT_EQ(r_below.findings.front().cause, "black_offset");
-  fit::diagnose::Options above;
+  diagnose::Options above;
   above.min_delta_bic = 1.05 * -lowest;
-  const auto r_above = fit::diagnose::diagnose({c.log}, above);
+  const auto r_above = diagnose::diagnose({c.log}, above);
   EXPECT_TRUE(r_above.findings.empty()) << r_above.findings.front().cause << " kept with a BIC margin of "
                                         << above.min_delta_bic << " that no effect reaches";
 }
@@ -283,14 +285,14 @@ TEST(DiagnoseGates, HeldoutGainOnBothSides) {
   const double gain = 1.0 - c.kept->heldout_mse / c.base.heldout_weighted_base;
   ASSERT_GT(gain, 0.03);
   ASSERT_LT(gain, 0.99);
-  fit::diagnose::Options below;
+  diagnose::Options below;
   below.min_heldout_gain = gain - 0.005;
-  const auto r_below = fit::diagnose::diagnose({c.log}, below);
+  const auto r_below = diagnose::diagnose({c.log}, below);
   ASSERT_FALSE(r_below.findings.empty());
   EXPECT_EQ(r_below.findings.front().cause, "black_offset");
-  fit::diagnose::Options above;
+  diagnose::Options above;
   above.min_heldout_gain = gain + 0.005;
-  const auto r_above = fit::diagnose::diagnose({c.log}, above);
+  const auto r_above = diagnose::diagnose({c.log}, above);
   EXPECT_TRUE(r_above.findings.empty() || r_above.findings.front().cause != "black_offset")
       << "black_offset kept although its held-out gain " << gain << " is below the required " << above.min_heldout_gain;
 }
@@ -320,7 +322,7 @@ TEST(IndependentBattery, DiagnosisFindsAnAgedCellInThePhysicalModel) {
   aged.capacity_scale = kCapacityScale;
   const vb::Run run = vb::simulate_protocol(5.0, aged, 424242);
   ASSERT_TRUE(run.stopped);
-  const auto r = fit::diagnose::diagnose({parse_log(battery_csv(run), "aged.csv", Kind::battery)});
+  const auto r = diagnose::diagnose({parse_log(battery_csv(run), "aged.csv", Kind::battery)});
   ASSERT_FALSE(r.findings.empty()) << r.verdict << " " << r.message;
   EXPECT_EQ(r.findings.front().cause, "capacity_scale");
   ASSERT_FALSE(r.findings.front().parameters.empty());
@@ -334,7 +336,7 @@ TEST(IndependentBattery, DiagnosisLeavesTheNominalPhysicalRobotNearOne) {
   namespace vb = epuck2::virtual_robot::battery;
   const vb::Run run = vb::simulate_protocol(5.0, vb::robot_a(), 424243);
   ASSERT_TRUE(run.stopped);
-  const auto r = fit::diagnose::diagnose({parse_log(battery_csv(run), "nominal.csv", Kind::battery)});
+  const auto r = diagnose::diagnose({parse_log(battery_csv(run), "nominal.csv", Kind::battery)});
   for (const auto& f : r.findings) {
     ASSERT_EQ(f.cause, "capacity_scale") << "nothing else differs in this robot";
     ASSERT_FALSE(f.parameters.empty());

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "epuck2/fit/least_squares.hpp"
-#include "epuck2/fit/nist.hpp"
+#include "epuck2/nist/nist.hpp"
 
 namespace ef = epuck2::fit;
 
@@ -59,7 +59,7 @@ struct RedundantLine {
 
 static_assert(ef::is_linear_in_parameters<LinearCubic>::value);
 static_assert(!ef::is_linear_in_parameters<GenericCubic>::value);
-static_assert(!ef::is_linear_in_parameters<ef::nist::models::Misra1a>::value);
+static_assert(!ef::is_linear_in_parameters<epuck2::nist::models::Misra1a>::value);
 
 // Standard normal deviates by Box-Muller from the generator's raw bits (portable across
 // standard libraries).
@@ -109,7 +109,7 @@ std::vector<double> normal_equations_solution(const Data& d) {
 const std::vector<std::string> kNames{"p0", "p1", "p2", "p3"};
 
 // Digits in common (the log relative error, capped at 15).
-double agree(double a, double reference) { return ef::nist::log_relative_error(a, reference, 15.0); }
+double agree(double a, double reference) { return epuck2::nist::log_relative_error(a, reference, 15.0); }
 
 }  // namespace
 

@@ -13,10 +13,11 @@
 
 #include "cli_harness.hpp"
 #include "epuck2/fit/robust.hpp"
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace fit = epuck2::fit;
+namespace calibrate = epuck2::calibrate;
 using epuck2::logs::Kind;
 using epuck2::testing::CliRun;
 using epuck2::testing::CliTest;
@@ -232,8 +233,8 @@ TEST(MeasuredProximity, OneWildReadingMovesNoCoefficientByMoreThanItsError) {
   lines[85] = "0.02,0,3000";
   std::string wild;
   for (const auto& l : lines) wild += l + "\n";
-  const auto f0 = fit::fit_proximity({parse(clean, "clean.csv", Kind::proximity)});
-  const auto f1 = fit::fit_proximity({parse(wild, "wild.csv", Kind::proximity)});
+  const auto f0 = calibrate::fit_proximity({parse(clean, "clean.csv", Kind::proximity)});
+  const auto f1 = calibrate::fit_proximity({parse(wild, "wild.csv", Kind::proximity)});
   ASSERT_TRUE(f0.maxima.usable && f1.maxima.usable);
   for (const char* n : {"a", "b", "c"}) {
     EXPECT_LE(std::abs(f1.maxima.value(n) - f0.maxima.value(n)), f0.maxima.std_error(n)) << "maxima " << n;
@@ -251,7 +252,7 @@ TEST(MeasuredProximity, AStrayFullScaleReadingDoesNotRemoveItsDistance) {
   ProximityLog gen;
   std::string text = gen.text(9);
   text += "0.005,0,4095\n";  // one stray full-scale reading at 5 mm, where the curve reads ~3400
-  const auto f = fit::fit_proximity({parse(text, "stray.csv", Kind::proximity)});
+  const auto f = calibrate::fit_proximity({parse(text, "stray.csv", Kind::proximity)});
   ASSERT_TRUE(f.maxima.usable);
   for (const auto& p : f.points)
     if (std::abs(p.distance_m - 0.005) < 1e-12) {
@@ -270,7 +271,7 @@ TEST(MeasuredProximity, TheCurveNeverRisesAgainInsideTheRange) {
   gen.b = -68.4;
   gen.c = 1.2796;
   gen.noise_raw = 4;
-  const auto f = fit::fit_proximity({parse(gen.text(2), "u.csv", Kind::proximity)});
+  const auto f = calibrate::fit_proximity({parse(gen.text(2), "u.csv", Kind::proximity)});
   ASSERT_TRUE(f.maxima.usable) << f.maxima.message;
   ASSERT_TRUE(f.means.usable) << f.means.message;
   for (const auto* r : {&f.maxima, &f.means}) {
@@ -301,7 +302,7 @@ TEST(MeasuredLight, GammaWithinTwoPercentOnALogClippedAtTheRail) {
       t += num(d) + ",1,0," + num(v) + "\n";
     }
   ASSERT_GT(railed, 20);
-  const auto f = fit::fit_light({parse(t, "clip.csv", Kind::light)});
+  const auto f = calibrate::fit_light({parse(t, "clip.csv", Kind::light)});
   ASSERT_TRUE(f.gamma.usable);
   EXPECT_NEAR(f.gamma.value("gamma"), gamma, 0.02 * gamma);
   EXPECT_EQ(f.censored, static_cast<std::size_t>(railed));
@@ -323,7 +324,7 @@ TEST(MeasuredGround, GainAndOffsetThroughBothRails) {
       t += num(grey) + ",1," + num(clamp(std::round(60 + 900 * grey + 15 * g()), 0, 1023)) + "\n";
       t += num(grey) + ",2," + num(clamp(std::round(70 + 880 * grey + 15 * g()), 0, 1023)) + "\n";
     }
-  const auto f = fit::fit_ground({parse(t, "g.csv", Kind::ground)});
+  const auto f = calibrate::fit_ground({parse(t, "g.csv", Kind::ground)});
   ASSERT_TRUE(f.sensors[0].usable);
   EXPECT_GT(f.sensors[0].censored_below, 5u);
   EXPECT_GT(f.sensors[0].censored_above, 5u);
@@ -358,7 +359,7 @@ std::string drive_log(const std::vector<double>& speeds_cm_s, double obstacle_m,
 
 TEST(MeasuredDrive, ACommandAboveTheCapIsTakenAsTheCap) {
   const std::string t = drive_log({5, 15, 10, 0}, 0.6, 1);
-  const auto f = fit::fit_drive({parse(t, "cap.csv", Kind::drive)});
+  const auto f = calibrate::fit_drive({parse(t, "cap.csv", Kind::drive)});
   ASSERT_TRUE(f.steps.usable) << f.steps.message;
   ASSERT_TRUE(f.tof.usable) << f.tof.message;
   EXPECT_EQ(f.capped_rows, 10u);
@@ -368,7 +369,7 @@ TEST(MeasuredDrive, ACommandAboveTheCapIsTakenAsTheCap) {
 
 TEST(MeasuredDrive, StaticRunsReportWhatTheyCannotDetermine) {
   const std::string t = drive_log({0, 0, 0, 0}, 0.3, 2);
-  const auto f = fit::fit_drive({parse(t, "still.csv", Kind::drive)});
+  const auto f = calibrate::fit_drive({parse(t, "still.csv", Kind::drive)});
   ASSERT_TRUE(f.steps.usable) << f.steps.message;
   ASSERT_TRUE(f.tof.usable) << f.tof.message;
   EXPECT_EQ(f.steps.not_identifiable, std::vector<std::string>{"steps_per_m"});
@@ -401,7 +402,7 @@ TEST(MeasuredDrive, OutOfRangeCodesAreReadingsBeyondTheCeiling) {
   } catch (const epuck2::logs::InputError& e) {
     GTEST_SKIP() << "the reader does not take ToF codes >= 8190 yet: " << e.what();
   }
-  const auto f = fit::fit_drive({log});
+  const auto f = calibrate::fit_drive({log});
   ASSERT_TRUE(f.tof.usable) << f.tof.message;
   EXPECT_EQ(f.tof_out_of_range_codes, static_cast<std::size_t>(codes));
   EXPECT_EQ(f.tof.censored_above, static_cast<std::size_t>(codes));
@@ -569,9 +570,9 @@ TEST(MeasuredDrive, ReadingsAtTheToFFloorAreCensoredNotTakenAsDistances) {
   // distance is below 20 mm, or 0. Taken as exact, those readings pull the scale and offset even
   // in plain least squares; censored, they only say "at most 20 mm".
   const std::string t = drive_log({5, 5, 5, 5, 5, 1.0, 0}, 0.25, 13);
-  fit::SensorFitOptions plain;
+  calibrate::SensorFitOptions plain;
   plain.robust = false;
-  const auto f = fit::fit_drive({parse(t, "floor.csv", Kind::drive)}, plain);
+  const auto f = calibrate::fit_drive({parse(t, "floor.csv", Kind::drive)}, plain);
   ASSERT_TRUE(f.tof.usable) << f.tof.message;
   EXPECT_GE(f.tof.censored_below, 5u);
   EXPECT_NEAR(f.tof.value("tof_scale"), 1.0, 3 * f.tof.std_error("tof_scale"));

@@ -10,12 +10,13 @@
 #include <map>
 #include <sstream>
 
-#include "epuck2/fit/nist.hpp"
+#include "epuck2/nist/nist.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace {
 
 using namespace epuck2::fit;
+namespace nist = epuck2::nist;
 
 const std::string kNistDir = std::string(EPUCK2_SOURCE_DIR) + "/tests/data/nist";
 

@@ -9,11 +9,12 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/virtual_robot/sensor_truth.hpp"
 
 namespace fit = epuck2::fit;
+namespace calibrate = epuck2::calibrate;
 namespace vr = epuck2::virtual_robot;
 namespace s = epuck2::models::sensors;
 using epuck2::logs::Kind;
@@ -43,7 +44,7 @@ TEST(ProximityFit, MaximaRecoverTheEnvelopeAndMeansLieBelow) {
     // This fit takes the maxima per distance: a wild reading (uniform over 0..4095) is the maximum
     // wherever it lands above the envelope. The plain fit is checked without them.
     truth.wild_fraction = 0;
-    const auto f = fit::fit_proximity(parse(vr::proximity_logs(truth, seed), Kind::proximity));
+    const auto f = calibrate::fit_proximity(parse(vr::proximity_logs(truth, seed), Kind::proximity));
     ASSERT_TRUE(f.maxima.usable) << f.maxima.message;
     ASSERT_TRUE(f.means.usable) << f.means.message;
     const double m[3] = {f.maxima.value("a"), f.maxima.value("b"), f.maxima.value("c")};
@@ -79,7 +80,7 @@ TEST(LightFit, RecoversGammaPerSensor) {
     // as the 2000 others.
     truth.wild_fraction = 0;
     truth.robot_gamma_scale = {1.0};
-    const auto f = fit::fit_light(parse(vr::light_logs(truth, seed), Kind::light));
+    const auto f = calibrate::fit_light(parse(vr::light_logs(truth, seed), Kind::light));
     ASSERT_TRUE(f.gamma.usable) << f.gamma.message;
     ASSERT_EQ(f.sensors, (std::vector<int>{0, 7}));
     for (std::size_t j = 0; j < 2; ++j) {
@@ -107,7 +108,7 @@ TEST(GroundFit, RecoversGainAndOffsetPerSensor) {
     // are 2 % higher (pooled, 9 counts) and a wild reading moves a line by several counts.
     truth.wild_fraction = 0;
     truth.robot_gain_scale = {1.0};
-    const auto f = fit::fit_ground(parse(vr::ground_logs(truth, seed), Kind::ground));
+    const auto f = calibrate::fit_ground(parse(vr::ground_logs(truth, seed), Kind::ground));
     for (std::size_t k = 0; k < 3; ++k) {
       ASSERT_TRUE(f.sensors[k].usable) << f.sensors[k].message;
       EXPECT_NEAR(f.sensors[k].value("gain"), truth.gain_raw[k], kGroundTolerance_raw) << "seed " << seed << " sensor " << k;
@@ -134,7 +135,7 @@ TEST(CameraFit, RecoversFieldOfViewAndCentre) {
     // (robot 2's optical axis is 0.5 px to the right; a jump costs up to 80 px).
     truth.wild_fraction = 0;
     truth.robot_cx_shift_px = {0.0};
-    const auto f = fit::fit_camera(parse(vr::camera_logs(truth, seed), Kind::camera));
+    const auto f = calibrate::fit_camera(parse(vr::camera_logs(truth, seed), Kind::camera));
     ASSERT_TRUE(f.result.usable) << f.result.message;
     EXPECT_NEAR(f.result.value("fov_deg"), truth.horizontal_fov_deg, kCameraFovTolerance_deg) << "seed " << seed;
     EXPECT_NEAR(f.result.value("cx_px"), truth.cx_px, kCameraCentreTolerance_px) << "seed " << seed;
@@ -162,7 +163,7 @@ TEST(DriveFit, RecoversStepsPerMetreTofAndSlip) {
   truth.far_run_speed_cm_s = 0;
   truth.tof_wild_fraction = 0;
   truth.steps_per_m_scale = {1.0};
-  const auto f = fit::fit_drive(parse(vr::drive_logs(truth, 1), Kind::drive));
+  const auto f = calibrate::fit_drive(parse(vr::drive_logs(truth, 1), Kind::drive));
   ASSERT_TRUE(f.steps.usable) << f.steps.message;
   ASSERT_TRUE(f.tof.usable) << f.tof.message;
   EXPECT_NEAR(f.steps.value("steps_per_m"), truth.steps_per_m, kStepsPerMetreRelTolerance * truth.steps_per_m);
@@ -189,7 +190,7 @@ TEST(DriveFit, UnwrapsTheSixteenBitRegisters) {
   truth.far_run_speed_cm_s = 0;
   truth.tof_range_m = 1e9;
   const auto logs = parse(vr::drive_logs(truth, 4), Kind::drive);
-  const fit::DriveRun away = fit::drive_run_from_log(logs.at(1));
+  const calibrate::DriveRun away = calibrate::drive_run_from_log(logs.at(1));
   EXPECT_LT(away.steps.back(), -40000.0);  // past -32768 without a jump
   for (std::size_t k = 1; k < away.steps.size(); ++k) EXPECT_LT(std::abs(away.steps[k] - away.steps[k - 1]), 200.0);
 }
@@ -204,29 +205,29 @@ TEST(SensorCoefficientFiles, LoadBackWhatTheCliWrites) {
     std::ofstream(dir / name) << text;
     return (dir / name).string();
   };
-  const auto p = fit::load_proximity_coefficients(write("p.json", R"({"kind":"proximity","parameters":{"a":1.5,"b":-2,"c":0.9}})"));
+  const auto p = calibrate::load_proximity_coefficients(write("p.json", R"({"kind":"proximity","parameters":{"a":1.5,"b":-2,"c":0.9}})"));
   EXPECT_EQ(p.a_per_m2, 1.5);
   EXPECT_EQ(p.b_per_m, -2);
   EXPECT_EQ(p.c, 0.9);
-  EXPECT_EQ(fit::load_light_coefficients(write("l.json", R"({"kind":"light","parameters":{"gamma":0.07}})")).gamma_m, 0.07);
-  const auto g = fit::load_ground_coefficients(
+  EXPECT_EQ(calibrate::load_light_coefficients(write("l.json", R"({"kind":"light","parameters":{"gamma":0.07}})")).gamma_m, 0.07);
+  const auto g = calibrate::load_ground_coefficients(
       write("g.json", R"({"kind":"ground","parameters":{"gain":[900,910,920],"offset":[1,2,3]}})"));
   EXPECT_EQ(g[2].gain_raw, 920);
   EXPECT_EQ(g[1].offset_raw, 2);
-  const auto c = fit::load_camera_coefficients(write("c.json", R"({"kind":"camera","parameters":{"fov_deg":30,"cx_px":81,"cy_px":59}})"));
+  const auto c = calibrate::load_camera_coefficients(write("c.json", R"({"kind":"camera","parameters":{"fov_deg":30,"cx_px":81,"cy_px":59}})"));
   EXPECT_NEAR(c.horizontal_fov_rad, s::deg_to_rad(30), 1e-15);
-  const auto d = fit::load_drive_coefficients(
+  const auto d = calibrate::load_drive_coefficients(
       write("d.json", R"({"kind":"drive","parameters":{"steps_per_m":7700,"tof_scale":0.99,"tof_offset_mm":5}})"));
   EXPECT_EQ(d.encoder.steps_per_m, 7700);
   EXPECT_EQ(d.tof.offset_mm, 5);
   // Missing key, wrong kind: errors naming the file.
   try {
-    fit::load_light_coefficients(write("bad.json", R"({"kind":"light","parameters":{}})"));
+    calibrate::load_light_coefficients(write("bad.json", R"({"kind":"light","parameters":{}})"));
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(fit::load_light_coefficients(write("kind.json", R"({"kind":"ground","parameters":{"gamma":1}})")),
+  EXPECT_THROW(calibrate::load_light_coefficients(write("kind.json", R"({"kind":"ground","parameters":{"gamma":1}})")),
                std::runtime_error);
   fs::remove_all(dir);
 }

@@ -2,7 +2,7 @@
 // first pass, outliers left out beyond reject_sd, noise by EM, identifiability by the equilibrated
 // normal matrix, lack of fit against replicates, and the distributions the tests need.
 #include "epuck2/fit/robust.hpp"
-#include "epuck2/fit/screening.hpp"
+#include "epuck2/fit/replicates.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -12,7 +12,7 @@ namespace epuck2::plot {
 
 namespace mb = models::battery;
 
-void battery_fits_png(logs::OutputStage& stage, const std::string& path, const std::vector<fit::BatteryRun>& runs, const fit::BatteryFit& f) {
+void battery_fits_png(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::BatteryRun>& runs, const calibrate::BatteryFit& f) {
   const int n = static_cast<int>(f.speeds.size());
   const int cols = n <= 4 ? n : 4;
   const int rows = (n + cols - 1) / cols;
@@ -24,7 +24,7 @@ void battery_fits_png(logs::OutputStage& stage, const std::string& path, const s
         gp << "set key off\nset grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset xtics font ',8'\nset ytics 0.25 font ',8'\n";
         gp << "set lmargin 5\nset rmargin 1\nset tmargin 2\nset bmargin 2\n";
         for (int i = 0; i < n; ++i) {
-          const fit::SpeedFit& s = f.speeds[static_cast<std::size_t>(i)];
+          const calibrate::SpeedFit& s = f.speeds[static_cast<std::size_t>(i)];
           std::vector<std::tuple<double, double>> pts;
           for (const auto& r : runs) {
             if (std::lround(r.speed_cm_s * 100) != std::lround(s.speed_cm_s * 100)) continue;
@@ -37,7 +37,7 @@ void battery_fits_png(logs::OutputStage& stage, const std::string& path, const s
             const double t = s.lifetime_s * k / kSamples;
             int m = 0;
             for (mb::Model model : mb::kAllModels)
-              curves[static_cast<std::size_t>(m++)].emplace_back(t / 3600.0, fit::analytic_charge(s, f, model, t));
+              curves[static_cast<std::size_t>(m++)].emplace_back(t / 3600.0, calibrate::analytic_charge(s, f, model, t));
           }
           char title[96];
           std::snprintf(title, sizeof title, "%g cm/s  (lifetime %.2f h, %zu runs)", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs);
@@ -61,7 +61,7 @@ void battery_fits_png(logs::OutputStage& stage, const std::string& path, const s
       1800, 1400);
 }
 
-void battery_lifetime_png(logs::OutputStage& stage, const std::string& path, const std::vector<fit::BatteryRun>& runs, const fit::BatteryFit& f) {
+void battery_lifetime_png(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::BatteryRun>& runs, const calibrate::BatteryFit& f) {
   render_png(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {

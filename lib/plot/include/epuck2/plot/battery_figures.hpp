@@ -5,13 +5,13 @@
 #include <string>
 #include <vector>
 
-#include "epuck2/fit/battery.hpp"
+#include "epuck2/calibrate/battery.hpp"
 #include "epuck2/logs/output.hpp"
 
 namespace epuck2::plot {
 
 /// Both stage the figure in `stage` (in place once it commits).
-void battery_fits_png(logs::OutputStage& stage, const std::string& path, const std::vector<fit::BatteryRun>& runs, const fit::BatteryFit& fit);
-void battery_lifetime_png(logs::OutputStage& stage, const std::string& path, const std::vector<fit::BatteryRun>& runs, const fit::BatteryFit& fit);
+void battery_fits_png(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::BatteryRun>& runs, const calibrate::BatteryFit& fit);
+void battery_lifetime_png(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::BatteryRun>& runs, const calibrate::BatteryFit& fit);
 
 }  // namespace epuck2::plot

@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "epuck2/fit/battery.hpp"
+#include "epuck2/calibrate/battery.hpp"
 
-namespace epuck2::fit {
+namespace epuck2::calibrate {
 
 nlohmann::json battery_fit_to_json(const BatteryFit& fit);
 
@@ -17,4 +17,4 @@ nlohmann::json battery_fit_to_json(const BatteryFit& fit);
 /// which entry is missing or wrong (InputError).
 models::battery::Tables battery_tables_from_json(const nlohmann::json& j, const std::string& path);
 
-}  // namespace epuck2::fit
+}  // namespace epuck2::calibrate

@@ -5,7 +5,7 @@
 #include <malloc.h>
 #endif
 
-namespace epuck2::fit {
+namespace epuck2::app {
 
 /// Keeps freed heap memory in the process for the next fit instead of handing it back.
 ///
@@ -28,4 +28,4 @@ inline void keep_freed_heap() {
 #endif
 }
 
-}  // namespace epuck2::fit
+}  // namespace epuck2::app

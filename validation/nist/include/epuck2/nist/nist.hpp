@@ -18,7 +18,11 @@
 
 #include "epuck2/fit/least_squares.hpp"
 
-namespace epuck2::fit::nist {
+namespace epuck2::nist {
+
+using fit::FitOptions;
+using fit::FitResult;
+
 
 /// Significant digits of every certified value in the StRD files (e.g. 2.3894212918E+02): the
 /// cap on a log relative error.
@@ -313,4 +317,4 @@ struct Bennett5 {
 };
 
 }  // namespace models
-}  // namespace epuck2::fit::nist
+}  // namespace epuck2::nist

@@ -8,12 +8,18 @@
 #include <numeric>
 #include <set>
 
-#include "diagnose_problem.hpp"
-#include "epuck2/fit/diagnose.hpp"
-#include "epuck2/fit/screening.hpp"
+#include "problem.hpp"
+#include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/calibrate/screening.hpp"
 #include "epuck2/fit/least_squares.hpp"
 
-namespace epuck2::fit::diagnose {
+namespace epuck2::diagnose {
+
+using namespace epuck2::fit;  // the engine (lib/fit)
+using calibrate::WildReading;
+using calibrate::drop_wild_readings;
+using calibrate::drop_wild_readings_in_place;
+using calibrate::readings_on_rails;
 
 namespace detail {
 
@@ -758,4 +764,4 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options) { re
 
 Report diagnose(std::vector<logs::Log>&& logs, const Options& options) { return run_diagnosis(logs, options, &logs); }
 
-}  // namespace epuck2::fit::diagnose
+}  // namespace epuck2::diagnose

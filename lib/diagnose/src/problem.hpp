@@ -12,10 +12,15 @@
 #include <utility>
 #include <vector>
 
-#include "epuck2/fit/diagnose.hpp"
+#include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/fit/least_squares.hpp"
 #include "epuck2/logs/log.hpp"
 
-namespace epuck2::fit::diagnose::detail {
+namespace epuck2::diagnose::detail {
+
+using fit::FitOptions;
+using fit::FitResult;
+
 
 /// At most this many parameters are free in one fit (the Jet's size).
 inline constexpr int kMaxFree = 24;
@@ -135,4 +140,4 @@ std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const 
 /// Columns named in `skip` are left out.
 void add_common_covariates(Problem& p, const std::vector<logs::Log>& logs, const std::vector<std::string>& skip = {});
 
-}  // namespace epuck2::fit::diagnose::detail
+}  // namespace epuck2::diagnose::detail

@@ -1,4 +1,4 @@
-#include "epuck2/fit/nist.hpp"
+#include "epuck2/nist/nist.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +12,9 @@
 
 #include "epuck2/logs/log.hpp"
 
-namespace epuck2::fit::nist {
+namespace epuck2::nist {
+
+using namespace epuck2::fit;  // the engine (lib/fit)
 
 namespace {
 
@@ -428,4 +430,4 @@ RunReport run(const Problem& problem, int start, const FitOptions& options, cons
   return r;
 }
 
-}  // namespace epuck2::fit::nist
+}  // namespace epuck2::nist

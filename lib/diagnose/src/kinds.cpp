@@ -9,15 +9,14 @@
 #include <set>
 #include <type_traits>
 
-#include "diagnose_problem.hpp"
-#include "epuck2/fit/diagnose.hpp"
+#include "problem.hpp"
+#include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 #include "epuck2/models/sensors.hpp"
-#if __has_include("epuck2/fitted/coefficients.hpp")
-#include "epuck2/fitted/coefficients.hpp"
-#endif
 
-namespace epuck2::fit::diagnose {
+namespace epuck2::diagnose {
+
+using namespace epuck2::fit;  // the engine (lib/fit)
 
 namespace detail {
 namespace {
@@ -718,11 +717,9 @@ std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const 
       p = std::make_unique<Drive>(logs);
       break;
     case logs::Kind::battery: {
-      models::battery::Tables tables = models::battery::plugin_tables();
-#ifdef EPUCK2_FITTED_HAS_BATTERY
-      tables = fitted::battery_tables();
-#endif
-      if (options.battery_tables) tables = *options.battery_tables;
+      // The tables given (--coefficients), else the plug-in's published ones: the library never
+      // compiles in the project's fitted data.
+      const models::battery::Tables tables = options.battery_tables ? *options.battery_tables : models::battery::plugin_tables();
       p = std::make_unique<Battery>(logs, options.battery_model, tables);
       break;
     }
@@ -757,4 +754,4 @@ bool supported(logs::Kind kind) {
   return false;
 }
 
-}  // namespace epuck2::fit::diagnose
+}  // namespace epuck2::diagnose

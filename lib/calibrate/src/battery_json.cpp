@@ -1,10 +1,12 @@
-#include "epuck2/fit/battery_json.hpp"
+#include "epuck2/calibrate/battery_json.hpp"
 
 #include <cmath>
 
 #include "epuck2/logs/json_location.hpp"
 
-namespace epuck2::fit {
+namespace epuck2::calibrate {
+
+using namespace epuck2::fit;  // the engine (lib/fit)
 
 namespace mb = models::battery;
 using nlohmann::json;
@@ -150,4 +152,4 @@ mb::Tables battery_tables_from_json(const json& j, const std::string& path) {
   return t;
 }
 
-}  // namespace epuck2::fit
+}  // namespace epuck2::calibrate

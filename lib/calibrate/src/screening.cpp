@@ -1,12 +1,14 @@
-// Wild readings in static logs: see epuck2/fit/screening.hpp.
-#include "epuck2/fit/screening.hpp"
+// Wild readings in static logs: see epuck2/calibrate/screening.hpp.
+#include "epuck2/calibrate/screening.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
 
-namespace epuck2::fit {
+namespace epuck2::calibrate {
+
+using namespace epuck2::fit;  // the engine (lib/fit)
 
 namespace {
 
@@ -72,48 +74,6 @@ logs::Log without_rows(const logs::Log& log, const std::vector<bool>& drop) {
   logs::Log out = log;
   remove_rows(out, drop);
   return out;
-}
-
-std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const std::vector<int>& group,
-                                       const std::vector<bool>& on_rail, double floor_sd, std::vector<std::string>* why) {
-  const std::size_t n = values.size();
-  std::vector<bool> wild(n, false);
-  if (why != nullptr) why->assign(n, "");
-  std::map<int, std::vector<std::size_t>> groups;
-  for (std::size_t i = 0; i < n; ++i)
-    if (group[i] >= 0) groups[group[i]].push_back(i);
-  std::map<int, double> sd_of;
-  std::vector<double> sds;
-  for (const auto& [g, members] : groups) {
-    std::vector<double> v;
-    for (std::size_t i : members)
-      if (!on_rail[i]) v.push_back(values[i]);
-    if (v.size() < kMinReplicates) continue;
-    const double med = median_of(v);
-    for (double& x : v) x = std::abs(x - med);
-    sd_of[g] = 1.482602218505602 * median_of(v);
-    sds.push_back(sd_of[g]);
-  }
-  const double typical = median_of(sds);
-  for (const auto& [g, members] : groups) {
-    if (members.size() < kMinReplicates) continue;  // too few readings to call one of them wild
-    std::vector<double> v;
-    std::size_t railed = 0;
-    for (std::size_t i : members) {
-      v.push_back(values[i]);
-      railed += on_rail[i] ? 1 : 0;
-    }
-    const double med = median_of(v);
-    const double sd = std::max({sd_of.count(g) ? sd_of.at(g) : typical, 0.5 * typical, floor_sd});
-    for (std::size_t i : members) {
-      const double dev = std::abs(values[i] - med);
-      wild[i] = on_rail[i] ? railed == 1 && dev > 0.5 * kWildReadingSd * sd : dev > kWildReadingSd * sd;
-      if (wild[i] && why != nullptr)
-        (*why)[i] = fmt(values[i]) + " where the readings under the same conditions centre on " + fmt(med) + " (robust sd " +
-                    fmt(sd) + ")";
-    }
-  }
-  return wild;
 }
 
 namespace {
@@ -228,4 +188,4 @@ std::size_t readings_on_rails(const std::vector<logs::Log>& all) {
   return n;
 }
 
-}  // namespace epuck2::fit
+}  // namespace epuck2::calibrate

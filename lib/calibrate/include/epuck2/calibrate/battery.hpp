@@ -18,12 +18,13 @@
 #include <string>
 #include <vector>
 
+#include "epuck2/calibrate/engine.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/battery.hpp"
 #include "epuck2/models/battery_simulation.hpp"
 
-namespace epuck2::fit {
+namespace epuck2::calibrate {
 
 /// One discharge run at constant speed.
 struct BatteryRun {
@@ -94,4 +95,4 @@ ModelMse simulated_mse(const std::vector<BatteryRun>& runs, const models::batter
 /// The plug-in's tables derived from a fit (requires fit.tables).
 models::battery::Tables tables_from_fit(const BatteryFit& fit);
 
-}  // namespace epuck2::fit
+}  // namespace epuck2::calibrate

@@ -20,7 +20,7 @@
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/battery.hpp"
 
-namespace epuck2::fit::diagnose {
+namespace epuck2::diagnose {
 
 struct NamedValue {
   NamedValue() = default;
@@ -109,8 +109,8 @@ struct Options {
   double structure_threshold = 0.03;   ///< practical size of a residual dependence (fraction of variance)
   int max_findings = 5;
   /// battery: the discharge model simulated (--battery-model, Cubic by default), in the
-  /// corrected behaviour (smooth in its parameters), with these tables; none given: the project's
-  /// compiled-in fitted tables (data/fitted), or the plug-in's when the build has none.
+  /// corrected behaviour (smooth in its parameters), with these tables; none given: the plug-in's
+  /// published tables.
   models::battery::Model battery_model = models::battery::Model::cubic;
   std::optional<models::battery::Tables> battery_tables;
 };
@@ -125,4 +125,4 @@ Report diagnose(std::vector<logs::Log>&& logs, const Options& options = {});
 /// Kinds that diagnose() supports.
 bool supported(logs::Kind kind);
 
-}  // namespace epuck2::fit::diagnose
+}  // namespace epuck2::diagnose

@@ -1,4 +1,4 @@
-// Sensor calibration fits (see epuck2/fit/sensors.hpp): proximity, light, ground, camera, drive,
+// Sensor calibration fits (see epuck2/calibrate/sensors.hpp): proximity, light, ground, camera, drive,
 // and the loaders of the coefficient files the CLI writes. Every fit goes through fit_robust
 // (epuck2/fit/robust.hpp): readings on a sensor's rails are censored, wild readings are left out
 // and listed by file:line, parameters the logs cannot determine keep the plug-in's value.
@@ -11,11 +11,13 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "epuck2/fit/screening.hpp"
-#include "epuck2/fit/sensors.hpp"
+#include "epuck2/calibrate/screening.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/logs/json_location.hpp"
 
-namespace epuck2::fit {
+namespace epuck2::calibrate {
+
+using namespace epuck2::fit;  // the engine (lib/fit)
 
 namespace s = models::sensors;
 
@@ -731,4 +733,4 @@ DriveCoefficients load_drive_coefficients(const std::string& path) {
   return k;
 }
 
-}  // namespace epuck2::fit
+}  // namespace epuck2::calibrate

@@ -5,10 +5,12 @@
 #include <map>
 #include <numeric>
 
-#include "epuck2/fit/battery.hpp"
+#include "epuck2/calibrate/battery.hpp"
 #include "epuck2/models/battery_simulation.hpp"
 
-namespace epuck2::fit {
+namespace epuck2::calibrate {
+
+using namespace epuck2::fit;  // the engine (lib/fit)
 
 namespace mb = models::battery;
 
@@ -383,4 +385,4 @@ ModelMse simulated_mse(const std::vector<BatteryRun>& runs, const mb::Tables& ta
   return out;
 }
 
-}  // namespace epuck2::fit
+}  // namespace epuck2::calibrate

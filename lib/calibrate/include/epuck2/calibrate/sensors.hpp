@@ -14,12 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "epuck2/calibrate/engine.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/sensors.hpp"
 
-namespace epuck2::fit {
+namespace epuck2::calibrate {
 
 /// How the sensor fits treat the readings (docs/fitting.md): robust with outliers left out, or
 /// plain least squares; readings on a rail are censored either way.
@@ -192,4 +193,4 @@ struct DriveCoefficients {
 };
 DriveCoefficients load_drive_coefficients(const std::string& path);
 
-}  // namespace epuck2::fit
+}  // namespace epuck2::calibrate
