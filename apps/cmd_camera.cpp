@@ -26,6 +26,7 @@ void print_report(const calibrate::CameraFit& f) {
   std::printf("MSE %.3f px^2 (plug-in, 29.97 deg centred at (80, 60): %.3f px^2)\n", r.mse, f.plugin_mse);
   std::printf("Table 4 method (alpha from the pixel offset, centre taken as column 80), %zu points: %.2f +- %.2f deg\n",
               f.table4_points, f.table4_alpha_mean_deg, f.table4_alpha_sd_deg);
+  app::sensors::print_noise(f.noise);
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
@@ -79,6 +80,7 @@ nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensor
   j["units"] = {{"fov_deg", "degrees, horizontal"}, {"aperture_deg", "ARGoS half-angle on the diagonal"}, {"mse", "px^2"}};
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
   j["table4"] = {{"alpha_mean_deg", f.table4_alpha_mean_deg}, {"alpha_sd_deg", f.table4_alpha_sd_deg}, {"points", f.table4_points}};
+  app::sensors::add_noise(j, {f.noise});
   app::sensors::add_warnings(j, f.warnings);
   if (keep != nullptr) *keep = std::move(f);
   return j;

@@ -31,6 +31,8 @@ void print_report(const calibrate::DriveFit& f) {
   app::sensors::print_parameter(t, "slip_time_constant_s", "s");
   app::sensors::print_handling(t);
   std::printf("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
+  app::sensors::print_noise(f.tof_noise);
+  app::sensors::print_noise(f.encoder_noise);
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
@@ -87,6 +89,7 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
   j["units"] = {{"steps_per_m", "steps per metre"}, {"tof_offset_mm", "mm"}, {"tof_scale", "1"}, {"slip_time_constant_s", "s"},
                 {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}};
   j["reference_mse"] = {{"plugin_tof", f.plugin_tof_mse}};
+  app::sensors::add_noise(j, {f.tof_noise, f.encoder_noise});
   app::sensors::add_warnings(j, f.warnings);
   if (keep != nullptr) *keep = std::move(f);
   return j;

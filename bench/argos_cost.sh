@@ -131,7 +131,7 @@ echo "argos3: $(argos3 -n --version 2>&1 | grep -m1 VERSION | sed 's/\x1b\[[0-9;
 echo "simulated ${SECONDS_SIM} s at 10 ticks/s; $UNIT, median of $REPEATS runs each,"
 echo "default and calibrated interleaved (ABBA); ratio = calibrated / default medians; pairs = range of the"
 echo "per-repeat ratios; target: sensors <= 1.05, battery-cubic-corrected <= 1.00"
-printf "%-24s %6s %10s %12s %7s %13s %6s %7s %s\n" what robots default_s calibrated_s ratio pairs target result load
+printf "%-24s %6s %10s %12s %7s %13s %6s %7s %s\n" what robots default calibrated ratio pairs target result load
 for n in $ROBOTS; do
   for what in $ROWS; do
     write_exp "$what" default "$n" "$WORK/a.argos"
