@@ -1,0 +1,55 @@
+// Ground sensors as the plug-in computes them.
+// Header-only, standard library only (epuck2::models); units in every name, angles in radians
+// unless a name says _deg. Umbrella: sensors.hpp.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "epuck2/models/noise.hpp"
+#include "epuck2/models/geometry.hpp"
+
+namespace epuck2::models::sensors {
+
+/// value = offset + gain * grey, grey in [0, 1] (0 = black). The plug-in has offset 0 and gain
+/// 1023: it multiplies a 0..255 grey level by 4.011764706 = 1023/255 (the plug-in's source).
+struct GroundCoefficients {
+  double gain_raw = 1023.0;   ///< reading of white minus reading of black, raw counts
+  double offset_raw = 0.0;    ///< reading over black (the paper's residual detections)
+};
+inline constexpr GroundCoefficients kPluginGround{};
+inline constexpr double kGroundFullScale_raw = 1023.0;        ///< 10-bit reading (reference 2.3)
+inline constexpr double kPluginGroundPerGreyLevel = 4.011764706;  ///< the plug-in's source
+
+/// The noiseless response to a grey level in [0, 1]. What a fit adjusts.
+template <typename T>
+T ground_response(const T& gain_raw, const T& offset_raw, double grey) {
+  return offset_raw + gain_raw * grey;
+}
+
+/// The plug-in's reading from a 0..255 grey level: grey * 4.011764706 + noise * 1023, rounded,
+/// clamped to [0, 1023] (the plug-in's source).
+template <class UnitRandom>
+int ground_reading_plugin(double grey_level_0_255, double noise_level, UnitRandom& unit) {
+  const double v = grey_level_0_255 * kPluginGroundPerGreyLevel + uniform_noise(unit, noise_level) * kGroundFullScale_raw;
+  return static_cast<int>(std::clamp(std::round(v), 0.0, kGroundFullScale_raw));
+}
+inline int ground_reading_plugin(double grey_level_0_255) {
+  NoNoise none;
+  return ground_reading_plugin(grey_level_0_255, 0.0, none);
+}
+
+/// The reading from a grey in [0, 1] with given coefficients: offset + gain * grey + noise * 1023,
+/// rounded, clamped. With kPluginGround it equals ground_reading_plugin(grey * 255) up to the
+/// rounding of 4.011764706 against 1023/255.
+template <class UnitRandom>
+int ground_reading(const GroundCoefficients& k, double grey, double noise_level, UnitRandom& unit) {
+  const double v = ground_response(k.gain_raw, k.offset_raw, grey) + uniform_noise(unit, noise_level) * kGroundFullScale_raw;
+  return static_cast<int>(std::clamp(std::round(v), 0.0, kGroundFullScale_raw));
+}
+inline int ground_reading(const GroundCoefficients& k, double grey) {
+  NoNoise none;
+  return ground_reading(k, grey, 0.0, none);
+}
+
+}  // namespace epuck2::models::sensors

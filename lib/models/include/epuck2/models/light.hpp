@@ -1,0 +1,59 @@
+// Ambient light: paper Eq. 2 as the plug-in computes it.
+// Header-only, standard library only (epuck2::models); units in every name, angles in radians
+// unless a name says _deg. Umbrella: sensors.hpp.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "epuck2/models/noise.hpp"
+#include "epuck2/models/proximity.hpp"
+
+namespace epuck2::models::sensors {
+
+struct LightCoefficients {
+  /// Eq. 2's gamma (m per intensity unit): each light adds (gamma I)^2 / d^2. The plug-in divides
+  /// I by 13.3333333333333 (the plug-in's source), i.e. gamma = 0.075 (paper section 4.1.2).
+  double gamma_m = 1.0 / 13.3333333333333;
+  double range_m = 0.50;  ///< lights farther than this are ignored (the plug-in's source)
+};
+inline constexpr LightCoefficients kPluginLight{};
+
+/// One light's contribution (gamma I / d)^2 to the normalised sum. What a fit adjusts.
+template <typename T>
+T light_contribution(const T& gamma_m, double intensity, double distance_m) {
+  const T r = gamma_m * intensity / distance_m;
+  return r * r;
+}
+
+/// Normalised reading without noise for one light: 1 - (gamma I / d)^2, the quantity Eq. 2
+/// clamps (not clamped here: the fit uses it on unsaturated readings).
+template <typename T>
+T light_response(const T& gamma_m, double intensity, double distance_m) {
+  return T(1.0) - light_contribution(gamma_m, intensity, distance_m);
+}
+
+/// A light as one sensor sees it: distance and intensity (occlusion is the caller's business).
+struct LightSource {
+  double distance_m = 0;
+  double intensity = 0;
+};
+
+/// The plug-in's reading 0..4095 (4095 = dark): sum over lights with I > 0 within range of
+/// (I/13.333)^2/d^2, + noise, reading = round((1 - sum) * 4095) clamped to [0, 4095].
+template <class Lights, class UnitRandom>
+int light_reading(const LightCoefficients& k, const Lights& lights, double noise_level, UnitRandom& unit) {
+  double sum = 0.0;
+  for (const LightSource& l : lights)
+    if (l.intensity > 0 && l.distance_m <= k.range_m) sum += light_contribution(k.gamma_m, l.intensity, l.distance_m);
+  sum += uniform_noise(unit, noise_level);
+  return static_cast<int>(std::clamp(std::round((1.0 - sum) * kProximityFullScale_raw), 0.0, kProximityFullScale_raw));
+}
+inline int light_reading(const LightCoefficients& k, double intensity, double distance_m) {
+  NoNoise none;
+  const std::array<LightSource, 1> one{{{distance_m, intensity}}};
+  return light_reading(k, one, 0.0, none);
+}
+
+}  // namespace epuck2::models::sensors
