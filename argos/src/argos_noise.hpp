@@ -68,9 +68,6 @@ class ArgosNoise {
       levels_[i] = level[i];
     }
   }
-  /// The plug-in's level with the variance of a Gaussian of `sd` (reading units): uniform on
-  /// [-L, L] has variance L^2 / 3, so L = sqrt(3) sd / scale.
-  static double uniform_level_of(double sd, double scale) { return std::sqrt(3.0) * sd / scale; }
 
   double level(std::size_t i) const { return levels_[i]; }
   Unit& unit(std::size_t i) { return units_[i]; }

@@ -110,7 +110,7 @@ void ConfigureNoise(const SCommon& s, const std::string& str_channel, const std:
   const std::vector<double> vecSd = sNoise->sd_per_sensor(un_sensors);
   if (s.Uniform) {
     std::vector<double> vecLevel;
-    for (double fSd : vecSd) vecLevel.push_back(ArgosNoise::uniform_level_of(fSd, f_scale));
+    for (double fSd : vecSd) vecLevel.push_back(ms::uniform_level_with_sd(fSd, f_scale));
     c_noise.uniform(vecLevel);
   } else {
     c_noise.gaussian(vecSd, f_scale);
@@ -130,14 +130,7 @@ void Checked(const std::string& str_sensor, F&& f) {
 }
 
 /// The plug-in's encoder noise scale: a unit noise is 32767 steps.
-constexpr double kEncoderNoiseScale = 32767.0;
-
-/// An encoder register read with noise on the reading: floor(count + noise), int16-wrapped.
-SInt32 EncoderReadingWithNoise(double f_count, double f_noise_steps) {
-  double fReading = f_count + f_noise_steps;
-  fReading -= 65536.0 * std::floor((fReading + 32768.0) / 65536.0);
-  return static_cast<SInt32>(std::floor(fReading));
-}
+constexpr double kEncoderNoiseScale = ms::kPluginNoiseScaleEncoder_steps;
 
 /// The ray of a ray-casting sensor (proximity, ToF) in world coordinates.
 template <class SENSOR>
@@ -175,7 +168,7 @@ void CEPuck2CalibratedProximitySensor::Init(TConfigurationNode& t_tree) {
     m_vecCoefficients.resize(n);
     for (std::size_t i = 0; i < n; ++i) m_vecCoefficients[i] = ms::ProximityCoefficients{a[i], b[i], c[i], fRange};
     /* The model adds the noise to the normalised response, then multiplies by 4095 counts */
-    ConfigureNoise(s, "proximity", "counts", n, ms::kProximityFullScale_raw, m_cNoise);
+    ConfigureNoise(s, "proximity", "counts", n, ms::kPluginNoiseScaleProximity_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -235,7 +228,7 @@ void CEPuck2CalibratedGroundSensor::Init(TConfigurationNode& t_tree) {
     m_vecCoefficients.resize(n);
     for (std::size_t i = 0; i < n; ++i) m_vecCoefficients[i] = ms::GroundCoefficients{gain[i], offset[i]};
     /* The model scales a unit noise by the full scale, 1023 counts */
-    ConfigureNoise(s, "ground", "counts", n, ms::kGroundFullScale_raw, m_cNoise);
+    ConfigureNoise(s, "ground", "counts", n, ms::kPluginNoiseScaleGround_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -360,10 +353,8 @@ void CEPuck2CalibratedEncoderSensor::Update() {
        count itself stays noiseless (a step counter does not drift) */
     m_cLeft.tick(sSens.Wheels.GetWheelVelocity(0), fDeltaT);
     m_cRight.tick(sSens.Wheels.GetWheelVelocity(1), fDeltaT);
-    m_tReadings.EncoderLeftWheel = EncoderReadingWithNoise(
-        m_cLeft.count(), ms::uniform_noise(m_cNoise.unit(0), m_cNoise.level(0)) * kEncoderNoiseScale);
-    m_tReadings.EncoderRightWheel = EncoderReadingWithNoise(
-        m_cRight.count(), ms::uniform_noise(m_cNoise.unit(1), m_cNoise.level(1)) * kEncoderNoiseScale);
+    m_tReadings.EncoderLeftWheel = m_cLeft.reading(ms::uniform_noise(m_cNoise.unit(0), m_cNoise.level(0)) * kEncoderNoiseScale);
+    m_tReadings.EncoderRightWheel = m_cRight.reading(ms::uniform_noise(m_cNoise.unit(1), m_cNoise.level(1)) * kEncoderNoiseScale);
     return;
   }
   /* The plug-in's noise: added to the count every tick (it accumulates) */
@@ -425,7 +416,7 @@ void CEPuck2CalibratedLightSensor::Init(TConfigurationNode& t_tree) {
       m_vecCoefficients[i].gamma_m = e.at("gamma").get<double>();
     }
     /* The model adds the noise to the normalised sum, then multiplies by 4095 counts */
-    ConfigureNoise(s, "light", "counts", n, ms::kProximityFullScale_raw, m_cNoise);
+    ConfigureNoise(s, "light", "counts", n, ms::kPluginNoiseScaleLight_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }

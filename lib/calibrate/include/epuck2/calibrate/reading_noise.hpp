@@ -20,17 +20,18 @@
 #include <vector>
 
 #include "epuck2/calibrate/engine.hpp"
+#include "epuck2/models/noise.hpp"
 
 namespace epuck2::calibrate {
 
-/// What the E-Puck2 ARGoS plug-in multiplies its uniform noise by, per channel (the plug-in's
-/// source): proximity and light add it to the normalised value (x 4095 counts), ground x 1023
-/// counts, the ToF x its 2 m range (2000 mm), the encoders x 32767 steps per tick.
-inline constexpr double kArgosNoiseScaleProximity_counts = 4095.0;
-inline constexpr double kArgosNoiseScaleLight_counts = 4095.0;
-inline constexpr double kArgosNoiseScaleGround_counts = 1023.0;
-inline constexpr double kArgosNoiseScaleTof_mm = 2000.0;
-inline constexpr double kArgosNoiseScaleEncoder_steps = 32767.0;
+/// What the E-Puck2 ARGoS plug-in multiplies its uniform noise by, per channel (the models'
+/// constants, epuck2/models/noise.hpp): proximity and light x 4095 counts, ground x 1023 counts,
+/// the ToF x 2000 mm, the encoders x 32767 steps per tick.
+inline constexpr double kArgosNoiseScaleProximity_counts = models::sensors::kPluginNoiseScaleProximity_counts;
+inline constexpr double kArgosNoiseScaleLight_counts = models::sensors::kPluginNoiseScaleLight_counts;
+inline constexpr double kArgosNoiseScaleGround_counts = models::sensors::kPluginNoiseScaleGround_counts;
+inline constexpr double kArgosNoiseScaleTof_mm = models::sensors::kPluginNoiseScaleTof_mm;
+inline constexpr double kArgosNoiseScaleEncoder_steps = models::sensors::kPluginNoiseScaleEncoder_steps;
 
 /// One channel's reading noise, as a coefficient file's `noise.<channel>` holds it.
 struct ReadingNoise {
@@ -49,7 +50,7 @@ struct ReadingNoise {
   /// The plug-in's uniform noise level with the same variance: uniform on [-L, L] has variance
   /// L^2 / 3, so L = sqrt(3) sd / scale. NaN without a scale.
   double argos_uniform_level() const {
-    return argos_scale > 0 ? std::sqrt(3.0) * sd / argos_scale : std::numeric_limits<double>::quiet_NaN();
+    return argos_scale > 0 ? models::sensors::uniform_level_with_sd(sd, argos_scale) : std::numeric_limits<double>::quiet_NaN();
   }
   bool usable() const { return std::isfinite(sd) && n > 0; }
 };
