@@ -15,7 +15,7 @@ rm -rf "$WORK"; mkdir -p "$WORK"
 run() { echo "+ $*"; "$@"; }
 # Enough readings for a standard deviation to within a few per cent (the protocols' defaults
 # record 20-40 per condition).
-case "$KIND" in proximity) export EPUCK2_ARGOS_SAMPLES=200;; ground) export EPUCK2_ARGOS_SAMPLES=120;; esac
+case "$KIND" in proximity) export EPUCK2_ARGOS_SAMPLES=200;; ground) export EPUCK2_ARGOS_SAMPLES=120;; light) export EPUCK2_ARGOS_SAMPLES=60;; esac
 run "$FIT" "$KIND" "$ROOT"/data/raw/"$KIND"/*.csv -o "$WORK/fitted.json" > "$WORK/fitted.txt"
 EPUCK2_ARGOS_NOISE=false run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/fitted.json" "$WORK/quiet"
 EPUCK2_ARGOS_NOISE=true run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/fitted.json" "$WORK/noisy"
