@@ -13,7 +13,9 @@
 # rows compare the models, not the random number draws.
 # EPUCK2_BENCH_MEASURE=instructions counts the instructions argos3 executes instead (valgrind
 # --tool=callgrind, about 50 times slower; deterministic, so one repeat says it): where the CPU
-# times' run-to-run noise is larger than the difference, the counts decide.
+# times' run-to-run noise is larger than the difference, the counts decide. Its last two columns
+# are the instructions of the sensor's Update or the discharge model alone (inclusive), default
+# and calibrated, in millions.
 #   usage: bench/argos_cost.sh [SIM_SECONDS (default 7200)] [REPEATS (default 3)] [ROBOTS (default "1 10 50")] [ROWS]
 #     ROWS: a space-separated subset of: proximity ground tof encoder light battery-simple
 #           battery-linear battery-cubic battery-approximated battery-cubic-corrected (default: all)
@@ -116,6 +118,10 @@ cpu_run() {  # experiment -> CPU seconds (or millions of instructions) on stdout
     ARGOS_PLUGIN_PATH="$LIBDIR" valgrind --tool=callgrind --callgrind-out-file="$WORK/cg" argos3 -n -z -c "$1" \
       > "$WORK/log" 2>&1 || { echo "argos_cost: argos3 failed on $1:" >&2; tail -n 20 "$WORK/log" >&2; exit 1; }
     awk '/^summary:/ {printf "%.3f\n", $2 / 1e6}' "$WORK/cg"
+    # The model alone: the sensor's Update() or the discharge model's operator()(), inclusive.
+    callgrind_annotate --inclusive=yes --threshold=100 "$WORK/cg" 2>/dev/null > "$WORK/annotated" || true
+    grep -E 'argos::CEPuck2[A-Za-z]*(Sensor::Update\(\)|DischargeModel[A-Za-z]*::operator\(\)\(\)) ' "$WORK/annotated" |
+      head -n1 | awk '{gsub(",", "", $1); printf "%.3f\n", $1 / 1e6}' > "$1.model" || true
     return
   fi
   ARGOS_PLUGIN_PATH="$LIBDIR" python3 "$WORK/cpu.py" "$WORK/log" argos3 -n -z -c "$1" ||
@@ -157,8 +163,10 @@ for n in $ROBOTS; do
     ratio=$(awk -v a="$ma" -v b="$mb" 'BEGIN{printf "%.3f", b / a}')
     result="-"
     [ "$target" != - ] && result=$(awk -v r="$ratio" -v t="$target" 'BEGIN{print (r <= t) ? "pass" : "FAIL"}')
-    printf "%-24s %6d %10.3f %12.3f %7s %13s %6s %7s %s\n" "$what" "$n" "$ma" "$mb" "$ratio" "$lo-$hi" "$target" "$result" \
+    printf "%-24s %6d %10.3f %12.3f %7s %13s %6s %7s %s" "$what" "$n" "$ma" "$mb" "$ratio" "$lo-$hi" "$target" "$result" \
       "$l0-$(load1)"
+    [ "$MEASURE" = instructions ] && printf "  model %s / %s" "$(cat "$WORK/a.argos.model")" "$(cat "$WORK/b.argos.model")"
+    printf "\n"
   done
 done
 echo "load average at end: $(cut -d' ' -f1-3 /proc/loadavg)"

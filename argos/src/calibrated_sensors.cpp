@@ -4,6 +4,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include <argos3/core/simulator/entity/composable_entity.h>
@@ -203,7 +204,7 @@ REGISTER_SENSOR(CEPuck2CalibratedProximitySensor, "epuck2_proximity", "calibrate
                 "coefficient file's parameters (or mean_a, mean_b, mean_c with curve=\"mean\").\n\n"
                 "  <epuck2_proximity implementation=\"calibrated\" coefficients=\"proximity.json\"\n"
                 "                    robot=\"ID\" curve=\"max\" noise=\"true\"\n"
-                "                    noise_distribution=\"gaussian\" noise_level=\"0.0\" />\n\n"
+                "                    noise_distribution=\"gaussian\" />\n\n"
                 "coefficients: the file (relative: to the .argos file, then the working directory).\n"
                 "robot: use the file's robots.ID set.\n"
                 "noise (default true): the coefficient file's measured reading noise, noise.proximity\n"

@@ -218,6 +218,22 @@ mb::Tables load_battery_tables(const std::string& path) {
   return t;
 }
 
+std::shared_ptr<const mb::Tables> shared_battery_tables(const std::string& path) {
+  struct Entry {
+    std::shared_ptr<const json> root;  ///< the parse the tables were read from
+    std::shared_ptr<const mb::Tables> tables;
+  };
+  static std::mutex mutex;
+  static std::map<std::string, Entry> cache;
+  const std::shared_ptr<const json> root = parse_coefficient_file(path);
+  std::lock_guard<std::mutex> lock(mutex);
+  const auto it = cache.find(path);
+  if (it != cache.end() && it->second.root == root) return it->second.tables;
+  auto tables = std::make_shared<const mb::Tables>(load_battery_tables(path));
+  cache[path] = Entry{root, tables};
+  return tables;
+}
+
 std::string resolve_coefficient_path(const std::string& name, const std::string& experiment_file) {
   const fs::path p(name);
   if (p.is_absolute()) return name;

@@ -73,6 +73,9 @@ class CoefficientFile {
 /// writes: `speeds` [16 x {speed_cm_s, cubic [d,c,b,a], lifetime_s, linear_slope, segments [4 x
 /// {h,m,x1_s,x2_s,y1,y2}]}], `simple` {static_slope_per_s, moving_slope_per_s}).
 epuck2::models::battery::Tables load_battery_tables(const std::string& path);
+/// The same, read once per process and file (while the file stays the same) and shared: 50 robots
+/// with the calibrated battery model step through one copy of the tables, not 50.
+std::shared_ptr<const epuck2::models::battery::Tables> shared_battery_tables(const std::string& path);
 
 /// Every file is parsed once per process and path (while its size and modification time stay the
 /// same): 50 robots with a calibrated sensor share one parse of the file, not 50.

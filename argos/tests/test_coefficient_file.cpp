@@ -117,7 +117,12 @@ TEST(CoefficientFile, AFileIsParsedOncePerProcessUntilItChanges) {
 }
 
 TEST(CoefficientFile, ShippedBatteryFileLoads) {
+  // Every robot's model shares one copy of a file's tables, equal to a fresh load's.
+  const auto shared = ap::shared_battery_tables(fitted("battery.json"));
+  EXPECT_EQ(ap::shared_battery_tables(fitted("battery.json")).get(), shared.get());
   const auto t = ap::load_battery_tables(fitted("battery.json"));
+  EXPECT_EQ(shared->lifetime_s, t.lifetime_s);
+  EXPECT_EQ(shared->cubic[7].d, t.cubic[7].d);
   EXPECT_GT(t.lifetime_s[0], 10000.0);
   EXPECT_LT(t.simple_moving_slope_per_s, 0.0);
 }
