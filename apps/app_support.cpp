@@ -1,6 +1,8 @@
 #include "app_support.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -11,6 +13,7 @@
 #include "epuck2/logs/log.hpp"
 #include "commands.hpp"
 #include "epuck2/logs/output.hpp"
+#include "epuck2/plot/figure.hpp"
 
 namespace epuck2::app {
 
@@ -98,6 +101,85 @@ nlohmann::json read_json(const std::string& path) {
     throw logs::InputError(path, at.line, at.column,
                            std::string("invalid JSON: ") + e.what() + (at.line > 0 ? " (a number too large for a double)" : ""));
   }
+}
+
+namespace {
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+}  // namespace
+
+std::string closest(const std::string& word, const std::vector<std::string>& choices) {
+  const std::string w = lower(word);
+  std::string best;
+  std::size_t best_distance = 3;
+  for (const std::string& c : choices) {
+    const std::size_t d = edit_distance(w, lower(c));
+    if (d < best_distance && 2 * d < std::max(w.size(), c.size())) {
+      best = c;
+      best_distance = d;
+    }
+  }
+  return best;
+}
+
+std::string join(const std::vector<std::string>& names, const std::string& separator) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : separator) + n;
+  return out;
+}
+
+std::string unknown_name(const std::string& what, const std::string& word, const std::vector<std::string>& choices,
+                         const std::string& list_title) {
+  std::string out = "unknown " + what + " '" + logs::escape_control(word) + "'";
+  const std::string near = closest(word, choices);
+  if (!near.empty()) out += "; did you mean '" + near + "'?";
+  out += (near.empty() ? "; " : " ") + (list_title.empty() ? what + "s" : list_title) + ": " + join(choices);
+  return out;
+}
+
+CLI::Validator one_of(const std::vector<std::string>& choices, const std::string& what) {
+  return CLI::Validator(
+      [choices, what](std::string& input) -> std::string {
+        if (std::find(choices.begin(), choices.end(), input) != choices.end()) return std::string();
+        return unknown_name(what, input, choices);
+      },
+      "{" + join(choices, ",") + "}");
+}
+
+std::vector<std::string> kind_names() {
+  std::vector<std::string> out;
+  for (logs::Kind k : logs::all_kinds()) out.emplace_back(logs::to_string(k));
+  return out;
+}
+
+const std::string& coefficient_file(const std::string& source) {
+  std::error_code ec;
+  if (!std::filesystem::exists(source, ec)) {
+    const std::string near = closest(source, {"fitted", "plugin"});
+    if (!near.empty())
+      throw UsageError("--coefficients: '" + logs::escape_control(source) + "' is no file; did you mean '" + near +
+                       "'? (fitted, plugin or a battery coefficient FILE)");
+  }
+  return source;
+}
+
+CLI::Validator figure_file() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string { return plot::why_not_a_figure(input); }, "{.png,.svg,.pdf}");
 }
 
 void add_skip_bad_rows(CLI::App* sub, bool& flag) {

@@ -34,6 +34,33 @@ CLI::Validator whole_number();
 /// them (a syntax error, a number too large for a double such as 1e999).
 nlohmann::json read_json(const std::string& path);
 
+/// The one of `choices` closest to `word` (edit distance, ignoring case) when it is close enough
+/// to be a slip of the keyboard (at most 2 edits, and fewer than half the word's letters), else "".
+std::string closest(const std::string& word, const std::vector<std::string>& choices);
+
+/// "a, b, c": the names joined.
+std::string join(const std::vector<std::string>& names, const std::string& separator = ", ");
+
+/// "unknown KIND 'word'; did you mean 'x'? KINDs: a, b, c" (without "did you mean" when nothing is
+/// close): the message for a name that is not one of `choices`.
+std::string unknown_name(const std::string& what, const std::string& word, const std::vector<std::string>& choices,
+                         const std::string& list_title = "");
+
+/// A CLI11 check that the value is one of `choices` (exit 2 otherwise, naming the closest and
+/// listing them all); --help shows them as {a,b,c}.
+CLI::Validator one_of(const std::vector<std::string>& choices, const std::string& what = "value");
+
+/// The log kinds (battery, proximity, light, ground, camera, drive).
+std::vector<std::string> kind_names();
+
+/// `source` of --coefficients when it is not `fitted` or `plugin`: a file. A name that is no file
+/// but close to one of the two words (plugn) is a usage error that says so.
+const std::string& coefficient_file(const std::string& source);
+
+/// A CLI11 check for a figure file: its extension names the format (.png, .svg or .pdf), else
+/// exit 2 saying which are accepted.
+CLI::Validator figure_file();
+
 /// Adds --skip-bad-rows (the same help text on every subcommand that reads logs).
 void add_skip_bad_rows(CLI::App* sub, bool& flag);
 /// Reads the logs (logs::read_logs), then reports on standard error every row left out under

@@ -1,14 +1,17 @@
 // epuck2-fit battery LOGS...: fits the paper's four discharge models per speed; human report,
-// --json, -o coefficient file (atomic), --plot figures.
+// --json, -o coefficient file (atomic), --plot and --plot-lifetime figures (PNG, SVG or PDF).
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
 #include "app_support.hpp"
+#include "battery_input.hpp"
 #include "commands.hpp"
 #include "log_help.hpp"
 #include "epuck2/calibrate/battery.hpp"
 #include "epuck2/calibrate/battery_json.hpp"
 #include "epuck2/plot/battery_figures.hpp"
+#include "epuck2/plot/charge_map_figure.hpp"
 
 namespace epuck2::app {
 
@@ -23,7 +26,32 @@ struct BatteryOptions {
   bool least_squares = false;
   double robust_scale = 0.05;
   bool skip_bad_rows = false;
+  std::string charge_map;
+  std::string plot_charge_map;
 };
+
+void print_charge_map(const BatteryInput& in) {
+  if (!in.map) return;
+  const calibrate::ChargeMap& m = *in.map;
+  std::printf("\nVoltage->charge map (%s): charge = f(voltage_v%s), %zu knots, voltage range %.4f..%.4f V",
+              in.map_from_file.empty() ? "fitted to the logs with both columns" : ("from " + in.map_from_file).c_str(),
+              m.has_load() ? " + load offset per speed" : "", m.knots_v.size(), m.voltage_min_v, m.voltage_max_v);
+  if (std::isfinite(m.residual_sd))
+    std::printf(", residual sd %.3g (largest %.3g) over %zu rows", m.residual_sd, m.max_abs_residual, m.observations);
+  std::printf("\n  knots (V: charge):");
+  for (std::size_t k = 0; k < m.knots_v.size(); ++k) std::printf(" %.4f: %.4f%s", m.knots_v[k], m.knot_charge[k], k + 1 < m.knots_v.size() ? "," : "");
+  std::printf("\n");
+  if (m.has_load()) {
+    std::printf("  load offsets (cm/s: V):");
+    for (std::size_t k = 0; k < m.load_speeds_cm_s.size(); ++k) std::printf(" %g: %+.4f", m.load_speeds_cm_s[k], m.load_offset_v[k]);
+    std::printf("\n");
+  }
+  if (!m.load_why.empty()) std::printf("  load term: %s\n", m.load_why.c_str());
+  const auto& c = in.conversion;
+  if (c.logs > 0)
+    std::printf("  used for %zu voltage-only logs (%zu rows); clamped to its range: %zu below, %zu above\n", c.logs, c.rows,
+                c.below_range, c.above_range);
+}
 
 void print_report(const calibrate::BatteryFit& f) {
   std::printf("Battery discharge fits (%zu runs, %zu speeds)\n", f.sources.size(), f.speeds.size());
@@ -55,37 +83,59 @@ void print_report(const calibrate::BatteryFit& f) {
   for (const auto& s : f.speeds)
     for (std::size_t i = 0; i < s.outliers.size() && i < 3; ++i)
       std::printf("  %.2f cm/s: %s\n", s.speed_cm_s, s.outliers[i].c_str());
-  if (!f.tables) std::printf("(the logs do not cover every speed 0..15 cm/s: no complete model tables)\n");
+  if (!f.tables) {
+    const calibrate::SpeedCoverage c = calibrate::speed_coverage(f);
+    std::printf("No complete model tables: they need runs at every speed 0, 1, ..., 15 cm/s and only those.\n");
+    std::printf("  speeds covered (cm/s): %s\n  speeds missing (cm/s): %s\n", calibrate::speeds_text(c.covered).c_str(),
+                calibrate::speeds_text(c.missing).c_str());
+    if (!c.other.empty()) std::printf("  speeds other than 0..15 (cm/s): %s\n", calibrate::speeds_text(c.other).c_str());
+  }
+  for (const auto& w : f.warnings) std::printf("Warning: %s\n", w.c_str());
 }
 
 int run_battery(const BatteryOptions& o) {
-  const auto logs = read_logs_reporting("battery", o.logs, logs::Kind::battery, o.skip_bad_rows);
-  const auto runs = calibrate::battery_runs(logs);
+  const BatteryInput in = read_battery_input("battery", o.logs, o.skip_bad_rows, o.charge_map, true);
+  const auto& runs = in.runs;
+  if (!o.plot_charge_map.empty() && !in.map)
+    throw UsageError("--plot-charge-map: there is no voltage->charge map to draw (no log has both charge and voltage_v, and no --charge-map)");
   fit::FitOptions options;
   options.robust = o.robust;
   options.robust_scale = o.robust_scale;
   const calibrate::BatteryFit f = calibrate::fit_battery(runs, options, o.least_squares ? 0.0 : calibrate::kBatteryRejectSd);
   std::string unusable;
   for (const auto& s : f.speeds) {
-    if (!s.cubic.usable) unusable += " cubic at " + std::to_string(s.speed_cm_s) + " cm/s: " + s.cubic.message + ";";
-    if (!s.piecewise.usable) unusable += " piecewise at " + std::to_string(s.speed_cm_s) + " cm/s: " + s.piecewise.message + ";";
+    char speed[32];
+    std::snprintf(speed, sizeof speed, "%g", s.speed_cm_s);
+    if (!s.cubic.usable) unusable += std::string(" cubic at ") + speed + " cm/s: " + s.cubic.message + ";";
+    if (!s.piecewise.usable) unusable += std::string(" approximated (piecewise) at ") + speed + " cm/s: " + s.piecewise.message + ";";
   }
   if (!unusable.empty()) throw NoUsableFit(unusable);
-  const nlohmann::json j = calibrate::battery_fit_to_json(f);
+  nlohmann::json j = calibrate::battery_fit_to_json(f);
+  for (const auto& w : in.warnings) j["warnings"].push_back(w);
+  if (in.map) {
+    j["charge_map"] = calibrate::charge_map_to_json(*in.map);
+    if (!in.map_from_file.empty()) j["charge_map"]["from_file"] = in.map_from_file;
+  }
+  if (const nlohmann::json c = conversion_json(in); !c.is_null()) j["charge_conversion"] = c;
   const std::string text = json_text(j);  // refuses a NaN before anything is written
   // All or nothing: the coefficient file and the figures are renamed into place together.
   logs::OutputStage stage;
   if (!o.output.empty()) stage.write(o.output, text);
-  if (!o.plot.empty()) plot::battery_fits_png(stage, o.plot, runs, f);
-  if (!o.plot_lifetime.empty()) plot::battery_lifetime_png(stage, o.plot_lifetime, runs, f);
+  if (!o.plot.empty()) plot::battery_fits_figure(stage, o.plot, runs, f);
+  if (!o.plot_lifetime.empty()) plot::battery_lifetime_figure(stage, o.plot_lifetime, runs, f);
+  if (!o.plot_charge_map.empty()) plot::charge_map_figure(stage, o.plot_charge_map, in.map_rows, *in.map);
   stage.commit();
+  report_conversion("battery", in);
+  for (const auto& w : in.warnings) std::cerr << "battery: warning: " << w << '\n';
+  for (const auto& w : f.warnings) std::cerr << "battery: warning: " << w << '\n';
   if (!o.output.empty()) std::cerr << "battery: wrote " << o.output << '\n';
-  for (const std::string& path : {o.plot, o.plot_lifetime})
+  for (const std::string& path : {o.plot, o.plot_lifetime, o.plot_charge_map})
     if (!path.empty()) std::cerr << "battery: drew " << path << '\n';
   if (o.json) {
     std::cout << text;
   } else {
     print_report(f);
+    print_charge_map(in);
   }
   return 0;
 }
@@ -96,9 +146,14 @@ void setup_battery(CLI::App& app, Action& action) {
   CLI::App* sub = app.add_subcommand("battery", "Fit the four discharge models (simple, linear, cubic, approximated) per speed");
   sub->add_option("logs", o->logs, "Battery discharge logs (CSV, docs/logs.md#battery)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o->json, "Print one JSON object instead of the report");
-  sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically");
-  sub->add_option("--plot", o->plot, "Draw the logs and the four fitted models per speed (PNG)");
-  sub->add_option("--plot-lifetime", o->plot_lifetime, "Draw lifetime against speed, as the paper's Fig. 10b (PNG)");
+  sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically")->type_name("FILE");
+  sub->add_option("--plot", o->plot, "Draw the logs and the four fitted models per speed to FILE (.png, .svg or .pdf, by the extension)")
+      ->type_name("FILE")
+      ->check(figure_file());
+  sub->add_option("--plot-lifetime", o->plot_lifetime,
+                  "Draw lifetime against speed, as the paper's Fig. 10b, to FILE (.png, .svg or .pdf, by the extension)")
+      ->type_name("FILE")
+      ->check(figure_file());
   sub->add_flag("--robust", o->robust, "Huber loss instead of least squares");
   sub->add_flag("--least-squares", o->least_squares,
                 "Keep every reading (by default readings more than 6 robust sd from a speed's cubic are left out and listed)");
@@ -107,7 +162,11 @@ void setup_battery(CLI::App& app, Action& action) {
   sub->add_option("--robust-scale", o->robust_scale, "Huber threshold in charge units")
       ->capture_default_str()
       ->check(finite_range(1e-6, 1.0));
-  sub->footer(log_format_footer(logs::Kind::battery, "Optional: voltage_v. One speed per run; the last row is the moment the robot stopped."));
+  add_charge_map_option(sub, o->charge_map);
+  sub->add_option("--plot-charge-map", o->plot_charge_map, "Draw the voltage->charge map and the rows it was fitted to (PNG)");
+  sub->footer(log_format_footer(logs::Kind::battery,
+                                "Optional: voltage_v (with charge: the voltage->charge map is fitted and written; without charge: "
+                                "converted through the map). One speed per run; the last row is the moment the robot stopped."));
   add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_battery(*o); }; });
 }

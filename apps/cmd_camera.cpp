@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "epuck2/calibrate/sensors.hpp"
-#include "epuck2/plot/png.hpp"
+#include "epuck2/plot/figure.hpp"
 #include "sensor_support.hpp"
 
 namespace epuck2::app {
@@ -41,18 +41,28 @@ void draw(logs::OutputStage& stage, const std::string& path, const calibrate::Ca
                          o.vertical_m, &qx, &qy);
     rows.push_back({o.lateral_m / o.forward_m, o.px, mx, qx, o.vertical_m / o.forward_m, o.py, my, qy});
   }
-  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
-    gp << app::sensors::datablock("obs", rows);
-    gp << "set multiplot layout 1,2 title 'Camera (paper section 4.1.6): pixel against the LED direction'\n";
-    gp << "set grid\nset key top right\n";
-    gp << "set xlabel 'lateral / forward (left > 0)'\nset ylabel 'column px'\nset yrange [-5:165]\n";
+  plot::render(stage, path, [&](gnuplotio::Gnuplot& gp) {
+    gp << plot::datablock("obs", rows);
+    plot::Layout layout;
+    layout.rows = 1;
+    layout.cols = 2;
+    layout.top = 0.9;
+    layout.bottom = 0.1;
+    layout.hspace = 0.09;
+    gp << plot::multiplot(layout, "Camera (paper section 4.1.6): where the LED appears in the image against its direction");
+    gp << "set grid lc rgb '#d8d8d8'\nset key top right opaque box Left reverse\n";
+    gp << "set title 'columns' font ',12'\n";
+    gp << "set xlabel 'lateral / forward (tangent of the horizontal angle, dimensionless; left > 0)'\n";
+    gp << "set ylabel 'column px (pixels, 0..159)'\nset yrange [-5:165]\n";
     gp << "plot $obs using 1:2 with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'observed', "
        << "$obs using 1:3 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
-       << "$obs using 1:4 with lines lw 2 dt 2 lc rgb '#000000' title 'plug-in (29.97 deg, centre 80)'\n";
-    gp << "set xlabel 'vertical / forward (up > 0)'\nset ylabel 'row py'\nset yrange [-5:125]\n";
+       << "$obs using 1:4 with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in (29.97° field of view, centre 80)'\n";
+    gp << "set title 'rows' font ',12'\n";
+    gp << "set xlabel 'vertical / forward (tangent of the vertical angle, dimensionless; up > 0)'\n";
+    gp << "set ylabel 'row py (pixels, 0..119)'\nset yrange [-5:125]\n";
     gp << "plot $obs using 5:6 with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'observed', "
        << "$obs using 5:7 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
-       << "$obs using 5:8 with lines lw 2 dt 2 lc rgb '#000000' title 'plug-in (centre 60)'\n";
+       << "$obs using 5:8 with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in (centre 60)'\n";
     gp << "unset multiplot\n";
   });
 }

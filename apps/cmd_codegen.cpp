@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "app_support.hpp"
+#include "epuck2/calibrate/model_file.hpp"
 #include "epuck2/logs/json_location.hpp"
 #include "commands.hpp"
 #include "epuck2/calibrate/battery_json.hpp"
@@ -161,6 +162,81 @@ void emit_parameters(std::ostringstream& os, const nlohmann::json& j, const std:
   os << "}  // namespace " << kind << "\n";
 }
 
+template <std::size_t N>
+std::string array_of(const std::array<double, N>& a) {
+  std::string s = "{";
+  for (std::size_t i = 0; i < N; ++i) s += (i ? ", " : "") + num(a[i]);
+  return s + "}";
+}
+
+/// The kind's model (lib/models kinds.hpp) as a function returning a constant instance, in the
+/// units the model takes (radians for the camera's field of view), read from the file by the same
+/// reader `simulate --like` and the ARGoS plug-in use.
+void emit_model(std::ostringstream& os, const nlohmann::json& j, const std::string& path, const std::string& kind) {
+  namespace s = models::sensors;
+  auto model_error = [&](const std::exception& e) { return logs::json_file_error(path, "", e.what()); };
+  try {
+    if (kind == "proximity") {
+      const s::ProximityModel m = calibrate::proximity_model_from_json(j, path);
+      const auto& e = m.effects;
+      os << "/// The proximity model of " << path << ": base, effects, reading noise (counts).\n"
+         << "inline models::sensors::ProximityModel proximity_model() {\n  models::sensors::ProximityModel m;\n"
+         << "  m.base = {" << num(m.base.a_per_m2) << ", " << num(m.base.b_per_m) << ", " << num(m.base.c) << ", " << num(m.base.range_m) << "};\n"
+         << "  m.effects.ambient.offset_raw = " << num(e.ambient.offset_raw) << ";\n"
+         << "  m.effects.gains.gain = " << array_of(e.gains.gain) << ";\n"
+         << "  m.effects.tail.amplitude_raw = " << num(e.tail.amplitude_raw) << ";\n"
+         << "  m.effects.tail.length_m = " << num(e.tail.length_m) << ";\n"
+         << "  m.effects.incidence.k = " << num(e.incidence.k) << ";\n"
+         << "  m.effects.saturation.level_raw = " << num(e.saturation.level_raw) << ";\n"
+         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n  return m;\n}\n";
+    } else if (kind == "light") {
+      const s::LightModel m = calibrate::light_model_from_json(j, path);
+      os << "/// The light model of " << path << ": base, effects, reading noise (counts).\n"
+         << "inline models::sensors::LightModel light_model() {\n  models::sensors::LightModel m;\n"
+         << "  m.base.gamma_m = " << num(m.base.gamma_m) << ";\n  m.base.range_m = " << num(m.base.range_m) << ";\n"
+         << "  m.effects.ambient.offset_raw = " << num(m.effects.ambient.offset_raw) << ";\n"
+         << "  m.effects.falloff.exponent = " << num(m.effects.falloff.exponent) << ";\n"
+         << "  m.effects.gains.gain = " << array_of(m.effects.gains.gain) << ";\n"
+         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n  return m;\n}\n";
+    } else if (kind == "ground") {
+      const s::GroundModel m = calibrate::ground_model_from_json(j, path);
+      os << "/// The ground model of " << path << ": per-sensor gain and black offset, effects, reading noise (counts).\n"
+         << "inline models::sensors::GroundModel ground_model() {\n  models::sensors::GroundModel m;\n";
+      for (std::size_t k = 0; k < m.sensors.size(); ++k)
+        os << "  m.sensors[" << k << "] = {" << num(m.sensors[k].gain_raw) << ", " << num(m.sensors[k].offset_raw) << "};\n";
+      os << "  m.effects.exponent = " << num(m.effects.exponent) << ";\n"
+         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n  return m;\n}\n";
+    } else if (kind == "camera") {
+      const s::CameraModel m = calibrate::camera_model_from_json(j, path);
+      os << "/// The camera model of " << path << " (field of view in radians), distortion, pixel noise.\n"
+         << "inline models::sensors::CameraModel camera_model() {\n  models::sensors::CameraModel m;\n"
+         << "  m.base.horizontal_fov_rad = " << num(m.base.horizontal_fov_rad) << ";\n"
+         << "  m.base.cx_px = " << num(m.base.cx_px) << ";\n  m.base.cy_px = " << num(m.base.cy_px) << ";\n"
+         << "  m.distortion.k1 = " << num(m.distortion.k1) << ";\n"
+         << "  m.noise_sd_px = " << num(m.noise_sd_px) << ";\n  return m;\n}\n";
+    } else if (kind == "drive") {
+      const s::DriveModel m = calibrate::drive_model_from_json(j, path);
+      const auto& e = m.effects;
+      os << "/// The drive model of " << path << ": encoders, effects, ToF and encoder noise.\n"
+         << "inline models::sensors::DriveModel drive_model() {\n  models::sensors::DriveModel m;\n"
+         << "  m.steps_per_m = " << num(m.steps_per_m) << ";\n"
+         << "  m.effects.speed_limit.max_cm_s = " << num(e.speed_limit.max_cm_s) << ";\n"
+         << "  m.effects.accel_limit.accel_cm_s2 = " << num(e.accel_limit.accel_cm_s2) << ";\n"
+         << "  m.effects.slip.tau_s = " << num(e.slip.tau_s) << ";\n"
+         << "  m.effects.speed_scale.k = " << num(e.speed_scale.k) << ";\n"
+         << "  m.effects.latency.delay_s = " << num(e.latency.delay_s) << ";\n"
+         << "  m.effects.tof_offset.offset_mm = " << num(e.tof_offset.offset_mm) << ";\n"
+         << "  m.effects.tof_scale.k = " << num(e.tof_scale.k) << ";\n"
+         << "  m.tof_noise_sd_mm = " << num(m.tof_noise_sd_mm) << ";\n"
+         << "  m.encoder_noise_sd_steps = " << num(m.encoder_noise_sd_steps) << ";\n  return m;\n}\n";
+    }
+  } catch (const logs::InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw model_error(e);
+  }
+}
+
 int run_codegen(const CodegenOptions& o) {
   std::ostringstream body;
   std::ostringstream head;
@@ -194,12 +270,13 @@ int run_codegen(const CodegenOptions& o) {
       emit_battery(body, j, in);
     } else {
       emit_parameters(body, j, in, kind);
+      emit_model(body, j, in, kind);
     }
   }
   std::ostringstream out;
   out << head.str();
   out << "// Coefficients fitted by epuck2-fit from the raw logs in data/raw (see data/fitted/README.md).\n";
-  out << "#pragma once\n\n#include <array>\n\n#include \"epuck2/models/battery.hpp\"\n\nnamespace epuck2::fitted {\n";
+  out << "#pragma once\n\n#include <array>\n\n#include \"epuck2/models/battery.hpp\"\n#include \"epuck2/models/kinds.hpp\"\n\nnamespace epuck2::fitted {\n";
   out << body.str();
   out << "\n}  // namespace epuck2::fitted\n";
   logs::write_file_atomically(o.output, out.str());
@@ -212,7 +289,7 @@ void setup_codegen(CLI::App& app, Action& action) {
   auto o = std::make_shared<CodegenOptions>();
   CLI::App* sub = app.add_subcommand("codegen", "Write the C++ header of fitted coefficients compiled into lib/models");
   sub->add_option("files", o->inputs, "Coefficient files (JSON) written by the fitting subcommands")->required()->check(CLI::ExistingFile);
-  sub->add_option("-o,--output", o->output, "The header to write (atomically)")->required();
+  sub->add_option("-o,--output", o->output, "The header to write (atomically)")->type_name("FILE")->required();
   sub->callback([o, &action] { action = [o] { return run_codegen(*o); }; });
 }
 

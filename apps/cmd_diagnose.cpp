@@ -1,24 +1,29 @@
-// epuck2-fit diagnose [--kind KIND] [--json FILE|-] [--plot DIR] LOGS...: what the plug-in's model
-// gets wrong on these logs, the cause from the catalogue, and the held-out gain of fixing it
-// (docs/diagnose.md).
+// epuck2-fit diagnose [--kind KIND] [--json] [-o FILE] [--plot FILE] LOGS...: what the plug-in's
+// model gets wrong on these logs, the cause from the catalogue, and the held-out gain of fixing it
+// (docs/diagnose.md). The spellings published before (--json FILE, --json -, --plot DIR) still
+// work: main.cpp turns `--json FILE.json` into the hidden --json-file before parsing.
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <unistd.h>
 
 #include "app_support.hpp"
 #include "commands.hpp"
 #include "log_help.hpp"
 #include "epuck2/calibrate/battery_json.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/diagnose/extended_model.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 #if __has_include("epuck2/fitted/coefficients.hpp")
 #include "epuck2/fitted/coefficients.hpp"  // the CLI's `--coefficients fitted` (epuck2::fitted)
 #endif
 #include "epuck2/logs/log.hpp"
-#include "epuck2/plot/png.hpp"
+#include "epuck2/plot/diagnosis_figure.hpp"
+#include "epuck2/plot/figure.hpp"
 
 namespace epuck2::app {
 
@@ -28,12 +33,15 @@ namespace dg = epuck2::diagnose;
 
 struct DiagnoseOptions {
   std::string kind;
-  std::string json;
-  std::string plot_dir;
+  bool json = false;       ///< print the JSON report instead of the human one
+  std::string output;      ///< -o: write the JSON report, atomically
+  std::string json_file;   ///< the old spelling --json FILE (hidden): the same as -o FILE
+  std::string plot;        ///< a figure FILE (.png, .svg, .pdf), or (old spelling) an existing folder
   std::string battery_model = "cubic";
   std::string coefficients;
   std::vector<std::string> logs;
   bool skip_bad_rows = false;
+  bool progress = false;
 };
 
 std::string units(logs::Kind k) {
@@ -112,6 +120,32 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   j["residuals"] = r.residuals;
   j["logs"] = paths;
   j["verdict"] = r.verdict;
+  j["too_few_rows"] = r.too_few_rows;
+  j["minimum_rows"] = r.minimum_rows;
+  if (r.too_few_rows) {
+    // Only the plug-in's error on every row: nothing was fitted, so every other figure is null
+    // with the reason beside it.
+    j["message"] = r.message;
+    const std::string why = "not computed: " + r.message;
+    j["recalibrated"] = nlohmann::json::object();
+    j["recalibrated_uncertainty"] = nlohmann::json::object();
+    j["heldout_mse_plugin"] = r.heldout_mse_plugin;
+    for (const char* key : {"heldout_mse_recalibrated", "heldout_mse_final", "noise_sd"}) {
+      j[key] = nullptr;
+      j[std::string(key) + "_why"] = why;
+    }
+    j["mse_units"] = units(r.kind);
+    j["findings"] = nlohmann::json::array();
+    j["residual_structure"] = nlohmann::json::array();
+    j["residual_structure_before"] = nlohmann::json::array();
+    j["effects_considered"] = r.effects_considered;
+    j["outliers"] = {{"count", r.outliers.size()}, {"rows", r.outliers}};
+    j["censored"] = r.censored;
+    j["warnings"] = r.warnings;
+    j["search"] = nlohmann::json::array();
+    j["notes"] = r.notes;
+    return j;
+  }
   nlohmann::json rec, rec_se;
   put_parameters(r.recalibrated, rec, rec_se);
   j["recalibrated"] = rec;
@@ -171,6 +205,16 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
                       {"kept", t.kept}, {"screened_out", t.screened_out}});
   j["search"] = trials;
   j["notes"] = r.notes;
+  // The extended model (base in the final joint fit, the findings as effects, the final noise):
+  // the report doubles as a coefficient file for `simulate KIND --like`, `codegen` and ARGoS.
+  nlohmann::json model = dg::extended_model_json(r);
+  if (!model.empty()) {
+    nlohmann::json fb, fb_se;
+    put_parameters(r.final_base.empty() ? r.recalibrated : r.final_base, fb, fb_se);
+    j["final_base"] = fb;
+    for (const char* key : {"parameters", "effects", "noise", "effects_not_in_model"})
+      if (model.contains(key)) j[key] = model[key];
+  }
   return j;
 }
 
@@ -192,6 +236,13 @@ void print_report(const dg::Report& r) {
   std::printf("Diagnosis of %zu %s rows (%zu residuals)\n", r.rows, std::string(logs::to_string(r.kind)).c_str(), r.residuals);
   std::printf("The plug-in's model with the coefficients given, before recalibration: MSE %.4g %s.\n", r.heldout_mse_plugin,
               u.c_str());
+  if (r.too_few_rows) {
+    const std::string m = r.message.empty() ? r.message : std::string(1, static_cast<char>(std::toupper(r.message[0]))) + r.message.substr(1);
+    std::printf("%s.\nNo effect was judged: no recalibration, no search, no finding.\n", m.c_str());
+    if (!r.outliers.empty()) std::printf("Wild readings left out before the diagnosis: %zu\n", r.outliers.size());
+    std::printf("Verdict: none (too few rows to judge)\n");
+    return;
+  }
   if (!r.channel_noise_sd.empty()) {
     std::printf("Channels fitted together, each weighted by its noise:");
     for (const auto& c : r.channel_noise_sd) std::printf(" %s (sd %.3g)", c.name.c_str(), c.value);
@@ -237,54 +288,35 @@ void print_report(const dg::Report& r) {
   std::printf("\n");
 }
 
-/// Stages the residual plot in `stage`; returns its path ("" when there is nothing to draw).
-std::string draw(logs::OutputStage& stage, const std::string& dir, const dg::Report& r) {
+/// Where --plot draws: FILE itself, or in a folder (the spelling published first) its
+/// diagnose_<kind>.png.
+std::string figure_path(const std::string& plot, logs::Kind kind) {
   namespace fs = std::filesystem;
-  // Residuals before (recalibrated base) and after (final model) against the covariate the
-  // residuals depended on most before.
-  std::string name = r.structure_before.empty() ? "row" : r.structure_before.front().covariate;
-  const std::vector<double>* x = nullptr;
-  for (const auto& c : r.covariates)
-    if (c.first == name) x = &c.second;
-  if (!x) {
-    for (const auto& c : r.covariates)
-      if (c.first == "row") x = &c.second;
-    name = "row";
-  }
-  if (!x) return "";
-  const std::string path = (fs::path(dir) / ("diagnose_" + std::string(logs::to_string(r.kind)) + ".png")).string();
-  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
-    gp << "$before << EOD\n";
-    for (std::size_t i = 0; i < x->size(); ++i) gp << (*x)[i] << ' ' << r.residual_before[i] << '\n';
-    gp << "EOD\n$after << EOD\n";
-    for (std::size_t i = 0; i < x->size(); ++i) gp << (*x)[i] << ' ' << r.residual_after[i] << '\n';
-    gp << "EOD\n";
-    gp << "set termoption noenhanced\n";
-    gp << "set multiplot layout 1,2 title 'diagnose " << logs::to_string(r.kind) << ": verdict " << r.verdict << "'\n";
-    gp << "set grid\nset xlabel '" << name << "'\nset ylabel 'measured - model'\n";
-    gp << "set title 'recalibrated base model'\nplot $before using 1:2 with points pt 7 ps 0.4 lc rgb '#d62728' notitle\n";
-    gp << "set title 'with the findings'\nplot $after using 1:2 with points pt 7 ps 0.4 lc rgb '#1f77b4' notitle\n";
-    gp << "unset multiplot\n";
-  });
-  return path;
+  if (!plot.empty() && fs::is_directory(plot))
+    return (fs::path(plot) / ("diagnose_" + std::string(logs::to_string(kind)) + ".png")).string();
+  return plot;
 }
 
 int run_diagnose(const DiagnoseOptions& o) {
   std::optional<logs::Kind> kind;
   if (!o.kind.empty()) {
     kind = logs::parse_kind(o.kind);
-    if (!kind) throw UsageError("--kind: unknown kind '" + o.kind + "'");
+    if (!kind) throw UsageError("--kind: " + unknown_name("kind", o.kind, kind_names()));
   }
+  if (!o.output.empty() && !o.json_file.empty() && o.output != o.json_file)
+    throw UsageError("--json " + o.json_file + " and -o " + o.output +
+                     ": both name the file of the JSON report (--json FILE is the old spelling of -o FILE); give one");
+  const std::string output = o.output.empty() ? o.json_file : o.output;
   auto logs = read_logs_reporting("diagnose", o.logs, kind, o.skip_bad_rows);
   if (logs.empty()) throw UsageError("no logs given");
   if (!dg::supported(logs.front().kind))
     throw UsageError("diagnose does not support the kind '" + std::string(logs::to_string(logs.front().kind)) +
                      "' yet");
-  if (!o.plot_dir.empty() && !std::filesystem::is_directory(o.plot_dir))
-    throw UsageError("--plot: " + o.plot_dir + " is not a folder");
+  std::vector<std::string> log_names;
+  for (const auto& l : logs) log_names.push_back(l.path);
   dg::Options options;
   if (!models::battery::parse_model(o.battery_model, options.battery_model))
-    throw UsageError("unknown --battery-model '" + o.battery_model + "' (expected simple, linear, cubic or approximated)");
+    throw UsageError("--battery-model: " + unknown_name("discharge model", o.battery_model, {"simple", "linear", "cubic", "approximated"}));
   if (o.coefficients.empty() || o.coefficients == "plugin") options.battery_tables = models::battery::plugin_tables();
   else if (o.coefficients == "fitted") {
 #ifdef EPUCK2_FITTED_HAS_BATTERY
@@ -293,23 +325,37 @@ int run_diagnose(const DiagnoseOptions& o) {
     throw UsageError("this build has no compiled-in fitted battery tables; give --coefficients FILE");
 #endif
   } else
-    options.battery_tables = calibrate::battery_tables_from_json(read_json(o.coefficients), o.coefficients);
+    options.battery_tables = calibrate::battery_tables_from_json(read_json(coefficient_file(o.coefficients)), o.coefficients);
+  // Progress on standard error (never on standard output, which may hold the JSON report): on a
+  // terminal one line rewritten in place, with --progress elsewhere one line per stage.
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  if (o.progress || tty) {
+    options.progress = [tty](const dg::Progress& p) {
+      std::string line = "diagnose: " + p.stage;
+      if (p.total > 0) line += " " + std::to_string(p.done) + "/" + std::to_string(p.total);
+      if (!p.detail.empty()) line += " (" + p.detail + ")";
+      if (p.step > 0) line += ", search step " + std::to_string(p.step);
+      line += "...";
+      if (tty) std::fprintf(stderr, "\r%s\033[K", line.c_str());
+      else std::fprintf(stderr, "%s\n", line.c_str());
+      std::fflush(stderr);
+    };
+  }
   const dg::Report r = dg::diagnose(std::move(logs), options);  // the logs are released once read
-  if (r.too_few_rows) throw NoUsableFit(r.message);
+  if (options.progress && tty) std::fprintf(stderr, "\r\033[K");
   if (!r.supported) throw UsageError(r.message);
   for (const auto& w : r.warnings) std::fprintf(stderr, "diagnose: warning: %s\n", w.c_str());
-  // All or nothing: the JSON report and the plot are renamed into place together, then printed.
-  const std::string text = o.json.empty() ? std::string() : json_text(to_json(r, o.logs));
+  // All or nothing: the JSON report and the figure are renamed into place together, then printed.
+  const std::string text = o.json || !output.empty() ? json_text(to_json(r, o.logs)) : std::string();
+  const std::string figure = figure_path(o.plot, r.kind);
   logs::OutputStage stage;
-  if (!o.json.empty() && o.json != "-") stage.write(o.json, text);
-  const std::string plot_path = o.plot_dir.empty() ? std::string() : draw(stage, o.plot_dir, r);
+  if (!output.empty()) stage.write(output, text);
+  if (!figure.empty()) plot::diagnosis_figure(stage, figure, r, log_names);
   stage.commit();
-  if (o.json != "-") print_report(r);
-  if (o.json == "-") std::cout << text;
-  if (!plot_path.empty()) {
-    if (o.json == "-") std::cerr << "Residual plot: " << plot_path << '\n';  // stdout holds the JSON
-    else std::printf("Residual plot: %s\n", plot_path.c_str());
-  }
+  if (!output.empty()) std::cerr << "diagnose: wrote " << output << '\n';
+  if (!figure.empty()) std::cerr << "diagnose: drew " << figure << '\n';
+  if (o.json) std::cout << text;
+  else print_report(r);
   return 0;
 }
 
@@ -318,14 +364,33 @@ int run_diagnose(const DiagnoseOptions& o) {
 void setup_diagnose(CLI::App& app, Action& action) {
   auto o = std::make_shared<DiagnoseOptions>();
   CLI::App* sub = app.add_subcommand("diagnose", "What the simulation gets wrong on these logs, why, and what fixing it gains");
-  sub->add_option("--kind", o->kind, "Kind of the logs (recognised from the columns when omitted)");
-  sub->add_option("--json", o->json, "Write the JSON report to FILE ('-' for standard output)");
-  sub->add_option("--plot", o->plot_dir, "Write residual plots (PNG) into this folder");
-  sub->add_option("--battery-model", o->battery_model, "battery: the discharge model simulated (simple, linear, cubic, approximated)")
-      ->capture_default_str();
+  sub->add_option("--kind", o->kind, "Kind of the logs (recognised from the columns when omitted)")
+      ->check(one_of(kind_names(), "kind"));
+  sub->add_flag("--json", o->json,
+                "Print the JSON report instead of the human one (the old spellings --json FILE.json and "
+                "--json - still work: the first is -o FILE.json)");
+  sub->add_option("-o,--output", o->output, "Write the JSON report to FILE, atomically")->type_name("FILE");
+  sub->add_option("--json-file", o->json_file)->group("");  // what main.cpp makes of the old --json FILE.json
+  sub->add_option("--plot", o->plot,
+                  "Draw the residuals before and after the findings, one panel per measured quantity, to FILE "
+                  "(.png, .svg or .pdf, by the extension); an existing folder DIR (the old spelling) gets "
+                  "DIR/diagnose_<kind>.png")
+      ->check(CLI::Validator(
+          [](std::string& input) -> std::string {
+            const std::string why = plot::why_not_a_figure(input);
+            if (why.empty() || std::filesystem::is_directory(input)) return std::string();
+            return why + " (or an existing folder, the old spelling: DIR/diagnose_<kind>.png)";
+          },
+          "{.png,.svg,.pdf}|DIR"))
+      ->type_name("FILE");
+  sub->add_option("--battery-model", o->battery_model, "battery: the discharge model simulated")
+      ->capture_default_str()
+      ->check(one_of({"simple", "linear", "cubic", "approximated"}, "discharge model"));
   sub->add_option("--coefficients", o->coefficients,
                   "battery: coefficient tables: plugin (the plug-in's published ones, default), fitted (the CLI's compiled-in data/fitted tables) or a battery JSON FILE");
   sub->add_option("logs", o->logs, "Log files of one kind (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
+  sub->add_flag("--progress", o->progress,
+                "Show progress on standard error (stage, effect being fitted); on by default when standard error is a terminal");
   sub->footer(all_log_formats_footer());
   add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_diagnose(*o); }; });

@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "epuck2/calibrate/sensors.hpp"
-#include "epuck2/plot/png.hpp"
+#include "epuck2/plot/figure.hpp"
 #include "sensor_support.hpp"
 
 namespace epuck2::app {
@@ -32,15 +32,16 @@ void print_report(const calibrate::GroundFit& f) {
 }
 
 void draw(logs::OutputStage& stage, const std::string& path, const calibrate::GroundFit& f) {
-  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
+  plot::render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     for (std::size_t k = 0; k < f.sensors.size(); ++k) {
       std::vector<std::vector<double>> rows;
       for (std::size_t i = 0; i < f.grey[k].size(); ++i) rows.push_back({f.grey[k][i] + (double(k) - 1) * 0.006, f.value_raw[k][i]});
-      gp << app::sensors::datablock("s" + std::to_string(k), rows);
+      gp << plot::datablock("s" + std::to_string(k), rows);
     }
-    gp << "set title 'Ground sensors (paper section 4.1.3): reading against grey level'\n";
-    gp << "set xlabel 'grey level (0 = black, 1 = white; points spread sideways per sensor)'\nset ylabel 'raw reading'\n";
-    gp << "set xrange [-0.03:1.03]\nset yrange [-20:1060]\nset grid\nset key top left\n";
+    gp << "set title 'Ground sensors (paper section 4.1.3): reading against the grey level of the floor' font ',13'\n";
+    gp << "set xlabel 'grey level (fraction: 0 = black, 1 = white; each sensor''s points shifted sideways by 0.006)'\n";
+    gp << "set ylabel 'raw reading (counts, 0..1023)'\n";
+    gp << "set xrange [-0.03:1.03]\nset yrange [-20:1060]\nset grid lc rgb '#d8d8d8'\nset key top left opaque box Left reverse\n";
     const char* colours[] = {"#d62728", "#2ca02c", "#1f77b4"};
     gp << "plot ";
     for (std::size_t k = 0; k < f.sensors.size(); ++k) {

@@ -4,7 +4,7 @@
 #include <map>
 
 #include "epuck2/calibrate/sensors.hpp"
-#include "epuck2/plot/png.hpp"
+#include "epuck2/plot/figure.hpp"
 #include "sensor_support.hpp"
 
 namespace epuck2::app {
@@ -36,27 +36,35 @@ void draw(logs::OutputStage& stage, const std::string& path, const calibrate::Li
   std::map<double, std::vector<std::vector<double>>> by_intensity;
   for (const auto& o : f.observations) by_intensity[o.intensity].push_back({o.distance_m * 100, o.value_raw, double(o.sensor)});
   const double g = f.gamma.value("gamma");
-  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
+  plot::render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     int k = 0;
-    for (const auto& [i, rows] : by_intensity) gp << app::sensors::datablock("i" + std::to_string(k++), rows);
-    gp << "set title 'Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance per intensity'\n";
-    gp << "set xlabel 'distance to the light (cm)'\nset ylabel 'raw reading (4095 = dark)'\n";
-    gp << "set xrange [5:52]\nset yrange [-100:4200]\nset grid\nset key bottom right\nset samples 400\n";
+    for (const auto& [i, rows] : by_intensity) gp << plot::datablock("i" + std::to_string(k++), rows);
+    gp << "set title 'Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance, per source intensity I (simulator units)' font ',13'\n";
+    gp << "set xlabel 'distance to the light (cm)'\nset ylabel 'raw reading (counts, 0..4095; 4095 = dark)'\n";
+    gp << "set xrange [5:52]\nset yrange [-100:4200]\nset grid lc rgb '#d8d8d8'\nset samples 400\n";
+    gp << "set key at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15\n";
     gp << "L(g, I, x) = (v = (1 - (g*I/(x/100.0))**2)*4095, v < 0 ? 0 : (v > 4095 ? 4095 : v))\n";
     const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
     gp << "plot ";
     k = 0;
+    // Colour: the intensity; solid: the fit, dashed: the plug-in (one legend entry each, in black).
     for (const auto& [intensity, rows] : by_intensity) {
       const char* c = colours[k % 6];
       char buf[600];
       std::snprintf(buf, sizeof buf,
-                    "%s$i%d using 1:2 with points pt 7 ps 0.6 lc rgb '%s' title 'I = %.2f readings', "
-                    "L(%.8g, %.6g, x) lw 2.5 lc rgb '%s' title 'fit, gamma = %.4f', "
-                    "L(%.8g, %.6g, x) lw 1.5 dt 2 lc rgb '%s' title 'plug-in, gamma = 0.075'",
-                    k ? ", " : "", k, c, intensity, g, intensity, c, g, s::kPluginLight.gamma_m, intensity, c);
+                    "%s$i%d using 1:2 with points pt 7 ps 0.6 lc rgb '%s' title 'readings at I = %.2f', "
+                    "L(%.8g, %.6g, x) lw 2.5 lc rgb '%s' notitle, "
+                    "L(%.8g, %.6g, x) lw 1.5 dt (8,5) lc rgb '%s' notitle",
+                    k ? ", " : "", k, c, intensity, g, intensity, c, s::kPluginLight.gamma_m, intensity, c);
       gp << buf;
       ++k;
     }
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  ", NaN with lines lw 2.5 lc rgb 'black' title 'fit: γ = %.4f m (solid, colour of its I)', "
+                  "NaN with lines lw 1.5 dt (8,5) lc rgb 'black' title 'plug-in: γ = 0.075 m (dashed)'",
+                  g);
+    gp << buf;
     gp << "\n";
   });
 }

@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "epuck2/calibrate/sensors.hpp"
-#include "epuck2/plot/png.hpp"
+#include "epuck2/plot/figure.hpp"
 #include "sensor_support.hpp"
 
 namespace epuck2::app {
@@ -58,11 +58,11 @@ void draw(logs::OutputStage& stage, const std::string& path, const calibrate::Pr
   const std::string fmean = poly(f.means.value("a") * 1e-6, f.means.value("b") * 1e-3, f.means.value("c"));
   const std::string fplug = poly(s::kPluginProximity.a_per_m2 * 1e-6, s::kPluginProximity.b_per_m * 1e-3, s::kPluginProximity.c);
   const std::string fv1 = poly(s::kEpuck1Proximity.a_per_m2 * 1e-6, s::kEpuck1Proximity.b_per_m * 1e-3, s::kEpuck1Proximity.c);
-  plot::render_png(stage, path, [&](gnuplotio::Gnuplot& gp) {
-    gp << app::sensors::datablock("pts", pts);
-    gp << "set title 'Proximity sensor (paper Eq. 1, Fig. 4c): readings / 4095 against distance'\n";
-    gp << "set xlabel 'distance to the surface (mm)'\nset ylabel 'normalised reading'\n";
-    gp << "set xrange [-1:61]\nset yrange [-0.05:1.1]\nset grid\nset key top right\n";
+  plot::render(stage, path, [&](gnuplotio::Gnuplot& gp) {
+    gp << plot::datablock("pts", pts);
+    gp << "set title 'Proximity sensor (paper Eq. 1, Fig. 4c): normalised reading against distance' font ',13'\n";
+    gp << "set xlabel 'distance to the surface (mm)'\nset ylabel 'normalised reading (reading / 4095, dimensionless)'\n";
+    gp << "set xrange [-1:61]\nset yrange [-0.05:1.1]\nset grid lc rgb '#d8d8d8'\nset key top right opaque box Left reverse\n";
     gp << "clip(v) = v < 0 ? 0 : (v > 1 ? 1 : v)\n";
     gp << "plot $pts using 1:3:2:4 with yerrorbars lc rgb '#999999' title 'readings: mean, min..max', "
        << "$pts using 1:4 with points pt 7 ps 1.4 lc rgb '#d62728' title 'maxima', "

@@ -1,4 +1,4 @@
-// epuck2-fit simulate battery --model M [--compat argos] [--coefficients FILE|plugin|fitted]
+// epuck2-fit simulate battery --model M [--compat argos|corrected] [--coefficients FILE|plugin|fitted]
 //   --profile FILE: runs one discharge model over a speed profile at 10 ticks per second from a
 // full charge and prints CSV time_s,charge (charge with 17 significant digits).
 #include <cstdio>
@@ -25,7 +25,7 @@ constexpr double kMinTick_s = 1e-3, kMaxTick_s = 10.0;
 
 struct SimulateOptions {
   std::string model;
-  std::string compat;
+  std::string compat = "corrected";
   std::string coefficients;
   std::string profile;
   std::string output;
@@ -44,14 +44,13 @@ mb::Tables choose_tables(const SimulateOptions& o, bool argos) {
     throw UsageError("this build has no compiled-in fitted battery tables; give --coefficients FILE");
 #endif
   }
-  return calibrate::battery_tables_from_json(read_json(source), source);
+  return calibrate::battery_tables_from_json(read_json(coefficient_file(source)), source);
 }
 
 int run_simulate(const SimulateOptions& o) {
   mb::Model model{};
   if (!mb::parse_model(o.model, model))
-    throw UsageError("unknown --model '" + o.model + "' (expected simple, linear, cubic or approximated)");
-  if (!o.compat.empty() && o.compat != "argos") throw UsageError("unknown --compat '" + o.compat + "' (expected argos)");
+    throw UsageError("--model: " + unknown_name("discharge model", o.model, {"simple", "linear", "cubic", "approximated"}));
   const bool argos = o.compat == "argos";
   const mb::Tables tables = choose_tables(o, argos);
   logs::ReadOptions read_options;
@@ -87,13 +86,18 @@ int run_simulate(const SimulateOptions& o) {
 
 void setup_simulate(CLI::App& app, Action& action) {
   auto o = std::make_shared<SimulateOptions>();
-  CLI::App* sim = app.add_subcommand("simulate", "Run a runtime model (see `simulate battery --help`)");
+  CLI::App* sim = app.add_subcommand("simulate", "Run a runtime model: `simulate battery` over a speed profile, `simulate KIND --like LOG` on a measured log's conditions");
   sim->require_subcommand(1);
   CLI::App* sub = sim->add_subcommand("battery", "Run a discharge model over a speed profile from a full charge");
-  sub->add_option("--model", o->model, "simple, linear, cubic or approximated")->required();
+  sub->add_option("--model", o->model, "The discharge model")
+      ->required()
+      ->check(one_of({"simple", "linear", "cubic", "approximated"}, "discharge model"));
   sub->add_option("--compat", o->compat,
                   "argos: the E-Puck2 plug-in's arithmetic to the last bit, quirks included (and ARGoS's "
-                  "one-tick command delay and 0.9/0.1 first tick after a change); default: the corrected behaviour");
+                  "one-tick command delay and 0.9/0.1 first tick after a change); corrected: the project's "
+                  "corrected behaviour (docs/battery-models.md)")
+      ->capture_default_str()
+      ->check(one_of({"argos", "corrected"}, "behaviour"));
   sub->add_option("--coefficients", o->coefficients,
                   "Coefficient file (JSON from `epuck2-fit battery -o`), or `plugin` (the plug-in's published "
                   "tables), or `fitted` (the compiled-in data/fitted tables). Default: plugin with --compat argos, "
@@ -103,8 +107,9 @@ void setup_simulate(CLI::App& app, Action& action) {
       ->check(CLI::ExistingFile);
   sub->add_option("--dt", o->dt_s, "Tick in seconds")->capture_default_str()->check(finite_range(kMinTick_s, kMaxTick_s));
   add_skip_bad_rows(sub, o->skip_bad_rows);
-  sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output");
+  sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output")->type_name("FILE");
   sub->callback([o, &action] { action = [o] { return run_simulate(*o); }; });
+  setup_simulate_like(*sim, action);
 }
 
 }  // namespace epuck2::app

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "app_support.hpp"
+#include "battery_input.hpp"
 #include "commands.hpp"
 #include "log_help.hpp"
 #include "epuck2/calibrate/battery.hpp"
@@ -24,6 +25,7 @@ struct Table5Options {
   std::string output;
   double dt_s = 0.1;
   bool skip_bad_rows = false;
+  std::string charge_map;
 };
 
 nlohmann::json as_json(const calibrate::ModelMse& m) {
@@ -33,11 +35,26 @@ nlohmann::json as_json(const calibrate::ModelMse& m) {
 }
 
 int run_table5(const Table5Options& o) {
-  const auto runs = calibrate::battery_runs(read_logs_reporting("table5", o.logs, logs::Kind::battery, o.skip_bad_rows));
+  const BatteryInput in = read_battery_input("table5", o.logs, o.skip_bad_rows, o.charge_map, false);
+  const auto& runs = in.runs;
   const calibrate::BatteryFit f = calibrate::fit_battery(runs);
-  if (!f.tables)
-    throw NoUsableFit("table5 needs logs at every speed 0..15 cm/s to build the model tables; these logs cover " +
-                      std::to_string(f.speeds.size()) + " speeds");
+  report_conversion("table5", in);
+  for (const auto& w : in.warnings) std::cerr << "table5: warning: " << w << '\n';
+  if (!f.tables) {
+    const calibrate::SpeedCoverage c = calibrate::speed_coverage(f);
+    std::string why = "table5 needs runs at every speed 0, 1, ..., 15 cm/s (and only those) to build the model tables; these logs cover " +
+                      std::to_string(c.covered.size()) + (c.covered.size() == 1 ? " speed: " : " speeds: ") +
+                      calibrate::speeds_text(c.covered) +
+                      " cm/s; missing: " + calibrate::speeds_text(c.missing) + " cm/s";
+    if (!c.other.empty()) why += "; not one of 0..15: " + calibrate::speeds_text(c.other) + " cm/s";
+    if (o.json)  // the coverage by value for a program reading standard output; the exit status stays 1
+      std::cout << json_text({{"complete", false},
+                              {"error", why},
+                              {"speeds_covered_cm_s", c.covered},
+                              {"speeds_missing_cm_s", c.missing},
+                              {"speeds_other_cm_s", c.other}});
+    throw NoUsableFit(why);
+  }
   const calibrate::ModelMse simulated = calibrate::simulated_mse(runs, *f.tables, mb::Behaviour::argos_compatible, o.dt_s);
   const calibrate::ModelMse corrected = calibrate::simulated_mse(runs, *f.tables, mb::Behaviour::corrected, o.dt_s);
   const calibrate::ModelMse plugin = calibrate::simulated_mse(runs, mb::plugin_tables(), mb::Behaviour::argos_compatible, o.dt_s);
@@ -49,7 +66,12 @@ int run_table5(const Table5Options& o) {
     ratio_a[std::string(mb::to_string(m))] = f.mse.get(m) / pa.get(m);
     ratio_s[std::string(mb::to_string(m))] = simulated.get(m) / pg.get(m);
   }
-  const nlohmann::json j{
+  const calibrate::SpeedCoverage coverage = calibrate::speed_coverage(f);
+  nlohmann::json j{
+      {"complete", true},
+      {"speeds_covered_cm_s", coverage.covered},
+      {"speeds_missing_cm_s", coverage.missing},
+      {"speeds_other_cm_s", coverage.other},
       {"logs", o.logs.size()},
       {"speeds", f.speeds.size()},
       {"tick_s", o.dt_s},
@@ -60,6 +82,11 @@ int run_table5(const Table5Options& o) {
       {"published", {{"analytic", as_json(pa)}, {"argos", as_json(pg)}}},
       {"ratio_to_published", {{"analytic", ratio_a}, {"simulated", ratio_s}}},
   };
+  if (const nlohmann::json c = conversion_json(in); !c.is_null()) j["charge_conversion"] = c;
+  if (in.map && in.conversion.logs > 0) {  // the map that gave the charge of voltage-only logs
+    j["charge_map"] = calibrate::charge_map_to_json(*in.map);
+    if (!in.map_from_file.empty()) j["charge_map"]["from_file"] = in.map_from_file;
+  }
   const std::string text = json_text(j);
   if (!o.output.empty()) write_json(j, o.output);
   if (o.json) {
@@ -83,6 +110,11 @@ int run_table5(const Table5Options& o) {
   std::printf("ratio simulated/paper: simple %.2f  linear %.2f  cubic %.2f  approximated %.2f\n",
               simulated.simple / pg.simple, simulated.linear / pg.linear, simulated.cubic / pg.cubic,
               simulated.approximated / pg.approximated);
+  if (in.conversion.logs > 0)
+    std::printf("\nCharge of %zu voltage-only logs from voltage_v through the voltage->charge map %s (residual sd %.3g); "
+                "clamped to its range: %zu below, %zu above.\n",
+                in.conversion.logs, in.map_from_file.empty() ? "fitted to the logs with both columns" : ("of " + in.map_from_file).c_str(),
+                in.map->residual_sd, in.conversion.below_range, in.conversion.above_range);
   return 0;
 }
 }  // namespace
@@ -92,10 +124,13 @@ void setup_table5(CLI::App& app, Action& action) {
   CLI::App* sub = app.add_subcommand("table5", "Reproduce the paper's Table 5 (average MSE per discharge model) for these logs");
   sub->add_option("logs", o->logs, "Battery discharge logs covering speeds 0..15 cm/s")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o->json, "Print one JSON object instead of the table");
-  sub->add_option("-o,--output", o->output, "Also write the JSON report to this file (atomically)");
+  sub->add_option("-o,--output", o->output, "Also write the JSON report to this file (atomically)")->type_name("FILE");
   // As simulate's --dt: 1 ms to 10 s (the plug-in ticks at 0.1 s).
   sub->add_option("--dt", o->dt_s, "Simulation tick in seconds")->capture_default_str()->check(finite_range(1e-3, 10.0));
-  sub->footer(log_format_footer(logs::Kind::battery, "One speed per run; runs at every speed 0, 1, ..., 15 cm/s are needed."));
+  add_charge_map_option(sub, o->charge_map);
+  sub->footer(log_format_footer(logs::Kind::battery,
+                                "Optional: voltage_v (logs without charge are converted through the voltage->charge map). One "
+                                "speed per run; runs at every speed 0, 1, ..., 15 cm/s are needed."));
   add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_table5(*o); }; });
 }

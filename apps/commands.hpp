@@ -25,6 +25,8 @@ void setup_battery(CLI::App& app, Action& action);
 void setup_table5(CLI::App& app, Action& action);
 void setup_codegen(CLI::App& app, Action& action);
 void setup_simulate(CLI::App& app, Action& action);
+/// `simulate KIND --like LOG` for the sensor kinds (cmd_simulate_like.cpp), under `simulate`.
+void setup_simulate_like(CLI::App& sim, Action& action);
 void setup_generate(CLI::App& app, Action& action);
 void setup_proximity(CLI::App& app, Action& action);
 void setup_light(CLI::App& app, Action& action);

@@ -48,8 +48,11 @@ struct SensorOptions {
 inline void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what) {
   sub->add_option("logs", o.logs, what + " logs (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o.json, "Print one JSON object instead of the report");
-  sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically");
-  sub->add_option("--plot", o.plot, "Draw the data, the fitted curve and the plug-in's curve (PNG)");
+  sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically")->type_name("FILE");
+  sub->add_option("--plot", o.plot,
+                  "Draw the data, the fitted curve and the plug-in's curve to FILE (.png, .svg or .pdf, by the extension)")
+      ->type_name("FILE")
+      ->check(figure_file());
   sub->add_flag("--least-squares", o.least_squares,
                 "Plain least squares: no reading is left out as an outlier (readings on a rail stay censored)");
   sub->add_option("--reject-sd", o.reject_sd, "Robust fits: readings farther than this many noise sd are outliers")
@@ -369,19 +372,6 @@ int run_sensor(const std::string& kind, logs::Kind log_kind, const SensorOptions
   nlohmann::json j = to_json(logs, o, &f);
   add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return to_json(mine, o, nullptr); });
   return finish(kind, o, j, [&] { report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
-}
-
-/// A gnuplot datablock: `$name << EOD`, rows, `EOD`.
-inline std::string datablock(const std::string& name, const std::vector<std::vector<double>>& rows) {
-  std::ostringstream os;
-  os.precision(10);
-  os << '$' << name << " << EOD\n";
-  for (const auto& r : rows) {
-    for (std::size_t i = 0; i < r.size(); ++i) os << (i ? " " : "") << r[i];
-    os << '\n';
-  }
-  os << "EOD\n";
-  return os.str();
 }
 
 }  // namespace epuck2::app::sensors

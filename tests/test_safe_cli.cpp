@@ -37,21 +37,22 @@ class SafeCli : public epuck2::testing::CliTest {
   }
 };
 
-// ---- 1. diagnose on too few rows: said so (exit 1), no crash, no finding ----
+// ---- 1. diagnose on too few rows: a report that says so (exit 0, verdict none), no crash, no finding ----
 
 TEST_F(SafeCli, DiagnoseOnAFourRowProximityLogSaysTooFewRows) {
   const auto log = write("p4.csv", "distance_m,sensor,value\n0,0,4000\n0,0,3500\n0,0,3800\n0,0,3900\n");
   const CliRun r = run("diagnose " + q(log));
-  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
-  EXPECT_NE(r.err.find("too few rows"), std::string::npos) << r.err;
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("Too few rows (4) to judge effects"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Verdict: none"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("Finding"), std::string::npos) << r.out;
 }
 
 TEST_F(SafeCli, DiagnoseOnTwoIdenticalLightRowsSaysTooFewRows) {
   const auto log = write("l2.csv", "distance_m,intensity,sensor,value\n0.1,0.5,0,3524\n0.1,0.5,0,3524\n");
   const CliRun r = run("diagnose " + q(log));
-  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
-  EXPECT_NE(r.err.find("too few rows"), std::string::npos) << r.err;
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("Too few rows (2) to judge effects"), std::string::npos) << r.out;
 }
 
 // ---- 2. a repeated time stamp in a battery log (allowed: time never decreases) ----
@@ -100,9 +101,11 @@ TEST_F(SafeCli, BatteryWithAFigureThatCannotBeWrittenLeavesEveryOutputAlone) {
 }
 
 TEST_F(SafeCli, TheSameFileForTwoOutputsIsABadUsage) {
-  const auto out = write("o.json", "old\n");
+  // A figure's name must end in its format (.png here); -o takes any name, so both can be one file.
+  const auto out = write("o.png", "old\n");
   const CliRun r = run("camera" + shipped("camera") + " -o " + q(out) + " --plot " + q(out));
   EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("o.png"), std::string::npos) << r.err;
   EXPECT_EQ(slurp(out), "old\n");
 }
 

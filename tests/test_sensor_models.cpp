@@ -96,15 +96,16 @@ TEST(Proximity, NoiseIsUniformWithinItsLevelAndSeeded) {
 }
 
 // The seeded Gaussian draw (noise.hpp): Box-Muller on UnitUniform's numbers, so the first two
-// draws are sqrt(-2 ln u1) cos(2 pi u2) and sqrt(-2 ln u1) sin(2 pi u2) of the first two uniforms.
+// draws are sqrt(-2 ln(1 - u1)) cos(2 pi u2) and sqrt(-2 ln(1 - u1)) sin(2 pi u2) of the first two
+// uniforms (1 - u1 in (0, 1]: no log of 0).
 TEST(Noise, StandardNormalIsBoxMullerOnTheSeededUniforms) {
   s::UnitUniform u(42);
   const double u1 = u(), u2 = u(), u3 = u(), u4 = u();
   const double pi = 3.14159265358979323846;
   s::StandardNormal n(42);
-  EXPECT_DOUBLE_EQ(n(), std::sqrt(-2 * std::log(u1)) * std::cos(2 * pi * u2));
-  EXPECT_DOUBLE_EQ(n(), std::sqrt(-2 * std::log(u1)) * std::sin(2 * pi * u2));
-  EXPECT_DOUBLE_EQ(n(), std::sqrt(-2 * std::log(u3)) * std::cos(2 * pi * u4));
+  EXPECT_DOUBLE_EQ(n(), std::sqrt(-2 * std::log(1 - u1)) * std::cos(2 * pi * u2));
+  EXPECT_DOUBLE_EQ(n(), std::sqrt(-2 * std::log(1 - u1)) * std::sin(2 * pi * u2));
+  EXPECT_DOUBLE_EQ(n(), std::sqrt(-2 * std::log(1 - u3)) * std::cos(2 * pi * u4));
   // Same seed, same numbers; another seed, others.
   s::StandardNormal a(9), b(9), c(10);
   for (int i = 0; i < 100; ++i) ASSERT_EQ(a(), b());

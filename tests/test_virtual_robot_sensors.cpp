@@ -161,7 +161,7 @@ TEST(VirtualSensors, CommittedLogsAreFresh) {
     for (const auto& f : files) {
       expected.insert(f.name);
       EXPECT_TRUE(read_bytes(dir / f.name) == f.content)
-          << (dir / f.name) << " differs from a fresh generation: run `epuck2-fit generate " << kind << " --out data/raw/" << kind << "`";
+          << (dir / f.name) << " differs from a fresh generation: run `epuck2-fit generate " << kind << " --out-dir data/raw/" << kind << "`";
     }
     for (const auto& e : fs::directory_iterator(dir))
       if (e.path().extension() == ".csv") EXPECT_TRUE(expected.count(e.path().filename().string())) << "stale " << e.path();

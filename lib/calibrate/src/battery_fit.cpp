@@ -1,11 +1,13 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <map>
 #include <numeric>
 
 #include "epuck2/calibrate/battery.hpp"
+#include "epuck2/calibrate/charge_map.hpp"
 #include "epuck2/models/battery_simulation.hpp"
 
 namespace epuck2::calibrate {
@@ -143,7 +145,9 @@ double& ModelMse::get(mb::Model m) {
   return approximated;
 }
 
-std::vector<BatteryRun> battery_runs(const std::vector<logs::Log>& all) {
+std::vector<BatteryRun> battery_runs(const std::vector<logs::Log>& all) { return battery_runs(all, nullptr, nullptr); }
+
+std::vector<BatteryRun> battery_runs(const std::vector<logs::Log>& all, const ChargeMap* map, ChargeConversionReport* report) {
   std::vector<BatteryRun> runs;
   for (const logs::Log& log : all) {
     if (log.kind != logs::Kind::battery)
@@ -152,9 +156,45 @@ std::vector<BatteryRun> battery_runs(const std::vector<logs::Log>& all) {
     run.path = log.path;
     run.robot = log.robot;
     run.time_s = log.col("time_s");
-    run.charge = log.col("charge");
     run.line = log.line_of_row;
     const auto& speed = log.col("speed_cm_s");
+    if (log.has("charge")) {
+      run.charge = log.col("charge");
+    } else if (map == nullptr) {
+      throw logs::InputError(
+          log.path, log.header_line, 1,
+          "no 'charge' column, only 'voltage_v': a voltage-only log needs a voltage->charge map; give one with "
+          "--charge-map FILE (a battery coefficient file written by `epuck2-fit battery -o` from logs with both "
+          "charge and voltage_v, or a map file, docs/coefficient-files.md#charge-map), or give such logs in the same call");
+    } else {
+      const auto& volts = log.col("voltage_v");
+      run.charge_from_voltage = true;
+      run.charge.resize(volts.size());
+      for (std::size_t i = 0; i < volts.size(); ++i) {
+        if (!covers_speed(*map, speed[i])) {
+          char msg[240];
+          std::snprintf(msg, sizeof msg,
+                        "column 'speed_cm_s': speed %g cm/s is outside the charge map's load term (%g..%g cm/s): its voltage "
+                        "sag is not known there",
+                        std::abs(speed[i]), map->load_speeds_cm_s.front(), map->load_speeds_cm_s.back());
+          throw logs::InputError(log.path, log.line_of_row[i], log.column_of(i, "speed_cm_s"), msg);
+        }
+        const ChargeConversion c = convert_voltage(*map, volts[i], speed[i]);
+        run.charge[i] = c.charge;
+        if (report != nullptr && c.side != 0) {
+          (c.side < 0 ? report->below_range : report->above_range) += 1;
+          if (report->clamped.size() < 10) {
+            char where[64];
+            std::snprintf(where, sizeof where, " (%.4f V)", volts[i]);
+            report->clamped.push_back(log.path + ":" + std::to_string(log.line_of_row[i]) + where);
+          }
+        }
+      }
+      if (report != nullptr) {
+        report->logs += 1;
+        report->rows += volts.size();
+      }
+    }
     constexpr double kSameSpeed_cm_s = 0.005;  // speeds are logged to 0.01 cm/s at best
     run.speed_cm_s = std::abs(speed.front());
     for (std::size_t i = 1; i < speed.size(); ++i) {
@@ -323,6 +363,31 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
   }
   if (out.simple_static_slope_per_s == 0) out.simple_static_slope_per_s = out.simple_moving_slope_per_s;
 
+  // What the logs leave weak, said plainly.
+  std::vector<double> single_run;
+  bool at_rest = false;
+  for (const SpeedFit& s : out.speeds) {
+    at_rest = at_rest || s.speed_cm_s == 0;
+    if (s.runs == 1) single_run.push_back(s.speed_cm_s);
+    for (const auto& [name, fit] : {std::pair<const char*, const FitResult*>{"cubic", &s.cubic}, {"approximated", &s.piecewise}}) {
+      const std::size_t p = fit->parameters.empty() ? (std::string(name) == "cubic" ? 4u : 5u) : fit->parameters.size();
+      if (!fit->usable || s.observations >= kBatteryRowsPerParameter * p) continue;
+      char text[240];
+      std::snprintf(text, sizeof text,
+                    "%g cm/s: %zu rows for the %s model's %zu parameters (fewer than %zu per parameter): its fit is barely "
+                    "determined",
+                    s.speed_cm_s, s.observations, name, p, kBatteryRowsPerParameter);
+      out.warnings.push_back(text);
+    }
+  }
+  if (!single_run.empty())
+    out.warnings.push_back("one run at " + speeds_text(single_run) +
+                           " cm/s: the lifetime's standard error needs two runs or more (written 0 there)");
+  if (!out.speeds.empty() && !at_rest)
+    out.warnings.push_back("no run at 0 cm/s: the Simple model's static slope m0 is taken from the moving runs (m1)");
+  if (!out.speeds.empty() && moving.empty())
+    out.warnings.push_back("no run while moving: the Simple model's moving slope m1 is not determined (written 0)");
+
   // Analytic MSE per speed and model, and the averages (Table 5 "analytic").
   for (SpeedFit& s : out.speeds) {
     std::vector<double> t, y;
@@ -345,6 +410,31 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
   for (std::size_t i = 0; complete && i < out.speeds.size(); ++i)
     complete = std::lround(out.speeds[i].speed_cm_s * 100.0) == static_cast<long>(i) * 100;
   if (complete) out.tables = tables_from_fit(out);
+  return out;
+}
+
+SpeedCoverage speed_coverage(const BatteryFit& f) {
+  SpeedCoverage c;
+  std::vector<bool> seen(static_cast<std::size_t>(mb::kSpeedCount), false);
+  for (const SpeedFit& s : f.speeds) {
+    c.covered.push_back(s.speed_cm_s);
+    const long centi = std::lround(s.speed_cm_s * 100.0);
+    if (centi % 100 == 0 && centi >= 0 && centi / 100 < mb::kSpeedCount) seen[static_cast<std::size_t>(centi / 100)] = true;
+    else c.other.push_back(s.speed_cm_s);
+  }
+  for (int s = 0; s < mb::kSpeedCount; ++s)
+    if (!seen[static_cast<std::size_t>(s)]) c.missing.push_back(s);
+  return c;
+}
+
+std::string speeds_text(const std::vector<double>& speeds) {
+  if (speeds.empty()) return "none";
+  std::string out;
+  char buf[32];
+  for (double s : speeds) {
+    std::snprintf(buf, sizeof buf, "%g", s);
+    out += (out.empty() ? "" : ", ") + std::string(buf);
+  }
   return out;
 }
 

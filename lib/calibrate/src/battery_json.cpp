@@ -91,6 +91,7 @@ json battery_fit_to_json(const BatteryFit& fit) {
     outlier_rows.insert(outlier_rows.end(), s.outliers.begin(), s.outliers.end());
     if (cubic_undefined) speeds.back()["cubic_std_error_why"] = cubic_why;
   }
+  const SpeedCoverage coverage = speed_coverage(fit);
   return json{
       {"kind", "battery"},
       {"units", {{"time", "s"}, {"speed", "cm/s"}, {"charge", "normalised, 1 = full"}}},
@@ -106,6 +107,10 @@ json battery_fit_to_json(const BatteryFit& fit) {
                   {"moving_std_error", fit.simple_moving_std_error}}},
       {"mse", mse_json(fit.mse)},
       {"complete_tables", fit.tables.has_value()},
+      {"speeds_covered_cm_s", coverage.covered},
+      {"speeds_missing_cm_s", coverage.missing},
+      {"speeds_other_cm_s", coverage.other},
+      {"warnings", fit.warnings},
   };
 }
 

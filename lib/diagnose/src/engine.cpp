@@ -282,11 +282,27 @@ class Engine {
         last[ch] = r;
       }
     } else {
+      // Readings whose mean lies near a rail have their noise clipped on one side: their
+      // residuals are left out (a mean within 3 of the current sd of a rail), unless too few
+      // readings remain.
+      std::vector<double> s_far(C, 0.0), c_far(C, 0.0);
       for (std::size_t i = 0; i < n_; ++i)
         if (p_.y[i] > lo(i) && p_.y[i] < hi(i)) {
           const std::size_t ch = static_cast<std::size_t>(p_.channel[i]);
-          s[ch] += (p_.y[i] - pred[i]) * (p_.y[i] - pred[i]);
+          const double r2 = (p_.y[i] - pred[i]) * (p_.y[i] - pred[i]);
+          s[ch] += r2;
           c[ch] += 1;
+          const double margin = 3.0 * sigma_[ch];
+          if (pred[i] - lo(i) > margin && hi(i) - pred[i] > margin) {
+            s_far[ch] += r2;
+            c_far[ch] += 1;
+          }
+        }
+      constexpr double kEnoughFar = 30;
+      for (std::size_t ch = 0; ch < C; ++ch)
+        if (c_far[ch] >= kEnoughFar) {
+          s[ch] = s_far[ch];
+          c[ch] = c_far[ch];
         }
     }
     std::vector<double> out(C);
@@ -516,6 +532,7 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
   // (In place when the caller handed the logs over: a long log is not copied.)
   std::vector<WildReading> wild;
   std::vector<logs::Log> screened;
+  if (options.progress) options.progress(Progress{"screening", 0, 0, 0, ""});
   if (owned != nullptr) drop_wild_readings_in_place(*owned, &wild);
   else screened = drop_wild_readings(all_logs, &wild);
   const std::vector<logs::Log>& logs = owned != nullptr ? *owned : screened;
@@ -533,28 +550,60 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
   Engine engine(*problem, options);
   Problem& p = *problem;
   report.residuals = engine.size();
+  report.supported = true;
+  for (const auto& e : p.effects) report.effects_considered.push_back(e.cause);
+  auto progress = [&](const char* stage, int step, int done, int total, const std::string& detail) {
+    if (options.progress) options.progress(Progress{stage, step, done, total, detail});
+  };
+
   {
-    // Enough rows for the held-out test (a row in every block of every fold) and for the largest
-    // model (more residuals than twice its parameters)? Otherwise every finding would be noise.
+    // Enough rows to judge an effect? The held-out test cuts the rows into folds; each must hold
+    // rows_per_parameter rows per parameter of the largest model the search tries first (the base
+    // model's free parameters and the largest effect's), and a row in every block of every fold.
+    // The whole problem must also hold more residuals than twice all its parameters. Below that,
+    // any "finding" would be fitted noise: the report says so, with the plug-in's error only.
+    std::size_t largest_effect = 0;
+    std::string largest_cause;
+    for (const auto& e : p.effects)
+      if (e.params.size() > largest_effect) {
+        largest_effect = e.params.size();
+        largest_cause = e.cause;
+      }
+    const std::size_t first_model = p.base_free.size() + largest_effect;
+    const std::size_t folds = static_cast<std::size_t>(std::max(1, options.folds));
     const std::size_t blocks = static_cast<std::size_t>(std::max(1, options.folds * options.blocks_per_fold));
+    const std::size_t per_fold = static_cast<std::size_t>(std::max(1, options.rows_per_parameter)) * std::max<std::size_t>(1, first_model);
     const std::size_t min_residuals = 2 * p.params.size() + 1;
-    if (report.rows < blocks || engine.size() < min_residuals) {
+    report.minimum_rows = std::max(blocks, folds * per_fold);
+    if (report.rows < report.minimum_rows || engine.size() < min_residuals) {
       report.too_few_rows = true;
-      report.message = "too few rows to diagnose: " + std::to_string(report.rows) + " rows (" +
-                       std::to_string(engine.size()) + " residuals); the held-out test needs at least " +
-                       std::to_string(blocks) + " rows and the model at least " + std::to_string(min_residuals) +
-                       " residuals";
+      report.verdict = "none";
+      // The plug-in's error on every row, the one figure that needs no fit (the engine's
+      // default noise of 1 in the clamp's expectation: no estimate from so few rows).
+      const auto r = engine.residuals(p.plugin_values);
+      double sse = 0;
+      std::size_t count = 0;
+      for (std::size_t i = 0; i < r.size(); ++i)
+        if (p.channel.empty() || p.channel[i] == 0) {
+          sse += r[i] * r[i];
+          ++count;
+        }
+      report.heldout_mse_plugin = count ? sse / static_cast<double>(count) : 0.0;
+      std::string why = "too few rows (" + std::to_string(report.rows) + ") to judge effects; need at least " +
+                        std::to_string(report.minimum_rows) + ": the held-out test's " + std::to_string(folds) +
+                        " folds must each hold " + std::to_string(options.rows_per_parameter) +
+                        " rows per parameter of the largest model tried first (" + std::to_string(first_model) +
+                        ": the base model's " + std::to_string(p.base_free.size()) + " free" +
+                        (largest_cause.empty() ? std::string() : " and " + largest_cause + "'s " + std::to_string(largest_effect)) +
+                        "), and a row in each of its " + std::to_string(blocks) + " blocks";
+      if (engine.size() < min_residuals)
+        why += "; the model also needs at least " + std::to_string(min_residuals) + " residuals (it has " +
+               std::to_string(engine.size()) + ")";
+      report.message = why;
+      report.warnings.push_back(why + ". No effect was judged: verdict none.");
       return report;
     }
   }
-  report.supported = true;
-  report.message = problem->notes;
-  for (const auto& e : p.effects) report.effects_considered.push_back(e.cause);
-
-  // The values where the effects are off and the base model is the plug-in's.
-  std::vector<double> neutral(p.params.size());
-  for (std::size_t j = 0; j < p.params.size(); ++j) neutral[j] = p.params[j].neutral;
-
   // Step 1: the plug-in as published; its residuals give the first noise estimate.
   engine.set_sigma(engine.noise_sd(p.plugin_values));
   {
@@ -570,7 +619,14 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
     report.heldout_mse_plugin = count ? sse / static_cast<double>(count) : 0.0;
   }
 
+  report.message = problem->notes;
+
+  // The values where the effects are off and the base model is the plug-in's.
+  std::vector<double> neutral(p.params.size());
+  for (std::size_t j = 0; j < p.params.size(); ++j) neutral[j] = p.params[j].neutral;
+
   // Step 2: recalibrate the base model.
+  progress("recalibrating", 0, 0, 0, "");
   std::vector<int> free = p.base_free;
   Engine::Fitted current = engine.fit(free, neutral, engine.all(), true);
   settle_noise(engine, free, current);
@@ -601,8 +657,11 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
       const auto r = engine.residuals(current.values);
       for (std::size_t i : screen_idx) screen_rss += r[i] * r[i];
     }
+    const int to_try = static_cast<int>(p.effects.size() - kept.size());
+    int tried = 0;
     for (std::size_t e = 0; e < p.effects.size(); ++e) {
       if (kept.count(e)) continue;
+      progress("fitting effect", step, ++tried, to_try, p.effects[e].cause);
       std::vector<int> cand = free;
       std::vector<double> start = current.values;
       std::size_t starts = 1;
@@ -653,9 +712,11 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
     // (its alternatives); the rest need not run.
     std::sort(passing.begin(), passing.end(),
               [&](const Passing& a, const Passing& b) { return report.trials[a.trial].delta_bic < report.trials[b.trial].delta_bic; });
+    int tested = 0;
     for (const Passing& c : passing) {
       Trial& t = report.trials[c.trial];
       if (best >= 0 && t.delta_bic - best_bic >= options.min_delta_bic) break;
+      progress("held-out test", step, ++tested, static_cast<int>(passing.size()), t.cause);
       t.heldout_mse = engine.heldout_mse(c.cand, c.fit.values).all;
       const bool gain = t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain);
       if (gain && best < 0) {
@@ -721,13 +782,18 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
   current = engine.fit(free, current.values, engine.all(), true);
   report.heldout_mse_final = current_h.reading;
   report.heldout_weighted_final = current_h.all;
-  report.noise_sd = std::sqrt(current.result.mse);
+  // The noise of a reading: residuals of readings away from the sensor's rails (a reading on a
+  // rail has its noise clipped; the MSE over all rows counts the clipped zeros of every reading
+  // beyond the proximity sensor's range).
+  const std::vector<double> sd = engine.noise_sd(current.values);
+  report.noise_sd = sd.front();
   if (p.channel_names.size() > 1) {
-    const std::vector<double> sd = engine.noise_sd(current.values);
     for (std::size_t c = 0; c < sd.size(); ++c) report.channel_noise_sd.push_back({p.channel_names[c], sd[c], 0.0});
   }
   for (std::size_t k = 0; k < order.size(); ++k) report.findings[k].parameters = named(p, current, p.effects[order[k]].params);
-  if (!p.base_free.empty()) report.recalibrated = named(p, current, p.base_free);
+  // The recalibration alone stays in `recalibrated` (step 2's fit); the base parameters of the
+  // joint fit with every finding are the extended model's.
+  if (!p.base_free.empty()) report.final_base = named(p, current, p.base_free);
 
   // A finding whose parameter the logs do not pin down (standard error above its size, or none)
   // names a direction of misfit, not a measured effect: say so.
@@ -740,22 +806,32 @@ Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& opti
                                   "); read it as a direction, not a size.");
 
   // Step 5: residual structure before (recalibrated base) and after (final model).
+  progress("residual structure", 0, 0, 0, "");
   report.residual_before = engine.residuals(base_values);
   report.residual_after = engine.residuals(current.values);
   report.structure_before = structure(p, report.residual_before, engine.predict(base_values), options.structure_threshold, engine.sigma());
   report.structure_after = structure(p, report.residual_after, engine.predict(current.values), options.structure_threshold, engine.sigma());
-  // For the plot: the covariate the residuals depended on most before, and `row` (draw's
-  // fallback), per residual; not every covariate again.
-  for (std::size_t k = 0; k < p.covariates.size(); ++k) {
-    const std::string& name = p.covariates[k].first;
-    const bool wanted = name == "row" || (!report.structure_before.empty() && name == report.structure_before.front().covariate);
-    if (wanted) report.covariates.emplace_back(name, p.is_per_row(k) ? p.covariate_values(k) : std::move(p.covariates[k].second));
-  }
   bool left = false;
   for (const auto& s : report.structure_after) left = left || s.significant;
   if (left) report.verdict = "unexplained";
   else if (!report.findings.empty()) report.verdict = report.findings.front().cause;
   else report.verdict = "none";
+  // For the figure: the covariate it is drawn against (Report::covariates), one, not every one
+  // again; the residuals in their channels' own units (the weights were for the fits and scores).
+  std::string wanted = "row";
+  if (report.verdict == "unexplained") wanted = report.structure_after.front().covariate;
+  else if (!report.structure_before.empty() && report.structure_before.front().significant) wanted = report.structure_before.front().covariate;
+  if (wanted == "predicted") report.covariates.emplace_back(wanted, engine.predict(base_values));
+  for (std::size_t k = 0; k < p.covariates.size(); ++k)
+    if (p.covariates[k].first == wanted)
+      report.covariates.emplace_back(wanted, p.is_per_row(k) ? p.covariate_values(k) : std::move(p.covariates[k].second));
+  if (p.channel_names.size() > 1) {
+    report.residual_channel.assign(p.channel.begin(), p.channel.end());
+    for (std::size_t i = 0; i < engine.size(); ++i) {
+      report.residual_before[i] /= engine.weight(i);
+      report.residual_after[i] /= engine.weight(i);
+    }
+  }
   return report;
 }
 }  // namespace

@@ -35,14 +35,6 @@ std::vector<int> sensors_seen(const std::vector<double>& sensor) {
   return {seen.begin(), seen.end()};
 }
 
-template <typename T>
-T pow_data(double base, const T& exponent) {
-  // base^exponent for base >= 0 from the data; 0 for base 0 (no log of 0 in the derivative).
-  using std::exp;
-  if (!(base > 0)) return T(0.0);
-  return exp(exponent * std::log(base));
-}
-
 // ---------------------------------------------------------------------------------------------
 // ground: v = 1023 grey (the plug-in's source); catalogue: black_offset, white_level,
 // sensor_gain, nonlinear_response. Combined: v = offset + (level - offset) g_s grey^p.
@@ -75,10 +67,16 @@ class Ground : public ProblemOf<Ground> {
     covariates.emplace_back("grey", grey_);
     covariates.emplace_back("sensor", std::move(sensor_d));
   }
+  // The catalogue's parameters map onto lib/models' ground response: sensor s has the black
+  // offset `offset` and the gain (level - offset) g_s; exponent is the nonlinear response.
   template <typename T>
   void eval(const T* p, T* out) const {
+    s::GroundNonlinear<T> nonlinear;
+    nonlinear.exponent = p[exponent_];
+    std::array<T, s::kGroundCount> gain;
+    for (std::size_t k = 0; k < gain.size(); ++k) gain[k] = (p[level_] - p[offset_]) * p[gain_[k]];
     for (std::size_t i = 0; i < grey_.size(); ++i)
-      out[i] = p[offset_] + (p[level_] - p[offset_]) * p[gain_[static_cast<std::size_t>(sensor_[i])]] * pow_data(grey_[i], p[exponent_]);
+      out[i] = s::ground_mean_raw(p[offset_], gain[static_cast<std::size_t>(sensor_[i])], nonlinear, grey_[i]);
   }
 
  private:
@@ -150,19 +148,15 @@ class Proximity : public ProblemOf<Proximity> {
   }
   template <typename T>
   void eval(const T* p, T* out) const {
-    using std::exp;
-    using std::fmax;
-    using std::fmin;
-    for (std::size_t i = 0; i < distance_.size(); ++i) {
-      const double d = distance_[i];
-      T v = p[offset_] + p[amplitude_] * exp(-d / p[length_]);
-      if (d <= range_m_) {
-        T poly = s::proximity_polynomial(p + a_, d);
-        poly = fmin(fmax(poly, T(0.0)), T(1.0));
-        v += p[gain_[static_cast<std::size_t>(sensor_[i])]] * pow_data(cos_[i], p[k_]) * s::kProximityFullScale_raw * poly;
-      }
-      out[i] = fmin(v, p[level_]);
-    }
+    s::ProximityEffects<T> e;
+    e.ambient.offset_raw = p[offset_];
+    for (std::size_t j = 0; j < gain_.size(); ++j) e.gains.gain[j] = p[gain_[j]];
+    e.tail.amplitude_raw = p[amplitude_];
+    e.tail.length_m = p[length_];
+    e.incidence.k = p[k_];
+    e.saturation.level_raw = p[level_];
+    for (std::size_t i = 0; i < distance_.size(); ++i)
+      out[i] = s::proximity_mean_raw(p + a_, range_m_, e, sensor_[i], distance_[i], cos_[i]);
   }
 
  private:
@@ -216,16 +210,12 @@ class Light : public ProblemOf<Light> {
   }
   template <typename T>
   void eval(const T* p, T* out) const {
-    using std::exp;
-    using std::log;
-    for (std::size_t i = 0; i < distance_.size(); ++i) {
-      T v(s::kProximityFullScale_raw);
-      if (distance_[i] <= range_m_ && intensity_[i] > 0) {
-        const T ratio = p[gamma_] * intensity_[i] / distance_[i];
-        v = s::kProximityFullScale_raw * (1.0 - p[gain_[static_cast<std::size_t>(sensor_[i])]] * exp(p[exponent_] * log(ratio)));
-      }
-      out[i] = v - p[offset_];
-    }
+    s::LightEffects<T> e;
+    e.ambient.offset_raw = p[offset_];
+    e.falloff.exponent = p[exponent_];
+    for (std::size_t j = 0; j < gain_.size(); ++j) e.gains.gain[j] = p[gain_[j]];
+    for (std::size_t i = 0; i < distance_.size(); ++i)
+      out[i] = s::light_mean_raw(p[gamma_], range_m_, e, sensor_[i], intensity_[i], distance_[i]);
   }
 
  private:
@@ -282,14 +272,13 @@ class Camera : public ProblemOf<Camera> {
   }
   template <typename T>
   void eval(const T* p, T* out) const {
-    using std::tan;
-    const T f_px = T(s::kCameraWidth_px / 2.0) / tan(p[fov_] * (s::kPi / 360.0));
-    const double cx = s::kCameraWidth_px / 2.0, cy = s::kCameraHeight_px / 2.0;
-    for (std::size_t i = 0; i < x_.size(); ++i) {
-      const T scale = 1.0 + p[k1_] * (x_[i] * x_[i] + z_[i] * z_[i]);
-      out[2 * i] = cx + p[dx_] - f_px * x_[i] * scale;
-      out[2 * i + 1] = cy + p[dy_] - f_px * z_[i] * scale;
-    }
+    s::CameraRadialDistortion<T> distortion;
+    distortion.k1 = p[k1_];
+    const T hfov_rad = p[fov_] * (s::kPi / 180.0);
+    const T cx = s::kCameraWidth_px / 2.0 + p[dx_], cy = s::kCameraHeight_px / 2.0 + p[dy_];
+    for (std::size_t i = 0; i < x_.size(); ++i)
+      s::camera_projection(hfov_rad, cx, cy, s::kCameraWidth_px, 1.0, x_[i], z_[i], &out[2 * i], &out[2 * i + 1],
+                           distortion);
   }
 
  private:
@@ -311,9 +300,8 @@ class Camera : public ProblemOf<Camera> {
 // registers unwrapped (channel 1, steps; predicted as the mean of floor: 7763.656 x - 1/2, and 0
 // before the wheel has moved), each only when it changed since the previous row.
 class Drive : public ProblemOf<Drive> {
-  // "No limit": the neutral value of max_cm_s and accel_cm_s2.
-  static constexpr double kNoLimit = 1e6;
-  static constexpr double kLimitOn = 1e5;
+  // "No limit": the neutral value of max_cm_s and accel_cm_s2 (lib/models drive.hpp).
+  static constexpr double kNoLimit = s::kDriveNoLimit;
 
  public:
   explicit Drive(const std::vector<logs::Log>& logs) {
@@ -423,16 +411,32 @@ class Drive : public ProblemOf<Drive> {
     for (auto& v : slot_) v.shrink_to_fit();
   }
 
+  /// The catalogue's drive effects (lib/models drive.hpp) at the parameters p.
+  template <typename T>
+  s::DriveEffects<T> effects_at(const T* p) const {
+    s::DriveEffects<T> e;
+    e.speed_limit.max_cm_s = p[max_];
+    e.accel_limit.accel_cm_s2 = p[accel_];
+    e.slip.tau_s = p[tau_];
+    e.speed_scale.k = p[speed_k_];
+    e.latency.delay_s = p[delay_];
+    e.tof_offset.offset_mm = p[offset_];
+    e.tof_scale.k = p[tof_k_];
+    return e;
+  }
+
   template <typename T>
   void eval(const T* p, T* out) const {
+    const s::DriveEffects<T> e = effects_at(p);
+    auto encoder = [](const T& x) { return s::encoder_mean_steps(s::kPluginStepsPerMetre, x); };
     // With a latency, the ToF reading at t is the true one at t - delay: the state at the start of
     // the row k in which t - delay falls, advanced to it. Only the states of rows k..i are kept
     // (a window of delay / dt rows), not one per row of the log (144 B a row with 2-wide Jets).
-    std::deque<State<T>> window;
-    const bool delayed = value_of(p[delay_]) > 0;
+    std::deque<s::DriveState<T>> window;
+    const bool delayed = value_of(e.latency.delay_s) > 0;
     for (const Run& r : runs_) {
       if (static_cast<std::size_t>(slot_[0][r.first]) >= needed) break;
-      State<T> st;
+      s::DriveState<T> st;
       window.clear();
       std::size_t k = r.first;  // window.front() is the state at the start of row k
       for (std::size_t i = r.first; i < r.last; ++i) {
@@ -440,23 +444,23 @@ class Drive : public ProblemOf<Drive> {
         if (slot_[1][i] >= 0) out[slot_[1][i]] = encoder(st.xl);
         if (slot_[2][i] >= 0) out[slot_[2][i]] = encoder(st.xr);
         if (!delayed) {
-          out[slot_[0][i]] = tof(p, r, st.xg);
+          out[slot_[0][i]] = s::drive_tof_mean_mm(e, r.obstacle_m, st.xg);
         } else {
           window.push_back(st);
-          const T when = time_[i] - p[delay_];
+          const T when = time_[i] - e.latency.delay_s;
           while (k + 1 < i + 1 && value_of(when) >= time_[k + 1]) {
             ++k;
             window.pop_front();
           }
           if (value_of(when) < time_[r.first]) {
-            out[slot_[0][i]] = tof(p, r, T(0.0));
+            out[slot_[0][i]] = s::drive_tof_mean_mm(e, r.obstacle_m, T(0.0));
           } else {
-            State<T> at = window.front();
-            advance(p, k, when - time_[k], at, r.symmetric);
-            out[slot_[0][i]] = tof(p, r, at.xg);
+            s::DriveState<T> at = window.front();
+            s::drive_advance(e, left_[k], right_[k], T(when - time_[k]), at, r.symmetric);
+            out[slot_[0][i]] = s::drive_tof_mean_mm(e, r.obstacle_m, at.xg);
           }
         }
-        if (i + 1 < r.last) advance(p, i, T(time_[i + 1] - time_[i]), st, r.symmetric);
+        if (i + 1 < r.last) s::drive_advance(e, left_[i], right_[i], T(time_[i + 1] - time_[i]), st, r.symmetric);
       }
     }
   }
@@ -467,125 +471,6 @@ class Drive : public ProblemOf<Drive> {
     std::size_t first = 0, last = 0;
     bool symmetric = false;  ///< both wheels commanded alike on every row: one wheel simulated
   };
-  template <typename T>
-  struct State {
-    T vl = T(0.0), vr = T(0.0), xl = T(0.0), xr = T(0.0), vg = T(0.0), xg = T(0.0);
-  };
-
-  template <typename T>
-  static T encoder(const T& x) {
-    if (value_of(x) == 0.0) return T(0.0);
-    return s::kPluginStepsPerMetre * x - 0.5;
-  }
-  template <typename T>
-  T tof(const T* p, const Run& r, const T& xg) const {
-    return p[tof_k_] * (1000.0 * (r.obstacle_m - xg)) + p[offset_];
-  }
-
-  /// Advances the state by h seconds under row i's command.
-  template <typename T>
-  void advance(const T* p, std::size_t i, const T& h, State<T>& st, bool symmetric) const {
-    using std::fmax;
-    using std::fmin;
-    if (!(value_of(h) > 0)) return;
-    if (symmetric) {
-      advance_symmetric(p, i, h, st);
-      return;
-    }
-    constexpr double kPerCm = 0.01;
-    const T ul = fmin(fmax(T(left_[i]), -p[max_]), p[max_]) * kPerCm;
-    const T ur = fmin(fmax(T(right_[i]), -p[max_]), p[max_]) * kPerCm;
-    // Each wheel: a ramp at +-accel for t_w seconds (possibly 0), then constant.
-    T al(0.0), ar(0.0), tl(0.0), tr(0.0);
-    if (value_of(p[accel_]) < kLimitOn) {
-      const T accel = p[accel_] * kPerCm;
-      const T dl = ul - st.vl, dr = ur - st.vr;
-      if (value_of(dl) != 0) {
-        al = value_of(dl) > 0 ? accel : -accel;
-        tl = dl / al;
-      }
-      if (value_of(dr) != 0) {
-        ar = value_of(dr) > 0 ? accel : -accel;
-        tr = dr / ar;
-      }
-    } else {
-      st.vl = ul;
-      st.vr = ur;
-    }
-    // Pieces: [0, min(tl, tr)], [.., max(tl, tr)], [.., h], each cut at h.
-    T first = value_of(tl) < value_of(tr) ? tl : tr, second = value_of(tl) < value_of(tr) ? tr : tl;
-    if (value_of(first) > value_of(h)) first = h;
-    if (value_of(second) > value_of(h)) second = h;
-    T done(0.0);
-    for (const T& end : {first, second, h}) {
-      const T len = end - done;
-      if (!(value_of(len) > 0)) continue;
-      const T a_l = value_of(done) < value_of(tl) ? al : T(0.0);
-      const T a_r = value_of(done) < value_of(tr) ? ar : T(0.0);
-      const T u0 = p[speed_k_] * 0.5 * (st.vl + st.vr);
-      const T ag = p[speed_k_] * 0.5 * (a_l + a_r);
-      body_piece(p, u0, ag, len, st);
-      st.xl += st.vl * len + 0.5 * a_l * len * len;
-      st.xr += st.vr * len + 0.5 * a_r * len * len;
-      st.vl += a_l * len;
-      st.vr += a_r * len;
-      done = end;
-    }
-  }
-
-  /// The body over one piece of `len` seconds whose input (k times the wheels' mean speed) starts
-  /// at u0 and changes at the rate ag: the first-order lag integrated exactly, or followed at once
-  /// without wheel slip.
-  template <typename T>
-  void body_piece(const T* p, const T& u0, const T& ag, const T& len, State<T>& st) const {
-    using std::exp;
-    if (value_of(p[tau_]) > 0) {
-      const T& tau = p[tau_];
-      // e^-50 ~ 2e-22: below it the lag has settled (and exp would underflow slowly).
-      const T e = value_of(len / tau) < 50.0 ? exp(-len / tau) : T(0.0);
-      const T c = st.vg - u0 + ag * tau;
-      st.xg += u0 * len + 0.5 * ag * len * len - ag * tau * len + c * tau * (1.0 - e);
-      st.vg = u0 + ag * len - ag * tau + c * e;
-    } else {
-      st.xg += u0 * len + 0.5 * ag * len * len;
-      st.vg = u0 + ag * len;
-    }
-  }
-
-  /// advance() when both wheels are commanded alike: one wheel, the same arithmetic.
-  template <typename T>
-  void advance_symmetric(const T* p, std::size_t i, const T& h, State<T>& st) const {
-    using std::fmax;
-    using std::fmin;
-    constexpr double kPerCm = 0.01;
-    const T u = fmin(fmax(T(left_[i]), -p[max_]), p[max_]) * kPerCm;
-    T a(0.0), ramp(0.0);
-    if (value_of(p[accel_]) < kLimitOn) {
-      const T dv = u - st.vl;
-      if (value_of(dv) != 0) {
-        a = value_of(dv) > 0 ? p[accel_] * kPerCm : -p[accel_] * kPerCm;
-        ramp = dv / a;
-      }
-    } else {
-      st.vl = u;
-    }
-    if (value_of(ramp) > value_of(h)) ramp = h;
-    T done(0.0);
-    for (int piece = 0; piece < 2; ++piece) {
-      const T end = piece == 0 ? ramp : h;
-      const T len = end - done;
-      if (!(value_of(len) > 0)) continue;
-      const T acc = piece == 0 ? a : T(0.0);
-      const T u0 = p[speed_k_] * st.vl;
-      const T ag = p[speed_k_] * acc;
-      body_piece(p, u0, ag, len, st);
-      st.xl += st.vl * len + 0.5 * acc * len * len;
-      st.vl += acc * len;
-      done = end;
-    }
-    st.xr = st.xl;
-    st.vr = st.vl;
-  }
 
   std::vector<double> time_, left_, right_;
   /// Per row: the residual index of the ToF reading and of each encoder register (-1: left out).
@@ -614,6 +499,10 @@ class Battery : public ProblemOf<Battery> {
       r.first = time_.size();
       const auto& t = log.col("time_s");
       const auto& v = log.col("speed_cm_s");
+      if (!log.has("charge"))
+        throw logs::InputError(log.path, log.header_line, 1,
+                               "no 'charge' column, only 'voltage_v': diagnose compares the discharge models' charge with the "
+                               "logged one; `battery` and `table5` take voltage-only logs (--charge-map), diagnose does not");
       const auto& c = log.col("charge");
       // A discharge run starts fully charged (docs/logs.md): a first reading near full is
       // that full charge seen through the sensor's noise, and starting from the noisy reading
@@ -680,11 +569,11 @@ class Battery : public ProblemOf<Battery> {
       for (std::size_t i = r.first; i < r.last; ++i) {
         out[i] = charge;
         if (i + 1 == r.last) break;
-        const double dt = (time_[i + 1] - time_[i]) / k;
+        const double dt = time_[i + 1] - time_[i];
         // A repeated time stamp (the format allows it: time never decreases) is a step of no
         // length: no discharge, and no speed to compute as 0/0.
         if (dt == 0) continue;
-        charge = mb::corrected::step(model_, tables_, charge, speed_[i] / 100.0 * dt, dt);
+        charge = mb::step(model_, tables_, mb::CapacityScale{k}, charge, speed_[i] / 100.0 * dt, dt);
       }
     }
   }

@@ -554,6 +554,11 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     if (kept_exact <= k)
       out.warnings.push_back("only " + std::to_string(kept_exact) + " readings inside the rails for " + std::to_string(k) +
                              " free parameters: the noise is not estimated from the fit.");
+    else if (kept_exact < kFewReadingsPerParameter * (k + (sigma_given ? 0 : 1)))
+      out.warnings.push_back("only " + std::to_string(kept_exact) + " readings inside the rails for " + std::to_string(k) +
+                             (k == 1 ? " free parameter" : " free parameters") + (sigma_given ? "" : " and the noise") +
+                             " (fewer than " + std::to_string(kFewReadingsPerParameter) +
+                             " per parameter): the fit is barely determined and its standard errors are rough.");
 
     // 6. Lack of fit against the replicates (groups without censored or left-out readings).
     std::map<int, std::vector<std::size_t>> groups;

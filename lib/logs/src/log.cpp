@@ -247,6 +247,11 @@ const std::vector<std::string>& required_columns(Kind kind) {
   return required.at(kind);
 }
 
+std::string stand_in_column(Kind kind, const std::string& required) {
+  if (kind == Kind::battery && required == "charge") return "voltage_v";
+  return "";
+}
+
 const std::vector<double>& Log::col(const std::string& column) const {
   const auto it = numeric.find(column);
   if (it == numeric.end()) throw InputError(path, 0, 0, "no numeric column '" + column + "'");
@@ -366,9 +371,12 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
   log.columns = header;
 
   // Kind: given, or recognised from the required columns (the most specific match).
+  auto in_header = [&](const std::string& c) { return std::find(header.begin(), header.end(), c) != header.end(); };
   auto has_all = [&](Kind k) {
-    for (const std::string& c : required_columns(k))
-      if (std::find(header.begin(), header.end(), c) == header.end()) return false;
+    for (const std::string& c : required_columns(k)) {
+      const std::string alt = stand_in_column(k, c);
+      if (!in_header(c) && (alt.empty() || !in_header(alt))) return false;
+    }
     return true;
   };
   if (table_columns) kind = Kind::battery;  // ranges of time_s and speed_cm_s
@@ -418,11 +426,14 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
   log.kind = *kind;
   const auto& req = table_columns ? *table_columns : required_columns(*kind);
   for (const std::string& c : req) {
-    if (std::find(header.begin(), header.end(), c) != header.end()) continue;
+    if (in_header(c)) continue;
+    const std::string alt = table_columns ? std::string() : stand_in_column(*kind, c);
+    if (!alt.empty() && in_header(alt)) continue;
     int column = 1;
     const std::string why = explain_missing(c, header, header_columns, req, column);
     throw InputError(name, header_line, column,
                      "missing required column '" + c + "'" +
+                         (alt.empty() ? std::string() : " (or '" + alt + "')") +
                          (table_columns ? std::string() : " for a " + std::string(to_string(*kind)) + " log") +
                          (why.empty() ? std::string() : "; " + why));
   }

@@ -2,27 +2,53 @@
 
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <tuple>
 
 #include "epuck2/models/plugin_battery_tables.hpp"
-#include "epuck2/plot/png.hpp"
+#include "epuck2/plot/figure.hpp"
 
 namespace epuck2::plot {
 
 namespace mb = models::battery;
 
-void battery_fits_png(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::BatteryRun>& runs, const calibrate::BatteryFit& f) {
+namespace {
+// The four models, each with its own colour, dash pattern and point type, so that they stay
+// apart where they overlap (Simple and Linear coincide at 0 cm/s, Cubic and Approximated nearly
+// everywhere) and in grey print; their markers at different intervals, so that they do not
+// stack.
+struct ModelStyle {
+  const char* title;
+  const char* style;
+};
+constexpr ModelStyle kStyles[] = {
+    {"simple (two slopes)", "lw 2 lc rgb '#d62728' dt (14,7) pt 4 ps 1.1 pi 75"},
+    {"linear (1 → 0 over the lifetime)", "lw 2 lc rgb '#1f77b4' dt (4,5) pt 6 ps 1.1 pi 62"},
+    {"cubic", "lw 2.5 lc rgb '#2ca02c' dt 1 pt 7 ps 0.8 pi 50"},
+    {"approximated (piecewise linear)", "lw 2 lc rgb '#9467bd' dt (12,5,2,5) pt 9 ps 1.2 pi 43"},
+};
+}  // namespace
+
+void battery_fits_figure(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::BatteryRun>& runs,
+                         const calibrate::BatteryFit& f) {
   const int n = static_cast<int>(f.speeds.size());
-  const int cols = n <= 4 ? n : 4;
+  const int cols = n <= 4 ? std::max(n, 1) : 4;
   const int rows = (n + cols - 1) / cols;
-  render_png(
+  const int width = 450 * cols + 100, height = 330 * rows + 170;
+  Layout layout;
+  layout.rows = rows;
+  layout.cols = cols;
+  layout.left = 60.0 / width;
+  layout.right = 1.0 - 20.0 / width;
+  layout.bottom = 50.0 / height;
+  layout.top = 1.0 - 135.0 / height;  // the title, then the legend (two rows at most), then the first row's titles
+  layout.hspace = 75.0 / width;
+  layout.vspace = 85.0 / height;
+  render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
-        gp << "set multiplot layout " << rows << "," << cols
-           << " title 'Battery discharge: logs (grey) and the four fitted models' font ',14'\n";
-        gp << "set key off\nset grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset xtics font ',8'\nset ytics 0.25 font ',8'\n";
-        gp << "set lmargin 5\nset rmargin 1\nset tmargin 2\nset bmargin 2\n";
+        gp << multiplot(layout, "Battery discharge per wheel speed: the logs and the four fitted models");
+        gp << "set grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset ytics 0.25\nset xrange [0:*]\nset key off\n";
+        gp << "set xlabel 'time (h)' offset 0,0.5\nset ylabel 'charge (fraction of full)' offset 1.5,0\n";
         for (int i = 0; i < n; ++i) {
           const calibrate::SpeedFit& s = f.speeds[static_cast<std::size_t>(i)];
           std::vector<std::tuple<double, double>> pts;
@@ -39,30 +65,28 @@ void battery_fits_png(logs::OutputStage& stage, const std::string& path, const s
             for (mb::Model model : mb::kAllModels)
               curves[static_cast<std::size_t>(m++)].emplace_back(t / 3600.0, calibrate::analytic_charge(s, f, model, t));
           }
-          char title[96];
-          std::snprintf(title, sizeof title, "%g cm/s  (lifetime %.2f h, %zu runs)", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs);
-          gp << "set title '" << title << "' font ',10'\n";
-          if (i == 0) {
-            gp << "set key top right font ',8' samplen 2\n";
-          } else {
-            gp << "set key off\n";
-          }
-          gp << "set xlabel 'hours' font ',8' offset 0,0.8\n";
-          gp << "plot '-' with points pt 7 ps 0.25 lc rgb '#b0b0b0' title 'logs', "
-                "'-' with lines lw 1.5 lc rgb '#e41a1c' title 'simple', "
-                "'-' with lines lw 1.5 lc rgb '#377eb8' title 'linear', "
-                "'-' with lines lw 2 lc rgb '#4daf4a' title 'cubic', "
-                "'-' with lines lw 1.5 dt 2 lc rgb '#984ea3' title 'approximated'\n";
+          char title[128];
+          std::snprintf(title, sizeof title, "%g cm/s: lifetime %.2f h, %zu run%s", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs,
+                        s.runs == 1 ? "" : "s");
+          gp << "set title " << quoted(title) << " font ',11' offset 0,-0.3\n";
+          gp << "plot '-' with points pt 7 ps 0.3 lc rgb '#a0a0a0' notitle";
+          for (const auto& st : kStyles) gp << ", '-' with linespoints " << st.style << " notitle";
+          gp << "\n";
           gp.send1d(pts);
           for (const auto& c : curves) gp.send1d(c);
         }
+        // One legend for all panels, across the top under the overall title.
+        std::vector<std::string> entries{"NaN with points pt 7 ps 1 lc rgb '#a0a0a0' title 'logs (at most 400 readings a run drawn)'"};
+        for (const auto& st : kStyles) entries.push_back(std::string("NaN with linespoints ") + st.style + " title " + quoted(st.title));
+        gp << legend_band(0.02, 0.98, 1.0 - 95.0 / height, 1.0 - 42.0 / height, entries);
         gp << "unset multiplot\n";
       },
-      1800, 1400);
+      width, height);
 }
 
-void battery_lifetime_png(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::BatteryRun>& runs, const calibrate::BatteryFit& f) {
-  render_png(
+void battery_lifetime_figure(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::BatteryRun>& runs,
+                             const calibrate::BatteryFit& f) {
+  render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
         std::vector<std::tuple<double, double>> each;
@@ -72,12 +96,13 @@ void battery_lifetime_png(logs::OutputStage& stage, const std::string& path, con
         std::vector<std::tuple<double, double>> published;
         const mb::Tables& pt = mb::plugin_tables();
         for (int s = 0; s < mb::kSpeedCount; ++s) published.emplace_back(s, pt.lifetime_s[static_cast<std::size_t>(s)] / 3600.0);
-        gp << "set title 'Battery lifetime against speed (robot spinning in place)' font ',14'\n";
-        gp << "set xlabel 'wheel speed (cm/s)'\nset ylabel 'lifetime (h)'\nset grid\nset key top right\n";
-        gp << "set xrange [-0.5:15.5]\nset yrange [0:*]\n";
+        gp << "set title 'Battery lifetime against wheel speed (robot spinning in place)' font ',14'\n";
+        gp << "set xlabel 'wheel speed (cm/s)'\nset ylabel 'lifetime (h)'\nset grid lc rgb '#dddddd'\n";
+        gp << "set key bottom right box opaque\n";
+        gp << "set xrange [-0.5:15.5]\nset yrange [0:*]\nset xtics 1\n";
         gp << "plot '-' with points pt 7 ps 1.2 lc rgb '#999999' title 'each run', "
-              "'-' with yerrorlines pt 5 ps 1.2 lw 2 lc rgb '#377eb8' title 'mean of runs (+- standard error)', "
-              "'-' with linespoints dt 2 pt 6 lw 1.5 lc rgb '#e41a1c' title 'published end times (paper Fig. 10b, plug-in tables)'\n";
+              "'-' with yerrorlines pt 5 ps 1.2 lw 2 lc rgb '#1f77b4' title 'mean of the runs (± standard error)', "
+              "'-' with linespoints dt (8,5) pt 6 ps 1.4 lw 2 lc rgb '#d62728' title 'published end times (paper Fig. 10b, plug-in tables)'\n";
         gp.send1d(each);
         gp.send1d(mean);
         gp.send1d(published);

@@ -231,7 +231,7 @@ Run simulate(const std::vector<mb::ProfilePoint>& profile, const RobotParameters
   double terminal_v = ocv(cal, z) - current_a * resistance_ohm;
   // The filter has settled before logging starts: its state is the mean reading at t = 0.
   double filtered_v = terminal_v - mean_dip_v;
-  auto push = [&](double t_s, double v_cm_s) { run.rows.push_back(Row{t_s, v_cm_s, charge_of(filtered_v), filtered_v}); };
+  auto push = [&](double t_s, double v_cm_s) { run.rows.push_back(Row{t_s, v_cm_s, charge_of(filtered_v), filtered_v, z}); };
   push(0.0, speed);
   if (terminal_v <= stop_voltage_v(cal, speed)) {
     run.stopped = true;

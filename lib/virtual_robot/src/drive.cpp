@@ -89,9 +89,7 @@ GeneratedFile drive_run(const DriveTruth& truth, const RunSpec& run, std::uint64
     // (integrated exactly over the step).
     const double dt = truth.physics_step_s;
     const double wheel_speed = rate_steps_s / true_steps_per_m;
-    const double decay = std::exp(-dt / lag);
-    ground_m += wheel_speed * dt + (ground_speed - wheel_speed) * lag * (1.0 - decay);
-    ground_speed = wheel_speed + (ground_speed - wheel_speed) * decay;
+    s::body_lag_piece(s::DriveWheelSlip<double>{lag}, wheel_speed, 0.0, dt, ground_m, ground_speed);
     steps += rate_steps_s * dt;
     t += dt;
   }

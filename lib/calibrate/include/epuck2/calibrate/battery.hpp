@@ -36,11 +36,31 @@ struct BatteryRun {
   std::vector<double> charge;
   std::vector<models::battery::ProfilePoint> profile;  ///< the logged speed profile
   std::vector<int> line;  ///< source line of each row
+  bool charge_from_voltage = false;  ///< the charge was computed from voltage_v through a map
 };
 
 /// Turns validated battery logs into runs. A run must hold one speed (the calibration protocol);
-/// a log whose speed changes is rejected with the line where it changes.
+/// a log whose speed changes is rejected with the line where it changes. A log without `charge`
+/// (voltage only) is rejected at its header, saying how to give a voltage->charge map.
 std::vector<BatteryRun> battery_runs(const std::vector<logs::Log>& logs);
+
+struct ChargeMap;  // epuck2/calibrate/charge_map.hpp
+
+/// What converting voltage-only logs did (battery_runs with a map).
+struct ChargeConversionReport {
+  std::size_t logs = 0;          ///< voltage-only logs converted
+  std::size_t rows = 0;          ///< their rows
+  std::size_t below_range = 0;   ///< voltages below the map's range, clamped to its lowest charge
+  std::size_t above_range = 0;   ///< ... above it, clamped to its highest charge
+  std::vector<std::string> clamped;  ///< the first 10 clamped rows, "file:line (V)"
+};
+
+/// battery_runs, with the charge of every log that has `voltage_v` and no `charge` computed
+/// through `map` (convert_voltage); logs with a `charge` column keep it. A speed outside the
+/// map's load term is rejected at that row (InputError). `report` (optional) counts the rows
+/// converted and clamped.
+std::vector<BatteryRun> battery_runs(const std::vector<logs::Log>& logs, const ChargeMap* map,
+                                     ChargeConversionReport* report = nullptr);
 
 struct ModelMse {
   double simple = 0, linear = 0, cubic = 0, approximated = 0;
@@ -73,7 +93,25 @@ struct BatteryFit {
   /// The four models' tables when the logs cover every integer speed 0..15 cm/s.
   std::optional<models::battery::Tables> tables;
   std::vector<std::string> sources;
+  /// What the logs leave weak, in sentences: a speed with fewer than kBatteryRowsPerParameter rows
+  /// per parameter of a model, a speed with one run (no lifetime uncertainty), no run at rest or
+  /// none moving (a Simple slope taken from the other, or not determined).
+  std::vector<std::string> warnings;
 };
+
+/// Below this many rows per parameter at a speed (cubic: 4 parameters, approximated: 5) the fit
+/// is said to be barely determined (a warning). Fewer rows than parameters + 1 and the fit is
+/// refused (its FitResult is not usable, with the reason).
+inline constexpr std::size_t kBatteryRowsPerParameter = 3;
+
+/// The speeds of a fit by value (cm/s): those covered, the whole speeds 0..15 that are missing
+/// (complete tables need every one), and those covered that are not one of them.
+struct SpeedCoverage {
+  std::vector<double> covered, missing, other;
+};
+SpeedCoverage speed_coverage(const BatteryFit& fit);
+/// "0, 1, 2.5" (each %g); "none" when empty.
+std::string speeds_text(const std::vector<double>& speeds_cm_s);
 
 /// Fits everything. Never throws for numerical trouble: a speed whose fit is unusable carries
 /// the reason in its FitResult::message.

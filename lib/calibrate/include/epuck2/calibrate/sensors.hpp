@@ -178,24 +178,12 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
 /// exactly between rows (tau_s = 0: no lag). Templated for the fit; used by the plots too.
 template <typename T>
 std::vector<T> lagged_travel_m(const DriveRun& run, double steps_per_m, const T& tau_s) {
-  using std::exp;
+  std::vector<double> wheel_m(run.steps.size());
+  for (std::size_t k = 0; k < wheel_m.size(); ++k) wheel_m[k] = run.steps[k] / steps_per_m;
   std::vector<T> out(run.time_s.size(), T(0.0));
-  T speed(0.0), travel(0.0);
-  const bool lag = scalar_value(tau_s) > 0;
-  for (std::size_t k = 0; k + 1 < run.time_s.size(); ++k) {
-    out[k] = travel;
-    const double dt = run.time_s[k + 1] - run.time_s[k];
-    if (!(dt > 0)) continue;
-    const double wheel = (run.steps[k + 1] - run.steps[k]) / steps_per_m / dt;
-    if (!lag) {
-      travel += T(wheel * dt);
-      continue;
-    }
-    const T decay = exp(-dt / tau_s);
-    travel += wheel * dt + (speed - wheel) * tau_s * (1.0 - decay);
-    speed = wheel + (speed - wheel) * decay;
-  }
-  if (!out.empty()) out.back() = travel;
+  models::sensors::DriveWheelSlip<T> slip;
+  slip.tau_s = tau_s;
+  models::sensors::lagged_body_travel_m(slip, run.time_s, wheel_m, out.data());
   return out;
 }
 

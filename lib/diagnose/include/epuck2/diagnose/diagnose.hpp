@@ -12,6 +12,8 @@
 // Supported kinds: every kind of docs/logs.md (see diagnose_kinds.cpp).
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -67,15 +69,23 @@ struct Trial {
 struct Report {
   logs::Kind kind = logs::Kind::ground;
   bool supported = false;
-  /// Too few rows to diagnose (supported stays false; `message` says how many are needed): the
-  /// held-out test needs a row in every block of every fold, and every fit more residuals than
-  /// twice the parameters it could free.
+  /// Too few rows to judge any effect (`message` says how many there are and how many are
+  /// needed, `minimum_rows`): the report holds the plug-in's error on every row and verdict
+  /// `none`, with no recalibration, search or finding. The minimum is Options::folds times
+  /// Options::rows_per_parameter times the parameters of the largest model the search tries
+  /// first (the base model's free ones and the largest effect's), and at least one row in every
+  /// block of every fold; the problem must also hold more residuals than twice all its
+  /// parameters.
   bool too_few_rows = false;
+  std::size_t minimum_rows = 0;  ///< rows needed to judge effects on these logs (0: not known)
   std::string message;  ///< why not supported, or notes
   std::size_t rows = 0;       ///< data rows in all logs
   std::size_t residuals = 0;  ///< residuals fitted (camera: two per row)
   std::string verdict = "none";
-  std::vector<NamedValue> recalibrated;  ///< the base model's free parameters (empty: none)
+  std::vector<NamedValue> recalibrated;  ///< the base model's free parameters recalibrated alone (empty: none)
+  /// The base model's free parameters in the final joint fit with every finding (what the extended
+  /// model carries; the same as `recalibrated` without findings).
+  std::vector<NamedValue> final_base;
   double noise_sd = 0;                   ///< residual standard deviation of the final model
   /// With several measured quantities (drive: ToF in mm, encoders in steps): each one's noise
   /// standard deviation, in its own units. Residuals are weighted by them and MSEs are given in
@@ -95,15 +105,32 @@ struct Report {
   std::vector<std::string> outliers;
   std::size_t censored = 0;          ///< readings on a sensor's rails (modelled through the clamp)
   std::vector<std::string> warnings;  ///< sentences: what the report should not be read without
-  /// For plots: per residual, the residual before (recalibrated base) and after (final model), and
-  /// the values of two covariates: the one the residuals depended on most before, and `row`.
+  /// For the figure (lib/plot): per residual, measured minus model before (recalibrated base) and
+  /// after (final model), each in its own channel's units (drive: ToF in mm, encoders in steps;
+  /// camera: two residuals per row, px then py), and the values of one covariate: the one the
+  /// verdict names (unexplained), else the one the residuals depended on most before the findings
+  /// when significant, else `row` ("predicted": the recalibrated base model's prediction).
   std::vector<double> residual_before, residual_after;
   std::vector<std::pair<std::string, std::vector<double>>> covariates;
+  /// With several channels: each residual's channel (index into channel_noise_sd); empty with one.
+  std::vector<std::uint8_t> residual_channel;
+};
+
+/// Where a diagnosis is (Options::progress): a stage, and within it `done` of `total` (0 of 0
+/// when the stage has no count), with a detail such as the effect being fitted.
+struct Progress {
+  std::string stage;   ///< "screening", "recalibrating", "fitting effect", "held-out test", "residual structure"
+  int step = 0;        ///< the search step (1-based) for "fitting effect" and "held-out test"
+  int done = 0, total = 0;
+  std::string detail;  ///< e.g. the effect's cause
 };
 
 struct Options {
   int folds = 5;
   int blocks_per_fold = 8;             ///< contiguous blocks of rows per fold
+  /// Each fold must hold at least this many rows per parameter of the largest model the search
+  /// tries first, or the logs are too few to judge effects (Report::too_few_rows).
+  int rows_per_parameter = 3;
   double min_delta_bic = 10.0;         ///< "very strong" evidence on the BIC scale (Kass and Raftery 1995)
   double min_heldout_gain = 0.03;      ///< held-out MSE must fall by at least this fraction
   double structure_threshold = 0.03;   ///< practical size of a residual dependence (fraction of variance)
@@ -113,6 +140,9 @@ struct Options {
   /// published tables.
   models::battery::Model battery_model = models::battery::Model::cubic;
   std::optional<models::battery::Tables> battery_tables;
+  /// Called as the diagnosis goes (from the calling thread; never does I/O itself): a program can
+  /// show progress. Empty: not called.
+  std::function<void(const Progress&)> progress;
 };
 
 /// Diagnoses logs of one kind (all of `logs` must be of that kind). Never throws for numerical

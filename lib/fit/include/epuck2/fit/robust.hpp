@@ -109,6 +109,11 @@ struct RobustFit : FitResult {
 /// prediction is not finite.
 using ModelEvaluator = std::function<bool(const double* p, double* predictions, double* jacobian)>;
 
+/// Below this many readings inside the rails per free parameter (the noise counting as one when
+/// it is estimated), a robust fit warns that it is barely determined. Fewer readings than the
+/// parameters and the noise, and it is refused (not usable, with the reason).
+inline constexpr std::size_t kFewReadingsPerParameter = 3;
+
 /// The most parameters a robust fit takes (one Jet size serves every model).
 inline constexpr int kMaxRobustParameters = 8;
 

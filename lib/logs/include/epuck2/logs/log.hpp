@@ -28,6 +28,11 @@ std::optional<Kind> parse_kind(std::string_view name);
 const std::vector<Kind>& all_kinds();
 /// The columns a log of this kind must have (docs/logs.md).
 const std::vector<std::string>& required_columns(Kind kind);
+/// The column that may stand in for a required one, or "" when none may: a battery log may carry
+/// `voltage_v` instead of `charge` (a voltage-only log, as real robots report; its charge then
+/// comes from a voltage->charge map, epuck2/calibrate/charge_map.hpp). Such a log is read and
+/// recognised as battery; it has no `charge` column.
+std::string stand_in_column(Kind kind, const std::string& required);
 
 /// The VL53L0X time-of-flight sensor's "no target in range" code: tof_mm readings at or above it
 /// are kept as read in the tof_mm column; they mean "farther than the sensor's range (2000 mm)".

@@ -450,6 +450,19 @@ inline double step(Model model, Behaviour behaviour, const Tables& t, double cha
              : corrected::step(model, t, charge, delta_pos_m, dt_s, hints);
 }
 
+/// capacity_scale (docs/diagnose.md): a battery that holds k times the capacity of the
+/// calibration batteries discharges as the model does with time running 1/k times as fast.
+struct CapacityScale {
+  double k = 1.0;
+};
+
+/// One tick of `model` in the corrected behaviour for a battery of scaled capacity: the tick of
+/// dt_s seconds at the speed delta_pos_m / dt_s is the model's tick of dt_s / k at the same speed.
+inline double step(Model model, const Tables& t, const CapacityScale& capacity, double charge, double delta_pos_m,
+                   double dt_s) {
+  return corrected::step(model, t, charge, delta_pos_m / capacity.k, dt_s / capacity.k);
+}
+
 /// What the plug-in's Linear and Simple models are defined by: lines from 1 at t = 0 to 0 at the
 /// lifetime (the plug-in's source).
 inline double lifetime_slope_per_s(double lifetime_s) { return -1.0 / lifetime_s; }

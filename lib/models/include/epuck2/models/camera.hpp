@@ -47,17 +47,29 @@ inline CameraCoefficients plugin_camera() {
   return c;
 }
 
+/// radial_distortion (docs/diagnose.md): with x = lateral/forward, y = vertical/forward and
+/// r^2 = x^2 + y^2, both are scaled by (1 + k1 r^2) before projection. k1 = 0: the pinhole.
+template <typename T = double>
+struct CameraRadialDistortion {
+  T k1 = T(0.0);
+};
+
 /// Projection of a point (forward x > 0, lateral y to the left, vertical z up, camera frame) to
 /// pixel coordinates: px = cx - f y/x, py = cy - f z/x, f = (W/2)/tan(hfov/2). This is the
 /// plug-in's i = -W/Wm (y f/x - Wm/2), j = -H/Hm (z f/x - Hm/2) (the plug-in's source) written with
-/// the field of view and the image centre as the parameters. What a fit adjusts.
+/// the field of view and the image centre as the parameters, with radial distortion (neutral by
+/// default). A principal offset (docs/diagnose.md's principal_offset) is a centre (cx, cy) other
+/// than (W/2, H/2). What a fit adjusts.
 template <typename T>
 void camera_projection(const T& hfov_rad, const T& cx_px, const T& cy_px, double width_px, double forward_m,
-                       double lateral_m, double vertical_m, T* px, T* py) {
+                       double lateral_m, double vertical_m, T* px, T* py,
+                       const CameraRadialDistortion<T>& distortion = CameraRadialDistortion<T>{}) {
   using std::tan;
   const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);
-  px[0] = cx_px - f_px * (lateral_m / forward_m);
-  py[0] = cy_px - f_px * (vertical_m / forward_m);
+  const double x = lateral_m / forward_m, y = vertical_m / forward_m;
+  const T scale = 1.0 + distortion.k1 * (x * x + y * y);
+  px[0] = cx_px - f_px * x * scale;
+  py[0] = cy_px - f_px * y * scale;
 }
 
 /// The plug-in's visibility test: inside the cone of half-angle `aperture` about the axis and

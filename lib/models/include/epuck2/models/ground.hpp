@@ -52,4 +52,33 @@ inline int ground_reading(const GroundCoefficients& k, double grey) {
   return ground_reading(k, grey, 0.0, none);
 }
 
+// ---------------------------------------------------------------------------------------------
+// What the plug-in's 1023 grey misses: the diagnosis catalogue's effects (docs/diagnose.md) and
+// the per-sensor black offsets of real robots. A sensor's response is
+//   offset_raw + gain_raw grey^exponent
+// with offset_raw its reading over black (black_offset), offset_raw + gain_raw its reading over
+// white (white_level, sensor_gain: one white level per sensor) and exponent the nonlinear_response
+// (1: linear). The plug-in: offset 0, gain 1023, exponent 1 for every sensor.
+// ---------------------------------------------------------------------------------------------
+
+/// nonlinear_response: grey^exponent in place of grey.
+template <typename T = double>
+struct GroundNonlinear {
+  T exponent = T(1.0);
+};
+
+/// The mean reading in counts before the clamp to [0, 1023] and the rounding.
+template <typename T>
+T ground_mean_raw(const T& offset_raw, const T& gain_raw, const GroundNonlinear<T>& e, double grey) {
+  using std::exp;
+  // grey^exponent for grey >= 0 from the data; 0 for grey 0 (no log of 0 in the derivative).
+  T response(0.0);
+  if (grey > 0) response = grey == 1.0 ? T(1.0) : exp(e.exponent * std::log(grey));
+  return offset_raw + gain_raw * response;
+}
+
+inline double ground_mean_raw(const GroundCoefficients& k, const GroundNonlinear<double>& e, double grey) {
+  return ground_mean_raw(k.offset_raw, k.gain_raw, e, grey);
+}
+
 }  // namespace epuck2::models::sensors

@@ -56,4 +56,52 @@ inline int light_reading(const LightCoefficients& k, double intensity, double di
   return light_reading(k, one, 0.0, none);
 }
 
+// ---------------------------------------------------------------------------------------------
+// What the plug-in's Eq. 2 misses: the diagnosis catalogue's effects (docs/diagnose.md), one
+// parameter struct each, neutral by default. Templated on the scalar (Jets in the diagnosis).
+// ---------------------------------------------------------------------------------------------
+
+/// ambient_offset: ambient light lowers every reading by offset_raw (counts).
+template <typename T = double>
+struct LightAmbientOffset {
+  T offset_raw = T(0.0);
+};
+/// falloff_exponent: (gamma I / d)^exponent in place of the square.
+template <typename T = double>
+struct LightFalloff {
+  T exponent = T(2.0);
+};
+/// sensor_gain: sensor s sees gain[s] times the light.
+template <typename T = double>
+struct LightSensorGain {
+  std::array<T, kProximityCount> gain{T(1.0), T(1.0), T(1.0), T(1.0), T(1.0), T(1.0), T(1.0), T(1.0)};
+};
+template <typename T = double>
+struct LightEffects {
+  LightAmbientOffset<T> ambient;
+  LightFalloff<T> falloff;
+  LightSensorGain<T> gains;
+};
+
+/// The mean reading in counts before the clamp to [0, 4095] and the rounding, for one light:
+///   4095 (1 - gain_s (gamma I / d)^exponent) - offset for d <= range and I > 0, else 4095 - offset
+/// (the plug-in's Eq. 2 with every effect neutral).
+template <typename T>
+T light_mean_raw(const T& gamma_m, double range_m, const LightEffects<T>& e, int sensor, double intensity,
+                 double distance_m) {
+  using std::exp;
+  using std::log;
+  T v(kProximityFullScale_raw);
+  if (distance_m <= range_m && intensity > 0) {
+    const T ratio = gamma_m * intensity / distance_m;
+    v = kProximityFullScale_raw * (1.0 - e.gains.gain[static_cast<std::size_t>(sensor)] * exp(e.falloff.exponent * log(ratio)));
+  }
+  return v - e.ambient.offset_raw;
+}
+
+inline double light_mean_raw(const LightCoefficients& k, const LightEffects<double>& e, int sensor, double intensity,
+                             double distance_m) {
+  return light_mean_raw(k.gamma_m, k.range_m, e, sensor, intensity, distance_m);
+}
+
 }  // namespace epuck2::models::sensors

@@ -36,11 +36,9 @@ struct NoNoise {
   double operator()() const { return 0.5; }
 };
 
-// ----- Gaussian noise: the calibrated reading noise (a coefficient file's `noise` section) -----
-
-/// Standard normal numbers by Box-Muller from UnitUniform's bits: deterministic for a seed on every
-/// standard library (std::normal_distribution's algorithm is implementation-defined). Each pair of
-/// uniforms u1 in (0, 1), u2 gives r cos(2 pi u2) and then r sin(2 pi u2), r = sqrt(-2 ln u1).
+/// Standard normal numbers from a UnitUniform by the Box-Muller transform, written out so that a
+/// seed gives the same numbers with every standard library (std::normal_distribution's algorithm
+/// is the library's choice).
 class StandardNormal {
  public:
   explicit StandardNormal(std::uint64_t seed) : unit_(seed) {}
@@ -49,23 +47,21 @@ class StandardNormal {
       has_spare_ = false;
       return spare_;
     }
-    double u1 = unit_();
-    while (u1 <= 0.0) u1 = unit_();
-    const double u2 = unit_();
-    const double r = std::sqrt(-2.0 * std::log(u1));
-    constexpr double kTwoPi = 6.283185307179586476925286766559;
-    spare_ = r * std::sin(kTwoPi * u2);
+    // 1 - u lies in (0, 1]: no log of 0.
+    const double r = std::sqrt(-2.0 * std::log(1.0 - unit_()));
+    const double angle = 2.0 * 3.14159265358979323846 * unit_();
+    spare_ = r * std::sin(angle);
     has_spare_ = true;
-    return r * std::cos(kTwoPi * u2);
+    return r * std::cos(angle);
   }
-  /// The underlying uniform source (for draws that need one).
-  double uniform() { return unit_(); }
 
  private:
   UnitUniform unit_;
-  double spare_ = 0;
+  double spare_ = 0.0;
   bool has_spare_ = false;
 };
+
+// ----- Gaussian noise: the calibrated reading noise (a coefficient file's `noise` section) -----
 
 /// A Gaussian of standard deviation `sd` (any unit). An sd of 0 draws nothing.
 /// `normal` is any functor returning standard normal numbers (e.g. StandardNormal).

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -53,6 +54,91 @@ int proximity_reading(const ProximityCoefficients& k, std::optional<double> dist
 inline int proximity_reading(const ProximityCoefficients& k, std::optional<double> distance_m) {
   NoNoise none;
   return proximity_reading(k, distance_m, 0.0, none);
+}
+
+// ---------------------------------------------------------------------------------------------
+// What the plug-in's Eq. 1 misses: the diagnosis catalogue's effects (docs/diagnose.md), one
+// parameter struct each, every one neutral at its default (the plug-in's model). Templated on the
+// scalar: the diagnosis fits them with Jets, the simulation and plug-ins run them in double.
+// ---------------------------------------------------------------------------------------------
+
+/// ambient_offset: every reading is raised by offset_raw (counts), at every distance.
+template <typename T = double>
+struct ProximityAmbientOffset {
+  T offset_raw = T(0.0);
+};
+/// sensor_gain: sensor s reads gain[s] times the base response.
+template <typename T = double>
+struct ProximitySensorGain {
+  std::array<T, kProximityCount> gain{T(1.0), T(1.0), T(1.0), T(1.0), T(1.0), T(1.0), T(1.0), T(1.0)};
+};
+/// long_tail: the sensor still responds beyond the ray's cut-off: + amplitude_raw exp(-d / length_m).
+template <typename T = double>
+struct ProximityLongTail {
+  T amplitude_raw = T(0.0);
+  T length_m = T(0.02);
+};
+/// incidence_angle: a surface seen at an angle theta from the sensor's axis reflects cos(theta)^k.
+template <typename T = double>
+struct ProximityIncidence {
+  T k = T(0.0);
+};
+/// saturation: readings never exceed level_raw (counts).
+template <typename T = double>
+struct ProximitySaturation {
+  T level_raw = T(1e9);  ///< neutral: above any reading
+};
+
+/// Every effect of the catalogue at once (each neutral by default).
+template <typename T = double>
+struct ProximityEffects {
+  ProximityAmbientOffset<T> ambient;
+  ProximitySensorGain<T> gains;
+  ProximityLongTail<T> tail;
+  ProximityIncidence<T> incidence;
+  ProximitySaturation<T> saturation;
+};
+
+/// The long tail's contribution in counts at distance d.
+template <typename T>
+T proximity_tail_raw(const ProximityLongTail<T>& e, double distance_m) {
+  using std::exp;
+  return e.amplitude_raw * exp(-distance_m / e.length_m);
+}
+
+/// cos(theta)^k for cos(theta) >= 0 from the data (0 at grazing incidence, and no log of 0 in the
+/// derivative).
+template <typename T>
+T proximity_incidence_factor(const ProximityIncidence<T>& e, double cos_incidence) {
+  using std::exp;
+  if (!(cos_incidence > 0)) return T(0.0);
+  if (cos_incidence == 1.0) return T(1.0);
+  return exp(e.k * std::log(cos_incidence));
+}
+
+/// The mean reading in counts before the sensor's clamp to [0, 4095] and its rounding: the plug-in's
+/// 4095 clamp01(a d^2 + b d + c) for d <= range (else 0), with the catalogue's effects:
+///   min(gain_s cos(theta)^k 4095 clamp01(poly) [d <= range] + offset + amplitude exp(-d/length), level).
+/// `abc` = {a_per_m2, b_per_m, c}; `cos_incidence` = 1 for a surface facing the sensor.
+template <typename T>
+T proximity_mean_raw(const T* abc, double range_m, const ProximityEffects<T>& e, int sensor, double distance_m,
+                     double cos_incidence = 1.0) {
+  using std::fmax;
+  using std::fmin;
+  T v = e.ambient.offset_raw + proximity_tail_raw(e.tail, distance_m);
+  if (distance_m <= range_m) {
+    const T poly = fmin(fmax(proximity_polynomial(abc, distance_m), T(0.0)), T(1.0));
+    v += e.gains.gain[static_cast<std::size_t>(sensor)] * proximity_incidence_factor(e.incidence, cos_incidence) *
+         kProximityFullScale_raw * poly;
+  }
+  return fmin(v, e.saturation.level_raw);
+}
+
+/// A reading's mean in counts from the model's coefficients and effects (double).
+inline double proximity_mean_raw(const ProximityCoefficients& k, const ProximityEffects<double>& e, int sensor,
+                                 double distance_m, double cos_incidence = 1.0) {
+  const double abc[3] = {k.a_per_m2, k.b_per_m, k.c};
+  return proximity_mean_raw(abc, k.range_m, e, sensor, distance_m, cos_incidence);
 }
 
 }  // namespace epuck2::models::sensors

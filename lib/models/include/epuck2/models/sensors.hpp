@@ -22,5 +22,6 @@
 #include "epuck2/models/ground.hpp"
 #include "epuck2/models/tof.hpp"
 #include "epuck2/models/encoders.hpp"
+#include "epuck2/models/drive.hpp"
 #include "epuck2/models/camera.hpp"
 #include "epuck2/models/leds.hpp"

@@ -135,6 +135,9 @@ struct Row {
   double speed_cm_s = 0;  ///< commanded wheel speed (spinning in place)
   double charge = 0;      ///< the firmware's percentage / 100, not clamped
   double voltage_v = 0;   ///< the firmware's filtered battery voltage
+  /// The cell's true state of charge z (coulomb counted; not logged in the reference logs): what a
+  /// fuel gauge would report, for tests of maps from voltage to charge under load.
+  double state_of_charge = 1;
 };
 
 struct Run {

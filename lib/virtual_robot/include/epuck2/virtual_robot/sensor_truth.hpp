@@ -18,9 +18,31 @@
 
 namespace epuck2::virtual_robot {
 
-/// Standard normal numbers by Box-Muller from UnitUniform's bits: the models' seeded draw
-/// (epuck2/models/noise.hpp), portable across standard libraries.
-using Gaussian = models::sensors::StandardNormal;
+/// Standard normal numbers by Box-Muller from UnitUniform's bits: portable across standard
+/// libraries (std::normal_distribution is not specified bit for bit).
+class Gaussian {
+ public:
+  explicit Gaussian(std::uint64_t seed) : unit_(seed) {}
+  double operator()() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    double u1 = unit_();
+    while (u1 <= 0.0) u1 = unit_();
+    const double u2 = unit_();
+    const double r = std::sqrt(-2.0 * std::log(u1));
+    spare_ = r * std::sin(2.0 * models::sensors::kPi * u2);
+    has_spare_ = true;
+    return r * std::cos(2.0 * models::sensors::kPi * u2);
+  }
+  double uniform() { return unit_(); }
+
+ private:
+  models::sensors::UnitUniform unit_;
+  double spare_ = 0;
+  bool has_spare_ = false;
+};
 
 /// A reading rounded to a whole count and clamped to [0, full_scale]; never "-0" in a log (the
 /// rounding of a small negative value is -0, which std::clamp keeps).

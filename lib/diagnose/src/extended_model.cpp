@@ -1,0 +1,165 @@
+// The model a diagnosis ends with: see epuck2/diagnose/extended_model.hpp.
+#include "epuck2/diagnose/extended_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "epuck2/calibrate/model_file.hpp"
+
+namespace epuck2::diagnose {
+
+namespace s = models::sensors;
+
+namespace {
+
+/// Every parameter of the report by name: the base's (final joint fit) and each finding's, keyed
+/// "cause.name" for findings (catalogue names repeat across causes: drive's two `k`).
+struct Values {
+  std::map<std::string, double> base;
+  std::map<std::string, std::map<std::string, double>> effect;
+  bool has(const std::string& cause) const { return effect.count(cause) != 0; }
+  double at(const std::string& cause, const std::string& name, double neutral) const {
+    const auto e = effect.find(cause);
+    if (e == effect.end()) return neutral;
+    const auto v = e->second.find(name);
+    return v == e->second.end() ? neutral : v->second;
+  }
+  double base_or(const std::string& name, double fallback) const {
+    const auto v = base.find(name);
+    return v == base.end() ? fallback : v->second;
+  }
+};
+
+Values values_of(const Report& r, std::vector<std::string>* left_out, const std::vector<std::string>& known) {
+  Values v;
+  for (const NamedValue& p : r.final_base.empty() ? r.recalibrated : r.final_base) v.base[p.name] = p.value;
+  for (const Finding& f : r.findings) {
+    bool ok = false;
+    for (const auto& k : known) ok = ok || k == f.cause;
+    if (!ok) {
+      if (left_out) left_out->push_back(f.cause);
+      continue;
+    }
+    for (const NamedValue& p : f.parameters) v.effect[f.cause][p.name] = p.value;
+  }
+  return v;
+}
+
+/// Every reading the diagnosis sees is a whole number of its unit (counts, px, mm, steps): the
+/// residuals' sd holds the rounding's 1/12 unit^2 besides the noise. The simulation rounds too, so
+/// the noise it adds before rounding is what the residuals hold beyond that.
+double register_noise(double residual_sd) {
+  return std::sqrt(std::max(0.0, residual_sd * residual_sd - 1.0 / 12.0));
+}
+
+void require(const Report& r, logs::Kind kind) {
+  if (r.kind != kind) throw std::invalid_argument("the report is not of this kind");
+}
+
+/// "gains[3]" of a finding, per sensor (the reference sensor, not fitted, keeps 1).
+template <std::size_t N>
+std::array<double, N> gains(const Values& v, const std::string& cause) {
+  std::array<double, N> g;
+  g.fill(1.0);
+  for (std::size_t k = 0; k < N; ++k) g[k] = v.at(cause, "gains[" + std::to_string(k) + "]", 1.0);
+  return g;
+}
+
+}  // namespace
+
+s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* left_out) {
+  require(r, logs::Kind::proximity);
+  const Values v = values_of(r, left_out, {"ambient_offset", "sensor_gain", "long_tail", "incidence_angle", "saturation"});
+  s::ProximityModel m;
+  m.base.a_per_m2 = v.base_or("a", m.base.a_per_m2);
+  m.base.b_per_m = v.base_or("b", m.base.b_per_m);
+  m.base.c = v.base_or("c", m.base.c);
+  m.effects.ambient.offset_raw = v.at("ambient_offset", "offset", 0.0);
+  m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain");
+  if (v.has("long_tail")) {
+    m.effects.tail.amplitude_raw = v.at("long_tail", "amplitude", 0.0);
+    m.effects.tail.length_m = v.at("long_tail", "length_m", m.effects.tail.length_m);
+  }
+  m.effects.incidence.k = v.at("incidence_angle", "k", 0.0);
+  if (v.has("saturation")) m.effects.saturation.level_raw = v.at("saturation", "level", m.effects.saturation.level_raw);
+  m.noise_sd_raw.fill(register_noise(r.noise_sd));
+  return m;
+}
+
+s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out) {
+  require(r, logs::Kind::light);
+  const Values v = values_of(r, left_out, {"ambient_offset", "falloff_exponent", "sensor_gain"});
+  s::LightModel m;
+  m.base.gamma_m = v.base_or("gamma_m", m.base.gamma_m);
+  m.effects.ambient.offset_raw = v.at("ambient_offset", "offset", 0.0);
+  m.effects.falloff.exponent = v.at("falloff_exponent", "exponent", 2.0);
+  m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain");
+  m.noise_sd_raw.fill(register_noise(r.noise_sd));
+  return m;
+}
+
+s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_out) {
+  require(r, logs::Kind::ground);
+  const Values v = values_of(r, left_out, {"black_offset", "white_level", "sensor_gain", "nonlinear_response"});
+  s::GroundModel m;
+  // The catalogue's v = offset + (level - offset) g_s grey^p: sensor s has the black offset
+  // `offset` and the gain (level - offset) g_s.
+  const double offset = v.at("black_offset", "offset", 0.0);
+  const double level = v.at("white_level", "level", s::kGroundFullScale_raw);
+  const auto g = gains<s::kGroundCount>(v, "sensor_gain");
+  for (std::size_t k = 0; k < m.sensors.size(); ++k) m.sensors[k] = {(level - offset) * g[k], offset};
+  m.effects.exponent = v.at("nonlinear_response", "exponent", 1.0);
+  m.noise_sd_raw.fill(register_noise(r.noise_sd));
+  return m;
+}
+
+s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_out) {
+  require(r, logs::Kind::camera);
+  const Values v = values_of(r, left_out, {"principal_offset", "radial_distortion"});
+  s::CameraModel m;
+  m.base.horizontal_fov_rad = s::deg_to_rad(v.base_or("fov_deg", s::rad_to_deg(m.base.horizontal_fov_rad)));
+  m.base.cx_px = s::kCameraWidth_px / 2.0 + v.at("principal_offset", "dx_px", 0.0);
+  m.base.cy_px = s::kCameraHeight_px / 2.0 + v.at("principal_offset", "dy_px", 0.0);
+  m.distortion.k1 = v.at("radial_distortion", "k1", 0.0);
+  m.noise_sd_px = register_noise(r.noise_sd);
+  return m;
+}
+
+s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out) {
+  require(r, logs::Kind::drive);
+  const Values v = values_of(r, left_out,
+                             {"speed_limit", "accel_limit", "wheel_slip", "speed_scale", "latency", "tof_offset", "tof_scale"});
+  s::DriveModel m;
+  m.effects.speed_limit.max_cm_s = v.at("speed_limit", "max_cm_s", s::kDriveNoLimit);
+  m.effects.accel_limit.accel_cm_s2 = v.at("accel_limit", "accel_cm_s2", s::kDriveNoLimit);
+  m.effects.slip.tau_s = v.at("wheel_slip", "tau_s", 0.0);
+  m.effects.speed_scale.k = v.at("speed_scale", "k", 1.0);
+  m.effects.latency.delay_s = v.at("latency", "delay_s", 0.0);
+  m.effects.tof_offset.offset_mm = v.at("tof_offset", "offset_mm", 0.0);
+  m.effects.tof_scale.k = v.at("tof_scale", "k", 1.0);
+  m.tof_noise_sd_mm = register_noise(r.noise_sd);
+  for (const NamedValue& c : r.channel_noise_sd) {
+    if (c.name == "tof_mm") m.tof_noise_sd_mm = register_noise(c.value);
+    if (c.name == "steps") m.encoder_noise_sd_steps = register_noise(c.value);
+  }
+  return m;
+}
+
+nlohmann::json extended_model_json(const Report& r) {
+  std::vector<std::string> left_out;
+  nlohmann::json j;
+  switch (r.kind) {
+    case logs::Kind::proximity: j = calibrate::model_to_json(extended_proximity(r, &left_out)); break;
+    case logs::Kind::light: j = calibrate::model_to_json(extended_light(r, &left_out)); break;
+    case logs::Kind::ground: j = calibrate::model_to_json(extended_ground(r, &left_out)); break;
+    case logs::Kind::camera: j = calibrate::model_to_json(extended_camera(r, &left_out)); break;
+    case logs::Kind::drive: j = calibrate::model_to_json(extended_drive(r, &left_out)); break;
+    default: return nlohmann::json::object();
+  }
+  if (!left_out.empty()) j["effects_not_in_model"] = left_out;
+  return j;
+}
+
+}  // namespace epuck2::diagnose

@@ -1,0 +1,195 @@
+// One model type per kind of log: the base coefficients (per sensor where sensors differ), the
+// effects the diagnosis found (lib/models' catalogue structs, neutral by default) and the reading
+// noise, in the units the formulas take. The calibration fills them in (lib/calibrate), a
+// coefficient file round-trips them (docs/coefficient-files.md), `codegen` emits them as constant
+// instances (epuck2::fitted::proximity(), ...), and the simulation (`epuck2-fit simulate KIND
+// --like LOG`, the ARGoS plug-in) runs them. Every formula is the one in the sensor's header.
+//
+// Header-only, standard library only (epuck2::models).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "epuck2/models/battery.hpp"
+#include "epuck2/models/camera.hpp"
+#include "epuck2/models/drive.hpp"
+#include "epuck2/models/encoders.hpp"
+#include "epuck2/models/ground.hpp"
+#include "epuck2/models/light.hpp"
+#include "epuck2/models/noise.hpp"
+#include "epuck2/models/proximity.hpp"
+#include "epuck2/models/tof.hpp"
+
+namespace epuck2::models::sensors {
+
+/// A reading with Gaussian noise of standard deviation sd_raw, rounded and clamped to [lo, hi]
+/// (the sensor's register). `normal` returns standard normal numbers (StandardNormal); sd 0
+/// draws nothing.
+template <class Normal>
+int noisy_register(double mean_raw, double sd_raw, double lo, double hi, Normal& normal) {
+  const double noise = sd_raw > 0 ? sd_raw * normal() : 0.0;
+  return static_cast<int>(std::clamp(std::round(mean_raw + noise), lo, hi));
+}
+
+// ----- proximity -------------------------------------------------------------------------------
+
+struct ProximityModel {
+  ProximityCoefficients base = kPluginProximity;  ///< Eq. 1 (per-sensor differences: effects.gains)
+  ProximityEffects<double> effects;
+  std::array<double, kProximityCount> noise_sd_raw{};  ///< reading noise per sensor, counts
+};
+
+/// The mean reading (counts, before the clamp and the rounding). `distance_m` = nullopt: no hit.
+inline double mean_raw(const ProximityModel& m, int sensor, std::optional<double> distance_m,
+                       double cos_incidence = 1.0) {
+  return proximity_mean_raw(m.base, m.effects, sensor,
+                            distance_m ? *distance_m : std::numeric_limits<double>::infinity(), cos_incidence);
+}
+/// The register: the mean (saturated, docs/diagnose.md) with noise, rounded, clamped to [0, 4095].
+template <class Normal>
+int reading(const ProximityModel& m, int sensor, std::optional<double> distance_m, double cos_incidence,
+            Normal& normal) {
+  return noisy_register(mean_raw(m, sensor, distance_m, cos_incidence), m.noise_sd_raw[static_cast<std::size_t>(sensor)],
+                        0.0, kProximityFullScale_raw, normal);
+}
+
+// ----- light -----------------------------------------------------------------------------------
+
+struct LightModel {
+  LightCoefficients base = kPluginLight;
+  LightEffects<double> effects;
+  std::array<double, kProximityCount> noise_sd_raw{};  ///< reading noise per sensor, counts
+};
+
+inline double mean_raw(const LightModel& m, int sensor, double intensity, double distance_m) {
+  return light_mean_raw(m.base, m.effects, sensor, intensity, distance_m);
+}
+template <class Normal>
+int reading(const LightModel& m, int sensor, double intensity, double distance_m, Normal& normal) {
+  return noisy_register(mean_raw(m, sensor, intensity, distance_m), m.noise_sd_raw[static_cast<std::size_t>(sensor)], 0.0,
+                        kProximityFullScale_raw, normal);
+}
+
+// ----- ground ----------------------------------------------------------------------------------
+
+struct GroundModel {
+  /// Per sensor: offset over black and gain (white minus black), counts. The plug-in: 0 and 1023.
+  std::array<GroundCoefficients, kGroundCount> sensors{kPluginGround, kPluginGround, kPluginGround};
+  GroundNonlinear<double> effects;
+  std::array<double, kGroundCount> noise_sd_raw{};  ///< reading noise per sensor, counts
+};
+
+/// `grey` in [0, 1] (0 black).
+inline double mean_raw(const GroundModel& m, int sensor, double grey) {
+  return ground_mean_raw(m.sensors[static_cast<std::size_t>(sensor)], m.effects, grey);
+}
+template <class Normal>
+int reading(const GroundModel& m, int sensor, double grey, Normal& normal) {
+  return noisy_register(mean_raw(m, sensor, grey), m.noise_sd_raw[static_cast<std::size_t>(sensor)], 0.0,
+                        kGroundFullScale_raw, normal);
+}
+
+// ----- camera ----------------------------------------------------------------------------------
+
+struct CameraModel {
+  CameraCoefficients base = plugin_camera();  ///< field of view in radians, centre in pixels
+  CameraRadialDistortion<double> distortion;
+  double noise_sd_px = 0;  ///< pixel noise of an LED's image position (each axis)
+};
+
+/// The image position (px, py) of a point in the camera frame, before rounding.
+inline std::array<double, 2> mean_px(const CameraModel& m, double forward_m, double lateral_m, double vertical_m) {
+  std::array<double, 2> p{};
+  camera_projection(m.base.horizontal_fov_rad, m.base.cx_px, m.base.cy_px, m.base.width_px, forward_m, lateral_m,
+                    vertical_m, &p[0], &p[1], m.distortion);
+  return p;
+}
+/// The reported pixel: rounded, with the noise, not clamped (an LED beyond the image edge has a
+/// position outside it in the logs too).
+template <class Normal>
+std::array<int, 2> reading(const CameraModel& m, double forward_m, double lateral_m, double vertical_m, Normal& normal) {
+  const auto p = mean_px(m, forward_m, lateral_m, vertical_m);
+  const double big = std::numeric_limits<int>::max() / 2.0;
+  return {noisy_register(p[0], m.noise_sd_px, -big, big, normal), noisy_register(p[1], m.noise_sd_px, -big, big, normal)};
+}
+
+// ----- drive -----------------------------------------------------------------------------------
+
+struct DriveModel {
+  double steps_per_m = kPluginStepsPerMetre;
+  TofCoefficients tof = kPluginTof;  ///< range and rails; its scale and offset are effects' tof_scale/tof_offset
+  DriveEffects<double> effects;
+  double tof_noise_sd_mm = 0;       ///< ToF reading noise, mm
+  double encoder_noise_sd_steps = 0;  ///< encoder register noise, steps
+};
+
+/// A drive simulated row by row: the commands hold from one row to the next (zero-order hold),
+/// the effects act as in the diagnosis (exactly integrated, no time step), the ToF reads at t -
+/// delay, the encoders count floor(steps_per_m x) wrapped to int16.
+class DriveSimulation {
+ public:
+  DriveSimulation(const DriveModel& m, double obstacle_m) : m_(m), obstacle_m_(obstacle_m) {}
+
+  /// The readings at time t under the command that held since the previous call (the first call
+  /// is time 0 of the run: nothing has moved), then the command that holds from t.
+  struct Readings {
+    int tof_mm = 0;
+    int left_steps = 0, right_steps = 0;
+  };
+  template <class Normal>
+  Readings sample(double time_s, double left_cm_s, double right_cm_s, Normal& normal) {
+    if (started_) advance_to(time_s);
+    started_ = true;
+    history_.push_back({time_s, state_});
+    commands_.push_back({left_cm_s, right_cm_s});
+    Readings r;
+    const double xg = delayed_travel(time_s);
+    const double tof = drive_tof_mean_mm(m_.effects, obstacle_m_, xg);
+    r.tof_mm = noisy_register(tof, m_.tof_noise_sd_mm, m_.tof.min_mm, m_.tof.max_mm, normal);
+    r.left_steps = encoder_register(state_.xl, normal);
+    r.right_steps = encoder_register(state_.xr, normal);
+    return r;
+  }
+
+ private:
+  struct Past {
+    double time_s;
+    DriveState<double> state;
+  };
+  void advance_to(double time_s) {
+    const auto& c = commands_.back();
+    drive_advance(m_.effects, c[0], c[1], time_s - history_.back().time_s, state_);
+  }
+  /// The body's travel at t - delay: the state at the last sample before then, advanced.
+  double delayed_travel(double time_s) const {
+    const double when = time_s - m_.effects.latency.delay_s;
+    if (m_.effects.latency.delay_s <= 0) return state_.xg;
+    if (when < history_.front().time_s) return 0.0;
+    std::size_t k = history_.size() - 1;
+    while (k > 0 && history_[k].time_s > when) --k;
+    DriveState<double> at = history_[k].state;
+    drive_advance(m_.effects, commands_[k][0], commands_[k][1], when - history_[k].time_s, at);
+    return at.xg;
+  }
+  template <class Normal>
+  int encoder_register(double wheel_m, Normal& normal) const {
+    double count = m_.steps_per_m * wheel_m;
+    if (m_.encoder_noise_sd_steps > 0) count += m_.encoder_noise_sd_steps * normal();
+    const double f = std::floor(count);
+    return static_cast<int>(f - 65536.0 * std::floor((f + 32768.0) / 65536.0));  // int16 wrap
+  }
+
+  DriveModel m_;
+  double obstacle_m_;
+  bool started_ = false;
+  DriveState<double> state_;
+  std::vector<Past> history_;
+  std::vector<std::array<double, 2>> commands_;
+};
+
+}  // namespace epuck2::models::sensors

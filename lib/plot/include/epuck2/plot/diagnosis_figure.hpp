@@ -1,0 +1,24 @@
+// The diagnosis figure (epuck2-fit diagnose --plot FILE): the residuals, measured minus simulated,
+// before the findings (the recalibrated base model) and after them, one panel per measured
+// quantity (drive: the ToF in mm and the wheel encoders in steps; camera: the column and the row
+// in pixels), against the covariate the verdict names (Report::covariates). A continuous
+// covariate gives a scatter with the means of equal-count bins; a category (log, sensor, axis,
+// channel) gives labelled strips, before and after side by side, points jittered sideways, and
+// their means. Before and after share the panel's y scale; residuals beyond it are drawn at its
+// edge and counted in the legend. The format follows the file name's extension.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/logs/output.hpp"
+
+namespace epuck2::plot {
+
+/// Stages the figure in `stage` (in place once it commits). `log_names` label the logs (the
+/// `log` covariate's categories), in the order the diagnosis read them.
+void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const diagnose::Report& report,
+                      const std::vector<std::string>& log_names);
+
+}  // namespace epuck2::plot

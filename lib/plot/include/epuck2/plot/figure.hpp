@@ -1,0 +1,81 @@
+// Figures drawn by gnuplot (gnuplot-iostream), in the format the file name's extension asks for
+// (.png: pngcairo, .svg: svg, .pdf: pdfcairo), staged with the run's other outputs: gnuplot draws
+// into the stage's temporary file, which the stage renames onto the target only when the whole
+// run succeeds (epuck2/logs/output.hpp). Every figure of the project goes through render().
+#pragma once
+
+#include <gnuplot-iostream.h>
+
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "epuck2/logs/output.hpp"
+
+namespace epuck2::plot {
+
+enum class Format { png, svg, pdf };
+
+/// The format named by `path`'s extension, case-insensitively: .png, .svg or .pdf; none otherwise.
+std::optional<Format> format_of(const std::string& path);
+
+/// What a figure's name may end in, for messages and --help: ".png, .svg or .pdf".
+std::string accepted_extensions();
+
+/// Why `path` cannot name a figure ("" when it can), e.g. "'fits.jpg' has the extension '.jpg';
+/// a figure is drawn as .png (PNG), .svg (SVG) or .pdf (PDF), chosen by the extension".
+std::string why_not_a_figure(const std::string& path);
+
+/// A figure file name whose extension names no format we draw.
+struct UnknownFormat : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+/// Draws a figure: `draw` sets up and plots (the terminal, its size, font and output are set).
+using Draw = std::function<void(gnuplotio::Gnuplot&)>;
+
+/// Calls `draw` with a gnuplot whose terminal (from `path`'s extension) and output are set; the
+/// figure is staged in `stage` (in place once the stage commits). Text is UTF-8 and printed as
+/// given (no enhanced-text markup: file names keep their underscores). The size is in pixels for
+/// PNG and SVG; a PDF page has the PNG's proportions of text to plot at 144 pixels to the inch.
+/// Throws UnknownFormat for another extension (before anything is staged), std::runtime_error
+/// when the folder does not exist or gnuplot produced no figure. gnuplot's messages are dropped;
+/// with the environment variable EPUCK2_PLOT_STRICT set (the figure tests) any message it writes
+/// (an error or a warning in the commands) is a std::runtime_error quoting it.
+void render(logs::OutputStage& stage, const std::string& path, const Draw& draw, int width_px = 1400,
+            int height_px = 900);
+
+/// One figure on its own, atomically (a one-file stage).
+void render(const std::string& path, const Draw& draw, int width_px = 1400, int height_px = 900);
+
+/// `text` as a gnuplot string: double-quoted, backslash and double quote escaped, a newline
+/// written as the escape \n (a line break in a title); other control characters become '?'.
+std::string quoted(const std::string& text);
+
+/// A gnuplot datablock: `$name << EOD`, one line per row, `EOD`.
+std::string datablock(const std::string& name, const std::vector<std::vector<double>>& rows);
+
+/// `set multiplot layout ROWS,COLS` with one overall title placed clear of the panels' titles:
+/// the panels fill [left, right] x [bottom, top] of the canvas (screen fractions), spaced by
+/// `hspace` and `vspace` (screen fractions, room for each panel's title and axis labels), and the
+/// overall title sits above `top`.
+struct Layout {
+  int rows = 1, cols = 1;
+  double left = 0.07, right = 0.98, bottom = 0.08, top = 0.88;
+  double hspace = 0.07, vspace = 0.10;
+};
+std::string multiplot(const Layout& layout, const std::string& title, int title_font_pt = 15);
+
+/// The last plot of a multiplot: a legend alone, in one row across [left, right] x [bottom, top]
+/// (screen fractions), for panels that share it. `entries` are plot elements without data, e.g.
+/// "NaN with lines lw 2 lc rgb 'red' title 'cubic'". Leaves the multiplot's settings changed
+/// (border, tics, labels): issue it after the last panel.
+std::string legend_band(double left, double right, double bottom, double top, const std::vector<std::string>& entries,
+                        int font_pt = 11);
+
+/// An axis label: quantity and unit, "distance to the surface (mm)".
+inline std::string axis_label(const std::string& quantity, const std::string& unit) { return quantity + " (" + unit + ")"; }
+
+}  // namespace epuck2::plot

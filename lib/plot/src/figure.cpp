@@ -1,0 +1,161 @@
+#include "epuck2/plot/figure.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <unistd.h>
+
+namespace epuck2::plot {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// The pixel canvas as a PDF page: pngcairo draws type and lines about twice as large as a
+// pdfcairo page at 72 pixels per inch would (measured: a title's width matches at 144-146), so a
+// page of width_px / 144 inches keeps the PNG's proportions of text to plot (1500 px: 10.4 in).
+constexpr double kPixelsPerInch = 144.0;
+
+std::string terminal(Format format, int width_px, int height_px) {
+  char buf[256];
+  switch (format) {
+    case Format::png:
+      std::snprintf(buf, sizeof buf,
+                    "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' background rgb 'white'\n",
+                    width_px, height_px);
+      break;
+    case Format::svg:
+      // svg's type is smaller than pngcairo's at the same size (measured: x1.33-1.36 to match).
+      std::snprintf(buf, sizeof buf,
+                    "set terminal svg size %d,%d noenhanced font 'DejaVu Sans,11' fontscale 1.35 background rgb 'white'\n",
+                    width_px, height_px);
+      break;
+    case Format::pdf:
+      std::snprintf(buf, sizeof buf,
+                    "set terminal pdfcairo size %.3fin,%.3fin noenhanced font 'DejaVu Sans,11' background rgb 'white'\n",
+                    width_px / kPixelsPerInch, height_px / kPixelsPerInch);
+      break;
+  }
+  return buf;
+}
+
+}  // namespace
+
+std::optional<Format> format_of(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".png") return Format::png;
+  if (ext == ".svg") return Format::svg;
+  if (ext == ".pdf") return Format::pdf;
+  return std::nullopt;
+}
+
+std::string accepted_extensions() { return ".png, .svg or .pdf"; }
+
+std::string why_not_a_figure(const std::string& path) {
+  if (format_of(path)) return "";
+  const std::string ext = std::filesystem::path(path).extension().string();
+  return "'" + path + "' " + (ext.empty() ? std::string("has no extension") : "has the extension '" + ext + "'") +
+         "; a figure is drawn as .png (PNG), .svg (SVG) or .pdf (PDF), chosen by the file name's extension";
+}
+
+std::string quoted(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '\\' || c == '"') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    // Other control characters cannot reach gnuplot's command line intact: shown as '?'.
+    out += static_cast<unsigned char>(c) < 0x20 ? '?' : c;
+  }
+  return out + "\"";
+}
+
+std::string datablock(const std::string& name, const std::vector<std::vector<double>>& rows) {
+  std::ostringstream os;
+  os.precision(10);
+  os << '$' << name << " << EOD\n";
+  for (const auto& r : rows) {
+    for (std::size_t i = 0; i < r.size(); ++i) os << (i ? " " : "") << r[i];
+    os << '\n';
+  }
+  os << "EOD\n";
+  return os.str();
+}
+
+std::string multiplot(const Layout& l, const std::string& title, int title_font_pt) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "set multiplot layout %d,%d title %s font ',%d' margins screen %.4f,%.4f,%.4f,%.4f spacing screen %.4f,%.4f\n",
+                l.rows, l.cols, quoted(title).c_str(), title_font_pt, l.left, l.right, l.bottom, l.top, l.hspace, l.vspace);
+  return buf;
+}
+
+std::string legend_band(double left, double right, double bottom, double top, const std::vector<std::string>& entries,
+                        int font_pt) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "set multiplot next\nset lmargin at screen %.4f\nset rmargin at screen %.4f\nset bmargin at screen %.4f\n"
+                "set tmargin at screen %.4f\nunset border\nunset xtics\nunset ytics\nunset x2tics\nunset y2tics\n"
+                "unset title\nunset xlabel\nunset ylabel\nunset grid\nunset xzeroaxis\nunset label\nunset arrow\n"
+                "set xrange [0:1]\nset yrange [0:1]\n"
+                "set key center center horizontal Left reverse maxrows 1 samplen 5 spacing 1.2 width 2 font ',%d'\n",
+                left, right, bottom, top, font_pt);
+  std::string out = buf;
+  out += "plot ";
+  for (std::size_t i = 0; i < entries.size(); ++i) out += (i ? ", " : "") + entries[i];
+  return out + "\n";
+}
+
+void render(logs::OutputStage& stage, const std::string& path, const Draw& draw, int width_px, int height_px) {
+  namespace fs = std::filesystem;
+  const std::optional<Format> format = format_of(path);
+  if (!format) throw UnknownFormat(why_not_a_figure(path));
+  const std::string tmp = stage.reserve(path);
+  // gnuplot's own messages: dropped, or with EPUCK2_PLOT_STRICT set (the figure tests) an error.
+  const bool strict = std::getenv("EPUCK2_PLOT_STRICT") != nullptr;
+  static int figures = 0;
+  const fs::path messages = fs::temp_directory_path() / ("epuck2-gnuplot-" + std::to_string(::getpid()) + "-" +
+                                                         std::to_string(++figures) + ".txt");
+  std::string messages_text;  // a shell word: single-quoted
+  for (char c : messages.string()) messages_text += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  {
+    gnuplotio::Gnuplot gp(strict ? "gnuplot 2>'" + messages_text + "'" : std::string("gnuplot 2>/dev/null"));
+    gp << "set encoding utf8\n";
+    gp << terminal(*format, width_px, height_px);
+    std::string path_text;  // single-quoted: every byte but a newline as it is ('' stands for ')
+    for (char c : tmp) path_text += c == '\'' ? std::string("''") : std::string(1, c);
+    gp << "set output '" << path_text << "'\n";
+    draw(gp);
+    gp << "unset output\n";
+    gp << "exit\n";
+  }  // the destructor closes the pipe and waits for gnuplot
+  std::error_code ec;
+  if (strict) {
+    std::ifstream in(messages);
+    std::stringstream said;
+    said << in.rdbuf();
+    fs::remove(messages, ec);
+    if (!said.str().empty()) throw std::runtime_error(path + ": gnuplot said: " + said.str());
+  }
+  if (!fs::exists(tmp, ec) || fs::file_size(tmp, ec) == 0)
+    throw std::runtime_error(path + ": gnuplot did not draw the figure (is gnuplot-nox installed?)");
+}
+
+void render(const std::string& path, const Draw& draw, int width_px, int height_px) {
+  logs::OutputStage stage;
+  render(stage, path, draw, width_px, height_px);
+  stage.commit();
+}
+
+}  // namespace epuck2::plot
