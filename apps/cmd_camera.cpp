@@ -39,6 +39,7 @@ void print_report(const calibrate::CameraFit& f) {
               "not a standard error)\n",
               f.table4_points,
               fit::format_uncertain(f.table4_alpha_mean_deg, f.table4_alpha_sd_deg, "deg", "one point: no spread").c_str());
+  app::sensors::print_noise(f.noise);
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
@@ -109,6 +110,7 @@ nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensor
   j["observations"] = f.observations.size();
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
   j["table4"] = {{"alpha_mean_deg", f.table4_alpha_mean_deg}, {"alpha_sd_deg", f.table4_alpha_sd_deg}, {"points", f.table4_points}};
+  app::sensors::add_noise(j, {f.noise});
   app::sensors::add_warnings(j, f.warnings);
   if (keep != nullptr) *keep = std::move(f);
   return j;

@@ -32,6 +32,8 @@ void print_report(const calibrate::DriveFit& f) {
   app::sensors::print_parameter(t, "slip_time_constant_s", "s", "  ", "", &f.tof_autocorrelation);
   app::sensors::print_handling(t, "mm", "  ", &f.tof_autocorrelation);
   std::printf("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
+  app::sensors::print_noise(f.tof_noise);
+  app::sensors::print_noise(f.encoder_noise);
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
@@ -108,6 +110,7 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
   j["capped_rows"] = f.capped_rows;
   j["over_limit_runs"] = f.over_limit_runs;
   j["reference_mse"] = {{"plugin_tof", f.plugin_tof_mse}};
+  app::sensors::add_noise(j, {f.tof_noise, f.encoder_noise});
   app::sensors::add_warnings(j, f.warnings);
   if (keep != nullptr) *keep = std::move(f);
   return j;

@@ -32,6 +32,7 @@ void print_report(const calibrate::GroundFit& f) {
     app::sensors::print_handling(f.sensors[k], "counts");
   }
   std::printf("\nPlug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0. Pooled MSE %.3f counts²\n", f.mse);
+  app::sensors::print_noise(f.noise);
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
@@ -104,6 +105,7 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
   j["readings"] = f.readings;
   j["model"] = "value_raw = offset + gain * grey, grey in [0, 1], sensors 0 right, 1 centre, 2 left";
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
+  app::sensors::add_noise(j, {f.noise});
   app::sensors::add_warnings(j, f.warnings);
   if (keep != nullptr) *keep = std::move(f);
   return j;

@@ -31,6 +31,7 @@ void print_report(const calibrate::LightFit& f) {
     app::sensors::print_handling(f.gamma_per_sensor[i], "(reading/4095)");
   }
   std::printf("Plug-in: gamma = 1/13.3333 = 0.075 m, MSE on the readings inside the rails %.3e (reading/4095)²\n", f.plugin_mse);
+  app::sensors::print_noise(f.noise);
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
@@ -106,6 +107,7 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
   j["reference_mse"] = {{"plugin", f.plugin_mse}};
   std::vector<calibrate::LeftOut> left_out = f.left_out;
   app::sensors::add_left_out(j, left_out);
+  app::sensors::add_noise(j, {f.noise});
   app::sensors::add_warnings(j, f.warnings);
   if (keep != nullptr) *keep = std::move(f);
   return j;

@@ -47,6 +47,7 @@ void print_report(const calibrate::ProximityFit& f) {
   line("Fitted to the maxima", f.maxima, f.plugin_mse_maxima, f.epuck1_mse_maxima);
   line("Fitted to the means", f.means, f.plugin_mse_means, f.epuck1_mse_means);
   std::printf("\nPlug-in (paper, fitted to maxima): a = 197.8633, b = -30.47182, c = 1.011635\n");
+  app::sensors::print_noise(f.noise);
   if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
 }
 
@@ -105,6 +106,7 @@ nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sen
                       {"mean_censoring", rail(p.mean_censoring)}});
   j["points"] = points;
   app::sensors::add_left_out(j, f.left_out);
+  app::sensors::add_noise(j, {f.noise});
   app::sensors::add_warnings(j, f.warnings);
   if (keep != nullptr) *keep = std::move(f);
   return j;

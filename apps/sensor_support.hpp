@@ -218,6 +218,30 @@ inline void add_left_out(nlohmann::json& j, const std::vector<calibrate::LeftOut
   j["left_out"] = {{"count", rows.size()}, {"rows", list}};
 }
 
+/// The coefficient file's `noise` section (docs/coefficient-files.md): one entry per channel,
+/// {sd, unit, per_sensor_sd (where sensors differ), per_sensor_n, from, n, groups (replicates),
+/// argos_uniform_level (where the plug-in has such a noise)}. A channel whose noise could not be
+/// measured is an error: every calibration writes its reading noise.
+inline void add_noise(nlohmann::json& j, const std::vector<calibrate::ReadingNoise>& channels) {
+  nlohmann::json section = nlohmann::json::object();
+  for (const auto& c : channels) {
+    if (!c.usable())
+      throw NoUsableFit(c.channel + " reading noise: no reading to measure it from (" +
+                        (c.from == "replicates" ? "no group of two or more readings under the same conditions inside the rails"
+                                                : "the fit it comes from is not usable") +
+                        ")");
+    nlohmann::json e = {{"sd", c.sd}, {"unit", c.unit}, {"from", c.from}, {"n", c.n}};
+    if (c.from == "replicates") e["groups"] = c.groups;
+    if (!c.per_sensor_sd.empty()) {
+      e["per_sensor_sd"] = c.per_sensor_sd;
+      e["per_sensor_n"] = c.per_sensor_n;
+    }
+    if (c.argos_scale > 0) e["argos_uniform_level"] = c.argos_uniform_level();
+    section[c.channel] = e;
+  }
+  j["noise"] = section;
+}
+
 inline void add_warnings(nlohmann::json& j, const std::vector<std::string>& warnings) {
   if (!j.contains("warnings")) j["warnings"] = nlohmann::json::array();
   for (const auto& w : warnings) j["warnings"].push_back(w);
@@ -248,6 +272,7 @@ inline void add_robots(nlohmann::json& j, const std::vector<logs::Log>& all,
       continue;
     }
     j["robots"][name] = {{"logs", files}, {"usable", true}, {"parameters", r["parameters"]}, {"std_errors", r["std_errors"]}};
+    if (r.contains("noise")) j["robots"][name]["noise"] = r["noise"];
     if (r.contains("not_identifiable")) j["robots"][name]["not_identifiable"] = r["not_identifiable"];
     for (auto it = r["parameters"].begin(); it != r["parameters"].end(); ++it) {
       const auto& se = r["std_errors"].value(it.key(), nlohmann::json());
@@ -348,6 +373,27 @@ inline void print_handling(const fit::RobustFit& r, const std::string& unit = ""
     const auto why = r.std_error_why.find(n);
     std::printf("%snot identifiable: %s (%s)\n", indent, n.c_str(), why == r.std_error_why.end() ? "" : why->second.c_str());
   }
+}
+
+/// The human report's line on a channel's reading noise (the coefficient file's `noise` entry).
+inline void print_noise(const calibrate::ReadingNoise& n) {
+  if (!n.usable()) {
+    std::printf("\nReading noise (%s): not measured\n", n.channel.c_str());
+    return;
+  }
+  std::printf("\nReading noise (%s): sd %.4g %s, from %s (%zu readings", n.channel.c_str(), n.sd, n.unit.c_str(),
+              n.from.c_str(), n.n);
+  if (n.from == "replicates") std::printf(" in %zu groups", n.groups);
+  std::printf(")");
+  if (n.argos_scale > 0) std::printf("; ARGoS uniform noise_level of the same variance %.4g", n.argos_uniform_level());
+  std::printf("\n");
+  bool any = false;
+  for (std::size_t i = 0; i < n.per_sensor_sd.size(); ++i)
+    if (n.per_sensor_n[i] > 0) {
+      std::printf("%s sensor %zu: %.4g (%zu)", any ? "," : "  per sensor (readings):", i, n.per_sensor_sd[i], n.per_sensor_n[i]);
+      any = true;
+    }
+  if (any) std::printf("; sensors without readings take the pooled sd\n");
 }
 
 /// A parameter line: value ± standard error (two significant digits, fit::format_uncertain), or

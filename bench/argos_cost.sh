@@ -1,14 +1,33 @@
 #!/usr/bin/env bash
 # What the calibrated ARGoS plug-in costs against the E-Puck2 plug-in's own implementations:
-# N robots (1, 10, 50) driving in circles for a simulated time, each sensor alone and each
-# battery model, calibrated against default; wall-clock medians over repeats and their ratio.
-#   usage: bench/argos_cost.sh [SIM_SECONDS (default 7200)] [REPEATS (default 3)] [ROBOTS (default "1 10 50")]
-# Needs ARGoS, the E-Puck2 plug-in and the project built with them (build/lib/argos3).
+# N robots driving in circles for a simulated time, each sensor alone and each battery model,
+# calibrated against default. Measures the CPU time (user + sys) of the argos3 process, not the
+# wall time: on a machine shared with other jobs the wall time mostly measures the others. The
+# default and the calibrated run of a row alternate (ABBA: A B, then B A, ...), so that a drift
+# of the machine's load hits both alike. Prints the machine, its load, the medians, their ratio
+# and whether the targets are met:
+#   a calibrated sensor costs at most 5 % more than the plug-in's implementation (ratio <= 1.05);
+#   the calibrated corrected Cubic battery (behaviour="corrected") costs no more than the
+#   plug-in's Cubic (ratio <= 1.00).
+# Noise is off on both sides (the plug-in's noise_level 0, the calibrated noise="false"): the
+# rows compare the models, not the random number draws.
+# EPUCK2_BENCH_MEASURE=instructions counts the instructions argos3 executes instead (valgrind
+# --tool=callgrind, about 50 times slower; deterministic, so one repeat says it): where the CPU
+# times' run-to-run noise is larger than the difference, the counts decide. Its last two columns
+# are the instructions of the sensor's Update or the discharge model alone (inclusive), default
+# and calibrated, in millions.
+#   usage: bench/argos_cost.sh [SIM_SECONDS (default 7200)] [REPEATS (default 3)] [ROBOTS (default "1 10 50")] [ROWS]
+#     ROWS: a space-separated subset of: proximity ground tof encoder light battery-simple
+#           battery-linear battery-cubic battery-approximated battery-cubic-corrected (default: all)
+# Environment: EPUCK2_BUILD_DIR (default build), EPUCK2_BENCH_MEASURE (cpu, default, or instructions).
+# Needs ARGoS, the E-Puck2 plug-in and the project built with them (build/lib/argos3), python3.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SECONDS_SIM="${1:-7200}"; REPEATS="${2:-3}"; ROBOTS="${3:-1 10 50}"
+ROWS="${4:-proximity ground tof encoder light battery-simple battery-linear battery-cubic battery-approximated battery-cubic-corrected}"
 LIBDIR="${EPUCK2_BUILD_DIR:-$ROOT/build}/lib/argos3"
-command -v argos3 >/dev/null || { echo "argos_cost: argos3 not found" >&2; exit 3; }
+command -v argos3 >/dev/null || { echo "argos_cost: argos3 not found (docs/argos.md)" >&2; exit 3; }
+command -v python3 >/dev/null || { echo "argos_cost: python3 not found" >&2; exit 3; }
 [ -e "$LIBDIR/libepuck2_argos_calibrated.so" ] || { echo "argos_cost: build the project with ARGoS first" >&2; exit 3; }
 LIBDIR="$(cd "$LIBDIR" && pwd)"
 WORK="$(mktemp -d)"; trap 'rm -rf "$WORK"' EXIT
@@ -17,20 +36,25 @@ F="$ROOT/data/fitted"
 # sensor XML for (what, impl)
 sensor_xml() {
   local what="$1" impl="$2" c=""
+  [ "$impl" = calibrated ] && c=" noise=\"false\""
   case "$what" in
-    proximity) [ "$impl" = calibrated ] && c=" coefficients=\"$F/proximity.json\""; echo "<epuck2_proximity implementation=\"$impl\"$c/>";;
-    ground) [ "$impl" = calibrated ] && c=" coefficients=\"$F/ground.json\"" || impl=rot_z_only; echo "<epuck2_ground implementation=\"$impl\"$c/>";;
-    tof) [ "$impl" = calibrated ] && c=" coefficients=\"$F/drive.json\""; echo "<epuck2_tof implementation=\"$impl\"$c/>";;
-    encoder) [ "$impl" = calibrated ] && c=" coefficients=\"$F/drive.json\""; echo "<epuck2_encoder implementation=\"$impl\"$c/>";;
-    light) [ "$impl" = calibrated ] && c=" coefficients=\"$F/light.json\""; echo "<epuck2_light implementation=\"$impl\"$c/>";;
+    proximity) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/proximity.json\""; echo "<epuck2_proximity implementation=\"$impl\"$c/>";;
+    ground) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/ground.json\"" || impl=rot_z_only; echo "<epuck2_ground implementation=\"$impl\"$c/>";;
+    tof) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/drive.json\""; echo "<epuck2_tof implementation=\"$impl\"$c/>";;
+    encoder) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/drive.json\""; echo "<epuck2_encoder implementation=\"$impl\"$c/>";;
+    light) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/light.json\""; echo "<epuck2_light implementation=\"$impl\"$c/>";;
     battery-*) echo "<epuck2_battery implementation=\"default\"/>";;
   esac
 }
+# battery XML for (what, impl): battery-MODEL compares the calibrated model (behaviour="argos")
+# with the plug-in's MODEL; battery-cubic-corrected the calibrated Cubic with behaviour="corrected"
+# with the plug-in's Cubic.
 battery_xml() {
-  local what="$1" impl="$2" m="${1#battery-}"
+  local what="$1" impl="$2" m="${1#battery-}" behaviour=argos
   case "$what" in battery-*) ;; *) return;; esac
+  [ "$m" = cubic-corrected ] && { m=cubic; behaviour=corrected; }
   if [ "$impl" = calibrated ]; then
-    echo "<epuck2_battery discharge_model=\"calibrated\" coefficients=\"$F/battery.json\" model=\"$m\" behaviour=\"argos\"/>"
+    echo "<epuck2_battery discharge_model=\"calibrated\" coefficients=\"$F/battery.json\" model=\"$m\" behaviour=\"$behaviour\"/>"
   else
     [ "$m" = approximated ] && m=approx
     echo "<epuck2_battery discharge_model=\"$m\"/>"
@@ -68,25 +92,81 @@ XML
 XML
   } > "$4"
 }
-median() { sort -g | awk '{a[NR]=$1} END{print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 
-echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) logical cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "argos3: $(argos3 -n --version 2>&1 | head -n1)"
-echo "simulated time ${SECONDS_SIM} s at 10 ticks/s, median of $REPEATS runs (wall seconds)"
-printf "%-22s %6s %12s %12s %8s\n" what robots default_s calibrated_s ratio
+# CPU seconds (user + sys, microsecond resolution, from wait4's rusage) of one argos3 run.
+cat > "$WORK/cpu.py" <<'PY'
+import os, sys
+log = open(sys.argv[1], "wb")
+pid = os.fork()
+if pid == 0:
+    os.dup2(log.fileno(), 1); os.dup2(log.fileno(), 2)
+    os.execvp(sys.argv[2], sys.argv[2:])
+_, status, ru = os.wait4(pid, 0)
+if os.waitstatus_to_exitcode(status) != 0:
+    sys.exit(1)
+print(f"{ru.ru_utime + ru.ru_stime:.6f}")
+PY
+MEASURE="${EPUCK2_BENCH_MEASURE:-cpu}"
+case "$MEASURE" in
+  cpu) UNIT="CPU seconds (user + sys) of argos3";;
+  instructions) command -v valgrind >/dev/null || { echo "argos_cost: valgrind not found" >&2; exit 3; }
+                UNIT="instructions executed by argos3 (callgrind), in millions";;
+  *) echo "argos_cost: EPUCK2_BENCH_MEASURE must be cpu or instructions" >&2; exit 2;;
+esac
+cpu_run() {  # experiment -> CPU seconds (or millions of instructions) on stdout
+  if [ "$MEASURE" = instructions ]; then
+    ARGOS_PLUGIN_PATH="$LIBDIR" valgrind --tool=callgrind --callgrind-out-file="$WORK/cg" argos3 -n -z -c "$1" \
+      > "$WORK/log" 2>&1 || { echo "argos_cost: argos3 failed on $1:" >&2; tail -n 20 "$WORK/log" >&2; exit 1; }
+    awk '/^summary:/ {printf "%.3f\n", $2 / 1e6}' "$WORK/cg"
+    # The model alone: the sensor's Update() or the discharge model's operator()(), inclusive.
+    callgrind_annotate --inclusive=yes --threshold=100 "$WORK/cg" 2>/dev/null > "$WORK/annotated" || true
+    grep -E 'argos::CEPuck2[A-Za-z]*(Sensor::Update\(\)|DischargeModel[A-Za-z]*::operator\(\)\(\)) ' "$WORK/annotated" |
+      head -n1 | awk '{gsub(",", "", $1); printf "%.3f\n", $1 / 1e6}' > "$1.model" || true
+    return
+  fi
+  ARGOS_PLUGIN_PATH="$LIBDIR" python3 "$WORK/cpu.py" "$WORK/log" argos3 -n -z -c "$1" ||
+    { echo "argos_cost: argos3 failed on $1:" >&2; tail -n 20 "$WORK/log" >&2; exit 1; }
+}
+median() { sort -g | awk '{a[NR]=$1} END{print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
+load1() { cut -d' ' -f1 /proc/loadavg; }
+
+echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')"
+echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) logical cores"
+echo "load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "argos3: $(argos3 -n --version 2>&1 | grep -m1 VERSION | sed 's/\x1b\[[0-9;]*m//g')"
+echo "simulated ${SECONDS_SIM} s at 10 ticks/s; $UNIT, median of $REPEATS runs each,"
+echo "default and calibrated interleaved (ABBA); ratio = calibrated / default medians; pairs = range of the"
+echo "per-repeat ratios; target: sensors <= 1.05, battery-cubic-corrected <= 1.00"
+printf "%-24s %6s %10s %12s %7s %13s %6s %7s %s\n" what robots default calibrated ratio pairs target result load
 for n in $ROBOTS; do
-  for what in proximity ground tof encoder light battery-simple battery-linear battery-cubic battery-approximated; do
-    declare -A med=()
-    for impl in default calibrated; do
-      exp="$WORK/$what-$impl-$n.argos"; write_exp "$what" "$impl" "$n" "$exp"
-      for r in $(seq "$REPEATS"); do
-        s=$(date +%s.%N)
-        ARGOS_PLUGIN_PATH="$LIBDIR" argos3 -n -z -c "$exp" > "$WORK/log" 2>&1 || { cat "$WORK/log" >&2; exit 1; }
-        e=$(date +%s.%N); echo "$e - $s" | bc -l
-      done > "$WORK/times"
-      med[$impl]=$(median < "$WORK/times")
+  for what in $ROWS; do
+    write_exp "$what" default "$n" "$WORK/a.argos"
+    write_exp "$what" calibrated "$n" "$WORK/b.argos"
+    : > "$WORK/a.times"; : > "$WORK/b.times"; : > "$WORK/ratios"
+    l0=$(load1)
+    for r in $(seq "$REPEATS"); do
+      if [ $((r % 2)) -eq 1 ]; then
+        ta=$(cpu_run "$WORK/a.argos"); tb=$(cpu_run "$WORK/b.argos")
+      else
+        tb=$(cpu_run "$WORK/b.argos"); ta=$(cpu_run "$WORK/a.argos")
+      fi
+      echo "$ta" >> "$WORK/a.times"; echo "$tb" >> "$WORK/b.times"
+      awk -v a="$ta" -v b="$tb" 'BEGIN{printf "%.4f\n", b / a}' >> "$WORK/ratios"
     done
-    printf "%-22s %6d %12.3f %12.3f %8.3f\n" "$what" "$n" "${med[default]}" "${med[calibrated]}" \
-      "$(echo "${med[calibrated]} / ${med[default]}" | bc -l)"
+    ma=$(median < "$WORK/a.times"); mb=$(median < "$WORK/b.times")
+    lo=$(sort -g "$WORK/ratios" | head -n1); hi=$(sort -g "$WORK/ratios" | tail -n1)
+    case "$what" in
+      proximity|ground|tof|encoder|light) target=1.05;;
+      battery-cubic-corrected) target=1.00;;
+      *) target=-;;
+    esac
+    ratio=$(awk -v a="$ma" -v b="$mb" 'BEGIN{printf "%.3f", b / a}')
+    result="-"
+    [ "$target" != - ] && result=$(awk -v r="$ratio" -v t="$target" 'BEGIN{print (r <= t) ? "pass" : "FAIL"}')
+    printf "%-24s %6d %10.3f %12.3f %7s %13s %6s %7s %s" "$what" "$n" "$ma" "$mb" "$ratio" "$lo-$hi" "$target" "$result" \
+      "$l0-$(load1)"
+    [ "$MEASURE" = instructions ] && printf "  model %s / %s" "$(cat "$WORK/a.argos.model")" "$(cat "$WORK/b.argos.model")"
+    printf "\n"
   done
 done
+echo "load average at end: $(cut -d' ' -f1-3 /proc/loadavg)"

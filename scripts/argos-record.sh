@@ -11,12 +11,13 @@
 # argos-epuck2), EPUCK2_ARGOS_NOISE (true|false, default false: the noiseless model),
 # EPUCK2_BATTERY_MODEL (simple|linear|cubic|approximated, default cubic), EPUCK2_BATTERY_BEHAVIOUR
 # (argos|corrected, default argos), EPUCK2_ARGOS_SEED (default 124), EPUCK2_ARGOS_CHARGE_DIGITS
-# (significant digits of the battery charge, default 6).
+# (significant digits of the battery charge, default 6), EPUCK2_ARGOS_SAMPLES (readings per
+# condition for proximity, ground and light; default: the experiment's).
 # Needs ARGoS 3, the E-Puck2 ARGoS plug-in and the project built with them (build/lib/argos3).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 if [ $# -ne 3 ]; then
-  sed -n '2,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2
+  sed -n '2,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2
   exit 2
 fi
 KIND="$1"; COEFF="$2"; OUT="$3"
@@ -46,6 +47,10 @@ sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$OUT\"|" \
     -e "s|model=\"cubic\" behaviour=\"argos\"|model=\"$MODEL\" behaviour=\"$BEHAVIOUR\"|" \
     -e "s|charge_digits=\"6\"|charge_digits=\"${EPUCK2_ARGOS_CHARGE_DIGITS:-6}\"|" \
     "$ROOT/argos/experiments/$KIND.argos" > "$EXP"
+if [ -n "${EPUCK2_ARGOS_SAMPLES:-}" ]; then
+  case "$EPUCK2_ARGOS_SAMPLES" in ''|*[!0-9]*) echo "argos-record: EPUCK2_ARGOS_SAMPLES must be a whole number" >&2; exit 2;; esac
+  sed -i -e "s|samples=\"[^\"]*\"|samples=\"$EPUCK2_ARGOS_SAMPLES\"|" "$EXP"
+fi
 if [ "$COEFF" = default ]; then
   # The plug-in's implementations: rot_z_only for the ground sensors, default for the others;
   # its own discharge models (approx is its name for approximated).

@@ -6,6 +6,7 @@
 #include "cli_harness.hpp"
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -68,6 +69,53 @@ TEST_F(SensorCli, EachSubcommandFitsTheShippedLogs) {
   const auto j = nlohmann::json::parse(g.out);
   EXPECT_EQ(j.at("parameters").at("gain").size(), 3u);
   EXPECT_EQ(j.at("std_errors").at("offset").size(), 3u);
+}
+
+// Every coefficient file holds the reading noise of each of its channels (docs/coefficient-files.md):
+// sd in the reading's units, per sensor where the kind has several, where it comes from, and the
+// plug-in's uniform level of the same variance, sqrt(3) sd / scale, with the plug-in's scales
+// (its source: x 4095 for proximity and light, x 1023 ground, x 2000 mm ToF, x 32767 encoders).
+TEST_F(SensorCli, EveryFileHasTheReadingNoiseOfItsChannels) {
+  struct Channel {
+    std::string kind, channel, unit, from;
+    std::size_t sensors;  ///< per_sensor_sd entries, 0: none
+    double scale;         ///< 0: no plug-in noise (camera)
+  };
+  const std::vector<Channel> channels{{"proximity", "proximity", "counts", "replicates", 8, 4095},
+                                      {"light", "light", "counts", "replicates", 8, 4095},
+                                      {"ground", "ground", "counts", "replicates", 3, 1023},
+                                      {"camera", "camera", "px", "replicates", 0, 0},
+                                      {"drive", "tof", "mm", "replicates", 0, 2000},
+                                      {"drive", "encoder", "steps", "residuals", 0, 32767}};
+  for (const Channel& c : channels) {
+    SCOPED_TRACE(c.kind + " " + c.channel);
+    const CliRun r = run(c.kind + shipped(c.kind) + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j.contains("noise"));
+    const nlohmann::json& n = j.at("noise").at(c.channel);
+    EXPECT_EQ(n.at("unit"), c.unit);
+    EXPECT_EQ(n.at("from"), c.from);
+    const double sd = n.at("sd").get<double>();
+    EXPECT_GT(sd, 0.0);
+    EXPECT_GT(n.at("n").get<int>(), 100);
+    if (c.sensors) {
+      ASSERT_EQ(n.at("per_sensor_sd").size(), c.sensors);
+      ASSERT_EQ(n.at("per_sensor_n").size(), c.sensors);
+    } else {
+      EXPECT_FALSE(n.contains("per_sensor_sd"));
+    }
+    if (c.scale > 0)
+      EXPECT_NEAR(n.at("argos_uniform_level").get<double>(), std::sqrt(3.0) * sd / c.scale, 1e-12 * sd);
+    else
+      EXPECT_FALSE(n.contains("argos_uniform_level"));
+    // The human report says it too.
+    const CliRun h = run(c.kind + shipped(c.kind));
+    EXPECT_NE(h.out.find("Reading noise (" + c.channel + "): sd "), std::string::npos) << h.out;
+  }
+  // Several robots: each robot's own noise beside the pooled one.
+  const auto g = nlohmann::json::parse(run("ground" + shipped("ground") + " --json").out);
+  for (const auto& [robot, set] : g.at("robots").items()) EXPECT_EQ(set.at("noise").at("ground").at("unit"), "counts") << robot;
 }
 
 TEST_F(SensorCli, BadInputExitsTwoWithFileLineColumnAndLeavesOutputAlone) {

@@ -95,6 +95,75 @@ TEST(Proximity, NoiseIsUniformWithinItsLevelAndSeeded) {
   EXPECT_GT(hi, centre + 0.9 * level * 4095);
 }
 
+// The seeded Gaussian draw (noise.hpp): Box-Muller on UnitUniform's numbers, so the first two
+// draws are sqrt(-2 ln(1 - u1)) cos(2 pi u2) and sqrt(-2 ln(1 - u1)) sin(2 pi u2) of the first two
+// uniforms (1 - u1 in (0, 1]: no log of 0).
+TEST(Noise, StandardNormalIsBoxMullerOnTheSeededUniforms) {
+  s::UnitUniform u(42);
+  const double u1 = u(), u2 = u(), u3 = u(), u4 = u();
+  const double pi = 3.14159265358979323846;
+  s::StandardNormal n(42);
+  EXPECT_DOUBLE_EQ(n(), std::sqrt(-2 * std::log(1 - u1)) * std::cos(2 * pi * u2));
+  EXPECT_DOUBLE_EQ(n(), std::sqrt(-2 * std::log(1 - u1)) * std::sin(2 * pi * u2));
+  EXPECT_DOUBLE_EQ(n(), std::sqrt(-2 * std::log(1 - u3)) * std::cos(2 * pi * u4));
+  // Same seed, same numbers; another seed, others.
+  s::StandardNormal a(9), b(9), c(10);
+  for (int i = 0; i < 100; ++i) ASSERT_EQ(a(), b());
+  EXPECT_NE(s::StandardNormal(9)(), c());
+}
+
+TEST(Noise, StandardNormalHasMeanZeroAndSdOne) {
+  s::StandardNormal n(3);
+  const int count = 200000;
+  double sum = 0, sum2 = 0;
+  int beyond2 = 0;
+  for (int i = 0; i < count; ++i) {
+    const double x = n();
+    sum += x;
+    sum2 += x * x;
+    beyond2 += std::abs(x) > 2.0;
+  }
+  const double mean = sum / count, sd = std::sqrt(sum2 / count - mean * mean);
+  EXPECT_NEAR(mean, 0.0, 0.01);  // its standard error is 1 / sqrt(200000) = 0.0022
+  EXPECT_NEAR(sd, 1.0, 0.005);   // 0.0016
+  // A normal's two-sided 2-sigma tail: 4.55 % (a uniform of the same sd has none).
+  EXPECT_NEAR(beyond2 / static_cast<double>(count), 0.0455, 0.002);
+}
+
+TEST(Noise, GaussianUnitMakesAReadingAddTheGaussianInItsUnits) {
+  // A ground reading at grey 0.5 with offset 0, gain 1000 reads 500; with a Gaussian of 12 counts
+  // its readings' sd is sqrt(12^2 + 1/12) (the rounding to whole counts), their mean 500.
+  s::StandardNormal n(5);
+  s::GaussianUnit g(n, 12.0, s::kPluginNoiseScaleGround_counts);
+  const s::GroundCoefficients k{1000.0, 0.0};
+  const int count = 50000;
+  double sum = 0, sum2 = 0;
+  for (int i = 0; i < count; ++i) {
+    const double r = s::ground_reading(k, 0.5, 1.0, g);
+    sum += r;
+    sum2 += r * r;
+  }
+  const double mean = sum / count, sd = std::sqrt(sum2 / count - mean * mean);
+  EXPECT_NEAR(mean, 500.0, 0.25);
+  EXPECT_NEAR(sd, std::sqrt(144.0 + 1.0 / 12.0), 0.15);
+  // The same for the ToF in mm and a proximity reading in counts.
+  s::GaussianUnit t(n, 5.0, s::kPluginNoiseScaleTof_mm);
+  sum = sum2 = 0;
+  for (int i = 0; i < count; ++i) {
+    const double r = s::tof_reading_mm(s::kPluginTof, 0.5, 1.0, t);
+    sum += r;
+    sum2 += r * r;
+  }
+  EXPECT_NEAR(sum / count, 500.0, 0.1);
+  EXPECT_NEAR(std::sqrt(sum2 / count - (sum / count) * (sum / count)), std::sqrt(25.0 + 1.0 / 12.0), 0.07);
+  // The uniform level with the same variance: sqrt(3) sd / scale.
+  EXPECT_NEAR(s::uniform_level_with_sd(41.0, 4095.0), 41.0 * std::sqrt(3.0) / 4095.0, 1e-15);
+  // sd 0 draws nothing.
+  s::StandardNormal m(5), m_copy(5);
+  EXPECT_EQ(s::gaussian_noise(m, 0.0), 0.0);
+  EXPECT_EQ(m(), m_copy());
+}
+
 TEST(Proximity, PolynomialForFloatDoubleAndJet) {
   const float abc_f[3] = {197.8633f, -30.47182f, 1.011635f};
   const double abc_d[3] = {197.8633, -30.47182, 1.011635};
@@ -192,6 +261,18 @@ TEST(Encoder, WrapsAtInt16) {
   e.set_count(-32768.0);
   e.tick(-0.5 / s::kPluginStepsPerMetre, 1.0);  // -0.5 step: -32768.5 wraps to +32767.5
   EXPECT_EQ(e.reading(), 32767);
+}
+
+TEST(Encoder, NoiseOnTheReadingLeavesTheCountAlone) {
+  s::Encoder e;
+  e.set_count(100.4);
+  EXPECT_EQ(e.reading(0.7), 101);    // floor(101.1)
+  EXPECT_EQ(e.reading(-0.5), 99);    // floor(99.9)
+  EXPECT_EQ(e.count(), 100.4);       // the count does not accumulate the noise
+  e.set_count(32767.5);
+  EXPECT_EQ(e.reading(1.0), -32768);  // 32768.5 wraps to -32767.5
+  e.set_count(-32768.0);
+  EXPECT_EQ(e.reading(-0.25), 32767);  // -32768.25 wraps to 32767.75
 }
 
 TEST(Encoder, CarriesPartialSteps) {

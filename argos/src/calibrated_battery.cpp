@@ -17,6 +17,8 @@
 #include <argos3/core/utility/string_utilities.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_battery_equipped_entity.h>
 
+#include <memory>
+
 #include <epuck2/models/battery.hpp>
 
 #include "coefficient_file.hpp"
@@ -47,7 +49,7 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
     const std::string strPath =
         epuck2::argos_plugin::resolve_coefficient_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
     try {
-      m_sTables = epuck2::argos_plugin::load_battery_tables(strPath);
+      m_pcTables = epuck2::argos_plugin::shared_battery_tables(strPath);
     } catch (const std::exception& ex) {
       THROW_ARGOSEXCEPTION("calibrated battery: " << ex.what());
     }
@@ -85,7 +87,7 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
       if (fDeltaPos == 0.0 && cDeltaAngle.GetValue() != 0.0) fDeltaPos = cDeltaAngle.GetValue() * mb::kHalfAxleFloat_m;
       const Real fDeltaT = CPhysicsEngine::GetSimulationClockTick();
       m_pcBattery->SetAvailableCharge(
-          mb::step(m_eModel, m_eBehaviour, m_sTables, m_pcBattery->GetAvailableCharge(), fDeltaPos, fDeltaT, m_sHints));
+          mb::step(m_eModel, m_eBehaviour, *m_pcTables, m_pcBattery->GetAvailableCharge(), fDeltaPos, fDeltaT, m_sHints));
       m_cOldPosition = m_psAnchor->Position;
       m_cOldOrientation = m_psAnchor->Orientation;
     }
@@ -97,7 +99,7 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
   CQuaternion m_cOldOrientation;
   mb::Model m_eModel = mb::Model::cubic;
   mb::Behaviour m_eBehaviour = mb::Behaviour::argos_compatible;
-  mb::Tables m_sTables{};
+  std::shared_ptr<const mb::Tables> m_pcTables;  ///< shared by every robot with the same file
   mb::corrected::CubicHints m_sHints{};
 };
 

@@ -1,6 +1,10 @@
 #include "calibrated_sensors.hpp"
 
+#include <cmath>
+#include <mutex>
 #include <optional>
+#include <set>
+#include <sstream>
 #include <string>
 
 #include <argos3/core/simulator/entity/composable_entity.h>
@@ -22,22 +26,28 @@
 namespace argos {
 
 namespace ms = epuck2::models::sensors;
+using epuck2::argos_plugin::ArgosNoise;
 using epuck2::argos_plugin::CoefficientFile;
 
 namespace {
 
 /// What every calibrated sensor reads from its XML node: the coefficient file (loaded, with the
-/// robot's set when `robot` is given), whether noise is on and the uniform noise level.
+/// robot's set when `robot` is given), whether noise is on, its distribution and the uniform
+/// noise level.
 struct SCommon {
+  std::string Sensor;
   std::optional<CoefficientFile> File;
   bool Noise = true;
+  bool Uniform = false;  ///< noise_distribution="uniform"
   Real NoiseLevel = 0.0;
+  bool NoiseLevelGiven = false;
 };
 
 SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor,
                    const std::vector<std::string>& vec_kinds) {
   SCommon s;
-  std::string strFile, strRobot;
+  s.Sensor = str_sensor;
+  std::string strFile, strRobot, strDistribution = "gaussian";
   GetNodeAttributeOrDefault(t_tree, "coefficients", strFile, strFile);
   if (strFile.empty())
     THROW_ARGOSEXCEPTION("calibrated " << str_sensor
@@ -45,6 +55,12 @@ SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor,
   ExpandEnvVariables(strFile);
   GetNodeAttributeOrDefault(t_tree, "robot", strRobot, strRobot);
   GetNodeAttributeOrDefault(t_tree, "noise", s.Noise, s.Noise);
+  GetNodeAttributeOrDefault(t_tree, "noise_distribution", strDistribution, strDistribution);
+  if (strDistribution != "gaussian" && strDistribution != "uniform")
+    THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": noise_distribution must be 'gaussian' or 'uniform', not '"
+                                       << strDistribution << "'");
+  s.Uniform = strDistribution == "uniform";
+  s.NoiseLevelGiven = NodeAttributeExists(t_tree, "noise_level");
   GetNodeAttributeOrDefault(t_tree, "noise_level", s.NoiseLevel, s.NoiseLevel);
   if (s.NoiseLevel < 0) THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": noise_level must not be negative");
   const std::string strPath =
@@ -55,6 +71,51 @@ SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor,
     THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": " << ex.what());
   }
   return s;
+}
+
+/// A warning on ARGoS's error log, once per process for each text (50 robots: one line).
+void WarnOnce(const std::string& str_text) {
+  static std::mutex cMutex;
+  static std::set<std::string> setSaid;
+  std::lock_guard<std::mutex> cLock(cMutex);
+  if (!setSaid.insert(str_text).second) return;
+  LOGERR << "[WARNING] " << str_text << std::endl;
+  LOGERR.Flush();
+}
+
+/// A sensor's noise: with noise="true", the file's measured reading noise noise.<channel> (sd in
+/// `str_unit`, per sensor where the file has per_sensor_sd), as a Gaussian of that sd, or with
+/// noise_distribution="uniform" as the plug-in's uniform noise of the same variance (level
+/// sqrt(3) sd / scale). A file without a noise section: the plug-in's uniform noise of
+/// noise_level, with a warning. `f_scale` is the model's factor from a unit noise to `str_unit`.
+void ConfigureNoise(const SCommon& s, const std::string& str_channel, const std::string& str_unit, std::size_t un_sensors,
+                    double f_scale, ArgosNoise& c_noise) {
+  if (!s.Noise) {
+    c_noise.off(un_sensors);
+    return;
+  }
+  const std::optional<epuck2::argos_plugin::ReadingNoise> sNoise = s.File->noise(str_channel, str_unit, un_sensors);
+  if (!sNoise) {
+    std::ostringstream os;
+    os << "calibrated " << s.Sensor << ": " << s.File->path()
+       << " has no 'noise' section (a file written before epuck2-fit measured the reading noise): using the "
+          "plug-in's uniform noise of noise_level = "
+       << s.NoiseLevel << (s.NoiseLevel == 0 ? " (none)" : "") << "; fit the logs again to get the measured noise";
+    WarnOnce(os.str());
+    c_noise.uniform(std::vector<double>(un_sensors, s.NoiseLevel));
+    return;
+  }
+  if (s.NoiseLevelGiven)
+    WarnOnce("calibrated " + s.Sensor + ": noise_level is ignored: " + s.File->path() +
+             " gives the measured reading noise (noise." + str_channel + "); noise=\"false\" turns noise off");
+  const std::vector<double> vecSd = sNoise->sd_per_sensor(un_sensors);
+  if (s.Uniform) {
+    std::vector<double> vecLevel;
+    for (double fSd : vecSd) vecLevel.push_back(ms::uniform_level_with_sd(fSd, f_scale));
+    c_noise.uniform(vecLevel);
+  } else {
+    c_noise.gaussian(vecSd, f_scale);
+  }
 }
 
 /// Runs `f` and turns a coefficient-file error into an ARGoS exception naming the sensor.
@@ -68,6 +129,9 @@ void Checked(const std::string& str_sensor, F&& f) {
     THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": " << ex.what());
   }
 }
+
+/// The plug-in's encoder noise scale: a unit noise is 32767 steps.
+constexpr double kEncoderNoiseScale = ms::kPluginNoiseScaleEncoder_steps;
 
 /// The ray of a ray-casting sensor (proximity, ToF) in world coordinates.
 template <class SENSOR>
@@ -104,8 +168,8 @@ void CEPuck2CalibratedProximitySensor::Init(TConfigurationNode& t_tree) {
     const double fRange = s.File->scalar_or("range_m", ms::kPluginProximity.range_m);
     m_vecCoefficients.resize(n);
     for (std::size_t i = 0; i < n; ++i) m_vecCoefficients[i] = ms::ProximityCoefficients{a[i], b[i], c[i], fRange};
-    /* The model adds the noise to the normalised response: scale 1 */
-    m_cNoise.configure(s.Noise, s.File->noise_sd("proximity"), s.NoiseLevel, 1.0);
+    /* The model adds the noise to the normalised response, then multiplies by 4095 counts */
+    ConfigureNoise(s, "proximity", "counts", n, ms::kPluginNoiseScaleProximity_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -128,7 +192,7 @@ void CEPuck2CalibratedProximitySensor::Update() {
     } else if (m_bShowRays) {
       m_pcControllableEntity->AddCheckedRay(false, cRay);
     }
-    m_tReadings[i].Value = ms::proximity_reading(m_vecCoefficients[i], fDistance, m_cNoise.level(), m_cNoise);
+    m_tReadings[i].Value = ms::proximity_reading(m_vecCoefficients[i], fDistance, m_cNoise.level(i), m_cNoise.unit(i));
   }
 }
 
@@ -139,10 +203,16 @@ REGISTER_SENSOR(CEPuck2CalibratedProximitySensor, "epuck2_proximity", "calibrate
                 "with a, b, c (each a number or an array of 8, one per sensor) from the\n"
                 "coefficient file's parameters (or mean_a, mean_b, mean_c with curve=\"mean\").\n\n"
                 "  <epuck2_proximity implementation=\"calibrated\" coefficients=\"proximity.json\"\n"
-                "                    robot=\"ID\" curve=\"max\" noise=\"true\" noise_level=\"0.0\" />\n\n"
+                "                    robot=\"ID\" curve=\"max\" noise=\"true\"\n"
+                "                    noise_distribution=\"gaussian\" />\n\n"
                 "coefficients: the file (relative: to the .argos file, then the working directory).\n"
-                "robot: use the file's robots.ID set. noise: a Gaussian of fits.proximity.noise_sd\n"
-                "(normalised units) when the file has it, else uniform noise of noise_level.",
+                "robot: use the file's robots.ID set.\n"
+                "noise (default true): the coefficient file's measured reading noise, noise.proximity\n"
+                "(its sd in counts, per sensor from per_sensor_sd), as a Gaussian of that sd drawn from ARGoS's\n"
+                "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
+                "the same variance, level sqrt(3) sd / 4095 (the file's argos_uniform_level).\n"
+                "A file without a noise section: the plug-in's uniform noise of noise_level\n"
+                "(x 4095), with a warning. noise=\"false\": none.",
                 "Usable");
 
 /****************************************/
@@ -159,7 +229,7 @@ void CEPuck2CalibratedGroundSensor::Init(TConfigurationNode& t_tree) {
     m_vecCoefficients.resize(n);
     for (std::size_t i = 0; i < n; ++i) m_vecCoefficients[i] = ms::GroundCoefficients{gain[i], offset[i]};
     /* The model scales a unit noise by the full scale, 1023 counts */
-    m_cNoise.configure(s.Noise, s.File->noise_sd("ground"), s.NoiseLevel, ms::kGroundFullScale_raw);
+    ConfigureNoise(s, "ground", "counts", n, ms::kPluginNoiseScaleGround_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -177,7 +247,7 @@ void CEPuck2CalibratedGroundSensor::Update() {
     const CColor& cColor = m_pcFloorEntity->GetColorAtPoint(cSensorPos.GetX(), cSensorPos.GetY());
     /* grey in [0, 1], 0 = black */
     const double fGrey = cColor.ToGrayScale() / 255.0;
-    m_tReadings[i] = ms::ground_reading(m_vecCoefficients[i], fGrey, m_cNoise.level(), m_cNoise);
+    m_tReadings[i] = ms::ground_reading(m_vecCoefficients[i], fGrey, m_cNoise.level(i), m_cNoise.unit(i));
   }
 }
 
@@ -188,9 +258,13 @@ REGISTER_SENSOR(CEPuck2CalibratedGroundSensor, "epuck2_ground", "calibrated", "e
                 "to [0, 1023], with gain and offset (numbers or arrays of 3: right, centre, left)\n"
                 "from the coefficient file.\n\n"
                 "  <epuck2_ground implementation=\"calibrated\" coefficients=\"ground.json\"\n"
-                "                 robot=\"ID\" noise=\"true\" noise_level=\"0.0\" />\n\n"
-                "noise: a Gaussian of fits.ground.noise_sd (counts) when present, else uniform\n"
-                "noise of noise_level x 1023.",
+                "                 robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
+                "noise (default true): the coefficient file's measured reading noise, noise.ground\n"
+                "(its sd in counts, per sensor from per_sensor_sd), as a Gaussian of that sd drawn from ARGoS's\n"
+                "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
+                "the same variance, level sqrt(3) sd / 1023 (the file's argos_uniform_level).\n"
+                "A file without a noise section: the plug-in's uniform noise of noise_level\n"
+                "(x 1023), with a warning. noise=\"false\": none.",
                 "Usable");
 
 /****************************************/
@@ -206,7 +280,7 @@ void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
     m_sCoefficients.offset_mm = s.File->scalar("tof_offset_mm");
     m_sCoefficients.range_m = m_pcTOFEntity->GetSensor(0).Direction.Length();
     /* The model scales a unit noise by the range, in mm */
-    m_cNoise.configure(s.Noise, s.File->noise_sd("tof"), s.NoiseLevel, m_sCoefficients.range_m * 1000.0);
+    ConfigureNoise(s, "tof", "mm", 1, m_sCoefficients.range_m * 1000.0, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -224,7 +298,7 @@ void CEPuck2CalibratedTOFSensor::Update() {
   } else if (m_bShowRays) {
     m_pcControllableEntity->AddCheckedRay(false, cRay);
   }
-  m_iReading = ms::tof_reading_mm(m_sCoefficients, fDistance, m_cNoise.level(), m_cNoise);
+  m_iReading = ms::tof_reading_mm(m_sCoefficients, fDistance, m_cNoise.level(0), m_cNoise.unit(0));
 }
 
 REGISTER_SENSOR(CEPuck2CalibratedTOFSensor, "epuck2_tof", "calibrated", "epuck2-fit", "1.0",
@@ -233,9 +307,13 @@ REGISTER_SENSOR(CEPuck2CalibratedTOFSensor, "epuck2_tof", "calibrated", "epuck2-
                 "tof_scale * distance + tof_offset_mm in mm, rounded and clamped to [20, 2000],\n"
                 "with tof_scale and tof_offset_mm from a drive coefficient file.\n\n"
                 "  <epuck2_tof implementation=\"calibrated\" coefficients=\"drive.json\"\n"
-                "              robot=\"ID\" noise=\"true\" noise_level=\"0.0\" />\n\n"
-                "noise: a Gaussian of fits.tof.noise_sd (mm) when present, else uniform noise of\n"
-                "noise_level x range.",
+                "              robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
+                "noise (default true): the coefficient file's measured reading noise, noise.tof\n"
+                "(its sd in mm), as a Gaussian of that sd drawn from ARGoS's\n"
+                "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
+                "the same variance, level sqrt(3) sd / 2000 mm (the range) (the file's argos_uniform_level).\n"
+                "A file without a noise section: the plug-in's uniform noise of noise_level\n"
+                "(x 2000 mm (the range)), with a warning. noise=\"false\": none.",
                 "Usable");
 
 /****************************************/
@@ -249,8 +327,8 @@ void CEPuck2CalibratedEncoderSensor::Init(TConfigurationNode& t_tree) {
   Checked(strName, [&] {
     m_sCoefficients.steps_per_m = s.File->scalar("steps_per_m");
     if (!(m_sCoefficients.steps_per_m > 0)) throw std::runtime_error(s.File->path() + ": steps_per_m must be positive");
-    /* The model scales a unit noise by 32767 steps */
-    m_cNoise.configure(s.Noise, s.File->noise_sd("encoder"), s.NoiseLevel, 32767.0);
+    /* The model scales a unit noise by 32767 steps; one channel per wheel */
+    ConfigureNoise(s, "encoder", "steps", 2, kEncoderNoiseScale, m_cNoise);
   });
   m_bAddNoise = false;
   Reset();
@@ -271,8 +349,18 @@ void CEPuck2CalibratedEncoderSensor::Update() {
   CEPuck2EncoderEquippedEntity::SSensor& sSens = m_pcEncoderEntity->GetSensor(0);
   const Real fDeltaT = CPhysicsEngine::GetSimulationClockTick();
   /* Wheel velocities in m/s */
-  m_cLeft.tick(sSens.Wheels.GetWheelVelocity(0), fDeltaT, m_cNoise.level(), m_cNoise);
-  m_cRight.tick(sSens.Wheels.GetWheelVelocity(1), fDeltaT, m_cNoise.level(), m_cNoise);
+  if (m_cNoise.gaussian()) {
+    /* The measured noise is the spread of a reading about the travel: added to the reading, the
+       count itself stays noiseless (a step counter does not drift) */
+    m_cLeft.tick(sSens.Wheels.GetWheelVelocity(0), fDeltaT);
+    m_cRight.tick(sSens.Wheels.GetWheelVelocity(1), fDeltaT);
+    m_tReadings.EncoderLeftWheel = m_cLeft.reading(ms::uniform_noise(m_cNoise.unit(0), m_cNoise.level(0)) * kEncoderNoiseScale);
+    m_tReadings.EncoderRightWheel = m_cRight.reading(ms::uniform_noise(m_cNoise.unit(1), m_cNoise.level(1)) * kEncoderNoiseScale);
+    return;
+  }
+  /* The plug-in's noise: added to the count every tick (it accumulates) */
+  m_cLeft.tick(sSens.Wheels.GetWheelVelocity(0), fDeltaT, m_cNoise.level(0), m_cNoise.unit(0));
+  m_cRight.tick(sSens.Wheels.GetWheelVelocity(1), fDeltaT, m_cNoise.level(1), m_cNoise.unit(1));
   m_tReadings.EncoderLeftWheel = m_cLeft.reading();
   m_tReadings.EncoderRightWheel = m_cRight.reading();
 }
@@ -283,9 +371,17 @@ REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", 
                 "counts steps_per_m * wheel speed * dt (int16 wrap, read as floor), with\n"
                 "steps_per_m from a drive coefficient file.\n\n"
                 "  <epuck2_encoder implementation=\"calibrated\" coefficients=\"drive.json\"\n"
-                "                  robot=\"ID\" noise=\"true\" noise_level=\"0.0\" />\n\n"
-                "noise: a Gaussian of fits.encoder.noise_sd (steps per tick) when present, else\n"
-                "uniform noise of noise_level x 32767.",
+                "                  robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
+                "noise (default true): the coefficient file's measured reading noise, noise.encoder\n"
+                "(its sd in steps), as a Gaussian of that sd drawn from ARGoS's\n"
+                "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
+                "the same variance, level sqrt(3) sd / 32767 (the file's argos_uniform_level).\n"
+                "A file without a noise section: the plug-in's uniform noise of noise_level\n"
+                "(x 32767), with a warning. noise=\"false\": none.\n"
+                "The Gaussian is added to each reading (the count stays noiseless: a step\n"
+                "counter does not drift); the uniform noise, as in the plug-in, to the count\n"
+                "every tick, where it accumulates (after k ticks its sd is sqrt(k) times the\n"
+                "file's).",
                 "Usable");
 
 /****************************************/
@@ -320,7 +416,8 @@ void CEPuck2CalibratedLightSensor::Init(TConfigurationNode& t_tree) {
         throw std::runtime_error(s.File->path() + ": per_sensor: no sensor " + std::to_string(i));
       m_vecCoefficients[i].gamma_m = e.at("gamma").get<double>();
     }
-    m_cNoise.configure(s.Noise, s.File->noise_sd("light"), s.NoiseLevel, 1.0);
+    /* The model adds the noise to the normalised sum, then multiplies by 4095 counts */
+    ConfigureNoise(s, "light", "counts", n, ms::kPluginNoiseScaleLight_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -351,7 +448,7 @@ void CEPuck2CalibratedLightSensor::Update() {
         vecLights.push_back(ms::LightSource{cRay.GetLength(), cLight.GetIntensity()});
       }
     }
-    m_tReadings[i].Value = ms::light_reading(m_vecCoefficients[i], vecLights, m_cNoise.level(), m_cNoise);
+    m_tReadings[i].Value = ms::light_reading(m_vecCoefficients[i], vecLights, m_cNoise.level(i), m_cNoise.unit(i));
   }
 }
 
@@ -361,9 +458,13 @@ REGISTER_SENSOR(CEPuck2CalibratedLightSensor, "epuck2_light", "calibrated", "epu
                 "reading is (1 - sum over visible lights of (gamma I / d)^2) x 4095, rounded and\n"
                 "clamped, with gamma from the coefficient file (per_sensor entries override it).\n\n"
                 "  <epuck2_light implementation=\"calibrated\" coefficients=\"light.json\"\n"
-                "                robot=\"ID\" noise=\"true\" noise_level=\"0.0\" />\n\n"
-                "noise: a Gaussian of fits.light.noise_sd (normalised units) when present, else\n"
-                "uniform noise of noise_level.",
+                "                robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
+                "noise (default true): the coefficient file's measured reading noise, noise.light\n"
+                "(its sd in counts, per sensor from per_sensor_sd), as a Gaussian of that sd drawn from ARGoS's\n"
+                "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
+                "the same variance, level sqrt(3) sd / 4095 (the file's argos_uniform_level).\n"
+                "A file without a noise section: the plug-in's uniform noise of noise_level\n"
+                "(x 4095), with a warning. noise=\"false\": none.",
                 "Usable");
 
 /****************************************/

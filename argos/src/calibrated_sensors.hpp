@@ -5,16 +5,19 @@
 //
 // XML (inside <sensors>):
 //   <epuck2_proximity implementation="calibrated" coefficients="proximity.json" [robot="ID"]
-//                     [curve="max|mean"] [noise="true|false"] [noise_level="0.05"] [show_rays="true"]/>
+//                     [curve="max|mean"] [noise="true|false"] [noise_distribution="gaussian|uniform"]
+//                     [noise_level="0.05"] [show_rays="true"]/>
 //   <epuck2_ground    implementation="calibrated" coefficients="ground.json" .../>
 //   <epuck2_tof       implementation="calibrated" coefficients="drive.json" .../>
 //   <epuck2_encoder   implementation="calibrated" coefficients="drive.json" .../>
 //   <epuck2_light     implementation="calibrated" coefficients="light.json" .../>
 //   <epuck2_colored_blob_perspective_camera implementation="calibrated" coefficients="camera.json"
 //                     medium="leds" .../>
-// Noise (noise="true", the default): a Gaussian of the file's fits.<name>.noise_sd when the file
-// has one (<name> = proximity, ground, tof, encoder, light; in the fit's units), else the plug-in's
-// uniform noise of the noise_level attribute (0: none). noise="false": none.
+// Noise (noise="true", the default): the coefficient file's measured reading noise noise.<channel>
+// (<channel> = proximity, ground, tof, encoder, light; sd in counts, mm or steps, per sensor where
+// the file has per_sensor_sd), as a Gaussian of that sd, or with noise_distribution="uniform" as
+// the plug-in's uniform noise of the same variance. A file without a noise section: the plug-in's
+// uniform noise of the noise_level attribute (0: none), with a warning. noise="false": none.
 #pragma once
 
 #include <vector>

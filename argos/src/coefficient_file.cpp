@@ -3,6 +3,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <sstream>
 
 namespace epuck2::argos_plugin {
@@ -13,7 +15,7 @@ using nlohmann::json;
 
 namespace {
 
-json parse_file(const std::string& path) {
+json parse_file_uncached(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open the coefficient file");
   try {
@@ -25,6 +27,33 @@ json parse_file(const std::string& path) {
     throw std::runtime_error(path + ": not JSON: " + e.what());
   }
 }
+
+struct CachedFile {
+  std::uintmax_t size = 0;
+  fs::file_time_type modified{};
+  std::shared_ptr<const json> root;
+};
+
+}  // namespace
+
+std::shared_ptr<const json> parse_coefficient_file(const std::string& path) {
+  static std::mutex mutex;
+  static std::map<std::string, CachedFile> cache;
+  std::error_code ec_size, ec_time;
+  const std::uintmax_t size = fs::file_size(path, ec_size);
+  const fs::file_time_type modified = fs::last_write_time(path, ec_time);
+  const bool stat_ok = !ec_size && !ec_time;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (stat_ok) {
+    const auto it = cache.find(path);
+    if (it != cache.end() && it->second.size == size && it->second.modified == modified) return it->second.root;
+  }
+  auto root = std::make_shared<const json>(parse_file_uncached(path));
+  if (stat_ok) cache[path] = CachedFile{size, modified, root};
+  return root;
+}
+
+namespace {
 
 /// `over`'s members replace `base`'s (one level deep).
 json merged(json base, const json& over) {
@@ -47,19 +76,23 @@ CoefficientFile CoefficientFile::load(const std::string& path, const std::vector
   CoefficientFile f;
   f.path_ = path;
   f.robot_ = robot;
-  f.root_ = parse_file(path);
-  if (f.root_.contains("kind")) {
-    const json& k = f.root_.at("kind");
+  f.root_ = parse_coefficient_file(path);
+  const json& root = *f.root_;
+  if (root.contains("kind")) {
+    const json& k = root.at("kind");
     bool ok = false;
     for (const auto& want : kinds) ok = ok || (k.is_string() && k.get<std::string>() == want);
     if (!ok) f.fail("a '" + (k.is_string() ? k.get<std::string>() : k.dump()) + "' file, expected " + join(kinds));
   }
-  if (!f.root_.contains("parameters") || !f.root_.at("parameters").is_object())
+  if (!root.contains("parameters") || !root.at("parameters").is_object())
     f.fail("no 'parameters' object");
-  f.parameters_ = f.root_.at("parameters");
-  f.fits_ = f.root_.value("fits", json::object());
+  f.parameters_ = root.at("parameters");
+  if (root.contains("noise")) {
+    if (!root.at("noise").is_object()) f.fail("'noise' must be an object {channel: {sd, unit, ...}}");
+    f.noise_ = root.at("noise");
+  }
   if (!robot.empty()) {
-    const json robots = f.root_.value("robots", json::object());
+    const json robots = root.value("robots", json::object());
     if (!robots.is_object() || !robots.contains(robot)) {
       std::string known;
       if (robots.is_object())
@@ -68,7 +101,7 @@ CoefficientFile CoefficientFile::load(const std::string& path, const std::vector
     }
     const json& r = robots.at(robot);
     f.parameters_ = merged(f.parameters_, r.value("parameters", json::object()));
-    f.fits_ = merged(f.fits_, r.value("fits", json::object()));
+    if (r.contains("noise") && r.at("noise").is_object()) f.noise_ = merged(f.noise_, r.at("noise"));
   }
   return f;
 }
@@ -104,13 +137,33 @@ std::vector<double> CoefficientFile::per_sensor(const std::string& name, std::si
   return out;
 }
 
-std::optional<double> CoefficientFile::noise_sd(const std::string& name) const {
-  if (!fits_.is_object() || !fits_.contains(name)) return std::nullopt;
-  const json& f = fits_.at(name);
-  if (!f.is_object() || !f.contains("noise_sd")) return std::nullopt;
-  const json& v = f.at("noise_sd");
-  if (!v.is_number() || v.get<double>() < 0) fail("fits." + name + ".noise_sd must be a non-negative number");
-  return v.get<double>();
+std::optional<ReadingNoise> CoefficientFile::noise(const std::string& channel, const std::string& unit,
+                                                   std::size_t sensors) const {
+  if (!noise_.is_object()) return std::nullopt;
+  const std::string where = "noise." + channel;
+  if (!noise_.contains(channel)) fail("the 'noise' section has no '" + channel + "' entry");
+  const json& e = noise_.at(channel);
+  if (!e.is_object()) fail(where + " must be an object {sd, unit, ...}");
+  ReadingNoise r;
+  r.channel = channel;
+  if (!e.contains("sd") || !e.at("sd").is_number() || !(e.at("sd").get<double>() >= 0))
+    fail(where + ".sd must be a non-negative number");
+  r.sd = e.at("sd").get<double>();
+  if (!e.contains("unit") || !e.at("unit").is_string() || e.at("unit").get<std::string>() != unit)
+    fail(where + ".unit must be \"" + unit + "\", found " + (e.contains("unit") ? e.at("unit").dump() : "none"));
+  r.unit = unit;
+  if (e.contains("per_sensor_sd")) {
+    const json& v = e.at("per_sensor_sd");
+    if (!v.is_array() || v.size() != sensors)
+      fail(where + ".per_sensor_sd must be an array of " + std::to_string(sensors) + " numbers, found " + v.dump());
+    for (const json& x : v) {
+      if (!x.is_number() || !(x.get<double>() >= 0)) fail(where + ".per_sensor_sd must hold non-negative numbers, found " + x.dump());
+      r.per_sensor_sd.push_back(x.get<double>());
+    }
+  }
+  if (e.contains("from") && e.at("from").is_string()) r.from = e.at("from").get<std::string>();
+  if (e.contains("n") && e.at("n").is_number()) r.n = e.at("n").get<double>();
+  return r;
 }
 
 namespace {
@@ -124,7 +177,7 @@ double number_at(const json& o, const char* key, const std::string& path, const 
 }  // namespace
 
 mb::Tables load_battery_tables(const std::string& path) {
-  const json j = parse_file(path);
+  const json& j = *parse_coefficient_file(path);
   if (j.contains("kind") && j.at("kind") != "battery")
     throw std::runtime_error(path + ": a '" + (j.at("kind").is_string() ? j.at("kind").get<std::string>() : j.at("kind").dump()) +
                              "' file, expected battery");
@@ -163,6 +216,22 @@ mb::Tables load_battery_tables(const std::string& path) {
   t.simple_static_slope_per_s = number_at(j.at("simple"), "static_slope_per_s", path, "simple");
   t.simple_moving_slope_per_s = number_at(j.at("simple"), "moving_slope_per_s", path, "simple");
   return t;
+}
+
+std::shared_ptr<const mb::Tables> shared_battery_tables(const std::string& path) {
+  struct Entry {
+    std::shared_ptr<const json> root;  ///< the parse the tables were read from
+    std::shared_ptr<const mb::Tables> tables;
+  };
+  static std::mutex mutex;
+  static std::map<std::string, Entry> cache;
+  const std::shared_ptr<const json> root = parse_coefficient_file(path);
+  std::lock_guard<std::mutex> lock(mutex);
+  const auto it = cache.find(path);
+  if (it != cache.end() && it->second.root == root) return it->second.tables;
+  auto tables = std::make_shared<const mb::Tables>(load_battery_tables(path));
+  cache[path] = Entry{root, tables};
+  return tables;
 }
 
 std::string resolve_coefficient_path(const std::string& name, const std::string& experiment_file) {

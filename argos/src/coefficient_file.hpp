@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -16,8 +17,24 @@
 
 namespace epuck2::argos_plugin {
 
+/// One channel of a coefficient file's `noise` section (docs/coefficient-files.md): the reading
+/// noise the calibration measured, in the reading's units.
+struct ReadingNoise {
+  std::string channel;                ///< proximity, light, ground, tof, encoder, camera
+  double sd = 0;                      ///< standard deviation of a reading, in `unit`
+  std::string unit;                   ///< counts, mm, steps, px
+  std::vector<double> per_sensor_sd;  ///< one per sensor where sensors differ; empty otherwise
+  std::string from;                   ///< replicates or residuals
+  double n = 0;                       ///< readings the estimate is made of
+  /// Each of `count` sensors' sd: per_sensor_sd when the file has it, else sd for every sensor.
+  std::vector<double> sd_per_sensor(std::size_t count) const {
+    return per_sensor_sd.size() == count ? per_sensor_sd : std::vector<double>(count, sd);
+  }
+};
+
 /// A sensor coefficient file: `parameters` {name: number or array}, optional `std_errors`,
-/// optional `robots` {ID: {parameters, std_errors, fits}} and optional `fits` {name: {noise_sd}}.
+/// optional `noise` {channel: {sd, unit, per_sensor_sd, from, n, argos_uniform_level}} and optional
+/// `robots` {ID: {parameters, std_errors, noise}}.
 class CoefficientFile {
  public:
   /// Loads `path` and checks that its `kind` (when present) is one of `kinds`. With a non-empty
@@ -27,7 +44,7 @@ class CoefficientFile {
                               const std::string& robot = "");
 
   const std::string& path() const { return path_; }
-  const nlohmann::json& root() const { return root_; }
+  const nlohmann::json& root() const { return *root_; }
 
   bool has(const std::string& name) const;
   /// A scalar parameter; an error when missing or not a number.
@@ -36,22 +53,33 @@ class CoefficientFile {
   double scalar_or(const std::string& name, double fallback) const;
   /// A per-sensor parameter: an array of `count` numbers, or one number used for every sensor.
   std::vector<double> per_sensor(const std::string& name, std::size_t count) const;
-  /// `fits.<name>.noise_sd` (the robot's set first), when the file has it; in the fit's units.
-  std::optional<double> noise_sd(const std::string& name) const;
+  /// Whether the file has a `noise` section (files written before it have none).
+  bool has_noise() const { return noise_.is_object(); }
+  /// `noise.<channel>` (the robot's set first), checked: `sd` a non-negative number, `unit` equal
+  /// to `unit`, `per_sensor_sd` (when present) `sensors` non-negative numbers. std::nullopt when
+  /// the file has no `noise` section; an error when the section lacks the channel.
+  std::optional<ReadingNoise> noise(const std::string& channel, const std::string& unit, std::size_t sensors) const;
 
  private:
   [[noreturn]] void fail(const std::string& what) const;
   std::string path_;
   std::string robot_;
-  nlohmann::json root_;
+  std::shared_ptr<const nlohmann::json> root_;  ///< shared by every sensor that loads the file
   nlohmann::json parameters_;  ///< top level, with the robot's set merged over it
-  nlohmann::json fits_;        ///< top level, with the robot's set merged over it
+  nlohmann::json noise_;       ///< top level, with the robot's set merged over it (per channel)
 };
 
 /// The battery tables of a battery coefficient file (the layout lib/fit's battery_json.cpp
 /// writes: `speeds` [16 x {speed_cm_s, cubic [d,c,b,a], lifetime_s, linear_slope, segments [4 x
 /// {h,m,x1_s,x2_s,y1,y2}]}], `simple` {static_slope_per_s, moving_slope_per_s}).
 epuck2::models::battery::Tables load_battery_tables(const std::string& path);
+/// The same, read once per process and file (while the file stays the same) and shared: 50 robots
+/// with the calibrated battery model step through one copy of the tables, not 50.
+std::shared_ptr<const epuck2::models::battery::Tables> shared_battery_tables(const std::string& path);
+
+/// Every file is parsed once per process and path (while its size and modification time stay the
+/// same): 50 robots with a calibrated sensor share one parse of the file, not 50.
+std::shared_ptr<const nlohmann::json> parse_coefficient_file(const std::string& path);
 
 /// A coefficient file name as written in the XML: environment variables expanded by the caller;
 /// a relative name is looked up next to the experiment file first, then in the working

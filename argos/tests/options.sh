@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The calibrated sensors' XML options in ARGoS: a robot's own coefficient set (robot="ID"), the
-# Gaussian noise of fits.<name>.noise_sd, and a bad coefficient file stopping ARGoS at Init with a
-# message naming the file.
+# Gaussian noise of the file's noise.<channel>.sd and its uniform alternative
+# (noise_distribution="uniform"), a file without a noise section (a warning, noise_level's uniform
+# noise), and a bad coefficient file stopping ARGoS at Init with a message naming the file.
 #   usage: options.sh ARGOS_LIBDIR WORK_DIR
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -10,13 +11,16 @@ LIBDIR="$1"; WORK="$2/options"
 if ! command -v argos3 >/dev/null 2>&1; then echo "SKIPPED: argos3 is not installed"; exit 77; fi
 rm -rf "$WORK"; mkdir -p "$WORK"
 export ARGOS_PLUGIN_PATH="$LIBDIR"
-# A proximity file with a robot set and a noise level.
-python3 - "$ROOT/data/fitted/proximity.json" "$WORK/p.json" <<'PY'
+# A proximity file with a robot set and a reading noise of 41 counts; the same without a noise section.
+python3 - "$ROOT/data/fitted/proximity.json" "$WORK/p.json" "$WORK/old.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 d["robots"] = {"r1": {"parameters": {"a": 150.0, "b": -25.0, "c": 0.9}}}
-d["fits"] = {"proximity": {"noise_sd": 0.01}}
+d["noise"] = {"proximity": {"sd": 41.0, "unit": "counts", "from": "replicates", "n": 1000,
+                            "argos_uniform_level": 3 ** 0.5 * 41.0 / 4095}}
 json.dump(d, open(sys.argv[2], "w"))
+d.pop("noise")
+json.dump(d, open(sys.argv[3], "w"))
 PY
 experiment() {  # out_dir sensor_attributes distances samples
   sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$1\"|" \
@@ -35,17 +39,45 @@ want=$(python3 -c "print(round((150*0.02**2 - 25*0.02 + 0.9)*4095))")
 [ "$got" = "$want" ] || fail "robot r1 reads $got at 20 mm, expected $want"
 echo "ok   robot=\"r1\": $got at 20 mm (the robot's set)"
 
-# 2. noise="true" with fits.proximity.noise_sd = 0.01: a Gaussian of 41 counts
-mkdir -p "$WORK/noise"
+# 2. noise="true" with noise.proximity.sd = 41 counts: a Gaussian of 41 counts; with
+#    noise_distribution="uniform" the plug-in's uniform noise of the same variance (level
+#    sqrt(3) 41 / 4095): the same sd, and no reading farther than sqrt(3) 41 = 71 counts (+1 for the
+#    rounding) from the noiseless one, where a Gaussian of 400 draws has about 30.
+sd_check() {  # csv label want_sd max_far min_far: readings beyond sqrt(3) sd + 1 from the median
+  python3 - "$@" <<'PY' || fail "$2"
+import statistics, sys
+path, label, want = sys.argv[1], sys.argv[2], float(sys.argv[3])
+v = [int(l.split(",")[3]) for l in open(path) if l[0].isdigit()]
+sd = statistics.stdev(v)
+ok = abs(sd - want) <= 0.1 * want
+centre = statistics.median(v)
+far = sum(abs(x - centre) > 3 ** 0.5 * want + 1 for x in v)
+msg = f"{label}: {len(v)} readings, sd {sd:.1f} counts (file: {want:g}), {far} beyond sqrt(3) sd + 1"
+ok = ok and int(sys.argv[5]) <= far <= int(sys.argv[4])
+print(("ok   " if ok else "FAIL ") + msg)
+sys.exit(0 if ok else 1)
+PY
+}
+mkdir -p "$WORK/noise" "$WORK/uniform"
 experiment "$WORK/noise" "coefficients=\"$WORK/p.json\" noise=\"true\"" "0.02:0.01:0.02" 400
 argos3 -n -z -c "$WORK/noise/exp.argos" > "$WORK/noise/log" 2>&1 || { cat "$WORK/noise/log"; fail "argos3"; }
-python3 - "$WORK/noise/proximity_argos-epuck2.csv" <<'PY' || fail "noise"
-import statistics, sys
-v = [int(l.split(",")[3]) for l in open(sys.argv[1]) if l[0].isdigit()]
-sd = statistics.stdev(v)
-print(f"ok   noise: {len(v)} readings, sd {sd:.1f} counts (noise_sd 0.01 x 4095 = 41)" if 35 < sd < 47 else f"FAIL sd {sd}")
-sys.exit(0 if 35 < sd < 47 else 1)
-PY
+sd_check "$WORK/noise/proximity_argos-epuck2.csv" "gaussian noise" 41 400 10
+experiment "$WORK/uniform" "coefficients=\"$WORK/p.json\" noise=\"true\" noise_distribution=\"uniform\"" "0.02:0.01:0.02" 400
+argos3 -n -z -c "$WORK/uniform/exp.argos" > "$WORK/uniform/log" 2>&1 || { cat "$WORK/uniform/log"; fail "argos3"; }
+sd_check "$WORK/uniform/proximity_argos-epuck2.csv" "uniform noise of the same variance" 41 0 0
+
+# 2b. a file without a noise section: a warning at Init naming the file, and noise_level's uniform
+#     noise (0 here: none)
+mkdir -p "$WORK/old"
+experiment "$WORK/old" "coefficients=\"$WORK/old.json\" noise=\"true\"" "0.02:0.01:0.02" 20
+argos3 -n -z -c "$WORK/old/exp.argos" > "$WORK/old/log" 2>&1 || { cat "$WORK/old/log"; fail "argos3"; }
+grep -q "calibrated epuck2_proximity: $WORK/old.json has no 'noise' section" "$WORK/old/log" ||
+  { cat "$WORK/old/log"; fail "no warning about the missing noise section"; }
+n=$(grep -c "has no 'noise' section" "$WORK/old/log")
+[ "$n" = 1 ] || fail "the warning was printed $n times, expected once"
+distinct=$(grep '^0' "$WORK/old/proximity_argos-epuck2.csv" | cut -d, -f4 | sort -u | wc -l)
+[ "$distinct" = 1 ] || fail "noise_level 0 without a noise section should give no noise, found $distinct distinct readings"
+echo "ok   no noise section: warned once, no noise with noise_level 0"
 
 # 3. a missing coefficient file stops ARGoS at Init, naming the sensor and the file
 mkdir -p "$WORK/missing"

@@ -48,13 +48,81 @@ TEST(CoefficientFile, ShippedSensorFilesLoad) {
   const auto drive = ap::CoefficientFile::load(fitted("drive.json"), {"drive", "tof"});
   const auto dj = json_of(fitted("drive.json"));
   EXPECT_EQ(drive.scalar("tof_scale"), dj.at("parameters").at("tof_scale").get<double>());
-  // The fit's reading noise (fits.tof.noise_sd) is what the calibrated ToF draws from.
-  ASSERT_TRUE(drive.noise_sd("tof").has_value());
-  EXPECT_EQ(*drive.noise_sd("tof"), dj.at("fits").at("tof").at("noise_sd").get<double>());
+}
+
+// Every shipped sensor file has the measured reading noise of each channel the calibrated sensors
+// draw from, in the units they expect, and per sensor where the kind has several sensors.
+TEST(CoefficientFile, ShippedFilesHaveTheReadingNoiseOfEveryChannel) {
+  struct Channel {
+    const char* file;
+    const char* kind;
+    const char* channel;
+    const char* unit;
+    std::size_t sensors;  ///< 0: no per-sensor entries
+  };
+  const Channel channels[] = {{"proximity.json", "proximity", "proximity", "counts", 8},
+                              {"light.json", "light", "light", "counts", 8},
+                              {"ground.json", "ground", "ground", "counts", 3},
+                              {"drive.json", "drive", "tof", "mm", 0},
+                              {"drive.json", "drive", "encoder", "steps", 0},
+                              {"camera.json", "camera", "camera", "px", 0}};
+  for (const Channel& c : channels) {
+    SCOPED_TRACE(std::string(c.file) + " " + c.channel);
+    const auto f = ap::CoefficientFile::load(fitted(c.file), {c.kind});
+    ASSERT_TRUE(f.has_noise());
+    const auto n = f.noise(c.channel, c.unit, c.sensors);
+    ASSERT_TRUE(n.has_value());
+    EXPECT_GT(n->sd, 0.0);
+    EXPECT_GT(n->n, 0.0);
+    EXPECT_TRUE(n->from == "replicates" || n->from == "residuals") << n->from;
+    EXPECT_EQ(n->per_sensor_sd.size(), c.sensors);
+    // The wrong unit is an error naming the entry.
+    EXPECT_NE(error_of([&] { f.noise(c.channel, "furlongs", c.sensors); }).find("noise." + std::string(c.channel) + ".unit"),
+              std::string::npos);
+  }
+}
+
+TEST(CoefficientFile, NoiseSectionIsCheckedAndAFileWithoutOneSaysSo) {
+  const std::string old = write_temp("old.json", R"({"kind": "ground", "parameters": {"gain": 1023, "offset": 0},
+    "fits": {"sensor_0": {"noise_sd": 7}}})");
+  const auto o = ap::CoefficientFile::load(old, {"ground"});
+  EXPECT_FALSE(o.has_noise());
+  EXPECT_FALSE(o.noise("ground", "counts", 3).has_value());  // the fits' noise_sd is not the reading noise
+  const std::string no_channel = write_temp("nochannel.json", R"({"kind": "drive", "parameters": {},
+    "noise": {"tof": {"sd": 3, "unit": "mm"}}})");
+  const auto d = ap::CoefficientFile::load(no_channel, {"drive"});
+  EXPECT_EQ(d.noise("tof", "mm", 0)->sd, 3.0);
+  EXPECT_TRUE(d.noise("tof", "mm", 0)->per_sensor_sd.empty());
+  EXPECT_EQ(d.noise("tof", "mm", 0)->sd_per_sensor(1), (std::vector<double>{3.0}));
+  EXPECT_NE(error_of([&] { d.noise("encoder", "steps", 0); }).find("no 'encoder' entry"), std::string::npos);
+  const std::string bad = write_temp("badnoise.json", R"({"kind": "ground", "parameters": {},
+    "noise": {"ground": {"sd": -1, "unit": "counts"}}})");
+  EXPECT_NE(error_of([&] { ap::CoefficientFile::load(bad, {"ground"}).noise("ground", "counts", 3); }).find("non-negative"),
+            std::string::npos);
+  const std::string short_list = write_temp("shortnoise.json", R"({"kind": "ground", "parameters": {},
+    "noise": {"ground": {"sd": 5, "unit": "counts", "per_sensor_sd": [4, 5]}}})");
+  EXPECT_NE(error_of([&] { ap::CoefficientFile::load(short_list, {"ground"}).noise("ground", "counts", 3); })
+                .find("an array of 3 numbers"),
+            std::string::npos);
+}
+
+TEST(CoefficientFile, AFileIsParsedOncePerProcessUntilItChanges) {
+  const std::string p = write_temp("cache.json", R"({"kind": "proximity", "parameters": {"a": 1, "b": 2, "c": 3}})");
+  const auto first = ap::parse_coefficient_file(p);
+  EXPECT_EQ(ap::parse_coefficient_file(p).get(), first.get());  // the same parse, shared
+  std::ofstream(p) << R"({"kind": "proximity", "parameters": {"a": 10, "b": 2, "c": 3}, "padding": "changes the size"})";
+  const auto second = ap::parse_coefficient_file(p);
+  EXPECT_NE(second.get(), first.get());
+  EXPECT_EQ(ap::CoefficientFile::load(p, {"proximity"}).scalar("a"), 10.0);
 }
 
 TEST(CoefficientFile, ShippedBatteryFileLoads) {
+  // Every robot's model shares one copy of a file's tables, equal to a fresh load's.
+  const auto shared = ap::shared_battery_tables(fitted("battery.json"));
+  EXPECT_EQ(ap::shared_battery_tables(fitted("battery.json")).get(), shared.get());
   const auto t = ap::load_battery_tables(fitted("battery.json"));
+  EXPECT_EQ(shared->lifetime_s, t.lifetime_s);
+  EXPECT_EQ(shared->cubic[7].d, t.cubic[7].d);
   EXPECT_GT(t.lifetime_s[0], 10000.0);
   EXPECT_LT(t.simple_moving_slope_per_s, 0.0);
 }
@@ -62,15 +130,17 @@ TEST(CoefficientFile, ShippedBatteryFileLoads) {
 TEST(CoefficientFile, RobotSetsAndNoiseOverrideTheTopLevel) {
   const std::string p = write_temp("robots.json", R"({"kind": "ground",
     "parameters": {"gain": [1000, 1001, 1002], "offset": 5},
-    "fits": {"ground": {"noise_sd": 2.5}},
-    "robots": {"r7": {"parameters": {"offset": [1, 2, 3]}, "fits": {"ground": {"noise_sd": 4}}}}})");
+    "noise": {"ground": {"sd": 2.5, "unit": "counts", "per_sensor_sd": [2, 2.5, 3]}},
+    "robots": {"r7": {"parameters": {"offset": [1, 2, 3]}, "noise": {"ground": {"sd": 4, "unit": "counts"}}}}})");
   const auto top = ap::CoefficientFile::load(p, {"ground"});
   EXPECT_EQ(top.per_sensor("offset", 3), (std::vector<double>{5, 5, 5}));
-  EXPECT_EQ(*top.noise_sd("ground"), 2.5);
+  EXPECT_EQ(top.noise("ground", "counts", 3)->sd, 2.5);
+  EXPECT_EQ(top.noise("ground", "counts", 3)->sd_per_sensor(3), (std::vector<double>{2, 2.5, 3}));
   const auto r7 = ap::CoefficientFile::load(p, {"ground"}, "r7");
   EXPECT_EQ(r7.per_sensor("offset", 3), (std::vector<double>{1, 2, 3}));
   EXPECT_EQ(r7.per_sensor("gain", 3)[2], 1002);
-  EXPECT_EQ(*r7.noise_sd("ground"), 4);
+  // The robot's channel replaces the top level's whole: its sd for every sensor.
+  EXPECT_EQ(r7.noise("ground", "counts", 3)->sd_per_sensor(3), (std::vector<double>{4, 4, 4}));
   const std::string e = error_of([&] { ap::CoefficientFile::load(p, {"ground"}, "r8"); });
   EXPECT_NE(e.find(p), std::string::npos) << e;
   EXPECT_NE(e.find("no coefficients for robot 'r8'"), std::string::npos) << e;

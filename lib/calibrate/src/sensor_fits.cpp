@@ -10,6 +10,7 @@
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include "epuck2/calibrate/screening.hpp"
 #include "epuck2/calibrate/sensors.hpp"
@@ -129,6 +130,21 @@ AutocorrelationCorrection run_autocorrelation(const RobustFit& f, const std::vec
 
 // Quantisation noise of an integer reading: 1/sqrt(12) of a count.
 constexpr double kQuantisationSd = 0.28867513459481287;
+
+/// Groups of readings under the same conditions: an id per distinct key.
+template <class Key>
+class Groups {
+ public:
+  int of(const Key& k) { return ids_.emplace(k, static_cast<int>(ids_.size())).first->second; }
+
+ private:
+  std::map<Key, int> ids_;
+};
+
+/// A sensor index from a log's `sensor` column (0 when the log has none).
+int sensor_of(const logs::Log& log, std::size_t row) {
+  return log.has("sensor") ? static_cast<int>(log.col("sensor")[row]) : 0;
+}
 
 }  // namespace
 
@@ -312,6 +328,30 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
       out.warnings.push_back(which + "the curve reads under 5 % of full scale at contact (c = " + fmt(abc[2]) +
                              "): a proximity sensor touching a surface reads near full scale.");
   }
+
+  // 5. The reading noise: the replicates at each distance, per log and sensor.
+  {
+    std::vector<double> nv;
+    std::vector<int> ng, ns;
+    std::vector<bool> nr;
+    Groups<std::tuple<std::size_t, int, double>> groups;
+    for (std::size_t l = 0; l < logs.size(); ++l) {
+      const auto& d = logs[l].col("distance_m");
+      const auto& v = logs[l].col("value");
+      for (std::size_t i = 0; i < logs[l].rows(); ++i) {
+        const int sensor = sensor_of(logs[l], i);
+        nv.push_back(v[i]);
+        ng.push_back(groups.of({l, sensor, d[i]}));
+        ns.push_back(sensor);
+        nr.push_back(v[i] <= 0 || v[i] >= full);
+      }
+    }
+    // Without replicates each distance's mean is one reading: the means fit's residuals.
+    out.noise = replicates_or_residuals(
+        noise_from_replicates("proximity", "counts", kArgosNoiseScaleProximity_counts, nv, ng, nr, ns, s::kProximityCount,
+                              kQuantisationSd),
+        noise_from_residuals("proximity", "counts", kArgosNoiseScaleProximity_counts, out.means, full, s::kProximityCount));
+  }
   return out;
 }
 
@@ -386,6 +426,30 @@ LightFit fit_light(const std::vector<logs::Log>& logs, const SensorFitOptions& o
     if (o.value_raw > 0 && o.value_raw < s::kProximityFullScale_raw)
       r.push_back(o.value_raw / s::kProximityFullScale_raw - s::light_response(s::kPluginLight.gamma_m, o.intensity, o.distance_m));
   out.plugin_mse = mse_of(r);
+
+  // The reading noise: the replicates of each log, sensor, distance and intensity (a light out of
+  // range or off included: the sensor's dark reading is a reading too).
+  std::vector<double> nv;
+  std::vector<int> ng, ns;
+  std::vector<bool> nr;
+  Groups<std::tuple<std::size_t, int, double, double>> groups;
+  for (std::size_t l = 0; l < logs.size(); ++l) {
+    const auto& d = logs[l].col("distance_m");
+    const auto& in = logs[l].col("intensity");
+    const auto& v = logs[l].col("value");
+    for (std::size_t i = 0; i < logs[l].rows(); ++i) {
+      const int sensor = sensor_of(logs[l], i);
+      nv.push_back(v[i]);
+      ng.push_back(groups.of({l, sensor, d[i], in[i]}));
+      ns.push_back(sensor);
+      nr.push_back(v[i] <= 0 || v[i] >= s::kProximityFullScale_raw);
+    }
+  }
+  out.noise = replicates_or_residuals(
+      noise_from_replicates("light", "counts", kArgosNoiseScaleLight_counts, nv, ng, nr, ns, s::kProximityCount,
+                            kQuantisationSd),
+      noise_from_residuals("light", "counts", kArgosNoiseScaleLight_counts, out.gamma, s::kProximityFullScale_raw,
+                           s::kProximityCount));
   return out;
 }
 
@@ -448,6 +512,32 @@ GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions&
     out.plugin_mse[k] = mse_of(r);
   }
   out.mse = n ? rss / static_cast<double>(n) : 0.0;
+
+  // The reading noise: the replicates of each log, sensor and grey level (to a tenth of a percent).
+  std::vector<double> nv;
+  std::vector<int> ng, ns;
+  std::vector<bool> nr;
+  Groups<std::tuple<std::size_t, int, long>> groups;
+  for (std::size_t l = 0; l < logs.size(); ++l) {
+    const auto& g = logs[l].col("grey");
+    const auto& v = logs[l].col("value");
+    for (std::size_t i = 0; i < logs[l].rows(); ++i) {
+      const int sensor = sensor_of(logs[l], i);
+      nv.push_back(v[i]);
+      ng.push_back(groups.of({l, sensor, std::lround(g[i] * 1000)}));
+      ns.push_back(sensor);
+      nr.push_back(v[i] <= 0 || v[i] >= full);
+    }
+  }
+  // Without replicates: the three sensors' fits' residuals, pooled.
+  RobustFit pooled;
+  pooled.usable = n > 0;
+  pooled.noise_sd = n ? std::sqrt(rss / static_cast<double>(n)) : 0.0;
+  pooled.observations = n;
+  out.noise = replicates_or_residuals(
+      noise_from_replicates("ground", "counts", kArgosNoiseScaleGround_counts, nv, ng, nr, ns, s::kGroundCount,
+                            kQuantisationSd),
+      noise_from_residuals("ground", "counts", kArgosNoiseScaleGround_counts, pooled, 1.0, s::kGroundCount));
   return out;
 }
 
@@ -523,6 +613,30 @@ CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions&
     out.table4_alpha_mean_deg = mean;
     out.table4_alpha_sd_deg = alphas.size() > 1 ? std::sqrt(ss / static_cast<double>(alphas.size() - 1)) : 0.0;
   }
+
+  // The reading noise: the frames of each LED position, px and py each their own group, pooled.
+  // Blobs have no rail (a blob off the image is not seen). The plug-in's camera draws no noise:
+  // no ARGoS scale.
+  std::vector<double> nv;
+  std::vector<int> ng, ns;
+  std::vector<bool> nr;
+  Groups<std::tuple<std::size_t, double, double, double, int>> frames;
+  for (std::size_t l = 0; l < logs.size(); ++l) {
+    const auto& x = logs[l].col("forward_m");
+    const auto& y = logs[l].col("lateral_m");
+    const auto& z = logs[l].col("vertical_m");
+    const auto& px = logs[l].col("px");
+    const auto& py = logs[l].col("py");
+    for (std::size_t i = 0; i < logs[l].rows(); ++i)
+      for (int axis = 0; axis < 2; ++axis) {
+        nv.push_back(axis == 0 ? px[i] : py[i]);
+        ng.push_back(frames.of({l, x[i], y[i], z[i], axis}));
+        ns.push_back(0);
+        nr.push_back(false);
+      }
+  }
+  out.noise = replicates_or_residuals(noise_from_replicates("camera", "px", 0.0, nv, ng, nr, ns, 0, kQuantisationSd),
+                                      noise_from_residuals("camera", "px", 0.0, out.result));
   return out;
 }
 
@@ -653,6 +767,30 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
   if (!out.over_limit_runs.empty())
     out.warnings.push_back(std::to_string(out.capped_rows) + " rows command more than the firmware's limit (" +
                            fmt(kFirmwareSpeedLimit_m_s * 100) + " cm/s): taken as the limit, which is what the robot does.");
+
+  // 3. The reading noise. ToF: the readings of each run while the robot stands still before it
+  //    first moves (no command yet, the encoders unchanged) are replicates: the body has not moved
+  //    (after a move it may still be settling, see the slip lag). With fewer than
+  //    kMinStillReadings of them, the ToF fit's residuals. Encoders: the steps fit's residuals.
+  {
+    std::vector<double> nv;
+    std::vector<int> ng, ns;
+    std::vector<bool> nr;
+    for (std::size_t r = 0; r < out.runs.size(); ++r) {
+      const DriveRun& run = out.runs[r];
+      for (std::size_t k = 0; k < run.time_s.size(); ++k) {
+        if (run.command_m_s[k] != 0.0 || run.steps[k] != run.steps[0]) break;
+        nv.push_back(run.tof_mm[k]);
+        ng.push_back(static_cast<int>(r));
+        ns.push_back(0);
+        nr.push_back(run.tof_mm[k] <= s::kPluginTof.min_mm || run.tof_mm[k] >= s::kPluginTof.max_mm);
+      }
+    }
+    out.tof_noise = noise_from_replicates("tof", "mm", kArgosNoiseScaleTof_mm, nv, ng, nr, ns, 0, kQuantisationSd);
+    if (!(out.tof_noise.n >= kMinStillReadings) || !std::isfinite(out.tof_noise.sd))
+      out.tof_noise = noise_from_residuals("tof", "mm", kArgosNoiseScaleTof_mm, out.tof);
+    out.encoder_noise = noise_from_residuals("encoder", "steps", kArgosNoiseScaleEncoder_steps, out.steps);
+  }
   return out;
 }
 

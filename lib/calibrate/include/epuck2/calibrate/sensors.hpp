@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "epuck2/calibrate/engine.hpp"
+#include "epuck2/calibrate/reading_noise.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/report.hpp"
 #include "epuck2/fit/robust.hpp"
@@ -62,6 +63,9 @@ struct ProximityFit {
   std::size_t censored_readings = 0;   ///< readings on a rail (0 or 4095)
   std::vector<LeftOut> left_out;       ///< wild readings and readings beyond the range
   std::vector<std::string> warnings;   ///< plausibility and what the fits said
+  /// Reading noise in counts, from the replicates at each distance (per log and sensor), per
+  /// sensor (8).
+  ReadingNoise noise;
 };
 
 /// Fits Eq. 1 with the curve held non-increasing over [0, range] (b <= 0 and b + 2 a range <= 0):
@@ -87,6 +91,9 @@ struct LightFit {
   std::size_t readings = 0, censored = 0;      ///< all readings; readings on a rail (0 or 4095)
   std::vector<LeftOut> left_out;               ///< beyond the range, no light
   std::vector<std::string> warnings;
+  /// Reading noise in counts, from the replicates (per log, sensor, distance and intensity), per
+  /// sensor (8).
+  ReadingNoise noise;
 };
 
 LightFit fit_light(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {});
@@ -100,6 +107,8 @@ struct GroundFit {
   double mse = 0;  ///< pooled over the three sensors
   std::size_t readings = 0, censored = 0;
   std::vector<std::string> warnings;
+  /// Reading noise in counts, from the replicates (per log, sensor and grey level), per sensor (3).
+  ReadingNoise noise;
 };
 
 GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {});
@@ -120,6 +129,8 @@ struct CameraFit {
   double table4_alpha_mean_deg = 0, table4_alpha_sd_deg = 0;
   std::size_t table4_points = 0;
   std::vector<std::string> warnings;
+  /// Reading noise of a blob's px and py together, in pixels, from the frames of each LED position.
+  ReadingNoise noise;
 };
 
 CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {});
@@ -146,7 +157,17 @@ struct DriveFit {
   /// Rows of a run are a time series: the residuals of each fit are autocorrelated within a run,
   /// and its standard errors need this correction (epuck2/fit/report.hpp).
   fit::AutocorrelationCorrection steps_autocorrelation, tof_autocorrelation;
+  /// ToF reading noise in mm: from the readings while the robot stands still before it first
+  /// moves in a run (replicates), else from the ToF fit's residuals.
+  ReadingNoise tof_noise;
+  /// Encoder reading noise in steps: the steps fit's residuals about the commanded travel (a
+  /// step counter has no replicates that vary).
+  ReadingNoise encoder_noise;
 };
+
+/// Readings standing still (before a run's first move) needed to take the ToF's reading noise from
+/// them rather than from the fit's residuals.
+inline constexpr std::size_t kMinStillReadings = 30;
 
 /// The firmware's speed limit in m/s: MOTOR_SPEED_LIMIT / the plug-in's steps per metre.
 inline constexpr double kFirmwareSpeedLimit_m_s =

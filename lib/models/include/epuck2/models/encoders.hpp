@@ -39,6 +39,13 @@ class Encoder {
   }
   /// The register: floor of the count (-32768..32767).
   int reading() const { return static_cast<int>(std::floor(count_)); }
+  /// The register read with a noise on the reading, not on the count (the calibrated reading
+  /// noise: a step counter does not drift): floor(count + noise_steps), int16-wrapped.
+  int reading(double noise_steps) const {
+    double r = count_ + noise_steps;
+    r -= 2 * kWrap * std::floor((r + kWrap) / (2 * kWrap));
+    return static_cast<int>(std::floor(r));
+  }
   double count() const { return count_; }
   void set_count(double c) { count_ = c; }
 

@@ -1,4 +1,5 @@
-// Noise: the E-Puck2 plug-in's uniform noise, and the seeded sources every simulation draws from.
+// Noise: the E-Puck2 plug-in's uniform noise, the calibrated Gaussian reading noise, and the seeded
+// sources every simulation draws from.
 // Header-only, standard library only (epuck2::models); units in every name, angles in radians
 // unless a name says _deg. Umbrella: sensors.hpp.
 #pragma once
@@ -59,5 +60,44 @@ class StandardNormal {
   double spare_ = 0.0;
   bool has_spare_ = false;
 };
+
+// ----- Gaussian noise: the calibrated reading noise (a coefficient file's `noise` section) -----
+
+/// A Gaussian of standard deviation `sd` (any unit). An sd of 0 draws nothing.
+/// `normal` is any functor returning standard normal numbers (e.g. StandardNormal).
+template <class Normal>
+double gaussian_noise(Normal& normal, double sd) {
+  if (sd == 0.0) return 0.0;
+  return sd * normal();
+}
+
+/// The reading functions (proximity_reading, ground_reading, ...) add the plug-in's
+/// uniform_noise(unit, level) times their scale (below). Passed as their `unit` with level 1, this
+/// makes them add a Gaussian of `sd` in the reading's units instead:
+///   GaussianUnit g(normal, noise_sd_counts, kPluginNoiseScaleGround_counts);
+///   ground_reading(k, grey, 1.0, g);
+template <class Normal>
+class GaussianUnit {
+ public:
+  GaussianUnit(Normal& normal, double sd, double scale) : normal_(&normal), sd_over_scale_(sd / scale) {}
+  double operator()() { return (sd_over_scale_ * (*normal_)() + 1.0) / 2.0; }
+
+ private:
+  Normal* normal_;
+  double sd_over_scale_;
+};
+
+/// What the plug-in multiplies its uniform noise by, in the reading's units (the plug-in's
+/// source): proximity and light add it to the normalised value (x 4095 counts), ground x 1023
+/// counts, the ToF x its 2 m range (2000 mm), the encoders x 32767 steps per tick.
+inline constexpr double kPluginNoiseScaleProximity_counts = 4095.0;
+inline constexpr double kPluginNoiseScaleLight_counts = 4095.0;
+inline constexpr double kPluginNoiseScaleGround_counts = 1023.0;
+inline constexpr double kPluginNoiseScaleTof_mm = 2000.0;
+inline constexpr double kPluginNoiseScaleEncoder_steps = 32767.0;
+
+/// The plug-in's uniform noise level with the variance of a Gaussian of `sd` (reading units):
+/// uniform on [-L, L] has variance L^2 / 3, so L = sqrt(3) sd / scale.
+inline double uniform_level_with_sd(double sd, double scale) { return std::sqrt(3.0) * sd / scale; }
 
 }  // namespace epuck2::models::sensors
