@@ -127,7 +127,7 @@ std::string closest(const std::string& word, const std::vector<std::string>& cho
   std::string best;
   std::size_t best_distance = 3;
   for (const std::string& c : choices) {
-    const std::size_t d = edit_distance(w, lower(c));
+    const std::size_t d = logs::edit_distance(w, lower(c));
     if (d < best_distance && 2 * d < std::max(w.size(), c.size())) {
       best = c;
       best_distance = d;

@@ -43,6 +43,9 @@ inline bool is_tof_out_of_range(double mm) { return mm >= kTofOutOfRangeCode_mm;
 /// `text` with every control character (bytes below 0x20 except tab, and 0x7f, NUL included)
 /// written as \xHH, so that input quoted in a message cannot drive the terminal or cut it short.
 std::string escape_control(std::string_view text);
+/// Levenshtein distance (insertions, deletions, substitutions): the reader's and the CLI's
+/// "did you mean".
+std::size_t edit_distance(const std::string& a, const std::string& b);
 
 /// Bad input: file, line (1-based, 0 when the whole file is meant), column (1-based character
 /// position, 0 when none) and what was expected. The file name and the message are stored with
