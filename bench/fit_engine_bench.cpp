@@ -161,8 +161,9 @@ int main(int argc, char** argv) {
         }
         const std::vector<double> start{0.0, 0.0, 0.0, 1.0};
         const std::vector<std::string> pnames{"a_per_h3", "b_per_h2", "c_per_h", "d"};
-        const fit::FitResult r = fit::fit_curve(Cubic{}, u, charge, start, pnames);
-        const double t = median_seconds([&] { fit::fit_curve(Cubic{}, u, charge, start, pnames); }, min_seconds);
+        const std::vector<fit::Parameter> params = fit::free_parameters(pnames, start);
+        const fit::FitResult r = fit::fit_curve(Cubic{}, u, charge, params);
+        const double t = median_seconds([&] { fit::fit_curve(Cubic{}, u, charge, params); }, min_seconds);
         std::vector<double> std_errors;
         for (const auto& p : r.parameters) std_errors.push_back(p.std_error);
         // The other paths of the same fit, for where the time goes: Levenberg-Marquardt from the
@@ -175,8 +176,8 @@ int main(int argc, char** argv) {
         nlohmann::json variants;
         for (const auto& [key, o] : {std::pair<std::string, fit::FitOptions>{"lm_from_start", generic},
                                      std::pair<std::string, fit::FitOptions>{"lm_from_start_per_observation", per_observation}}) {
-          const fit::FitResult v = fit::fit_curve(Cubic{}, u, charge, start, pnames, o);
-          const double tv = median_seconds([&] { fit::fit_curve(Cubic{}, u, charge, start, pnames, o); }, min_seconds);
+          const fit::FitResult v = fit::fit_curve(Cubic{}, u, charge, params, o);
+          const double tv = median_seconds([&] { fit::fit_curve(Cubic{}, u, charge, params, o); }, min_seconds);
           variants[key] = {{"values", v.values()}, {"iterations", v.iterations}, {"seconds", tv}};
         }
         sets.push_back({{"speed_cm_s", speed},

@@ -117,7 +117,7 @@ TEST(LinearStart, ReachesTheLeastSquaresSolutionAndCeresOnlyConfirmsIt) {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     const Data d = noisy_cubic(seed);
     const std::vector<double> ref = normal_equations_solution(d);
-    const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, {0.0, 0.0, 0.0, 0.0}, kNames);
+    const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, ef::free_parameters(kNames, {0.0, 0.0, 0.0, 0.0}));
     ASSERT_TRUE(r.usable) << r.message;
     for (std::size_t j = 0; j < 4; ++j)
       EXPECT_GE(agree(r.parameters[j].value, ref[j]), 11.0) << "seed " << seed << " p" << j;
@@ -129,7 +129,7 @@ TEST(LinearStart, ReachesTheLeastSquaresSolutionAndCeresOnlyConfirmsIt) {
     ef::FitOptions generic;
     generic.linear_start = false;
     generic.single_residual_block = false;
-    const ef::FitResult g = ef::fit_curve(LinearCubic{}, d.u, d.y, {0.0, 0.0, 0.0, 0.0}, kNames, generic);
+    const ef::FitResult g = ef::fit_curve(LinearCubic{}, d.u, d.y, ef::free_parameters(kNames, {0.0, 0.0, 0.0, 0.0}), generic);
     ASSERT_TRUE(g.usable) << g.message;
     EXPECT_GT(g.iterations, r.iterations);
     for (std::size_t j = 0; j < 4; ++j) {
@@ -141,7 +141,7 @@ TEST(LinearStart, ReachesTheLeastSquaresSolutionAndCeresOnlyConfirmsIt) {
     EXPECT_GE(agree(g.r2, r.r2), 10.0);
     EXPECT_GE(agree(g.aic, r.aic), 10.0);
     // The undeclared model takes the generic path by itself.
-    const ef::FitResult u = ef::fit_curve(GenericCubic{}, d.u, d.y, {0.0, 0.0, 0.0, 0.0}, kNames);
+    const ef::FitResult u = ef::fit_curve(GenericCubic{}, d.u, d.y, ef::free_parameters(kNames, {0.0, 0.0, 0.0, 0.0}));
     ASSERT_TRUE(u.usable);
     EXPECT_GT(u.iterations, r.iterations);
   }
@@ -151,7 +151,7 @@ TEST(LinearStart, StandardErrorsMatchTheCovarianceOfTheDesign) {
   // For a linear model, cov = s^2 (X^T X)^-1 exactly; check against the long-double normal
   // equations.
   const Data d = noisy_cubic(7);
-  const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, {0.0, 0.0, 0.0, 0.0}, kNames);
+  const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, ef::free_parameters(kNames, {0.0, 0.0, 0.0, 0.0}));
   ASSERT_TRUE(r.usable);
   using M = Eigen::Matrix<long double, 4, 4>;
   M A = M::Zero();
@@ -174,12 +174,14 @@ TEST(LinearStart, FixedParameterKeepsItsValueAndTheOthersTheirOwnErrors) {
   const Data d = noisy_cubic(11);
   constexpr double kSlope = -0.35;
   const ef::FitResult reduced =
-      ef::fit_curve(CubicWithKnownSlope{kSlope}, d.u, d.y, {0.0, 0.0, 0.0}, {"p0", "p2", "p3"});
+      ef::fit_curve(CubicWithKnownSlope{kSlope}, d.u, d.y, {{"p0", 0.0}, {"p2", 0.0}, {"p3", 0.0}});
   ASSERT_TRUE(reduced.usable);
   for (bool linear_start : {true, false}) {
     ef::FitOptions o;
     o.linear_start = linear_start;
-    const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, {0.0, kSlope, 0.0, 0.0}, kNames, o, {1});
+    std::vector<ef::Parameter> start = ef::free_parameters(kNames, {0.0, kSlope, 0.0, 0.0});
+    start[1].fixed = true;
+    const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, start, o);
     ASSERT_TRUE(r.usable) << r.message;
     EXPECT_EQ(r.parameters[1].value, kSlope);
     EXPECT_EQ(r.parameters[1].std_error, 0.0);
@@ -201,7 +203,7 @@ TEST(LinearStart, RankDeficientDesignFallsBackAndSaysSo) {
   // p0 and p1 only enter as their sum: no unique least-squares solution. The linear start is
   // refused, Ceres fits from the initial values, and the covariance is reported unavailable.
   const Data d = noisy_cubic(5);
-  const ef::FitResult r = ef::fit_curve(RedundantLine{}, d.u, d.y, {0.1, 0.2}, {"a", "b"});
+  const ef::FitResult r = ef::fit_curve(RedundantLine{}, d.u, d.y, {{"a", 0.1}, {"b", 0.2}});
   EXPECT_NE(r.message.find("rank-deficient"), std::string::npos) << r.message;
   EXPECT_TRUE(std::isnan(r.parameters[0].std_error));
 }
@@ -213,7 +215,7 @@ TEST(LinearStart, RobustFitsKeepTheirOwnPath) {
   ef::FitOptions robust;
   robust.robust = true;
   robust.robust_scale = 1.0;  // far above the noise (0.01): every residual in the quadratic zone
-  const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, {0.0, 0.0, 0.0, 0.0}, kNames, robust);
+  const ef::FitResult r = ef::fit_curve(LinearCubic{}, d.u, d.y, ef::free_parameters(kNames, {0.0, 0.0, 0.0, 0.0}), robust);
   ASSERT_TRUE(r.usable) << r.message;
   EXPECT_GT(r.iterations, 2);
   const std::vector<double> ref = normal_equations_solution(d);
@@ -273,13 +275,13 @@ TEST(LinearStart, IllConditionedDesignTakesTheQrPathAndStillReachesTheMinimum) {
     yv(row) = shifted.y[i];
   }
   const VX ref = X.colPivHouseholderQr().solve(yv);
-  const ef::FitResult r = ef::fit_curve(LinearCubic{}, shifted.u, shifted.y, {0.0, 0.0, 0.0, 0.0}, kNames);
+  const ef::FitResult r = ef::fit_curve(LinearCubic{}, shifted.u, shifted.y, ef::free_parameters(kNames, {0.0, 0.0, 0.0, 0.0}));
   ASSERT_TRUE(r.usable) << r.message;
   for (std::size_t j = 0; j < 4; ++j)
     EXPECT_GE(agree(r.parameters[j].value, static_cast<double>(ref(static_cast<Eigen::Index>(j)))), 10.0) << "p" << j;
   // Without the linear start, Levenberg-Marquardt from zero needs many more iterations.
   ef::FitOptions generic;
   generic.linear_start = false;
-  const ef::FitResult g = ef::fit_curve(LinearCubic{}, shifted.u, shifted.y, {0.0, 0.0, 0.0, 0.0}, kNames, generic);
+  const ef::FitResult g = ef::fit_curve(LinearCubic{}, shifted.u, shifted.y, ef::free_parameters(kNames, {0.0, 0.0, 0.0, 0.0}), generic);
   EXPECT_GT(g.iterations, r.iterations);
 }

@@ -183,8 +183,8 @@ TEST(FitOptionsSingleBlock, SameFitAsOneBlockPerRow) {
   for (int start : {1, 2}) {
     const std::vector<double> b0{start == 1 ? p.parameters[0].start1 : p.parameters[0].start2,
                                  start == 1 ? p.parameters[1].start1 : p.parameters[1].start2};
-    const FitResult a = fit_curve(nist::models::Misra1a{}, p.x[0], p.y, b0, names, per_row);
-    const FitResult b = fit_curve(nist::models::Misra1a{}, p.x[0], p.y, b0, names, block);
+    const FitResult a = fit_curve(nist::models::Misra1a{}, p.x[0], p.y, free_parameters(names, b0), per_row);
+    const FitResult b = fit_curve(nist::models::Misra1a{}, p.x[0], p.y, free_parameters(names, b0), block);
     ASSERT_TRUE(a.usable && b.usable);
     for (std::size_t j = 0; j < 2; ++j) {
       EXPECT_GE(nist::log_relative_error(b.parameters[j].value, a.parameters[j].value), kDigits);

@@ -115,7 +115,7 @@ TEST(Correlations, FromACovarianceByHand) {
 TEST(Correlations, StraightLineInterceptAndSlope) {
   // y = a + b x at x = 0, 1, 2, 3: (X^T X) = [[4, 6], [6, 14]], its inverse's correlation
   // -6 / sqrt(4 * 14) = -0.801784 whatever the noise.
-  const FitResult f = fit_curve(Line{}, {0, 1, 2, 3}, {1.1, 2.9, 5.2, 6.8}, {0, 0}, {"a", "b"});
+  const FitResult f = fit_curve(Line{}, {0, 1, 2, 3}, {1.1, 2.9, 5.2, 6.8}, {{"a", 0.0}, {"b", 0.0}});
   ASSERT_TRUE(f.usable);
   const auto list = correlations(f);
   ASSERT_EQ(list.size(), 1u);
@@ -198,7 +198,7 @@ TEST(Autocorrelation, MeanOfAnAr1SeriesMatchesTheClosedForm) {
   for (int r = 0; r < reps; ++r) {
     std::vector<double> y = ar1(rng, n, rho);
     for (double& v : y) v += 5.0;
-    const FitResult f = fit_curve(Constant{}, x, y, {0.0}, {"mean"});
+    const FitResult f = fit_curve(Constant{}, x, y, {{"mean", 0.0}});
     ASSERT_TRUE(f.usable) << f.message << " rep " << r;
     const auto a = autocorrelation_correction(residuals_of(Constant{}, f, x, y), std::vector<int>(n, 0));
     ASSERT_TRUE(a.computed);
@@ -237,7 +237,7 @@ TEST(Autocorrelation, SlopeOnAnAr1SeriesMatchesTheSandwichVariance) {
   for (int r = 0; r < reps; ++r) {
     std::vector<double> y = ar1(rng, n, rho);
     for (std::size_t i = 0; i < n; ++i) y[i] += 1.0 - 0.5 * x[i];
-    const FitResult f = fit_curve(Line{}, x, y, {0.0, 0.0}, {"a", "b"});
+    const FitResult f = fit_curve(Line{}, x, y, {{"a", 0.0}, {"b", 0.0}});
     ASSERT_TRUE(f.usable);
     const auto a = autocorrelation_correction(residuals_of(Line{}, f, x, y), std::vector<int>(n, 0));
     naive += f.std_error("b") / reps;
@@ -290,7 +290,7 @@ TEST(ClusterRobust, RunOffsetsThatTheLagOneFactorMisses) {
       const double offset = u(rng);
       for (int i = 0; i < m; ++i) y[static_cast<std::size_t>(g * m + i)] = 2.0 + offset + eps(rng);
     }
-    const FitResult f = fit_curve(Constant{}, x, y, {0.0}, {"mean"});
+    const FitResult f = fit_curve(Constant{}, x, y, {{"mean", 0.0}});
     ASSERT_TRUE(f.usable) << f.message;
     const std::vector<double> e = residuals_of(Constant{}, f, x, y);
     AutocorrelationCorrection a = autocorrelation_correction(e, run);
@@ -331,7 +331,7 @@ TEST(ClusterRobust, IndependentAr1RunsAgreeWithTheClosedForm) {
     std::vector<double> y;
     for (int g = 0; g < G; ++g)
       for (double v : ar1(rng, m, rho)) y.push_back(v + 1.0);
-    const FitResult f = fit_curve(Constant{}, x, y, {0.0}, {"mean"});
+    const FitResult f = fit_curve(Constant{}, x, y, {{"mean", 0.0}});
     ASSERT_TRUE(f.usable) << f.message;
     const std::vector<double> e = residuals_of(Constant{}, f, x, y);
     AutocorrelationCorrection a = autocorrelation_correction(e, run);

@@ -124,7 +124,7 @@ void polish_in_extended_precision(FitResult& r, std::size_t n, Residual residual
 template <class Model>
 FitResult fit_one(const Problem& p, const std::vector<double>& start, const std::vector<std::string>& names,
                   const FitOptions& options) {
-  FitResult r = fit_curve(Model{}, p.x.at(0), p.y, start, names, options);
+  FitResult r = fit_curve(Model{}, p.x.at(0), p.y, free_parameters(names, start), options);
   const Model model{};
   polish_in_extended_precision<Model::kParameters>(r, p.y.size(), [&](const auto* b, std::size_t i) {
     using T = std::decay_t<decltype(*b)>;

@@ -283,7 +283,7 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
     // Cubic, in scaled time, back to seconds. Robust: readings far from it (a wild reading of
     // the charge) leave every model at this speed, and the cubic is fitted again without them.
     // Cheap when there are none: one pass over the residuals.
-    s.cubic = fit_curve(CubicInScaledTime{}, u, y, {1.0, -1.0, 0.0, 0.0}, {"d", "c", "b", "a"}, options);
+    s.cubic = fit_curve(CubicInScaledTime{}, u, y, {{"d", 1.0}, {"c", -1.0}, {"b", 0.0}, {"a", 0.0}}, options);
     for (int pass = 0; pass < 5 && reject_sd > 0 && s.cubic.usable; ++pass) {
       const std::vector<double> p = s.cubic.values();
       std::vector<double> r(u.size()), dev(u.size());
@@ -313,13 +313,13 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
       y.resize(kept);
       where.resize(kept);
       run_of.resize(kept);
-      s.cubic = fit_curve(CubicInScaledTime{}, u, y, {1.0, -1.0, 0.0, 0.0}, {"d", "c", "b", "a"}, options);
+      s.cubic = fit_curve(CubicInScaledTime{}, u, y, {{"d", 1.0}, {"c", -1.0}, {"b", 0.0}, {"a", 0.0}}, options);
     }
     s.observations = t.size();
     s.cubic_autocorrelation = run_autocorrelation(CubicInScaledTime{}, s.cubic, u, y, run_of);
     rescale(s.cubic, {1.0, 1.0 / L, 1.0 / (L * L), 1.0 / (L * L * L)}, {"d", "c", "b", "a"});
 
-    s.free_line = fit_curve(LineInScaledTime{}, u, y, {1.0, -1.0}, {"intercept", "slope_per_s"}, options);
+    s.free_line = fit_curve(LineInScaledTime{}, u, y, {{"intercept", 1.0}, {"slope_per_s", -1.0}}, options);
     s.free_line_autocorrelation = run_autocorrelation(LineInScaledTime{}, s.free_line, u, y, run_of);
     rescale(s.free_line, {1.0, 1.0 / L}, {"intercept", "slope_per_s"});
 
@@ -351,8 +351,9 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
     const double c1 = best[0], c2 = best[1];
     for (double x1 = c1 - kCoarseStep; x1 <= c1 + kCoarseStep + 1e-12; x1 += kFineStep)
       for (double x2 = c2 - kCoarseStep; x2 <= c2 + kCoarseStep + 1e-12; x2 += kFineStep) consider(x1, x2);
-    s.piecewise = fit_curve(PolylineInScaledTime{last_u}, u, y, std::vector<double>(best, best + 5),
-                            {"x1_s", "x2_s", "y1", "y2", "y3"}, options);
+    s.piecewise = fit_curve(PolylineInScaledTime{last_u}, u, y,
+                            {{"x1_s", best[0]}, {"x2_s", best[1]}, {"y1", best[2]}, {"y2", best[3]}, {"y3", best[4]}},
+                            options);
     s.piecewise_autocorrelation = run_autocorrelation(PolylineInScaledTime{last_u}, s.piecewise, u, y, run_of);
     rescale(s.piecewise, {L, L, 1.0, 1.0, 1.0}, {"x1_s", "x2_s", "y1", "y2", "y3"});
 

@@ -4,20 +4,24 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 
 namespace epuck2::fit {
 
-double FitResult::value(const std::string& name) const {
-  for (const auto& p : parameters)
-    if (p.name == name) return p.value;
-  return std::numeric_limits<double>::quiet_NaN();
+namespace {
+const ParameterEstimate& estimate(const FitResult& r, const std::string& name) {
+  for (const auto& p : r.parameters)
+    if (p.name == name) return p;
+  std::string known;
+  for (const auto& p : r.parameters) known += (known.empty() ? "" : ", ") + p.name;
+  throw std::out_of_range("no parameter named '" + name + "' in this fit (its parameters are: " +
+                          (known.empty() ? std::string("none") : known) + ")");
 }
+}  // namespace
 
-double FitResult::std_error(const std::string& name) const {
-  for (const auto& p : parameters)
-    if (p.name == name) return p.std_error;
-  return std::numeric_limits<double>::quiet_NaN();
-}
+double FitResult::value(const std::string& name) const { return estimate(*this, name).value; }
+
+double FitResult::std_error(const std::string& name) const { return estimate(*this, name).std_error; }
 
 std::vector<double> FitResult::values() const {
   std::vector<double> v;

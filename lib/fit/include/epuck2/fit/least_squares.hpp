@@ -11,9 +11,12 @@
 
 #include <ceres/ceres.h>
 
+#include "epuck2/fit/parameter.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -49,6 +52,8 @@ struct FitResult {
   int free_parameters = 0;     ///< parameters estimated (not held fixed)
   Eigen::MatrixXd covariance;  ///< scaled by residual_variance, parameter order as `parameters`
 
+  /// The estimate (standard error) of the parameter called `name`; std::out_of_range naming it
+  /// and the known ones when there is none (a typo is an error, not a NaN).
   double value(const std::string& name) const;
   double std_error(const std::string& name) const;
   std::vector<double> values() const;
@@ -265,20 +270,33 @@ class CurveBlockResidual : public ceres::CostFunction {
   RecordedEvaluation* const record_;
 };
 
-/// Fits y = model(p, x) by least squares from `initial`. `fixed` lists parameter indices held at
-/// their initial value (empty: all free).
+/// Fits y = model(p, x) by least squares from the parameters' values (epuck2/fit/parameter.hpp):
+/// those marked `fixed` are held at their value, finite `lower`/`upper` bounds are kept by the
+/// solver (a bounded fit does not take the linear start, whose solution may lie outside them).
+/// `fallback` and `other_starts` are not used here.
 template <class Model>
 FitResult fit_curve(const Model& model, const std::vector<double>& x, const std::vector<double>& y,
-                    std::vector<double> initial, const std::vector<std::string>& names,
-                    const FitOptions& options = {}, const std::vector<int>& fixed = {}) {
+                    const std::vector<Parameter>& parameters, const FitOptions& options = {}) {
   static_assert(Model::kParameters > 0, "a model needs parameters");
   FitResult bad;
-  if (x.size() != y.size() || static_cast<int>(initial.size()) != Model::kParameters ||
-      static_cast<int>(names.size()) != Model::kParameters) {
-    bad.message = "internal: sizes of x, y, initial values and names disagree";
+  if (x.size() != y.size() || static_cast<int>(parameters.size()) != Model::kParameters) {
+    bad.message = "internal: " + std::to_string(parameters.size()) + " parameters given for a model of " +
+                  std::to_string(Model::kParameters) + ", or x and y differ in length";
     return bad;
   }
+  std::vector<double> initial = values_of(parameters);
+  std::vector<std::string> names;
+  std::vector<int> fixed;
+  bool bounded = false;
+  for (std::size_t j = 0; j < parameters.size(); ++j) {
+    names.push_back(parameters[j].name);
+    if (parameters[j].fixed) fixed.push_back(static_cast<int>(j));
+    bounded = bounded || std::isfinite(parameters[j].lower) || std::isfinite(parameters[j].upper);
+  }
   if (x.size() < static_cast<std::size_t>(Model::kParameters) + 1) {
+    for (const std::string& name : names)
+      bad.parameters.emplace_back(name, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+                                  "the fit was not made");
     bad.message = "too few observations (" + std::to_string(x.size()) + ") for " +
                   std::to_string(Model::kParameters) + " parameters";
     return bad;
@@ -334,7 +352,7 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
   bool linear_started = false;
   if constexpr (is_linear_in_parameters<Model>::value) {
     NormalSums sums;
-    if (options.linear_start && !options.robust && evaluate(initial, nullptr, &start_jacobian, &sums)) {
+    if (options.linear_start && !options.robust && !bounded && evaluate(initial, nullptr, &start_jacobian, &sums)) {
       Eigen::MatrixXd N(P, P);
       Eigen::VectorXd g(P);
       for (int a = 0; a < P; ++a) {
@@ -384,6 +402,11 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     std::vector<int> fixed_sorted = fixed;
     problem.SetManifold(initial.data(), new ceres::SubsetManifold(Model::kParameters, fixed_sorted));
   }
+  for (std::size_t j = 0; j < parameters.size(); ++j) {
+    if (parameters[j].fixed) continue;
+    if (std::isfinite(parameters[j].lower)) problem.SetParameterLowerBound(initial.data(), static_cast<int>(j), parameters[j].lower);
+    if (std::isfinite(parameters[j].upper)) problem.SetParameterUpperBound(initial.data(), static_cast<int>(j), parameters[j].upper);
+  }
   ceres::Solver::Summary summary;
   if (linear_started && options.restarts <= 0 && !options.try_alternatives) {
     // From the least-squares minimum, Levenberg-Marquardt's first step only confirms it (a step of
@@ -403,6 +426,48 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     }
   } else {
     summary = solve(problem, options);
+  }
+  // Ceres' projected steps crawl along a bound (a parameter pressed against it shrinks every
+  // step): the parameters that end on a bound are held there and the others solved again (an
+  // active set). They are reported without a standard error (the data push them beyond it).
+  std::vector<std::pair<int, const char*>> at_bound;
+  if (bounded) {
+    for (std::size_t j = 0; j < parameters.size(); ++j) {
+      if (!free_column[j]) continue;
+      const double lo = parameters[j].lower, hi = parameters[j].upper;
+      if (std::isfinite(lo) && initial[j] <= lo + 1e-12 * (1.0 + std::abs(lo))) {
+        initial[j] = lo;
+        at_bound.emplace_back(static_cast<int>(j), "lower");
+      } else if (std::isfinite(hi) && initial[j] >= hi - 1e-12 * (1.0 + std::abs(hi))) {
+        initial[j] = hi;
+        at_bound.emplace_back(static_cast<int>(j), "upper");
+      }
+    }
+    if (!at_bound.empty()) {
+      for (const auto& [j, side] : at_bound) {
+        fixed.push_back(j);
+        free_column[static_cast<std::size_t>(j)] = false;
+      }
+      std::sort(fixed.begin(), fixed.end());
+      ceres::Problem polish;
+      if (options.single_residual_block && !options.robust)
+        polish.AddResidualBlock(new CurveBlockResidual<Model>(model, x, y), nullptr, initial.data());
+      else
+        for (std::size_t i = 0; i < x.size(); ++i)
+          polish.AddResidualBlock(CurveResidual<Model>::Create(model, x[i], y[i]), options.make_loss(), initial.data());
+      if (static_cast<int>(fixed.size()) < P) {
+        polish.SetManifold(initial.data(), new ceres::SubsetManifold(P, fixed));
+        for (std::size_t j = 0; j < parameters.size(); ++j) {
+          if (!free_column[j]) continue;
+          if (std::isfinite(parameters[j].lower)) polish.SetParameterLowerBound(initial.data(), static_cast<int>(j), parameters[j].lower);
+          if (std::isfinite(parameters[j].upper)) polish.SetParameterUpperBound(initial.data(), static_cast<int>(j), parameters[j].upper);
+        }
+        ceres::Solver::Summary second = solve(polish, options);
+        second.iterations.insert(second.iterations.begin(), summary.iterations.begin(), summary.iterations.end());
+        summary = second;
+      }
+      recorded.valid = false;  // the record is of the first problem's last evaluation
+    }
   }
   // The statistics and the covariance from the residuals and their Jacobian at the solution,
   // over the ambient parameters with the fixed ones left out (Problem::Evaluate would give the
@@ -443,6 +508,11 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     set_covariance(r, jacobian, free_column, same_jacobian ? &start_inverse_normal : nullptr);
   }
   for (int i : fixed) r.parameters[static_cast<std::size_t>(i)].std_error = 0.0;
+  for (const auto& [j, side] : at_bound) {
+    r.parameters[static_cast<std::size_t>(j)].std_error = std::numeric_limits<double>::quiet_NaN();
+    r.parameters[static_cast<std::size_t>(j)].std_error_why =
+        std::string("at its ") + side + " bound: the data push it beyond, so it has no standard error";
+  }
   return r;
 }
 

@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/parameter.hpp"
 
 namespace epuck2::fit {
 
@@ -51,16 +52,6 @@ struct Observation {
   int group = -1;                         ///< replicates: same conditions, same group (-1: none)
 };
 
-/// One parameter: name (with its unit), start, documented fallback, bounds, held or free.
-struct Parameter {
-  std::string name;
-  double value = 0;  ///< start; the estimate after the fit
-  /// The documented default (the plug-in's value) kept when the logs do not determine it.
-  double fallback = std::numeric_limits<double>::quiet_NaN();
-  double lower = -std::numeric_limits<double>::infinity();
-  double upper = std::numeric_limits<double>::infinity();
-  bool fixed = false;  ///< held by the caller (not an identifiability decision)
-};
 
 struct RobustOptions {
   bool robust = true;              ///< false: plain (Tobit) least squares, no reading left out
