@@ -16,6 +16,7 @@
 #include "commands.hpp"
 #include "log_help.hpp"
 #include "epuck2/calibrate/battery_json.hpp"
+#include "epuck2/calibrate/model_file.hpp"
 #include "epuck2/calibrate/report_json.hpp"
 #include "epuck2/fit/report.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
@@ -42,6 +43,7 @@ struct DiagnoseOptions {
   std::string plot;        ///< a figure FILE (.png, .svg, .pdf), or (old spelling) an existing folder
   std::string battery_model = "cubic";
   std::string coefficients;
+  std::string effects;     ///< --effects: the search's effects, comma-separated (empty: all)
   std::vector<std::string> logs;
   bool skip_bad_rows = false;
   bool progress = false;
@@ -113,6 +115,7 @@ std::string meaning(const std::string& cause) {
       {"tof_offset", "the ToF reads a constant amount off at every range"},
       {"tof_scale", "the ToF reading is off in proportion to the range"},
       {"capacity_scale", "the battery holds a different charge than the calibration batteries"},
+      {"near_field_curve", "the reading's curve within the sensor's range has another shape than the model's quadratic"},
   };
   if (cause.rfind("covariate:", 0) == 0) return "the readings drift with the column " + cause.substr(10);
   const auto it = m.find(cause);
@@ -196,7 +199,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   j["rows"] = r.rows;
   j["residuals"] = r.residuals;
   j["logs"] = paths;
-  j["verdict"] = r.verdict;
+  j["verdict"] = r.verdict_name();
   j["too_few_rows"] = r.too_few_rows;
   j["minimum_rows"] = r.minimum_rows;
   if (r.too_few_rows) {
@@ -270,6 +273,8 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   for (const auto& f : r.findings) {
     nlohmann::json fj, v, e, corrected, jackknife;
     fj["cause"] = f.cause;
+    if (f.effect != f.cause) fj["effect"] = f.effect;  // the catalogue formula it carries
+    if (!f.renamed_from.empty()) fj["renamed_from"] = f.renamed_from;
     put_parameters(f.parameters, v, e, &corrected, &jackknife);
     fj["uncertainty_jackknife"] = jackknife;
     fj["parameters"] = v;
@@ -417,8 +422,8 @@ void print_report(const dg::Report& r) {
   for (std::size_t k = 0; k < r.structure_after.size() && k < 4; ++k)
     std::printf(" %s %.3f%s", r.structure_after[k].covariate.c_str(), r.structure_after[k].score,
                 r.structure_after[k].significant ? " (significant)" : "");
-  std::printf("\nVerdict: %s", r.verdict.c_str());
-  if (r.verdict == "unexplained")
+  std::printf("\nVerdict: %s", r.verdict_name().c_str());
+  if (r.verdict == diagnose::Verdict::unexplained)
     std::printf(" (the residuals%s still depend on %s, which no effect of the catalogue explains)",
                 r.structure_after.front().channel.empty() ? "" : (" of " + r.structure_after.front().channel).c_str(),
                 r.structure_after.front().covariate.c_str());
@@ -454,7 +459,30 @@ int run_diagnose(const DiagnoseOptions& o) {
   dg::Options options;
   if (!models::battery::parse_model(o.battery_model, options.battery_model))
     throw UsageError("--battery-model: " + unknown_name("discharge model", o.battery_model, {"simple", "linear", "cubic", "approximated"}));
-  if (o.coefficients.empty() || o.coefficients == "plugin") options.battery_tables = models::battery::plugin_tables();
+  const logs::Kind logs_kind = logs.front().kind;
+  if (logs_kind != logs::Kind::battery && !o.coefficients.empty() && o.coefficients != "plugin") {
+    // The other kinds: the base model from a coefficient file (a calibration's or a diagnosis's).
+    if (o.coefficients == "fitted")
+      throw UsageError("--coefficients fitted names the battery tables compiled in; for " +
+                       std::string(logs::to_string(logs_kind)) + " logs give the coefficient FILE (data/fitted/" +
+                       std::string(logs::to_string(logs_kind)) + ".json in this repository)");
+    const std::string& file = coefficient_file(o.coefficients);
+    const nlohmann::json j = read_json(file);
+    try {
+      switch (logs_kind) {
+        case logs::Kind::proximity: options.base_model = calibrate::proximity_model_from_json(j, file); break;
+        case logs::Kind::light: options.base_model = calibrate::light_model_from_json(j, file); break;
+        case logs::Kind::ground: options.base_model = calibrate::ground_model_from_json(j, file); break;
+        case logs::Kind::camera: options.base_model = calibrate::camera_model_from_json(j, file); break;
+        case logs::Kind::drive: options.base_model = calibrate::drive_model_from_json(j, file); break;
+        default: break;
+      }
+    } catch (const logs::InputError&) {
+      throw;
+    } catch (const std::runtime_error& e) {
+      throw UsageError(std::string("--coefficients: ") + e.what());
+    }
+  } else if (o.coefficients.empty() || o.coefficients == "plugin") options.battery_tables = models::battery::plugin_tables();
   else if (o.coefficients == "fitted") {
 #ifdef EPUCK2_FITTED_HAS_BATTERY
     options.battery_tables = fitted::battery_tables();
@@ -463,6 +491,11 @@ int run_diagnose(const DiagnoseOptions& o) {
 #endif
   } else
     options.battery_tables = calibrate::battery_tables_from_json(read_json(coefficient_file(o.coefficients)), o.coefficients);
+  for (std::size_t at = 0; !o.effects.empty() && at <= o.effects.size();) {
+    const std::size_t comma = std::min(o.effects.find(',', at), o.effects.size());
+    if (comma > at) options.effects.push_back(o.effects.substr(at, comma - at));
+    at = comma + 1;
+  }
   // Progress on standard error (never on standard output, which may hold the JSON report): on a
   // terminal one line rewritten in place, with --progress elsewhere one line per stage.
   const bool tty = ::isatty(STDERR_FILENO) != 0;
@@ -524,7 +557,11 @@ void setup_diagnose(CLI::App& app, Action& action) {
       ->capture_default_str()
       ->check(one_of({"simple", "linear", "cubic", "approximated"}, "discharge model"));
   sub->add_option("--coefficients", o->coefficients,
-                  "battery: coefficient tables: plugin (the plug-in's published ones, default), fitted (the CLI's compiled-in data/fitted tables) or a battery JSON FILE");
+                  "The base model: plugin (the plug-in's published model, default); a coefficient FILE of the logs' kind "
+                  "(epuck2-fit KIND -o, or diagnose -o); battery also: fitted (the CLI's compiled-in tables)");
+  sub->add_option("--effects", o->effects,
+                  "Search only these effects of the catalogue, comma-separated (e.g. black_offset,white_level); default: all")
+      ->type_name("LIST");
   sub->add_option("logs", o->logs, "Log files of one kind (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--progress", o->progress,
                 "Show progress on standard error (stage, effect being fitted); on by default when standard error is a terminal");

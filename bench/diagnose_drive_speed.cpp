@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
   std::printf("wall %.2f s, CPU %.2f s (target: under 10 s on one core)\n", wall, cpu);
   std::printf("hidden %s", cause.c_str());
   for (const auto& [k, v] : h.truth) std::printf(" %s = %.4g", k.c_str(), v);
-  std::printf("; verdict %s", report.verdict.c_str());
+  std::printf("; verdict %s", report.verdict_name().c_str());
   for (const auto& f : report.findings) {
     std::printf("; %s:", f.cause.c_str());
     for (const auto& p : f.parameters) std::printf(" %s = %.4g +- %.2g", p.name.c_str(), p.value, p.std_error);

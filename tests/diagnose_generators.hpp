@@ -381,9 +381,9 @@ inline constexpr double kParameterTolerance = 0.10;
 
 inline Outcome judge(const Hidden& h, const epuck2::diagnose::Report& r) {
   Outcome o;
-  o.verdict = r.verdict;
+  o.verdict = r.verdict_name();
   o.first_covariate = r.structure_after.empty() ? "" : r.structure_after.front().covariate;
-  o.verdict_right = r.verdict == h.expected_verdict;
+  o.verdict_right = r.verdict_name() == h.expected_verdict;
   if (h.expected_verdict == "unexplained") o.verdict_right = o.verdict_right && o.first_covariate == h.expected_covariate;
   if (!h.truth.empty() && o.verdict_right && h.parameters_matter) {
     o.parameters_checked = true;

@@ -72,7 +72,7 @@ TEST(DiagnoseHidden, NoEffectGivesNoneAndNoFinding) {
     gen::Hidden h = gen::hidden("none");
     const auto log = logs::parse_log(gen::make_log(logs::Kind::ground, 100 + s, h), "g.csv", logs::Kind::ground);
     const auto r = diagnose::diagnose({log});
-    EXPECT_EQ(r.verdict, "none");
+    EXPECT_EQ(r.verdict_name(), "none");
     EXPECT_TRUE(r.findings.empty());
   }
 }
@@ -96,7 +96,7 @@ TEST(DiagnoseHidden, DriveWithoutAnEffectLeavesNoStructure) {
     gen::Hidden h = gen::hidden("none");
     const auto log = logs::parse_log(gen::make_log(logs::Kind::drive, 500 + s, h), "d.csv", logs::Kind::drive);
     const auto r = diagnose::diagnose({log});
-    EXPECT_EQ(r.verdict, "none") << (r.structure_after.empty() ? "" : r.structure_after.front().covariate);
+    EXPECT_EQ(r.verdict_name(), "none") << (r.structure_after.empty() ? "" : r.structure_after.front().covariate);
     ASSERT_EQ(r.channel_noise_sd.size(), 2u);
     // ToF noise 2 mm + 3 mm per metre at 0.1..1.2 m; encoders: rounding only.
     EXPECT_GT(r.channel_noise_sd[0].value, 2.0);

@@ -256,7 +256,7 @@ GateCase gate_case() {
 
 TEST(DiagnoseGates, BicMarginOnBothSides) {
   const GateCase c = gate_case();
-  ASSERT_FALSE(c.base.findings.empty()) << "the default diagnosis finds no effect: " << c.base.verdict;
+  ASSERT_FALSE(c.base.findings.empty()) << "the default diagnosis finds no effect: " << c.base.verdict_name();
   ASSERT_EQ(c.base.findings.front().cause, "black_offset");
   ASSERT_NE(c.kept, nullptr);
   ASSERT_LT(c.kept->delta_bic, -10.0);
@@ -278,7 +278,7 @@ TEST(DiagnoseGates, BicMarginOnBothSides) {
 
 TEST(DiagnoseGates, HeldoutGainOnBothSides) {
   const GateCase c = gate_case();
-  ASSERT_FALSE(c.base.findings.empty()) << c.base.verdict;
+  ASSERT_FALSE(c.base.findings.empty()) << c.base.verdict_name();
   ASSERT_NE(c.kept, nullptr);
   // The gate compares the candidate's held-out MSE with the current model's (at step 1, the
   // recalibrated base's): the gain this effect achieves.
@@ -323,7 +323,7 @@ TEST(IndependentBattery, DiagnosisFindsAnAgedCellInThePhysicalModel) {
   const vb::Run run = vb::simulate_protocol(5.0, aged, 424242);
   ASSERT_TRUE(run.stopped);
   const auto r = diagnose::diagnose({parse_log(battery_csv(run), "aged.csv", Kind::battery)});
-  ASSERT_FALSE(r.findings.empty()) << r.verdict << " " << r.message;
+  ASSERT_FALSE(r.findings.empty()) << r.verdict_name() << " " << r.message;
   EXPECT_EQ(r.findings.front().cause, "capacity_scale");
   ASSERT_FALSE(r.findings.front().parameters.empty());
   EXPECT_NEAR(r.findings.front().parameters.front().value, kCapacityScale, kCapacityScaleTolerance);

@@ -74,7 +74,7 @@ TEST(SmallDataLibrary, TheMinimumIsFoldsTimesRowsPerParameterTimesTheFirstModels
   const dg::Report below = at(74);
   EXPECT_TRUE(below.too_few_rows);
   EXPECT_EQ(below.minimum_rows, 75u);
-  EXPECT_EQ(below.verdict, "none");
+  EXPECT_EQ(below.verdict_name(), "none");
   EXPECT_TRUE(below.findings.empty());
   EXPECT_TRUE(below.trials.empty());
   const dg::Report enough = at(75);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 
 #include "problem.hpp"
@@ -115,7 +116,7 @@ class Engine {
       }
       if (!(spread > 0)) continue;
       const int index = static_cast<int>(p_.params.size());
-      p_.params.push_back({"slope", 0.0, 0.0, -detail::kInf, detail::kInf, {}});
+      p_.params.push_back({"slope", 0.0, 0.0, -detail::kInf, detail::kInf, false, {}});
       p_.plugin_values.push_back(0.0);
       p_.effects.push_back({"covariate:" + name, {index}});
       slopes_.push_back({index, centred});
@@ -151,11 +152,13 @@ class Engine {
     for (std::size_t c = 0; c < sigma_.size(); ++c) channel_weight_[c] = sigma_[0] / sigma_[c];
   }
 
+  /// The model's expected readings (clamp and covariate terms included) of residuals
+  /// [0, needed) at least; the others may be left at 0.
   template <typename T>
-  void predict(const T* values, std::vector<T>& out) const {
+  void predict(const T* values, std::vector<T>& out, std::size_t needed = detail::kAllResiduals) const {
     out.assign(n_, T(0.0));
-    p_.mean(values, out.data());
-    const std::size_t n = std::min(n_, p_.needed);  // the residuals the evaluation asked for
+    p_.mean(values, out.data(), needed);
+    const std::size_t n = std::min(n_, needed);
     for (const auto& s : slopes_)
       for (std::size_t i = 0; i < n; ++i)
         if (p_.channel[i] == 0) out[i] += values[s.param] * s.centred[i];
@@ -369,9 +372,7 @@ class Engine {
         std::vector<double> v(P);
         for (std::size_t j = 0; j < P; ++j) v[j] = parameters[j][0];
         std::vector<double> pred;
-        e_.p_.needed = limit_;
-        e_.predict(v.data(), pred);
-        e_.p_.needed = std::numeric_limits<std::size_t>::max();
+        e_.predict(v.data(), pred, limit_);
         for (std::size_t k = 0; k < idx_.size(); ++k) {
           residuals[k] = e_.weight(idx_[k]) * (e_.p_.y[idx_[k]] - pred[idx_[k]]);
           if (!std::isfinite(residuals[k])) return false;
@@ -391,9 +392,7 @@ class Engine {
       std::vector<J> v(P);
       for (std::size_t j = 0; j < P; ++j) v[j] = slot_[j] >= 0 ? J(parameters[j][0], slot_[j]) : J(parameters[j][0]);
       std::vector<J> pred;
-      e_.p_.needed = limit_;
-      e_.predict(v.data(), pred);
-      e_.p_.needed = std::numeric_limits<std::size_t>::max();
+      e_.predict(v.data(), pred, limit_);
       for (std::size_t k = 0; k < idx_.size(); ++k) {
         const J& m = pred[idx_[k]];
         const double w = e_.weight(idx_[k]);
@@ -625,408 +624,567 @@ void settle_noise(Engine& engine, const std::vector<int>& free, Engine::Fitted& 
 }  // namespace
 
 namespace {
-// diagnose(); `owned`, when given, holds `logs` and is emptied once the problem is built (the
-// problem keeps what it needs: a long log's parsed cells need not stay beside the fits).
-Report run_diagnosis(const std::vector<logs::Log>& all_logs, const Options& options, std::vector<logs::Log>* owned) {
-  Report report;
-  if (all_logs.empty()) {
-    report.message = "no logs";
-    return report;
-  }
-  report.kind = all_logs.front().kind;
-  for (const auto& l : all_logs) report.rows += l.rows();
-  // Wild readings (far from the others under the same conditions) would be "explained" by
-  // whatever effect bends the curve towards them: they leave before anything is fitted.
-  // (In place when the caller handed the logs over: a long log is not copied.)
-  std::vector<WildReading> wild;
-  std::vector<logs::Log> screened;
-  if (options.progress) options.progress(Progress{"screening", 0, 0, 0, ""});
-  if (owned != nullptr) drop_wild_readings_in_place(*owned, &wild);
-  else screened = drop_wild_readings(all_logs, &wild);
-  const std::vector<logs::Log>& logs = owned != nullptr ? *owned : screened;
-  for (const WildReading& w : wild) report.outliers.push_back(w.where + ": " + w.why);
-  if (!wild.empty())
-    report.warnings.push_back(std::to_string(wild.size()) + " wild readings left out before the diagnosis (listed under outliers).");
-  report.censored = readings_on_rails(logs);
-  std::string why;
-  std::unique_ptr<Problem> problem = detail::make_problem(logs, options, why);
-  if (owned) std::vector<logs::Log>().swap(*owned);  // `logs` is not used below
-  if (!problem) {
-    report.message = why;
-    return report;
-  }
-  Engine engine(*problem, options);
-  Problem& p = *problem;
-  report.residuals = engine.size();
-  report.supported = true;
-  for (const auto& e : p.effects) report.effects_considered.push_back(e.cause);
-  auto progress = [&](const char* stage, int step, int done, int total, const std::string& detail) {
-    if (options.progress) options.progress(Progress{stage, step, done, total, detail});
-  };
 
-  {
-    // Enough rows to judge an effect? The held-out test cuts the rows into folds; each must hold
-    // rows_per_parameter rows per parameter of the largest model the search tries first (the base
-    // model's free parameters and the largest effect's), and a row in every block of every fold.
-    // The whole problem must also hold more residuals than twice all its parameters. Below that,
-    // any "finding" would be fitted noise: the report says so, with the plug-in's error only.
+/// The reading's (channel 0's) mean squared residual at `values` over every row.
+double reading_mse(const Engine& engine, const Problem& p, const std::vector<double>& values) {
+  const auto r = engine.residuals(values);
+  double sse = 0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < r.size(); ++i)
+    if (p.channel.empty() || p.channel[i] == 0) {
+      sse += r[i] * r[i];
+      ++count;
+    }
+  return count ? sse / static_cast<double>(count) : 0.0;
+}
+
+/// One diagnosis, step by step (docs/diagnose.md): each step a method, in the order run() calls
+/// them. The state between steps is the search's: the free parameters, the current fit and its
+/// held-out error, and the effects kept in the order they were found.
+class Diagnosis {
+ public:
+  explicit Diagnosis(const Options& options) : o_(options) {}
+
+  Report run(const std::vector<logs::Log>& logs, std::vector<logs::Log>* owned) {
+    if (!build_problem(logs, owned)) return std::move(report_);
+    if (!enough_rows()) return std::move(report_);
+    score_plugin();
+    recalibrate();
+    for (int step = 1; step <= o_.max_findings; ++step)
+      if (!search_step(step)) break;
+    name_findings();
+    fit_final();
+    estimate_uncertainties();
+    score_residual_structure();
+    keep_figure_data();
+    return std::move(report_);
+  }
+
+ private:
+  /// Step 0: wild readings leave, rails are counted, and the kind builds its problem.
+  bool build_problem(const std::vector<logs::Log>& all_logs, std::vector<logs::Log>* owned) {
+    if (all_logs.empty()) {
+      report_.message = "no logs";
+      return false;
+    }
+    report_.kind = all_logs.front().kind;
+    report_.base_model = o_.base_model;
+    for (const auto& l : all_logs) report_.rows += l.rows();
+    // Wild readings (far from the others under the same conditions) would be "explained" by
+    // whatever effect bends the curve towards them: they leave before anything is fitted.
+    // (In place when the caller handed the logs over: a long log is not copied.)
+    std::vector<WildReading> wild;
+    std::vector<logs::Log> screened;
+    progress("screening", 0, 0, 0, "");
+    if (owned != nullptr) drop_wild_readings_in_place(*owned, &wild);
+    else screened = drop_wild_readings(all_logs, &wild);
+    const std::vector<logs::Log>& logs = owned != nullptr ? *owned : screened;
+    for (const WildReading& w : wild) report_.outliers.push_back(w.where + ": " + w.why);
+    if (!wild.empty())
+      report_.warnings.push_back(std::to_string(wild.size()) + " wild readings left out before the diagnosis (listed under outliers).");
+    report_.censored = readings_on_rails(logs);
+    std::string why;
+    problem_ = detail::make_problem(logs, o_, why);
+    if (owned) std::vector<logs::Log>().swap(*owned);  // the problem holds what it needs
+    if (!problem_) {
+      report_.message = why;
+      return false;
+    }
+    engine_ = std::make_unique<Engine>(*problem_, o_);  // adds the covariate: effects
+    searched_ = problem_->effects;
+    if (!o_.effects.empty()) {
+      // Only the effects asked for are searched (an unknown name is the caller's error).
+      std::vector<detail::Effect> asked;
+      for (const auto& name : o_.effects) {
+        auto e = std::find_if(problem_->effects.begin(), problem_->effects.end(), [&](const detail::Effect& x) { return x.cause == name; });
+        if (e == problem_->effects.end()) {
+          std::string known;
+          for (const auto& x : problem_->effects) known += (known.empty() ? "" : ", ") + x.cause;
+          report_.message = "no effect '" + name + "' for these " + std::string(logs::to_string(report_.kind)) + " logs (they can show: " + known + ")";
+          engine_.reset();
+          problem_.reset();
+          return false;
+        }
+        asked.push_back(*e);
+      }
+      searched_ = asked;
+    }
+    report_.residuals = engine_->size();
+    report_.supported = true;
+    for (const auto& e : searched_) report_.effects_considered.push_back(e.cause);
+    return true;
+  }
+
+  /// Enough rows to judge an effect? The held-out test cuts the rows into folds; each must hold
+  /// rows_per_parameter rows per parameter of the largest model the search tries first (the base
+  /// model's free parameters and the largest effect's), and a row in every block of every fold.
+  /// The whole problem must also hold more residuals than twice all its parameters. Below that,
+  /// any "finding" would be fitted noise: the report says so, with the plug-in's error only.
+  bool enough_rows() {
+    const Problem& p = *problem_;
     std::size_t largest_effect = 0;
     std::string largest_cause;
-    for (const auto& e : p.effects)
+    for (const auto& e : searched_)
       if (e.params.size() > largest_effect) {
         largest_effect = e.params.size();
         largest_cause = e.cause;
       }
     const std::size_t first_model = p.base_free.size() + largest_effect;
-    const std::size_t folds = static_cast<std::size_t>(std::max(1, options.folds));
-    const std::size_t blocks = static_cast<std::size_t>(std::max(1, options.folds * options.blocks_per_fold));
-    const std::size_t per_fold = static_cast<std::size_t>(std::max(1, options.rows_per_parameter)) * std::max<std::size_t>(1, first_model);
+    const std::size_t folds = static_cast<std::size_t>(std::max(1, o_.folds));
+    const std::size_t blocks = static_cast<std::size_t>(std::max(1, o_.folds * o_.blocks_per_fold));
+    const std::size_t per_fold = static_cast<std::size_t>(std::max(1, o_.rows_per_parameter)) * std::max<std::size_t>(1, first_model);
     const std::size_t min_residuals = 2 * p.params.size() + 1;
-    report.minimum_rows = std::max(blocks, folds * per_fold);
-    if (report.rows < report.minimum_rows || engine.size() < min_residuals) {
-      report.too_few_rows = true;
-      report.verdict = "none";
-      // The plug-in's error on every row, the one figure that needs no fit (the engine's
-      // default noise of 1 in the clamp's expectation: no estimate from so few rows).
-      const auto r = engine.residuals(p.plugin_values);
-      double sse = 0;
-      std::size_t count = 0;
-      for (std::size_t i = 0; i < r.size(); ++i)
-        if (p.channel.empty() || p.channel[i] == 0) {
-          sse += r[i] * r[i];
-          ++count;
-        }
-      report.heldout_mse_plugin = count ? sse / static_cast<double>(count) : 0.0;
-      std::string why = "too few rows (" + std::to_string(report.rows) + ") to judge effects; need at least " +
-                        std::to_string(report.minimum_rows) + ": the held-out test's " + std::to_string(folds) +
-                        " folds must each hold " + std::to_string(options.rows_per_parameter) +
-                        " rows per parameter of the largest model tried first (" + std::to_string(first_model) +
-                        ": the base model's " + std::to_string(p.base_free.size()) + " free" +
-                        (largest_cause.empty() ? std::string() : " and " + largest_cause + "'s " + std::to_string(largest_effect)) +
-                        "), and a row in each of its " + std::to_string(blocks) + " blocks";
-      if (engine.size() < min_residuals)
-        why += "; the model also needs at least " + std::to_string(min_residuals) + " residuals (it has " +
-               std::to_string(engine.size()) + ")";
-      report.message = why;
-      report.warnings.push_back(why + ". No effect was judged: verdict none.");
-      return report;
-    }
-  }
-  // Step 1: the plug-in as published; its residuals give the first noise estimate.
-  engine.set_sigma(engine.noise_sd(p.plugin_values));
-  {
-    // The reading's (channel 0's) MSE; the model has nothing fitted, so all rows are held out.
-    const auto r = engine.residuals(p.plugin_values);
-    double sse = 0;
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < r.size(); ++i)
-      if (p.channel.empty() || p.channel[i] == 0) {
-        sse += r[i] * r[i];
-        ++count;
-      }
-    report.heldout_mse_plugin = count ? sse / static_cast<double>(count) : 0.0;
+    report_.minimum_rows = std::max(blocks, folds * per_fold);
+    if (report_.rows >= report_.minimum_rows && engine_->size() >= min_residuals) return true;
+    report_.too_few_rows = true;
+    report_.verdict = Verdict::none;
+    // The plug-in's error on every row, the one figure that needs no fit (the engine's default
+    // noise of 1 in the clamp's expectation: no estimate from so few rows).
+    report_.heldout_mse_plugin = reading_mse(*engine_, p, p.plugin_values);
+    std::string why = "too few rows (" + std::to_string(report_.rows) + ") to judge effects; need at least " +
+                      std::to_string(report_.minimum_rows) + ": the held-out test's " + std::to_string(folds) +
+                      " folds must each hold " + std::to_string(o_.rows_per_parameter) +
+                      " rows per parameter of the largest model tried first (" + std::to_string(first_model) +
+                      ": the base model's " + std::to_string(p.base_free.size()) + " free" +
+                      (largest_cause.empty() ? std::string() : " and " + largest_cause + "'s " + std::to_string(largest_effect)) +
+                      "), and a row in each of its " + std::to_string(blocks) + " blocks";
+    if (engine_->size() < min_residuals)
+      why += "; the model also needs at least " + std::to_string(min_residuals) + " residuals (it has " +
+             std::to_string(engine_->size()) + ")";
+    report_.message = why;
+    report_.warnings.push_back(why + ". No effect was judged: verdict none.");
+    return false;
   }
 
-  report.message = problem->notes;
+  /// Step 1: the plug-in as published; its residuals give the first noise estimate. Nothing is
+  /// fitted, so every row is held out.
+  void score_plugin() {
+    const Problem& p = *problem_;
+    engine_->set_sigma(engine_->noise_sd(p.plugin_values));
+    report_.heldout_mse_plugin = reading_mse(*engine_, p, p.plugin_values);
+    report_.message = p.notes;
+  }
 
-  // The values where the effects are off and the base model is the plug-in's.
-  std::vector<double> neutral(p.params.size());
-  for (std::size_t j = 0; j < p.params.size(); ++j) neutral[j] = p.params[j].neutral;
+  /// Step 2: the base model's free parameters recalibrated, from where every effect is off.
+  void recalibrate() {
+    const Problem& p = *problem_;
+    progress("recalibrating", 0, 0, 0, "");
+    std::vector<double> neutral(p.params.size());
+    for (std::size_t j = 0; j < p.params.size(); ++j) neutral[j] = p.params[j].fallback;
+    free_ = p.base_free;
+    current_ = engine_->fit(free_, neutral, engine_->all(), true);
+    settle_noise(*engine_, free_, current_);
+    report_.recalibrated = named(p, current_, p.base_free);
+    report_.base_fit = all_rows_statistics(*engine_, p, current_);
+    current_h_ = engine_->heldout_mse(free_, current_.values);
+    report_.heldout_mse_base = current_h_.reading;
+    report_.heldout_weighted_base = current_h_.all;
+    base_values_ = current_.values;
+  }
 
-  // Step 2: recalibrate the base model.
-  progress("recalibrating", 0, 0, 0, "");
-  std::vector<int> free = p.base_free;
-  Engine::Fitted current = engine.fit(free, neutral, engine.all(), true);
-  settle_noise(engine, free, current);
-  report.recalibrated = named(p, current, p.base_free);
-  report.base_fit = all_rows_statistics(engine, p, current);
-  Engine::Heldout current_h = engine.heldout_mse(free, current.values);
-  double current_cv = current_h.all;
-  report.heldout_mse_base = current_h.reading;
-  report.heldout_weighted_base = current_h.all;
-  const std::vector<double> base_values = current.values;
+  /// An effect fitted with the current model at one search step.
+  struct Candidate {
+    std::size_t trial;   ///< index into report_.trials
+    std::size_t effect;  ///< index into searched_
+    std::vector<int> free;
+    Engine::Fitted fit;
+  };
 
-  // Steps 3 and 4: greedy forward search.
-  std::vector<std::size_t> screen_idx(std::min(engine.size(), kScreenResiduals));
-  std::iota(screen_idx.begin(), screen_idx.end(), 0);
-  std::set<std::size_t> kept;
-  std::vector<std::size_t> order;
-  for (int step = 1; step <= options.max_findings; ++step) {
-    int best = -1;
-    double best_cv = current_cv, best_bic = 0;
-    Engine::Fitted best_fit;
-    struct Passing {
-      std::size_t trial, effect;
-      std::vector<int> cand;
-      Engine::Fitted fit;
-    };
-    std::vector<Passing> passing;  // effects whose BIC falls by min_delta_bic or more
+  /// Step 3: every effect not yet kept, fitted with the current model (from each of its starting
+  /// points); those whose BIC falls by min_delta_bic or more, lowest BIC first.
+  std::vector<Candidate> fit_candidates(int step) {
+    const Problem& p = *problem_;
+    const Engine& engine = *engine_;
+    // Long logs: the starting points are tried on the leading residuals (a model that simulates
+    // row after row stops there), and the best is refined on all of them.
+    const bool screening = engine.size() > kScreenResiduals;
+    std::vector<std::size_t> screen_idx(std::min(engine.size(), kScreenResiduals));
+    std::iota(screen_idx.begin(), screen_idx.end(), 0);
+    const std::vector<std::size_t>& screen = screening ? screen_idx : engine.all();
     double screen_rss = 0;  // the current model's on the leading residuals
-    if (engine.size() > kScreenResiduals) {
-      const auto r = engine.residuals(current.values);
+    if (screening) {
+      const auto r = engine.residuals(current_.values);
       for (std::size_t i : screen_idx) screen_rss += r[i] * r[i];
     }
-    const int to_try = static_cast<int>(p.effects.size() - kept.size());
+    std::vector<Candidate> passing;
+    const int to_try = static_cast<int>(searched_.size() - kept_.size());
     int tried = 0;
-    for (std::size_t e = 0; e < p.effects.size(); ++e) {
-      if (kept.count(e)) continue;
-      progress("fitting effect", step, ++tried, to_try, p.effects[e].cause);
-      std::vector<int> cand = free;
-      std::vector<double> start = current.values;
+    for (std::size_t e = 0; e < searched_.size(); ++e) {
+      if (kept_.count(e)) continue;
+      const detail::Effect& effect = searched_[e];
+      progress("fitting effect", step, ++tried, to_try, effect.cause);
+      std::vector<int> cand = free_;
+      std::vector<double> start = current_.values;
       std::size_t starts = 1;
-      for (int j : p.effects[e].params) {
+      for (int j : effect.params) {
+        const fit::Parameter& q = p.params[static_cast<std::size_t>(j)];
         cand.push_back(j);
-        start[static_cast<std::size_t>(j)] = p.params[static_cast<std::size_t>(j)].start;
-        starts = std::max(starts, 1 + p.params[static_cast<std::size_t>(j)].other_starts.size());
+        start[static_cast<std::size_t>(j)] = q.value;
+        starts = std::max(starts, 1 + q.other_starts.size());
       }
       if (static_cast<int>(cand.size()) > kMaxFree) continue;
       Trial t;
       t.step = step;
-      t.cause = p.effects[e].cause;
-      // Long logs: the starting points are tried on the leading residuals (a model that
-      // simulates row after row stops there), and the best is refined on all of them.
-      const std::vector<std::size_t>& screen = engine.size() > kScreenResiduals ? screen_idx : engine.all();
+      t.cause = effect.cause;
       Engine::Fitted f = engine.fit(cand, start, screen, false);
       for (std::size_t k = 1; k < starts; ++k) {
         std::vector<double> other = start;
-        for (int j : p.effects[e].params) {
+        for (int j : effect.params) {
           const auto& more = p.params[static_cast<std::size_t>(j)].other_starts;
           if (k <= more.size()) other[static_cast<std::size_t>(j)] = more[k - 1];
         }
         Engine::Fitted g = engine.fit(cand, other, screen, false);
         if (g.result.usable && (!f.result.usable || g.result.rss < f.result.rss)) f = g;
       }
-      if (&screen != &engine.all()) {
+      if (screening) {
         // No gain at all on the leading residuals (as a speed limit above every command there):
         // the effect has no support in them and is not refined on all residuals.
         if (!f.result.usable || !(f.result.rss < screen_rss * (1.0 - 1e-9))) {
-          t.delta_bic = std::log(static_cast<double>(engine.size())) * static_cast<double>(p.effects[e].params.size());
+          t.delta_bic = std::log(static_cast<double>(engine.size())) * static_cast<double>(effect.params.size());
           t.screened_out = true;
-          report.trials.push_back(t);
+          report_.trials.push_back(t);
           continue;
         }
         f = engine.fit(cand, f.values, engine.all(), false);
       }
       if (!f.result.usable) {
-        report.trials.push_back(t);
+        report_.trials.push_back(t);
         continue;
       }
-      t.delta_bic = f.result.bic - current.result.bic;
-      report.trials.push_back(t);
-      if (t.delta_bic <= -options.min_delta_bic) passing.push_back({report.trials.size() - 1, e, cand, f});
+      t.delta_bic = f.result.bic - current_.result.bic;
+      report_.trials.push_back(t);
+      if (t.delta_bic <= -o_.min_delta_bic) passing.push_back({report_.trials.size() - 1, e, cand, f});
     }
-    // Among the effects that pass both tests, the lowest BIC: of two effects that fit alike, the
-    // one with fewer parameters (white_level rather than three equal sensor gains). The held-out
-    // test runs in BIC order until one passes, then for the others within min_delta_bic of it
-    // (its alternatives); the rest need not run.
-    std::sort(passing.begin(), passing.end(),
-              [&](const Passing& a, const Passing& b) { return report.trials[a.trial].delta_bic < report.trials[b.trial].delta_bic; });
+    // Of two effects that fit alike, the one with fewer parameters comes first (white_level
+    // rather than three equal sensor gains).
+    std::sort(passing.begin(), passing.end(), [&](const Candidate& a, const Candidate& b) {
+      return report_.trials[a.trial].delta_bic < report_.trials[b.trial].delta_bic;
+    });
+    return passing;
+  }
+
+  /// Step 4: the held-out test, in BIC order until one candidate gains, then for the others within
+  /// min_delta_bic of it (its alternatives; the rest need not run). The winner's index into
+  /// `passing`, or -1.
+  int pick_by_heldout(int step, std::vector<Candidate>& passing) {
+    int best = -1;
+    double best_bic = 0;
     int tested = 0;
-    for (const Passing& c : passing) {
-      Trial& t = report.trials[c.trial];
-      if (best >= 0 && t.delta_bic - best_bic >= options.min_delta_bic) break;
+    for (std::size_t c = 0; c < passing.size(); ++c) {
+      Trial& t = report_.trials[passing[c].trial];
+      if (best >= 0 && t.delta_bic - best_bic >= o_.min_delta_bic) break;
       progress("held-out test", step, ++tested, static_cast<int>(passing.size()), t.cause);
-      t.heldout_mse = engine.heldout_mse(c.cand, c.fit.values).all;
-      const bool gain = t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain);
+      t.heldout_mse = engine_->heldout_mse(passing[c].free, passing[c].fit.values).all;
+      const bool gain = t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain);
       if (gain && best < 0) {
-        best = static_cast<int>(c.effect);
-        best_cv = t.heldout_mse;
+        best = static_cast<int>(c);
         best_bic = t.delta_bic;
-        best_fit = c.fit;
       }
     }
-    if (best < 0) break;
-    const std::vector<int> free_before = free;
-    const Engine::Fitted fit_before = current;
-    const std::vector<double> sigma_before = engine.sigma();
+    return best;
+  }
+
+  /// One step of the greedy forward search (steps 3 and 4): the best effect that passes both
+  /// tests joins the model. False when none does (the search ends).
+  bool search_step(int step) {
+    const Problem& p = *problem_;
+    std::vector<Candidate> passing = fit_candidates(step);
+    const int best = pick_by_heldout(step, passing);
+    if (best < 0) return false;
+    const Candidate& winner = passing[static_cast<std::size_t>(best)];
+    const double best_cv = report_.trials[winner.trial].heldout_mse;
+    const double best_bic = report_.trials[winner.trial].delta_bic;
+    const std::vector<int> free_before = free_;
+    const Engine::Fitted fit_before = current_;
+    const std::vector<double> sigma_before = engine_->sigma();
     Finding finding;
-    finding.cause = p.effects[static_cast<std::size_t>(best)].cause;
-    finding.heldout_mse_before = current_cv;
-    finding.heldout_mse_after = best_cv;
+    finding.cause = searched_[winner.effect].cause;
+    finding.effect = finding.cause;
     finding.delta_bic = best_bic;
-    report.findings.push_back(finding);
-    kept.insert(static_cast<std::size_t>(best));
-    order.push_back(static_cast<std::size_t>(best));
-    for (int j : p.effects[static_cast<std::size_t>(best)].params) free.push_back(j);
+    finding.heldout_mse_before = current_h_.reading;
+    finding.heldout_weighted_before = current_h_.all;
+    for (int j : searched_[winner.effect].params) free_.push_back(j);
     // Re-estimate the noise with the better model and refit (the clamp's expected value uses
     // it), until the estimate settles; then the held-out error again with that noise.
-    current = best_fit;
-    settle_noise(engine, free, current);
-    const Engine::Heldout h = engine.heldout_mse(free, current.values);
-    const double cv = h.all;
-    report.findings.back().heldout_mse_before = current_h.reading;
-    report.findings.back().heldout_weighted_before = current_h.all;
+    current_ = winner.fit;
+    settle_noise(*engine_, free_, current_);
+    const Engine::Heldout h = engine_->heldout_mse(free_, current_.values);
     if (p.channel_names.size() > 1) {
       // Several channels: the residuals' weights follow the noise estimates, which the finding
       // has just changed. The model without it must lose on held-out rows under the same weights
       // too, or the finding is undone (an effect that only moved weight between channels).
-      const Engine::Fitted without = engine.fit(free_before, fit_before.values, engine.all(), false);
-      const Engine::Heldout h_without = engine.heldout_mse(free_before, without.values);
-      const double cv_without = h_without.all;
-      if (!(cv <= cv_without * (1.0 - options.min_heldout_gain))) {
-        report.findings.pop_back();
-        kept.erase(static_cast<std::size_t>(best));
-        order.pop_back();
-        free = free_before;
-        current = fit_before;
-        engine.set_sigma(sigma_before);
-        report.notes.push_back(finding.cause + " passed the search but not the held-out test once the noise was re-estimated");
-        break;
+      const Engine::Fitted without = engine_->fit(free_before, fit_before.values, engine_->all(), false);
+      const Engine::Heldout h_without = engine_->heldout_mse(free_before, without.values);
+      if (!(h.all <= h_without.all * (1.0 - o_.min_heldout_gain))) {
+        free_ = free_before;
+        current_ = fit_before;
+        engine_->set_sigma(sigma_before);
+        report_.notes.push_back(finding.cause + " passed the search but not the held-out test once the noise was re-estimated");
+        return false;
       }
-      report.findings.back().heldout_mse_before = h_without.reading;
-      report.findings.back().heldout_weighted_before = h_without.all;
+      finding.heldout_mse_before = h_without.reading;
+      finding.heldout_weighted_before = h_without.all;
     }
-    for (auto& t : report.trials) {
-      if (t.step != step) continue;
-      if (t.cause == finding.cause) t.kept = true;
-      else if (t.heldout_mse > 0 && t.delta_bic <= -options.min_delta_bic && t.delta_bic - best_bic < options.min_delta_bic &&
-               t.heldout_mse <= best_cv * (1.0 + options.min_heldout_gain))
-        report.findings.back().alternatives.push_back(t.cause);
+    for (const auto& t : report_.trials) {
+      if (t.step != step || t.cause == finding.cause) continue;
+      if (t.heldout_mse > 0 && t.delta_bic <= -o_.min_delta_bic && t.delta_bic - best_bic < o_.min_delta_bic &&
+          t.heldout_mse <= best_cv * (1.0 + o_.min_heldout_gain))
+        finding.alternatives.push_back(t.cause);
     }
-    report.findings.back().fit = all_rows_statistics(engine, p, current);
-    current_cv = cv;
-    current_h = h;
-    report.findings.back().heldout_mse_after = h.reading;
-    report.findings.back().heldout_weighted_after = h.all;
+    for (auto& t : report_.trials)
+      if (t.step == step && t.cause == finding.cause) t.kept = true;
+    finding.fit = all_rows_statistics(*engine_, p, current_);
+    finding.heldout_mse_after = h.reading;
+    finding.heldout_weighted_after = h.all;
+    current_h_ = h;
+    kept_.insert(winner.effect);
+    order_.push_back(searched_[winner.effect]);
+    report_.findings.push_back(std::move(finding));
+    return true;
   }
-  current = engine.fit(free, current.values, engine.all(), true);
-  report.heldout_mse_final = current_h.reading;
-  report.heldout_weighted_final = current_h.all;
-  // The noise of a reading: residuals of readings away from the sensor's rails (a reading on a
-  // rail has its noise clipped; the MSE over all rows counts the clipped zeros of every reading
-  // beyond the proximity sensor's range).
-  const std::vector<double> sd = engine.noise_sd(current.values);
-  report.noise_sd = sd.front();
-  if (p.channel_names.size() > 1) {
-    for (std::size_t c = 0; c < sd.size(); ++c) report.channel_noise_sd.push_back({p.channel_names[c], sd[c], 0.0});
-  }
-  for (std::size_t k = 0; k < order.size(); ++k) report.findings[k].parameters = named(p, current, p.effects[order[k]].params);
-  // The recalibration alone stays in `recalibrated` (step 2's fit); the base parameters of the
-  // joint fit with every finding are the extended model's.
-  if (!p.base_free.empty()) report.final_base = named(p, current, p.base_free);
-  report.final_fit = all_rows_statistics(engine, p, current);
-  // Jackknife over the held-out folds (each fold's fit leaves out contiguous blocks of rows):
-  // SE^2 = (G - 1)/G sum (theta_g - mean)^2, whatever the residuals' correlation within a block
-  // and whatever the model's smoothness, which the covariance assumes.
-  std::vector<double> jackknife(p.params.size(), std::numeric_limits<double>::quiet_NaN());
-  report.jackknife_folds = current_h.fold_values.size();
-  if (current_h.fold_values.size() >= 3) {
-    const double G = static_cast<double>(current_h.fold_values.size());
-    for (int j : free) {
-      double mean = 0, ss = 0;
-      for (const auto& v : current_h.fold_values) mean += v[static_cast<std::size_t>(j)] / G;
-      for (const auto& v : current_h.fold_values) ss += (v[static_cast<std::size_t>(j)] - mean) * (v[static_cast<std::size_t>(j)] - mean);
-      jackknife[static_cast<std::size_t>(j)] = std::sqrt((G - 1) / G * ss);
+
+  /// A finding whose fitted parameters make it another effect is named for what it is (the
+  /// kind's rule, Problem::identify). When the other effect is in the catalogue, it replaces the
+  /// finding in the model, which is refitted and tested on held-out rows again.
+  void name_findings() {
+    const Problem& p = *problem_;
+    for (std::size_t k = 0; k < report_.findings.size(); ++k) {
+      Finding& f = report_.findings[k];
+      const detail::Effect& effect = order_[k];
+      std::vector<double> se(p.params.size(), std::numeric_limits<double>::quiet_NaN());
+      {
+        const Engine::Fitted with_errors = engine_->fit(free_, current_.values, engine_->all(), true);
+        for (std::size_t j = 0; j < se.size() && j < with_errors.result.parameters.size(); ++j)
+          se[j] = with_errors.result.parameters[j].std_error;
+      }
+      const std::optional<detail::Identity> identity = p.identify(effect.cause, current_.values, se);
+      if (!identity) continue;
+      report_.notes.push_back("finding " + f.cause + " is named " + identity->cause + ": " + identity->why);
+      f.renamed_from = f.cause;
+      f.cause = identity->cause;
+      if (identity->replace_with.empty()) continue;  // the same formula, under its true name
+      const auto other = std::find_if(p.effects.begin(), p.effects.end(),
+                                      [&](const detail::Effect& e) { return e.cause == identity->replace_with; });
+      if (other == p.effects.end()) continue;
+      // The effect's parameters leave the model at the values that switch them off; the other's
+      // join it from the values the rule gives.
+      std::vector<int> free;
+      std::vector<double> start = current_.values;
+      for (int j : free_)
+        if (std::find(effect.params.begin(), effect.params.end(), j) == effect.params.end()) free.push_back(j);
+      for (int j : effect.params) start[static_cast<std::size_t>(j)] = p.params[static_cast<std::size_t>(j)].fallback;
+      for (const auto& [j, v] : identity->starts) start[static_cast<std::size_t>(j)] = v;
+      for (int j : other->params) free.push_back(j);
+      Engine::Fitted refit = engine_->fit(free, start, engine_->all(), false);
+      if (!refit.result.usable) {
+        report_.notes.push_back("the refit with " + identity->replace_with + " failed: the finding keeps " + effect.cause + "'s parameters");
+        f.cause = effect.cause;
+        f.renamed_from.clear();
+        continue;
+      }
+      free_ = free;
+      current_ = refit;
+      settle_noise(*engine_, free_, current_);
+      current_h_ = engine_->heldout_mse(free_, current_.values);
+      f.effect = other->cause;
+      f.heldout_mse_after = current_h_.reading;
+      f.heldout_weighted_after = current_h_.all;
+      f.fit = all_rows_statistics(*engine_, p, current_);
+      order_[k] = *other;
     }
   }
-  for (std::size_t q = 0; q < report.recalibrated.size() && q < p.base_free.size(); ++q)
-    report.recalibrated[q].std_error_jackknife = jackknife[static_cast<std::size_t>(p.base_free[q])];
-  for (std::size_t k = 0; k < order.size(); ++k)
-    for (std::size_t q = 0; q < report.findings[k].parameters.size() && q < p.effects[order[k]].params.size(); ++q)
-      report.findings[k].parameters[q].std_error_jackknife = jackknife[static_cast<std::size_t>(p.effects[order[k]].params[q])];
-  // Where one row carries most of a parameter's information (J^T J), the covariance's error
-  // rests on that row's derivative: at a jump of the model (a battery's end-of-life drop) a
-  // difference across the jump, not information. Said, with the jackknife's error beside it.
-  Eigen::MatrixXd final_jacobian;
-  const bool have_jacobian = engine.jacobian(free, current.values, &final_jacobian);
-  if (have_jacobian)
-    for (int j : free) {
-      const auto col = final_jacobian.col(j);
-      const double total = col.squaredNorm(), top = col.cwiseAbs2().maxCoeff();
-      if (!(total > 0) || top < kOneRowInformation * total) continue;
-      const std::string name = p.params[static_cast<std::size_t>(j)].name;
-      char buf[400];
-      std::snprintf(buf, sizeof buf,
-                    "%s: one row carries %.4g %% of the covariance's information (the model's derivative there is a jump, "
-                    "not a slope): its covariance error %.2g is not what the logs support; the jackknife over the held-out "
-                    "folds gives %.2g.",
-                    name.c_str(), 100 * top / total, current.result.parameters[static_cast<std::size_t>(j)].std_error,
-                    jackknife[static_cast<std::size_t>(j)]);
-      report.warnings.push_back(buf);
+
+  /// The final joint fit with every finding (covariance included), the noise of a reading, and
+  /// the parameters named: the base's in `final_base`, each finding's in its parameters.
+  void fit_final() {
+    const Problem& p = *problem_;
+    current_ = engine_->fit(free_, current_.values, engine_->all(), true);
+    report_.heldout_mse_final = current_h_.reading;
+    report_.heldout_weighted_final = current_h_.all;
+    // The noise of a reading: residuals of readings away from the sensor's rails (a reading on a
+    // rail has its noise clipped; the MSE over all rows counts the clipped zeros of every reading
+    // beyond the proximity sensor's range).
+    const std::vector<double> sd = engine_->noise_sd(current_.values);
+    report_.noise_sd = sd.front();
+    if (p.channel_names.size() > 1)
+      for (std::size_t c = 0; c < sd.size(); ++c) report_.channel_noise_sd.push_back({p.channel_names[c], sd[c], 0.0});
+    for (std::size_t k = 0; k < order_.size(); ++k) report_.findings[k].parameters = named(p, current_, order_[k].params);
+    // The recalibration alone stays in `recalibrated` (step 2's fit); the base parameters of the
+    // joint fit with every finding are the extended model's.
+    if (!p.base_free.empty()) report_.final_base = named(p, current_, p.base_free);
+    report_.final_fit = all_rows_statistics(*engine_, p, current_);
+    report_.correlations = fit::correlations(current_.result);
+    for (std::size_t i = 0; i < engine_->size(); ++i) {
+      if (p.y[i] <= engine_->lo(i)) ++report_.censored_below;
+      if (p.y[i] >= engine_->hi(i)) ++report_.censored_above;
     }
-  report.correlations = fit::correlations(current.result);
-  for (std::size_t i = 0; i < engine.size(); ++i) {
-    if (p.y[i] <= engine.lo(i)) ++report.censored_below;
-    if (p.y[i] >= engine.hi(i)) ++report.censored_above;
   }
-  if (p.time_series) {
-    // A log's rows are a time series: the covariance's standard errors assume independent
-    // residuals and are too small by the autocorrelation's factor.
-    report.time_series = true;
-    fit::AutocorrelationCorrection& a = report.autocorrelation;
-    a = residual_autocorrelation(engine, p, current.values, report.autocorrelation_channel);
-    // Each log a cluster: robust to a misfit that lasts a whole log (its own capacity, its own
-    // offset), which the lag-1 factor misses.
-    const Eigen::MatrixXd& J = final_jacobian;
-    if (have_jacobian) {
+
+  /// Beside the covariance's standard errors: the jackknife over the held-out folds, a warning
+  /// where one row carries a parameter's information, the time series' corrections, and a
+  /// warning for every finding the logs do not pin down.
+  void estimate_uncertainties() {
+    const Problem& p = *problem_;
+    // Jackknife over the held-out folds (each fold's fit leaves out contiguous blocks of rows):
+    // SE^2 = (G - 1)/G sum (theta_g - mean)^2, whatever the residuals' correlation within a block
+    // and whatever the model's smoothness, which the covariance assumes.
+    std::vector<double> jackknife(p.params.size(), std::numeric_limits<double>::quiet_NaN());
+    report_.jackknife_folds = current_h_.fold_values.size();
+    if (current_h_.fold_values.size() >= 3) {
+      const double G = static_cast<double>(current_h_.fold_values.size());
+      for (int j : free_) {
+        double mean = 0, ss = 0;
+        for (const auto& v : current_h_.fold_values) mean += v[static_cast<std::size_t>(j)] / G;
+        for (const auto& v : current_h_.fold_values) ss += (v[static_cast<std::size_t>(j)] - mean) * (v[static_cast<std::size_t>(j)] - mean);
+        jackknife[static_cast<std::size_t>(j)] = std::sqrt((G - 1) / G * ss);
+      }
+    }
+    for_each_reported(p, [&](NamedValue& v, int j) { v.std_error_jackknife = jackknife[static_cast<std::size_t>(j)]; });
+    // Where one row carries most of a parameter's information (J^T J), the covariance's error
+    // rests on that row's derivative: at a jump of the model (a battery's end-of-life drop) a
+    // difference across the jump, not information. Said, with the jackknife's error beside it.
+    Eigen::MatrixXd final_jacobian;
+    const bool have_jacobian = engine_->jacobian(free_, current_.values, &final_jacobian);
+    if (have_jacobian)
+      for (int j : free_) {
+        const auto col = final_jacobian.col(j);
+        const double total = col.squaredNorm(), top = col.cwiseAbs2().maxCoeff();
+        if (!(total > 0) || top < kOneRowInformation * total) continue;
+        const std::string name = p.params[static_cast<std::size_t>(j)].name;
+        char buf[400];
+        std::snprintf(buf, sizeof buf,
+                      "%s: one row carries %.4g %% of the covariance's information (the model's derivative there is a jump, "
+                      "not a slope): its covariance error %.2g is not what the logs support; the jackknife over the held-out "
+                      "folds gives %.2g.",
+                      name.c_str(), 100 * top / total, current_.result.parameters[static_cast<std::size_t>(j)].std_error,
+                      jackknife[static_cast<std::size_t>(j)]);
+        report_.warnings.push_back(buf);
+      }
+    if (p.time_series) correct_for_time_series(have_jacobian ? &final_jacobian : nullptr);
+    // A finding whose parameter the logs do not pin down (standard error above its size, or none)
+    // names a direction of misfit, not a measured effect: say so.
+    for (const Finding& f : report_.findings)
+      for (const NamedValue& v : f.parameters)
+        if (!(std::abs(v.std_error) <= std::abs(v.value)))
+          report_.warnings.push_back("finding " + f.cause + ": " + v.name + " = " + std::to_string(v.value) +
+                                     " is not determined by these logs (standard error " +
+                                     (std::isfinite(v.std_error) ? std::to_string(v.std_error) : std::string("undefined")) +
+                                     "); read it as a direction, not a size.");
+  }
+
+  /// A log's rows are a time series: the covariance's standard errors assume independent
+  /// residuals and are too small by the autocorrelation's factor; each log is also a cluster
+  /// (robust to a misfit that lasts a whole log, which the lag-1 factor misses).
+  void correct_for_time_series(const Eigen::MatrixXd* jacobian) {
+    const Problem& p = *problem_;
+    report_.time_series = true;
+    fit::AutocorrelationCorrection& a = report_.autocorrelation;
+    a = residual_autocorrelation(*engine_, p, current_.values, report_.autocorrelation_channel);
+    if (jacobian != nullptr) {
       const std::vector<double> log_of_row = log_of_rows(p);
-      std::vector<int> log_of(engine.size());
-      for (std::size_t i = 0; i < engine.size(); ++i) log_of[i] = static_cast<int>(log_of_row[p.row[i]]);
-      fit::apply_cluster_robust(a, current.result, J, engine.residuals(current.values), log_of);
+      std::vector<int> log_of(engine_->size());
+      for (std::size_t i = 0; i < engine_->size(); ++i) log_of[i] = static_cast<int>(log_of_row[p.row[i]]);
+      fit::apply_cluster_robust(a, current_.result, *jacobian, engine_->residuals(current_.values), log_of);
     } else {
-      fit::apply_ar1(a, current.result);
+      fit::apply_ar1(a, current_.result);
       a.cluster_why_not = "the Jacobian could not be evaluated";
     }
-    {
-      // By parameter index: two effects may name their parameter alike (drive: k).
-      auto correct = [&](NamedValue& v, int j) {
-        const double c = static_cast<std::size_t>(j) < a.std_errors.size() ? a.std_errors[static_cast<std::size_t>(j)]
-                                                                          : std::numeric_limits<double>::quiet_NaN();
-        if (std::isfinite(c) && c > 0) v.std_error_corrected = c;
-      };
-      for (std::size_t q = 0; q < report.recalibrated.size() && q < p.base_free.size(); ++q)
-        correct(report.recalibrated[q], p.base_free[q]);
-      for (std::size_t k = 0; k < order.size(); ++k) {
-        const std::vector<int>& params = p.effects[order[k]].params;
-        for (std::size_t q = 0; q < report.findings[k].parameters.size() && q < params.size(); ++q)
-          correct(report.findings[k].parameters[q], params[q]);
+    // By parameter index: two effects may name their parameter alike (drive: k).
+    for_each_reported(p, [&](NamedValue& v, int j) {
+      const double c = static_cast<std::size_t>(j) < a.std_errors.size() ? a.std_errors[static_cast<std::size_t>(j)]
+                                                                        : std::numeric_limits<double>::quiet_NaN();
+      if (std::isfinite(c) && c > 0) v.std_error_corrected = c;
+    });
+  }
+
+  /// Step 5: what the residuals still depend on, before (recalibrated base) and after (final
+  /// model), and the verdict.
+  void score_residual_structure() {
+    const Problem& p = *problem_;
+    progress("residual structure", 0, 0, 0, "");
+    report_.residual_before = engine_->residuals(base_values_);
+    report_.residual_after = engine_->residuals(current_.values);
+    report_.structure_before =
+        structure(p, report_.residual_before, engine_->predict(base_values_), o_.structure_threshold, engine_->sigma());
+    report_.structure_after =
+        structure(p, report_.residual_after, engine_->predict(current_.values), o_.structure_threshold, engine_->sigma());
+    bool left = false;
+    for (const auto& s : report_.structure_after) left = left || s.significant;
+    report_.verdict = left ? Verdict::unexplained : report_.findings.empty() ? Verdict::none : Verdict::effect;
+  }
+
+  /// For the figure: the covariate it is drawn against (Report::covariates), one, not every one
+  /// again; the residuals in their channels' own units (the weights were for the fits and scores).
+  void keep_figure_data() {
+    Problem& p = *problem_;
+    std::string wanted = "row";
+    if (report_.verdict == Verdict::unexplained) wanted = report_.structure_after.front().covariate;
+    else if (!report_.structure_before.empty() && report_.structure_before.front().significant)
+      wanted = report_.structure_before.front().covariate;
+    if (wanted == "predicted") report_.covariates.emplace_back(wanted, engine_->predict(base_values_));
+    for (std::size_t k = 0; k < p.covariates.size(); ++k)
+      if (p.covariates[k].first == wanted)
+        report_.covariates.emplace_back(wanted, p.is_per_row(k) ? p.covariate_values(k) : std::move(p.covariates[k].second));
+    if (p.channel_names.size() > 1) {
+      report_.residual_channel.assign(p.channel.begin(), p.channel.end());
+      for (std::size_t i = 0; i < engine_->size(); ++i) {
+        report_.residual_before[i] /= engine_->weight(i);
+        report_.residual_after[i] /= engine_->weight(i);
       }
     }
   }
 
-  // A finding whose parameter the logs do not pin down (standard error above its size, or none)
-  // names a direction of misfit, not a measured effect: say so.
-  for (const Finding& f : report.findings)
-    for (const NamedValue& v : f.parameters)
-      if (!(std::abs(v.std_error) <= std::abs(v.value)))
-        report.warnings.push_back("finding " + f.cause + ": " + v.name + " = " + std::to_string(v.value) +
-                                  " is not determined by these logs (standard error " +
-                                  (std::isfinite(v.std_error) ? std::to_string(v.std_error) : std::string("undefined")) +
-                                  "); read it as a direction, not a size.");
-
-  // Step 5: residual structure before (recalibrated base) and after (final model).
-  progress("residual structure", 0, 0, 0, "");
-  report.residual_before = engine.residuals(base_values);
-  report.residual_after = engine.residuals(current.values);
-  report.structure_before = structure(p, report.residual_before, engine.predict(base_values), options.structure_threshold, engine.sigma());
-  report.structure_after = structure(p, report.residual_after, engine.predict(current.values), options.structure_threshold, engine.sigma());
-  bool left = false;
-  for (const auto& s : report.structure_after) left = left || s.significant;
-  if (left) report.verdict = "unexplained";
-  else if (!report.findings.empty()) report.verdict = report.findings.front().cause;
-  else report.verdict = "none";
-  // For the figure: the covariate it is drawn against (Report::covariates), one, not every one
-  // again; the residuals in their channels' own units (the weights were for the fits and scores).
-  std::string wanted = "row";
-  if (report.verdict == "unexplained") wanted = report.structure_after.front().covariate;
-  else if (!report.structure_before.empty() && report.structure_before.front().significant) wanted = report.structure_before.front().covariate;
-  if (wanted == "predicted") report.covariates.emplace_back(wanted, engine.predict(base_values));
-  for (std::size_t k = 0; k < p.covariates.size(); ++k)
-    if (p.covariates[k].first == wanted)
-      report.covariates.emplace_back(wanted, p.is_per_row(k) ? p.covariate_values(k) : std::move(p.covariates[k].second));
-  if (p.channel_names.size() > 1) {
-    report.residual_channel.assign(p.channel.begin(), p.channel.end());
-    for (std::size_t i = 0; i < engine.size(); ++i) {
-      report.residual_before[i] /= engine.weight(i);
-      report.residual_after[i] /= engine.weight(i);
-    }
+  /// Calls f(value, parameter index) for every reported parameter: the recalibrated base's and
+  /// each finding's.
+  template <class F>
+  void for_each_reported(const Problem& p, F f) {
+    for (std::size_t q = 0; q < report_.recalibrated.size() && q < p.base_free.size(); ++q) f(report_.recalibrated[q], p.base_free[q]);
+    for (std::size_t k = 0; k < order_.size(); ++k)
+      for (std::size_t q = 0; q < report_.findings[k].parameters.size() && q < order_[k].params.size(); ++q)
+        f(report_.findings[k].parameters[q], order_[k].params[q]);
   }
-  return report;
-}
+
+  void progress(const char* stage, int step, int done, int total, const std::string& detail) const {
+    if (o_.progress) o_.progress(Progress{stage, step, done, total, detail});
+  }
+
+  const Options& o_;
+  Report report_;
+  std::unique_ptr<Problem> problem_;
+  std::unique_ptr<Engine> engine_;
+  std::vector<detail::Effect> searched_;  ///< the effects the search tries (Options::effects, or all)
+  std::vector<int> free_;                 ///< the current model's free parameters
+  Engine::Fitted current_;                ///< its fit to every row
+  Engine::Heldout current_h_;             ///< its held-out error
+  std::vector<double> base_values_;       ///< the recalibrated base model (step 2)
+  std::set<std::size_t> kept_;            ///< indices into searched_ of the effects found
+  std::vector<detail::Effect> order_;     ///< the findings' effects, in the order found
+};
+
 }  // namespace
 
-Report diagnose(const std::vector<logs::Log>& logs, const Options& options) { return run_diagnosis(logs, options, nullptr); }
+logs::Kind base_model_kind(const BaseModel& m) {
+  switch (m.index()) {
+    case 1: return logs::Kind::proximity;
+    case 2: return logs::Kind::light;
+    case 3: return logs::Kind::ground;
+    case 4: return logs::Kind::camera;
+    case 5: return logs::Kind::drive;
+    default: throw std::invalid_argument("no base model");
+  }
+}
 
-Report diagnose(std::vector<logs::Log>&& logs, const Options& options) { return run_diagnosis(logs, options, &logs); }
+std::string Report::verdict_name() const {
+  switch (verdict) {
+    case Verdict::none: return "none";
+    case Verdict::unexplained: return "unexplained";
+    case Verdict::effect: return findings.empty() ? "none" : findings.front().cause;
+  }
+  return "none";
+}
+
+Report diagnose(const std::vector<logs::Log>& logs, const Options& options) { return Diagnosis(options).run(logs, nullptr); }
+
+Report diagnose(std::vector<logs::Log>&& logs, const Options& options) { return Diagnosis(options).run(logs, &logs); }
 
 }  // namespace epuck2::diagnose

@@ -20,7 +20,23 @@ struct Values {
   std::map<std::string, double> base;
   std::map<std::string, std::map<std::string, double>> effect;
   bool has(const std::string& cause) const { return effect.count(cause) != 0; }
+  /// The parameter `name` of the finding of effect `cause`; `neutral` when there is no such
+  /// finding. A finding without the parameter is an error (a misspelt name, never a silent
+  /// default).
   double at(const std::string& cause, const std::string& name, double neutral) const {
+    const auto e = effect.find(cause);
+    if (e == effect.end()) return neutral;
+    const auto v = e->second.find(name);
+    if (v == e->second.end()) {
+      std::string known;
+      for (const auto& [k, x] : e->second) known += (known.empty() ? "" : ", ") + k;
+      throw std::logic_error("the finding " + cause + " has no parameter '" + name + "' (it has: " + known + ")");
+    }
+    return v->second;
+  }
+  /// The same for a parameter a finding may lack (a sensor's gain: the reference sensor's and
+  /// those the logs do not hold are not fitted).
+  double optional_at(const std::string& cause, const std::string& name, double neutral) const {
     const auto e = effect.find(cause);
     if (e == effect.end()) return neutral;
     const auto v = e->second.find(name);
@@ -36,13 +52,15 @@ Values values_of(const Report& r, std::vector<std::string>* left_out, const std:
   Values v;
   for (const NamedValue& p : r.final_base.empty() ? r.recalibrated : r.final_base) v.base[p.name] = p.value;
   for (const Finding& f : r.findings) {
+    // The formula the finding carries (a renamed finding keeps its effect's).
+    const std::string& effect = f.effect.empty() ? f.cause : f.effect;
     bool ok = false;
-    for (const auto& k : known) ok = ok || k == f.cause;
+    for (const auto& k : known) ok = ok || k == effect;
     if (!ok) {
       if (left_out) left_out->push_back(f.cause);
       continue;
     }
-    for (const NamedValue& p : f.parameters) v.effect[f.cause][p.name] = p.value;
+    for (const NamedValue& p : f.parameters) v.effect[effect][p.name] = p.value;
   }
   return v;
 }
@@ -58,12 +76,18 @@ void require(const Report& r, logs::Kind kind) {
   if (r.kind != kind) throw std::invalid_argument("the report is not of this kind");
 }
 
-/// "gains[3]" of a finding, per sensor (the reference sensor, not fitted, keeps 1).
+/// The base model the report was diagnosed against: the one given, else the plug-in's.
+template <class Model>
+Model base_of(const Report& r) {
+  return std::holds_alternative<Model>(r.base_model) ? std::get<Model>(r.base_model) : Model{};
+}
+
+/// "gains[3]" of a finding, per sensor (the reference sensor, not fitted, and sensors the logs do
+/// not hold keep the base's gain).
 template <std::size_t N>
-std::array<double, N> gains(const Values& v, const std::string& cause) {
-  std::array<double, N> g;
-  g.fill(1.0);
-  for (std::size_t k = 0; k < N; ++k) g[k] = v.at(cause, "gains[" + std::to_string(k) + "]", 1.0);
+std::array<double, N> gains(const Values& v, const std::string& cause, const std::array<double, N>& base) {
+  std::array<double, N> g = base;
+  for (std::size_t k = 0; k < N; ++k) g[k] = v.optional_at(cause, "gains[" + std::to_string(k) + "]", base[k]);
   return g;
 }
 
@@ -72,17 +96,17 @@ std::array<double, N> gains(const Values& v, const std::string& cause) {
 s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* left_out) {
   require(r, logs::Kind::proximity);
   const Values v = values_of(r, left_out, {"ambient_offset", "sensor_gain", "long_tail", "incidence_angle", "saturation"});
-  s::ProximityModel m;
+  s::ProximityModel m = base_of<s::ProximityModel>(r);
   m.base.a_per_m2 = v.base_or("a", m.base.a_per_m2);
   m.base.b_per_m = v.base_or("b", m.base.b_per_m);
   m.base.c = v.base_or("c", m.base.c);
-  m.effects.ambient.offset_raw = v.at("ambient_offset", "offset", 0.0);
-  m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain");
+  m.effects.ambient.offset_raw = v.at("ambient_offset", "offset", m.effects.ambient.offset_raw);
+  m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain", m.effects.gains.gain);
   if (v.has("long_tail")) {
-    m.effects.tail.amplitude_raw = v.at("long_tail", "amplitude", 0.0);
+    m.effects.tail.amplitude_raw = v.at("long_tail", "amplitude", m.effects.tail.amplitude_raw);
     m.effects.tail.length_m = v.at("long_tail", "length_m", m.effects.tail.length_m);
   }
-  m.effects.incidence.k = v.at("incidence_angle", "k", 0.0);
+  m.effects.incidence.k = v.at("incidence_angle", "k", m.effects.incidence.k);
   if (v.has("saturation")) m.effects.saturation.level_raw = v.at("saturation", "level", m.effects.saturation.level_raw);
   m.noise_sd_raw.fill(register_noise(r.noise_sd));
   return m;
@@ -91,11 +115,11 @@ s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* 
 s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out) {
   require(r, logs::Kind::light);
   const Values v = values_of(r, left_out, {"ambient_offset", "falloff_exponent", "sensor_gain"});
-  s::LightModel m;
+  s::LightModel m = base_of<s::LightModel>(r);
   m.base.gamma_m = v.base_or("gamma_m", m.base.gamma_m);
-  m.effects.ambient.offset_raw = v.at("ambient_offset", "offset", 0.0);
-  m.effects.falloff.exponent = v.at("falloff_exponent", "exponent", 2.0);
-  m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain");
+  m.effects.ambient.offset_raw = v.at("ambient_offset", "offset", m.effects.ambient.offset_raw);
+  m.effects.falloff.exponent = v.at("falloff_exponent", "exponent", m.effects.falloff.exponent);
+  m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain", m.effects.gains.gain);
   m.noise_sd_raw.fill(register_noise(r.noise_sd));
   return m;
 }
@@ -103,14 +127,18 @@ s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out
 s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_out) {
   require(r, logs::Kind::ground);
   const Values v = values_of(r, left_out, {"black_offset", "white_level", "sensor_gain", "nonlinear_response"});
-  s::GroundModel m;
-  // The catalogue's v = offset + (level - offset) g_s grey^p: sensor s has the black offset
-  // `offset` and the gain (level - offset) g_s.
+  s::GroundModel m = base_of<s::GroundModel>(r);
+  // The catalogue's effects relative to each sensor's base (B_s over black, G_s from black to
+  // white; the plug-in's 0 and 1023): sensor s has the black offset B_s + `offset` and the gain
+  // G_s (level - offset) / 1023 g_s (the diagnosis's ground model, kinds.cpp).
   const double offset = v.at("black_offset", "offset", 0.0);
   const double level = v.at("white_level", "level", s::kGroundFullScale_raw);
-  const auto g = gains<s::kGroundCount>(v, "sensor_gain");
-  for (std::size_t k = 0; k < m.sensors.size(); ++k) m.sensors[k] = {(level - offset) * g[k], offset};
-  m.effects.exponent = v.at("nonlinear_response", "exponent", 1.0);
+  std::array<double, s::kGroundCount> ones;
+  ones.fill(1.0);
+  const auto g = gains<s::kGroundCount>(v, "sensor_gain", ones);
+  for (std::size_t k = 0; k < m.sensors.size(); ++k)
+    m.sensors[k] = {m.sensors[k].gain_raw * (level - offset) / s::kGroundFullScale_raw * g[k], m.sensors[k].offset_raw + offset};
+  m.effects.exponent = v.at("nonlinear_response", "exponent", m.effects.exponent);
   m.noise_sd_raw.fill(register_noise(r.noise_sd));
   return m;
 }
@@ -118,11 +146,11 @@ s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_o
 s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_out) {
   require(r, logs::Kind::camera);
   const Values v = values_of(r, left_out, {"principal_offset", "radial_distortion"});
-  s::CameraModel m;
+  s::CameraModel m = base_of<s::CameraModel>(r);
   m.base.horizontal_fov_rad = s::deg_to_rad(v.base_or("fov_deg", s::rad_to_deg(m.base.horizontal_fov_rad)));
-  m.base.cx_px = s::kCameraWidth_px / 2.0 + v.at("principal_offset", "dx_px", 0.0);
-  m.base.cy_px = s::kCameraHeight_px / 2.0 + v.at("principal_offset", "dy_px", 0.0);
-  m.distortion.k1 = v.at("radial_distortion", "k1", 0.0);
+  m.base.cx_px = s::kCameraWidth_px / 2.0 + v.at("principal_offset", "dx_px", m.base.cx_px - s::kCameraWidth_px / 2.0);
+  m.base.cy_px = s::kCameraHeight_px / 2.0 + v.at("principal_offset", "dy_px", m.base.cy_px - s::kCameraHeight_px / 2.0);
+  m.distortion.k1 = v.at("radial_distortion", "k1", m.distortion.k1);
   m.noise_sd_px = register_noise(r.noise_sd);
   return m;
 }
@@ -131,14 +159,14 @@ s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out
   require(r, logs::Kind::drive);
   const Values v = values_of(r, left_out,
                              {"speed_limit", "accel_limit", "wheel_slip", "speed_scale", "latency", "tof_offset", "tof_scale"});
-  s::DriveModel m;
-  m.effects.speed_limit.max_cm_s = v.at("speed_limit", "max_cm_s", s::kDriveNoLimit);
-  m.effects.accel_limit.accel_cm_s2 = v.at("accel_limit", "accel_cm_s2", s::kDriveNoLimit);
-  m.effects.slip.tau_s = v.at("wheel_slip", "tau_s", 0.0);
-  m.effects.speed_scale.k = v.at("speed_scale", "k", 1.0);
-  m.effects.latency.delay_s = v.at("latency", "delay_s", 0.0);
-  m.effects.tof_offset.offset_mm = v.at("tof_offset", "offset_mm", 0.0);
-  m.effects.tof_scale.k = v.at("tof_scale", "k", 1.0);
+  s::DriveModel m = base_of<s::DriveModel>(r);
+  m.effects.speed_limit.max_cm_s = v.at("speed_limit", "max_cm_s", m.effects.speed_limit.max_cm_s);
+  m.effects.accel_limit.accel_cm_s2 = v.at("accel_limit", "accel_cm_s2", m.effects.accel_limit.accel_cm_s2);
+  m.effects.slip.tau_s = v.at("wheel_slip", "tau_s", m.effects.slip.tau_s);
+  m.effects.speed_scale.k = v.at("speed_scale", "k", m.effects.speed_scale.k);
+  m.effects.latency.delay_s = v.at("latency", "delay_s", m.effects.latency.delay_s);
+  m.effects.tof_offset.offset_mm = v.at("tof_offset", "offset_mm", m.effects.tof_offset.offset_mm);
+  m.effects.tof_scale.k = v.at("tof_scale", "k", m.effects.tof_scale.k);
   m.tof_noise_sd_mm = register_noise(r.noise_sd);
   for (const NamedValue& c : r.channel_noise_sd) {
     if (c.name == "tof_mm") m.tof_noise_sd_mm = register_noise(c.value);

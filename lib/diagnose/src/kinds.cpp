@@ -3,14 +3,18 @@
 // effect is a parameter set whose neutral values give back the base model, so that the engine
 // switches effects on by freeing their parameters.
 #include <algorithm>
+#include <cstdio>
 #include <deque>
+#include <optional>
 #include <cmath>
 #include <cstdint>
 #include <set>
 #include <type_traits>
+#include <variant>
 
 #include "problem.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/fit/robust.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 #include "epuck2/models/sensors.hpp"
 
@@ -23,8 +27,25 @@ namespace {
 
 namespace s = models::sensors;
 
+/// Sensor gains whose equality Cochran's Q does not reject at this level are one common gain.
+constexpr double kEqualGainsP = 0.01;
+/// A long tail carrying more than this share of the modelled near-field reading replaces it.
+constexpr double kTailShareOfNearField = 0.5;
+
+/// The base model given (Options::base_model) in place of the plug-in's published one: parameter
+/// j's value with its effect off, and in the published model, is the base's `v`; a start that was
+/// the old neutral value moves with it.
+void set_base(Problem& p, int j, double v) {
+  fit::Parameter& q = p.params[static_cast<std::size_t>(j)];
+  if (q.value == q.fallback) q.value = v;
+  q.fallback = v;
+  q.lower = std::min(q.lower, v);
+  q.upper = std::max(q.upper, v);
+  p.plugin_values[static_cast<std::size_t>(j)] = v;
+}
+
 int add_param(Problem& p, const std::string& name, double neutral, double start, double lower = -kInf, double upper = kInf) {
-  p.params.push_back({name, neutral, start, lower, upper, {}});
+  p.params.push_back({name, start, neutral, lower, upper, false, {}});
   p.plugin_values.push_back(neutral);
   return static_cast<int>(p.params.size()) - 1;
 }
@@ -40,6 +61,7 @@ std::vector<int> sensors_seen(const std::vector<double>& sensor) {
 // sensor_gain, nonlinear_response. Combined: v = offset + (level - offset) g_s grey^p.
 class Ground : public ProblemOf<Ground> {
  public:
+  using BaseModel = s::GroundModel;
   explicit Ground(const std::vector<logs::Log>& logs) {
     for (const auto& log : logs) {
       const auto& g = log.col("grey");
@@ -67,21 +89,69 @@ class Ground : public ProblemOf<Ground> {
     covariates.emplace_back("grey", grey_);
     covariates.emplace_back("sensor", std::move(sensor_d));
   }
-  // The catalogue's parameters map onto lib/models' ground response: sensor s has the black
-  // offset `offset` and the gain (level - offset) g_s; exponent is the nonlinear response.
+  /// Sensor gains equal within their errors (Cochran's Q, p >= kEqualGainsP) are one white
+  /// level common to every sensor: the finding is white_level, level = offset + (level - offset) g
+  /// with g the gains' inverse-variance mean.
+  std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
+                                   const std::vector<double>& std_errors) const override {
+    if (cause != "sensor_gain" || values[static_cast<std::size_t>(level_)] != params[static_cast<std::size_t>(level_)].fallback)
+      return std::nullopt;  // a white level already in the model: the gains are its sensors' spread
+    double sw = 0, swg = 0;
+    std::vector<std::pair<double, double>> gains;  // value, standard error
+    for (int k : sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end()))) {
+      if (k < 0 || k >= s::kGroundCount) continue;
+      const std::size_t j = static_cast<std::size_t>(gain_[static_cast<std::size_t>(k)]);
+      if (!(std_errors[j] > 0) || !std::isfinite(std_errors[j])) return std::nullopt;  // no errors: no test
+      gains.emplace_back(values[j], std_errors[j]);
+      sw += 1.0 / (std_errors[j] * std_errors[j]);
+      swg += values[j] / (std_errors[j] * std_errors[j]);
+    }
+    if (gains.size() < 2) return std::nullopt;
+    const double mean = swg / sw;
+    double q = 0;
+    for (const auto& [g, se] : gains) q += (g - mean) * (g - mean) / (se * se);
+    const double dof = static_cast<double>(gains.size() - 1);
+    const double p_value = chi2_upper_tail(q, dof);
+    if (p_value < kEqualGainsP) return std::nullopt;
+    const double offset = values[static_cast<std::size_t>(offset_)];
+    const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;
+    char why[300];
+    std::snprintf(why, sizeof why,
+                  "the %zu sensor gains are equal within their errors (Cochran's Q = %.3g on %g degrees of freedom, p = %.2g): "
+                  "one white level common to every sensor, %.4g counts",
+                  gains.size(), q, dof, p_value, level);
+    return Identity{"white_level", why, "white_level", {{level_, level}}};
+  }
+
+  /// A calibrated base: each sensor's own offset and gain, and its nonlinear response.
+  void set_base_model(const s::GroundModel& m) {
+    base_ = m.sensors;
+    set_base(*this, exponent_, m.effects.exponent);
+  }
+
+  // The catalogue's parameters map onto lib/models' ground response, relative to each sensor's
+  // base (B_s over black, G_s from black to white; the plug-in's: 0 and 1023): sensor s has the
+  // black offset B_s + `offset` and the gain G_s (level - offset) / 1023 g_s; exponent is the
+  // nonlinear response. With the plug-in's base: offset and (level - offset) g_s.
   template <typename T>
-  void eval(const T* p, T* out) const {
+  void eval(const T* p, T* out, std::size_t /*needed: every row is computed*/) const {
     s::GroundNonlinear<T> nonlinear;
     nonlinear.exponent = p[exponent_];
-    std::array<T, s::kGroundCount> gain;
-    for (std::size_t k = 0; k < gain.size(); ++k) gain[k] = (p[level_] - p[offset_]) * p[gain_[k]];
-    for (std::size_t i = 0; i < grey_.size(); ++i)
-      out[i] = s::ground_mean_raw(p[offset_], gain[static_cast<std::size_t>(sensor_[i])], nonlinear, grey_[i]);
+    std::array<T, s::kGroundCount> gain, offset;
+    for (std::size_t k = 0; k < gain.size(); ++k) {
+      gain[k] = (p[level_] - p[offset_]) * p[gain_[k]] * (base_[k].gain_raw / s::kGroundFullScale_raw);
+      offset[k] = p[offset_] + base_[k].offset_raw;
+    }
+    for (std::size_t i = 0; i < grey_.size(); ++i) {
+      const std::size_t k = static_cast<std::size_t>(sensor_[i]);
+      out[i] = s::ground_mean_raw(offset[k], gain[k], nonlinear, grey_[i]);
+    }
   }
 
  private:
   std::vector<double> grey_;
   std::vector<int> sensor_;
+  std::array<s::GroundCoefficients, s::kGroundCount> base_{s::kPluginGround, s::kPluginGround, s::kPluginGround};
   int offset_ = 0, level_ = 0, exponent_ = 0;
   std::array<int, s::kGroundCount> gain_{};
 };
@@ -93,6 +163,7 @@ class Ground : public ProblemOf<Ground> {
 // + amplitude exp(-d / length), level).
 class Proximity : public ProblemOf<Proximity> {
  public:
+  using BaseModel = s::ProximityModel;
   explicit Proximity(const std::vector<logs::Log>& logs) {
     channel_lo = {0.0};
     channel_hi = {s::kProximityFullScale_raw};
@@ -146,8 +217,54 @@ class Proximity : public ProblemOf<Proximity> {
       covariates.emplace_back("angle_deg", std::move(a));
     }
   }
+  /// A calibrated base: its quadratic and the effects it already carries.
+  void set_base_model(const s::ProximityModel& m) {
+    set_base(*this, a_, m.base.a_per_m2);
+    set_base(*this, a_ + 1, m.base.b_per_m);
+    set_base(*this, a_ + 2, m.base.c);
+    range_m_ = m.base.range_m;
+    set_base(*this, offset_, m.effects.ambient.offset_raw);
+    for (std::size_t j = 0; j < gain_.size(); ++j) set_base(*this, gain_[j], m.effects.gains.gain[j]);
+    set_base(*this, amplitude_, m.effects.tail.amplitude_raw);
+    set_base(*this, length_, m.effects.tail.length_m);
+    set_base(*this, k_, m.effects.incidence.k);
+    set_base(*this, level_, m.effects.saturation.level_raw);
+  }
+
+  /// A long tail that carries most of the modelled reading within the base model's range
+  /// (d <= its cut-off) replaces the near-field curve instead of extending it beyond the cut-off:
+  /// the finding is the near-field curve's shape (near_field_curve), the same formula renamed.
+  std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
+                                   const std::vector<double>& /*std_errors*/) const override {
+    if (cause != "long_tail") return std::nullopt;
+    std::vector<double> with(distance_.size()), without(distance_.size());
+    eval<double>(values.data(), with.data(), kAllResiduals);
+    std::vector<double> off = values;
+    off[static_cast<std::size_t>(amplitude_)] = params[static_cast<std::size_t>(amplitude_)].fallback;
+    eval<double>(off.data(), without.data(), kAllResiduals);
+    double tail = 0, total = 0, beyond = 0;
+    std::size_t near = 0;
+    for (std::size_t i = 0; i < distance_.size(); ++i) {
+      const double t = std::max(0.0, with[i] - without[i]);
+      if (distance_[i] <= range_m_) {
+        tail += t;
+        total += std::max(0.0, std::min(with[i], s::kProximityFullScale_raw));
+        ++near;
+      } else {
+        beyond = std::max(beyond, t);
+      }
+    }
+    if (near == 0 || !(total > 0) || tail <= kTailShareOfNearField * total) return std::nullopt;
+    char why[300];
+    std::snprintf(why, sizeof why,
+                  "the fitted tail carries %.0f %% of the modelled reading within the base model's range (d <= %.3g m, %zu "
+                  "rows) and at most %.3g counts beyond it: it replaces the near-field curve, it is not a tail",
+                  100.0 * tail / total, range_m_, near, beyond);
+    return Identity{"near_field_curve", why, "", {}};
+  }
+
   template <typename T>
-  void eval(const T* p, T* out) const {
+  void eval(const T* p, T* out, std::size_t /*needed: every row is computed*/) const {
     s::ProximityEffects<T> e;
     e.ambient.offset_raw = p[offset_];
     for (std::size_t j = 0; j < gain_.size(); ++j) e.gains.gain[j] = p[gain_[j]];
@@ -173,6 +290,7 @@ class Proximity : public ProblemOf<Proximity> {
 // v = 4095 (1 - g_s (gamma I / d)^p) - offset.
 class Light : public ProblemOf<Light> {
  public:
+  using BaseModel = s::LightModel;
   explicit Light(const std::vector<logs::Log>& logs) {
     channel_lo = {0.0};
     channel_hi = {s::kProximityFullScale_raw};
@@ -208,8 +326,16 @@ class Light : public ProblemOf<Light> {
     covariates.emplace_back("intensity", intensity_);
     covariates.emplace_back("sensor", std::move(sensor_d));
   }
+  /// A calibrated base: its gamma and the effects it already carries.
+  void set_base_model(const s::LightModel& m) {
+    set_base(*this, gamma_, m.base.gamma_m);
+    set_base(*this, offset_, m.effects.ambient.offset_raw);
+    set_base(*this, exponent_, m.effects.falloff.exponent);
+    for (std::size_t j = 0; j < gain_.size(); ++j) set_base(*this, gain_[j], m.effects.gains.gain[j]);
+  }
+
   template <typename T>
-  void eval(const T* p, T* out) const {
+  void eval(const T* p, T* out, std::size_t /*needed: every row is computed*/) const {
     s::LightEffects<T> e;
     e.ambient.offset_raw = p[offset_];
     e.falloff.exponent = p[exponent_];
@@ -232,6 +358,7 @@ class Light : public ProblemOf<Light> {
 // row: px then py.
 class Camera : public ProblemOf<Camera> {
  public:
+  using BaseModel = s::CameraModel;
   explicit Camera(const std::vector<logs::Log>& logs) {
     std::vector<double> fw, lat, ver, axis, r2;
     for (const auto& log : logs) {
@@ -270,8 +397,16 @@ class Camera : public ProblemOf<Camera> {
     covariates.emplace_back("axis", std::move(axis));
     covariates.emplace_back("radius2", std::move(r2));
   }
+  /// A calibrated base: its field of view, centre and distortion.
+  void set_base_model(const s::CameraModel& m) {
+    set_base(*this, fov_, s::rad_to_deg(m.base.horizontal_fov_rad));
+    set_base(*this, dx_, m.base.cx_px - s::kCameraWidth_px / 2.0);
+    set_base(*this, dy_, m.base.cy_px - s::kCameraHeight_px / 2.0);
+    set_base(*this, k1_, m.distortion.k1);
+  }
+
   template <typename T>
-  void eval(const T* p, T* out) const {
+  void eval(const T* p, T* out, std::size_t /*needed: every row is computed*/) const {
     s::CameraRadialDistortion<T> distortion;
     distortion.k1 = p[k1_];
     const T hfov_rad = p[fov_] * (s::kPi / 180.0);
@@ -300,6 +435,8 @@ class Camera : public ProblemOf<Camera> {
 // registers unwrapped (channel 1, steps; predicted as the mean of floor: 7763.656 x - 1/2, and 0
 // before the wheel has moved), each only when it changed since the previous row.
 class Drive : public ProblemOf<Drive> {
+ public:
+  using BaseModel = s::DriveModel;
   // "No limit": the neutral value of max_cm_s and accel_cm_s2 (lib/models drive.hpp).
   static constexpr double kNoLimit = s::kDriveNoLimit;
 
@@ -412,6 +549,18 @@ class Drive : public ProblemOf<Drive> {
     for (auto& v : slot_) v.shrink_to_fit();
   }
 
+  /// A calibrated base: its encoders' steps per metre and the effects it already carries.
+  void set_base_model(const s::DriveModel& m) {
+    steps_per_m_ = m.steps_per_m;
+    set_base(*this, max_, m.effects.speed_limit.max_cm_s);
+    set_base(*this, accel_, m.effects.accel_limit.accel_cm_s2);
+    set_base(*this, tau_, m.effects.slip.tau_s);
+    set_base(*this, speed_k_, m.effects.speed_scale.k);
+    set_base(*this, delay_, m.effects.latency.delay_s);
+    set_base(*this, offset_, m.effects.tof_offset.offset_mm);
+    set_base(*this, tof_k_, m.effects.tof_scale.k);
+  }
+
   /// The catalogue's drive effects (lib/models drive.hpp) at the parameters p.
   template <typename T>
   s::DriveEffects<T> effects_at(const T* p) const {
@@ -427,9 +576,10 @@ class Drive : public ProblemOf<Drive> {
   }
 
   template <typename T>
-  void eval(const T* p, T* out) const {
+  void eval(const T* p, T* out, std::size_t needed) const {
     const s::DriveEffects<T> e = effects_at(p);
-    auto encoder = [](const T& x) { return s::encoder_mean_steps(s::kPluginStepsPerMetre, x); };
+    const double steps_per_m = steps_per_m_;
+    auto encoder = [steps_per_m](const T& x) { return s::encoder_mean_steps(steps_per_m, x); };
     // With a latency, the ToF reading at t is the true one at t - delay: the state at the start of
     // the row k in which t - delay falls, advanced to it. Only the states of rows k..i are kept
     // (a window of delay / dt rows), not one per row of the log (144 B a row with 2-wide Jets).
@@ -478,6 +628,7 @@ class Drive : public ProblemOf<Drive> {
   std::array<std::vector<std::int32_t>, 3> slot_;
   std::vector<Run> runs_;
   int max_ = 0, accel_ = 0, tau_ = 0, speed_k_ = 0, delay_ = 0, offset_ = 0, tof_k_ = 0;
+  double steps_per_m_ = s::kPluginStepsPerMetre;
 };
 
 
@@ -537,7 +688,7 @@ class Battery : public ProblemOf<Battery> {
   }
 
   template <typename T>
-  void eval(const T* p, T* out) const {
+  void eval(const T* p, T* out, std::size_t /*needed: every row is computed*/) const {
     const double k = value_of(p[k_]);
     std::vector<double> at(time_.size()), up, down;
     simulate(k, at);
@@ -596,17 +747,24 @@ std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const 
       why = "the logs are not all of one kind";
       return nullptr;
     }
+  // The base model given in place of the plug-in's: it must be of the logs' kind.
+  auto with_base = [&](auto problem) -> std::unique_ptr<Problem> {
+    using Model = typename std::remove_reference_t<decltype(*problem)>::BaseModel;
+    if (std::holds_alternative<Model>(options.base_model)) problem->set_base_model(std::get<Model>(options.base_model));
+    return problem;
+  };
+  if (options.base_model.index() != 0 && base_model_kind(options.base_model) != kind) {
+    why = std::string("the base model given is of the kind ") + std::string(logs::to_string(base_model_kind(options.base_model))) +
+          ", the logs of the kind " + std::string(logs::to_string(kind));
+    return nullptr;
+  }
   std::unique_ptr<Problem> p;
   switch (kind) {
-    case logs::Kind::ground: p = std::make_unique<Ground>(logs); break;
-    case logs::Kind::proximity: p = std::make_unique<Proximity>(logs); break;
-    case logs::Kind::light: p = std::make_unique<Light>(logs); break;
-    case logs::Kind::camera:
-      p = std::make_unique<Camera>(logs);
-      break;
-    case logs::Kind::drive:
-      p = std::make_unique<Drive>(logs);
-      break;
+    case logs::Kind::ground: p = with_base(std::make_unique<Ground>(logs)); break;
+    case logs::Kind::proximity: p = with_base(std::make_unique<Proximity>(logs)); break;
+    case logs::Kind::light: p = with_base(std::make_unique<Light>(logs)); break;
+    case logs::Kind::camera: p = with_base(std::make_unique<Camera>(logs)); break;
+    case logs::Kind::drive: p = with_base(std::make_unique<Drive>(logs)); break;
     case logs::Kind::battery: {
       // The tables given (--coefficients), else the plug-in's published ones: the library never
       // compiles in the project's fitted data.

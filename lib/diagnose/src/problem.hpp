@@ -8,12 +8,14 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/parameter.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace epuck2::diagnose::detail {
@@ -41,19 +43,24 @@ double value_of(const ceres::Jet<double, N>& x) {
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
-struct Param {
-  std::string name;     ///< catalogue name, e.g. "offset", "gains[3]", "tau_s"
-  double neutral = 0;   ///< the value that switches the effect off (base parameters: the plug-in's)
-  double start = 0;     ///< where a fit starts when the effect is switched on
-  double lower = -kInf, upper = kInf;
-  /// More starting points, tried when the effect is switched on (the best fit is kept): for
-  /// parameters whose cost has flat regions, as a speed limit above every command.
-  std::vector<double> other_starts;
-};
+/// The diagnosis's parameters are the fit engine's (epuck2/fit/parameter.hpp): `value` is where a
+/// fit starts when the effect is switched on, `fallback` the value that switches it off (a base
+/// parameter's: the plug-in's), `other_starts` more starting points tried when it is switched on.
+using fit::Parameter;
 
 struct Effect {
   std::string cause;
   std::vector<int> params;  ///< indices into Problem::params
+};
+
+/// What a finding is when its fitted parameters make it another effect (Problem::identify).
+struct Identity {
+  std::string cause;         ///< its name
+  std::string why;           ///< in words, with the numbers that decided
+  /// The catalogue effect that replaces the finding's in the model (empty: the same formula,
+  /// renamed only), and where that effect's parameters start.
+  std::string replace_with;
+  std::vector<std::pair<int, double>> starts;
 };
 
 /// A kind's model over all rows of its logs, as a function of every parameter (base and all the
@@ -62,7 +69,7 @@ class Problem {
  public:
   virtual ~Problem() = default;
 
-  std::vector<Param> params;
+  std::vector<Parameter> params;
   std::vector<int> base_free;  ///< the base model's free parameters (recalibrated)
   std::vector<Effect> effects;
   std::vector<double> plugin_values;  ///< every parameter at the plug-in's published values (effects off)
@@ -114,25 +121,42 @@ class Problem {
   std::vector<std::pair<std::string, std::vector<double>>> extra_columns;
   std::string notes;
 
-  /// The next mean() call needs residuals [0, needed) only: kinds that simulate row after row
-  /// (drive) may stop there and leave the rest unset. Set by the engine around each evaluation.
-  mutable std::size_t needed = std::numeric_limits<std::size_t>::max();
+  /// What the finding of effect `cause` is, at the parameters `values` with standard errors
+  /// `std_errors` (NaN where none), when its parameters make it another effect; nothing when it is
+  /// what its name says (the default).
+  virtual std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
+                                           const std::vector<double>& std_errors) const {
+    (void)cause;
+    (void)values;
+    (void)std_errors;
+    return std::nullopt;
+  }
 
-  /// The reading's mean before the clamp and before `covariate:` terms, for every residual.
-  virtual void mean(const double* p, double* out) const = 0;
-  virtual void mean(const Jet* p, Jet* out) const = 0;
-  virtual void mean(const ShortJet* p, ShortJet* out) const = 0;
-  virtual void mean(const PairJet* p, PairJet* out) const = 0;
+  /// The reading's mean before the clamp and before `covariate:` terms, for residuals [0, needed)
+  /// at least: kinds that simulate row after row (drive) may stop there and leave the rest unset.
+  /// The rows are the caller's to say (no state is kept between calls: evaluations may run
+  /// concurrently).
+  virtual void mean(const double* p, double* out, std::size_t needed) const = 0;
+  virtual void mean(const Jet* p, Jet* out, std::size_t needed) const = 0;
+  virtual void mean(const ShortJet* p, ShortJet* out, std::size_t needed) const = 0;
+  virtual void mean(const PairJet* p, PairJet* out, std::size_t needed) const = 0;
 };
 
-/// The double and Jet entry points of a kind written once as `template <typename T> void eval(const T* p, T* out) const`.
+/// Every residual: the `needed` of a call that wants them all.
+inline constexpr std::size_t kAllResiduals = std::numeric_limits<std::size_t>::max();
+
+/// The double and Jet entry points of a kind written once as
+/// `template <typename T> void eval(const T* p, T* out, std::size_t needed) const`.
 template <class Kind>
 class ProblemOf : public Problem {
  public:
-  void mean(const double* p, double* out) const override { static_cast<const Kind*>(this)->template eval<double>(p, out); }
-  void mean(const Jet* p, Jet* out) const override { static_cast<const Kind*>(this)->template eval<Jet>(p, out); }
-  void mean(const ShortJet* p, ShortJet* out) const override { static_cast<const Kind*>(this)->template eval<ShortJet>(p, out); }
-  void mean(const PairJet* p, PairJet* out) const override { static_cast<const Kind*>(this)->template eval<PairJet>(p, out); }
+  void mean(const double* p, double* out, std::size_t needed) const override { self().template eval<double>(p, out, needed); }
+  void mean(const Jet* p, Jet* out, std::size_t needed) const override { self().template eval<Jet>(p, out, needed); }
+  void mean(const ShortJet* p, ShortJet* out, std::size_t needed) const override { self().template eval<ShortJet>(p, out, needed); }
+  void mean(const PairJet* p, PairJet* out, std::size_t needed) const override { self().template eval<PairJet>(p, out, needed); }
+
+ private:
+  const Kind& self() const { return *static_cast<const Kind*>(this); }
 };
 
 /// The problem for these logs (nullptr when the kind is not supported; `why` says so).

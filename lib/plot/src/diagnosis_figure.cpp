@@ -151,8 +151,8 @@ std::string num(double v) {
 constexpr std::size_t kMaxPoints = 20000;
 
 std::string verdict_line(const dg::Report& r) {
-  std::string line = "verdict: " + r.verdict;
-  if (r.verdict == "unexplained" && !r.structure_after.empty())
+  std::string line = "verdict: " + r.verdict_name();
+  if (r.verdict == dg::Verdict::unexplained && !r.structure_after.empty())
     line += " (the residuals" + (r.structure_after.front().channel.empty() ? std::string() : " of " + r.structure_after.front().channel) +
             " still depend on " + r.structure_after.front().covariate + ")";
   std::string findings;

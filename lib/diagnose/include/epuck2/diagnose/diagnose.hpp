@@ -18,11 +18,13 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "epuck2/fit/report.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/battery.hpp"
+#include "epuck2/models/kinds.hpp"
 
 namespace epuck2::diagnose {
 
@@ -43,7 +45,15 @@ struct NamedValue {
 };
 
 struct Finding {
-  std::string cause;                   ///< catalogue name, e.g. "black_offset", "covariate:temperature_c"
+  /// What the misfit is: a catalogue name, e.g. "black_offset", "covariate:temperature_c", or the
+  /// name a finding gets when its fitted parameters make it something else (Problem::identify:
+  /// "near_field_curve" for a long tail that replaces the near-field curve).
+  std::string cause;
+  /// The catalogue effect whose formula and parameters the finding carries into the extended
+  /// model: `cause` unless the finding was renamed without changing its formula.
+  std::string effect;
+  /// The effect the search found, when the finding was renamed (empty otherwise); notes say why.
+  std::string renamed_from;
   std::vector<NamedValue> parameters;  ///< the effect's parameters (catalogue names) in the final joint fit
   double heldout_mse_before = 0;       ///< held-out MSE of the reading (channel 0) without this effect
   double heldout_mse_after = 0;        ///< ... with it
@@ -78,6 +88,24 @@ struct Trial {
   bool screened_out = false;  ///< long logs: no gain on the leading residuals, not fitted to all
 };
 
+/// The base model a diagnosis starts from in place of the plug-in's published one (a calibration's
+/// or an earlier diagnosis's coefficient file, `--coefficients FILE`): a kind's model type
+/// (lib/models kinds.hpp). Its values are the model with every effect off: the recalibration
+/// starts from them, and an effect found is a change from them. Battery tables: Options::
+/// battery_tables.
+using BaseModel = std::variant<std::monostate, models::sensors::ProximityModel, models::sensors::LightModel,
+                               models::sensors::GroundModel, models::sensors::CameraModel, models::sensors::DriveModel>;
+
+/// The kind of a base model's logs (std::monostate: none; throws std::invalid_argument).
+logs::Kind base_model_kind(const BaseModel& m);
+
+/// What a diagnosis concludes.
+enum class Verdict {
+  none,         ///< no effect found and nothing left in the residuals (or too few rows to judge)
+  effect,       ///< effects found (the first, the largest gain, names the verdict) and nothing left
+  unexplained,  ///< the residuals still depend on a covariate (structure_after says which)
+};
+
 struct Report {
   logs::Kind kind = logs::Kind::ground;
   bool supported = false;
@@ -93,7 +121,12 @@ struct Report {
   std::string message;  ///< why not supported, or notes
   std::size_t rows = 0;       ///< data rows in all logs
   std::size_t residuals = 0;  ///< residuals fitted (camera: two per row)
-  std::string verdict = "none";
+  /// The base model the logs were diagnosed against (Options::base_model; std::monostate: the
+  /// plug-in's published one). The extended model is built on it.
+  BaseModel base_model;
+  Verdict verdict = Verdict::none;
+  /// The verdict as the report writes it: "none", "unexplained", or the first finding's cause.
+  std::string verdict_name() const;
   std::vector<NamedValue> recalibrated;  ///< the base model's free parameters recalibrated alone (empty: none)
   /// The base model's free parameters in the final joint fit with every finding (what the extended
   /// model carries; the same as `recalibrated` without findings).
@@ -153,6 +186,7 @@ struct Progress {
   std::string detail;  ///< e.g. the effect's cause
 };
 
+
 struct Options {
   int folds = 5;
   int blocks_per_fold = 8;             ///< contiguous blocks of rows per fold
@@ -168,6 +202,13 @@ struct Options {
   /// published tables.
   models::battery::Model battery_model = models::battery::Model::cubic;
   std::optional<models::battery::Tables> battery_tables;
+  /// The other kinds: the base model (none: the plug-in's published one). Of the logs' kind, or
+  /// the report is unsupported and says so.
+  BaseModel base_model;
+  /// The effects the search tries, by catalogue name (`covariate:NAME` included); empty: every
+  /// effect the logs can show. A name the logs cannot show makes the report unsupported, with
+  /// the names they can.
+  std::vector<std::string> effects;
   /// Called as the diagnosis goes (from the calling thread; never does I/O itself): a program can
   /// show progress. Empty: not called.
   std::function<void(const Progress&)> progress;
