@@ -39,16 +39,13 @@ void print_report(const calibrate::CameraFit& f) {
               "not a standard error)\n",
               f.table4_points,
               fit::format_uncertain(f.table4_alpha_mean_deg, f.table4_alpha_sd_deg, "deg", "one point: no spread").c_str());
-  app::sensors::print_noise(f.noise);
-  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
+  app::sensors::print_noise_and_warnings({f.noise}, f.warnings);
 }
 
 nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::CameraFit* keep) {
   calibrate::CameraFit f = calibrate::fit_camera(logs, o.fit_options());
   app::sensors::require_usable(f.result, "camera fit");
-  std::vector<std::string> sources;
-  for (const auto& l : logs) sources.push_back(l.path);
-  nlohmann::json j = app::sensors::skeleton("camera", sources);
+  nlohmann::json j = app::sensors::skeleton("camera", logs);
   j["units"] = {{"fov_deg", "deg"}, {"cx_px", "px"}, {"cy_px", "px"}, {"aperture_deg", "deg"}, {"width_px", "px"},
                 {"height_px", "px"}, {"range_m", "m"}, {"mse", "px^2"}, {"rss", "px^2"}};
   j["unit_notes"] = {{"fov_deg", "horizontal field of view"}, {"aperture_deg", "ARGoS half-angle on the diagonal"},
@@ -79,18 +76,14 @@ nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensor
   return j;
 }
 
-int run_camera(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<calibrate::CameraFit>("camera", logs::Kind::camera, o, camera_json, print_report, plot::camera_figure);
-}
-
 }  // namespace
 
 void setup_camera(CLI::App& app, Action& action) {
-  auto o = std::make_shared<app::sensors::SensorOptions>();
-  CLI::App* sub = app.add_subcommand("camera", "Calibrate the camera: horizontal field of view and image centre");
-  app::sensors::add_common_options(sub, *o, "Camera");
-  sub->footer(log_format_footer(logs::Kind::camera, "px 0..159 from the left, py 0..119 from the top; lateral_m > 0 to the left."));
-  sub->callback([o, &action] { action = [o] { return run_camera(*o); }; });
+  app::sensors::add_sensor_command<calibrate::CameraFit>(
+      app, action,
+      {"camera", logs::Kind::camera, "Calibrate the camera: horizontal field of view and image centre", "Camera",
+       "px 0..159 from the left, py 0..119 from the top; lateral_m > 0 to the left."},
+      camera_json, print_report, plot::camera_figure);
 }
 
 }  // namespace epuck2::app

@@ -29,18 +29,14 @@ void print_report(const calibrate::DriveFit& f) {
   app::sensors::print_parameter(t, "slip_time_constant_s", "s", "  ", "", &f.tof_autocorrelation);
   app::sensors::print_handling(t, "mm", "  ", &f.tof_autocorrelation);
   std::printf("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
-  app::sensors::print_noise(f.tof_noise);
-  app::sensors::print_noise(f.encoder_noise);
-  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
+  app::sensors::print_noise_and_warnings({f.tof_noise, f.encoder_noise}, f.warnings);
 }
 
 nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::DriveFit* keep) {
   calibrate::DriveFit f = calibrate::fit_drive(logs, o.fit_options());
   app::sensors::require_usable(f.steps, "encoder fit");
   app::sensors::require_usable(f.tof, "ToF fit");
-  std::vector<std::string> sources;
-  for (const auto& l : logs) sources.push_back(l.path);
-  nlohmann::json j = app::sensors::skeleton("drive", sources);
+  nlohmann::json j = app::sensors::skeleton("drive", logs);
   j["units"] = {{"steps_per_m", "steps/m"}, {"tof_offset_mm", "mm"}, {"tof_scale", "1"}, {"slip_time_constant_s", "s"},
                 {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}, {"rss", "mm^2 (ToF)"}, {"steps_rss", "steps^2"}};
   // Rows of a run are a time series: both fits' errors get the autocorrelation correction.
@@ -60,18 +56,14 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
   return j;
 }
 
-int run_drive(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<calibrate::DriveFit>("drive", logs::Kind::drive, o, drive_json, print_report, plot::drive_figure);
-}
-
 }  // namespace
 
 void setup_drive(CLI::App& app, Action& action) {
-  auto o = std::make_shared<app::sensors::SensorOptions>();
-  CLI::App* sub = app.add_subcommand("drive", "Calibrate encoders and ToF from straight runs towards/away from an obstacle");
-  app::sensors::add_common_options(sub, *o, "Drive");
-  sub->footer(log_format_footer(logs::Kind::drive, "Required metadata: '# obstacle_distance_m: D' (m, at time 0). tof_mm 20..2000."));
-  sub->callback([o, &action] { action = [o] { return run_drive(*o); }; });
+  app::sensors::add_sensor_command<calibrate::DriveFit>(
+      app, action,
+      {"drive", logs::Kind::drive, "Calibrate encoders and ToF from straight runs towards/away from an obstacle", "Drive",
+       "Required metadata: '# obstacle_distance_m: D' (m, at time 0). tof_mm 20..2000."},
+      drive_json, print_report, plot::drive_figure);
 }
 
 }  // namespace epuck2::app

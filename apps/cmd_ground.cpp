@@ -29,15 +29,12 @@ void print_report(const calibrate::GroundFit& f) {
     app::sensors::print_handling(f.sensors[k], "counts");
   }
   std::printf("\nPlug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0. Pooled MSE %.3f counts²\n", f.mse);
-  app::sensors::print_noise(f.noise);
-  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
+  app::sensors::print_noise_and_warnings({f.noise}, f.warnings);
 }
 
 nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::GroundFit* keep) {
   calibrate::GroundFit f = calibrate::fit_ground(logs, o.fit_options());
-  std::vector<std::string> sources;
-  for (const auto& l : logs) sources.push_back(l.path);
-  nlohmann::json j = app::sensors::skeleton("ground", sources);
+  nlohmann::json j = app::sensors::skeleton("ground", logs);
   j["units"] = {{"gain", "counts"}, {"offset", "counts"}, {"mse", "counts^2"}, {"rss", "counts^2"}};
   j["unit_notes"] = {{"gain", "raw counts from black to white (grey 0 to 1)"}, {"offset", "raw counts over black"}};
   nlohmann::json correlations = nlohmann::json::array();
@@ -82,18 +79,14 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
   return j;
 }
 
-int run_ground(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<calibrate::GroundFit>("ground", logs::Kind::ground, o, ground_json, print_report, plot::ground_figure);
-}
-
 }  // namespace
 
 void setup_ground(CLI::App& app, Action& action) {
-  auto o = std::make_shared<app::sensors::SensorOptions>();
-  CLI::App* sub = app.add_subcommand("ground", "Calibrate the ground sensors: gain and offset per sensor");
-  app::sensors::add_common_options(sub, *o, "Ground");
-  sub->footer(log_format_footer(logs::Kind::ground, "grey: 0 = black, 1 = white; sensor 0 right, 1 centre, 2 left; value 0..1023."));
-  sub->callback([o, &action] { action = [o] { return run_ground(*o); }; });
+  app::sensors::add_sensor_command<calibrate::GroundFit>(
+      app, action,
+      {"ground", logs::Kind::ground, "Calibrate the ground sensors: gain and offset per sensor", "Ground",
+       "grey: 0 = black, 1 = white; sensor 0 right, 1 centre, 2 left; value 0..1023."},
+      ground_json, print_report, plot::ground_figure);
 }
 
 }  // namespace epuck2::app

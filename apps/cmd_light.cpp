@@ -30,16 +30,13 @@ void print_report(const calibrate::LightFit& f) {
     app::sensors::print_handling(f.gamma_per_sensor[i], "(reading/4095)");
   }
   std::printf("Plug-in: gamma = 1/13.3333 = 0.075 m, MSE on the readings inside the rails %.3e (reading/4095)²\n", f.plugin_mse);
-  app::sensors::print_noise(f.noise);
-  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
+  app::sensors::print_noise_and_warnings({f.noise}, f.warnings);
 }
 
 nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::LightFit* keep) {
   calibrate::LightFit f = calibrate::fit_light(logs, o.fit_options());
   app::sensors::require_usable(f.gamma, "light fit");
-  std::vector<std::string> sources;
-  for (const auto& l : logs) sources.push_back(l.path);
-  nlohmann::json j = app::sensors::skeleton("light", sources);
+  nlohmann::json j = app::sensors::skeleton("light", logs);
   j["units"] = {{"gamma", "m"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"rss", "(reading / 4095)^2"}};
   j["unit_notes"] = {{"gamma", "metres per unit of the light's intensity I: Eq. 2's gamma I / d is a ratio"},
                      {"range_m", "the sensor's range, held"}};
@@ -75,18 +72,14 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
   return j;
 }
 
-int run_light(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<calibrate::LightFit>("light", logs::Kind::light, o, light_json, print_report, plot::light_figure);
-}
-
 }  // namespace
 
 void setup_light(CLI::App& app, Action& action) {
-  auto o = std::make_shared<app::sensors::SensorOptions>();
-  CLI::App* sub = app.add_subcommand("light", "Calibrate the ambient light sensors: gamma of Eq. 2");
-  app::sensors::add_common_options(sub, *o, "Light");
-  sub->footer(log_format_footer(logs::Kind::light, "value: 4095 = dark, 0 = saturated; both are left out of the fit."));
-  sub->callback([o, &action] { action = [o] { return run_light(*o); }; });
+  app::sensors::add_sensor_command<calibrate::LightFit>(
+      app, action,
+      {"light", logs::Kind::light, "Calibrate the ambient light sensors: gamma of Eq. 2", "Light",
+       "value: 4095 = dark, 0 = saturated; both are left out of the fit."},
+      light_json, print_report, plot::light_figure);
 }
 
 }  // namespace epuck2::app

@@ -41,17 +41,14 @@ void print_report(const calibrate::ProximityFit& f) {
   line("Fitted to the maxima", f.maxima, f.plugin_mse_maxima, f.epuck1_mse_maxima);
   line("Fitted to the means", f.means, f.plugin_mse_means, f.epuck1_mse_means);
   std::printf("\nPlug-in (paper, fitted to maxima): a = 197.8633, b = -30.47182, c = 1.011635\n");
-  app::sensors::print_noise(f.noise);
-  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
+  app::sensors::print_noise_and_warnings({f.noise}, f.warnings);
 }
 
 nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::ProximityFit* keep) {
   calibrate::ProximityFit f = calibrate::fit_proximity(logs, o.fit_options());
   app::sensors::require_usable(f.maxima, "proximity fit to the maxima");
   app::sensors::require_usable(f.means, "proximity fit to the means");
-  std::vector<std::string> sources;
-  for (const auto& l : logs) sources.push_back(l.path);
-  nlohmann::json j = app::sensors::skeleton("proximity", sources);
+  nlohmann::json j = app::sensors::skeleton("proximity", logs);
   j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"mean_a", "1/m^2"}, {"mean_b", "1/m"}, {"mean_c", "1"},
                 {"values", "reading / 4095"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"mean_mse", "(reading / 4095)^2"},
                 {"rss", "(reading / 4095)^2"}};
@@ -83,18 +80,14 @@ nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sen
   return j;
 }
 
-int run_proximity(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<calibrate::ProximityFit>("proximity", logs::Kind::proximity, o, proximity_json, print_report, plot::proximity_figure);
-}
-
 }  // namespace
 
 void setup_proximity(CLI::App& app, Action& action) {
-  auto o = std::make_shared<app::sensors::SensorOptions>();
-  CLI::App* sub = app.add_subcommand("proximity", "Calibrate the proximity sensors: Eq. 1 fitted to the maxima and to the means");
-  app::sensors::add_common_options(sub, *o, "Proximity");
-  sub->footer(log_format_footer(logs::Kind::proximity, "Optional: angle_deg (incidence angle). value: 0 = nothing detected, 4095 = touching."));
-  sub->callback([o, &action] { action = [o] { return run_proximity(*o); }; });
+  app::sensors::add_sensor_command<calibrate::ProximityFit>(
+      app, action,
+      {"proximity", logs::Kind::proximity, "Calibrate the proximity sensors: Eq. 1 fitted to the maxima and to the means", "Proximity",
+       "Optional: angle_deg (incidence angle). value: 0 = nothing detected, 4095 = touching."},
+      proximity_json, print_report, plot::proximity_figure);
 }
 
 }  // namespace epuck2::app
