@@ -20,6 +20,17 @@ std::string poly(double a, double b, double c) {
   return buf;
 }
 
+/// The camera's and the drive's two panels side by side.
+Layout two_panels() {
+  Layout layout;
+  layout.rows = 1;
+  layout.cols = 2;
+  layout.top = 0.9;
+  layout.bottom = 0.1;
+  layout.hspace = 0.09;
+  return layout;
+}
+
 }  // namespace
 
 void proximity_figure(logs::OutputStage& stage, const std::string& path, const calibrate::ProximityFit& f) {
@@ -121,13 +132,7 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
   }
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << datablock("obs", rows);
-    Layout layout;
-    layout.rows = 1;
-    layout.cols = 2;
-    layout.top = 0.9;
-    layout.bottom = 0.1;
-    layout.hspace = 0.09;
-    gp << multiplot(layout, "Camera (paper section 4.1.6): where the LED appears in the image against its direction");
+    gp << multiplot(two_panels(), "Camera (paper section 4.1.6): where the LED appears in the image against its direction");
     gp << "set grid lc rgb '#d8d8d8'\nset key top right opaque box Left reverse\n";
     gp << "set title 'columns' font ',12'\n";
     gp << "set xlabel 'lateral / forward (tangent of the horizontal angle, dimensionless; left > 0)'\n";
@@ -180,13 +185,7 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
     for (std::size_t r = 0; r < f.runs.size() && codes > 0; ++r)
       plot_tof += ", $r" + std::to_string(r) + " using 1:7 with points pt 9 ps 0.8 lc rgb '#ff7f0e' " +
                   (r ? "notitle" : "title 'out-of-range codes (≥ 8190), drawn at 2250 mm'");
-    Layout layout;
-    layout.rows = 1;
-    layout.cols = 2;
-    layout.top = 0.9;
-    layout.bottom = 0.1;
-    layout.hspace = 0.09;
-    gp << multiplot(layout, "Drive runs (paper sections 4.1.4 and 4.1.5), all runs overlaid");
+    gp << multiplot(two_panels(), "Drive runs (paper sections 4.1.4 and 4.1.5), all runs overlaid");
     // The legend above the readings (the 2000 mm rail, the codes drawn at 2250 mm).
     gp << "set grid lc rgb '#d8d8d8'\nset key top left opaque box Left reverse\nset xlabel 'time since the start of the run (s)'\n";
     gp << "set title 'time-of-flight sensor' font ',12'\nset ylabel 'ToF reading (mm)'\nset yrange [0:2800]\n";
