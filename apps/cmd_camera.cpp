@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "epuck2/calibrate/sensors.hpp"
-#include "epuck2/plot/figure.hpp"
+#include "epuck2/plot/sensor_figures.hpp"
 #include "sensor_support.hpp"
 
 namespace epuck2::app {
@@ -39,53 +39,13 @@ void print_report(const calibrate::CameraFit& f) {
               "not a standard error)\n",
               f.table4_points,
               fit::format_uncertain(f.table4_alpha_mean_deg, f.table4_alpha_sd_deg, "deg", "one point: no spread").c_str());
-  app::sensors::print_noise(f.noise);
-  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
-}
-
-void draw(logs::OutputStage& stage, const std::string& path, const calibrate::CameraFit& f) {
-  const double fov = s::deg_to_rad(f.result.value("fov_deg")), cx = f.result.value("cx_px"), cy = f.result.value("cy_px");
-  const auto plugin = s::plugin_camera();
-  std::vector<std::vector<double>> rows;
-  for (const auto& o : f.observations) {
-    double mx, my, qx, qy;
-    s::camera_projection(fov, cx, cy, s::kCameraWidth_px, o.forward_m, o.lateral_m, o.vertical_m, &mx, &my);
-    s::camera_projection(plugin.horizontal_fov_rad, plugin.cx_px, plugin.cy_px, s::kCameraWidth_px, o.forward_m, o.lateral_m,
-                         o.vertical_m, &qx, &qy);
-    rows.push_back({o.lateral_m / o.forward_m, o.px, mx, qx, o.vertical_m / o.forward_m, o.py, my, qy});
-  }
-  plot::render(stage, path, [&](gnuplotio::Gnuplot& gp) {
-    gp << plot::datablock("obs", rows);
-    plot::Layout layout;
-    layout.rows = 1;
-    layout.cols = 2;
-    layout.top = 0.9;
-    layout.bottom = 0.1;
-    layout.hspace = 0.09;
-    gp << plot::multiplot(layout, "Camera (paper section 4.1.6): where the LED appears in the image against its direction");
-    gp << "set grid lc rgb '#d8d8d8'\nset key top right opaque box Left reverse\n";
-    gp << "set title 'columns' font ',12'\n";
-    gp << "set xlabel 'lateral / forward (tangent of the horizontal angle, dimensionless; left > 0)'\n";
-    gp << "set ylabel 'column px (pixels, 0..159)'\nset yrange [-5:165]\n";
-    gp << "plot $obs using 1:2 with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'observed', "
-       << "$obs using 1:3 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
-       << "$obs using 1:4 with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in (29.97° field of view, centre 80)'\n";
-    gp << "set title 'rows' font ',12'\n";
-    gp << "set xlabel 'vertical / forward (tangent of the vertical angle, dimensionless; up > 0)'\n";
-    gp << "set ylabel 'row py (pixels, 0..119)'\nset yrange [-5:125]\n";
-    gp << "plot $obs using 5:6 with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'observed', "
-       << "$obs using 5:7 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
-       << "$obs using 5:8 with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in (centre 60)'\n";
-    gp << "unset multiplot\n";
-  });
+  app::sensors::print_noise_and_warnings({f.noise}, f.warnings);
 }
 
 nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::CameraFit* keep) {
   calibrate::CameraFit f = calibrate::fit_camera(logs, o.fit_options());
   app::sensors::require_usable(f.result, "camera fit");
-  std::vector<std::string> sources;
-  for (const auto& l : logs) sources.push_back(l.path);
-  nlohmann::json j = app::sensors::skeleton("camera", sources);
+  nlohmann::json j = app::sensors::skeleton("camera", logs);
   j["units"] = {{"fov_deg", "deg"}, {"cx_px", "px"}, {"cy_px", "px"}, {"aperture_deg", "deg"}, {"width_px", "px"},
                 {"height_px", "px"}, {"range_m", "m"}, {"mse", "px^2"}, {"rss", "px^2"}};
   j["unit_notes"] = {{"fov_deg", "horizontal field of view"}, {"aperture_deg", "ARGoS half-angle on the diagonal"},
@@ -116,18 +76,14 @@ nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensor
   return j;
 }
 
-int run_camera(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<calibrate::CameraFit>("camera", logs::Kind::camera, o, camera_json, print_report, draw);
-}
-
 }  // namespace
 
 void setup_camera(CLI::App& app, Action& action) {
-  auto o = std::make_shared<app::sensors::SensorOptions>();
-  CLI::App* sub = app.add_subcommand("camera", "Calibrate the camera: horizontal field of view and image centre");
-  app::sensors::add_common_options(sub, *o, "Camera");
-  sub->footer(log_format_footer(logs::Kind::camera, "px 0..159 from the left, py 0..119 from the top; lateral_m > 0 to the left."));
-  sub->callback([o, &action] { action = [o] { return run_camera(*o); }; });
+  app::sensors::add_sensor_command<calibrate::CameraFit>(
+      app, action,
+      {"camera", logs::Kind::camera, "Calibrate the camera: horizontal field of view and image centre", "Camera",
+       "px 0..159 from the left, py 0..119 from the top; lateral_m > 0 to the left."},
+      camera_json, print_report, plot::camera_figure);
 }
 
 }  // namespace epuck2::app

@@ -3,17 +3,14 @@
 // travelled distance, section 4.1.4), with the wheel slip as a first-order lag of the body behind
 // the wheels.
 #include <cstdio>
-#include <limits>
 
 #include "epuck2/calibrate/sensors.hpp"
-#include "epuck2/plot/figure.hpp"
+#include "epuck2/plot/sensor_figures.hpp"
 #include "sensor_support.hpp"
 
 namespace epuck2::app {
 
 namespace {
-
-namespace s = models::sensors;
 
 void print_report(const calibrate::DriveFit& f) {
   std::printf("Drive runs: %zu\n\n", f.runs.size());
@@ -32,71 +29,14 @@ void print_report(const calibrate::DriveFit& f) {
   app::sensors::print_parameter(t, "slip_time_constant_s", "s", "  ", "", &f.tof_autocorrelation);
   app::sensors::print_handling(t, "mm", "  ", &f.tof_autocorrelation);
   std::printf("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
-  app::sensors::print_noise(f.tof_noise);
-  app::sensors::print_noise(f.encoder_noise);
-  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
-}
-
-void draw(logs::OutputStage& stage, const std::string& path, const calibrate::DriveFit& f) {
-  const double spm = f.steps.value("steps_per_m");
-  const double scale = f.tof.value("tof_scale"), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
-  constexpr double kOutOfRangeCode_mm = 8190, kCodeRow_mm = 2250;
-  const double kNaN = std::numeric_limits<double>::quiet_NaN();
-  std::size_t codes = 0;
-  plot::render(stage, path, [&](gnuplotio::Gnuplot& gp) {
-    std::string plot_tof = "plot ", plot_steps = "plot ";
-    for (std::size_t r = 0; r < f.runs.size(); ++r) {
-      const auto& run = f.runs[r];
-      const std::vector<double> travel = calibrate::lagged_travel_m(run, spm, tau);
-      const std::vector<double> enc = calibrate::lagged_travel_m(run, s::kPluginStepsPerMetre, 0.0);
-      std::vector<std::vector<double>> rows;
-      double commanded = 0;
-      for (std::size_t k = 0; k < run.time_s.size(); ++k) {
-        // The VL53L0X's out-of-range codes (>= 8190) are no distance: drawn apart, at the top.
-        const bool code = run.tof_mm[k] >= kOutOfRangeCode_mm;
-        rows.push_back({run.time_s[k], code ? kNaN : run.tof_mm[k],
-                        s::tof_response_mm(scale, offset, run.obstacle_distance_m - travel[k]),
-                        1000.0 * (run.obstacle_distance_m - enc[k]), run.steps[k], spm * commanded, code ? kCodeRow_mm : kNaN});
-        codes += code;
-        if (k + 1 < run.time_s.size()) commanded += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
-      }
-      gp << plot::datablock("r" + std::to_string(r), rows);
-      const std::string first = r == 0 ? "" : ", ";
-      const std::string d = "$r" + std::to_string(r);
-      plot_tof += first + d + " using 1:2 with points pt 7 ps 0.4 lc rgb '#1f77b4' " + (r ? "notitle" : "title 'ToF readings'") +
-                  ", " + d + " using 1:3 with lines lw 2 lc rgb '#d62728' " + (r ? "notitle" : "title 'fit (scale, offset, slip lag)'") +
-                  ", " + d + " using 1:4 with lines lw 1.5 dt 2 lc rgb '#000000' " + (r ? "notitle" : "title 'plug-in: 1000 (D - encoder travel)'");
-      plot_steps += first + d + " using 1:5 with points pt 7 ps 0.4 lc rgb '#2ca02c' " + (r ? "notitle" : "title 'encoder steps'") +
-                    ", " + d + " using 1:6 with lines lw 1.5 lc rgb '#d62728' " + (r ? "notitle" : "title 'fitted steps/m × commanded distance'");
-    }
-    for (std::size_t r = 0; r < f.runs.size() && codes > 0; ++r)
-      plot_tof += ", $r" + std::to_string(r) + " using 1:7 with points pt 9 ps 0.8 lc rgb '#ff7f0e' " +
-                  (r ? "notitle" : "title 'out-of-range codes (≥ 8190), drawn at 2250 mm'");
-    plot::Layout layout;
-    layout.rows = 1;
-    layout.cols = 2;
-    layout.top = 0.9;
-    layout.bottom = 0.1;
-    layout.hspace = 0.09;
-    gp << plot::multiplot(layout, "Drive runs (paper sections 4.1.4 and 4.1.5), all runs overlaid");
-    // The legend above the readings (the 2000 mm rail, the codes drawn at 2250 mm).
-    gp << "set grid lc rgb '#d8d8d8'\nset key top left opaque box Left reverse\nset xlabel 'time since the start of the run (s)'\n";
-    gp << "set title 'time-of-flight sensor' font ',12'\nset ylabel 'ToF reading (mm)'\nset yrange [0:2800]\n";
-    gp << plot_tof << "\n";
-    gp << "set title 'wheel encoders' font ',12'\nset ylabel 'encoder register, unwrapped (steps)'\nset yrange [*:*]\n";
-    gp << "set key bottom left\n";
-    gp << plot_steps << "\n";
-    gp << "unset multiplot\n";
-  });
+  app::sensors::print_noise_and_warnings({f.tof_noise, f.encoder_noise}, f.warnings);
 }
 
 nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::DriveFit* keep) {
   calibrate::DriveFit f = calibrate::fit_drive(logs, o.fit_options());
   app::sensors::require_usable(f.steps, "encoder fit");
   app::sensors::require_usable(f.tof, "ToF fit");
-  std::vector<std::string> sources;
-  for (const auto& l : logs) sources.push_back(l.path);
-  nlohmann::json j = app::sensors::skeleton("drive", sources);
+  nlohmann::json j = app::sensors::skeleton("drive", logs);
   j["units"] = {{"steps_per_m", "steps/m"}, {"tof_offset_mm", "mm"}, {"tof_scale", "1"}, {"slip_time_constant_s", "s"},
                 {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}, {"rss", "mm^2 (ToF)"}, {"steps_rss", "steps^2"}};
   // Rows of a run are a time series: both fits' errors get the autocorrelation correction.
@@ -116,18 +56,14 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
   return j;
 }
 
-int run_drive(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<calibrate::DriveFit>("drive", logs::Kind::drive, o, drive_json, print_report, draw);
-}
-
 }  // namespace
 
 void setup_drive(CLI::App& app, Action& action) {
-  auto o = std::make_shared<app::sensors::SensorOptions>();
-  CLI::App* sub = app.add_subcommand("drive", "Calibrate encoders and ToF from straight runs towards/away from an obstacle");
-  app::sensors::add_common_options(sub, *o, "Drive");
-  sub->footer(log_format_footer(logs::Kind::drive, "Required metadata: '# obstacle_distance_m: D' (m, at time 0). tof_mm 20..2000."));
-  sub->callback([o, &action] { action = [o] { return run_drive(*o); }; });
+  app::sensors::add_sensor_command<calibrate::DriveFit>(
+      app, action,
+      {"drive", logs::Kind::drive, "Calibrate encoders and ToF from straight runs towards/away from an obstacle", "Drive",
+       "Required metadata: '# obstacle_distance_m: D' (m, at time 0). tof_mm 20..2000."},
+      drive_json, print_report, plot::drive_figure);
 }
 
 }  // namespace epuck2::app

@@ -3,15 +3,12 @@
 #include <cstdio>
 
 #include "epuck2/calibrate/sensors.hpp"
-#include "epuck2/plot/figure.hpp"
+#include "epuck2/plot/sensor_figures.hpp"
 #include "sensor_support.hpp"
 
 namespace epuck2::app {
 
 namespace {
-
-namespace s = models::sensors;
-const char* kSensorNames[] = {"0 (right)", "1 (centre)", "2 (left)"};
 
 void print_report(const calibrate::GroundFit& f) {
   std::printf("Ground sensors: reading = offset + gain * grey (grey 0 = black, 1 = white)\n");
@@ -19,54 +16,25 @@ void print_report(const calibrate::GroundFit& f) {
   std::printf("%-11s %-26s %-26s %10s %12s\n", "sensor", "gain (counts)", "offset (counts)", "MSE", "plug-in MSE");
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
     const auto& r = f.sensors[k];
-    std::printf("%-11s %-26s %-26s %10.3f %12.1f\n", kSensorNames[k],
+    std::printf("%-11s %-26s %-26s %10.3f %12.1f\n", calibrate::kGroundSensorNames[k],
                 fit::format_uncertain(r.value("gain"), r.std_error("gain"), "", app::sensors::std_error_reason(r, "gain")).c_str(),
                 fit::format_uncertain(r.value("offset"), r.std_error("offset"), "", app::sensors::std_error_reason(r, "offset")).c_str(),
                 r.mse, f.plugin_mse[k]);
   }
   std::printf("(MSE in counts²)\n");
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
-    std::printf("\nSensor %s:\n", kSensorNames[k]);
+    std::printf("\nSensor %s:\n", calibrate::kGroundSensorNames[k]);
     app::sensors::print_parameter(f.sensors[k], "gain", "counts");
     app::sensors::print_parameter(f.sensors[k], "offset", "counts");
     app::sensors::print_handling(f.sensors[k], "counts");
   }
   std::printf("\nPlug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0. Pooled MSE %.3f counts²\n", f.mse);
-  app::sensors::print_noise(f.noise);
-  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
-}
-
-void draw(logs::OutputStage& stage, const std::string& path, const calibrate::GroundFit& f) {
-  plot::render(stage, path, [&](gnuplotio::Gnuplot& gp) {
-    for (std::size_t k = 0; k < f.sensors.size(); ++k) {
-      std::vector<std::vector<double>> rows;
-      for (std::size_t i = 0; i < f.grey[k].size(); ++i) rows.push_back({f.grey[k][i] + (double(k) - 1) * 0.006, f.value_raw[k][i]});
-      gp << plot::datablock("s" + std::to_string(k), rows);
-    }
-    gp << "set title 'Ground sensors (paper section 4.1.3): reading against the grey level of the floor' font ',13'\n";
-    gp << "set xlabel 'grey level (fraction: 0 = black, 1 = white; each sensor''s points shifted sideways by 0.006)'\n";
-    gp << "set ylabel 'raw reading (counts, 0..1023)'\n";
-    gp << "set xrange [-0.03:1.03]\nset yrange [-20:1060]\nset grid lc rgb '#d8d8d8'\nset key top left opaque box Left reverse\n";
-    const char* colours[] = {"#d62728", "#2ca02c", "#1f77b4"};
-    gp << "plot ";
-    for (std::size_t k = 0; k < f.sensors.size(); ++k) {
-      char buf[500];
-      std::snprintf(buf, sizeof buf,
-                    "$s%zu using 1:2 with points pt 7 ps 0.5 lc rgb '%s' title 'sensor %s', "
-                    "[0:1] %.8g + %.8g*x lw 2.5 lc rgb '%s' title 'fit: %.1f + %.1f grey', ",
-                    k, colours[k], kSensorNames[k], f.sensors[k].value("offset"), f.sensors[k].value("gain"), colours[k],
-                    f.sensors[k].value("offset"), f.sensors[k].value("gain"));
-      gp << buf;
-    }
-    gp << "[0:1] 1023*x lw 2 dt 2 lc rgb '#000000' title 'plug-in: 1023 grey'\n";
-  });
+  app::sensors::print_noise_and_warnings({f.noise}, f.warnings);
 }
 
 nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::GroundFit* keep) {
   calibrate::GroundFit f = calibrate::fit_ground(logs, o.fit_options());
-  std::vector<std::string> sources;
-  for (const auto& l : logs) sources.push_back(l.path);
-  nlohmann::json j = app::sensors::skeleton("ground", sources);
+  nlohmann::json j = app::sensors::skeleton("ground", logs);
   j["units"] = {{"gain", "counts"}, {"offset", "counts"}, {"mse", "counts^2"}, {"rss", "counts^2"}};
   j["unit_notes"] = {{"gain", "raw counts from black to white (grey 0 to 1)"}, {"offset", "raw counts over black"}};
   nlohmann::json correlations = nlohmann::json::array();
@@ -75,7 +43,7 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
   std::size_t observations = 0;
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
     const auto& r = f.sensors[k];
-    app::sensors::require_usable(r, std::string("ground sensor ") + kSensorNames[k]);
+    app::sensors::require_usable(r, std::string("ground sensor ") + calibrate::kGroundSensorNames[k]);
     gain.push_back(r.value("gain"));
     offset.push_back(r.value("offset"));
     gain_se.push_back(app::sensors::number(r.std_error("gain")));
@@ -111,18 +79,14 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
   return j;
 }
 
-int run_ground(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<calibrate::GroundFit>("ground", logs::Kind::ground, o, ground_json, print_report, draw);
-}
-
 }  // namespace
 
 void setup_ground(CLI::App& app, Action& action) {
-  auto o = std::make_shared<app::sensors::SensorOptions>();
-  CLI::App* sub = app.add_subcommand("ground", "Calibrate the ground sensors: gain and offset per sensor");
-  app::sensors::add_common_options(sub, *o, "Ground");
-  sub->footer(log_format_footer(logs::Kind::ground, "grey: 0 = black, 1 = white; sensor 0 right, 1 centre, 2 left; value 0..1023."));
-  sub->callback([o, &action] { action = [o] { return run_ground(*o); }; });
+  app::sensors::add_sensor_command<calibrate::GroundFit>(
+      app, action,
+      {"ground", logs::Kind::ground, "Calibrate the ground sensors: gain and offset per sensor", "Ground",
+       "grey: 0 = black, 1 = white; sensor 0 right, 1 centre, 2 left; value 0..1023."},
+      ground_json, print_report, plot::ground_figure);
 }
 
 }  // namespace epuck2::app

@@ -1,10 +1,9 @@
 // epuck2-fit light LOGS...: gamma of paper Eq. 2, reading/4095 = 1 - (gamma I / d)^2, fitted to the
 // unsaturated readings (paper section 4.1.2), beside the plug-in's gamma = 1/13.333 = 0.075.
 #include <cstdio>
-#include <map>
 
 #include "epuck2/calibrate/sensors.hpp"
-#include "epuck2/plot/figure.hpp"
+#include "epuck2/plot/sensor_figures.hpp"
 #include "sensor_support.hpp"
 
 namespace epuck2::app {
@@ -31,53 +30,13 @@ void print_report(const calibrate::LightFit& f) {
     app::sensors::print_handling(f.gamma_per_sensor[i], "(reading/4095)");
   }
   std::printf("Plug-in: gamma = 1/13.3333 = 0.075 m, MSE on the readings inside the rails %.3e (reading/4095)²\n", f.plugin_mse);
-  app::sensors::print_noise(f.noise);
-  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
-}
-
-void draw(logs::OutputStage& stage, const std::string& path, const calibrate::LightFit& f) {
-  std::map<double, std::vector<std::vector<double>>> by_intensity;
-  for (const auto& o : f.observations) by_intensity[o.intensity].push_back({o.distance_m * 100, o.value_raw, double(o.sensor)});
-  const double g = f.gamma.value("gamma");
-  plot::render(stage, path, [&](gnuplotio::Gnuplot& gp) {
-    int k = 0;
-    for (const auto& [i, rows] : by_intensity) gp << plot::datablock("i" + std::to_string(k++), rows);
-    gp << "set title 'Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance, per source intensity I (simulator units)' font ',13'\n";
-    gp << "set xlabel 'distance to the light (cm)'\nset ylabel 'raw reading (counts, 0..4095; 4095 = dark)'\n";
-    gp << "set xrange [5:52]\nset yrange [-100:4200]\nset grid lc rgb '#d8d8d8'\nset samples 400\n";
-    gp << "set key at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15\n";
-    gp << "L(g, I, x) = (v = (1 - (g*I/(x/100.0))**2)*4095, v < 0 ? 0 : (v > 4095 ? 4095 : v))\n";
-    const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
-    gp << "plot ";
-    k = 0;
-    // Colour: the intensity; solid: the fit, dashed: the plug-in (one legend entry each, in black).
-    for (const auto& [intensity, rows] : by_intensity) {
-      const char* c = colours[k % 6];
-      char buf[600];
-      std::snprintf(buf, sizeof buf,
-                    "%s$i%d using 1:2 with points pt 7 ps 0.6 lc rgb '%s' title 'readings at I = %.2f', "
-                    "L(%.8g, %.6g, x) lw 2.5 lc rgb '%s' notitle, "
-                    "L(%.8g, %.6g, x) lw 1.5 dt (8,5) lc rgb '%s' notitle",
-                    k ? ", " : "", k, c, intensity, g, intensity, c, s::kPluginLight.gamma_m, intensity, c);
-      gp << buf;
-      ++k;
-    }
-    char buf[300];
-    std::snprintf(buf, sizeof buf,
-                  ", NaN with lines lw 2.5 lc rgb 'black' title 'fit: γ = %.4f m (solid, colour of its I)', "
-                  "NaN with lines lw 1.5 dt (8,5) lc rgb 'black' title 'plug-in: γ = 0.075 m (dashed)'",
-                  g);
-    gp << buf;
-    gp << "\n";
-  });
+  app::sensors::print_noise_and_warnings({f.noise}, f.warnings);
 }
 
 nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::LightFit* keep) {
   calibrate::LightFit f = calibrate::fit_light(logs, o.fit_options());
   app::sensors::require_usable(f.gamma, "light fit");
-  std::vector<std::string> sources;
-  for (const auto& l : logs) sources.push_back(l.path);
-  nlohmann::json j = app::sensors::skeleton("light", sources);
+  nlohmann::json j = app::sensors::skeleton("light", logs);
   j["units"] = {{"gamma", "m"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"rss", "(reading / 4095)^2"}};
   j["unit_notes"] = {{"gamma", "metres per unit of the light's intensity I: Eq. 2's gamma I / d is a ratio"},
                      {"range_m", "the sensor's range, held"}};
@@ -113,18 +72,14 @@ nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors
   return j;
 }
 
-int run_light(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<calibrate::LightFit>("light", logs::Kind::light, o, light_json, print_report, draw);
-}
-
 }  // namespace
 
 void setup_light(CLI::App& app, Action& action) {
-  auto o = std::make_shared<app::sensors::SensorOptions>();
-  CLI::App* sub = app.add_subcommand("light", "Calibrate the ambient light sensors: gamma of Eq. 2");
-  app::sensors::add_common_options(sub, *o, "Light");
-  sub->footer(log_format_footer(logs::Kind::light, "value: 4095 = dark, 0 = saturated; both are left out of the fit."));
-  sub->callback([o, &action] { action = [o] { return run_light(*o); }; });
+  app::sensors::add_sensor_command<calibrate::LightFit>(
+      app, action,
+      {"light", logs::Kind::light, "Calibrate the ambient light sensors: gamma of Eq. 2", "Light",
+       "value: 4095 = dark, 0 = saturated; both are left out of the fit."},
+      light_json, print_report, plot::light_figure);
 }
 
 }  // namespace epuck2::app

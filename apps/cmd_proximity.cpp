@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "epuck2/calibrate/sensors.hpp"
-#include "epuck2/plot/figure.hpp"
+#include "epuck2/plot/sensor_figures.hpp"
 #include "sensor_support.hpp"
 
 namespace epuck2::app {
@@ -12,12 +12,6 @@ namespace epuck2::app {
 namespace {
 
 namespace s = models::sensors;
-
-std::string poly(double a, double b, double c) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "(%.10g*x*x + %.10g*x + %.10g)", a, b, c);
-  return buf;
-}
 
 void print_report(const calibrate::ProximityFit& f) {
   std::printf("Proximity sensor, paper Eq. 1: v(d) = a d^2 + b d + c (normalised 0..1), d <= 0.05 m,\n"
@@ -47,40 +41,14 @@ void print_report(const calibrate::ProximityFit& f) {
   line("Fitted to the maxima", f.maxima, f.plugin_mse_maxima, f.epuck1_mse_maxima);
   line("Fitted to the means", f.means, f.plugin_mse_means, f.epuck1_mse_means);
   std::printf("\nPlug-in (paper, fitted to maxima): a = 197.8633, b = -30.47182, c = 1.011635\n");
-  app::sensors::print_noise(f.noise);
-  if (!f.warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", f.warnings.size());
-}
-
-void draw(logs::OutputStage& stage, const std::string& path, const calibrate::ProximityFit& f) {
-  std::vector<std::vector<double>> pts;
-  for (const auto& p : f.points) pts.push_back({p.distance_m * 1000, p.min, p.mean, p.max, p.used ? 1.0 : 0.0});
-  const std::string fmax = poly(f.maxima.value("a") * 1e-6, f.maxima.value("b") * 1e-3, f.maxima.value("c"));
-  const std::string fmean = poly(f.means.value("a") * 1e-6, f.means.value("b") * 1e-3, f.means.value("c"));
-  const std::string fplug = poly(s::kPluginProximity.a_per_m2 * 1e-6, s::kPluginProximity.b_per_m * 1e-3, s::kPluginProximity.c);
-  const std::string fv1 = poly(s::kEpuck1Proximity.a_per_m2 * 1e-6, s::kEpuck1Proximity.b_per_m * 1e-3, s::kEpuck1Proximity.c);
-  plot::render(stage, path, [&](gnuplotio::Gnuplot& gp) {
-    gp << plot::datablock("pts", pts);
-    gp << "set title 'Proximity sensor (paper Eq. 1, Fig. 4c): normalised reading against distance' font ',13'\n";
-    gp << "set xlabel 'distance to the surface (mm)'\nset ylabel 'normalised reading (reading / 4095, dimensionless)'\n";
-    gp << "set xrange [-1:61]\nset yrange [-0.05:1.1]\nset grid lc rgb '#d8d8d8'\nset key top right opaque box Left reverse\n";
-    gp << "clip(v) = v < 0 ? 0 : (v > 1 ? 1 : v)\n";
-    gp << "plot $pts using 1:3:2:4 with yerrorbars lc rgb '#999999' title 'readings: mean, min..max', "
-       << "$pts using 1:4 with points pt 7 ps 1.4 lc rgb '#d62728' title 'maxima', "
-       << "$pts using 1:3 with points pt 5 ps 1.2 lc rgb '#1f77b4' title 'means', "
-       << "[0:50] clip(" << fmax << ") lw 2.5 lc rgb '#d62728' title 'fit to maxima', "
-       << "[0:50] clip(" << fmean << ") lw 2.5 lc rgb '#1f77b4' title 'fit to means', "
-       << "[0:50] clip(" << fplug << ") lw 2 dt 2 lc rgb '#2ca02c' title 'plug-in (197.8633, -30.47182, 1.011635)', "
-       << "[0:50] clip(" << fv1 << ") lw 2 dt 3 lc rgb '#000000' title 'E-Puck v1 (298.701, -36.8961, 1.08212)'\n";
-  });
+  app::sensors::print_noise_and_warnings({f.noise}, f.warnings);
 }
 
 nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::ProximityFit* keep) {
   calibrate::ProximityFit f = calibrate::fit_proximity(logs, o.fit_options());
   app::sensors::require_usable(f.maxima, "proximity fit to the maxima");
   app::sensors::require_usable(f.means, "proximity fit to the means");
-  std::vector<std::string> sources;
-  for (const auto& l : logs) sources.push_back(l.path);
-  nlohmann::json j = app::sensors::skeleton("proximity", sources);
+  nlohmann::json j = app::sensors::skeleton("proximity", logs);
   j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"mean_a", "1/m^2"}, {"mean_b", "1/m"}, {"mean_c", "1"},
                 {"values", "reading / 4095"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"mean_mse", "(reading / 4095)^2"},
                 {"rss", "(reading / 4095)^2"}};
@@ -112,18 +80,14 @@ nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sen
   return j;
 }
 
-int run_proximity(const app::sensors::SensorOptions& o) {
-  return app::sensors::run_sensor<calibrate::ProximityFit>("proximity", logs::Kind::proximity, o, proximity_json, print_report, draw);
-}
-
 }  // namespace
 
 void setup_proximity(CLI::App& app, Action& action) {
-  auto o = std::make_shared<app::sensors::SensorOptions>();
-  CLI::App* sub = app.add_subcommand("proximity", "Calibrate the proximity sensors: Eq. 1 fitted to the maxima and to the means");
-  app::sensors::add_common_options(sub, *o, "Proximity");
-  sub->footer(log_format_footer(logs::Kind::proximity, "Optional: angle_deg (incidence angle). value: 0 = nothing detected, 4095 = touching."));
-  sub->callback([o, &action] { action = [o] { return run_proximity(*o); }; });
+  app::sensors::add_sensor_command<calibrate::ProximityFit>(
+      app, action,
+      {"proximity", logs::Kind::proximity, "Calibrate the proximity sensors: Eq. 1 fitted to the maxima and to the means", "Proximity",
+       "Optional: angle_deg (incidence angle). value: 0 = nothing detected, 4095 = touching."},
+      proximity_json, print_report, plot::proximity_figure);
 }
 
 }  // namespace epuck2::app

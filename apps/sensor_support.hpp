@@ -1,6 +1,7 @@
-// Shared by the sensor subcommands (proximity, light, ground, camera, drive): the common options,
-// the JSON shape every sensor coefficient file has, and the output sequence (-o atomically, then
-// the plot, then --json or the human report).
+// Shared by the sensor subcommands (proximity, light, ground, camera, drive): the subcommand and
+// its common options (add_sensor_command), the JSON shape every sensor coefficient file has, the
+// report's common lines, and the output sequence (-o atomically, then the plot, then --json or
+// the human report).
 #pragma once
 
 #include <algorithm>
@@ -88,9 +89,11 @@ inline std::vector<std::string> robots_of(const std::vector<logs::Log>& all) {
   return names;
 }
 
-/// {"kind", "parameters": {}, "std_errors": {}, "mse", "observations", "sources"}: the shape the
-/// codegen reads (docs/coefficient-files.md).
-inline nlohmann::json skeleton(const std::string& kind, const std::vector<std::string>& sources) {
+/// {"kind", "parameters": {}, "std_errors": {}, "sources"}: the shape the codegen reads
+/// (docs/coefficient-files.md); `sources` are the logs' paths.
+inline nlohmann::json skeleton(const std::string& kind, const std::vector<logs::Log>& logs) {
+  std::vector<std::string> sources;
+  for (const auto& l : logs) sources.push_back(l.path);
   nlohmann::json j;
   j["kind"] = kind;
   j["parameters"] = nlohmann::json::object();
@@ -396,6 +399,14 @@ inline void print_noise(const calibrate::ReadingNoise& n) {
   if (any) std::printf("; sensors without readings take the pooled sd\n");
 }
 
+/// What every sensor report ends with: each channel's reading noise, then how many warnings there
+/// were (each went to standard error).
+inline void print_noise_and_warnings(const std::vector<calibrate::ReadingNoise>& channels,
+                                     const std::vector<std::string>& warnings) {
+  for (const auto& n : channels) print_noise(n);
+  if (!warnings.empty()) std::printf("%zu warnings (on standard error and in the JSON)\n", warnings.size());
+}
+
 /// A parameter line: value ± standard error (two significant digits, fit::format_uncertain), or
 /// the reason there is none; `note` follows in parentheses; with an autocorrelation correction,
 /// the corrected error beside the covariance's.
@@ -461,6 +472,28 @@ int run_sensor(const std::string& kind, logs::Kind log_kind, const SensorOptions
   nlohmann::json j = to_json(logs, o, &f);
   add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return to_json(mine, o, nullptr); });
   return finish(kind, o, j, [&] { report(f); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
+}
+
+/// What a sensor subcommand is called and says in --help.
+struct SensorCommand {
+  const char* name;         ///< the subcommand, also the kind in messages ("camera")
+  logs::Kind kind;          ///< the logs it reads
+  const char* description;  ///< --help's line
+  const char* logs_what;    ///< "Camera" in "Camera logs (CSV, docs/logs.md)"
+  const char* footer_note;  ///< after the log format in --help
+};
+
+/// Adds the subcommand: the common options, the log format in --help, and run_sensor<Fit> with
+/// `to_json`, `report` and `draw` (see run_sensor) as what main runs after parsing.
+template <class Fit, class ToJson, class Report, class Draw>
+void add_sensor_command(CLI::App& app, Action& action, const SensorCommand& c, ToJson to_json, Report report, Draw draw) {
+  auto o = std::make_shared<SensorOptions>();
+  CLI::App* sub = app.add_subcommand(c.name, c.description);
+  add_common_options(sub, *o, c.logs_what);
+  sub->footer(log_format_footer(c.kind, c.footer_note));
+  sub->callback([o, &action, c, to_json, report, draw] {
+    action = [o, c, to_json, report, draw] { return run_sensor<Fit>(c.name, c.kind, *o, to_json, report, draw); };
+  });
 }
 
 }  // namespace epuck2::app::sensors

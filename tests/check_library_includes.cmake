@@ -1,8 +1,9 @@
 # A library of the project never compiles in anything from data/ (the fitted coefficients are a
-# product of the libraries, not an input of them). Run by CTest:
+# product of the libraries, not an input of them), nor from apps/ (the CLI is built on the
+# libraries: a figure or a fit the CLI needs lives in lib/). Run by CTest:
 #   cmake -DSOURCE_DIR=... -DINCLUDES_FILE=... -P check_library_includes.cmake
-# Fails when (1) a library target's include directories reach into data/, or (2) a source or
-# header under lib/ includes the generated header epuck2/fitted/... or a path with data/.
+# Fails when (1) a library target's include directories reach into data/ or apps/, or (2) a source
+# or header under lib/ includes the generated header epuck2/fitted/... or a path with data/ or apps/.
 file(READ "${INCLUDES_FILE}" includes)
 string(REPLACE "\n" ";" lines "${includes}")
 set(bad "")
@@ -11,7 +12,7 @@ foreach(line IN LISTS lines)
     set(target "${CMAKE_MATCH_1}")
     string(REPLACE "|" ";" dirs "${CMAKE_MATCH_2}")
     foreach(d IN LISTS dirs)
-      if(d MATCHES "^${SOURCE_DIR}/data(/|$)")
+      if(d MATCHES "^${SOURCE_DIR}/(data|apps)(/|$)")
         string(APPEND bad "  target ${target} has the include directory ${d}\n")
       endif()
     endforeach()
@@ -21,14 +22,14 @@ file(GLOB_RECURSE sources "${SOURCE_DIR}/lib/*.hpp" "${SOURCE_DIR}/lib/*.cpp" "$
 foreach(f IN LISTS sources)
   file(STRINGS "${f}" incs REGEX "^[ \t]*#[ \t]*include")
   foreach(i IN LISTS incs)
-    if(i MATCHES "epuck2/fitted/" OR i MATCHES "data/")
+    if(i MATCHES "epuck2/fitted/" OR i MATCHES "data/" OR i MATCHES "apps/")
       string(APPEND bad "  ${f}: ${i}\n")
     endif()
   endforeach()
 endforeach()
 if(bad)
-  message(FATAL_ERROR "a library reaches into data/:\n${bad}")
+  message(FATAL_ERROR "a library reaches into data/ or apps/:\n${bad}")
 endif()
 list(LENGTH lines n)
 list(LENGTH sources m)
-message(STATUS "no library target includes data/ (${n} targets, ${m} library sources checked)")
+message(STATUS "no library target includes data/ or apps/ (${n} targets, ${m} library sources checked)")

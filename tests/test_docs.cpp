@@ -1,7 +1,8 @@
 // The repository's own documentation stays in step with the code: every column the reader requires
 // is documented in docs/logs.md and listed by `epuck2-fit KIND --help`, every option the CLI has is
-// in docs/cli.md, and no tracked product file points at notes outside the repository (a user's
-// clone has only the repository).
+// in docs/cli.md, the README's plug-in code is examples/plugin_models.cpp (which CTest builds, runs
+// and checks), and no tracked product file points at notes outside the repository (a user's clone
+// has only the repository).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -110,6 +111,33 @@ TEST_F(Docs, EveryOptionOfEverySubcommandIsInCliMd) {
     for (std::sregex_iterator it(options.begin(), options.end(), option), end; it != end; ++it) seen.insert((*it)[2]);
     for (const std::string& o : seen) EXPECT_NE(cli_md.find(o), std::string::npos) << "docs/cli.md does not document " << sub << " " << o;
   }
+}
+
+TEST(DocsFiles, TheReadmesPluginCodeIsTheExampleThatIsBuiltAndChecked) {
+  const std::string readme = slurp(kSource / "README.md");
+  const std::string heading = "## Using the models from an ARGoS plug-in";
+  const std::size_t section = readme.find(heading);
+  ASSERT_NE(section, std::string::npos) << "README.md has no section '" << heading << "'";
+  const std::size_t section_end = readme.find("\n## ", section + heading.size());
+  const std::string fence = "```cpp\n";
+  const std::size_t open = readme.find(fence, section);
+  ASSERT_TRUE(open != std::string::npos && open < section_end) << "the section quotes no C++";
+  const std::size_t close = readme.find("\n```", open + fence.size());
+  ASSERT_NE(close, std::string::npos);
+  const std::string quoted = readme.substr(open + fence.size(), close + 1 - (open + fence.size()));
+
+  const std::string example = slurp(kSource / "examples" / "plugin_models.cpp");
+  const std::string mark = "// [readme]\n";
+  const std::size_t from = example.find(mark);
+  ASSERT_NE(from, std::string::npos) << "examples/plugin_models.cpp has no '// [readme]' mark";
+  const std::size_t to = example.find(mark, from + mark.size());
+  ASSERT_NE(to, std::string::npos) << "examples/plugin_models.cpp has one '// [readme]' mark, not two";
+  EXPECT_EQ(quoted, example.substr(from + mark.size(), to - (from + mark.size())))
+      << "the README's plug-in code differs from examples/plugin_models.cpp between its [readme] marks: copy it over";
+  // Every kind's model is shown.
+  for (const char* use : {"proximity_model()", "light_model()", "ground_model()", "camera_model()", "drive_model()",
+                          "battery_tables()", "DriveSimulation", "mean_raw", "mean_px", "reading("})
+    EXPECT_NE(quoted.find(use), std::string::npos) << "the README's plug-in code does not use " << use;
 }
 
 TEST(DocsFiles, NoTrackedProductFileMentionsNotesOutsideTheRepository) {

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/figure.hpp"
 
 namespace epuck2::plot {
@@ -92,8 +93,8 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
                     ? std::filesystem::path(log_names[static_cast<std::size_t>(k)]).filename().string()
                     : "log " + std::to_string(k);
       } else if (name == "sensor") {
-        static const char* kGround[] = {"0 (right)", "1 (centre)", "2 (left)"};
-        label = r.kind == logs::Kind::ground && k >= 0 && k < 3 ? kGround[k] : std::to_string(k);
+        label = r.kind == logs::Kind::ground && k >= 0 && k < 3 ? calibrate::kGroundSensorNames[static_cast<std::size_t>(k)]
+                                                                : std::to_string(k);
       } else if (name == "axis") {
         label = k == 0 ? "px (column)" : k == 1 ? "py (row)" : std::to_string(k);
       } else {

@@ -100,6 +100,9 @@ LightFit fit_light(const std::vector<logs::Log>& logs, const SensorFitOptions& o
 
 // ----- Ground ----------------------------------------------------------------------------------
 
+/// The ground sensors as the reports and the figures name them.
+inline constexpr std::array<const char*, models::sensors::kGroundCount> kGroundSensorNames{"0 (right)", "1 (centre)", "2 (left)"};
+
 struct GroundFit {
   std::array<RobustFit, models::sensors::kGroundCount> sensors;  ///< gain_raw, offset_raw per sensor
   std::array<std::vector<double>, models::sensors::kGroundCount> grey, value_raw;  ///< readings (rails included)

@@ -1,0 +1,200 @@
+#include "epuck2/plot/sensor_figures.hpp"
+
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <vector>
+
+#include "epuck2/plot/figure.hpp"
+
+namespace epuck2::plot {
+
+namespace {
+
+namespace s = models::sensors;
+
+/// Eq. 1's polynomial in gnuplot's x (millimetres).
+std::string poly(double a, double b, double c) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "(%.10g*x*x + %.10g*x + %.10g)", a, b, c);
+  return buf;
+}
+
+/// The camera's and the drive's two panels side by side.
+Layout two_panels() {
+  Layout layout;
+  layout.rows = 1;
+  layout.cols = 2;
+  layout.top = 0.9;
+  layout.bottom = 0.1;
+  layout.hspace = 0.09;
+  return layout;
+}
+
+}  // namespace
+
+void proximity_figure(logs::OutputStage& stage, const std::string& path, const calibrate::ProximityFit& f) {
+  std::vector<std::vector<double>> pts;
+  for (const auto& p : f.points) pts.push_back({p.distance_m * 1000, p.min, p.mean, p.max, p.used ? 1.0 : 0.0});
+  const std::string fmax = poly(f.maxima.value("a") * 1e-6, f.maxima.value("b") * 1e-3, f.maxima.value("c"));
+  const std::string fmean = poly(f.means.value("a") * 1e-6, f.means.value("b") * 1e-3, f.means.value("c"));
+  const std::string fplug = poly(s::kPluginProximity.a_per_m2 * 1e-6, s::kPluginProximity.b_per_m * 1e-3, s::kPluginProximity.c);
+  const std::string fv1 = poly(s::kEpuck1Proximity.a_per_m2 * 1e-6, s::kEpuck1Proximity.b_per_m * 1e-3, s::kEpuck1Proximity.c);
+  render(stage, path, [&](gnuplotio::Gnuplot& gp) {
+    gp << datablock("pts", pts);
+    gp << "set title 'Proximity sensor (paper Eq. 1, Fig. 4c): normalised reading against distance' font ',13'\n";
+    gp << "set xlabel 'distance to the surface (mm)'\nset ylabel 'normalised reading (reading / 4095, dimensionless)'\n";
+    gp << "set xrange [-1:61]\nset yrange [-0.05:1.1]\nset grid lc rgb '#d8d8d8'\nset key top right opaque box Left reverse\n";
+    gp << "clip(v) = v < 0 ? 0 : (v > 1 ? 1 : v)\n";
+    gp << "plot $pts using 1:3:2:4 with yerrorbars lc rgb '#999999' title 'readings: mean, min..max', "
+       << "$pts using 1:4 with points pt 7 ps 1.4 lc rgb '#d62728' title 'maxima', "
+       << "$pts using 1:3 with points pt 5 ps 1.2 lc rgb '#1f77b4' title 'means', "
+       << "[0:50] clip(" << fmax << ") lw 2.5 lc rgb '#d62728' title 'fit to maxima', "
+       << "[0:50] clip(" << fmean << ") lw 2.5 lc rgb '#1f77b4' title 'fit to means', "
+       << "[0:50] clip(" << fplug << ") lw 2 dt 2 lc rgb '#2ca02c' title 'plug-in (197.8633, -30.47182, 1.011635)', "
+       << "[0:50] clip(" << fv1 << ") lw 2 dt 3 lc rgb '#000000' title 'E-Puck v1 (298.701, -36.8961, 1.08212)'\n";
+  });
+}
+
+void light_figure(logs::OutputStage& stage, const std::string& path, const calibrate::LightFit& f) {
+  std::map<double, std::vector<std::vector<double>>> by_intensity;
+  for (const auto& o : f.observations) by_intensity[o.intensity].push_back({o.distance_m * 100, o.value_raw, double(o.sensor)});
+  const double g = f.gamma.value("gamma");
+  render(stage, path, [&](gnuplotio::Gnuplot& gp) {
+    int k = 0;
+    for (const auto& [i, rows] : by_intensity) gp << datablock("i" + std::to_string(k++), rows);
+    gp << "set title 'Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance, per source intensity I (simulator units)' font ',13'\n";
+    gp << "set xlabel 'distance to the light (cm)'\nset ylabel 'raw reading (counts, 0..4095; 4095 = dark)'\n";
+    gp << "set xrange [5:52]\nset yrange [-100:4200]\nset grid lc rgb '#d8d8d8'\nset samples 400\n";
+    gp << "set key at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15\n";
+    gp << "L(g, I, x) = (v = (1 - (g*I/(x/100.0))**2)*4095, v < 0 ? 0 : (v > 4095 ? 4095 : v))\n";
+    const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+    gp << "plot ";
+    k = 0;
+    // Colour: the intensity; solid: the fit, dashed: the plug-in (one legend entry each, in black).
+    for (const auto& [intensity, rows] : by_intensity) {
+      const char* c = colours[k % 6];
+      char buf[600];
+      std::snprintf(buf, sizeof buf,
+                    "%s$i%d using 1:2 with points pt 7 ps 0.6 lc rgb '%s' title 'readings at I = %.2f', "
+                    "L(%.8g, %.6g, x) lw 2.5 lc rgb '%s' notitle, "
+                    "L(%.8g, %.6g, x) lw 1.5 dt (8,5) lc rgb '%s' notitle",
+                    k ? ", " : "", k, c, intensity, g, intensity, c, s::kPluginLight.gamma_m, intensity, c);
+      gp << buf;
+      ++k;
+    }
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  ", NaN with lines lw 2.5 lc rgb 'black' title 'fit: γ = %.4f m (solid, colour of its I)', "
+                  "NaN with lines lw 1.5 dt (8,5) lc rgb 'black' title 'plug-in: γ = 0.075 m (dashed)'",
+                  g);
+    gp << buf;
+    gp << "\n";
+  });
+}
+
+void ground_figure(logs::OutputStage& stage, const std::string& path, const calibrate::GroundFit& f) {
+  render(stage, path, [&](gnuplotio::Gnuplot& gp) {
+    for (std::size_t k = 0; k < f.sensors.size(); ++k) {
+      std::vector<std::vector<double>> rows;
+      for (std::size_t i = 0; i < f.grey[k].size(); ++i) rows.push_back({f.grey[k][i] + (double(k) - 1) * 0.006, f.value_raw[k][i]});
+      gp << datablock("s" + std::to_string(k), rows);
+    }
+    gp << "set title 'Ground sensors (paper section 4.1.3): reading against the grey level of the floor' font ',13'\n";
+    gp << "set xlabel 'grey level (fraction: 0 = black, 1 = white; each sensor''s points shifted sideways by 0.006)'\n";
+    gp << "set ylabel 'raw reading (counts, 0..1023)'\n";
+    gp << "set xrange [-0.03:1.03]\nset yrange [-20:1060]\nset grid lc rgb '#d8d8d8'\nset key top left opaque box Left reverse\n";
+    const char* colours[] = {"#d62728", "#2ca02c", "#1f77b4"};
+    gp << "plot ";
+    for (std::size_t k = 0; k < f.sensors.size(); ++k) {
+      char buf[500];
+      std::snprintf(buf, sizeof buf,
+                    "$s%zu using 1:2 with points pt 7 ps 0.5 lc rgb '%s' title 'sensor %s', "
+                    "[0:1] %.8g + %.8g*x lw 2.5 lc rgb '%s' title 'fit: %.1f + %.1f grey', ",
+                    k, colours[k], calibrate::kGroundSensorNames[k], f.sensors[k].value("offset"), f.sensors[k].value("gain"), colours[k],
+                    f.sensors[k].value("offset"), f.sensors[k].value("gain"));
+      gp << buf;
+    }
+    gp << "[0:1] 1023*x lw 2 dt 2 lc rgb '#000000' title 'plug-in: 1023 grey'\n";
+  });
+}
+
+void camera_figure(logs::OutputStage& stage, const std::string& path, const calibrate::CameraFit& f) {
+  const double fov = s::deg_to_rad(f.result.value("fov_deg")), cx = f.result.value("cx_px"), cy = f.result.value("cy_px");
+  const auto plugin = s::plugin_camera();
+  std::vector<std::vector<double>> rows;
+  for (const auto& o : f.observations) {
+    double mx, my, qx, qy;
+    s::camera_projection(fov, cx, cy, s::kCameraWidth_px, o.forward_m, o.lateral_m, o.vertical_m, &mx, &my);
+    s::camera_projection(plugin.horizontal_fov_rad, plugin.cx_px, plugin.cy_px, s::kCameraWidth_px, o.forward_m, o.lateral_m,
+                         o.vertical_m, &qx, &qy);
+    rows.push_back({o.lateral_m / o.forward_m, o.px, mx, qx, o.vertical_m / o.forward_m, o.py, my, qy});
+  }
+  render(stage, path, [&](gnuplotio::Gnuplot& gp) {
+    gp << datablock("obs", rows);
+    gp << multiplot(two_panels(), "Camera (paper section 4.1.6): where the LED appears in the image against its direction");
+    gp << "set grid lc rgb '#d8d8d8'\nset key top right opaque box Left reverse\n";
+    gp << "set title 'columns' font ',12'\n";
+    gp << "set xlabel 'lateral / forward (tangent of the horizontal angle, dimensionless; left > 0)'\n";
+    gp << "set ylabel 'column px (pixels, 0..159)'\nset yrange [-5:165]\n";
+    gp << "plot $obs using 1:2 with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'observed', "
+       << "$obs using 1:3 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
+       << "$obs using 1:4 with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in (29.97° field of view, centre 80)'\n";
+    gp << "set title 'rows' font ',12'\n";
+    gp << "set xlabel 'vertical / forward (tangent of the vertical angle, dimensionless; up > 0)'\n";
+    gp << "set ylabel 'row py (pixels, 0..119)'\nset yrange [-5:125]\n";
+    gp << "plot $obs using 5:6 with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'observed', "
+       << "$obs using 5:7 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
+       << "$obs using 5:8 with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in (centre 60)'\n";
+    gp << "unset multiplot\n";
+  });
+}
+
+void drive_figure(logs::OutputStage& stage, const std::string& path, const calibrate::DriveFit& f) {
+  const double spm = f.steps.value("steps_per_m");
+  const double scale = f.tof.value("tof_scale"), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
+  constexpr double kOutOfRangeCode_mm = 8190, kCodeRow_mm = 2250;
+  const double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::size_t codes = 0;
+  render(stage, path, [&](gnuplotio::Gnuplot& gp) {
+    std::string plot_tof = "plot ", plot_steps = "plot ";
+    for (std::size_t r = 0; r < f.runs.size(); ++r) {
+      const auto& run = f.runs[r];
+      const std::vector<double> travel = calibrate::lagged_travel_m(run, spm, tau);
+      const std::vector<double> enc = calibrate::lagged_travel_m(run, s::kPluginStepsPerMetre, 0.0);
+      std::vector<std::vector<double>> rows;
+      double commanded = 0;
+      for (std::size_t k = 0; k < run.time_s.size(); ++k) {
+        // The VL53L0X's out-of-range codes (>= 8190) are no distance: drawn apart, at the top.
+        const bool code = run.tof_mm[k] >= kOutOfRangeCode_mm;
+        rows.push_back({run.time_s[k], code ? kNaN : run.tof_mm[k],
+                        s::tof_response_mm(scale, offset, run.obstacle_distance_m - travel[k]),
+                        1000.0 * (run.obstacle_distance_m - enc[k]), run.steps[k], spm * commanded, code ? kCodeRow_mm : kNaN});
+        codes += code;
+        if (k + 1 < run.time_s.size()) commanded += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
+      }
+      gp << datablock("r" + std::to_string(r), rows);
+      const std::string first = r == 0 ? "" : ", ";
+      const std::string d = "$r" + std::to_string(r);
+      plot_tof += first + d + " using 1:2 with points pt 7 ps 0.4 lc rgb '#1f77b4' " + (r ? "notitle" : "title 'ToF readings'") +
+                  ", " + d + " using 1:3 with lines lw 2 lc rgb '#d62728' " + (r ? "notitle" : "title 'fit (scale, offset, slip lag)'") +
+                  ", " + d + " using 1:4 with lines lw 1.5 dt 2 lc rgb '#000000' " + (r ? "notitle" : "title 'plug-in: 1000 (D - encoder travel)'");
+      plot_steps += first + d + " using 1:5 with points pt 7 ps 0.4 lc rgb '#2ca02c' " + (r ? "notitle" : "title 'encoder steps'") +
+                    ", " + d + " using 1:6 with lines lw 1.5 lc rgb '#d62728' " + (r ? "notitle" : "title 'fitted steps/m × commanded distance'");
+    }
+    for (std::size_t r = 0; r < f.runs.size() && codes > 0; ++r)
+      plot_tof += ", $r" + std::to_string(r) + " using 1:7 with points pt 9 ps 0.8 lc rgb '#ff7f0e' " +
+                  (r ? "notitle" : "title 'out-of-range codes (≥ 8190), drawn at 2250 mm'");
+    gp << multiplot(two_panels(), "Drive runs (paper sections 4.1.4 and 4.1.5), all runs overlaid");
+    // The legend above the readings (the 2000 mm rail, the codes drawn at 2250 mm).
+    gp << "set grid lc rgb '#d8d8d8'\nset key top left opaque box Left reverse\nset xlabel 'time since the start of the run (s)'\n";
+    gp << "set title 'time-of-flight sensor' font ',12'\nset ylabel 'ToF reading (mm)'\nset yrange [0:2800]\n";
+    gp << plot_tof << "\n";
+    gp << "set title 'wheel encoders' font ',12'\nset ylabel 'encoder register, unwrapped (steps)'\nset yrange [*:*]\n";
+    gp << "set key bottom left\n";
+    gp << plot_steps << "\n";
+    gp << "unset multiplot\n";
+  });
+}
+
+}  // namespace epuck2::plot
