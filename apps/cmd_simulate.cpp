@@ -75,11 +75,7 @@ int run_simulate(const SimulateOptions& o) {
     std::snprintf(line, sizeof line, "%.10g,%.17g\n", s.time_s, s.charge);
     csv += line;
   }
-  if (o.output.empty()) {
-    std::fwrite(csv.data(), 1, csv.size(), stdout);
-  } else {
-    logs::write_file_atomically(o.output, csv);
-  }
+  write_output(csv, o.output);
   return 0;
 }
 }  // namespace

@@ -155,12 +155,7 @@ int run_like(const LikeOptions& o) {
     }
     w.row(row);
   }
-  const std::string csv = w.str();
-  if (o.output.empty()) {
-    std::fwrite(csv.data(), 1, csv.size(), stdout);
-  } else {
-    logs::write_file_atomically(o.output, csv);
-  }
+  write_output(w.str(), o.output);
   return 0;
 }
 
