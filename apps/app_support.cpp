@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -51,6 +52,14 @@ void write_json(const nlohmann::json& j, const std::string& path) {
   const std::string text = json_text(j);
   if (path == "-") {
     std::cout << text;
+    return;
+  }
+  logs::write_file_atomically(path, text);
+}
+
+void write_output(const std::string& text, const std::string& path) {
+  if (path.empty()) {
+    std::fwrite(text.data(), 1, text.size(), stdout);
     return;
   }
   logs::write_file_atomically(path, text);

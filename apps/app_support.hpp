@@ -22,6 +22,9 @@ std::string json_text(const nlohmann::json& j);
 void write_json(logs::OutputStage& stage, const nlohmann::json& j, const std::string& path);
 /// Writes `j` to `path` on its own, atomically; "-" means standard output.
 void write_json(const nlohmann::json& j, const std::string& path);
+/// A result that is text (the CSVs of `simulate`): to standard output when `path` is empty, else
+/// to `path` atomically (a temporary file in its folder, then a rename).
+void write_output(const std::string& text, const std::string& path);
 /// A CLI11 check for a numeric option: a finite number in [lo, hi]. (CLI::Range alone lets NaN
 /// through, since every comparison with NaN is false.) The error names the option and the range.
 CLI::Validator finite_range(double lo, double hi);

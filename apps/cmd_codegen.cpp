@@ -169,6 +169,22 @@ std::string array_of(const std::array<double, N>& a) {
   return s + "}";
 }
 
+/// `  m.covariates = {{"NAME", slope, centre}, ...};` for a model with covariate:NAME effects
+/// (nothing for one without: the calibration files' headers are unchanged).
+std::string covariates_code(const std::vector<models::sensors::CovariateEffect>& covariates) {
+  if (covariates.empty()) return "";
+  std::string out = "  m.covariates = {";
+  for (std::size_t i = 0; i < covariates.size(); ++i) {
+    std::string name;
+    for (char ch : covariates[i].column) {
+      if (ch == '"' || ch == '\\') name += '\\';
+      name += ch;
+    }
+    out += std::string(i ? ", " : "") + "{\"" + name + "\", " + num(covariates[i].slope) + ", " + num(covariates[i].centre) + "}";
+  }
+  return out + "};\n";
+}
+
 /// The kind's model (lib/models kinds.hpp) as a function returning a constant instance, in the
 /// units the model takes (radians for the camera's field of view), read from the file by the same
 /// reader `simulate --like` and the ARGoS plug-in use.
@@ -188,7 +204,7 @@ void emit_model(std::ostringstream& os, const nlohmann::json& j, const std::stri
          << "  m.effects.tail.length_m = " << num(e.tail.length_m) << ";\n"
          << "  m.effects.incidence.k = " << num(e.incidence.k) << ";\n"
          << "  m.effects.saturation.level_raw = " << num(e.saturation.level_raw) << ";\n"
-         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n  return m;\n}\n";
+         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
     } else if (kind == "light") {
       const s::LightModel m = calibrate::light_model_from_json(j, path);
       os << "/// The light model of " << path << ": base, effects, reading noise (counts).\n"
@@ -197,7 +213,7 @@ void emit_model(std::ostringstream& os, const nlohmann::json& j, const std::stri
          << "  m.effects.ambient.offset_raw = " << num(m.effects.ambient.offset_raw) << ";\n"
          << "  m.effects.falloff.exponent = " << num(m.effects.falloff.exponent) << ";\n"
          << "  m.effects.gains.gain = " << array_of(m.effects.gains.gain) << ";\n"
-         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n  return m;\n}\n";
+         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
     } else if (kind == "ground") {
       const s::GroundModel m = calibrate::ground_model_from_json(j, path);
       os << "/// The ground model of " << path << ": per-sensor gain and black offset, effects, reading noise (counts).\n"
@@ -205,7 +221,7 @@ void emit_model(std::ostringstream& os, const nlohmann::json& j, const std::stri
       for (std::size_t k = 0; k < m.sensors.size(); ++k)
         os << "  m.sensors[" << k << "] = {" << num(m.sensors[k].gain_raw) << ", " << num(m.sensors[k].offset_raw) << "};\n";
       os << "  m.effects.exponent = " << num(m.effects.exponent) << ";\n"
-         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n  return m;\n}\n";
+         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
     } else if (kind == "camera") {
       const s::CameraModel m = calibrate::camera_model_from_json(j, path);
       os << "/// The camera model of " << path << " (field of view in radians), distortion, pixel noise.\n"
@@ -213,7 +229,7 @@ void emit_model(std::ostringstream& os, const nlohmann::json& j, const std::stri
          << "  m.base.horizontal_fov_rad = " << num(m.base.horizontal_fov_rad) << ";\n"
          << "  m.base.cx_px = " << num(m.base.cx_px) << ";\n  m.base.cy_px = " << num(m.base.cy_px) << ";\n"
          << "  m.distortion.k1 = " << num(m.distortion.k1) << ";\n"
-         << "  m.noise_sd_px = " << num(m.noise_sd_px) << ";\n  return m;\n}\n";
+         << "  m.noise_sd_px = " << num(m.noise_sd_px) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
     } else if (kind == "drive") {
       const s::DriveModel m = calibrate::drive_model_from_json(j, path);
       const auto& e = m.effects;
@@ -228,7 +244,7 @@ void emit_model(std::ostringstream& os, const nlohmann::json& j, const std::stri
          << "  m.effects.tof_offset.offset_mm = " << num(e.tof_offset.offset_mm) << ";\n"
          << "  m.effects.tof_scale.k = " << num(e.tof_scale.k) << ";\n"
          << "  m.tof_noise_sd_mm = " << num(m.tof_noise_sd_mm) << ";\n"
-         << "  m.encoder_noise_sd_steps = " << num(m.encoder_noise_sd_steps) << ";\n  return m;\n}\n";
+         << "  m.encoder_noise_sd_steps = " << num(m.encoder_noise_sd_steps) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
     }
   } catch (const logs::InputError&) {
     throw;

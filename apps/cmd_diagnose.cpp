@@ -193,7 +193,7 @@ nlohmann::json undefined_errors(const std::vector<dg::NamedValue>& values) {
   return why;
 }
 
-nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& paths) {
+nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& paths, const dg::ModelInputs& inputs) {
   nlohmann::json j;
   j["kind"] = std::string(logs::to_string(r.kind));
   j["rows"] = r.rows;
@@ -315,16 +315,15 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
                       {"kept", t.kept}, {"screened_out", t.screened_out}});
   j["search"] = trials;
   j["notes"] = r.notes;
-  // The extended model (base in the final joint fit, the findings as effects, the final noise):
-  // the report doubles as a coefficient file for `simulate KIND --like`, `codegen` and ARGoS.
-  nlohmann::json model = dg::extended_model_json(r);
-  if (!model.empty()) {
-    nlohmann::json fb, fb_se;
-    put_parameters(r.final_base.empty() ? r.recalibrated : r.final_base, fb, fb_se);
-    j["final_base"] = fb;
-    for (const char* key : {"parameters", "effects", "noise", "effects_not_in_model"})
-      if (model.contains(key)) j[key] = model[key];
-  }
+  // The extended model (base in the final joint fit, the findings as effects, the final noise;
+  // battery: the discharge model and tables the diagnosis ran): the report doubles as a
+  // coefficient file for `simulate KIND --like`, `codegen` and ARGoS.
+  const nlohmann::json model = dg::extended_model_json(r, inputs);
+  nlohmann::json fb, fb_se;
+  put_parameters(r.final_base.empty() ? r.recalibrated : r.final_base, fb, fb_se);
+  j["final_base"] = fb;
+  for (const auto& [key, value] : model.items())
+    if (key != "kind") j[key] = value;
   return j;
 }
 
@@ -511,12 +510,13 @@ int run_diagnose(const DiagnoseOptions& o) {
       std::fflush(stderr);
     };
   }
+  const dg::ModelInputs inputs = dg::model_inputs(logs, options);  // the covariates' centres, the battery's tables
   const dg::Report r = dg::diagnose(std::move(logs), options);  // the logs are released once read
   if (options.progress && tty) std::fprintf(stderr, "\r\033[K");
   if (!r.supported) throw UsageError(r.message);
   for (const auto& w : r.warnings) std::fprintf(stderr, "diagnose: warning: %s\n", w.c_str());
   // All or nothing: the JSON report and the figure are renamed into place together, then printed.
-  const std::string text = o.json || !output.empty() ? json_text(to_json(r, o.logs)) : std::string();
+  const std::string text = o.json || !output.empty() ? json_text(to_json(r, o.logs, inputs)) : std::string();
   const std::string figure = figure_path(o.plot, r.kind);
   logs::OutputStage stage;
   if (!output.empty()) stage.write(output, text);

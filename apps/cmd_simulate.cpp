@@ -1,6 +1,9 @@
 // epuck2-fit simulate battery --model M [--compat argos|corrected] [--coefficients FILE|plugin|fitted]
 //   --profile FILE: runs one discharge model over a speed profile at 10 ticks per second from a
 // full charge and prints CSV time_s,charge (charge with 17 significant digits).
+// epuck2-fit simulate battery --like LOG [--coefficients FILE|plugin|fitted] [--battery-model M]
+//   [--noise --seed N]: the runtime battery model over a measured discharge log's own speeds and
+// time steps, written as that log with simulated charge (cmd_simulate_like.cpp's run_like).
 #include <cstdio>
 #include <iostream>
 
@@ -24,6 +27,10 @@ namespace mb = models::battery;
 constexpr double kMinTick_s = 1e-3, kMaxTick_s = 10.0;
 
 struct SimulateOptions {
+  std::string like;  ///< --like LOG: the other mode (run_like); --model and --profile are this one's
+  std::string battery_model;
+  bool noise = false;
+  std::uint64_t seed = 1;
   std::string model;
   std::string compat = "corrected";
   std::string coefficients;
@@ -48,6 +55,20 @@ mb::Tables choose_tables(const SimulateOptions& o, bool argos) {
 }
 
 int run_simulate(const SimulateOptions& o) {
+  if (!o.like.empty()) {
+    LikeOptions like;
+    like.kind = logs::Kind::battery;
+    like.like = o.like;
+    like.coefficients = o.coefficients;
+    like.battery_model = o.battery_model;
+    like.noise = o.noise;
+    like.seed = o.seed;
+    like.output = o.output;
+    like.skip_bad_rows = o.skip_bad_rows;
+    return run_like(like);
+  }
+  if (o.profile.empty()) throw UsageError("--profile is required (or --like LOG: simulate a measured discharge log)");
+  if (o.model.empty()) throw UsageError("--model is required with --profile");
   mb::Model model{};
   if (!mb::parse_model(o.model, model))
     throw UsageError("--model: " + unknown_name("discharge model", o.model, {"simple", "linear", "cubic", "approximated"}));
@@ -75,11 +96,7 @@ int run_simulate(const SimulateOptions& o) {
     std::snprintf(line, sizeof line, "%.10g,%.17g\n", s.time_s, s.charge);
     csv += line;
   }
-  if (o.output.empty()) {
-    std::fwrite(csv.data(), 1, csv.size(), stdout);
-  } else {
-    logs::write_file_atomically(o.output, csv);
-  }
+  write_output(csv, o.output);
   return 0;
 }
 }  // namespace
@@ -88,24 +105,42 @@ void setup_simulate(CLI::App& app, Action& action) {
   auto o = std::make_shared<SimulateOptions>();
   CLI::App* sim = app.add_subcommand("simulate", "Run a runtime model: `simulate battery` over a speed profile, `simulate KIND --like LOG` on a measured log's conditions");
   sim->require_subcommand(1);
-  CLI::App* sub = sim->add_subcommand("battery", "Run a discharge model over a speed profile from a full charge");
-  sub->add_option("--model", o->model, "The discharge model")
-      ->required()
-      ->check(one_of({"simple", "linear", "cubic", "approximated"}, "discharge model"));
-  sub->add_option("--compat", o->compat,
-                  "argos: the E-Puck2 plug-in's arithmetic to the last bit, quirks included (and ARGoS's "
-                  "one-tick command delay and 0.9/0.1 first tick after a change); corrected: the project's "
-                  "corrected behaviour (docs/battery-models.md)")
-      ->capture_default_str()
-      ->check(one_of({"argos", "corrected"}, "behaviour"));
+  CLI::App* sub = sim->add_subcommand(
+      "battery", "Run a discharge model over a speed profile from a full charge, or (--like) over a measured discharge log");
+  CLI::Option* model = sub->add_option("--model", o->model, "The discharge model (with --profile; required there)")
+                           ->check(one_of({"simple", "linear", "cubic", "approximated"}, "discharge model"));
+  CLI::Option* compat =
+      sub->add_option("--compat", o->compat,
+                      "argos: the E-Puck2 plug-in's arithmetic to the last bit, quirks included (and ARGoS's "
+                      "one-tick command delay and 0.9/0.1 first tick after a change); corrected: the project's "
+                      "corrected behaviour (docs/battery-models.md)")
+          ->capture_default_str()
+          ->check(one_of({"argos", "corrected"}, "behaviour"));
   sub->add_option("--coefficients", o->coefficients,
-                  "Coefficient file (JSON from `epuck2-fit battery -o`), or `plugin` (the plug-in's published "
-                  "tables), or `fitted` (the compiled-in data/fitted tables). Default: plugin with --compat argos, "
-                  "else fitted");
-  sub->add_option("--profile", o->profile, "CSV with columns time_s,speed_cm_s (a command holds until the next row; docs/logs.md#speed-profile-for-simulate-battery)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  sub->add_option("--dt", o->dt_s, "Tick in seconds")->capture_default_str()->check(finite_range(kMinTick_s, kMaxTick_s));
+                  "Coefficient file (JSON from `epuck2-fit battery -o`, or with --like a battery `diagnose -o` report: "
+                  "tables, discharge model, capacity_scale, noise), or `plugin` (the plug-in's published "
+                  "tables), or `fitted` (the compiled-in data/fitted tables). Default: plugin with --compat argos "
+                  "or --like, else fitted");
+  CLI::Option* profile =
+      sub->add_option("--profile", o->profile,
+                      "CSV with columns time_s,speed_cm_s (a command holds until the next row; docs/logs.md#speed-profile-for-simulate-battery); "
+                      "required unless --like")
+          ->check(CLI::ExistingFile);
+  CLI::Option* dt = sub->add_option("--dt", o->dt_s, "Tick in seconds (with --profile)")->capture_default_str()->check(finite_range(kMinTick_s, kMaxTick_s));
+  CLI::Option* like =
+      sub->add_option("--like", o->like,
+                      "A measured discharge log (docs/logs.md, with `charge`): run the corrected model with its capacity "
+                      "scale over the log's own speeds and time steps from its first charge, and write the log with "
+                      "simulated charge")
+          ->check(CLI::ExistingFile);
+  CLI::Option* battery_model =
+      sub->add_option("--battery-model", o->battery_model,
+                      "With --like: the discharge model (default: the --coefficients report's, else cubic)")
+          ->check(one_of({"simple", "linear", "cubic", "approximated"}, "discharge model"));
+  CLI::Option* noise = sub->add_flag("--noise", o->noise, "With --like: add the file's charge noise (Gaussian, its `noise` section)");
+  CLI::Option* seed = sub->add_option("--seed", o->seed, "With --like: seed of the noise")->capture_default_str();
+  for (CLI::Option* profile_only : {model, compat, profile, dt}) like->excludes(profile_only);
+  for (CLI::Option* like_only : {battery_model, noise, seed}) like_only->needs(like);
   add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output")->type_name("FILE");
   sub->callback([o, &action] { action = [o] { return run_simulate(*o); }; });

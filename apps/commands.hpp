@@ -3,9 +3,12 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <functional>
 #include <stdexcept>
 #include <string>
+
+#include "epuck2/logs/log.hpp"
 
 namespace epuck2::app {
 
@@ -27,6 +30,19 @@ void setup_codegen(CLI::App& app, Action& action);
 void setup_simulate(CLI::App& app, Action& action);
 /// `simulate KIND --like LOG` for the sensor kinds (cmd_simulate_like.cpp), under `simulate`.
 void setup_simulate_like(CLI::App& sim, Action& action);
+/// The options of `simulate KIND --like LOG`, every kind (battery's come from `simulate battery`).
+struct LikeOptions {
+  logs::Kind kind = logs::Kind::proximity;
+  std::string like;
+  std::string coefficients;  ///< a file; battery also `plugin` or `fitted`
+  std::string battery_model;  ///< battery: the discharge model; empty: the file's (else cubic)
+  bool noise = false;
+  std::uint64_t seed = 1;
+  std::string output;
+  bool skip_bad_rows = false;
+};
+/// Runs the model on the log's conditions and writes the simulated log (cmd_simulate_like.cpp).
+int run_like(const LikeOptions& o);
 void setup_generate(CLI::App& app, Action& action);
 void setup_proximity(CLI::App& app, Action& action);
 void setup_light(CLI::App& app, Action& action);

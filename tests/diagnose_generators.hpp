@@ -33,6 +33,9 @@ struct Hidden {
   /// The effect is large enough for its parameters to matter (and to be checked): false when the
   /// drawn size leaves it within a few noise standard deviations where only it acts.
   bool parameters_matter = true;
+  /// The reading noise's sd where the generator draws it per log (battery: 0.01..0.03 of a
+  /// charge); 0 where it is the kind's constant (see each generator).
+  double noise_sd = 0;
 };
 
 /// The effects the generators can hide, per kind.
@@ -343,6 +346,7 @@ inline std::string battery_log(std::uint64_t seed, Hidden& h) {
   const double speed = d.integer(0, 15);
   const double period = d.uniform(5, 30);
   const double noise = d.uniform(0.01, 0.03);
+  h.noise_sd = noise;
   // Rows: one per period over the lifetime.
   covariate_precision(h, temp, noise, tables.lifetime_s[static_cast<std::size_t>(speed)] * k / period);
   constexpr double kTick = 1.0;  // s

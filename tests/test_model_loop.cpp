@@ -7,10 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "cli_harness.hpp"
 #include "diagnose_generators.hpp"
+#include "epuck2/calibrate/battery_json.hpp"
 #include "epuck2/calibrate/model_file.hpp"
 
 using epuck2::testing::CliRun;
@@ -80,6 +82,58 @@ double mse(const std::vector<double>& a, const std::vector<double>& b) {
   return sum / static_cast<double>(a.size());
 }
 
+double sample_sd(const std::vector<double>& x) {
+  double m = 0, v = 0;
+  for (double e : x) m += e / static_cast<double>(x.size());
+  for (double e : x) v += (e - m) * (e - m) / static_cast<double>(x.size() - 1);
+  return std::sqrt(v);
+}
+
+/// The log with the rows `keep` (indices into c.rows, ascending).
+std::string join_rows(const Csv& c, const std::vector<std::size_t>& keep) {
+  std::string out;
+  for (const auto& p : c.preamble) out += p + "\n";
+  for (std::size_t i : keep) out += c.rows[i] + "\n";
+  return out;
+}
+
+/// A time series split in two logs that both still describe the run: a command (drive: the two
+/// wheel speeds; battery: the speed) holds from its row to the next, so a row where it changes
+/// (and the first row, time 0 of the run) goes into both halves, or a half's zero-order hold
+/// would move the robot at the wrong time; the other rows are dealt by parity. `compared` are
+/// the check half's rows that the fit half does not have (positions within the check half).
+struct Halves {
+  std::vector<std::size_t> fit, check, compared;
+};
+Halves split_run(const Csv& c, const std::vector<std::string>& command_columns) {
+  std::vector<std::size_t> at;
+  for (const auto& name : command_columns)
+    for (std::size_t k = 0; k < c.header.size(); ++k)
+      if (c.header[k] == name) at.push_back(k);
+  Halves h;
+  std::vector<std::string> previous;
+  for (std::size_t i = 0; i < c.rows.size(); ++i) {
+    const auto cells = split(c.rows[i]);
+    std::vector<std::string> command;
+    for (std::size_t k : at) command.push_back(cells.at(k));
+    const bool changes = i == 0 || command != previous;
+    previous = command;
+    if (changes || i % 2 == 0) h.fit.push_back(i);
+    if (changes || i % 2 == 1) {
+      if (!changes) h.compared.push_back(h.check.size());
+      h.check.push_back(i);
+    }
+  }
+  return h;
+}
+
+template <class T>
+std::vector<T> pick(const std::vector<T>& v, const std::vector<std::size_t>& at) {
+  std::vector<T> out;
+  for (std::size_t i : at) out.push_back(v.at(i));
+  return out;
+}
+
 struct Case {
   logs::Kind kind;
   std::string cause;
@@ -114,6 +168,7 @@ TEST_P(ModelLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinItsNoise) {
   ASSERT_NO_THROW(
       (void)[&] {
         const auto j = nlohmann::json::parse(slurp(ext));
+        ASSERT_FALSE(j.contains("effects_not_in_model")) << j.dump();
         switch (c.kind) {
           case logs::Kind::proximity: (void)epuck2::calibrate::proximity_model_from_json(j, ext); break;
           case logs::Kind::light: (void)epuck2::calibrate::light_model_from_json(j, ext); break;
@@ -152,12 +207,7 @@ TEST_P(ModelLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinItsNoise) {
       measured_noise.push_back(measured[i] - ext_values[i]);
     }
   ASSERT_GT(simulated_noise.size(), 50u);
-  auto sd = [](const std::vector<double>& x) {
-    double m = 0, v = 0;
-    for (double e : x) m += e / static_cast<double>(x.size());
-    for (double e : x) v += (e - m) * (e - m) / static_cast<double>(x.size() - 1);
-    return std::sqrt(v);
-  };
+  const auto sd = sample_sd;
   // Within 10 %, or within 3 standard errors of the ratio of two sd estimates from n readings
   // each (sqrt(1/(2n) + 1/(2n)) = 1/sqrt(n)) where n is too small for 10 % to be a test of the
   // model rather than of the draw (a half log of 150 readings: 24 %).
@@ -165,10 +215,16 @@ TEST_P(ModelLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinItsNoise) {
   const double tolerance = std::max(kNoiseTolerance, 3.0 / std::sqrt(n));
   EXPECT_NEAR(sd(simulated_noise), sd(measured_noise), tolerance * sd(measured_noise))
       << c << "; the extended model's noise: " << nlohmann::json::parse(slurp(ext)).at("noise").dump();
+  std::printf("[loop] %s/%s: MSE/variance %.3f (plug-in %.3g), noise sd ratio %.3f over %zu readings\n",
+              kind.c_str(), c.cause.c_str(), mse(measured, ext_values) / variance, mse(measured, plugin) / variance,
+              sd(simulated_noise) / sd(measured_noise), simulated_noise.size());
 }
 
 // Noise: ground 5 counts, light 15 counts, proximity 10 counts, camera 0.5 px
 // (diagnose_generators.hpp). One seed per effect, the first whose drawn effect matters.
+// incidence_angle: the generator's angle_deg column (0..60 degrees), which simulate --like reads.
+// covariate:temperature_c: the generator's temperature_c column, which the model's covariate
+// effect reads (slope and centre from the diagnosis).
 INSTANTIATE_TEST_SUITE_P(
     EveryStaticKind, ModelLoop,
     ::testing::Values(Case{logs::Kind::ground, "black_offset", 3, 5.0}, Case{logs::Kind::ground, "white_level", 3, 5.0},
@@ -177,7 +233,234 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{logs::Kind::light, "sensor_gain", 3, 15.0}, Case{logs::Kind::proximity, "ambient_offset", 3, 10.0},
                       Case{logs::Kind::proximity, "long_tail", 3, 10.0}, Case{logs::Kind::proximity, "saturation", 3, 10.0},
                       Case{logs::Kind::proximity, "sensor_gain", 3, 10.0}, Case{logs::Kind::camera, "principal_offset", 3, 0.5},
-                      Case{logs::Kind::camera, "radial_distortion", 3, 0.5}));
+                      Case{logs::Kind::camera, "radial_distortion", 3, 0.5},
+                      Case{logs::Kind::proximity, "incidence_angle", 3, 10.0},
+                      Case{logs::Kind::ground, "covariate:temperature_c", 3, 5.0}));
+
+// ----- drive: three channels ----------------------------------------------------------------
+
+struct DriveCase {
+  std::string cause;
+  std::uint64_t seed;
+};
+std::ostream& operator<<(std::ostream& os, const DriveCase& c) { return os << "drive/" << c.cause; }
+
+class DriveLoop : public CliTest, public ::testing::WithParamInterface<DriveCase> {};
+
+/// Rows of a generated drive log (the generator draws 600..2400): about 760 compared rows in the
+/// check half, so that the noise sd ratio is tested at max(10 %, 3/sqrt(n)) = 11 %, and the ToF's
+/// MSE, an average of n squared N(0, sd_i) draws, has a relative sd of sqrt(2/n) = 5 %: the 1.2
+/// bound sits 4 of them above the noise alone.
+constexpr int kDriveRows = 1600;
+
+/// The drive's readings are three registers. ToF: the generator's noise is N(0, 2 mm + 3 mm per
+/// metre of range) before rounding to whole mm, so each row's variance is (2 + 3 range)^2 + 1/12
+/// with the range of that row (from the measured reading and the ToF's own true scale and offset:
+/// the reading's noise moves the sd by 3/1000 of itself, nothing); the bound is 1.2 x the mean of
+/// these. Encoders: the generator draws no encoder noise, the register is floor(steps per metre x
+/// the wheel's travel). A model whose wheel travel is within a fraction of a step of the
+/// generator's gives the same register or one step off, with a probability of that fraction; two
+/// registers that were each rounded independently would differ with a variance of 1/6 step^2.
+/// The encoders are asserted within 1.2 x 1/6 = 0.2 step^2: the model's wheels follow the
+/// generator's to within a fraction of a step on almost every row. For speed_limit and
+/// accel_limit, the effects the encoders see, the plug-in's model must exceed it.
+constexpr double kEncoderBound = 1.2 / 6.0;
+
+TEST_P(DriveLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinEachChannelsNoise) {
+  const DriveCase c = GetParam();
+  gen::Hidden h = gen::hidden(c.cause);
+  const Csv log = parse(gen::drive_log(c.seed, h, kDriveRows));
+  const Halves halves = split_run(log, {"left_speed_cm_s", "right_speed_cm_s"});
+  const std::string fit_half = write("fit.csv", join_rows(log, halves.fit));
+  const std::string check_text = join_rows(log, halves.check);
+  const std::string check_half = write("check.csv", check_text);
+  const std::string ext = (dir_ / "ext.json").string();
+  const CliRun d = run("diagnose --kind drive --json \"" + ext + "\" \"" + fit_half + "\"");
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  ASSERT_NE(d.out.find(c.cause), std::string::npos) << "the diagnosis did not name " << c.cause << ":\n" << d.out;
+  const auto model_json = nlohmann::json::parse(slurp(ext));
+  ASSERT_FALSE(model_json.contains("effects_not_in_model")) << model_json.dump();
+  ASSERT_NO_THROW((void)epuck2::calibrate::drive_model_from_json(model_json, ext));
+
+  const std::string sim_ext = (dir_ / "sim_ext.csv").string(), sim_plugin = (dir_ / "sim_plugin.csv").string(),
+                    sim_noisy = (dir_ / "sim_noisy.csv").string();
+  ASSERT_EQ(run("simulate drive --like \"" + check_half + "\" --coefficients \"" + ext + "\" -o \"" + sim_ext + "\"").exit_code, 0);
+  ASSERT_EQ(run("simulate drive --like \"" + check_half + "\" -o \"" + sim_plugin + "\"").exit_code, 0);
+  ASSERT_EQ(run("simulate drive --like \"" + check_half + "\" --coefficients \"" + ext + "\" --noise --seed 11 -o \"" + sim_noisy +
+                "\"").exit_code, 0);
+  const Csv check = parse(check_text), ext_log = parse(slurp(sim_ext)), plugin_log = parse(slurp(sim_plugin)),
+            noisy_log = parse(slurp(sim_noisy));
+  auto channel = [&](const Csv& l, const std::vector<std::string>& columns) { return values(l, columns); };
+  // Only the rows the fit half did not see.
+  auto compared = [&](const std::vector<double>& v, std::size_t per_row) {
+    std::vector<double> out;
+    for (std::size_t r : halves.compared)
+      for (std::size_t k = 0; k < per_row; ++k) out.push_back(v.at(r * per_row + k));
+    return out;
+  };
+  const auto tof = compared(channel(check, {"tof_mm"}), 1), tof_ext = compared(channel(ext_log, {"tof_mm"}), 1),
+             tof_plugin = compared(channel(plugin_log, {"tof_mm"}), 1), tof_noisy = compared(channel(noisy_log, {"tof_mm"}), 1);
+  const std::vector<std::string> encoders{"left_steps", "right_steps"};
+  const auto steps = compared(channel(check, encoders), 2), steps_ext = compared(channel(ext_log, encoders), 2),
+             steps_plugin = compared(channel(plugin_log, encoders), 2);
+  ASSERT_EQ(tof_ext.size(), tof.size());
+  ASSERT_GT(tof.size(), 500u);
+
+  // ToF: the generator's variance, row by row (see kEncoderBound's comment).
+  const double tof_k = c.cause == "tof_scale" ? h.truth.at("k") : 1.0;
+  const double tof_offset = c.cause == "tof_offset" ? h.truth.at("offset_mm") : 0.0;
+  double variance = 0;
+  for (double reading : tof) {
+    const double range_m = (reading - tof_offset) / (1000.0 * tof_k);
+    variance += ((2.0 + 3.0 * range_m) * (2.0 + 3.0 * range_m) + 1.0 / 12.0) / static_cast<double>(tof.size());
+  }
+  EXPECT_LE(mse(tof, tof_ext), kMseBound * variance) << c << ": ToF";
+  EXPECT_GT(mse(tof, tof_plugin), kMseBound * variance) << c << ": the plug-in's model already reproduces the ToF";
+  // Encoders: register differences (the int16 wrap taken out).
+  auto wrapped_mse = [](const std::vector<double>& a, const std::vector<double>& b) {
+    std::vector<double> e(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) e[i] = std::remainder(a[i] - b[i], 65536.0);
+    return mse(e, std::vector<double>(e.size(), 0.0));
+  };
+  EXPECT_LE(wrapped_mse(steps, steps_ext), kEncoderBound) << c << ": encoders";
+  if (c.cause == "speed_limit" || c.cause == "accel_limit")
+    EXPECT_GT(wrapped_mse(steps, steps_plugin), kEncoderBound) << c << ": the plug-in's model already reproduces the encoders";
+  // The ToF's noise: simulated (noisy - noiseless) against measured (measured - noiseless).
+  std::vector<double> simulated_noise, measured_noise;
+  for (std::size_t i = 0; i < tof.size(); ++i) {
+    simulated_noise.push_back(tof_noisy[i] - tof_ext[i]);
+    measured_noise.push_back(tof[i] - tof_ext[i]);
+  }
+  const double n = static_cast<double>(simulated_noise.size());
+  const double tolerance = std::max(kNoiseTolerance, 3.0 / std::sqrt(n));
+  EXPECT_NEAR(sample_sd(simulated_noise), sample_sd(measured_noise), tolerance * sample_sd(measured_noise))
+      << c << "; the extended model's noise: " << model_json.at("noise").dump();
+  std::printf("[loop] drive/%s: ToF MSE/variance %.3f (plug-in %.3g), encoders MSE %.3f step^2 (plug-in %.3g), ToF noise sd ratio "
+              "%.3f over %zu readings\n",
+              c.cause.c_str(), mse(tof, tof_ext) / variance, mse(tof, tof_plugin) / variance, wrapped_mse(steps, steps_ext),
+              wrapped_mse(steps, steps_plugin), sample_sd(simulated_noise) / sample_sd(measured_noise), simulated_noise.size());
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryDriveEffect, DriveLoop,
+                         ::testing::Values(DriveCase{"speed_limit", 3}, DriveCase{"accel_limit", 3}, DriveCase{"wheel_slip", 3},
+                                           DriveCase{"speed_scale", 3}, DriveCase{"latency", 3}, DriveCase{"tof_offset", 3},
+                                           DriveCase{"tof_scale", 3}));
+
+// ----- battery: the charge of a discharge run ------------------------------------------------
+
+class BatteryLoop : public CliTest, public ::testing::WithParamInterface<std::uint64_t> {};
+
+/// The generator (diagnose_generators.hpp) runs the corrected Cubic with the plug-in's tables and
+/// time running 1/k as fast, a reading every 5..30 s with noise N(0, sd), sd drawn in 0.01..0.03
+/// per log (Hidden::noise_sd), not rounded. The log's last row is the moment the robot stopped: as
+/// the diagnosis, it is simulated, not compared.
+TEST_P(BatteryLoop, CapacityScaleOnHalfSimulatesTheOtherHalfWithinItsNoise) {
+  gen::Hidden h = gen::hidden("capacity_scale");
+  const Csv log = parse(gen::battery_log(GetParam(), h));
+  ASSERT_GT(h.noise_sd, 0.0);
+  const Halves halves = split_run(log, {"speed_cm_s"});
+  const std::string fit_half = write("fit.csv", join_rows(log, halves.fit));
+  const std::string check_text = join_rows(log, halves.check);
+  const std::string check_half = write("check.csv", check_text);
+  const std::string ext = (dir_ / "ext.json").string();
+  const CliRun d = run("diagnose --kind battery --coefficients plugin --json \"" + ext + "\" \"" + fit_half + "\"");
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  ASSERT_NE(d.out.find("capacity_scale"), std::string::npos) << d.out;
+  const auto model_json = nlohmann::json::parse(slurp(ext));
+  ASSERT_FALSE(model_json.contains("effects_not_in_model")) << model_json.dump();
+  const auto model = epuck2::calibrate::battery_model_from_json(model_json, ext);
+  EXPECT_EQ(model.model, epuck2::models::battery::Model::cubic);
+
+  const std::string sim_ext = (dir_ / "sim_ext.csv").string(), sim_plugin = (dir_ / "sim_plugin.csv").string(),
+                    sim_noisy = (dir_ / "sim_noisy.csv").string();
+  ASSERT_EQ(run("simulate battery --like \"" + check_half + "\" --coefficients \"" + ext + "\" -o \"" + sim_ext + "\"").exit_code, 0);
+  const CliRun p = run("simulate battery --like \"" + check_half + "\" -o \"" + sim_plugin + "\"");
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  ASSERT_EQ(run("simulate battery --like \"" + check_half + "\" --coefficients \"" + ext + "\" --noise --seed 11 -o \"" + sim_noisy +
+                "\"").exit_code, 0);
+  std::vector<std::size_t> rows = halves.compared;
+  if (!rows.empty() && halves.check.at(rows.back()) + 1 == log.rows.size()) rows.pop_back();  // the stop
+  const auto charge = pick(values(parse(check_text), {"charge"}), rows);
+  const auto ext_values = pick(values(parse(slurp(sim_ext)), {"charge"}), rows);
+  const auto plugin = pick(values(parse(slurp(sim_plugin)), {"charge"}), rows);
+  const auto noisy = pick(values(parse(slurp(sim_noisy)), {"charge"}), rows);
+  ASSERT_GT(charge.size(), 100u);
+  const double variance = h.noise_sd * h.noise_sd;
+  EXPECT_LE(mse(charge, ext_values), kMseBound * variance);
+  EXPECT_GT(mse(charge, plugin), kMseBound * variance) << "the plug-in's model already reproduces the log";
+  std::vector<double> simulated_noise, measured_noise;
+  for (std::size_t i = 0; i < charge.size(); ++i) {
+    simulated_noise.push_back(noisy[i] - ext_values[i]);
+    measured_noise.push_back(charge[i] - ext_values[i]);
+  }
+  const double n = static_cast<double>(simulated_noise.size());
+  const double tolerance = std::max(kNoiseTolerance, 3.0 / std::sqrt(n));
+  EXPECT_NEAR(sample_sd(simulated_noise), sample_sd(measured_noise), tolerance * sample_sd(measured_noise));
+  std::printf("[loop] battery/capacity_scale (k %.4f, noise %.4f): MSE/variance %.3f (plug-in %.3g), noise sd ratio %.3f over %zu "
+              "readings\n",
+              h.truth.at("k"), h.noise_sd, mse(charge, ext_values) / variance, mse(charge, plugin) / variance,
+              sample_sd(simulated_noise) / sample_sd(measured_noise), simulated_noise.size());
+}
+
+INSTANTIATE_TEST_SUITE_P(CapacityScale, BatteryLoop, ::testing::Values(3));
+
+// ----- simulate --like: what the loop relies on ----------------------------------------------
+
+class SimulateLike : public CliTest {};
+
+/// A covariate effect reads its column from the log: none, no simulation (exit 2, the column
+/// named); with it, the reading moves by slope x (column - centre).
+TEST_F(SimulateLike, ACovariateEffectReadsItsColumn) {
+  s::GroundModel g;
+  g.covariates = {{"temperature_c", 2.0, 30.0}};
+  const std::string model = write("g.json", epuck2::calibrate::model_to_json(g).dump());
+  const std::string with = write("with.csv", "grey,sensor,value,temperature_c\n0.5,0,500,35\n0.5,1,500,25\n");
+  const std::string without = write("without.csv", "grey,sensor,value\n0.5,0,500\n");
+  const CliRun bad = run("simulate ground --like \"" + without + "\" --coefficients \"" + model + "\"");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("covariate:temperature_c"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("'temperature_c'"), std::string::npos) << bad.err;
+  const CliRun good = run("simulate ground --like \"" + with + "\" --coefficients \"" + model + "\"");
+  ASSERT_EQ(good.exit_code, 0) << good.err;
+  // 1023 x 0.5 + 2 x (35 - 30), and 2 x (25 - 30).
+  EXPECT_EQ(values(parse(good.out), {"value"}), (std::vector<double>{521.5, 501.5}));
+}
+
+TEST_F(SimulateLike, BatteryLikeRunsTheLogsSpeedsAndTimesAndLeavesItsVoltageOut) {
+  const std::string log = write("b.csv", "time_s,speed_cm_s,charge,voltage_v\n0,5,0.99,4.2\n100,5,0.95,4.1\n200,5,0.9,4.0\n");
+  const CliRun r = run("simulate battery --like \"" + log + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Csv out = parse(r.out);
+  EXPECT_EQ(out.header, (std::vector<std::string>{"time_s", "speed_cm_s", "charge"}));
+  // A first reading >= 0.9 is the run's full charge; then the plug-in's Cubic at 5 cm/s, whose
+  // curve (d + c t + b t^2 + a t^3, the plug-in's published row) it follows after the firmware
+  // filter's few seconds.
+  const auto charge = values(out, {"charge"});
+  ASSERT_EQ(charge.size(), 3u);
+  EXPECT_EQ(charge[0], 1.0);
+  const double t = 200, q[4] = {0.9603929712, -1.9429015609e-04, 3.4602913169e-08, -2.5372952124e-12};
+  EXPECT_NEAR(charge[2], q[0] + q[1] * t + q[2] * t * t + q[3] * t * t * t, 1e-3);
+  // The two modes' options do not mix.
+  const std::string profile = write("p.csv", "time_s,speed_cm_s\n0,5\n10,0\n");
+  EXPECT_EQ(run("simulate battery --like \"" + log + "\" --profile \"" + profile + "\"").exit_code, 2);
+  EXPECT_EQ(run("simulate battery --model cubic --noise --profile \"" + profile + "\"").exit_code, 2);
+  const CliRun none = run("simulate battery --model cubic");
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("--profile is required"), std::string::npos) << none.err;
+  const CliRun bad_model = run("simulate battery --like \"" + log + "\" --battery-model cubik");
+  EXPECT_EQ(bad_model.exit_code, 2);
+  EXPECT_NE(bad_model.err.find("did you mean 'cubic'?"), std::string::npos) << bad_model.err;
+}
+
+/// codegen keeps a model's covariate effects (a diagnose -o report is a coefficient file for it).
+TEST_F(SimulateLike, CodegenEmitsTheCovariates) {
+  s::GroundModel g;
+  g.covariates = {{"temperature_c", 2.0, 30.5}};
+  const std::string model = write("g.json", epuck2::calibrate::model_to_json(g).dump());
+  const std::string header = (dir_ / "g.hpp").string();
+  ASSERT_EQ(run("codegen \"" + model + "\" -o \"" + header + "\"").exit_code, 0);
+  EXPECT_NE(slurp(header).find("  m.covariates = {{\"temperature_c\", 2, 30.5}};\n"), std::string::npos) << slurp(header);
+}
 
 // ----- round trips --------------------------------------------------------------------------
 
@@ -218,6 +501,16 @@ TEST(ModelFile, JsonModelJsonRoundTripsEveryKind) {
   EXPECT_EQ(dj.at("effects").at("latency").at("delay_s"), 0.05);
   EXPECT_FALSE(dj.at("effects").contains("accel_limit"));  // neutral effects are not written
 
+  // covariate:NAME, any kind: slope and centre under the catalogue's name.
+  g.covariates = {{"temperature_c", 2.5, 30.1}};
+  const auto gcj = epuck2::calibrate::model_to_json(g);
+  EXPECT_EQ(gcj.at("effects").at("covariate:temperature_c").at("centre"), 30.1);
+  const auto g2 = epuck2::calibrate::ground_model_from_json(gcj, "g.json");
+  ASSERT_EQ(g2.covariates.size(), 1u);
+  EXPECT_EQ(g2.covariates[0].column, "temperature_c");
+  EXPECT_EQ(g2.covariates[0].slope, 2.5);
+  EXPECT_EQ(epuck2::calibrate::model_to_json(g2), gcj);
+
   s::CameraModel cm;
   cm.base.horizontal_fov_rad = s::deg_to_rad(31.0);
   cm.base.cx_px = 82;
@@ -225,6 +518,37 @@ TEST(ModelFile, JsonModelJsonRoundTripsEveryKind) {
   const auto cj = epuck2::calibrate::model_to_json(cm);
   EXPECT_NEAR(cj.at("parameters").at("fov_deg").get<double>(), 31.0, 1e-12);
   EXPECT_EQ(epuck2::calibrate::model_to_json(epuck2::calibrate::camera_model_from_json(cj, "c.json")), cj);
+
+  namespace mb = epuck2::models::battery;
+  s::BatteryModel bm;
+  bm.model = mb::Model::approximated;
+  bm.capacity.k = 1.07;
+  bm.noise_sd = 0.02;
+  bm.covariates = {{"temperature_c", 0.002, 29.5}};
+  const auto bj = epuck2::calibrate::model_to_json(bm);
+  EXPECT_EQ(bj.at("battery_model"), "approximated");
+  EXPECT_EQ(bj.at("effects").at("capacity_scale").at("k"), 1.07);
+  const auto bm2 = epuck2::calibrate::battery_model_from_json(bj, "b.json");
+  EXPECT_EQ(epuck2::calibrate::model_to_json(bm2), bj);
+  EXPECT_EQ(bm2.model, mb::Model::approximated);
+  EXPECT_EQ(bm2.noise_sd, 0.02);
+  ASSERT_EQ(bm2.covariates.size(), 1u);
+  EXPECT_EQ(bm2.covariates[0].centre, 29.5);
+  // The tables bit for bit (what the simulation runs).
+  const mb::Tables& plugin = mb::plugin_tables();
+  for (int k = 0; k < mb::kSpeedCount; ++k) {
+    EXPECT_EQ(bm2.tables.cubic[k].a, plugin.cubic[k].a);
+    EXPECT_EQ(bm2.tables.cubic[k].d, plugin.cubic[k].d);
+    EXPECT_EQ(bm2.tables.cubic[k].end_s, plugin.cubic[k].end_s);
+    EXPECT_EQ(bm2.tables.segments[k][2].m, plugin.segments[k][2].m);
+    EXPECT_EQ(bm2.tables.linear_slope_per_s[k], plugin.linear_slope_per_s[k]);
+  }
+  EXPECT_EQ(bm2.tables.simple_moving_slope_per_s, plugin.simple_moving_slope_per_s);
+  // Neutral: no capacity_scale written, the Cubic when the file names no discharge model.
+  nlohmann::json neutral = epuck2::calibrate::model_to_json(s::BatteryModel{});
+  EXPECT_FALSE(neutral.at("effects").contains("capacity_scale"));
+  neutral.erase("battery_model");
+  EXPECT_EQ(epuck2::calibrate::battery_model_from_json(neutral, "n.json").model, mb::Model::cubic);
 }
 
 TEST(ModelFile, BadFilesNameTheKey) {
@@ -237,6 +561,17 @@ TEST(ModelFile, BadFilesNameTheKey) {
   }
   nlohmann::json wrong = {{"kind", "ground"}, {"parameters", {{"gamma", 0.07}}}};
   EXPECT_THROW((void)epuck2::calibrate::light_model_from_json(wrong, "g.json"), std::runtime_error);
+  nlohmann::json no_centre = epuck2::calibrate::model_to_json(s::GroundModel{});
+  no_centre["effects"]["covariate:temperature_c"] = {{"slope", 2.0}};
+  try {
+    (void)epuck2::calibrate::ground_model_from_json(no_centre, "c.json");
+    FAIL() << "accepted a covariate without its centre";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("c.json: missing effects.covariate:temperature_c.centre"), std::string::npos) << e.what();
+  }
+  nlohmann::json bad_model = epuck2::calibrate::model_to_json(s::BatteryModel{});
+  bad_model["battery_model"] = "quartic";
+  EXPECT_THROW((void)epuck2::calibrate::battery_model_from_json(bad_model, "b.json"), std::runtime_error);
 }
 
 /// The shipped calibration files are models: base from `parameters`, noise from `noise` (when the
@@ -251,6 +586,15 @@ TEST(ModelFile, ShippedCoefficientFilesReadAsModels) {
   EXPECT_NO_THROW((void)epuck2::calibrate::light_model_from_json(read("light"), "light.json"));
   EXPECT_NO_THROW((void)epuck2::calibrate::camera_model_from_json(read("camera"), "camera.json"));
   EXPECT_NO_THROW((void)epuck2::calibrate::drive_model_from_json(read("drive"), "drive.json"));
+  // The battery file: its tables, the Cubic, and its speeds' residual sd as the charge noise.
+  const auto b = epuck2::calibrate::battery_model_from_json(read("battery"), "battery.json");
+  const auto tables = epuck2::calibrate::battery_tables_from_json(read("battery"), "battery.json");
+  EXPECT_EQ(b.tables.cubic[7].b, tables.cubic[7].b);
+  EXPECT_EQ(b.model, epuck2::models::battery::Model::cubic);
+  double sum = 0;
+  const auto battery = read("battery");
+  for (const auto& speed : battery.at("speeds")) sum += std::pow(speed.at("noise_sd").get<double>(), 2);
+  EXPECT_NEAR(b.noise_sd, std::sqrt(sum / 16.0), 1e-15);
 }
 
 }  // namespace

@@ -191,6 +191,24 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
   };
 }
 
+json battery_tables_to_json(const mb::Tables& t) {
+  json speeds = json::array();
+  for (std::size_t s = 0; s < mb::kSpeedCount; ++s) {
+    json segs = json::array();
+    for (const mb::Segment& g : t.segments[s])
+      segs.push_back({{"h", g.h}, {"m", g.m}, {"x1_s", g.x1_s}, {"x2_s", g.x2_s}, {"y1", g.y1}, {"y2", g.y2}});
+    const mb::CubicRow& q = t.cubic[s];
+    speeds.push_back({{"speed_cm_s", static_cast<double>(s)},
+                      {"lifetime_s", t.lifetime_s[s]},
+                      {"cubic", {q.d, q.c, q.b, q.a}},
+                      {"linear_slope", t.linear_slope_per_s[s]},
+                      {"segments", segs}});
+  }
+  return json{{"speeds", speeds},
+              {"simple", {{"static_slope_per_s", t.simple_static_slope_per_s},
+                          {"moving_slope_per_s", t.simple_moving_slope_per_s}}}};
+}
+
 mb::Tables battery_tables_from_json(const json& j, const std::string& path) {
   if (!j.is_object() || !j.contains("speeds") || !j.at("speeds").is_array())
     throw logs::json_file_error(path, j.is_object() && j.contains("speeds") ? "/speeds" : "",

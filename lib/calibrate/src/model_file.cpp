@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "epuck2/calibrate/battery_json.hpp"
+
 namespace epuck2::calibrate {
 
 namespace s = models::sensors;
@@ -103,6 +105,27 @@ json noise_json(const std::array<double, N>& sd, const char* unit) {
   return c;
 }
 
+/// The `covariate:NAME` effects of the file: {"slope": .., "centre": ..} each.
+std::vector<s::CovariateEffect> covariates_from_json(const json& j, const std::string& path) {
+  std::vector<s::CovariateEffect> out;
+  if (!j.contains("effects")) return out;
+  const json& e = j.at("effects");
+  if (!e.is_object()) fail(path, "`effects` must be an object");
+  const std::string prefix = "covariate:";
+  for (const auto& [key, value] : e.items()) {
+    if (key.rfind(prefix, 0) != 0) continue;
+    const std::string where = "effects." + key;
+    if (key.size() == prefix.size()) fail(path, where + ": the effect names no column");
+    if (!value.is_object()) fail(path, where + " must be an object");
+    out.push_back({key.substr(prefix.size()), number(value, "slope", where, path), number(value, "centre", where, path)});
+  }
+  return out;
+}
+
+void covariates_to_json(const std::vector<s::CovariateEffect>& covariates, json& effects) {
+  for (const auto& c : covariates) effects["covariate:" + c.column] = {{"slope", c.slope}, {"centre", c.centre}};
+}
+
 template <std::size_t N>
 bool all_one(const std::array<double, N>& g) {
   for (double v : g)
@@ -131,6 +154,7 @@ s::ProximityModel proximity_model_from_json(const json& j, const std::string& pa
   }
   if (const json* e = effect(j, "incidence_angle", path)) m.effects.incidence.k = number(*e, "k", "effects.incidence_angle", path);
   if (const json* e = effect(j, "saturation", path)) m.effects.saturation.level_raw = number(*e, "level", "effects.saturation", path);
+  m.covariates = covariates_from_json(j, path);
   m.noise_sd_raw = noise_sd<s::kProximityCount>(j, "proximity", path);
   return m;
 }
@@ -147,6 +171,7 @@ json model_to_json(const s::ProximityModel& m) {
     e["long_tail"] = {{"amplitude", m.effects.tail.amplitude_raw}, {"length_m", m.effects.tail.length_m}};
   if (m.effects.incidence.k != neutral.incidence.k) e["incidence_angle"] = {{"k", m.effects.incidence.k}};
   if (m.effects.saturation.level_raw != neutral.saturation.level_raw) e["saturation"] = {{"level", m.effects.saturation.level_raw}};
+  covariates_to_json(m.covariates, e);
   j["effects"] = e;
   j["noise"] = {{"proximity", noise_json(m.noise_sd_raw, "counts")}};
   return j;
@@ -164,6 +189,7 @@ s::LightModel light_model_from_json(const json& j, const std::string& path) {
   if (const json* e = effect(j, "ambient_offset", path)) m.effects.ambient.offset_raw = number(*e, "offset", "effects.ambient_offset", path);
   if (const json* e = effect(j, "falloff_exponent", path)) m.effects.falloff.exponent = number(*e, "exponent", "effects.falloff_exponent", path);
   if (const json* e = effect(j, "sensor_gain", path)) m.effects.gains.gain = numbers<s::kProximityCount>(*e, "gains", "effects.sensor_gain", path);
+  m.covariates = covariates_from_json(j, path);
   m.noise_sd_raw = noise_sd<s::kProximityCount>(j, "light", path);
   return m;
 }
@@ -177,6 +203,7 @@ json model_to_json(const s::LightModel& m) {
   if (m.effects.ambient.offset_raw != neutral.ambient.offset_raw) e["ambient_offset"] = {{"offset", m.effects.ambient.offset_raw}};
   if (m.effects.falloff.exponent != neutral.falloff.exponent) e["falloff_exponent"] = {{"exponent", m.effects.falloff.exponent}};
   if (!all_one(m.effects.gains.gain)) e["sensor_gain"] = {{"gains", m.effects.gains.gain}};
+  covariates_to_json(m.covariates, e);
   j["effects"] = e;
   j["noise"] = {{"light", noise_json(m.noise_sd_raw, "counts")}};
   return j;
@@ -195,6 +222,7 @@ s::GroundModel ground_model_from_json(const json& j, const std::string& path) {
     m.effects.exponent = number(*e, "exponent", "effects.nonlinear_response", path);
     if (!(m.effects.exponent > 0)) fail(path, "effects.nonlinear_response.exponent must be positive");
   }
+  m.covariates = covariates_from_json(j, path);
   m.noise_sd_raw = noise_sd<s::kGroundCount>(j, "ground", path);
   return m;
 }
@@ -210,6 +238,7 @@ json model_to_json(const s::GroundModel& m) {
   j["parameters"] = {{"gain", gain}, {"offset", offset}};
   json e = json::object();
   if (m.effects.exponent != 1.0) e["nonlinear_response"] = {{"exponent", m.effects.exponent}};
+  covariates_to_json(m.covariates, e);
   j["effects"] = e;
   j["noise"] = {{"ground", noise_json(m.noise_sd_raw, "counts")}};
   return j;
@@ -227,6 +256,7 @@ s::CameraModel camera_model_from_json(const json& j, const std::string& path) {
   m.base.cx_px = number(p, "cx_px", "parameters", path);
   m.base.cy_px = number(p, "cy_px", "parameters", path);
   if (const json* e = effect(j, "radial_distortion", path)) m.distortion.k1 = number(*e, "k1", "effects.radial_distortion", path);
+  m.covariates = covariates_from_json(j, path);
   m.noise_sd_px = noise_sd<1>(j, "camera", path)[0];
   return m;
 }
@@ -237,6 +267,7 @@ json model_to_json(const s::CameraModel& m) {
   j["parameters"] = {{"fov_deg", s::rad_to_deg(m.base.horizontal_fov_rad)}, {"cx_px", m.base.cx_px}, {"cy_px", m.base.cy_px}};
   json e = json::object();
   if (m.distortion.k1 != 0.0) e["radial_distortion"] = {{"k1", m.distortion.k1}};
+  covariates_to_json(m.covariates, e);
   j["effects"] = e;
   j["noise"] = {{"camera", noise_json(std::array<double, 1>{m.noise_sd_px}, "px")}};
   return j;
@@ -261,6 +292,7 @@ s::DriveModel drive_model_from_json(const json& j, const std::string& path) {
     m.effects.latency.delay_s = number(*e, "delay_s", "effects.latency", path);
     if (m.effects.latency.delay_s < 0) fail(path, "effects.latency.delay_s must not be negative");
   }
+  m.covariates = covariates_from_json(j, path);
   m.tof_noise_sd_mm = noise_sd<1>(j, "tof", path)[0];
   m.encoder_noise_sd_steps = noise_sd<1>(j, "encoder", path)[0];
   return m;
@@ -280,9 +312,55 @@ json model_to_json(const s::DriveModel& m) {
     e["accel_limit"] = {{"accel_cm_s2", m.effects.accel_limit.accel_cm_s2}};
   if (m.effects.speed_scale.k != neutral.speed_scale.k) e["speed_scale"] = {{"k", m.effects.speed_scale.k}};
   if (m.effects.latency.delay_s != neutral.latency.delay_s) e["latency"] = {{"delay_s", m.effects.latency.delay_s}};
+  covariates_to_json(m.covariates, e);
   j["effects"] = e;
   j["noise"] = {{"tof", noise_json(std::array<double, 1>{m.tof_noise_sd_mm}, "mm")},
                 {"encoder", noise_json(std::array<double, 1>{m.encoder_noise_sd_steps}, "steps")}};
+  return j;
+}
+
+// ----- battery -----
+
+s::BatteryModel battery_model_from_json(const json& j, const std::string& path) {
+  check_kind(j, "battery", path);
+  s::BatteryModel m;
+  m.tables = battery_tables_from_json(j, path);
+  if (j.contains("battery_model")) {
+    const json& name = j.at("battery_model");
+    if (!name.is_string() || !models::battery::parse_model(name.get<std::string>(), m.model))
+      fail(path, "battery_model must be one of simple, linear, cubic, approximated (found " + name.dump() + ")");
+  }
+  if (const json* e = effect(j, "capacity_scale", path)) {
+    m.capacity.k = number(*e, "k", "effects.capacity_scale", path);
+    if (!(m.capacity.k > 0)) fail(path, "effects.capacity_scale.k must be positive");
+  }
+  m.covariates = covariates_from_json(j, path);
+  if (j.contains("noise")) {
+    m.noise_sd = noise_sd<1>(j, "charge", path)[0];
+  } else {
+    // A calibration file (`epuck2-fit battery -o`) has each speed's residual sd (`noise_sd`):
+    // their root mean square.
+    double sum = 0;
+    int n = 0;
+    for (const json& speed : j.at("speeds"))
+      if (speed.contains("noise_sd") && speed.at("noise_sd").is_number() && std::isfinite(speed.at("noise_sd").get<double>())) {
+        sum += speed.at("noise_sd").get<double>() * speed.at("noise_sd").get<double>();
+        ++n;
+      }
+    m.noise_sd = n > 0 ? std::sqrt(sum / n) : 0.0;
+  }
+  return m;
+}
+
+json model_to_json(const s::BatteryModel& m) {
+  json j = battery_tables_to_json(m.tables);
+  j["kind"] = "battery";
+  j["battery_model"] = std::string(models::battery::to_string(m.model));
+  json e = json::object();
+  if (m.capacity.k != 1.0) e["capacity_scale"] = {{"k", m.capacity.k}};
+  covariates_to_json(m.covariates, e);
+  j["effects"] = e;
+  j["noise"] = {{"charge", noise_json(std::array<double, 1>{m.noise_sd}, "charge")}};
   return j;
 }
 

@@ -14,6 +14,8 @@ namespace s = models::sensors;
 
 namespace {
 
+constexpr const char* kCovariate = "covariate:";
+
 /// Every parameter of the report by name: the base's (final joint fit) and each finding's, keyed
 /// "cause.name" for findings (catalogue names repeat across causes: drive's two `k`).
 struct Values {
@@ -52,6 +54,7 @@ Values values_of(const Report& r, std::vector<std::string>* left_out, const std:
   Values v;
   for (const NamedValue& p : r.final_base.empty() ? r.recalibrated : r.final_base) v.base[p.name] = p.value;
   for (const Finding& f : r.findings) {
+    if (f.cause.rfind(kCovariate, 0) == 0) continue;  // covariates(), below
     // The formula the finding carries (a renamed finding keeps its effect's).
     const std::string& effect = f.effect.empty() ? f.cause : f.effect;
     bool ok = false;
@@ -70,6 +73,25 @@ Values values_of(const Report& r, std::vector<std::string>* left_out, const std:
 /// the noise it adds before rounding is what the residuals hold beyond that.
 double register_noise(double residual_sd) {
   return std::sqrt(std::max(0.0, residual_sd * residual_sd - 1.0 / 12.0));
+}
+
+/// The report's `covariate:NAME` findings, centred on the column's mean in `inputs` (left out
+/// without one).
+std::vector<s::CovariateEffect> covariates(const Report& r, const ModelInputs& inputs, std::vector<std::string>* left_out) {
+  std::vector<s::CovariateEffect> out;
+  const std::string prefix = kCovariate;
+  for (const Finding& f : r.findings) {
+    if (f.cause.rfind(prefix, 0) != 0) continue;
+    const std::string column = f.cause.substr(prefix.size());
+    const auto mean = inputs.column_means.find(column);
+    const auto slope = std::find_if(f.parameters.begin(), f.parameters.end(), [](const NamedValue& p) { return p.name == "slope"; });
+    if (mean == inputs.column_means.end() || slope == f.parameters.end()) {
+      if (left_out) left_out->push_back(f.cause);
+      continue;
+    }
+    out.push_back({column, slope->value, mean->second});
+  }
+  return out;
 }
 
 void require(const Report& r, logs::Kind kind) {
@@ -93,7 +115,7 @@ std::array<double, N> gains(const Values& v, const std::string& cause, const std
 
 }  // namespace
 
-s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* left_out) {
+s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::proximity);
   const Values v = values_of(r, left_out, {"ambient_offset", "sensor_gain", "long_tail", "incidence_angle", "saturation"});
   s::ProximityModel m = base_of<s::ProximityModel>(r);
@@ -108,11 +130,12 @@ s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* 
   }
   m.effects.incidence.k = v.at("incidence_angle", "k", m.effects.incidence.k);
   if (v.has("saturation")) m.effects.saturation.level_raw = v.at("saturation", "level", m.effects.saturation.level_raw);
+  m.covariates = covariates(r, inputs, left_out);
   m.noise_sd_raw.fill(register_noise(r.noise_sd));
   return m;
 }
 
-s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out) {
+s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::light);
   const Values v = values_of(r, left_out, {"ambient_offset", "falloff_exponent", "sensor_gain"});
   s::LightModel m = base_of<s::LightModel>(r);
@@ -120,11 +143,12 @@ s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out
   m.effects.ambient.offset_raw = v.at("ambient_offset", "offset", m.effects.ambient.offset_raw);
   m.effects.falloff.exponent = v.at("falloff_exponent", "exponent", m.effects.falloff.exponent);
   m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain", m.effects.gains.gain);
+  m.covariates = covariates(r, inputs, left_out);
   m.noise_sd_raw.fill(register_noise(r.noise_sd));
   return m;
 }
 
-s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_out) {
+s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::ground);
   const Values v = values_of(r, left_out, {"black_offset", "white_level", "sensor_gain", "nonlinear_response"});
   s::GroundModel m = base_of<s::GroundModel>(r);
@@ -139,11 +163,12 @@ s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_o
   for (std::size_t k = 0; k < m.sensors.size(); ++k)
     m.sensors[k] = {m.sensors[k].gain_raw * (level - offset) / s::kGroundFullScale_raw * g[k], m.sensors[k].offset_raw + offset};
   m.effects.exponent = v.at("nonlinear_response", "exponent", m.effects.exponent);
+  m.covariates = covariates(r, inputs, left_out);
   m.noise_sd_raw.fill(register_noise(r.noise_sd));
   return m;
 }
 
-s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_out) {
+s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::camera);
   const Values v = values_of(r, left_out, {"principal_offset", "radial_distortion"});
   s::CameraModel m = base_of<s::CameraModel>(r);
@@ -151,11 +176,12 @@ s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_o
   m.base.cx_px = s::kCameraWidth_px / 2.0 + v.at("principal_offset", "dx_px", m.base.cx_px - s::kCameraWidth_px / 2.0);
   m.base.cy_px = s::kCameraHeight_px / 2.0 + v.at("principal_offset", "dy_px", m.base.cy_px - s::kCameraHeight_px / 2.0);
   m.distortion.k1 = v.at("radial_distortion", "k1", m.distortion.k1);
+  m.covariates = covariates(r, inputs, left_out);
   m.noise_sd_px = register_noise(r.noise_sd);
   return m;
 }
 
-s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out) {
+s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::drive);
   const Values v = values_of(r, left_out,
                              {"speed_limit", "accel_limit", "wheel_slip", "speed_scale", "latency", "tof_offset", "tof_scale"});
@@ -172,19 +198,54 @@ s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out
     if (c.name == "tof_mm") m.tof_noise_sd_mm = register_noise(c.value);
     if (c.name == "steps") m.encoder_noise_sd_steps = register_noise(c.value);
   }
+  m.covariates = covariates(r, inputs, left_out);
   return m;
 }
 
-nlohmann::json extended_model_json(const Report& r) {
+s::BatteryModel extended_battery(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
+  require(r, logs::Kind::battery);
+  const Values v = values_of(r, left_out, {"capacity_scale"});
+  s::BatteryModel m;
+  m.model = inputs.battery_model;
+  if (inputs.battery_tables) m.tables = *inputs.battery_tables;
+  m.capacity.k = v.at("capacity_scale", "k", 1.0);
+  m.noise_sd = r.noise_sd;  // a charge is not rounded: no register's share to take out
+  m.covariates = covariates(r, inputs, left_out);
+  return m;
+}
+
+ModelInputs model_inputs(const std::vector<logs::Log>& logs, const Options& options) {
+  ModelInputs in;
+  in.battery_model = options.battery_model;
+  in.battery_tables = options.battery_tables;
+  if (logs.empty()) return in;
+  for (const std::string& name : logs.front().extra_numeric_columns()) {
+    double sum = 0;
+    std::size_t n = 0;
+    bool everywhere = true;
+    for (const auto& log : logs) {
+      if (!log.has(name)) {
+        everywhere = false;
+        break;
+      }
+      for (double x : log.col(name)) sum += x;
+      n += log.rows();
+    }
+    if (everywhere && n > 0) in.column_means[name] = sum / static_cast<double>(n);
+  }
+  return in;
+}
+
+nlohmann::json extended_model_json(const Report& r, const ModelInputs& inputs) {
   std::vector<std::string> left_out;
   nlohmann::json j;
   switch (r.kind) {
-    case logs::Kind::proximity: j = calibrate::model_to_json(extended_proximity(r, &left_out)); break;
-    case logs::Kind::light: j = calibrate::model_to_json(extended_light(r, &left_out)); break;
-    case logs::Kind::ground: j = calibrate::model_to_json(extended_ground(r, &left_out)); break;
-    case logs::Kind::camera: j = calibrate::model_to_json(extended_camera(r, &left_out)); break;
-    case logs::Kind::drive: j = calibrate::model_to_json(extended_drive(r, &left_out)); break;
-    default: return nlohmann::json::object();
+    case logs::Kind::proximity: j = calibrate::model_to_json(extended_proximity(r, &left_out, inputs)); break;
+    case logs::Kind::light: j = calibrate::model_to_json(extended_light(r, &left_out, inputs)); break;
+    case logs::Kind::ground: j = calibrate::model_to_json(extended_ground(r, &left_out, inputs)); break;
+    case logs::Kind::camera: j = calibrate::model_to_json(extended_camera(r, &left_out, inputs)); break;
+    case logs::Kind::drive: j = calibrate::model_to_json(extended_drive(r, &left_out, inputs)); break;
+    case logs::Kind::battery: j = calibrate::model_to_json(extended_battery(r, &left_out, inputs)); break;
   }
   if (!left_out.empty()) j["effects_not_in_model"] = left_out;
   return j;

@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,19 +18,42 @@
 
 namespace epuck2::diagnose {
 
-/// The extended model of a report, for the kinds lib/models has a model type of (proximity,
-/// light, ground, camera, drive). `left_out` receives the findings no model type represents
-/// (`covariate:` effects: a column the simulation does not know). Throws std::invalid_argument for
-/// other kinds.
-models::sensors::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* left_out = nullptr);
-models::sensors::LightModel extended_light(const Report& r, std::vector<std::string>* left_out = nullptr);
-models::sensors::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_out = nullptr);
-models::sensors::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_out = nullptr);
-models::sensors::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out = nullptr);
+/// What an extended model needs besides the report: the mean of every numeric extra column over
+/// the diagnosed rows (the centre of a `covariate:NAME` effect, reading = base + slope (NAME -
+/// centre)), and for battery logs the discharge model and tables the diagnosis ran.
+struct ModelInputs {
+  std::map<std::string, double> column_means;
+  models::battery::Model battery_model = models::battery::Model::cubic;
+  std::optional<models::battery::Tables> battery_tables;  ///< none: the plug-in's (as Options)
+};
 
-/// {"kind", "parameters", "effects", "noise"} of the report's extended model (calibrate::
-/// model_to_json), plus "effects_not_in_model" when some finding cannot be represented; an empty
-/// object for kinds without a model type (battery).
-nlohmann::json extended_model_json(const Report& r);
+/// The inputs of a diagnosis of `logs` under `options` (taken before the logs go to diagnose()):
+/// the mean over all rows of every numeric extra column that every log has. (The diagnosis
+/// centres on the mean over its residuals: the same rows less the wild readings it leaves out,
+/// and for drive logs the ToF and encoder residuals; a column that does not follow the
+/// experiment, such as a temperature, has the same mean over either to within its scatter.)
+ModelInputs model_inputs(const std::vector<logs::Log>& logs, const Options& options);
+
+/// The extended model of a report, one per kind (lib/models kinds.hpp). `left_out` receives the
+/// findings no model type represents (a `covariate:NAME` whose column has no mean in `inputs`).
+/// Throws std::invalid_argument when the report is of another kind.
+models::sensors::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* left_out = nullptr,
+                                                   const ModelInputs& inputs = {});
+models::sensors::LightModel extended_light(const Report& r, std::vector<std::string>* left_out = nullptr,
+                                           const ModelInputs& inputs = {});
+models::sensors::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_out = nullptr,
+                                             const ModelInputs& inputs = {});
+models::sensors::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_out = nullptr,
+                                             const ModelInputs& inputs = {});
+models::sensors::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out = nullptr,
+                                           const ModelInputs& inputs = {});
+/// The discharge model and tables of `inputs`, capacity_scale's k, the residual noise.
+models::sensors::BatteryModel extended_battery(const Report& r, std::vector<std::string>* left_out = nullptr,
+                                               const ModelInputs& inputs = {});
+
+/// {"kind", "parameters" (battery: "battery_model", "speeds", "simple"), "effects", "noise"} of
+/// the report's extended model (calibrate::model_to_json), plus "effects_not_in_model" when some
+/// finding cannot be represented.
+nlohmann::json extended_model_json(const Report& r, const ModelInputs& inputs = {});
 
 }  // namespace epuck2::diagnose

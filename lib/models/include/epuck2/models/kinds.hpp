@@ -4,6 +4,8 @@
 // coefficient file round-trips them (docs/coefficient-files.md), `codegen` emits them as constant
 // instances (epuck2::fitted::proximity(), ...), and the simulation (`epuck2-fit simulate KIND
 // --like LOG`, the ARGoS plug-in) runs them. Every formula is the one in the sensor's header.
+// Every kind also carries the `covariate:NAME` effects a diagnosis found (the reading drifts with
+// a logged column): a simulation that has the column adds covariate_offset() to the mean.
 //
 // Header-only, standard library only (epuck2::models).
 #pragma once
@@ -13,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "epuck2/models/battery.hpp"
@@ -22,6 +25,7 @@
 #include "epuck2/models/ground.hpp"
 #include "epuck2/models/light.hpp"
 #include "epuck2/models/noise.hpp"
+#include "epuck2/models/plugin_battery_tables.hpp"
 #include "epuck2/models/proximity.hpp"
 #include "epuck2/models/tof.hpp"
 
@@ -36,12 +40,33 @@ int noisy_register(double mean_raw, double sd_raw, double lo, double hi, Normal&
   return static_cast<int>(std::clamp(std::round(mean_raw + noise), lo, hi));
 }
 
+// ----- covariate:NAME, every kind -------------------------------------------------------------
+
+/// `covariate:NAME` (docs/diagnose.md): the reading drifts with a logged quantity, reading = base
+/// + slope (x - centre), x the row's value of the column `column` (e.g. temperature_c), centre the
+/// mean of that column over the rows the slope was fitted on. In the reading's units (counts, px,
+/// ToF mm, charge) per unit of the column.
+struct CovariateEffect {
+  std::string column;
+  double slope = 0;
+  double centre = 0;
+};
+
+/// The covariate effects' sum on one row: `value_of(column)` returns the row's value of a column.
+template <class ValueOf>
+double covariate_offset(const std::vector<CovariateEffect>& effects, ValueOf&& value_of) {
+  double sum = 0;
+  for (const CovariateEffect& e : effects) sum += e.slope * (value_of(e.column) - e.centre);
+  return sum;
+}
+
 // ----- proximity -------------------------------------------------------------------------------
 
 struct ProximityModel {
   ProximityCoefficients base = kPluginProximity;  ///< Eq. 1 (per-sensor differences: effects.gains)
   ProximityEffects<double> effects;
   std::array<double, kProximityCount> noise_sd_raw{};  ///< reading noise per sensor, counts
+  std::vector<CovariateEffect> covariates;             ///< counts per unit of each column
 };
 
 /// The mean reading (counts, before the clamp and the rounding). `distance_m` = nullopt: no hit.
@@ -51,11 +76,12 @@ inline double mean_raw(const ProximityModel& m, int sensor, std::optional<double
                             distance_m ? *distance_m : std::numeric_limits<double>::infinity(), cos_incidence);
 }
 /// The register: the mean (saturated, docs/diagnose.md) with noise, rounded, clamped to [0, 4095].
+/// `covariate_raw`: the covariate effects' sum on the row (covariate_offset), added to the mean.
 template <class Normal>
 int reading(const ProximityModel& m, int sensor, std::optional<double> distance_m, double cos_incidence,
-            Normal& normal) {
-  return noisy_register(mean_raw(m, sensor, distance_m, cos_incidence), m.noise_sd_raw[static_cast<std::size_t>(sensor)],
-                        0.0, kProximityFullScale_raw, normal);
+            Normal& normal, double covariate_raw = 0.0) {
+  return noisy_register(mean_raw(m, sensor, distance_m, cos_incidence) + covariate_raw,
+                        m.noise_sd_raw[static_cast<std::size_t>(sensor)], 0.0, kProximityFullScale_raw, normal);
 }
 
 // ----- light -----------------------------------------------------------------------------------
@@ -64,15 +90,18 @@ struct LightModel {
   LightCoefficients base = kPluginLight;
   LightEffects<double> effects;
   std::array<double, kProximityCount> noise_sd_raw{};  ///< reading noise per sensor, counts
+  std::vector<CovariateEffect> covariates;             ///< counts per unit of each column
 };
 
 inline double mean_raw(const LightModel& m, int sensor, double intensity, double distance_m) {
   return light_mean_raw(m.base, m.effects, sensor, intensity, distance_m);
 }
+/// `covariate_raw`: the covariate effects' sum on the row (covariate_offset), added to the mean.
 template <class Normal>
-int reading(const LightModel& m, int sensor, double intensity, double distance_m, Normal& normal) {
-  return noisy_register(mean_raw(m, sensor, intensity, distance_m), m.noise_sd_raw[static_cast<std::size_t>(sensor)], 0.0,
-                        kProximityFullScale_raw, normal);
+int reading(const LightModel& m, int sensor, double intensity, double distance_m, Normal& normal,
+            double covariate_raw = 0.0) {
+  return noisy_register(mean_raw(m, sensor, intensity, distance_m) + covariate_raw,
+                        m.noise_sd_raw[static_cast<std::size_t>(sensor)], 0.0, kProximityFullScale_raw, normal);
 }
 
 // ----- ground ----------------------------------------------------------------------------------
@@ -82,15 +111,17 @@ struct GroundModel {
   std::array<GroundCoefficients, kGroundCount> sensors{kPluginGround, kPluginGround, kPluginGround};
   GroundNonlinear<double> effects;
   std::array<double, kGroundCount> noise_sd_raw{};  ///< reading noise per sensor, counts
+  std::vector<CovariateEffect> covariates;          ///< counts per unit of each column
 };
 
 /// `grey` in [0, 1] (0 black).
 inline double mean_raw(const GroundModel& m, int sensor, double grey) {
   return ground_mean_raw(m.sensors[static_cast<std::size_t>(sensor)], m.effects, grey);
 }
+/// `covariate_raw`: the covariate effects' sum on the row (covariate_offset), added to the mean.
 template <class Normal>
-int reading(const GroundModel& m, int sensor, double grey, Normal& normal) {
-  return noisy_register(mean_raw(m, sensor, grey), m.noise_sd_raw[static_cast<std::size_t>(sensor)], 0.0,
+int reading(const GroundModel& m, int sensor, double grey, Normal& normal, double covariate_raw = 0.0) {
+  return noisy_register(mean_raw(m, sensor, grey) + covariate_raw, m.noise_sd_raw[static_cast<std::size_t>(sensor)], 0.0,
                         kGroundFullScale_raw, normal);
 }
 
@@ -100,6 +131,7 @@ struct CameraModel {
   CameraCoefficients base = plugin_camera();  ///< field of view in radians, centre in pixels
   CameraRadialDistortion<double> distortion;
   double noise_sd_px = 0;  ///< pixel noise of an LED's image position (each axis)
+  std::vector<CovariateEffect> covariates;  ///< px per unit of each column, on both axes
 };
 
 /// The image position (px, py) of a point in the camera frame, before rounding.
@@ -110,12 +142,15 @@ inline std::array<double, 2> mean_px(const CameraModel& m, double forward_m, dou
   return p;
 }
 /// The reported pixel: rounded, with the noise, not clamped (an LED beyond the image edge has a
-/// position outside it in the logs too).
+/// position outside it in the logs too). `covariate_px`: the covariate effects' sum on the row
+/// (covariate_offset), added to both axes as the diagnosis fits it.
 template <class Normal>
-std::array<int, 2> reading(const CameraModel& m, double forward_m, double lateral_m, double vertical_m, Normal& normal) {
+std::array<int, 2> reading(const CameraModel& m, double forward_m, double lateral_m, double vertical_m, Normal& normal,
+                           double covariate_px = 0.0) {
   const auto p = mean_px(m, forward_m, lateral_m, vertical_m);
   const double big = std::numeric_limits<int>::max() / 2.0;
-  return {noisy_register(p[0], m.noise_sd_px, -big, big, normal), noisy_register(p[1], m.noise_sd_px, -big, big, normal)};
+  return {noisy_register(p[0] + covariate_px, m.noise_sd_px, -big, big, normal),
+          noisy_register(p[1] + covariate_px, m.noise_sd_px, -big, big, normal)};
 }
 
 // ----- drive -----------------------------------------------------------------------------------
@@ -126,6 +161,7 @@ struct DriveModel {
   DriveEffects<double> effects;
   double tof_noise_sd_mm = 0;       ///< ToF reading noise, mm
   double encoder_noise_sd_steps = 0;  ///< encoder register noise, steps
+  std::vector<CovariateEffect> covariates;  ///< ToF mm per unit of each column (the encoders: none)
 };
 
 /// A drive simulated row by row: the commands hold from one row to the next (zero-order hold),
@@ -137,19 +173,21 @@ class DriveSimulation {
 
   /// The readings at time t under the command that held since the previous call (the first call
   /// is time 0 of the run: nothing has moved), then the command that holds from t.
+  /// `tof_covariate_mm`: the covariate effects' sum on the row (covariate_offset), added to the
+  /// ToF's mean as the diagnosis fits it.
   struct Readings {
     int tof_mm = 0;
     int left_steps = 0, right_steps = 0;
   };
   template <class Normal>
-  Readings sample(double time_s, double left_cm_s, double right_cm_s, Normal& normal) {
+  Readings sample(double time_s, double left_cm_s, double right_cm_s, Normal& normal, double tof_covariate_mm = 0.0) {
     if (started_) advance_to(time_s);
     started_ = true;
     history_.push_back({time_s, state_});
     commands_.push_back({left_cm_s, right_cm_s});
     Readings r;
     const double xg = delayed_travel(time_s);
-    const double tof = drive_tof_mean_mm(m_.effects, obstacle_m_, xg);
+    const double tof = drive_tof_mean_mm(m_.effects, obstacle_m_, xg) + tof_covariate_mm;
     r.tof_mm = noisy_register(tof, m_.tof_noise_sd_mm, m_.tof.min_mm, m_.tof.max_mm, normal);
     r.left_steps = encoder_register(state_.xl, normal);
     r.right_steps = encoder_register(state_.xr, normal);
@@ -191,5 +229,49 @@ class DriveSimulation {
   std::vector<Past> history_;
   std::vector<std::array<double, 2>> commands_;
 };
+
+// ----- battery ---------------------------------------------------------------------------------
+
+struct BatteryModel {
+  battery::Model model = battery::Model::cubic;          ///< the discharge model (paper Appendix)
+  battery::Tables tables = battery::plugin_tables();     ///< its coefficient tables per speed
+  battery::CapacityScale capacity;                       ///< capacity_scale (docs/diagnose.md)
+  double noise_sd = 0;                                   ///< charge reading noise (normalised charge)
+  std::vector<CovariateEffect> covariates;               ///< charge per unit of each column
+};
+
+/// A charge reading at or above this at a run's first row is the full charge the run starts
+/// from, seen through the reading's noise (docs/logs.md: a discharge run starts fully charged).
+inline constexpr double kBatteryStartsFull = 0.9;
+
+/// The charge of a discharge log row by row, as the diagnosis simulates it (docs/diagnose.md,
+/// "battery"): the corrected behaviour with the capacity scale, one step per row interval (a
+/// speed holds from its row to the next; the robot spins in place, each wheel at that speed),
+/// from a full charge when the first reading is >= kBatteryStartsFull, else from that reading.
+/// A repeated time stamp is a step of no length. `time_s` and `speed_cm_s` have one entry a row.
+template <class Times, class Speeds>
+std::vector<double> battery_mean_charge(const BatteryModel& m, const Times& time_s, const Speeds& speed_cm_s,
+                                        double first_reading) {
+  const std::size_t n = time_s.size();
+  std::vector<double> out(n);
+  double charge = first_reading >= kBatteryStartsFull ? 1.0 : first_reading;
+  for (std::size_t i = 0; i < n; ++i) {
+    out[i] = charge;
+    if (i + 1 == n) break;
+    const double dt = time_s[i + 1] - time_s[i];
+    if (dt == 0) continue;
+    charge = battery::step(m.model, m.tables, m.capacity, charge, std::abs(speed_cm_s[i]) / 100.0 * dt, dt);
+  }
+  return out;
+}
+
+/// A charge reading: the mean plus the covariate effects' sum on the row (covariate_offset) and
+/// Gaussian noise of noise_sd, bounded as a log holds a normalised charge ([-1, 1.05],
+/// docs/logs.md); not rounded (a charge is no register).
+template <class Normal>
+double charge_reading(const BatteryModel& m, double mean_charge, Normal& normal, double covariate = 0.0) {
+  const double noise = m.noise_sd > 0 ? m.noise_sd * normal() : 0.0;
+  return std::clamp(mean_charge + covariate + noise, -1.0, 1.05);
+}
 
 }  // namespace epuck2::models::sensors
