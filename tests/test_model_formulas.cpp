@@ -319,6 +319,30 @@ TEST(ModelFormulas, ProximityLongTail) {
   }
 }
 
+TEST(ModelFormulas, ProximityLongTailWithNoHitIsZeroWithFiniteDerivatives) {
+  // No hit (kinds.hpp passes +inf; proximity_response treats inf and NaN as no hit): the tail's
+  // limit is 0, and so are its derivatives (d/dlength of A e^{-d/L} = A d/L^2 e^{-d/L} -> 0).
+  // A Jet used to compute -inf / length with derivative 0 * inf = NaN and poison every gradient.
+  using J = ceres::Jet<double, 2>;
+  for (double d : {kInf, std::numeric_limits<double>::quiet_NaN()}) {
+    EXPECT_EQ(s::proximity_tail_raw(s::ProximityLongTail<double>{150.0, 0.02}, d), 0.0);
+    EXPECT_EQ(s::proximity_tail_raw(s::ProximityLongTail<float>{150.0f, 0.02f}, d), 0.0f);
+    const J v = s::proximity_tail_raw(s::ProximityLongTail<J>{J(150.0, 0), J(0.02, 1)}, d);
+    EXPECT_EQ(v.a, 0.0);
+    EXPECT_EQ(v.v[0], 0.0);
+    EXPECT_EQ(v.v[1], 0.0);
+    // The whole mean: a no-hit row reads the offset, with derivative 1 in it and finite elsewhere.
+    s::ProximityEffects<J> e;
+    e.ambient.offset_raw = J(12.0, 0);
+    e.tail.amplitude_raw = J(150.0, 1);
+    const J abc[3] = {J(197.8633), J(-30.47182), J(1.011635)};
+    const J m = s::proximity_mean_raw(abc, 0.05, e, 2, d, 1.0);
+    EXPECT_EQ(m.a, 12.0);
+    EXPECT_EQ(m.v[0], 1.0);
+    EXPECT_EQ(m.v[1], 0.0);
+  }
+}
+
 TEST(ModelFormulas, ProximityIncidenceFactor) {
   // incidence_angle: cos(theta)^k. p = {k}. Awkward: k = 0 (neutral), k near 1 and 2, cos = 1
   // exactly (log 0 in the derivative: d/dk = ln(1) = 0), a tiny cos (near grazing incidence).

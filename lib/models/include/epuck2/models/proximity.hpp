@@ -99,10 +99,13 @@ struct ProximityEffects {
   ProximitySaturation<T> saturation;
 };
 
-/// The long tail's contribution in counts at distance d.
+/// The long tail's contribution in counts at distance d; 0 when there was no hit (d infinite or
+/// NaN, as proximity_response and kinds.hpp's mean_raw take it), the limit of exp(-d/length) and
+/// of its derivatives (a Jet's -inf / length would carry 0 * inf = NaN derivatives).
 template <typename T>
 T proximity_tail_raw(const ProximityLongTail<T>& e, double distance_m) {
   using std::exp;
+  if (!std::isfinite(distance_m)) return T(0.0);
   return e.amplitude_raw * exp(-distance_m / e.length_m);
 }
 
