@@ -359,6 +359,26 @@ TEST(ModelFormulas, ProximityIncidenceFactor) {
   }
 }
 
+TEST(ModelFormulas, ProximityIncidenceAtAndPastGrazing) {
+  // cos <= 0 (90 degrees and beyond): the header's "0 at grazing incidence" for k > 0, but the
+  // neutral k = 0 must leave the plug-in's model alone (it has no angle): cos^0 = 1. The
+  // diagnosis evaluates the base model with the logged angle's cos when a log has angle_deg.
+  // Not differentiable in k there (0^k jumps at k = 0): only the values and finite derivatives.
+  using J = ceres::Jet<double, 1>;
+  for (double c : {0.0, -1e-12, -0.5, -1.0}) {
+    EXPECT_EQ(s::proximity_incidence_factor(s::ProximityIncidence<double>{}, c), 1.0) << c;
+    EXPECT_EQ(s::proximity_incidence_factor(s::ProximityIncidence<float>{}, c), 1.0f) << c;
+    EXPECT_EQ(s::proximity_incidence_factor(s::ProximityIncidence<J>{}, c).a, 1.0) << c;
+    for (double k : {1e-6, 1.0, 3.0}) {
+      EXPECT_EQ(s::proximity_incidence_factor(s::ProximityIncidence<double>{k}, c), 0.0) << c << " " << k;
+      EXPECT_EQ(s::proximity_incidence_factor(s::ProximityIncidence<float>{static_cast<float>(k)}, c), 0.0f);
+      const J v = s::proximity_incidence_factor(s::ProximityIncidence<J>{J(k, 0)}, c);
+      EXPECT_EQ(v.a, 0.0);
+      EXPECT_TRUE(std::isfinite(v.v[0]));
+    }
+  }
+}
+
 namespace {
 
 /// proximity_mean_raw with p = {a, b, c, offset, g_s, amplitude, length, k, level} for `sensor`
@@ -464,6 +484,33 @@ TEST(ModelFormulas, ProximityMeanRawEachEffectAtItsDefaultWithTheOthersOn) {
       const double abc[3] = {kA, kB, kC};
       EXPECT_NEAR(s::proximity_mean_raw(abc, 0.05, e, 3, d, 0.8), proximity_by_hand(p, 0.05, d, 0.8), 1e-9)
           << "effect " << which << " neutral, d = " << d;
+    }
+  }
+}
+
+TEST(ModelFormulas, ProximityNeutralEffectsGiveThePluginReadingExactly) {
+  // Default effects: exactly 4095 clamp01(poly) for d <= range, 0 beyond or without a hit (the
+  // base, proximity_response), at every angle (k = 0 ignores it), for every sensor, for double,
+  // float (its own base: 4095 clamp01(poly) in float) and Jet (value).
+  using J = ceres::Jet<double, 3>;
+  const double abc[3] = {kA, kB, kC};
+  const float abcf[3] = {static_cast<float>(kA), static_cast<float>(kB), static_cast<float>(kC)};
+  const J abcj[3] = {J(kA, 0), J(kB, 1), J(kC, 2)};
+  const s::ProximityEffects<double> e;
+  const s::ProximityEffects<float> ef;
+  const s::ProximityEffects<J> ej;
+  for (double d : {0.0, 1e-7, 0.005, 0.02, 0.045, 0.0484, 0.049, 0.05, 0.0500001, 0.3, kInf}) {
+    for (double c : {1.0, 0.8, 1e-6, 0.0, -0.4}) {
+      for (int sensor = 0; sensor < s::kProximityCount; ++sensor) {
+        const double base = kFull * s::proximity_response(s::kPluginProximity, d);
+        EXPECT_EQ(s::proximity_mean_raw(abc, 0.05, e, sensor, d, c), base) << d << " " << c << " " << sensor;
+        EXPECT_EQ(s::proximity_mean_raw(s::kPluginProximity, e, sensor, d, c), base);
+        const J vj = s::proximity_mean_raw(abcj, 0.05, ej, sensor, d, c);
+        EXPECT_EQ(vj.a, base);
+        const float polyf = s::proximity_polynomial(abcf, d);
+        const float basef = d <= 0.05 ? static_cast<float>(kFull) * std::min(std::max(polyf, 0.0f), 1.0f) : 0.0f;
+        EXPECT_EQ(s::proximity_mean_raw(abcf, 0.05, ef, sensor, d, c), basef) << d << " " << c;
+      }
     }
   }
 }

@@ -109,12 +109,13 @@ T proximity_tail_raw(const ProximityLongTail<T>& e, double distance_m) {
   return e.amplitude_raw * exp(-distance_m / e.length_m);
 }
 
-/// cos(theta)^k for cos(theta) >= 0 from the data (0 at grazing incidence, and no log of 0 in the
-/// derivative).
+/// cos(theta)^k for cos(theta) >= 0 from the data (0 at grazing incidence and beyond, and no log
+/// of 0 in the derivative), except at the neutral k = 0: 1 at every angle, the plug-in's model,
+/// which has no angle (cos^0 = 1; the base model is evaluated with the logged angle too).
 template <typename T>
 T proximity_incidence_factor(const ProximityIncidence<T>& e, double cos_incidence) {
   using std::exp;
-  if (!(cos_incidence > 0)) return T(0.0);
+  if (!(cos_incidence > 0)) return e.k == T(0.0) ? T(1.0) : T(0.0);
   if (cos_incidence == 1.0) return T(1.0);
   return exp(e.k * std::log(cos_incidence));
 }
