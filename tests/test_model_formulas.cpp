@@ -589,6 +589,33 @@ TEST(ModelFormulas, LightMeanRawEveryEffect) {
   check_light("no intensity", {g, 15.0, 1.1, 2.3}, 0.0, 0.2);
 }
 
+TEST(ModelFormulas, LightNeutralEffectsGiveThePluginReadingExactly) {
+  // Default effects: exactly 4095 (1 - (gamma I / d)^2) (light_response, the plug-in's Eq. 2
+  // before its clamp) within range with I > 0, 4095 otherwise; double, float (against float's own
+  // light_response) and Jet (value; its gamma divides, so against the Jet's light_response).
+  using J = ceres::Jet<double, 1>;
+  const s::LightEffects<double> e;
+  const s::LightEffects<float> ef;
+  const s::LightEffects<J> ej;
+  const double g = s::kPluginLight.gamma_m;
+  for (double d : {1e-4, 0.05, 0.075, 0.1, 0.123, 0.2, 0.37, 0.5, 0.5000001, 3.0}) {
+    for (double intensity : {0.0, 0.3, 1.0, 1.7}) {
+      for (int sensor = 0; sensor < s::kProximityCount; ++sensor) {
+        const bool lit = d <= 0.5 && intensity > 0;
+        const double base = lit ? kFull * s::light_response(g, intensity, d) : kFull;
+        EXPECT_EQ(s::light_mean_raw(g, 0.5, e, sensor, intensity, d), base) << d << " " << intensity;
+        EXPECT_EQ(s::light_mean_raw(s::kPluginLight, e, sensor, intensity, d), base);
+        const float gf = static_cast<float>(g);
+        const float basef = lit ? static_cast<float>(kFull) * s::light_response(gf, intensity, d) : static_cast<float>(kFull);
+        EXPECT_EQ(s::light_mean_raw(gf, 0.5, ef, sensor, intensity, d), basef) << d << " " << intensity;
+        const J gj(g, 0);
+        const J basej = lit ? kFull * s::light_response(gj, intensity, d) : J(kFull);
+        EXPECT_EQ(s::light_mean_raw(gj, 0.5, ej, sensor, intensity, d).a, basej.a) << d << " " << intensity;
+      }
+    }
+  }
+}
+
 // =============================================================================================
 // ground.hpp
 // =============================================================================================
