@@ -693,6 +693,23 @@ TEST(ModelFormulas, GroundCatalogueEffectsThroughOffsetAndGain) {
   }
 }
 
+TEST(ModelFormulas, GroundNeutralNonlinearGivesTheLinearReadingExactly) {
+  // GroundNonlinear{} (exponent 1): exactly ground_response, offset + gain grey, in double,
+  // float and Jet, and through the double wrapper.
+  using J = ceres::Jet<double, 2>;
+  for (double grey : {0.0, 1e-9, 1e-6, 0.1, 1.0 / 3.0, 0.5, 0.7, 0.999, 1.0}) {
+    for (const s::GroundCoefficients& k : {s::kPluginGround, s::GroundCoefficients{950.0, 61.4}, s::GroundCoefficients{1000.3, -7.25}}) {
+      const double base = s::ground_response(k.gain_raw, k.offset_raw, grey);
+      EXPECT_EQ(s::ground_mean_raw(k.offset_raw, k.gain_raw, s::GroundNonlinear<double>{}, grey), base) << grey;
+      EXPECT_EQ(s::ground_mean_raw(k, s::GroundNonlinear<double>{}, grey), base) << grey;
+      const float of = static_cast<float>(k.offset_raw), gf = static_cast<float>(k.gain_raw);
+      EXPECT_EQ(s::ground_mean_raw(of, gf, s::GroundNonlinear<float>{}, grey), s::ground_response(gf, of, grey)) << grey;
+      const J oj(k.offset_raw, 0), gj(k.gain_raw, 1);
+      EXPECT_EQ(s::ground_mean_raw(oj, gj, s::GroundNonlinear<J>{}, grey).a, base) << grey;
+    }
+  }
+}
+
 // =============================================================================================
 // tof.hpp
 // =============================================================================================
@@ -1182,6 +1199,23 @@ TEST(ModelFormulas, BatteryCapacityScale) {
 // =============================================================================================
 // kinds.hpp: the models the simulation runs (double)
 // =============================================================================================
+
+TEST(ModelFormulas, DefaultModelsGiveThePluginReadings) {
+  const s::ProximityModel prox;
+  const s::LightModel light;
+  const s::GroundModel ground;
+  for (int sensor = 0; sensor < s::kProximityCount; ++sensor) {
+    for (double d : {0.0, 0.01, 0.03, 0.05, 0.07}) {
+      EXPECT_EQ(s::mean_raw(prox, sensor, d), kFull * s::proximity_response(s::kPluginProximity, d));
+      EXPECT_EQ(s::mean_raw(prox, sensor, d, -0.2), kFull * s::proximity_response(s::kPluginProximity, d));
+      EXPECT_EQ(s::mean_raw(light, sensor, 1.0, d + 0.08), kFull * s::light_response(s::kPluginLight.gamma_m, 1.0, d + 0.08));
+    }
+    EXPECT_EQ(s::mean_raw(prox, sensor, std::nullopt), 0.0);
+    EXPECT_EQ(s::mean_raw(light, sensor, 1.0, 0.6), kFull);
+  }
+  for (int sensor = 0; sensor < s::kGroundCount; ++sensor)
+    for (double grey : {0.0, 0.2, 1.0 / 3.0, 1.0}) EXPECT_EQ(s::mean_raw(ground, sensor, grey), 1023.0 * grey);
+}
 
 TEST(ModelFormulas, DriveSimulationLatencyAndItsNeutralValue) {
   // latency: the ToF reading at t is the true one at t - delay (docs/diagnose.md), in the
