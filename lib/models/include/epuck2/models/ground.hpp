@@ -71,10 +71,13 @@ struct GroundNonlinear {
 template <typename T>
 T ground_mean_raw(const T& offset_raw, const T& gain_raw, const GroundNonlinear<T>& e, double grey) {
   using std::exp;
-  // grey^exponent for grey >= 0 from the data; 0 for grey 0 (no log of 0 in the derivative).
-  T response(0.0);
-  if (grey > 0) response = grey == 1.0 ? T(1.0) : exp(e.exponent * std::log(grey));
-  return offset_raw + gain_raw * response;
+  // grey^exponent for grey >= 0 from the data: 0 for grey 0 and 1 for grey 1 (no log of 0, and
+  // d/dexponent = ln 1 = 0), else grey grey^(exponent - 1), whose second factor is exp(0) = 1
+  // exactly at the neutral exponent 1: the reading is then ground_response's offset + gain grey
+  // bit for bit, in every scalar. The exponent's derivative is grey^p ln(grey) as before.
+  if (!(grey > 0)) return ground_response(gain_raw, offset_raw, 0.0);
+  if (grey == 1.0) return ground_response(gain_raw, offset_raw, 1.0);
+  return offset_raw + gain_raw * grey * exp((e.exponent - T(1.0)) * std::log(grey));
 }
 
 inline double ground_mean_raw(const GroundCoefficients& k, const GroundNonlinear<double>& e, double grey) {

@@ -94,7 +94,11 @@ T light_mean_raw(const T& gamma_m, double range_m, const LightEffects<T>& e, int
   T v(kProximityFullScale_raw);
   if (distance_m <= range_m && intensity > 0) {
     const T ratio = gamma_m * intensity / distance_m;
-    v = kProximityFullScale_raw * (1.0 - e.gains.gain[static_cast<std::size_t>(sensor)] * exp(e.falloff.exponent * log(ratio)));
+    // ratio^exponent as ratio^2 ratio^(exponent - 2): at the neutral exponent 2 the second factor
+    // is exp(0) = 1 exactly, so the reading is light_response's 1 - ratio^2 bit for bit (in every
+    // scalar: the arithmetic stays in T); the exponent's derivative is ratio^p ln(ratio) as before.
+    const T power = ratio * ratio * exp((e.falloff.exponent - T(2.0)) * log(ratio));
+    v = T(kProximityFullScale_raw) * (T(1.0) - e.gains.gain[static_cast<std::size_t>(sensor)] * power);
   }
   return v - e.ambient.offset_raw;
 }

@@ -99,19 +99,23 @@ struct ProximityEffects {
   ProximitySaturation<T> saturation;
 };
 
-/// The long tail's contribution in counts at distance d.
+/// The long tail's contribution in counts at distance d; 0 when there was no hit (d infinite or
+/// NaN, as proximity_response and kinds.hpp's mean_raw take it), the limit of exp(-d/length) and
+/// of its derivatives (a Jet's -inf / length would carry 0 * inf = NaN derivatives).
 template <typename T>
 T proximity_tail_raw(const ProximityLongTail<T>& e, double distance_m) {
   using std::exp;
+  if (!std::isfinite(distance_m)) return T(0.0);
   return e.amplitude_raw * exp(-distance_m / e.length_m);
 }
 
-/// cos(theta)^k for cos(theta) >= 0 from the data (0 at grazing incidence, and no log of 0 in the
-/// derivative).
+/// cos(theta)^k for cos(theta) >= 0 from the data (0 at grazing incidence and beyond, and no log
+/// of 0 in the derivative), except at the neutral k = 0: 1 at every angle, the plug-in's model,
+/// which has no angle (cos^0 = 1; the base model is evaluated with the logged angle too).
 template <typename T>
 T proximity_incidence_factor(const ProximityIncidence<T>& e, double cos_incidence) {
   using std::exp;
-  if (!(cos_incidence > 0)) return T(0.0);
+  if (!(cos_incidence > 0)) return e.k == T(0.0) ? T(1.0) : T(0.0);
   if (cos_incidence == 1.0) return T(1.0);
   return exp(e.k * std::log(cos_incidence));
 }
