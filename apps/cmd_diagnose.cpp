@@ -100,6 +100,7 @@ std::string meaning(const std::string& cause) {
       {"white_level", "white reads a different level than the model's full scale"},
       {"sensor_gain", "the sensors disagree: each has its own gain"},
       {"nonlinear_response", "the reading is not proportional to the grey level"},
+      {"sensor_offset", "each sensor reads its own level over black"},
       {"ambient_offset", "ambient light shifts every reading by the same amount"},
       {"long_tail", "the sensor still responds beyond the model's cut-off"},
       {"incidence_angle", "readings fall as the surface tilts away from the sensor"},

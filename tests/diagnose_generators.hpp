@@ -42,7 +42,8 @@ struct Hidden {
 inline std::vector<std::string> hidden_effects(logs::Kind kind) {
   switch (kind) {
     case logs::Kind::ground:
-      return {"none", "black_offset", "white_level", "sensor_gain", "nonlinear_response", "covariate:temperature_c", "quadratic:temperature_c"};
+      return {"none", "black_offset", "white_level", "sensor_gain", "nonlinear_response", "sensor_offset", "covariate:temperature_c",
+              "quadratic:temperature_c"};
     case logs::Kind::light:
       return {"none", "ambient_offset", "falloff_exponent", "sensor_gain", "covariate:temperature_c", "quadratic:temperature_c"};
     case logs::Kind::camera:
@@ -123,7 +124,9 @@ inline std::string ground_log(std::uint64_t seed, Hidden& h) {
   Draw d(seed);
   const int n = d.integer(300, 900);
   double offset = 0, level = s::kGroundFullScale_raw, p = 1;
-  std::array<double, 3> gain{1, 1, 1};
+  std::array<double, 3> gain{1, 1, 1}, own_offset{0, 0, 0};
+  if (h.cause == "sensor_offset")  // relative to sensor 0 (the first seen)
+    for (int k = 1; k < 3; ++k) h.truth["offsets[" + std::to_string(k) + "]"] = own_offset[static_cast<std::size_t>(k)] = d.signed_size(20, 60);
   if (h.cause == "black_offset") h.truth["offset"] = offset = d.uniform(30, 90);
   if (h.cause == "white_level") h.truth["level"] = level = d.uniform(850, 980);
   if (h.cause == "nonlinear_response") h.truth["exponent"] = p = d.uniform(0, 1) < 0.5 ? d.uniform(0.7, 0.87) : d.uniform(1.15, 1.5);
@@ -137,7 +140,8 @@ inline std::string ground_log(std::uint64_t seed, Hidden& h) {
     const double grey = d.integer(0, 10) / 10.0;
     const int sensor = d.integer(0, 2);
     const double t = d.uniform(20, 40);
-    const double v = offset + (level - offset) * gain[static_cast<std::size_t>(sensor)] * std::pow(grey, p) + temp.effect(t) + kNoise * d.normal();
+    const double black = offset + own_offset[static_cast<std::size_t>(sensor)];
+    const double v = black + (level - black) * gain[static_cast<std::size_t>(sensor)] * std::pow(grey, p) + temp.effect(t) + kNoise * d.normal();
     out += fmt(grey) + "," + std::to_string(sensor) + "," + fmt(std::clamp(std::round(v), 0.0, s::kGroundFullScale_raw)) + "," + fmt(std::round(t * 10) / 10) + "\n";
   }
   return out;

@@ -229,6 +229,7 @@ INSTANTIATE_TEST_SUITE_P(
     EveryStaticKind, ModelLoop,
     ::testing::Values(Case{logs::Kind::ground, "black_offset", 3, 5.0}, Case{logs::Kind::ground, "white_level", 3, 5.0},
                       Case{logs::Kind::ground, "nonlinear_response", 3, 5.0}, Case{logs::Kind::ground, "sensor_gain", 3, 5.0},
+                      Case{logs::Kind::ground, "sensor_offset", 3, 5.0},
                       Case{logs::Kind::light, "ambient_offset", 3, 15.0}, Case{logs::Kind::light, "falloff_exponent", 3, 15.0},
                       Case{logs::Kind::light, "sensor_gain", 3, 15.0}, Case{logs::Kind::proximity, "ambient_offset", 3, 10.0},
                       Case{logs::Kind::proximity, "long_tail", 3, 10.0}, Case{logs::Kind::proximity, "saturation", 3, 10.0},

@@ -150,18 +150,21 @@ s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out
 
 s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::ground);
-  const Values v = values_of(r, left_out, {"black_offset", "white_level", "sensor_gain", "nonlinear_response"});
+  const Values v = values_of(r, left_out, {"black_offset", "white_level", "sensor_gain", "nonlinear_response", "sensor_offset"});
   s::GroundModel m = base_of<s::GroundModel>(r);
   // The catalogue's effects relative to each sensor's base (B_s over black, G_s from black to
-  // white; the plug-in's 0 and 1023): sensor s has the black offset B_s + `offset` and the gain
-  // G_s (level - offset) / 1023 g_s (the diagnosis's ground model, kinds.cpp).
+  // white; the plug-in's 0 and 1023): sensor s has the black offset B_s + o_s and the gain
+  // G_s (level - o_s) / 1023 g_s, o_s = offset + offsets[s] (the diagnosis's ground model,
+  // kinds.cpp).
   const double offset = v.at("black_offset", "offset", 0.0);
   const double level = v.at("white_level", "level", s::kGroundFullScale_raw);
   std::array<double, s::kGroundCount> ones;
   ones.fill(1.0);
   const auto g = gains<s::kGroundCount>(v, "sensor_gain", ones);
-  for (std::size_t k = 0; k < m.sensors.size(); ++k)
-    m.sensors[k] = {m.sensors[k].gain_raw * (level - offset) / s::kGroundFullScale_raw * g[k], m.sensors[k].offset_raw + offset};
+  for (std::size_t k = 0; k < m.sensors.size(); ++k) {
+    const double black = offset + v.optional_at("sensor_offset", "offsets[" + std::to_string(k) + "]", 0.0);
+    m.sensors[k] = {m.sensors[k].gain_raw * (level - black) / s::kGroundFullScale_raw * g[k], m.sensors[k].offset_raw + black};
+  }
   m.effects.exponent = v.at("nonlinear_response", "exponent", m.effects.exponent);
   m.covariates = covariates(r, inputs, left_out);
   m.noise_sd_raw.fill(register_noise(r.noise_sd));

@@ -58,7 +58,8 @@ std::vector<int> sensors_seen(const std::vector<double>& sensor) {
 
 // ---------------------------------------------------------------------------------------------
 // ground: v = 1023 grey (the plug-in's source); catalogue: black_offset, white_level,
-// sensor_gain, nonlinear_response. Combined: v = offset + (level - offset) g_s grey^p.
+// sensor_gain, nonlinear_response, sensor_offset (each sensor's own black offset, relative to the
+// first sensor seen). Combined: v = o_s + (level - o_s) g_s grey^p with o_s = offset + offsets[s].
 class Ground : public ProblemOf<Ground> {
  public:
   using BaseModel = s::GroundModel;
@@ -83,8 +84,18 @@ class Ground : public ProblemOf<Ground> {
     for (int k : sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end())))
       if (k >= 0 && k < s::kGroundCount) gains.params.push_back(gain_[static_cast<std::size_t>(k)]);
     exponent_ = add_param(*this, "exponent", 1.0, 1.0, 0.05, 20.0);
+    // Per-sensor black offsets (the real robots' ground sensors differ over black), relative to
+    // the first sensor seen, whose offset is the common black_offset.
+    Effect offsets{"sensor_offset", {}};
+    for (int k = 0; k < s::kGroundCount; ++k)
+      sensor_offset_[static_cast<std::size_t>(k)] =
+          add_param(*this, "offsets[" + std::to_string(k) + "]", 0.0, 0.0, -s::kGroundFullScale_raw, s::kGroundFullScale_raw);
+    const auto seen = sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end()));
+    for (std::size_t j = 1; j < seen.size(); ++j)
+      if (seen[j] >= 0 && seen[j] < s::kGroundCount) offsets.params.push_back(sensor_offset_[static_cast<std::size_t>(seen[j])]);
     effects = {{"black_offset", {offset_}}, {"white_level", {level_}}, {"nonlinear_response", {exponent_}}};
     if (gains.params.size() >= 2) effects.push_back(gains);
+    if (!offsets.params.empty()) effects.push_back(offsets);
     std::vector<double> sensor_d(sensor_.begin(), sensor_.end());
     covariates.emplace_back("grey", grey_);
     covariates.emplace_back("sensor", std::move(sensor_d));
@@ -131,16 +142,18 @@ class Ground : public ProblemOf<Ground> {
 
   // The catalogue's parameters map onto lib/models' ground response, relative to each sensor's
   // base (B_s over black, G_s from black to white; the plug-in's: 0 and 1023): sensor s has the
-  // black offset B_s + `offset` and the gain G_s (level - offset) / 1023 g_s; exponent is the
-  // nonlinear response. With the plug-in's base: offset and (level - offset) g_s.
+  // black offset B_s + o_s and the gain G_s (level - o_s) / 1023 g_s, with o_s = offset +
+  // offsets[s]; exponent is the nonlinear response. With the plug-in's base: o_s and
+  // (level - o_s) g_s.
   template <typename T>
   void eval(const T* p, T* out, std::size_t /*needed: every row is computed*/) const {
     s::GroundNonlinear<T> nonlinear;
     nonlinear.exponent = p[exponent_];
     std::array<T, s::kGroundCount> gain, offset;
     for (std::size_t k = 0; k < gain.size(); ++k) {
-      gain[k] = (p[level_] - p[offset_]) * p[gain_[k]] * (base_[k].gain_raw / s::kGroundFullScale_raw);
-      offset[k] = p[offset_] + base_[k].offset_raw;
+      const T black = p[offset_] + p[sensor_offset_[k]];
+      gain[k] = (p[level_] - black) * p[gain_[k]] * (base_[k].gain_raw / s::kGroundFullScale_raw);
+      offset[k] = black + base_[k].offset_raw;
     }
     for (std::size_t i = 0; i < grey_.size(); ++i) {
       const std::size_t k = static_cast<std::size_t>(sensor_[i]);
@@ -153,7 +166,7 @@ class Ground : public ProblemOf<Ground> {
   std::vector<int> sensor_;
   std::array<s::GroundCoefficients, s::kGroundCount> base_{s::kPluginGround, s::kPluginGround, s::kPluginGround};
   int offset_ = 0, level_ = 0, exponent_ = 0;
-  std::array<int, s::kGroundCount> gain_{};
+  std::array<int, s::kGroundCount> gain_{}, sensor_offset_{};
 };
 
 // ---------------------------------------------------------------------------------------------
