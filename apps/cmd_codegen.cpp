@@ -117,6 +117,21 @@ void emit_battery(std::ostringstream& os, const nlohmann::json& j, const std::st
   os << "    return t;\n  }();\n  return tables;\n}\n";
 }
 
+// The battery as a model (kinds.hpp BatteryModel): the tables above, the discharge model, the
+// capacity scale a diagnosis found (1 for a calibration) and the charge reading's noise.
+std::string covariates_code(const std::vector<models::sensors::CovariateEffect>& covariates);
+
+void emit_battery_model(std::ostringstream& os, const nlohmann::json& j, const std::string& path) {
+  const models::sensors::BatteryModel m = calibrate::battery_model_from_json(j, path);
+  os << "\n/// The battery model of " << path << ": the discharge model, the tables above, the capacity scale and the\n"
+     << "/// charge reading's noise.\n"
+     << "inline models::sensors::BatteryModel battery_model() {\n  models::sensors::BatteryModel m;\n"
+     << "  m.model = models::battery::Model::" << mb::to_string(m.model) << ";\n"
+     << "  m.tables = battery_tables();\n"
+     << "  m.capacity.k = " << num(m.capacity.k) << ";\n"
+     << "  m.noise_sd = " << num(m.noise_sd) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
+}
+
 // Any other kind: every numeric entry of "parameters" (and "std_errors") as a named constant.
 void emit_parameters(std::ostringstream& os, const nlohmann::json& j, const std::string& path, const std::string& kind) {
   os << "namespace " << kind << " {\n";
@@ -284,6 +299,7 @@ int run_codegen(const CodegenOptions& o) {
     body << "\n// ---- " << kind << " (" << in << ") ----\n";
     if (kind == "battery") {
       emit_battery(body, j, in);
+      emit_battery_model(body, j, in);
     } else {
       emit_parameters(body, j, in, kind);
       emit_model(body, j, in, kind);

@@ -409,6 +409,28 @@ INSTANTIATE_TEST_SUITE_P(CapacityScale, BatteryLoop, ::testing::Values(3));
 
 class SimulateLike : public CliTest {};
 
+/// codegen of a battery diagnosis writes the model it found: epuck2::fitted::battery_model() with
+/// the capacity scale of the report's extended model (the shipped robot-a logs: a capacity_scale
+/// finding, k above 1: the virtual robot's robot a holds 0.5 % more and draws its current through
+/// 10 % less resistance, docs in data/raw/battery/README.md).
+TEST_F(SimulateLike, CodegenOfABatteryDiagnosisCarriesItsCapacityScale) {
+  const std::string logs = shipped("battery", "robot-a");
+  const std::string ext = (dir_ / "battery_ext.json").string(), header = (dir_ / "battery_ext.hpp").string();
+  ASSERT_EQ(run("diagnose" + logs + " -o \"" + ext + "\"").exit_code, 0);
+  const nlohmann::json j = nlohmann::json::parse(slurp(ext));
+  const double k = j.at("effects").at("capacity_scale").at("k").get<double>();
+  EXPECT_GT(k, 1.0);
+  EXPECT_LT(k, 1.05);
+  const CliRun cg = run("codegen \"" + ext + "\" -o \"" + header + "\"");
+  ASSERT_EQ(cg.exit_code, 0) << cg.err;
+  const std::string text = slurp(header);
+  EXPECT_NE(text.find("inline models::sensors::BatteryModel battery_model()"), std::string::npos);
+  // The header's literal, read back, is the report's k (codegen writes round-trip digits).
+  const std::size_t at = text.find("m.capacity.k = ");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_EQ(std::stod(text.substr(at + 15)), k);
+}
+
 /// A covariate effect reads its column from the log: none, no simulation (exit 2, the column
 /// named); with it, the reading moves by slope x (column - centre).
 TEST_F(SimulateLike, ACovariateEffectReadsItsColumn) {
@@ -634,6 +656,19 @@ TEST(ModelFile, GeneratedHeaderGivesTheFilesReadings) {
     EXPECT_EQ(ra.tof_mm, rb.tof_mm);
     EXPECT_EQ(ra.left_steps, rb.left_steps);
   }
+  // The battery as a model: discharge model, tables, capacity scale and noise, the same charge
+  // over a two-hour run at 5 cm/s.
+  const auto bj = epuck2::calibrate::battery_model_from_json(read("battery"), "battery.json");
+  const auto bh = epuck2::fitted::battery_model();
+  EXPECT_TRUE(bh.model == bj.model);
+  EXPECT_EQ(bh.capacity.k, bj.capacity.k);
+  EXPECT_EQ(bh.noise_sd, bj.noise_sd);
+  std::vector<double> t, v;
+  for (int i = 0; i <= 720; ++i) {
+    t.push_back(10.0 * i);
+    v.push_back(5.0);
+  }
+  EXPECT_EQ(s::battery_mean_charge(bh, t, v, 1.0), s::battery_mean_charge(bj, t, v, 1.0));
 }
 
 }  // namespace

@@ -157,6 +157,17 @@ inline const models::battery::Tables& battery_tables() {
   return tables;
 }
 
+/// The battery model of data/fitted/battery.json: the discharge model, the tables above, the capacity scale and the
+/// charge reading's noise.
+inline models::sensors::BatteryModel battery_model() {
+  models::sensors::BatteryModel m;
+  m.model = models::battery::Model::cubic;
+  m.tables = battery_tables();
+  m.capacity.k = 1;
+  m.noise_sd = 0.04673909434827302;
+  return m;
+}
+
 // ---- proximity (data/fitted/proximity.json) ----
 namespace proximity {
 inline constexpr double a = 197.14676857534056;
