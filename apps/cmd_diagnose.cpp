@@ -1,6 +1,7 @@
-// epuck2-fit diagnose [--kind KIND] [--json] [-o FILE] [--plot FILE] LOGS...: what the plug-in's
-// model gets wrong on these logs, the cause from the catalogue, and the held-out gain of fixing it
-// (docs/diagnose.md). The spellings published before (--json FILE, --json -, --plot DIR) still
+// epuck2-fit diagnose [--kind KIND] [--json] [-o FILE] [--plot FILE] [--progress]
+//                    [--battery-model MODEL] [--coefficients plugin|fitted|FILE] [--effects LIST] LOGS...:
+// what the plug-in's model (or the base model of a coefficient file) gets wrong on these logs, the
+// cause from the catalogue, and the held-out gain of fixing it (docs/diagnose.md). The spellings published before (--json FILE, --json -, --plot DIR) still
 // work: main.cpp turns `--json FILE.json` into the hidden --json-file before parsing.
 #include <cctype>
 #include <algorithm>
@@ -42,6 +43,7 @@ struct DiagnoseOptions {
   std::string json_file;   ///< the old spelling --json FILE (hidden): the same as -o FILE
   std::string plot;        ///< a figure FILE (.png, .svg, .pdf), or (old spelling) an existing folder
   std::string battery_model = "cubic";
+  std::size_t battery_model_given = 0;  ///< --battery-model on the command line (else a file's may set it)
   std::string coefficients;
   std::string effects;     ///< --effects: the search's effects, comma-separated (empty: all)
   std::vector<std::string> logs;
@@ -489,8 +491,22 @@ int run_diagnose(const DiagnoseOptions& o) {
 #else
     throw UsageError("this build has no compiled-in fitted battery tables; give --coefficients FILE");
 #endif
-  } else
-    options.battery_tables = calibrate::battery_tables_from_json(read_json(coefficient_file(o.coefficients)), o.coefficients);
+  } else {
+    // A battery file: its tables; a diagnosis's (an extended model) also its discharge model,
+    // unless --battery-model names one, and its capacity scale, from which effects are changes.
+    const std::string& file = coefficient_file(o.coefficients);
+    const nlohmann::json j = read_json(file);
+    try {
+      const models::sensors::BatteryModel m = calibrate::battery_model_from_json(j, file);
+      options.battery_tables = m.tables;
+      options.battery_capacity_k = m.capacity.k;
+      if (j.contains("battery_model") && o.battery_model_given == 0) options.battery_model = m.model;
+    } catch (const logs::InputError&) {
+      throw;
+    } catch (const std::runtime_error& e) {
+      throw UsageError(std::string("--coefficients: ") + e.what());
+    }
+  }
   for (std::size_t at = 0; !o.effects.empty() && at <= o.effects.size();) {
     const std::size_t comma = std::min(o.effects.find(',', at), o.effects.size());
     if (comma > at) options.effects.push_back(o.effects.substr(at, comma - at));
@@ -554,7 +570,8 @@ void setup_diagnose(CLI::App& app, Action& action) {
           },
           "{.png,.svg,.pdf}|DIR"))
       ->type_name("FILE");
-  sub->add_option("--battery-model", o->battery_model, "battery: the discharge model simulated")
+  CLI::Option* battery_model = sub->add_option(
+      "--battery-model", o->battery_model, "battery: the discharge model simulated (default: a diagnosis file's, else cubic)")
       ->capture_default_str()
       ->check(one_of({"simple", "linear", "cubic", "approximated"}, "discharge model"));
   sub->add_option("--coefficients", o->coefficients,
@@ -568,7 +585,10 @@ void setup_diagnose(CLI::App& app, Action& action) {
                 "Show progress on standard error (stage, effect being fitted); on by default when standard error is a terminal");
   sub->footer(all_log_formats_footer());
   add_skip_bad_rows(sub, o->skip_bad_rows);
-  sub->callback([o, &action] { action = [o] { return run_diagnose(*o); }; });
+  sub->callback([o, battery_model, &action] {
+    o->battery_model_given = battery_model->count();
+    action = [o] { return run_diagnose(*o); };
+  });
 }
 
 }  // namespace epuck2::app

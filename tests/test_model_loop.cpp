@@ -409,6 +409,34 @@ INSTANTIATE_TEST_SUITE_P(CapacityScale, BatteryLoop, ::testing::Values(3));
 
 class SimulateLike : public CliTest {};
 
+/// A diagnosis against its own extended model (diagnose --coefficients ext.json) finds nothing
+/// more on the same logs: the base model of every kind comes from the file, the battery's with
+/// its capacity scale.
+TEST_F(SimulateLike, ADiagnosisAgainstItsOwnExtendedModelFindsNothingMore) {
+  for (const std::string kind : {"battery", "ground"}) {
+    const std::string logs = shipped(kind, kind == "battery" ? "robot-a" : "ground_virtual-epuck2-1");
+    const std::string ext = (dir_ / (kind + "_ext.json")).string(), again = (dir_ / (kind + "_again.json")).string();
+    const CliRun first = run("diagnose" + logs + " -o \"" + ext + "\"");
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    ASSERT_FALSE(nlohmann::json::parse(slurp(ext)).at("findings").empty()) << kind;
+    const CliRun second = run("diagnose" + logs + " --coefficients \"" + ext + "\" -o \"" + again + "\"");
+    ASSERT_EQ(second.exit_code, 0) << second.err;
+    const nlohmann::json j = nlohmann::json::parse(slurp(again));
+    EXPECT_TRUE(j.at("findings").empty()) << kind << ": " << j.at("findings").dump().substr(0, 300);
+    EXPECT_EQ(j.at("verdict"), "none") << kind;
+  }
+}
+
+TEST_F(SimulateLike, DiagnoseTakesABaseModelOfTheLogsKindOnly) {
+  const CliRun wrong = run("diagnose" + shipped("ground", "ground_virtual-epuck2-1") + " --coefficients \"" +
+                           std::string(EPUCK2_SOURCE_DIR) + "/data/fitted/light.json\"");
+  EXPECT_EQ(wrong.exit_code, 2);
+  EXPECT_NE(wrong.err.find("ground"), std::string::npos) << wrong.err;
+  const CliRun effects = run("diagnose" + shipped("ground", "ground_virtual-epuck2-1") + " --effects black_offset,black_offset,nope");
+  EXPECT_EQ(effects.exit_code, 2);
+  EXPECT_NE(effects.err.find("'nope'"), std::string::npos) << effects.err;
+}
+
 /// codegen of a battery diagnosis writes the model it found: epuck2::fitted::battery_model() with
 /// the capacity scale of the report's extended model (the shipped robot-a logs: a capacity_scale
 /// finding, k above 1: the virtual robot's robot a holds 0.5 % more and draws its current through

@@ -695,7 +695,9 @@ class Diagnosis {
     if (!o_.effects.empty()) {
       // Only the effects asked for are searched (an unknown name is the caller's error).
       std::vector<detail::Effect> asked;
+      std::set<std::string> seen;
       for (const auto& name : o_.effects) {
+        if (!seen.insert(name).second) continue;  // named twice: searched once
         auto e = std::find_if(problem_->effects.begin(), problem_->effects.end(), [&](const detail::Effect& x) { return x.cause == name; });
         if (e == problem_->effects.end()) {
           std::string known;
@@ -944,53 +946,59 @@ class Diagnosis {
   }
 
   /// A finding whose fitted parameters make it another effect is named for what it is (the
-  /// kind's rule, Problem::identify). When the other effect is in the catalogue, it replaces the
-  /// finding in the model, which is refitted and tested on held-out rows again.
+  /// kind's rule, Problem::identify), whether or not the search tried that effect. When the other
+  /// effect is in the catalogue, it replaces the finding in the model if the model refitted with
+  /// it has a BIC no higher (it has no more parameters and fits as well); its held-out error is
+  /// then measured again and the finding's BIC change moves by the swap's.
   void name_findings() {
     const Problem& p = *problem_;
     for (std::size_t k = 0; k < report_.findings.size(); ++k) {
       Finding& f = report_.findings[k];
       const detail::Effect& effect = order_[k];
+      if (std::find(p.identifiable.begin(), p.identifiable.end(), effect.cause) == p.identifiable.end()) continue;
       std::vector<double> se(p.params.size(), std::numeric_limits<double>::quiet_NaN());
-      {
-        const Engine::Fitted with_errors = engine_->fit(free_, current_.values, engine_->all(), true);
-        for (std::size_t j = 0; j < se.size() && j < with_errors.result.parameters.size(); ++j)
-          se[j] = with_errors.result.parameters[j].std_error;
-      }
+      const Engine::Fitted with_errors = engine_->fit(free_, current_.values, engine_->all(), true);
+      for (std::size_t j = 0; j < se.size() && j < with_errors.result.parameters.size(); ++j)
+        se[j] = with_errors.result.parameters[j].std_error;
       const std::optional<detail::Identity> identity = p.identify(effect.cause, current_.values, se);
       if (!identity) continue;
+      if (!identity->replace_with.empty()) {
+        const auto other = std::find_if(p.effects.begin(), p.effects.end(),
+                                        [&](const detail::Effect& e) { return e.cause == identity->replace_with; });
+        if (other == p.effects.end()) continue;
+        // The effect's parameters leave the model at the values that switch them off; the
+        // other's join it from the values the rule gives.
+        std::vector<int> free;
+        std::vector<double> start = current_.values;
+        for (int j : free_)
+          if (std::find(effect.params.begin(), effect.params.end(), j) == effect.params.end()) free.push_back(j);
+        for (int j : effect.params) start[static_cast<std::size_t>(j)] = p.params[static_cast<std::size_t>(j)].fallback;
+        for (const auto& [j, v] : identity->starts) start[static_cast<std::size_t>(j)] = v;
+        for (int j : other->params) free.push_back(j);
+        Engine::Fitted refit = engine_->fit(free, start, engine_->all(), false);
+        if (!refit.result.usable || refit.result.bic > with_errors.result.bic) {
+          report_.notes.push_back("finding " + f.cause + " looks like " + identity->cause + " (" + identity->why +
+                                  "), but the model with " + identity->replace_with +
+                                  " in its place fits worse on the BIC: it stays " + f.cause);
+          continue;
+        }
+        f.delta_bic += refit.result.bic - with_errors.result.bic;
+        free_ = free;
+        current_ = refit;
+        settle_noise(*engine_, free_, current_);
+        current_h_ = engine_->heldout_mse(free_, current_.values);
+        f.effect = other->cause;
+        // Held-out error and fit of the model as it now stands (the findings after this one
+        // included): what the swap was measured on.
+        f.heldout_mse_after = current_h_.reading;
+        f.heldout_weighted_after = current_h_.all;
+        f.fit = all_rows_statistics(*engine_, p, current_);
+        order_[k] = *other;
+      }
       report_.notes.push_back("finding " + f.cause + " is named " + identity->cause + ": " + identity->why);
       f.renamed_from = f.cause;
       f.cause = identity->cause;
-      if (identity->replace_with.empty()) continue;  // the same formula, under its true name
-      const auto other = std::find_if(p.effects.begin(), p.effects.end(),
-                                      [&](const detail::Effect& e) { return e.cause == identity->replace_with; });
-      if (other == p.effects.end()) continue;
-      // The effect's parameters leave the model at the values that switch them off; the other's
-      // join it from the values the rule gives.
-      std::vector<int> free;
-      std::vector<double> start = current_.values;
-      for (int j : free_)
-        if (std::find(effect.params.begin(), effect.params.end(), j) == effect.params.end()) free.push_back(j);
-      for (int j : effect.params) start[static_cast<std::size_t>(j)] = p.params[static_cast<std::size_t>(j)].fallback;
-      for (const auto& [j, v] : identity->starts) start[static_cast<std::size_t>(j)] = v;
-      for (int j : other->params) free.push_back(j);
-      Engine::Fitted refit = engine_->fit(free, start, engine_->all(), false);
-      if (!refit.result.usable) {
-        report_.notes.push_back("the refit with " + identity->replace_with + " failed: the finding keeps " + effect.cause + "'s parameters");
-        f.cause = effect.cause;
-        f.renamed_from.clear();
-        continue;
-      }
-      free_ = free;
-      current_ = refit;
-      settle_noise(*engine_, free_, current_);
-      current_h_ = engine_->heldout_mse(free_, current_.values);
-      f.effect = other->cause;
-      f.heldout_mse_after = current_h_.reading;
-      f.heldout_weighted_after = current_h_.all;
-      f.fit = all_rows_statistics(*engine_, p, current_);
-      order_[k] = *other;
+      f.alternatives.erase(std::remove(f.alternatives.begin(), f.alternatives.end(), f.cause), f.alternatives.end());
     }
   }
 

@@ -94,6 +94,18 @@ std::vector<s::CovariateEffect> covariates(const Report& r, const ModelInputs& i
   return out;
 }
 
+/// The base model's covariate effects with the report's found ones: a column found again takes
+/// the new slope and centre (the diagnosis does not simulate a base model's covariate terms, so a
+/// base's drift shows up again as a finding), the others stay.
+std::vector<s::CovariateEffect> merged(std::vector<s::CovariateEffect> base, const std::vector<s::CovariateEffect>& found) {
+  for (const s::CovariateEffect& f : found) {
+    auto same = std::find_if(base.begin(), base.end(), [&](const s::CovariateEffect& b) { return b.column == f.column; });
+    if (same != base.end()) *same = f;
+    else base.push_back(f);
+  }
+  return base;
+}
+
 void require(const Report& r, logs::Kind kind) {
   if (r.kind != kind) throw std::invalid_argument("the report is not of this kind");
 }
@@ -130,7 +142,7 @@ s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* 
   }
   m.effects.incidence.k = v.at("incidence_angle", "k", m.effects.incidence.k);
   if (v.has("saturation")) m.effects.saturation.level_raw = v.at("saturation", "level", m.effects.saturation.level_raw);
-  m.covariates = covariates(r, inputs, left_out);
+  m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   m.noise_sd_raw.fill(register_noise(r.noise_sd));
   return m;
 }
@@ -143,7 +155,7 @@ s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out
   m.effects.ambient.offset_raw = v.at("ambient_offset", "offset", m.effects.ambient.offset_raw);
   m.effects.falloff.exponent = v.at("falloff_exponent", "exponent", m.effects.falloff.exponent);
   m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain", m.effects.gains.gain);
-  m.covariates = covariates(r, inputs, left_out);
+  m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   m.noise_sd_raw.fill(register_noise(r.noise_sd));
   return m;
 }
@@ -166,7 +178,7 @@ s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_o
     m.sensors[k] = {m.sensors[k].gain_raw * (level - black) / s::kGroundFullScale_raw * g[k], m.sensors[k].offset_raw + black};
   }
   m.effects.exponent = v.at("nonlinear_response", "exponent", m.effects.exponent);
-  m.covariates = covariates(r, inputs, left_out);
+  m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   m.noise_sd_raw.fill(register_noise(r.noise_sd));
   return m;
 }
@@ -179,7 +191,7 @@ s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_o
   m.base.cx_px = s::kCameraWidth_px / 2.0 + v.at("principal_offset", "dx_px", m.base.cx_px - s::kCameraWidth_px / 2.0);
   m.base.cy_px = s::kCameraHeight_px / 2.0 + v.at("principal_offset", "dy_px", m.base.cy_px - s::kCameraHeight_px / 2.0);
   m.distortion.k1 = v.at("radial_distortion", "k1", m.distortion.k1);
-  m.covariates = covariates(r, inputs, left_out);
+  m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   m.noise_sd_px = register_noise(r.noise_sd);
   return m;
 }
@@ -201,7 +213,7 @@ s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out
     if (c.name == "tof_mm") m.tof_noise_sd_mm = register_noise(c.value);
     if (c.name == "steps") m.encoder_noise_sd_steps = register_noise(c.value);
   }
-  m.covariates = covariates(r, inputs, left_out);
+  m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   return m;
 }
 
@@ -211,9 +223,9 @@ s::BatteryModel extended_battery(const Report& r, std::vector<std::string>* left
   s::BatteryModel m;
   m.model = inputs.battery_model;
   if (inputs.battery_tables) m.tables = *inputs.battery_tables;
-  m.capacity.k = v.at("capacity_scale", "k", 1.0);
+  m.capacity.k = v.at("capacity_scale", "k", inputs.battery_capacity_k);
   m.noise_sd = r.noise_sd;  // a charge is not rounded: no register's share to take out
-  m.covariates = covariates(r, inputs, left_out);
+  m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   return m;
 }
 
@@ -221,6 +233,7 @@ ModelInputs model_inputs(const std::vector<logs::Log>& logs, const Options& opti
   ModelInputs in;
   in.battery_model = options.battery_model;
   in.battery_tables = options.battery_tables;
+  in.battery_capacity_k = options.battery_capacity_k;
   if (logs.empty()) return in;
   for (const std::string& name : logs.front().extra_numeric_columns()) {
     double sum = 0;

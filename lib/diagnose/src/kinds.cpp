@@ -96,6 +96,7 @@ class Ground : public ProblemOf<Ground> {
     effects = {{"black_offset", {offset_}}, {"white_level", {level_}}, {"nonlinear_response", {exponent_}}};
     if (gains.params.size() >= 2) effects.push_back(gains);
     if (!offsets.params.empty()) effects.push_back(offsets);
+    identifiable = {"sensor_gain"};
     std::vector<double> sensor_d(sensor_.begin(), sensor_.end());
     covariates.emplace_back("grey", grey_);
     covariates.emplace_back("sensor", std::move(sensor_d));
@@ -209,6 +210,7 @@ class Proximity : public ProblemOf<Proximity> {
     for (double v : y) top = std::max(top, v);
     level_ = add_param(*this, "level", 1e9, top, 1.0, 1e9);
     effects = {{"ambient_offset", {offset_}}, {"long_tail", {amplitude_, length_}}, {"saturation", {level_}}};
+    identifiable = {"long_tail"};
     // With a, b, c free the overall gain is theirs: the first sensor seen is the reference (1).
     const auto seen = sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end()));
     if (seen.size() >= 2) {
@@ -342,6 +344,7 @@ class Light : public ProblemOf<Light> {
   /// A calibrated base: its gamma and the effects it already carries.
   void set_base_model(const s::LightModel& m) {
     set_base(*this, gamma_, m.base.gamma_m);
+    range_m_ = m.base.range_m;
     set_base(*this, offset_, m.effects.ambient.offset_raw);
     set_base(*this, exponent_, m.effects.falloff.exponent);
     for (std::size_t j = 0; j < gain_.size(); ++j) set_base(*this, gain_[j], m.effects.gains.gain[j]);
@@ -653,6 +656,11 @@ class Drive : public ProblemOf<Drive> {
 // central difference of two simulations (relative step 1e-6: ~1e-10 relative error).
 class Battery : public ProblemOf<Battery> {
  public:
+  /// A base model's capacity scale (a diagnosis file's): the model with capacity_scale off.
+  void set_base_capacity(double k) {
+    if (k != 1.0) set_base(*this, k_, k);
+  }
+
   Battery(const std::vector<logs::Log>& logs, models::battery::Model model, const models::battery::Tables& tables)
       : model_(model), tables_(tables) {
     // A charge is a fraction: no rounding floor on its noise.
@@ -674,8 +682,7 @@ class Battery : public ProblemOf<Battery> {
       // that full charge seen through the sensor's noise, and starting from the noisy reading
       // would shift the whole curve in time (the Cubic starts at its intercept d ~ 1). A run
       // that starts part-way (first reading below 0.9) starts from its first reading.
-      constexpr double kStartsFull = 0.9;
-      r.start_charge = c.front() >= kStartsFull ? 1.0 : c.front();
+      r.start_charge = c.front() >= s::kBatteryStartsFull ? 1.0 : c.front();
       for (std::size_t i = 0; i < log.rows(); ++i) {
         time_.push_back(t[i]);
         speed_.push_back(std::abs(v[i]));
@@ -727,20 +734,22 @@ class Battery : public ProblemOf<Battery> {
     std::size_t first = 0, last = 0;
   };
   void simulate(double k, std::vector<double>& out) const {
-    namespace mb = models::battery;
-    // The calibration protocol spins in place: each wheel moves at the logged speed, the robot
-    // turns about its centre, and the model sees that speed (the plug-in's source).
+    // The runtime library's discharge of a log (lib/models kinds.hpp battery_mean_charge): the
+    // calibration protocol spins in place, each wheel at the logged speed, from the run's start.
+    s::BatteryModel m;
+    m.model = model_;
+    m.tables = tables_;
+    m.capacity.k = k;
+    struct Slice {  // rows [first, last) of one of the log's columns
+      const std::vector<double>& v;
+      std::size_t first, last;
+      std::size_t size() const { return last - first; }
+      double operator[](std::size_t i) const { return v[first + i]; }
+    };
     for (const Run& r : runs_) {
-      double charge = r.start_charge;
-      for (std::size_t i = r.first; i < r.last; ++i) {
-        out[i] = charge;
-        if (i + 1 == r.last) break;
-        const double dt = time_[i + 1] - time_[i];
-        // A repeated time stamp (the format allows it: time never decreases) is a step of no
-        // length: no discharge, and no speed to compute as 0/0.
-        if (dt == 0) continue;
-        charge = mb::step(model_, tables_, mb::CapacityScale{k}, charge, speed_[i] / 100.0 * dt, dt);
-      }
+      const std::vector<double> charge =
+          s::battery_mean_charge(m, Slice{time_, r.first, r.last}, Slice{speed_, r.first, r.last}, r.start_charge);
+      std::copy(charge.begin(), charge.end(), out.begin() + static_cast<std::ptrdiff_t>(r.first));
     }
   }
   models::battery::Model model_;
@@ -782,7 +791,9 @@ std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const 
       // The tables given (--coefficients), else the plug-in's published ones: the library never
       // compiles in the project's fitted data.
       const models::battery::Tables tables = options.battery_tables ? *options.battery_tables : models::battery::plugin_tables();
-      p = std::make_unique<Battery>(logs, options.battery_model, tables);
+      auto battery = std::make_unique<Battery>(logs, options.battery_model, tables);
+      battery->set_base_capacity(options.battery_capacity_k);
+      p = std::move(battery);
       break;
     }
     default:

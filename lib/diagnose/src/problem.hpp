@@ -124,6 +124,8 @@ class Problem {
   /// What the finding of effect `cause` is, at the parameters `values` with standard errors
   /// `std_errors` (NaN where none), when its parameters make it another effect; nothing when it is
   /// what its name says (the default).
+  /// The causes identify() has a rule for (the others are not asked).
+  std::vector<std::string> identifiable;
   virtual std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
                                            const std::vector<double>& std_errors) const {
     (void)cause;

@@ -202,6 +202,9 @@ struct Options {
   /// published tables.
   models::battery::Model battery_model = models::battery::Model::cubic;
   std::optional<models::battery::Tables> battery_tables;
+  /// battery: the base model's capacity scale (a diagnosis file's; 1: the tables' own capacity).
+  /// capacity_scale is then a change from it.
+  double battery_capacity_k = 1.0;
   /// The other kinds: the base model (none: the plug-in's published one). Of the logs' kind, or
   /// the report is unsupported and says so.
   BaseModel base_model;

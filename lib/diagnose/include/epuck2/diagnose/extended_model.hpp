@@ -25,6 +25,7 @@ struct ModelInputs {
   std::map<std::string, double> column_means;
   models::battery::Model battery_model = models::battery::Model::cubic;
   std::optional<models::battery::Tables> battery_tables;  ///< none: the plug-in's (as Options)
+  double battery_capacity_k = 1.0;                         ///< the base's capacity scale (as Options)
 };
 
 /// The inputs of a diagnosis of `logs` under `options` (taken before the logs go to diagnose()):

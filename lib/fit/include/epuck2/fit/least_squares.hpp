@@ -291,7 +291,7 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
   for (std::size_t j = 0; j < parameters.size(); ++j) {
     names.push_back(parameters[j].name);
     if (parameters[j].fixed) fixed.push_back(static_cast<int>(j));
-    bounded = bounded || std::isfinite(parameters[j].lower) || std::isfinite(parameters[j].upper);
+    bounded = bounded || (!parameters[j].fixed && (std::isfinite(parameters[j].lower) || std::isfinite(parameters[j].upper)));
   }
   if (x.size() < static_cast<std::size_t>(Model::kParameters) + 1) {
     for (const std::string& name : names)
@@ -429,9 +429,11 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
   }
   // Ceres' projected steps crawl along a bound (a parameter pressed against it shrinks every
   // step): the parameters that end on a bound are held there and the others solved again (an
-  // active set). They are reported without a standard error (the data push them beyond it).
+  // active set, one pass: a parameter held is not released again). They are reported without a
+  // standard error and do not count as free parameters (the others' errors are conditional on
+  // the bound).
   std::vector<std::pair<int, const char*>> at_bound;
-  if (bounded) {
+  if (bounded && summary.IsSolutionUsable()) {
     for (std::size_t j = 0; j < parameters.size(); ++j) {
       if (!free_column[j]) continue;
       const double lo = parameters[j].lower, hi = parameters[j].upper;
@@ -511,7 +513,7 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
   for (const auto& [j, side] : at_bound) {
     r.parameters[static_cast<std::size_t>(j)].std_error = std::numeric_limits<double>::quiet_NaN();
     r.parameters[static_cast<std::size_t>(j)].std_error_why =
-        std::string("at its ") + side + " bound: the data push it beyond, so it has no standard error";
+        std::string("ended on its ") + side + " bound, where it is held: no standard error";
   }
   return r;
 }
