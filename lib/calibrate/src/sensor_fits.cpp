@@ -673,12 +673,13 @@ DriveRun drive_run_from_log(const logs::Log& log) {
 }
 
 namespace {
-// Encoder steps against the commanded distance: y = steps_per_m x.
+// Encoder steps against the commanded distance: the register's mean after that travel
+// (lib/models encoder_mean_steps: steps_per_m x - 1/2, the mean of floor(steps_per_m x)).
 struct StepsLine {
   std::vector<double> distance_m;
   template <typename T>
   bool operator()(const T* p, T* out) const {
-    for (std::size_t i = 0; i < distance_m.size(); ++i) out[i] = p[0] * distance_m[i];
+    for (std::size_t i = 0; i < distance_m.size(); ++i) out[i] = s::encoder_mean_steps(p[0], distance_m[i]);
     return true;
   }
 };
@@ -747,7 +748,7 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
       } else if (mm >= s::kPluginTof.max_mm) {
         o = {s::kPluginTof.max_mm, Censoring::at_or_above, o.where, -1};
       } else {
-        plugin_r.push_back(mm - 1000.0 * (run.obstacle_distance_m - enc_travel[k]));
+        plugin_r.push_back(mm - s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc_travel[k]));  // the plug-in's
       }
       if (o.censoring != Censoring::none) ++out.tof_censored;
       tobs.push_back(o);

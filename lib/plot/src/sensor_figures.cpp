@@ -1,5 +1,6 @@
 #include "epuck2/plot/sensor_figures.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <limits>
 #include <map>
@@ -13,11 +14,12 @@ namespace {
 
 namespace s = models::sensors;
 
-/// Eq. 1's polynomial in gnuplot's x (millimetres).
-std::string poly(double a, double b, double c) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "(%.10g*x*x + %.10g*x + %.10g)", a, b, c);
-  return buf;
+/// n + 1 evenly spaced values from `from` to `to`: where a curve of lib/models is sampled (the
+/// figures draw lib/models' formulas, never a copy of them in gnuplot's language).
+std::vector<double> samples(double from, double to, int n) {
+  std::vector<double> x;
+  for (int i = 0; i <= n; ++i) x.push_back(from + (to - from) * i / n);
+  return x;
 }
 
 /// The camera's and the drive's two panels side by side.
@@ -36,23 +38,28 @@ Layout two_panels() {
 void proximity_figure(logs::OutputStage& stage, const std::string& path, const calibrate::ProximityFit& f) {
   std::vector<std::vector<double>> pts;
   for (const auto& p : f.points) pts.push_back({p.distance_m * 1000, p.min, p.mean, p.max, p.used ? 1.0 : 0.0});
-  const std::string fmax = poly(f.maxima.value("a") * 1e-6, f.maxima.value("b") * 1e-3, f.maxima.value("c"));
-  const std::string fmean = poly(f.means.value("a") * 1e-6, f.means.value("b") * 1e-3, f.means.value("c"));
-  const std::string fplug = poly(s::kPluginProximity.a_per_m2 * 1e-6, s::kPluginProximity.b_per_m * 1e-3, s::kPluginProximity.c);
-  const std::string fv1 = poly(s::kEpuck1Proximity.a_per_m2 * 1e-6, s::kEpuck1Proximity.b_per_m * 1e-3, s::kEpuck1Proximity.c);
+  // Eq. 1's normalised response (lib/models proximity_response) of each curve, on 0..50 mm.
+  const s::ProximityCoefficients kmax{f.maxima.value("a"), f.maxima.value("b"), f.maxima.value("c"), s::kPluginProximity.range_m};
+  const s::ProximityCoefficients kmean{f.means.value("a"), f.means.value("b"), f.means.value("c"), s::kPluginProximity.range_m};
+  std::vector<std::vector<double>> curves;
+  for (double mm : samples(0.0, 50.0, 500)) {
+    const double d = mm / 1000.0;
+    curves.push_back({mm, s::proximity_response(kmax, d), s::proximity_response(kmean, d),
+                      s::proximity_response(s::kPluginProximity, d), s::proximity_response(s::kEpuck1Proximity, d)});
+  }
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << datablock("pts", pts);
+    gp << datablock("curves", curves);
     gp << "set title 'Proximity sensor (paper Eq. 1, Fig. 4c): normalised reading against distance' font ',13'\n";
     gp << "set xlabel 'distance to the surface (mm)'\nset ylabel 'normalised reading (reading / 4095, dimensionless)'\n";
     gp << "set xrange [-1:61]\nset yrange [-0.05:1.1]\nset grid lc rgb '#d8d8d8'\nset key top right opaque box Left reverse\n";
-    gp << "clip(v) = v < 0 ? 0 : (v > 1 ? 1 : v)\n";
     gp << "plot $pts using 1:3:2:4 with yerrorbars lc rgb '#999999' title 'readings: mean, min..max', "
        << "$pts using 1:4 with points pt 7 ps 1.4 lc rgb '#d62728' title 'maxima', "
        << "$pts using 1:3 with points pt 5 ps 1.2 lc rgb '#1f77b4' title 'means', "
-       << "[0:50] clip(" << fmax << ") lw 2.5 lc rgb '#d62728' title 'fit to maxima', "
-       << "[0:50] clip(" << fmean << ") lw 2.5 lc rgb '#1f77b4' title 'fit to means', "
-       << "[0:50] clip(" << fplug << ") lw 2 dt 2 lc rgb '#2ca02c' title 'plug-in (197.8633, -30.47182, 1.011635)', "
-       << "[0:50] clip(" << fv1 << ") lw 2 dt 3 lc rgb '#000000' title 'E-Puck v1 (298.701, -36.8961, 1.08212)'\n";
+       << "$curves using 1:2 with lines lw 2.5 lc rgb '#d62728' title 'fit to maxima', "
+       << "$curves using 1:3 with lines lw 2.5 lc rgb '#1f77b4' title 'fit to means', "
+       << "$curves using 1:4 with lines lw 2 dt 2 lc rgb '#2ca02c' title 'plug-in (197.8633, -30.47182, 1.011635)', "
+       << "$curves using 1:5 with lines lw 2 dt 3 lc rgb '#000000' title 'E-Puck v1 (298.701, -36.8961, 1.08212)'\n";
   });
 }
 
@@ -60,14 +67,25 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
   std::map<double, std::vector<std::vector<double>>> by_intensity;
   for (const auto& o : f.observations) by_intensity[o.intensity].push_back({o.distance_m * 100, o.value_raw, double(o.sensor)});
   const double g = f.gamma.value("gamma");
+  // Eq. 2's raw reading (lib/models light_mean_raw, no effects) for the fit's and the plug-in's
+  // gamma at each intensity, on 5..52 cm.
+  auto eq2 = [](double gamma_m, double intensity, double distance_m) {
+    const s::LightCoefficients k{gamma_m, s::kPluginLight.range_m};
+    return std::clamp(s::light_mean_raw(k, s::LightEffects<double>{}, 0, intensity, distance_m), 0.0, s::kProximityFullScale_raw);
+  };
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     int k = 0;
-    for (const auto& [i, rows] : by_intensity) gp << datablock("i" + std::to_string(k++), rows);
+    for (const auto& [i, rows] : by_intensity) {
+      std::vector<std::vector<double>> curve;
+      for (double cm : samples(5.0, 52.0, 470)) curve.push_back({cm, eq2(g, i, cm / 100.0), eq2(s::kPluginLight.gamma_m, i, cm / 100.0)});
+      gp << datablock("i" + std::to_string(k), rows);
+      gp << datablock("c" + std::to_string(k), curve);
+      ++k;
+    }
     gp << "set title 'Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance, per source intensity I (simulator units)' font ',13'\n";
     gp << "set xlabel 'distance to the light (cm)'\nset ylabel 'raw reading (counts, 0..4095; 4095 = dark)'\n";
     gp << "set xrange [5:52]\nset yrange [-100:4200]\nset grid lc rgb '#d8d8d8'\nset samples 400\n";
     gp << "set key at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15\n";
-    gp << "L(g, I, x) = (v = (1 - (g*I/(x/100.0))**2)*4095, v < 0 ? 0 : (v > 4095 ? 4095 : v))\n";
     const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
     gp << "plot ";
     k = 0;
@@ -77,9 +95,9 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
       char buf[600];
       std::snprintf(buf, sizeof buf,
                     "%s$i%d using 1:2 with points pt 7 ps 0.6 lc rgb '%s' title 'readings at I = %.2f', "
-                    "L(%.8g, %.6g, x) lw 2.5 lc rgb '%s' notitle, "
-                    "L(%.8g, %.6g, x) lw 1.5 dt (8,5) lc rgb '%s' notitle",
-                    k ? ", " : "", k, c, intensity, g, intensity, c, s::kPluginLight.gamma_m, intensity, c);
+                    "$c%d using 1:2 with lines lw 2.5 lc rgb '%s' notitle, "
+                    "$c%d using 1:3 with lines lw 1.5 dt (8,5) lc rgb '%s' notitle",
+                    k ? ", " : "", k, c, intensity, k, c, k, c);
       gp << buf;
       ++k;
     }
@@ -95,6 +113,16 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
 
 void ground_figure(logs::OutputStage& stage, const std::string& path, const calibrate::GroundFit& f) {
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
+    // Each sensor's fitted line and the plug-in's (lib/models ground_response), on grey 0..1.
+    std::vector<std::vector<double>> lines;
+    for (double grey : samples(0.0, 1.0, 100)) {
+      std::vector<double> row{grey};
+      for (std::size_t k = 0; k < f.sensors.size(); ++k)
+        row.push_back(s::ground_response(f.sensors[k].value("gain"), f.sensors[k].value("offset"), grey));
+      row.push_back(s::ground_response(s::kPluginGround.gain_raw, s::kPluginGround.offset_raw, grey));
+      lines.push_back(row);
+    }
+    gp << datablock("lines", lines);
     for (std::size_t k = 0; k < f.sensors.size(); ++k) {
       std::vector<std::vector<double>> rows;
       for (std::size_t i = 0; i < f.grey[k].size(); ++i) rows.push_back({f.grey[k][i] + (double(k) - 1) * 0.006, f.value_raw[k][i]});
@@ -110,12 +138,12 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
       char buf[500];
       std::snprintf(buf, sizeof buf,
                     "$s%zu using 1:2 with points pt 7 ps 0.5 lc rgb '%s' title 'sensor %s', "
-                    "[0:1] %.8g + %.8g*x lw 2.5 lc rgb '%s' title 'fit: %.1f + %.1f grey', ",
-                    k, colours[k], calibrate::kGroundSensorNames[k], f.sensors[k].value("offset"), f.sensors[k].value("gain"), colours[k],
-                    f.sensors[k].value("offset"), f.sensors[k].value("gain"));
+                    "$lines using 1:%zu with lines lw 2.5 lc rgb '%s' title 'fit: %.1f + %.1f grey', ",
+                    k, colours[k], calibrate::kGroundSensorNames[k], k + 2, colours[k], f.sensors[k].value("offset"),
+                    f.sensors[k].value("gain"));
       gp << buf;
     }
-    gp << "[0:1] 1023*x lw 2 dt 2 lc rgb '#000000' title 'plug-in: 1023 grey'\n";
+    gp << "$lines using 1:" << f.sensors.size() + 2 << " with lines lw 2 dt 2 lc rgb '#000000' title 'plug-in: 1023 grey'\n";
   });
 }
 
@@ -169,7 +197,8 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
         const bool code = run.tof_mm[k] >= kOutOfRangeCode_mm;
         rows.push_back({run.time_s[k], code ? kNaN : run.tof_mm[k],
                         s::tof_response_mm(scale, offset, run.obstacle_distance_m - travel[k]),
-                        1000.0 * (run.obstacle_distance_m - enc[k]), run.steps[k], spm * commanded, code ? kCodeRow_mm : kNaN});
+                        s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc[k]), run.steps[k], spm * commanded,
+                        code ? kCodeRow_mm : kNaN});
         codes += code;
         if (k + 1 < run.time_s.size()) commanded += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
       }

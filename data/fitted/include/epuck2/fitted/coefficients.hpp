@@ -4,7 +4,7 @@
 // source: data/fitted/light.json fnv1a64 50160271b68402e0
 // source: data/fitted/ground.json fnv1a64 d47314555b1ef49d
 // source: data/fitted/camera.json fnv1a64 10771126944ed964
-// source: data/fitted/drive.json fnv1a64 261c11358fe55b8c
+// source: data/fitted/drive.json fnv1a64 aae3c2a1e9a827e0
 // Coefficients fitted by epuck2-fit from the raw logs in data/raw (see data/fitted/README.md).
 #pragma once
 
@@ -270,29 +270,29 @@ inline models::sensors::CameraModel camera_model() {
 
 // ---- drive (data/fitted/drive.json) ----
 namespace drive {
-inline constexpr double slip_time_constant_s = 0.12431239464619678;
-inline constexpr double steps_per_m = 7760.5203370046975;
-inline constexpr double tof_offset_mm = 9.000453085745523;
-inline constexpr double tof_scale = 0.9845480501098357;
-inline constexpr double slip_time_constant_s_std_error = 0.0020324152048037275;
-inline constexpr double steps_per_m_std_error = 0.02352317112700979;
-inline constexpr double tof_offset_mm_std_error = 0.15954111124351675;
-inline constexpr double tof_scale_std_error = 0.0003274222453878902;
-inline constexpr double mse = 13.223728002736667;
+inline constexpr double slip_time_constant_s = 0.12432330204991833;
+inline constexpr double steps_per_m = 7760.036043885046;
+inline constexpr double tof_offset_mm = 9.017031702392433;
+inline constexpr double tof_scale = 0.9844897935086737;
+inline constexpr double slip_time_constant_s_std_error = 0.0020324323680759628;
+inline constexpr double steps_per_m_std_error = 0.014709203507788721;
+inline constexpr double tof_offset_mm_std_error = 0.15953551577822392;
+inline constexpr double tof_scale_std_error = 0.00032740324765156466;
+inline constexpr double mse = 13.223299903195658;
 }  // namespace drive
 /// The drive model of data/fitted/drive.json: encoders, effects, ToF and encoder noise.
 inline models::sensors::DriveModel drive_model() {
   models::sensors::DriveModel m;
-  m.steps_per_m = 7760.5203370046975;
+  m.steps_per_m = 7760.036043885046;
   m.effects.speed_limit.max_cm_s = 1e+06;
   m.effects.accel_limit.accel_cm_s2 = 1e+06;
-  m.effects.slip.tau_s = 0.12431239464619678;
+  m.effects.slip.tau_s = 0.12432330204991833;
   m.effects.speed_scale.k = 1;
   m.effects.latency.delay_s = 0;
-  m.effects.tof_offset.offset_mm = 9.000453085745523;
-  m.effects.tof_scale.k = 0.9845480501098357;
+  m.effects.tof_offset.offset_mm = 9.017031702392433;
+  m.effects.tof_scale.k = 0.9844897935086737;
   m.tof_noise_sd_mm = 2.866137932072219;
-  m.encoder_noise_sd_steps = 0.46239175581084896;
+  m.encoder_noise_sd_steps = 0.2887644938709339;
   return m;
 }
 

@@ -195,11 +195,13 @@ T drive_tof_mean_mm(const DriveEffects<T>& e, double obstacle_m, const T& travel
 
 /// An encoder register's mean (unwrapped steps) after a wheel travel of `wheel_m`: the register is
 /// floor(steps_per_m x), whose mean is steps_per_m x - 1/2 once the wheel has moved, and exactly 0
-/// before.
-template <typename T>
-T encoder_mean_steps(double steps_per_m, const T& wheel_m) {
-  if (scalar_of(wheel_m) == 0.0) return T(0.0);
-  return steps_per_m * wheel_m - 0.5;
+/// before. Either may be the scalar a fit differentiates (the calibration fits steps_per_m, the
+/// diagnosis the travel); the result has that type.
+template <typename S, typename T>
+auto encoder_mean_steps(const S& steps_per_m, const T& wheel_m) {
+  using R = std::conditional_t<std::is_arithmetic_v<S>, T, S>;
+  if (scalar_of(wheel_m) == 0.0) return R(0.0);
+  return R(steps_per_m * wheel_m - 0.5);
 }
 
 /// The body's travel (m) at each of `n` sample times when the wheels' travel between samples is
