@@ -956,11 +956,8 @@ class Diagnosis {
       Finding& f = report_.findings[k];
       const detail::Effect& effect = order_[k];
       if (std::find(p.identifiable.begin(), p.identifiable.end(), effect.cause) == p.identifiable.end()) continue;
-      std::vector<double> se(p.params.size(), std::numeric_limits<double>::quiet_NaN());
       const Engine::Fitted with_errors = engine_->fit(free_, current_.values, engine_->all(), true);
-      for (std::size_t j = 0; j < se.size() && j < with_errors.result.parameters.size(); ++j)
-        se[j] = with_errors.result.parameters[j].std_error;
-      const std::optional<detail::Identity> identity = p.identify(effect.cause, current_.values, se);
+      const std::optional<detail::Identity> identity = p.identify(effect.cause, current_.values, with_errors.result.covariance);
       if (!identity) continue;
       if (!identity->replace_with.empty()) {
         const auto other = std::find_if(p.effects.begin(), p.effects.end(),

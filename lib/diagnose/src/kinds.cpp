@@ -27,7 +27,7 @@ namespace {
 
 namespace s = models::sensors;
 
-/// Sensor gains whose equality Cochran's Q does not reject at this level are one common gain.
+/// Sensor gains whose equality the Wald test of their differences does not reject at this level are one common gain.
 constexpr double kEqualGainsP = 0.01;
 /// A long tail carrying more than this share of the modelled near-field reading replaces it.
 constexpr double kTailShareOfNearField = 0.5;
@@ -101,37 +101,48 @@ class Ground : public ProblemOf<Ground> {
     covariates.emplace_back("grey", grey_);
     covariates.emplace_back("sensor", std::move(sensor_d));
   }
-  /// Sensor gains equal within their errors (Cochran's Q, p >= kEqualGainsP) are one white
-  /// level common to every sensor: the finding is white_level, level = offset + (level - offset) g
-  /// with g the gains' inverse-variance mean.
+  /// Sensor gains equal within their errors are one white level common to every sensor: the
+  /// finding is white_level, level = offset + (level - offset) g with g the gains' mean. Equal
+  /// within their errors: the Wald test of the S - 1 differences from the first sensor's gain,
+  /// with their covariance (the gains are correlated through the offsets), does not reject at
+  /// kEqualGainsP.
   std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
-                                   const std::vector<double>& std_errors) const override {
+                                   const Eigen::MatrixXd& covariance) const override {
     if (cause != "sensor_gain" || values[static_cast<std::size_t>(level_)] != params[static_cast<std::size_t>(level_)].fallback)
       return std::nullopt;  // a white level already in the model: the gains are its sensors' spread
-    double sw = 0, swg = 0;
-    std::vector<std::pair<double, double>> gains;  // value, standard error
-    for (int k : sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end()))) {
-      if (k < 0 || k >= s::kGroundCount) continue;
-      const std::size_t j = static_cast<std::size_t>(gain_[static_cast<std::size_t>(k)]);
-      if (!(std_errors[j] > 0) || !std::isfinite(std_errors[j])) return std::nullopt;  // no errors: no test
-      gains.emplace_back(values[j], std_errors[j]);
-      sw += 1.0 / (std_errors[j] * std_errors[j]);
-      swg += values[j] / (std_errors[j] * std_errors[j]);
+    std::vector<std::size_t> g;  // the gains' parameter indices, sensors seen
+    for (int k : sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end())))
+      if (k >= 0 && k < s::kGroundCount) g.push_back(static_cast<std::size_t>(gain_[static_cast<std::size_t>(k)]));
+    const Eigen::Index P = static_cast<Eigen::Index>(params.size());
+    if (g.size() < 2 || covariance.rows() != P || covariance.cols() != P) return std::nullopt;
+    const Eigen::Index m = static_cast<Eigen::Index>(g.size()) - 1;
+    Eigen::VectorXd d(m);
+    Eigen::MatrixXd V(m, m);
+    const auto cov = [&](std::size_t a, std::size_t b) { return covariance(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)); };
+    for (Eigen::Index a = 0; a < m; ++a) {
+      const std::size_t ia = g[static_cast<std::size_t>(a) + 1];
+      d(a) = values[ia] - values[g[0]];
+      for (Eigen::Index b = 0; b < m; ++b) {
+        const std::size_t ib = g[static_cast<std::size_t>(b) + 1];
+        V(a, b) = cov(ia, ib) - cov(ia, g[0]) - cov(g[0], ib) + cov(g[0], g[0]);
+      }
     }
-    if (gains.size() < 2) return std::nullopt;
-    const double mean = swg / sw;
-    double q = 0;
-    for (const auto& [g, se] : gains) q += (g - mean) * (g - mean) / (se * se);
-    const double dof = static_cast<double>(gains.size() - 1);
-    const double p_value = chi2_upper_tail(q, dof);
-    if (p_value < kEqualGainsP) return std::nullopt;
+    if (!V.allFinite() || !d.allFinite()) return std::nullopt;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(V);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return std::nullopt;  // no errors: no test
+    const double wald = d.dot(ldlt.solve(d));
+    const double dof = static_cast<double>(m);
+    const double p_value = chi2_upper_tail(wald, dof);
+    if (!(p_value >= kEqualGainsP)) return std::nullopt;
+    double mean = 0;
+    for (std::size_t j : g) mean += values[j] / static_cast<double>(g.size());
     const double offset = values[static_cast<std::size_t>(offset_)];
     const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;
     char why[300];
     std::snprintf(why, sizeof why,
-                  "the %zu sensor gains are equal within their errors (Cochran's Q = %.3g on %g degrees of freedom, p = %.2g): "
-                  "one white level common to every sensor, %.4g counts",
-                  gains.size(), q, dof, p_value, level);
+                  "the %zu sensor gains are equal within their errors (Wald test of their differences with their covariance: "
+                  "%.3g on %g degrees of freedom, p = %.2g): one white level common to every sensor, %.4g",
+                  g.size(), wald, dof, p_value, level);
     return Identity{"white_level", why, "white_level", {{level_, level}}};
   }
 
@@ -250,7 +261,7 @@ class Proximity : public ProblemOf<Proximity> {
   /// (d <= its cut-off) replaces the near-field curve instead of extending it beyond the cut-off:
   /// the finding is the near-field curve's shape (near_field_curve), the same formula renamed.
   std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
-                                   const std::vector<double>& /*std_errors*/) const override {
+                                   const Eigen::MatrixXd& /*covariance*/) const override {
     if (cause != "long_tail") return std::nullopt;
     std::vector<double> with(distance_.size()), without(distance_.size());
     eval<double>(values.data(), with.data(), kAllResiduals);
@@ -260,7 +271,8 @@ class Proximity : public ProblemOf<Proximity> {
     double tail = 0, total = 0, beyond = 0;
     std::size_t near = 0;
     for (std::size_t i = 0; i < distance_.size(); ++i) {
-      const double t = std::max(0.0, with[i] - without[i]);
+      // The tail's share of the reading as the sensor reports it (both clipped at full scale).
+      const double t = std::max(0.0, std::min(with[i], s::kProximityFullScale_raw) - std::min(without[i], s::kProximityFullScale_raw));
       if (distance_[i] <= range_m_) {
         tail += t;
         total += std::max(0.0, std::min(with[i], s::kProximityFullScale_raw));

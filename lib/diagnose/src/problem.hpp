@@ -121,16 +121,16 @@ class Problem {
   std::vector<std::pair<std::string, std::vector<double>>> extra_columns;
   std::string notes;
 
-  /// What the finding of effect `cause` is, at the parameters `values` with standard errors
-  /// `std_errors` (NaN where none), when its parameters make it another effect; nothing when it is
-  /// what its name says (the default).
+  /// What the finding of effect `cause` is, at the parameters `values` with their covariance
+  /// (every parameter's row and column; empty when it could not be computed), when its parameters
+  /// make it another effect; nothing when it is what its name says (the default).
   /// The causes identify() has a rule for (the others are not asked).
   std::vector<std::string> identifiable;
   virtual std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
-                                           const std::vector<double>& std_errors) const {
+                                           const Eigen::MatrixXd& covariance) const {
     (void)cause;
     (void)values;
-    (void)std_errors;
+    (void)covariance;
     return std::nullopt;
   }
 
