@@ -202,7 +202,7 @@ std::string covariates_code(const std::vector<models::sensors::CovariateEffect>&
 
 /// The kind's model (lib/models kinds.hpp) as a function returning a constant instance, in the
 /// units the model takes (radians for the camera's field of view), read from the file by the same
-/// reader `simulate --like` and the ARGoS plug-in use.
+/// reader `simulate --like` uses (lib/calibrate model_file).
 void emit_model(std::ostringstream& os, const nlohmann::json& j, const std::string& path, const std::string& kind) {
   namespace s = models::sensors;
   auto model_error = [&](const std::exception& e) { return logs::json_file_error(path, "", e.what()); };
