@@ -45,7 +45,7 @@ struct DiagnoseOptions {
   std::string battery_model = "cubic";
   std::size_t battery_model_given = 0;  ///< --battery-model on the command line (else a file's may set it)
   std::string coefficients;
-  std::string effects;     ///< --effects: the search's effects, comma-separated (empty: all)
+  std::vector<std::string> effects;  ///< --effects: the search's effects (empty: all)
   std::vector<std::string> logs;
   bool skip_bad_rows = false;
   bool progress = false;
@@ -507,11 +507,7 @@ int run_diagnose(const DiagnoseOptions& o) {
       throw UsageError(std::string("--coefficients: ") + e.what());
     }
   }
-  for (std::size_t at = 0; !o.effects.empty() && at <= o.effects.size();) {
-    const std::size_t comma = std::min(o.effects.find(',', at), o.effects.size());
-    if (comma > at) options.effects.push_back(o.effects.substr(at, comma - at));
-    at = comma + 1;
-  }
+  options.effects = o.effects;
   // Progress on standard error (never on standard output, which may hold the JSON report): on a
   // terminal one line rewritten in place, with --progress elsewhere one line per stage.
   const bool tty = ::isatty(STDERR_FILENO) != 0;
@@ -579,6 +575,7 @@ void setup_diagnose(CLI::App& app, Action& action) {
                   "(epuck2-fit KIND -o, or diagnose -o); battery also: fitted (the CLI's compiled-in tables)");
   sub->add_option("--effects", o->effects,
                   "Search only these effects of the catalogue, comma-separated (e.g. black_offset,white_level); default: all")
+      ->delimiter(',')
       ->type_name("LIST");
   sub->add_option("logs", o->logs, "Log files of one kind (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--progress", o->progress,
