@@ -9,7 +9,7 @@
 // A greedy forward search keeps several. What the residuals still depend on is scored against
 // every covariate (log columns and derived quantities).
 //
-// Supported kinds: every kind of docs/logs.md (see diagnose_kinds.cpp).
+// Supported kinds: every kind of docs/logs.md (see src/kinds.cpp; their effects: lib/models effects.hpp).
 #pragma once
 
 #include <cstdint>
