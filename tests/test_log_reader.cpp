@@ -364,15 +364,15 @@ TEST_F(CoefficientFiles, BatteryTableErrorsNameTheLineOfTheKey) {
   std::string speeds;
   for (int s = 0; s < 16; ++s)
     speeds += std::string(s ? ",\n" : "") + "{\"speed_cm_s\": " + std::to_string(s) +
-              ", \"cubic\": [1, 0, 0, 0], \"lifetime_s\": 100, \"linear_slope\": 0, \"segments\": []}";
-  // speeds[0] (line 2) has no 4 segments: its "segments" value starts at character 92.
+              ", \"cubic\": [1, 0, 0, 0], \"lifetime_s\": 100, \"linear_slope\": -0.01, \"segments\": []}";
+  // speeds[0] (line 2) has no 4 segments: its "segments" value starts at character 96 (a valid, negative linear_slope before it).
   const std::string full = write("full.json", "{\"speeds\": [\n" + speeds + "\n]}\n");
   try {
     epuck2::coefficients::battery_tables_from_json(nlohmann::json::parse(epuck2::testing::slurp(full)), full);
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 2);
-    EXPECT_EQ(e.column(), 92);
+    EXPECT_EQ(e.column(), 96);
     EXPECT_TRUE(contains(e.message(), "speeds[0]: expected 4 'segments'")) << e.what();
   }
 }
