@@ -1,13 +1,18 @@
-// Tests aimed at slips nobody listed (issue #22, item 6), in three areas: the firmware's speed
-// cap in the drive fit, the column-unit hints of the log reader, and the diagnosis's handling of
-// the ToF's "no target" codes. Expected values are worked by hand from the documents (the
+// Tests aimed at slips nobody listed (issue #22, item 6), in four areas: the firmware's speed
+// cap in the drive fit, the column-unit hints of the log reader, the diagnosis's handling of the
+// ToF's "no target" codes, and the reading-noise estimate from replicates. Expected values are worked by hand from the documents (the
 // firmware's 1100 steps/s = 14.17 cm/s, docs/logs.md's column names and rails), with cases at the
 // branch points (a name exactly at the did-you-mean limit) and per-wheel values that differ, so
 // that a swap of left and right shows. The slips they were written against are listed in
 // bench/fresh-slips.md.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
 #include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/calibrate/reading_noise.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/logs/log.hpp"
 
@@ -129,6 +134,112 @@ TEST(DiagnosisTofCodes, CodesAreReadingsAtTheHighRail) {
   EXPECT_EQ(r.censored_above, static_cast<std::size_t>(rows));
   EXPECT_EQ(r.censored_below, 0u);
   EXPECT_LT(r.heldout_mse_plugin, 1.0);
+}
+
+// ----- the reading-noise estimate from replicates -------------------------------------------------
+
+// The pooled within-group sd, written out here apart from the code: sqrt(sum of squares about
+// each group's mean / sum of (n_g - 1)).
+double pooled_by_hand(const std::vector<std::vector<double>>& groups) {
+  double ss = 0, dof = 0;
+  for (const auto& g : groups) {
+    if (g.size() < 2) continue;
+    double mean = 0;
+    for (double x : g) mean += x;
+    mean /= static_cast<double>(g.size());
+    for (double x : g) ss += (x - mean) * (x - mean);
+    dof += static_cast<double>(g.size()) - 1;
+  }
+  return std::sqrt(ss / dof);
+}
+
+struct Readings {
+  std::vector<double> values;
+  std::vector<int> group, sensor;
+  std::vector<bool> on_rail;
+  void add(const std::vector<double>& g, int s = 0) {
+    const int id = group.empty() ? 0 : group.back() + 1;
+    for (double x : g) {
+      values.push_back(x);
+      group.push_back(id);
+      sensor.push_back(s);
+      on_rail.push_back(false);
+    }
+  }
+};
+
+// {1, 3}: 2 about the mean, 1 degree of freedom; {10, 12, 14}: 8, 2. sqrt(10 / 3) = 1.8257...
+TEST(NoiseByHand, PooledSdCountsEachGroupsMean) {
+  Readings r;
+  r.add({1, 3});
+  r.add({10, 12, 14});
+  const auto p = epuck2::calibrate::pooled_replicate_sd(r.values, r.group, r.on_rail, 0.0);
+  EXPECT_NEAR(p.sd, std::sqrt(10.0 / 3.0), 1e-12);
+  EXPECT_EQ(p.n, 5u);
+  EXPECT_EQ(p.groups, 2u);
+  EXPECT_EQ(p.outliers, 0u);
+}
+
+// The second pass screens groups of fewer than kSmallGroup (10) readings only. Thirty tight pairs
+// {0, 1} keep the pooled sd near 1.45, so a reading 7 from its group's median lies beyond 4 pooled
+// sd (5.8) but within the wild-reading rule's 8 robust sd (the group's 1.48 MAD sd x 8 = 11.9):
+// in a group of 9 it is left out, in a group of exactly 10 it stays.
+TEST(NoiseByHand, TheSmallGroupRuleStopsAtTenReadings) {
+  ASSERT_EQ(epuck2::calibrate::kSmallGroup, 10u);
+  auto with = [](const std::vector<double>& g) {
+    Readings r;
+    for (int i = 0; i < 30; ++i) r.add({0, 1});
+    r.add(g);
+    return epuck2::calibrate::pooled_replicate_sd(r.values, r.group, r.on_rail, 0.0);
+  };
+  std::vector<std::vector<double>> pairs(30, std::vector<double>{0, 1});
+  const std::vector<double> nine = {0, 0, 0, 0, 2, 2, 2, 2, 9};
+  const auto p9 = with(nine);
+  auto kept9 = pairs;
+  kept9.push_back({0, 0, 0, 0, 2, 2, 2, 2});
+  EXPECT_NEAR(p9.sd, pooled_by_hand(kept9), 1e-12);  // sqrt(23 / 37) = 0.7884
+  EXPECT_NEAR(p9.sd, std::sqrt(23.0 / 37.0), 1e-12);
+  EXPECT_EQ(p9.outliers, 1u);
+  EXPECT_EQ(p9.n, 68u);
+  const std::vector<double> ten = {0, 0, 0, 0, 2, 2, 2, 2, 2, 9};
+  const auto p10 = with(ten);
+  auto kept10 = pairs;
+  kept10.push_back(ten);
+  EXPECT_NEAR(p10.sd, pooled_by_hand(kept10), 1e-12);  // sqrt(79.9 / 39) = 1.4313
+  EXPECT_EQ(p10.outliers, 0u);
+  EXPECT_EQ(p10.n, 70u);
+}
+
+// Per sensor: each sensor's own groups. Sensor 0 reads {1, 3} (sd 1.414), sensor 1 reads
+// {10, 30, 50} (sd 20): values far enough apart that a swap or a mix shows.
+TEST(NoiseByHand, EachSensorGetsItsOwnReplicates) {
+  Readings r;
+  r.add({1, 3}, 0);
+  r.add({10, 30, 50}, 1);
+  const auto n = epuck2::calibrate::noise_from_replicates("value", "counts", 1.0, r.values, r.group, r.on_rail, r.sensor, 2, 0.0);
+  ASSERT_EQ(n.per_sensor_sd.size(), 2u);
+  EXPECT_NEAR(n.per_sensor_sd[0], std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(n.per_sensor_sd[1], 20.0, 1e-12);
+  EXPECT_EQ(n.per_sensor_n, (std::vector<std::size_t>{2, 3}));
+  EXPECT_NEAR(n.sd, std::sqrt(802.0 / 3.0), 1e-12);
+  EXPECT_EQ(n.n, 5u);
+}
+
+// An even group's median is the mean of its two middle readings. Sixty pairs {0, 1} and the group
+// {0, 0, 0, 4, 4, 4} pool to sqrt(54 / 65) = 0.911, so the second pass leaves out what lies
+// beyond 4 x 0.911 = 3.65 from its group's median. The median is (0 + 4) / 2 = 2: every reading is
+// 2 away, all kept (the upper middle reading, 4, would put the zeros 4 away and leave them out).
+TEST(NoiseByHand, AnEvenGroupsMedianIsTheMiddlePairsMean) {
+  Readings r;
+  for (int i = 0; i < 60; ++i) r.add({0, 1});
+  r.add({0, 0, 0, 4, 4, 4});
+  const auto p = epuck2::calibrate::pooled_replicate_sd(r.values, r.group, r.on_rail, 0.0);
+  EXPECT_EQ(p.outliers, 0u);
+  EXPECT_EQ(p.n, 126u);
+  EXPECT_NEAR(p.sd, std::sqrt(54.0 / 65.0), 1e-12);
+  std::vector<std::vector<double>> all(60, std::vector<double>{0, 1});
+  all.push_back({0, 0, 0, 4, 4, 4});
+  EXPECT_NEAR(p.sd, pooled_by_hand(all), 1e-12);
 }
 
 }  // namespace
