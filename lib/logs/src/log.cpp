@@ -565,7 +565,7 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
     const double d = log.metadata_number("obstacle_distance_m");
     if (d < 0 || d > 1e3) {  // the range of every distance_m column
       const SourcePos at = log.metadata_at.at("obstacle_distance_m");
-      throw InputError(name, at.line, at.column, "metadata 'obstacle_distance_m': expected a distance in [0, 1000] m, got " +
+      throw InputError(name, at.line, at.column, "metadata 'obstacle_distance_m': expected a distance >= 0 m and <= 1000 m, got " +
                                                     log.metadata.at("obstacle_distance_m"));
     }
   }
