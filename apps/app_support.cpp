@@ -9,6 +9,11 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <streambuf>
+
+#include <cerrno>
+#include <cstring>
+#include <unistd.h>
 
 #include "epuck2/logs/json_location.hpp"
 #include "epuck2/logs/log.hpp"
@@ -35,7 +40,60 @@ bool find_non_finite(const nlohmann::json& j, const std::string& where, std::str
   }
   return false;
 }
+
+// The first reason a write to standard output failed (0: none so far).
+int standard_output_errno = 0;
+
+// fopencookie's write function: every byte to file descriptor 1, or the reason it could not.
+ssize_t write_standard_output(void*, const char* data, std::size_t size) {
+  std::size_t done = 0;
+  while (done < size) {
+    const ssize_t n = ::write(STDOUT_FILENO, data + done, size - done);
+    if (n > 0) {
+      done += static_cast<std::size_t>(n);
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    if (standard_output_errno == 0) standard_output_errno = n < 0 ? errno : EIO;
+    return 0;  // fopencookie: 0 is the error
+  }
+  return static_cast<ssize_t>(size);
+}
+
+// std::cout's buffer: hands everything to the stdio stream `stdout` (so that printf and std::cout
+// keep their order and share one check).
+class StdioForward : public std::streambuf {
+ protected:
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    return std::fputc(traits_type::to_char_type(c), stdout) == EOF ? traits_type::eof() : c;
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    return static_cast<std::streamsize>(std::fwrite(s, 1, static_cast<std::size_t>(n), stdout));
+  }
+  int sync() override { return std::fflush(stdout) == 0 ? 0 : -1; }
+};
 }  // namespace
+
+void capture_standard_output() {
+  static StdioForward forward;
+  cookie_io_functions_t io{};
+  io.write = write_standard_output;
+  FILE* checked = ::fopencookie(nullptr, "w", io);
+  if (checked == nullptr) return;  // stays unchecked stdio: nothing better to do
+  std::setvbuf(checked, nullptr, ::isatty(STDOUT_FILENO) ? _IOLBF : _IOFBF, BUFSIZ);
+  std::fflush(stdout);
+  stdout = checked;  // glibc: stdout is an assignable variable (what printf and fwrite use)
+  std::cout.rdbuf(&forward);
+}
+
+std::string standard_output_error() {
+  std::cout.flush();
+  std::fflush(stdout);
+  if (standard_output_errno == 0 && !std::ferror(stdout) && std::cout.good()) return std::string();
+  const int e = standard_output_errno != 0 ? standard_output_errno : EIO;
+  return std::string("standard output: ") + std::strerror(e);
+}
 
 std::string json_text(const nlohmann::json& j) {
   std::string where;

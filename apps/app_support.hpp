@@ -25,6 +25,15 @@ void write_json(const nlohmann::json& j, const std::string& path);
 /// A result that is text (the CSVs of `simulate`): to standard output when `path` is empty, else
 /// to `path` atomically (a temporary file in its folder, then a rename).
 void write_output(const std::string& text, const std::string& path);
+/// Makes standard output checkable: from here on `stdout` (printf, fwrite) and std::cout write
+/// through one stdio stream whose every write to file descriptor 1 is checked, and the first
+/// failure's reason (errno) is kept. Called once, first thing in main().
+void capture_standard_output();
+/// Flushes standard output (std::cout and stdio) and returns "" when everything written since
+/// capture_standard_output() reached file descriptor 1, else "standard output: REASON" (e.g.
+/// "standard output: No space left on device"). main() turns a failure into exit 2.
+std::string standard_output_error();
+
 /// A CLI11 check for a numeric option: a finite number in [lo, hi]. (CLI::Range alone lets NaN
 /// through, since every comparison with NaN is false.) The error names the option and the range.
 CLI::Validator finite_range(double lo, double hi);

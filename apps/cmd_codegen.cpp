@@ -4,6 +4,7 @@
 // fails when the committed copy differs.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -37,7 +38,14 @@ std::uint64_t fnv1a64(const std::string& bytes) {
   return h;
 }
 
-std::string num(double v) { return logs::format_number(v); }
+/// A number as C++ source. A NaN or an infinity is never written (the header would not compile,
+/// or would compile a model that reads NaN): a runtime_error, which the file's reading turns into
+/// an error naming the file.
+std::string num(double v) {
+  if (!std::isfinite(v))
+    throw std::runtime_error("a coefficient evaluates to " + logs::format_number(v) + ", not a finite number; no header was written");
+  return logs::format_number(v);
+}
 
 /// A key as one token of a JSON pointer (RFC 6901: ~ and / escaped).
 std::string pointer_token(const std::string& key) {
@@ -183,11 +191,13 @@ int run_codegen(const CodegenOptions& o) {
       throw logs::json_file_error(in, "/kind", "a second coefficient file of kind '" + kind + "' (the first is " + first->second +
                                                    "): give one file per kind");
     body << "\n// ---- " << kind << " (" << in << ") ----\n";
-    if (kind == "battery") {
+    try {
+      if (kind != "battery") emit_parameters(body, j, in, kind);
       emit_model(body, j, in, kind);
-    } else {
-      emit_parameters(body, j, in, kind);
-      emit_model(body, j, in, kind);
+    } catch (const logs::InputError&) {
+      throw;
+    } catch (const std::runtime_error& e) {
+      throw logs::json_file_error(in, "", e.what());  // num()'s refusal: the file it came from
     }
   }
   std::ostringstream out;

@@ -46,11 +46,28 @@ struct DiagnoseOptions {
   std::string battery_model = "cubic";
   std::size_t battery_model_given = 0;  ///< --battery-model on the command line (else a file's may set it)
   std::string coefficients;
-  std::vector<std::string> effects;  ///< --effects: the search's effects (empty: all)
+  std::string effects;  ///< --effects: the search's effects, comma-separated (empty: all)
   std::vector<std::string> logs;
   bool skip_bad_rows = false;
   bool progress = false;
 };
+
+/// --effects' list: the names between commas. One value, split here (CLI11's delimiter dropped
+/// empty names and let `--effects ,` take the next argument, `-o`, as an effect): an empty name
+/// is a usage error.
+std::vector<std::string> effect_list(const std::string& list) {
+  std::vector<std::string> names;
+  if (list.empty()) return names;
+  std::size_t from = 0;
+  for (;;) {
+    const std::size_t comma = list.find(',', from);
+    names.push_back(list.substr(from, comma == std::string::npos ? std::string::npos : comma - from));
+    if (names.back().empty())
+      throw UsageError("--effects '" + list + "': an empty effect name; give the names between commas, e.g. black_offset,white_level");
+    if (comma == std::string::npos) return names;
+    from = comma + 1;
+  }
+}
 
 std::string units_of(logs::Kind k) {
   switch (k) {
@@ -493,7 +510,7 @@ int run_diagnose(const DiagnoseOptions& o) {
       throw UsageError(std::string("--coefficients: ") + e.what());
     }
   }
-  options.effects = o.effects;
+  options.effects = effect_list(o.effects);
   // Progress on standard error (never on standard output, which may hold the JSON report): on a
   // terminal one line rewritten in place, with --progress elsewhere one line per stage.
   const bool tty = ::isatty(STDERR_FILENO) != 0;
@@ -561,7 +578,12 @@ void setup_diagnose(CLI::App& app, Action& action) {
                   "(epuck2-fit KIND -o, or diagnose -o); battery also: fitted (the CLI's compiled-in tables)");
   sub->add_option("--effects", o->effects,
                   "Search only these effects of the catalogue, comma-separated (e.g. black_offset,white_level); default: all")
-      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& input) -> std::string {
+            if (input.empty()) return "an empty list; give effect names between commas, e.g. black_offset,white_level";
+            return std::string();
+          },
+          "LIST"))
       ->type_name("LIST");
   sub->add_option("logs", o->logs, "Log files of one kind (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--progress", o->progress,

@@ -203,6 +203,15 @@ int run_like(const LikeOptions& o) {
   s::StandardNormal normal(o.seed);
   const auto simulated = simulate(o, log, normal);
   const std::vector<std::string> replaced = reading_columns(log.kind);
+  // A NaN or infinite reading is never written: the row's conditions (which the log reader's ranges
+  // should have refused) or the model's coefficients overflow the model there.
+  for (std::size_t i = 0; i < simulated.size(); ++i)
+    for (std::size_t c = 0; c < simulated[i].size(); ++c)
+      if (!std::isfinite(simulated[i][c]))
+        throw logs::InputError(o.like, log.line_of_row[i], 0,
+                               "the simulated " + replaced[c] + " is " + logs::format_number(simulated[i][c]) +
+                                   " (the model overflows on this row's conditions" +
+                                   (o.coefficients.empty() ? std::string() : " with " + o.coefficients) + "); nothing was written");
   std::vector<std::string> columns;
   std::size_t text_columns = 0;
   for (const auto& c : log.columns) {

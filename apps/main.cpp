@@ -142,7 +142,24 @@ std::string failure_message(const CLI::App* app, const CLI::Error& e) {
 
 }  // namespace
 
+namespace {
+int run(int argc, char** argv);
+}
+
 int main(int argc, char** argv) {
+  // Nothing lost in silence: whatever the command printed must have reached standard output
+  // (a full disk, /dev/full, an I/O error), else exit 2 with the reason.
+  epuck2::app::capture_standard_output();
+  const int code = run(argc, argv);
+  const std::string lost = epuck2::app::standard_output_error();
+  if (lost.empty()) return code;
+  std::cerr << "error: " << lost << '\n';
+  return 2;
+}
+
+namespace {
+
+int run(int argc, char** argv) {
   using namespace epuck2::app;
   // Ceres reports through glog; its messages are not for our users (fits report their own status).
   FLAGS_minloglevel = google::GLOG_FATAL;
@@ -202,3 +219,5 @@ int main(int argc, char** argv) {
     return 2;
   }
 }
+
+}  // namespace

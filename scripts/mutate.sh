@@ -43,6 +43,20 @@ BATTERY = (["test_battery_models", "test_battery_fit", "test_virtual_robot_batte
 DIAGNOSE = (["test_diagnose", "test_independent_checks"],
             r"^(DiagnoseHidden\.(Ground|Light|NoEffect)|DiagnoseGates)")
 
+# Slips planted fresh for issue #22 (bench/fresh-slips.md), in areas the list above missed: the
+# firmware's speed cap, the column-unit hints, the diagnosis's ToF codes, the reading-noise estimate.
+LR = "lib/logs/src/log.cpp"
+LH = "lib/logs/include/epuck2/logs/log.hpp"
+DK = "lib/diagnose/src/kinds.cpp"
+CAP = (["test_sensor_fits", "test_measured_logs", "test_independent_checks", "test_area_boundaries"],
+       r"^(DriveFit|Measured|IndependentFit|HandComputed|FirmwareCap)")
+HINTS = (["test_log_reader", "test_cli_grammar", "test_area_boundaries"], r"^(LogReader|ReaderCli|Grammar|ColumnUnitHints)")
+NOISE = (["test_reading_noise", "test_sensor_fits", "test_measured_logs", "test_area_boundaries"],
+         r"^(CalibratedReadingNoise|PooledReplicateSd|ReadingNoise|SensorCoefficientFiles|Measured|NoiseByHand)")
+RN = "lib/calibrate/src/reading_noise.cpp"
+TOF_CODES = (["test_diagnose_steps", "test_log_reader", "test_measured_logs", "test_sensor_fits", "test_area_boundaries"],
+             r"^(DiagnoseBase|DiagnoseSteps|LogReader|MeasuredDrive|DriveFit|DiagnosisTofCodes)")
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -75,6 +89,20 @@ MUTANTS = [
     ("diagnose_bic_gate_ignored", DE, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (true) passing", DIAGNOSE),
     ("diagnose_structure_or", DE, "s.significant = s.score >= threshold && chi2 > chi2_critical(df1);", "s.significant = s.score >= threshold || chi2 > chi2_critical(df1);", DIAGNOSE),
     ("battery_transient_no_slope", B, "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s) + q.c * dt_s;", "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s);", BATTERY),
+    # Issue #22's fresh slips (bench/fresh-slips.md):
+    ("cap_right_uses_left", FS, "r = std::clamp(vr[i] / 100.0, -cap, cap);", "r = std::clamp(vl[i] / 100.0, -cap, cap);", CAP),
+    ("cap_reverse_uncapped", FS, "const double l = std::clamp(vl[i] / 100.0, -cap, cap),", "const double l = std::min(vl[i] / 100.0, cap),", CAP),
+    ("cap_count_left_only", FS, "if (l != vl[i] / 100.0 || r != vr[i] / 100.0) {", "if (l != vl[i] / 100.0) {", CAP),
+    ("unit_s_before_cm_s", LR, 'for (const char* unit : {"cm_s", "mm", "deg", "s", "m", "v"}) {', 'for (const char* unit : {"s", "cm_s", "mm", "deg", "m", "v"}) {', HINTS),
+    ("unit_typo_half_rule", LR, "if (d < best_distance && 2 * d < missing.size()) {", "if (d < best_distance && d < missing.size()) {", HINTS),
+    ("unit_hint_column_index", LR, "    column = header_columns[best];", "    column = static_cast<int>(best) + 1;", HINTS),
+    ("tof_code_low_rail", DK, "is_tof_out_of_range(tof[i]) ? s::kPluginTof.max_mm : tof[i];", "is_tof_out_of_range(tof[i]) ? s::kPluginTof.min_mm : tof[i];", TOF_CODES),
+    ("tof_code_as_reading", DK, "const double tof_i = logs::is_tof_out_of_range(tof[i]) ? s::kPluginTof.max_mm : tof[i];", "const double tof_i = tof[i];", TOF_CODES),
+    ("tof_code_strict", LH, "return mm >= kTofOutOfRangeCode_mm;", "return mm > kTofOutOfRangeCode_mm;", TOF_CODES),
+    ("noise_dof_no_minus_one", RN, "dof += v.size() - 1;", "dof += v.size();", NOISE),
+    ("noise_small_group_le", RN, "g.kept.size() < kSmallGroup ?", "g.kept.size() <= kSmallGroup ?", NOISE),
+    ("noise_per_sensor_inverted", RN, "if (sensor[i] != s) mine[i] = -1;", "if (sensor[i] == s) mine[i] = -1;", NOISE),
+    ("noise_median_even_upper", RN, "return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);", "return v[n / 2];", NOISE),
 ]
 
 
@@ -117,7 +145,10 @@ def build(targets, fast=False):
         cmd = ["cmake", "--build", BUILD, "-j" + JOBS, "--target"] + sorted(set(targets))
         r = sh(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         return r.returncode == 0, r.stdout[-3000:]
-    r = sh(["cmake", "--build", BUILD, "-j" + JOBS, "--target", "epuck2_fit", "epuck2_virtual_robot"],
+    # Every library a test program links (TARGET/fast relinks the test against the archives as
+    # they are: a mutant in lib/logs, lib/calibrate or lib/diagnose must be compiled into them first).
+    r = sh(["cmake", "--build", BUILD, "-j" + JOBS, "--target", "epuck2_fit", "epuck2_virtual_robot", "epuck2_logs",
+            "epuck2_calibrate", "epuck2_diagnose"],
            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if r.returncode != 0:
         return False, r.stdout[-3000:]

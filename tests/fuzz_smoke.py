@@ -2,7 +2,9 @@
 """Mutation smoke test of the epuck2-fit command line (CTest: fuzz_smoke).
 
 Runs every subcommand (battery, table5, proximity, light, ground, camera, drive, diagnose,
-simulate, codegen) on a few hundred inputs derived from the shipped logs and coefficient files by
+simulate, codegen) on a few hundred inputs derived from the shipped logs, coefficient files and
+diagnosis files (simulate KIND --like with mutated logs or model files, codegen of diagnosis
+files, diagnose --coefficients, battery --charge-map) by
 seeded mutations (byte flips, truncations, duplicated and deleted lines, huge / NaN / inf numbers,
 CR-only line ends, NUL and ESC bytes, tiny logs) and on out-of-range numeric options, and checks
 the command line's contract. A fixed set of cases runs first whatever the seed (tiny logs and
@@ -16,7 +18,9 @@ domain, infinite numbers in the coefficient files codegen reads); then --cases r
     (a key containing "reason");
   * on failure (exit 1 or 2) the -o output is untouched: it is created beforehand with known
     bytes and compared afterwards;
-  * a header written by `codegen` compiles (c++ -fsyntax-only against lib/models).
+  * a header written by `codegen` compiles (c++ -fsyntax-only against lib/models);
+  * a log written by `simulate` holds no NaN or infinity;
+  * every subcommand whose standard output fails (/dev/full) exits 2 saying "standard output".
 
 Usage: fuzz_smoke.py --exe build/bin/epuck2-fit --source . [--cases 300] [--seed 1]
 Exit status 0 when every case holds, 1 otherwise; each violation is listed with the command and
@@ -40,6 +44,7 @@ HEAD_LINES = 60          # lines of each shipped log a base input keeps (keeps e
 RUN_TIMEOUT_S = 60       # a run slower than this on a 60-line log is reported as a hang
 SENTINEL = b"epuck2 fuzz_smoke sentinel: a failed run must leave this file as it is\n"
 
+NON_FINITE_CELL_RE = re.compile(rb"(?im)(?:^|,)\s*[-+]?(?:nan|inf(?:inity)?)\s*(?=,|$)")
 NUMBER_RE = re.compile(rb"-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
 SPECIAL_NUMBERS = [b"nan", b"NaN", b"inf", b"-inf", b"Infinity", b"1e999", b"-1e999", b"1e308", b"-1e308",
                    b"4.9e-324", b"0x1p3", b"1e", b"--1", b"", b" ", b"1,5", b"99999999999999999999",
@@ -264,9 +269,10 @@ class Smoke:
             msg += "\n    inputs kept in " + dest
         self.failures.append(msg)
 
-    def run(self, case, args, mutated, output=None, option=None, json_output=False, header=False):
+    def run(self, case, args, mutated, output=None, option=None, json_output=False, header=False, csv_output=False):
         """Runs epuck2-fit ARGS and checks the contract. `mutated`: the file names (basenames) an
-        exit 2 may name; `option`: the option an exit 2 may name instead."""
+        exit 2 may name; `option`: the option an exit 2 may name instead; `csv_output`: the -o
+        output is a simulated log (no NaN or infinity in it)."""
         if output:
             with open(output, "wb") as f:
                 f.write(SENTINEL)
@@ -295,7 +301,7 @@ class Smoke:
             # Two other ways to name the place: a coefficient file's entry (JSON path such as
             # speeds[3].segments[3]), and the file alone when it is empty (no line to name).
             if not where and names:
-                entry = re.search(r"(?:%s): [A-Za-z_]\w*(?:\[\d+\])?(?:\.\w+(?:\[\d+\])?)*: " % "|".join(names), err)
+                entry = re.search(r"(?:%s): [A-Za-z_]\w*(?:\[\d+\])?(?:\.\w+(?:\[\d+\])?)*:? " % "|".join(names), err)
                 where = entry and any(m.endswith(".json") for m in mutated)
                 empty = any(os.path.exists(os.path.join(self.case_dir(case), m)) and
                             os.path.getsize(os.path.join(self.case_dir(case), m)) == 0 for m in mutated)
@@ -321,6 +327,27 @@ class Smoke:
                     self.fail(case, cmd, "coefficient file written with " + "; ".join(bad[:5]), rc, err, mutated)
             elif header:
                 self.compile_header(case, cmd, output)
+            elif csv_output:
+                bad = NON_FINITE_CELL_RE.search(body)
+                if bad:
+                    self.fail(case, cmd, "simulated log written with a non-finite value %r" % bad.group(0), rc, err, mutated)
+
+    def run_full_stdout(self, case, args):
+        """ARGS with standard output on /dev/full: exit 2 and "standard output: ..." on stderr."""
+        cmd = [self.exe] + args
+        self.runs += 1
+        try:
+            with open("/dev/full", "wb") as full:
+                p = subprocess.run(cmd, stdout=full, stderr=subprocess.PIPE, timeout=RUN_TIMEOUT_S, cwd=self.work)
+        except subprocess.TimeoutExpired:
+            self.fail(case, cmd, "hang: no exit within %d s" % RUN_TIMEOUT_S, "timeout", "", [])
+            return
+        err = p.stderr.decode("utf-8", "replace")
+        if p.returncode in self.codes:
+            self.codes[p.returncode] += 1
+        if p.returncode != 2 or "standard output: " not in err:
+            self.fail(case, cmd + [">/dev/full"], "standard output lost without exit 2 and 'standard output: REASON'",
+                      p.returncode, err, [])
 
     def compile_header(self, case, cmd, header):
         # The header is meant to be included as epuck2/fitted/coefficients.hpp next to lib/models.
@@ -390,6 +417,28 @@ class Smoke:
                 files.append(self.write6(case, k + ".json", data))
             self.run(case, ["codegen"] + files + ["-o", header], ["battery.json"], output=header, header=True)
             case += 1
+        case = self.full_stdout_cases(bases, fitted, case)
+
+    def full_stdout_cases(self, bases, fitted, case):
+        """Every subcommand with its standard output on /dev/full (a full disk): exit 2, said."""
+        if not os.path.exists("/dev/full"):
+            return case
+        d = os.path.join(self.work, "case%06d" % case)
+        os.makedirs(d, exist_ok=True)
+        # Whole logs: a 60-line head of some kinds has no usable fit (exit 1 before printing).
+        logs = {k: self.write6(case, k + ".csv", read(bases[k][0])) for k in KINDS}
+        battery = [self.write6(case, "t5_" + os.path.basename(p), self.head(p, 40))
+                   for p in bases["battery"] if "robot-a" in p]
+        profile = self.write6(case, "profile.csv", b"time_s,speed_cm_s\n0,7\n60,3\n")
+        commands = [["--help"], ["help", "diagnose"], ["battery", logs["battery"], "--json"], ["table5"] + battery,
+                    ["diagnose", "--json", logs["ground"]], ["simulate", "battery", "--model", "cubic", "--profile", profile],
+                    ["simulate", "battery", "--like", logs["battery"]],
+                    ["nist", os.path.join(self.src, "tests", "data", "nist"), "--json"]]
+        commands += [[k, logs[k], "--json"] for k in SENSOR_COMMANDS]
+        commands += [["simulate", k, "--like", logs[k], "--coefficients", fitted[k]] for k in SENSOR_COMMANDS]
+        for c in commands:
+            self.run_full_stdout(case, c)
+        return case + 1
 
     def write6(self, case, name, data):
         d = os.path.join(self.work, "case%06d" % case)
@@ -404,7 +453,9 @@ class Smoke:
         bases = {k: self.shipped(k) for k in KINDS}
         fitted = {k: os.path.join(self.src, "data", "fitted", k + ".json") for k in ["battery"] + SENSOR_COMMANDS}
         self.fixed_cases(bases, fitted)
-        kinds_cycle = ["battery", "table5", "diagnose", "simulate", "codegen", "options"] + SENSOR_COMMANDS
+        diagnoses = {k: os.path.join(self.src, "data", "fitted", "reports", "diagnose_%s.json" % k) for k in KINDS}
+        kinds_cycle = (["battery", "table5", "diagnose", "simulate", "codegen", "options"] + SENSOR_COMMANDS +
+                       ["simulate_like", "codegen_diagnoses", "diagnose_coefficients", "charge_map"])
         for case in range(cases):
             what = kinds_cycle[case % len(kinds_cycle)]
             out_json = os.path.join(self.work, "case%04d" % case, "out.json")
@@ -466,8 +517,87 @@ class Smoke:
                         names.append(n)
                     files.append(self.write(case, n, data))
                 self.run(case, ["codegen"] + files + ["-o", header], names, output=header, header=True)
+            elif what == "simulate_like":
+                self.simulate_like_case(case, rng, bases, fitted, diagnoses)
+            elif what == "codegen_diagnoses":
+                # codegen of diagnosis files (diagnose -o), one of them mutated.
+                header = os.path.join(self.work, "case%04d" % case, "coefficients.hpp")
+                files, names = [], []
+                victim = rng.choice(KINDS)
+                for k in KINDS:
+                    data, n = read(diagnoses[k]), "diagnose_%s.json" % k
+                    if k == victim:
+                        data, how = mutate(rng, data)
+                        n = "diagnose_%s_%s.json" % (k, how)
+                        names.append(n)
+                    files.append(self.write(case, n, data))
+                self.run(case, ["codegen"] + files + ["-o", header], names, output=header, header=True)
+            elif what == "diagnose_coefficients":
+                # diagnose --coefficients with a mutated model file (a calibration or a diagnosis).
+                kind = rng.choice(KINDS)
+                base = rng.choice([fitted[kind], diagnoses[kind]])
+                data, how = mutate(rng, read(base))
+                name = "model_%s_%s.json" % (kind, how)
+                coeff = self.write(case, name, data)
+                log = self.write(case, "%s.csv" % kind, self.head(rng.choice(bases[kind])))
+                self.run(case, ["diagnose", "--coefficients", coeff, "--json", out_json, log], [name], output=out_json)
+            elif what == "charge_map":
+                self.charge_map_case(case, rng, bases, fitted, out_json)
             else:
                 self.option_case(case, rng, bases, out_json)
+
+    def simulate_like_case(self, case, rng, bases, fitted, diagnoses):
+        """simulate KIND --like: the log mutated, or the model file (calibration or diagnosis)."""
+        kind = rng.choice(KINDS)
+        out_csv = os.path.join(self.work, "case%04d" % case, "out.csv")
+        log_data, model_data = self.head(rng.choice(bases[kind])), None
+        base = rng.choice([fitted[kind], diagnoses[kind], None])
+        if base:
+            model_data = read(base)
+        if model_data is not None and rng.random() < 0.5:
+            model_data, how = mutate(rng, model_data)
+            name = "model_%s_%s.json" % (kind, how)
+            log_name = "%s.csv" % kind
+        else:
+            log_data, how = mutate(rng, log_data)
+            log_name = name = "like_%s_%s.csv" % (kind, how)
+        args = ["simulate", kind, "--like", self.write(case, log_name, log_data)]
+        if model_data is not None:
+            args += ["--coefficients", self.write(case, name if name.endswith(".json") else "model.json", model_data)]
+        if rng.random() < 0.3:
+            args += ["--noise", "--seed", str(rng.randrange(1000))]
+        self.run(case, args + ["-o", out_csv], [name], output=out_csv, csv_output=True)
+
+    def charge_map_case(self, case, rng, bases, fitted, out_json):
+        """battery --charge-map: voltage-only logs (the charge column dropped) through the fitted
+        battery file's map; the map file or a log mutated."""
+        logs, names = [], []
+        mutate_map = rng.random() < 0.6
+        victim = rng.randrange(3)
+        for i, src in enumerate(rng.sample(bases["battery"], 3)):
+            lines = self.head(src).split(b"\n")
+            h = 0
+            while h < len(lines) and lines[h].startswith(b"#"):
+                h += 1
+            cols = lines[h].split(b",")
+            drop = cols.index(b"charge") if b"charge" in cols else None
+            if drop is not None:
+                lines = lines[:h] + [b",".join(c for j, c in enumerate(l.split(b",")) if j != drop) if l else l
+                                     for l in lines[h:]]
+            data, n = b"\n".join(lines), "volts_%d_%s" % (i, os.path.basename(src))
+            if not mutate_map and i == victim:
+                data, how = mutate(rng, data)
+                n = "volts_%s_%s" % (how, os.path.basename(src))
+                names.append(n)
+            logs.append(self.write(case, n, data))
+        data, map_name = read(fitted["battery"]), "map.json"
+        if mutate_map:
+            data, how = mutate(rng, data)
+            map_name = "map_%s.json" % how
+            names.append(map_name)
+        cmap = self.write(case, map_name, data)
+        self.run(case, ["battery"] + logs + ["--charge-map", cmap, "-o", out_json], names, output=out_json,
+                 json_output=True)
 
     def option_case(self, case, rng, bases, out_json):
         """A numeric option out of its domain: exit 2 naming the option, output untouched."""

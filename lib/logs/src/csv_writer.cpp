@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -30,6 +31,10 @@ std::string format_number(double value) {
 void LogWriter::row(const std::vector<double>& values, int digits) {
   std::string line;
   for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i]))
+      throw std::domain_error("row " + std::to_string(rows_.size() + 1) + ", column '" +
+                              (i < columns_.size() ? columns_[i] : std::to_string(i + 1)) + "': " + format_number(values[i]) +
+                              " is not a finite number; nothing was written");
     if (i) line += ',';
     line += digits > 0 ? format_number(values[i], digits) : format_number(values[i]);
   }

@@ -32,7 +32,7 @@ struct Range {
 // out-of-range code, see kTofOutOfRangeCode_mm).
 std::optional<Range> range_of(Kind kind, const std::string& column) {
   if (column == "time_s") return Range{0.0, 1e9, "a time >= 0 s"};
-  if (column == "distance_m") return Range{0.0, 1e3, "a distance >= 0 m"};
+  if (column == "distance_m" && kind != Kind::light) return Range{0.0, 1e3, "a distance >= 0 m"};
   switch (kind) {
     case Kind::battery:
       if (column == "speed_cm_s") return Range{-1e3, 1e3, "a speed in cm/s"};
@@ -45,6 +45,8 @@ std::optional<Range> range_of(Kind kind, const std::string& column) {
       if (column == "angle_deg") return Range{-90, 90, "an incidence angle in [-90, 90] degrees"};
       break;
     case Kind::light:
+      // The model divides by the distance (gamma intensity / d): 0 or a subnormal overflows it.
+      if (column == "distance_m") return Range{1e-3, 1e3, "a distance from the light source in [0.001, 1000] m"};
       if (column == "sensor") return Range{0, 7, "a light sensor index 0..7"};
       if (column == "value") return Range{0, 4095, "a raw reading 0..4095"};
       if (column == "intensity") return Range{0, 1e6, "an intensity >= 0"};
@@ -56,6 +58,9 @@ std::optional<Range> range_of(Kind kind, const std::string& column) {
       break;
     case Kind::camera:
       if (column == "forward_m") return Range{1e-12, 1e3, "a forward distance > 0 m"};
+      // An LED beyond a kilometre is no camera observation; the projection f y/x stays finite.
+      if (column == "lateral_m") return Range{-1e3, 1e3, "a lateral position in [-1000, 1000] m"};
+      if (column == "vertical_m") return Range{-1e3, 1e3, "a vertical position in [-1000, 1000] m"};
       if (column == "px") return Range{0, 159, "a pixel column 0..159"};
       if (column == "py") return Range{0, 119, "a pixel row 0..119"};
       break;
@@ -558,9 +563,9 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
       throw InputError(name, header_line, 1,
                        "missing required metadata line '# obstacle_distance_m: D' (before the header) for a drive log");
     const double d = log.metadata_number("obstacle_distance_m");
-    if (d < 0) {
+    if (d < 0 || d > 1e3) {  // the range of every distance_m column
       const SourcePos at = log.metadata_at.at("obstacle_distance_m");
-      throw InputError(name, at.line, at.column, "metadata 'obstacle_distance_m': expected a distance >= 0 m, got " +
+      throw InputError(name, at.line, at.column, "metadata 'obstacle_distance_m': expected a distance >= 0 m and <= 1000 m, got " +
                                                     log.metadata.at("obstacle_distance_m"));
     }
   }

@@ -71,7 +71,9 @@ class LogWriter {
   explicit LogWriter(std::vector<std::string> columns) : columns_(std::move(columns)) {}
   void comment(const std::string& text) { comments_.push_back(text); }
   void metadata(const std::string& key, const std::string& value) { metadata_.emplace_back(key, value); }
-  /// One row; values are printed with format_number unless `digits` > 0.
+  /// One row; values are printed with format_number unless `digits` > 0. A NaN or infinite value
+  /// is never written: throws std::domain_error naming the row and column (the caller's bug, or a
+  /// condition the caller should have refused with its location).
   void row(const std::vector<double>& values, int digits = 0);
   std::string str() const;
   std::size_t rows() const { return rows_.size(); }

@@ -1,0 +1,230 @@
+// Nothing lost in silence (issue #22): every command checks that what it printed reached standard
+// output, no writer puts a NaN or an infinity into a log, the log reader refuses conditions the
+// models cannot simulate (with their location), and `--effects` takes exactly one list. Through the
+// real binary, since the defects were in the command line.
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "cli_harness.hpp"
+#include "epuck2/logs/log.hpp"
+#include "epuck2/logs/output.hpp"
+
+namespace {
+
+using epuck2::testing::CliRun;
+using epuck2::testing::CliTest;
+using epuck2::testing::slurp;
+namespace fs = std::filesystem;
+
+std::string q(const std::string& s) { return "\"" + s + "\""; }
+std::string src(const std::string& rel) { return q(std::string(EPUCK2_SOURCE_DIR) + "/" + rel); }
+
+class CheckedOutputs : public CliTest {
+ protected:
+  /// Runs `epuck2-fit ARGS > STDOUT_TARGET` (e.g. /dev/full), standard error captured.
+  CliRun run_to(const std::string& args, const std::string& stdout_target) {
+    const fs::path err = dir_ / "stderr.txt";
+    const std::string cmd = "\"" + std::string(EPUCK2_FIT_EXE) + "\" " + args + " >" + stdout_target + " 2>" + q(err.string());
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.err = slurp(err);
+    return r;
+  }
+  static bool has_dev_full() { return fs::exists("/dev/full"); }
+  /// The first `lines` lines of a shipped file (a short log: every run stays quick).
+  static std::string head_of(const std::string& rel, int lines) {
+    std::istringstream in(slurp(fs::path(EPUCK2_SOURCE_DIR) / rel));
+    std::string line, out;
+    for (int i = 0; i < lines && std::getline(in, line); ++i) out += line + "\n";
+    return out;
+  }
+};
+
+// ----- 1. standard output is checked -------------------------------------------------------------
+
+// Each of these prints its result on standard output; to a file it succeeds (exit 0, something
+// written), to /dev/full (every write fails with ENOSPC) it must say so and exit 2. The list
+// holds small outputs (lost at the final flush) and large ones (lost mid-run, more than stdio's
+// buffer: the help, the simulated profile, the JSON report).
+TEST_F(CheckedOutputs, EveryCommandThatPrintsFailsOnAFullStandardOutput) {
+  if (!has_dev_full()) GTEST_SKIP() << "no /dev/full";
+  const std::string profile = write("profile.csv", "time_s,speed_cm_s\n0,7\n3600,3\n");
+  const std::string ground_head = write("ground.csv", head_of("data/raw/ground/ground_virtual-epuck2-1.csv", 200));
+  const std::vector<std::string> commands = {
+      "--help",
+      "--version",
+      "help diagnose",
+      "proximity" + shipped("proximity") + " --json",
+      "light" + shipped("light", "light_intensity_0.50.csv"),
+      "camera" + shipped("camera", "camera_virtual-epuck2-1"),
+      "battery" + shipped("battery", "robot-a_speed-07") + " --json",
+      "simulate battery --model cubic --profile " + q(profile),
+      "simulate light --like " + src("data/raw/light/light_intensity_0.50.csv"),
+      "table5" + shipped("battery", "robot-a_"),
+      "diagnose --json " + q(ground_head),
+  };
+  for (const std::string& c : commands) {
+    SCOPED_TRACE(c);
+    const CliRun ok = run(c);
+    ASSERT_EQ(ok.exit_code, 0) << ok.err;
+    ASSERT_FALSE(ok.out.empty());
+    const CliRun full = run_to(c, "/dev/full");
+    EXPECT_EQ(full.exit_code, 2) << full.err;
+    EXPECT_NE(full.err.find("error: standard output: No space left on device"), std::string::npos) << full.err;
+  }
+}
+
+// The output that did get through is whole: to a pipe that reads everything, the bytes equal the
+// file's (the checked stream changes nothing on success), and printf's and std::cout's text keep
+// their order (the battery report uses both).
+TEST_F(CheckedOutputs, TheCheckedStreamWritesTheSameBytesInOrder) {
+  const std::string args = "battery" + shipped("battery", "robot-a_speed-07");
+  const CliRun file = run(args);
+  ASSERT_EQ(file.exit_code, 0) << file.err;
+  const fs::path piped = dir_ / "piped.txt";
+  const int status = std::system(("\"" + std::string(EPUCK2_FIT_EXE) + "\" " + args + " 2>/dev/null | cat > " + q(piped.string())).c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  EXPECT_EQ(slurp(piped), file.out);
+  EXPECT_EQ(file.out.rfind("Battery discharge fits", 0), 0u) << file.out.substr(0, 200);
+}
+
+// An error that exits 2 anyway still says it, once, and the first error stays the reason.
+TEST_F(CheckedOutputs, ABadInputIsReportedBeforeTheLostOutput) {
+  if (!has_dev_full()) GTEST_SKIP() << "no /dev/full";
+  const std::string bad = write("bad.csv", "distance_m,sensor,value\n0.01,0,abc\n");
+  const CliRun r = run_to("proximity " + q(bad), "/dev/full");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bad.csv:2:"), std::string::npos) << r.err;
+}
+
+// ----- 3. no NaN in any output --------------------------------------------------------------------
+
+// Conditions that made `simulate --like` write -nan with exit 0: refused when the log is read,
+// with the file, the line and the column of the cell, and no output file.
+TEST_F(CheckedOutputs, SimulateLikeRefusesConditionsTheModelCannotTake) {
+  struct Case {
+    const char* kind;
+    std::string log;
+    std::string where;  // file:line:column of the bad cell
+    std::string column;
+  };
+  const std::vector<Case> cases = {
+      {"camera", "forward_m,lateral_m,vertical_m,px,py\n0.2,0.01,0,70,60\n0.2,1e300,0,70,60\n", ":3:5:", "lateral_m"},
+      {"camera", "forward_m,lateral_m,vertical_m,px,py\n0.2,0.01,-1e300,70,60\n", ":2:10:", "vertical_m"},
+      {"camera", "forward_m,lateral_m,vertical_m,px,py\n0.2,0.01,1000.5,70,60\n", ":2:10:", "vertical_m"},
+      {"light", "distance_m,intensity,sensor,value\n0.1,1,0,3000\n1e-320,1,3,3000\n", ":3:1:", "distance_m"},
+      {"light", "distance_m,intensity,sensor,value\n0,1,0,3000\n", ":2:1:", "distance_m"},
+      {"light", "distance_m,intensity,sensor,value\n0.0009,1,0,3000\n", ":2:1:", "distance_m"},
+  };
+  int i = 0;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.log);
+    const std::string name = "cond" + std::to_string(i++) + ".csv";
+    const std::string log = write(name, c.log);
+    const fs::path out = dir_ / ("sim_" + name);
+    const CliRun r = run(std::string("simulate ") + c.kind + " --like " + q(log) + " -o " + q(out.string()));
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find(name + c.where), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("column '" + c.column + "'"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+// The edges of the new ranges are accepted (0.001 m from a light, an LED 1000 m to the side) and
+// simulate to finite readings.
+TEST_F(CheckedOutputs, TheEdgesOfTheRangesAreAcceptedAndSimulateFinite) {
+  const std::string light = write("light.csv", "distance_m,intensity,sensor,value\n0.001,1,0,3000\n1000,1e6,7,3000\n");
+  CliRun r = run("simulate light --like " + q(light));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // 0.001 m from an intensity-1 source saturates the sensor: the plug-in's model reads 0 there;
+  // 1000 m is beyond its 0.5 m range: dark, 4095.
+  EXPECT_NE(r.out.find("\n0.001,1,0,0\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n1000,1e+06,7,4095\n"), std::string::npos) << r.out;
+  const std::string camera = write("camera.csv", "forward_m,lateral_m,vertical_m,px,py\n0.2,-1000,1000,70,60\n");
+  r = run("simulate camera --like " + q(camera));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("inf"), std::string::npos) << r.out;
+}
+
+// A drive log's obstacle at 1e300 m was taken; it is refused at the metadata line like a
+// negative one, and 0 (documented in docs/logs.md) is accepted.
+TEST_F(CheckedOutputs, ObstacleDistanceHasThePhysicalRangeOfADistance) {
+  const std::string rows = "time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n0,0,0,0,0,20\n0.1,5,5,0,0,20\n";
+  const std::string far = write("far.csv", "# obstacle_distance_m: 1e300\n" + rows);
+  CliRun r = run("simulate drive --like " + q(far));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("far.csv:1:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("<= 1000 m"), std::string::npos) << r.err;
+  const std::string zero = write("zero.csv", "# obstacle_distance_m: 0\n" + rows);
+  r = run("simulate drive --like " + q(zero));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  // At the obstacle the ToF reads its lower rail, 20 mm.
+  EXPECT_NE(r.out.find("\n0,0,0,0,0,20\n"), std::string::npos) << r.out;
+}
+
+// A model whose arithmetic overflows on in-range conditions (a field of view of 4.9e-324 degrees,
+// the smallest double: in radians it is 0, the focal length 80 / tan(0) infinite, and an LED on the
+// axis gives inf * 0 = NaN): nothing is written, exit 2,
+// and the error names a file (the log's row, or the coefficient file when its reader refuses it).
+TEST_F(CheckedOutputs, SimulateLikeNeverWritesANonFiniteReading) {
+  std::string model = slurp(fs::path(EPUCK2_SOURCE_DIR) / "data/fitted/camera.json");
+  const std::string key = "\"fov_deg\": ";
+  const std::size_t at = model.find(key, model.find("\"parameters\""));
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t end = model.find_first_of(",\n}", at + key.size());
+  model = model.substr(0, at + key.size()) + "4.9e-324" + model.substr(end);
+  const std::string coefficients = write("camera_tiny_fov.json", model);
+  const std::string log = write("axis.csv", "forward_m,lateral_m,vertical_m,px,py\n0.2,0,0,80,60\n");
+  const fs::path out = dir_ / "sim.csv";
+  const CliRun r = run("simulate camera --like " + q(log) + " --coefficients " + q(coefficients) + " -o " + q(out.string()));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(r.err.find("axis.csv:2") != std::string::npos || r.err.find("camera_tiny_fov.json") != std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// The writer itself refuses a non-finite value, naming the row and the column (every log the
+// project writes goes through it: simulate, generate, the virtual robot).
+TEST(LogWriterChecks, ANonFiniteValueIsNeverWritten) {
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                           -std::numeric_limits<double>::infinity()}) {
+    epuck2::logs::LogWriter w({"time_s", "charge"});
+    w.row({0.0, 1.0});
+    try {
+      w.row({1.0, bad});
+      FAIL() << "accepted " << bad;
+    } catch (const std::domain_error& e) {
+      EXPECT_NE(std::string(e.what()).find("row 2, column 'charge'"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(w.rows(), 1u);  // the bad row was not kept
+  }
+  epuck2::logs::LogWriter ok({"x"});
+  ok.row({std::numeric_limits<double>::max()});
+  ok.row({-std::numeric_limits<double>::denorm_min()});
+  EXPECT_EQ(ok.str(), "x\n1.7976931348623157e+308\n-4.94066e-324\n");
+}
+
+// ----- 4. --effects takes one list ----------------------------------------------------------------
+
+// `--effects ,` swallowed the following `-o FILE` as effect names; an empty list or an empty name
+// is now a usage error naming the option, and -o is still -o.
+TEST_F(CheckedOutputs, EffectsTakesExactlyOneList) {
+  const std::string log = q(write("ground.csv", head_of("data/raw/ground/ground_virtual-epuck2-1.csv", 200)));
+  const fs::path out = dir_ / "d.json";
+  for (const std::string list : {",", "\"\"", "black_offset,", ",black_offset", "black_offset,,white_level"}) {
+    SCOPED_TRACE(list);
+    const CliRun r = run("diagnose --effects " + list + " -o " + q(out.string()) + " " + log);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("--effects"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("-o"), std::string::npos) << "-o was taken as an effect: " << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+  // One list is one value: the next word is a log, not another effect.
+  const CliRun two = run("diagnose --effects black_offset " + log + " -o " + q(out.string()));
+  EXPECT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_TRUE(fs::exists(out));
+}
+
+}  // namespace
