@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "epuck2/nist/nist.hpp"
+#include "epuck2/fit/fit_curve.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace {
