@@ -74,8 +74,10 @@ struct FitOptions {
   /// (0: one solve, the historical behaviour). A fresh trust region often finishes what a stalled
   /// one stopped early.
   int restarts = 0;
-  /// Also solve from the same start with other strategies (dogleg trust region, then
-  /// Levenberg-Marquardt on the normal equations) and keep the lowest cost (false: LM + DENSE_QR).
+  /// When the first solve's solution fails its own checks (see solve), also solve from the same
+  /// start with other strategies (dogleg trust region, then Levenberg-Marquardt on the normal
+  /// equations, then a cautious first trust region) and keep the lowest cost (false: LM +
+  /// DENSE_QR only).
   bool try_alternatives = false;
   /// fit_curve only, without `robust`: all observations in one residual block (one cost function
   /// evaluating every row, derivatives by Jets row by row) instead of one block per observation.
@@ -98,6 +100,11 @@ struct FitOptions {
 
 /// Solves `problem` as `options` say: one Levenberg-Marquardt solve by default; with `restarts`
 /// and `try_alternatives`, several solves, leaving the parameters at the lowest cost found. The
+/// other strategies run only when the first one's solution fails its own checks: Ceres did not
+/// report convergence, the restarts ran out while the cost still fell, a parameter no longer
+/// moves the residuals (relative sensitivity |b_j| |J_j| below 1e-8 of the largest: a plateau
+/// where the model saturates), the equilibrated Jacobian is rank-deficient, or the problem holds
+/// parameters through a manifold (not checked: every strategy runs). The
 /// summary returned is the winning solve's, its `iterations` holding every iteration of every
 /// solve (the total work).
 ceres::Solver::Summary solve(ceres::Problem& problem, const FitOptions& options);
