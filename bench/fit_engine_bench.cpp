@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "heap.hpp"  // apps/heap.hpp: the programs' heap setting
+#include "epuck2/fit/fit_curve.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/nist/nist.hpp"
 #include "epuck2/logs/log.hpp"

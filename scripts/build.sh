@@ -1,10 +1,22 @@
 #!/usr/bin/env bash
-# Configures and builds everything (Release) into build/; the CLI lands at build/bin/epuck2-fit.
+# Configures (Release) and builds into build/ what a user runs: the libraries, the CLI
+# (build/bin/epuck2-fit, all that scripts/regenerate.sh needs) and, when ARGoS is installed, the
+# ARGoS plug-in (build/lib/argos3). The tests and benchmarks are left for the test command.
+#   scripts/build.sh          the CMake target `product`
+#   scripts/build.sh --all    everything: the tests, the benchmarks and the examples too
 set -euo pipefail
 cd "$(dirname "$0")/.."
+TARGET=(--target product)
+for arg in "$@"; do
+  case "$arg" in
+    --all) TARGET=() ;;
+    -h|--help) sed -n '2,6p' "$0"; exit 0 ;;
+    *) echo "build: unknown option '$arg' (expected --all)" >&2; exit 2 ;;
+  esac
+done
 JOBS="${EPUCK2_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 LAUNCHER=()
 # ccache, when installed, makes rebuilds in several checkouts cheap; the build does not need it.
 if command -v ccache >/dev/null 2>&1; then LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DEPUCK2_BUILD_APPS=ON "${LAUNCHER[@]}" >/dev/null
-cmake --build build -j"$JOBS"
+cmake --build build -j"$JOBS" "${TARGET[@]}"

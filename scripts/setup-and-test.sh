@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The README's second command: installs what is needed, builds, and runs every test (CTest).
+# The README's second command: installs what is needed, builds everything (the tests and the
+# benchmarks too: scripts/build.sh --all), and runs every test (CTest).
 #   scripts/setup-and-test.sh             Release build in build/, all tests
 #   scripts/setup-and-test.sh --sanitize  GCC AddressSanitizer + UndefinedBehaviorSanitizer (with
 #                                         float-cast-overflow, which -fsanitize=undefined leaves out)
@@ -11,14 +12,14 @@ SANITIZE=0
 for arg in "$@"; do
   case "$arg" in
     --sanitize) SANITIZE=1 ;;
-    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
     *) echo "setup-and-test: unknown option $arg" >&2; exit 2 ;;
   esac
 done
 JOBS="${EPUCK2_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 scripts/install-deps.sh
 if [ "$SANITIZE" -eq 0 ]; then
-  scripts/build.sh
+  scripts/build.sh --all
   cd build
   ctest --output-on-failure -j"$JOBS"
   exit 0

@@ -19,6 +19,7 @@
 #include "diagnose_generators.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/diagnose/extended_model.hpp"
+#include "epuck2/fit/fit_curve.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/parameter.hpp"
 #include "epuck2/logs/log.hpp"

@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "epuck2/fit/fit_curve.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/nist/nist.hpp"
 

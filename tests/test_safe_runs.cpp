@@ -254,7 +254,7 @@ TEST_F(Stage, SigtermAndSigintRemoveTheTemporariesThenEndTheProcessBySignal) {
   }
 }
 
-// ---- the apps' JSON writer and option checks (apps/app_support.cpp, compiled in) ----
+// ---- the apps' JSON writer and option checks (apps/app_support.cpp, through the library the CLI links) ----
 
 // fuzz report 7: a NaN left in a result used to be written as a bare null (nlohmann's dump).
 TEST(SafeJson, ANaNOrInfinityAnywhereIsRefusedNamingWhereItIs) {

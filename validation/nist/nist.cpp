@@ -10,6 +10,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "epuck2/fit/fit_curve.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace epuck2::nist {

@@ -8,6 +8,7 @@
 
 #include "epuck2/calibrate/battery.hpp"
 #include "epuck2/calibrate/charge_map.hpp"
+#include "epuck2/fit/fit_curve.hpp"
 #include "epuck2/models/battery_simulation.hpp"
 
 namespace epuck2::calibrate {

@@ -8,6 +8,7 @@
 #include <numeric>
 #include <optional>
 #include <set>
+#include <tuple>
 
 #include "problem.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
@@ -371,7 +372,7 @@ class Engine {
       if (!need) {
         std::vector<double> v(P);
         for (std::size_t j = 0; j < P; ++j) v[j] = parameters[j][0];
-        std::vector<double> pred;
+        std::vector<double>& pred = e_.scratch<double>();
         e_.predict(v.data(), pred, limit_);
         for (std::size_t k = 0; k < idx_.size(); ++k) {
           residuals[k] = e_.weight(idx_[k]) * (e_.p_.y[idx_[k]] - pred[idx_[k]]);
@@ -391,7 +392,7 @@ class Engine {
       const std::size_t P = slot_.size();
       std::vector<J> v(P);
       for (std::size_t j = 0; j < P; ++j) v[j] = slot_[j] >= 0 ? J(parameters[j][0], slot_[j]) : J(parameters[j][0]);
-      std::vector<J> pred;
+      std::vector<J>& pred = e_.scratch<J>();
       e_.predict(v.data(), pred, limit_);
       for (std::size_t k = 0; k < idx_.size(); ++k) {
         const J& m = pred[idx_[k]];
@@ -414,6 +415,18 @@ class Engine {
     const std::vector<int> slot_;
     std::size_t limit_ = 0;  ///< one past the last residual used
   };
+
+  /// The predictions of Cost::Evaluate, kept from one evaluation (and one fit) to the next
+  /// instead of allocated in each: on a 1M-row drive log the Jets' are 48 MB or more, which glibc
+  /// serves by mmap (above its largest threshold, 32 MiB) and unmaps on free, so that every
+  /// evaluation faulted every page of them in afresh (3.3 million page faults, 6 s of system
+  /// time). One evaluation at a time (the engine's solves run on one thread), so one buffer per
+  /// scalar type.
+  template <typename T>
+  std::vector<T>& scratch() const {
+    return std::get<std::vector<T>>(scratch_);
+  }
+  mutable std::tuple<std::vector<double>, std::vector<detail::PairJet>, std::vector<ShortJet>, std::vector<Jet>> scratch_;
 
   struct Slope {
     int param;

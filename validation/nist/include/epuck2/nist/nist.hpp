@@ -91,8 +91,9 @@ struct RunReport {
 };
 
 /// Options the NIST runs use by default: the fitting layer's multi-strategy search (restarts from
-/// the solution, alternative trust-region strategies and linear solvers, the lowest cost wins)
-/// and tight tolerances. They never see the certified values.
+/// the solution; where that solution fails its own checks, alternative trust-region strategies
+/// and linear solvers, the lowest cost wins) and tight tolerances. They never see the certified
+/// values.
 FitOptions default_options();
 
 /// Fits `problem` from start 1 or 2 and compares with the certified values.
