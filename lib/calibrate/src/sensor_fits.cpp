@@ -741,15 +741,12 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
     const std::vector<double> enc_travel = lagged_travel_m(run, nominal, 0.0);
     for (std::size_t k = 0; k < run.time_s.size(); ++k) {
       const double mm = run.tof_mm[k];
-      Observation o{mm, Censoring::none, run.path + ":" + std::to_string(run.line[k]), -1};
-      if (logs::is_tof_out_of_range(mm)) ++out.tof_out_of_range_codes;
-      if (mm <= s::kPluginTof.min_mm) {
-        o = {s::kPluginTof.min_mm, Censoring::at_or_below, o.where, -1};
-      } else if (mm >= s::kPluginTof.max_mm) {
-        o = {s::kPluginTof.max_mm, Censoring::at_or_above, o.where, -1};
-      } else {
+      const TofReading read = read_tof(mm);  // as the diagnosis reads it
+      Observation o = read.observation;
+      o.where = run.path + ":" + std::to_string(run.line[k]);
+      if (read.no_target_code) ++out.tof_out_of_range_codes;
+      if (o.censoring == Censoring::none)
         plugin_r.push_back(mm - s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc_travel[k]));  // the plug-in's
-      }
       if (o.censoring != Censoring::none) ++out.tof_censored;
       tobs.push_back(o);
     }
