@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli_harness.hpp"
+#include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/diagnose/extended_model.hpp"
 #include "epuck2/logs/log.hpp"
@@ -32,6 +33,9 @@ struct DriveTruth {
   double tof_sd_mm = 3.0;    ///< Gaussian noise of a ToF reading before its rounding
   std::size_t rows = 76;
   std::size_t start = 1;     ///< first row that commands the speed
+  std::size_t second = 0;    ///< from this row on (0: never) the command is second_cm_s ...
+  double second_cm_s = 0;
+  double second_runs_cm_s = 0;  ///< ... and the wheels run at this
   double dt_s = 0.1;
   std::vector<std::size_t> code_rows;  ///< rows whose ToF reads 8190 ("no target")
   unsigned seed = 21;
@@ -51,8 +55,10 @@ std::string drive_log(const DriveTruth& t, double* sq_error = nullptr, std::size
   std::size_t n = 0;
   for (std::size_t i = 0; i < t.rows; ++i) {
     const double time = static_cast<double>(i) * t.dt_s;
-    if (i > 0 && i - 1 >= t.start) x += t.speed_cm_s / 100.0 * t.dt_s;  // the previous row's command, held
-    const double v = i >= t.start ? t.speed_cm_s : 0.0;
+    const bool second = t.second > 0;
+    if (i > 0 && i - 1 >= t.start)  // the previous row's command, held
+      x += (second && i - 1 >= t.second ? t.second_runs_cm_s : t.speed_cm_s) / 100.0 * t.dt_s;
+    const double v = second && i >= t.second ? t.second_cm_s : i >= t.start ? t.speed_cm_s : 0.0;
     const long steps = static_cast<long>(std::floor(kStepsPerMetre * x));
     const double truth_mm = 1000.0 * (t.obstacle_m - x);
     double tof = std::round(truth_mm + noise(rng));
@@ -177,6 +183,47 @@ TEST(HonestDiagnosis, AFindingBeyondTheStatedUncertaintyIsPossibleNotDeterminedA
   bool warned = false;
   for (const auto& w : r.warnings) warned = warned || w.rfind("possible, not determined: black_offset (", 0) == 0;
   EXPECT_TRUE(warned);
+}
+
+// ---- (5) the firmware cap is tested, not assumed ----------------------------------------------
+
+TEST(HonestDrive, WheelsThatRunFasterThanTheFirmwareCapAreFittedAsTheyRun) {
+  // 5 cm/s, then 15 cm/s, and the wheels do turn at 15 (the generator has no cap). Taken as
+  // capped at 14.17, the two speeds disagree on the steps per metre. (At one speed alone the cap
+  // and the steps per metre cannot be told apart: the cap is then kept.)
+  DriveTruth t;
+  t.obstacle_m = 1.5;
+  t.speed_cm_s = 5.0;
+  t.second = 30;
+  t.second_cm_s = t.second_runs_cm_s = 15.0;
+  t.rows = 60;  // 0.59 m driven
+  const auto f = epuck2::calibrate::fit_drive({logs::parse_log(drive_log(t), "fast.csv", logs::Kind::drive)});
+  ASSERT_TRUE(f.steps.usable) << f.steps.message;
+  EXPECT_TRUE(f.cap_tested);
+  EXPECT_FALSE(f.cap_kept);
+  EXPECT_LT(f.bic_uncapped, f.bic_capped - 10);
+  // The generator's steps per metre, within 0.1 %.
+  EXPECT_NEAR(f.steps.value("steps_per_m"), kStepsPerMetre, 1e-3 * kStepsPerMetre);
+  bool said = false;
+  for (const auto& w : f.warnings) said = said || w.find("the wheels exceed the firmware's limit and are fitted as they run") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
+TEST(HonestDrive, WheelsHeldAtTheCapKeepIt) {
+  // The same commands, the wheels held at the firmware's 1100 steps/s: the cap stays.
+  DriveTruth t;
+  t.obstacle_m = 1.5;
+  t.speed_cm_s = 5.0;
+  t.second = 30;
+  t.second_cm_s = 15.0;
+  t.second_runs_cm_s = 100.0 * 1100.0 / kStepsPerMetre;
+  t.rows = 60;
+  const auto f = epuck2::calibrate::fit_drive({logs::parse_log(drive_log(t), "held.csv", logs::Kind::drive)});
+  ASSERT_TRUE(f.steps.usable) << f.steps.message;
+  EXPECT_TRUE(f.cap_tested);
+  EXPECT_TRUE(f.cap_kept);
+  EXPECT_EQ(f.capped_rows, 30u);
+  EXPECT_NEAR(f.steps.value("steps_per_m"), kStepsPerMetre, 1e-3 * kStepsPerMetre);
 }
 
 // ---- (4) units that cannot be the columns' stop the run (exit 2, the column, the likely unit) --

@@ -1071,6 +1071,7 @@ class Diagnosis {
     // beyond the proximity sensor's range).
     const std::vector<double> sd = engine_->noise_sd(current_.values);
     report_.noise_sd = sd.front();
+    report_.channel_noise_sd.clear();  // fit_final runs again when undetermined findings leave
     if (p.channel_names.size() > 1)
       for (std::size_t c = 0; c < sd.size(); ++c) report_.channel_noise_sd.push_back({p.channel_names[c], sd[c], 0.0});
     for (std::size_t k = 0; k < order_.size(); ++k) report_.findings[k].parameters = named(p, current_, order_[k].params);
@@ -1079,6 +1080,7 @@ class Diagnosis {
     if (!p.base_free.empty()) report_.final_base = named(p, current_, p.base_free);
     report_.final_fit = all_rows_statistics(*engine_, p, current_);
     report_.correlations = fit::correlations(current_.result);
+    report_.censored_below = report_.censored_above = 0;
     for (std::size_t i = 0; i < engine_->size(); ++i) {
       if (p.y[i] <= engine_->lo(i)) ++report_.censored_below;
       if (p.y[i] >= engine_->hi(i)) ++report_.censored_above;
