@@ -185,6 +185,20 @@ TEST(HonestDiagnosis, AFindingBeyondTheStatedUncertaintyIsPossibleNotDeterminedA
   EXPECT_TRUE(warned);
 }
 
+TEST(HonestDiagnosis, TwoFindingsTheLogsCannotTellApartAreBothPossibleNotDetermined) {
+  // black_offset and white_level both move the reading of mid greys: their parameters correlate.
+  // Judged against a correlation limit they exceed (a stated option), neither is determined.
+  const logs::Log log = logs::parse_log(ground_log(40.0, 5.0, 7), "g.csv", logs::Kind::ground);
+  dg::Options strict;
+  strict.max_correlation = 1e-9;
+  const dg::Report r = dg::diagnose({log}, strict);
+  ASSERT_EQ(r.possible.size(), 2u);
+  for (const auto& f : r.possible)
+    EXPECT_EQ(f.undetermined.rfind("these logs cannot tell ", 0), 0u) << f.undetermined;
+  EXPECT_TRUE(r.findings.empty());
+  EXPECT_EQ(dg::extended_ground(r).sensors[0].offset_raw, 0.0);
+}
+
 // ---- (5) the firmware cap is tested, not assumed ----------------------------------------------
 
 TEST(HonestDrive, WheelsThatRunFasterThanTheFirmwareCapAreFittedAsTheyRun) {
