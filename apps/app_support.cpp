@@ -15,6 +15,7 @@
 #include <cstring>
 #include <unistd.h>
 
+#include "epuck2/calibrate/plausibility.hpp"
 #include "epuck2/logs/json_location.hpp"
 #include "epuck2/logs/log.hpp"
 #include "commands.hpp"
@@ -268,6 +269,7 @@ std::vector<logs::Log> read_logs_reporting(const std::string& command, const std
   options.skip_bad_rows = skip_bad_rows;
   std::vector<logs::Log> logs = logs::read_logs(paths, kind, options);
   report_skipped(command, logs);
+  calibrate::check_plausible_units(logs);  // cm written as m: exit 2, not a calibration of nonsense
   return logs;
 }
 

@@ -76,7 +76,8 @@ CLI::Validator figure_file();
 /// Adds --skip-bad-rows (the same help text on every subcommand that reads logs).
 void add_skip_bad_rows(CLI::App* sub, bool& flag);
 /// Reads the logs (logs::read_logs), then reports on standard error every row left out under
-/// --skip-bad-rows: the count, then the first 10 as file:line:column: why.
+/// --skip-bad-rows: the count, then the first 10 as file:line:column: why. Throws logs::InputError
+/// for units that cannot be the columns' (calibrate::check_plausible_units: cm written as m).
 std::vector<logs::Log> read_logs_reporting(const std::string& command, const std::vector<std::string>& paths,
                                            std::optional<logs::Kind> kind, bool skip_bad_rows);
 /// Reports on standard error the rows left out of these logs (nothing when none was).

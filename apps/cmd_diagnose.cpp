@@ -206,6 +206,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   j["residuals"] = r.residuals;
   j["logs"] = paths;
   j["verdict"] = r.verdict_name();
+  if (const dg::Finding* d = r.dominant()) j["most_of_the_gain"] = d->cause;
   j["too_few_rows"] = r.too_few_rows;
   j["minimum_rows"] = r.minimum_rows;
   if (r.too_few_rows) {
@@ -222,6 +223,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
     }
     j["mse_units"] = units_of(r.kind);
     j["findings"] = nlohmann::json::array();
+    j["possible_findings"] = nlohmann::json::array();
     j["residual_structure"] = nlohmann::json::array();
     j["residual_structure_before"] = nlohmann::json::array();
     j["effects_considered"] = r.effects_considered;
@@ -296,9 +298,24 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
       fj["heldout_weighted_after"] = f.heldout_weighted_after;
     }
     fj["delta_bic"] = f.delta_bic;
+    fj["removal_delta_bic"] = f.removal_delta_bic;
     fj["meaning"] = meaning(r.kind, f.cause);
     fj["alternatives"] = f.alternatives;
     j["findings"].push_back(fj);
+  }
+  // Kept by the search, not determined by the logs: not in the extended model (docs/diagnose.md).
+  j["possible_findings"] = nlohmann::json::array();
+  for (const auto& f : r.possible) {
+    nlohmann::json fj, v, e;
+    fj["cause"] = f.cause;
+    fj["status"] = "possible, not determined";
+    fj["why"] = f.undetermined;
+    put_parameters(f.parameters, v, e, nullptr, nullptr);
+    fj["parameters"] = v;
+    fj["uncertainty"] = e;
+    fj["delta_bic"] = f.delta_bic;
+    fj["meaning"] = meaning(r.kind, f.cause);
+    j["possible_findings"].push_back(fj);
   }
   auto scores = [](const std::vector<dg::CovariateScore>& s) {
     nlohmann::json a = nlohmann::json::array();
@@ -357,7 +374,7 @@ void print_report(const dg::Report& r) {
     const std::string m = r.message.empty() ? r.message : std::string(1, static_cast<char>(std::toupper(r.message[0]))) + r.message.substr(1);
     std::printf("%s.\nNo effect was judged: no recalibration, no search, no finding.\n", m.c_str());
     if (!r.outliers.empty()) std::printf("Wild readings left out before the diagnosis: %zu\n", r.outliers.size());
-    std::printf("Verdict: none (too few rows to judge)\n");
+    std::printf("Verdict: %s\n", r.verdict_name().c_str());
     return;
   }
   if (!r.channel_noise_sd.empty()) {
@@ -385,6 +402,14 @@ void print_report(const dg::Report& r) {
     std::printf(" (BIC %+.1f).\n", f.delta_bic);
     std::printf("  fit to all rows with it: %s\n", format_statistics(f.fit, ru).c_str());
   }
+  if (r.findings.size() > 1) {
+    std::printf("Most of the gain: %s (taken out of the final model, the BIC rises by", r.dominant()->cause.c_str());
+    for (const auto& f : r.findings) std::printf(" %s %+.1f", f.cause.c_str(), f.removal_delta_bic);
+    std::printf(").\n");
+  }
+  for (const auto& f : r.possible)
+    std::printf("Possible, not determined: %s (%s): %s; left out of the extended model.\n", f.cause.c_str(),
+                meaning(r.kind, f.cause).c_str(), f.undetermined.c_str());
   for (const auto& f : r.findings)
     if (!f.alternatives.empty()) {
       std::string alts;

@@ -16,8 +16,12 @@ namespace {
 void print_report(const calibrate::DriveFit& f) {
   std::printf("Drive runs: %zu\n\n", f.runs.size());
   std::printf("Encoders: steps = steps_per_m * commanded distance (%zu rows; commands above the firmware's 1100 steps/s = "
-              "14.17 cm/s taken as that limit: %zu rows)\n",
-              f.steps_rows, f.capped_rows);
+              "14.17 cm/s %s: %zu rows)\n",
+              f.steps_rows, f.cap_kept ? "taken as that limit" : "taken as commanded (the encoders beat the limit on the BIC)",
+              f.capped_rows);
+  if (f.cap_tested)
+    std::printf("  firmware cap tested: BIC %.1f with the cap, %.1f without: %s\n", f.bic_capped, f.bic_uncapped,
+                f.cap_kept ? "kept" : "the wheels run faster, fitted as they run");
   app::sensors::print_parameter(f.steps, "steps_per_m", "steps/m", "  ", "plug-in 7763.656", &f.steps_autocorrelation);
   app::sensors::print_handling(f.steps, "steps", "  ", &f.steps_autocorrelation);
   for (const auto& p : f.over_limit_runs) std::printf("  commands above the limit (capped): %s\n", p.c_str());
@@ -50,6 +54,8 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
   j["tof_out_of_range_codes"] = f.tof_out_of_range_codes;
   j["capped_rows"] = f.capped_rows;
   j["over_limit_runs"] = f.over_limit_runs;
+  if (f.cap_tested)
+    j["firmware_cap"] = {{"kept", f.cap_kept}, {"bic_capped", f.bic_capped}, {"bic_uncapped", f.bic_uncapped}};
   j["reference_mse"] = {{"plugin_tof", f.plugin_tof_mse}};
   app::sensors::add_noise(j, {f.tof_noise, f.encoder_noise});
   app::sensors::add_warnings(j, f.warnings);

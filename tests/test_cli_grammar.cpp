@@ -243,12 +243,12 @@ TEST_F(Grammar, DiagnoseFailuresLeaveTheReportAndTheFigureAlone) {
   EXPECT_NE(r.err.find("bad.csv:3:"), std::string::npos) << r.err;
   EXPECT_TRUE(unchanged(out));
   EXPECT_TRUE(unchanged(fig));
-  // Too few rows is a report (exit 0, docs/diagnose.md): verdict none, and it says why.
+  // Too few rows is a report (exit 0, docs/diagnose.md): verdict "not judged", and it says why.
   const std::string tiny = write("tiny.csv", "distance_m,sensor,value\n0,0,4000\n0,0,3500\n0,0,3800\n0,0,3900\n");
   const CliRun t = run("diagnose -o " + q(out) + " " + q(tiny));
   EXPECT_EQ(t.exit_code, 0) << t.err;
   EXPECT_NE(t.err.find("too few rows (4)"), std::string::npos) << t.err;
-  EXPECT_EQ(nlohmann::json::parse(slurp(out)).at("verdict"), "none");
+  EXPECT_EQ(nlohmann::json::parse(slurp(out)).at("verdict"), "not judged (too few rows: 4 of 75)");
 }
 
 TEST_F(Grammar, NistOutputAndItsOldSpellingWriteTheSameReport) {

@@ -51,14 +51,14 @@ TEST_F(SmallData, DiagnoseOnSevenProximityRowsSaysTooFewAndNamesNoFinding) {
   // One sensor: the base model's a, b, c and long_tail's amplitude and length, 5 parameters;
   // 5 folds x 3 rows x 5 parameters = 75 rows.
   EXPECT_NE(r.out.find("Too few rows (7) to judge effects; need at least 75"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("Verdict: none"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Verdict: not judged (too few rows: 7 of 75)"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("Finding:"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("saturation"), std::string::npos) << r.out;
 
   const CliRun j = run("diagnose --json - " + q(log));
   ASSERT_EQ(j.exit_code, 0) << j.err;
   const auto report = nlohmann::json::parse(j.out);
-  EXPECT_EQ(report.at("verdict"), "none");
+  EXPECT_EQ(report.at("verdict"), "not judged (too few rows: 7 of 75)");
   EXPECT_TRUE(report.at("too_few_rows").get<bool>());
   EXPECT_EQ(report.at("minimum_rows"), 75);
   EXPECT_TRUE(report.at("findings").empty());
@@ -74,7 +74,8 @@ TEST(SmallDataLibrary, TheMinimumIsFoldsTimesRowsPerParameterTimesTheFirstModels
   const dg::Report below = at(74);
   EXPECT_TRUE(below.too_few_rows);
   EXPECT_EQ(below.minimum_rows, 75u);
-  EXPECT_EQ(below.verdict_name(), "none");
+  EXPECT_EQ(below.verdict_name(), "not judged (too few rows: 74 of 75)");
+  EXPECT_EQ(below.verdict, dg::Verdict::not_judged);
   EXPECT_TRUE(below.findings.empty());
   EXPECT_TRUE(below.trials.empty());
   const dg::Report enough = at(75);

@@ -7,6 +7,8 @@
 #include <map>
 #include <sstream>
 
+#include "epuck2/models/tof.hpp"
+
 namespace epuck2::calibrate {
 
 using namespace epuck2::fit;  // the engine (lib/fit)
@@ -181,6 +183,19 @@ std::vector<logs::Log> drop_wild_readings(const std::vector<logs::Log>& all, std
 void drop_wild_readings_in_place(std::vector<logs::Log>& all, std::vector<WildReading>* dropped) {
   const std::vector<std::vector<bool>> drop = wild_rows(all, dropped);
   for (std::size_t l = 0; l < all.size(); ++l) remove_rows(all[l], drop[l]);
+}
+
+TofReading read_tof(double mm) {
+  namespace s = models::sensors;
+  TofReading r{{mm, Censoring::none, "", -1}, logs::is_tof_out_of_range(mm)};
+  if (mm <= s::kPluginTof.min_mm) r.observation = {s::kPluginTof.min_mm, Censoring::at_or_below, "", -1};
+  else if (mm >= s::kPluginTof.max_mm) r.observation = {s::kPluginTof.max_mm, Censoring::at_or_above, "", -1};
+  return r;
+}
+
+bool tof_code_in_view(double mm, double encoder_range_mm) {
+  const double ceiling = models::sensors::kPluginTof.max_mm;
+  return logs::is_tof_out_of_range(mm) && encoder_range_mm < (1.0 - kTofInViewMargin) * ceiling;
 }
 
 std::size_t readings_on_rails(const std::vector<logs::Log>& all) {

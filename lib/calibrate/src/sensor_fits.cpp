@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numeric>
@@ -667,6 +668,7 @@ DriveRun drive_run_from_log(const logs::Log& log) {
       ++run.capped_rows;
     }
     run.command_m_s.push_back(0.5 * (l + r));
+    run.command_uncapped_m_s.push_back(0.5 * (vl[i] + vr[i]) / 100.0);
     run.steps.push_back(0.5 * (ul[i] + ur[i]));
     run.tof_mm.push_back(tof[i]);
   }
@@ -713,23 +715,51 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
   const double nominal = s::kPluginStepsPerMetre;
 
   // 1. Steps per metre: encoder steps against the commanded distance (a command holds until the
-  //    next row), commands above the firmware's limit taken as the limit.
-  std::vector<double> x;
+  //    next row), commands above the firmware's limit taken as the limit -- unless the encoders
+  //    say the wheels ran faster (the cap tested by the BIC, DriveFit::cap_kept).
+  std::vector<double> x, x_uncapped;
   std::vector<Observation> obs;
   std::vector<int> run_of;  // per row: its run (the residuals' series)
   for (const DriveRun& run : out.runs) {
-    double commanded_m = 0;
+    double commanded_m = 0, uncapped_m = 0;
     for (std::size_t k = 0; k < run.time_s.size(); ++k) {
       run_of.push_back(static_cast<int>(&run - out.runs.data()));
       x.push_back(commanded_m);
+      x_uncapped.push_back(uncapped_m);
       obs.push_back({run.steps[k], Censoring::none, run.path + ":" + std::to_string(run.line[k]), -1});
-      if (k + 1 < run.time_s.size()) commanded_m += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
+      if (k + 1 < run.time_s.size()) {
+        commanded_m += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
+        uncapped_m += run.command_uncapped_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
+      }
     }
   }
   out.steps_rows = x.size();
   // Within +-20 % of the nominal 41 mm wheel; steps are whole numbers.
-  out.steps = fit_robust(StepsLine{x}, obs, {{"steps_per_m", nominal, nominal, 0.8 * nominal, 1.2 * nominal}},
-                         robust_options(options, kQuantisationSd));
+  const std::vector<fit::Parameter> steps_params{{"steps_per_m", nominal, nominal, 0.8 * nominal, 1.2 * nominal}};
+  out.steps = fit_robust(StepsLine{x}, obs, steps_params, robust_options(options, kQuantisationSd));
+  if (out.capped_rows > 0) {
+    RobustFit uncapped = fit_robust(StepsLine{x_uncapped}, obs, steps_params, robust_options(options, kQuantisationSd));
+    // Each model's BIC over every row (the same rows, one parameter each): n ln(RSS/n) + ln n.
+    auto bic = [&](const RobustFit& f, const std::vector<double>& d) {
+      if (!f.usable) return std::numeric_limits<double>::infinity();
+      const double k = f.value("steps_per_m");
+      double rss = 0;
+      for (std::size_t i = 0; i < d.size(); ++i) {
+        const double r = obs[i].value - s::encoder_mean_steps(k, d[i]);
+        rss += r * r;
+      }
+      const double n = static_cast<double>(d.size());
+      return n * std::log(std::max(rss, 1e-300) / n) + std::log(n);
+    };
+    out.cap_tested = true;
+    out.bic_capped = bic(out.steps, x);
+    out.bic_uncapped = bic(uncapped, x_uncapped);
+    if (out.bic_uncapped <= out.bic_capped - kCapBicMargin) {
+      out.cap_kept = false;
+      out.steps = std::move(uncapped);
+      for (DriveRun& run : out.runs) run.command_m_s = run.command_uncapped_m_s;
+    }
+  }
   collect(out.warnings, "steps per metre: ", out.steps.warnings);
   if (out.steps.usable) out.steps_autocorrelation = run_autocorrelation(out.steps, obs, run_of);
   const double steps_per_m = out.steps.usable ? out.steps.value("steps_per_m") : nominal;
@@ -742,15 +772,12 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
     const std::vector<double> enc_travel = lagged_travel_m(run, nominal, 0.0);
     for (std::size_t k = 0; k < run.time_s.size(); ++k) {
       const double mm = run.tof_mm[k];
-      Observation o{mm, Censoring::none, run.path + ":" + std::to_string(run.line[k]), -1};
-      if (logs::is_tof_out_of_range(mm)) ++out.tof_out_of_range_codes;
-      if (mm <= s::kPluginTof.min_mm) {
-        o = {s::kPluginTof.min_mm, Censoring::at_or_below, o.where, -1};
-      } else if (mm >= s::kPluginTof.max_mm) {
-        o = {s::kPluginTof.max_mm, Censoring::at_or_above, o.where, -1};
-      } else {
+      const TofReading read = read_tof(mm);  // as the diagnosis reads it
+      Observation o = read.observation;
+      o.where = run.path + ":" + std::to_string(run.line[k]);
+      if (read.no_target_code) ++out.tof_out_of_range_codes;
+      if (o.censoring == Censoring::none)
         plugin_r.push_back(mm - s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc_travel[k]));  // the plug-in's
-      }
       if (o.censoring != Censoring::none) ++out.tof_censored;
       tobs.push_back(o);
     }
@@ -766,9 +793,15 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
                        robust_options(options, kQuantisationSd));
   collect(out.warnings, "ToF: ", out.tof.warnings);
   if (out.tof.usable) out.tof_autocorrelation = run_autocorrelation(out.tof, tobs, run_of);
-  if (!out.over_limit_runs.empty())
+  if (!out.over_limit_runs.empty() && out.cap_kept)
     out.warnings.push_back(std::to_string(out.capped_rows) + " rows command more than the firmware's limit (" +
-                           fmt(kFirmwareSpeedLimit_m_s * 100) + " cm/s): taken as the limit, which is what the robot does.");
+                           fmt(kFirmwareSpeedLimit_m_s * 100) + " cm/s): taken as the limit, which is what the robot does (the " +
+                           "encoders agree: BIC " + fmt(out.bic_capped) + " with the cap, " + fmt(out.bic_uncapped) + " without).");
+  if (!out.cap_kept)
+    out.warnings.push_back(std::to_string(out.capped_rows) + " rows command more than the firmware's limit (" +
+                           fmt(kFirmwareSpeedLimit_m_s * 100) + " cm/s), and the encoders say the wheels ran faster: BIC " +
+                           fmt(out.bic_uncapped) + " as commanded against " + fmt(out.bic_capped) +
+                           " with the cap; the wheels exceed the firmware's limit and are fitted as they run.");
 
   // 3. The reading noise. ToF: the readings of each run while the robot stands still before it
   //    first moves (no command yet, the encoders unchanged) are replicates: the body has not moved

@@ -667,7 +667,18 @@ class Diagnosis {
       if (!search_step(step)) break;
     name_findings();
     fit_final();
+    const std::size_t warnings_before = report_.warnings.size();
     estimate_uncertainties();
+    if (leave_out_undetermined()) {
+      // Judged again without them: the final fit, its errors and their warnings.
+      report_.warnings.resize(warnings_before);
+      fit_final();
+      estimate_uncertainties();
+      for (const Finding& f : report_.possible)
+        report_.warnings.push_back("possible, not determined: " + f.cause + " (" + f.undetermined +
+                                   "); left out of the final and the extended model");
+    }
+    score_shares();
     score_residual_structure();
     keep_figure_data();
     return std::move(report_);
@@ -703,6 +714,7 @@ class Diagnosis {
       report_.message = why;
       return false;
     }
+    for (const auto& w : problem_->warnings) report_.warnings.push_back(w);
     engine_ = std::make_unique<Engine>(*problem_, o_);  // adds the covariate: effects
     searched_ = problem_->effects;
     if (!o_.effects.empty()) {
@@ -752,7 +764,7 @@ class Diagnosis {
     report_.minimum_rows = std::max(blocks, folds * per_fold);
     if (report_.rows >= report_.minimum_rows && engine_->size() >= min_residuals) return true;
     report_.too_few_rows = true;
-    report_.verdict = Verdict::none;
+    report_.verdict = Verdict::not_judged;
     // The plug-in's error on every row, the one figure that needs no fit (the engine's default
     // noise of 1 in the clamp's expectation: no estimate from so few rows).
     report_.heldout_mse_plugin = reading_mse(*engine_, p, p.plugin_values);
@@ -767,7 +779,7 @@ class Diagnosis {
       why += "; the model also needs at least " + std::to_string(min_residuals) + " residuals (it has " +
              std::to_string(engine_->size()) + ")";
     report_.message = why;
-    report_.warnings.push_back(why + ". No effect was judged: verdict none.");
+    report_.warnings.push_back(why + ". No effect was judged: verdict " + report_.verdict_name() + ".");
     return false;
   }
 
@@ -955,7 +967,55 @@ class Diagnosis {
     kept_.insert(winner.effect);
     order_.push_back(searched_[winner.effect]);
     report_.findings.push_back(std::move(finding));
+    eliminate_backwards();
     return true;
+  }
+
+  /// Backward elimination after each acceptance: an earlier finding whose removal from the model
+  /// as it now stands costs less than Options::min_delta_bic on the BIC no longer earns its place
+  /// (a later finding explains what it stood in for: a greedy first step that took a partial
+  /// effect). It leaves the model, a note says so, and it is not tried again. The weakest first,
+  /// one at a time, until every finding earns its place.
+  void eliminate_backwards() {
+    const Problem& p = *problem_;
+    while (report_.findings.size() > 1) {
+      const Engine::Fitted with = engine_->fit(free_, current_.values, engine_->all(), false);
+      int weakest = -1;
+      double weakest_cost = o_.min_delta_bic;
+      Engine::Fitted weakest_fit;
+      std::vector<int> weakest_free;
+      for (std::size_t k = 0; k + 1 < report_.findings.size(); ++k) {
+        std::vector<int> free;
+        Engine::Fitted without = without_finding(k, &free);
+        if (!without.result.usable) continue;
+        const double cost = without.result.bic - with.result.bic;  // what removing it costs
+        if (cost < weakest_cost) {
+          weakest = static_cast<int>(k);
+          weakest_cost = cost;
+          weakest_fit = std::move(without);
+          weakest_free = std::move(free);
+        }
+      }
+      if (weakest < 0) return;
+      const auto k = static_cast<std::size_t>(weakest);
+      char buf[300];
+      std::snprintf(buf, sizeof buf,
+                    "%s left the model after %s joined it: removing it then cost %+.1f on the BIC (under %.0f), so the "
+                    "later findings explain what it stood in for",
+                    report_.findings[k].cause.c_str(), report_.findings.back().cause.c_str(), weakest_cost, o_.min_delta_bic);
+      report_.notes.push_back(buf);
+      for (auto& t : report_.trials)
+        if (t.cause == report_.findings[k].cause) t.kept = false;
+      report_.findings.erase(report_.findings.begin() + weakest);
+      order_.erase(order_.begin() + weakest);
+      free_ = weakest_free;
+      current_ = weakest_fit;
+      settle_noise(*engine_, free_, current_);
+      current_h_ = engine_->heldout_mse(free_, current_.values);
+      report_.findings.back().heldout_mse_after = current_h_.reading;
+      report_.findings.back().heldout_weighted_after = current_h_.all;
+      report_.findings.back().fit = all_rows_statistics(*engine_, p, current_);
+    }
   }
 
   /// A finding whose fitted parameters make it another effect is named for what it is (the
@@ -1024,6 +1084,7 @@ class Diagnosis {
     // beyond the proximity sensor's range).
     const std::vector<double> sd = engine_->noise_sd(current_.values);
     report_.noise_sd = sd.front();
+    report_.channel_noise_sd.clear();  // fit_final runs again when undetermined findings leave
     if (p.channel_names.size() > 1)
       for (std::size_t c = 0; c < sd.size(); ++c) report_.channel_noise_sd.push_back({p.channel_names[c], sd[c], 0.0});
     for (std::size_t k = 0; k < order_.size(); ++k) report_.findings[k].parameters = named(p, current_, order_[k].params);
@@ -1032,6 +1093,7 @@ class Diagnosis {
     if (!p.base_free.empty()) report_.final_base = named(p, current_, p.base_free);
     report_.final_fit = all_rows_statistics(*engine_, p, current_);
     report_.correlations = fit::correlations(current_.result);
+    report_.censored_below = report_.censored_above = 0;
     for (std::size_t i = 0; i < engine_->size(); ++i) {
       if (p.y[i] <= engine_->lo(i)) ++report_.censored_below;
       if (p.y[i] >= engine_->hi(i)) ++report_.censored_above;
@@ -1088,6 +1150,108 @@ class Diagnosis {
                                      " is not determined by these logs (standard error " +
                                      (std::isfinite(v.std_error) ? std::to_string(v.std_error) : std::string("undefined")) +
                                      "); read it as a direction, not a size.");
+  }
+
+  /// What each finding carries of the final model's gain: the BIC's rise when it alone is taken
+  /// out of the final model (the rest refitted). The largest names the verdict.
+  void score_shares() {
+    for (std::size_t k = 0; k < report_.findings.size(); ++k) {
+      std::vector<int> free;
+      const Engine::Fitted without = without_finding(k, &free);
+      report_.findings[k].removal_delta_bic = without.result.usable ? without.result.bic - current_.result.bic : 0.0;
+    }
+  }
+
+  /// The current model refitted without finding k (its parameters back at their neutral values;
+  /// no covariance); `free` receives the free parameters that remain.
+  Engine::Fitted without_finding(std::size_t k, std::vector<int>* free) const {
+    const Problem& p = *problem_;
+    free->clear();
+    std::vector<double> start = current_.values;
+    const auto& params = order_[k].params;
+    for (int j : free_)
+      if (std::find(params.begin(), params.end(), j) == params.end()) free->push_back(j);
+    for (int j : params) start[static_cast<std::size_t>(j)] = p.params[static_cast<std::size_t>(j)].fallback;
+    return engine_->fit(*free, start, engine_->all(), false);
+  }
+
+  /// Findings the logs cannot determine leave the model (Report::possible, "possible, not
+  /// determined"): a parameter with no standard error or one beyond Options::max_relative_se of
+  /// its size, a parameter on its bound, or two findings whose parameters correlate beyond
+  /// Options::max_correlation (both leave). The rest are refitted without them. True when any left.
+  bool leave_out_undetermined() {
+    const Problem& p = *problem_;
+    const std::size_t F = report_.findings.size();
+    std::vector<std::string> why(F);
+    auto text = [](double v) {
+      char b[40];
+      std::snprintf(b, sizeof b, "%.3g", v);
+      return std::string(b);
+    };
+    for (std::size_t k = 0; k < F; ++k)
+      for (std::size_t q = 0; q < order_[k].params.size() && why[k].empty(); ++q) {
+        const int j = order_[k].params[q];
+        const auto& par = p.params[static_cast<std::size_t>(j)];
+        const double v = current_.values[static_cast<std::size_t>(j)];
+        const double se = current_.result.parameters.size() > static_cast<std::size_t>(j)
+                              ? current_.result.parameters[static_cast<std::size_t>(j)].std_error
+                              : std::numeric_limits<double>::quiet_NaN();
+        const double size = std::max(std::abs(v), std::abs(par.fallback));
+        const double tol = 1e-6 * std::max(1.0, std::abs(v));
+        if (std::isfinite(par.lower) && v - par.lower <= tol)
+          why[k] = par.name + " = " + text(v) + " is on its bound " + text(par.lower);
+        else if (std::isfinite(par.upper) && par.upper - v <= tol)
+          why[k] = par.name + " = " + text(v) + " is on its bound " + text(par.upper);
+        else if (!std::isfinite(se))
+          why[k] = par.name + " = " + text(v) + " has no standard error";
+        else if (se > o_.max_relative_se * size)
+          why[k] = par.name + " = " + text(v) + " ± " + text(se) + ": a standard error beyond " + text(o_.max_relative_se) +
+                   " times its size";
+      }
+    const Eigen::MatrixXd& c = current_.result.covariance;
+    for (std::size_t a = 0; a < F; ++a)
+      for (std::size_t b = a + 1; b < F; ++b)
+        for (int i : order_[a].params)
+          for (int j : order_[b].params) {
+            if (static_cast<Eigen::Index>(std::max(i, j)) >= c.rows()) continue;
+            const double r = c(i, j) / std::sqrt(c(i, i) * c(j, j));
+            if (!(std::abs(r) > o_.max_correlation)) continue;
+            const std::string same = "these logs cannot tell " + report_.findings[a].cause + " from " +
+                                     report_.findings[b].cause + " (" + p.params[static_cast<std::size_t>(i)].name + " and " +
+                                     p.params[static_cast<std::size_t>(j)].name + " correlate at " + text(r) + ")";
+            if (why[a].empty()) why[a] = same;
+            if (why[b].empty()) why[b] = same;
+          }
+    if (std::all_of(why.begin(), why.end(), [](const std::string& w) { return w.empty(); })) return false;
+    std::vector<int> free;
+    std::vector<double> start = current_.values;
+    std::vector<Finding> kept;
+    std::vector<detail::Effect> kept_order;
+    for (std::size_t k = 0; k < F; ++k) {
+      Finding& f = report_.findings[k];
+      if (why[k].empty()) {
+        kept.push_back(std::move(f));
+        kept_order.push_back(order_[k]);
+        continue;
+      }
+      f.undetermined = why[k];
+      for (int j : order_[k].params) start[static_cast<std::size_t>(j)] = p.params[static_cast<std::size_t>(j)].fallback;
+      report_.possible.push_back(std::move(f));
+    }
+    for (int j : free_) {
+      bool in_possible = false;
+      for (std::size_t k = 0; k < F; ++k)
+        if (!why[k].empty() && std::find(order_[k].params.begin(), order_[k].params.end(), j) != order_[k].params.end())
+          in_possible = true;
+      if (!in_possible) free.push_back(j);
+    }
+    report_.findings = std::move(kept);
+    order_ = std::move(kept_order);
+    free_ = free;
+    current_ = engine_->fit(free_, start, engine_->all(), true);
+    settle_noise(*engine_, free_, current_);
+    current_h_ = engine_->heldout_mse(free_, current_.values);
+    return true;
   }
 
   /// A log's rows are a time series: the covariance's standard errors assume independent
@@ -1192,11 +1356,20 @@ logs::Kind base_model_kind(const BaseModel& m) {
   }
 }
 
+const Finding* Report::dominant() const {
+  const Finding* best = nullptr;
+  for (const Finding& f : findings)
+    if (best == nullptr || f.removal_delta_bic > best->removal_delta_bic) best = &f;
+  return best;
+}
+
 std::string Report::verdict_name() const {
   switch (verdict) {
     case Verdict::none: return "none";
+    case Verdict::not_judged:
+      return "not judged (too few rows: " + std::to_string(rows) + " of " + std::to_string(minimum_rows) + ")";
     case Verdict::unexplained: return "unexplained";
-    case Verdict::effect: return findings.empty() ? "none" : findings.front().cause;
+    case Verdict::effect: return findings.empty() ? "none" : dominant()->cause;
   }
   return "none";
 }

@@ -13,6 +13,7 @@
 #include <variant>
 
 #include "problem.hpp"
+#include "epuck2/calibrate/screening.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/models/effects.hpp"
@@ -522,6 +523,7 @@ class Drive : public ProblemOf<Drive> {
     time_series = true;
     std::vector<double> cov_time, cov_cmd, cov_speed, cov_acc, cov_dist, cov_range, cov_since, cov_channel;
     double max_command = 0;
+    std::vector<std::string> dropouts;  // "no target" codes where the encoders put the target in view
     for (const auto& log : logs) {
       Run r;
       r.obstacle_m = log.metadata_number("obstacle_distance_m");
@@ -563,14 +565,17 @@ class Drive : public ProblemOf<Drive> {
         // An encoder register that has not changed since the previous row adds no observation:
         // its rounding error is the previous row's again (a standing robot would otherwise count
         // one error many times). It is left out.
-        // The VL53L0X's out-of-range codes (>= 8190) say the target is beyond the 2000 mm rail:
-        // the clamped model's reading there is the rail itself.
-        const double tof_i = logs::is_tof_out_of_range(tof[i]) ? s::kPluginTof.max_mm : tof[i];
-        const double values[3] = {tof_i, ul[i], ur[i]};
+        // A ToF reading as the calibration reads it (calibrate::read_tof): a "no target" code
+        // (>= 8190) is censored at the 2000 mm rail, where the clamped model's reading is the
+        // rail itself; one where the encoders put the target in view is a dropout, left out.
+        const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]));
+        if (dropout) dropouts.push_back(log.path + ":" + std::to_string(log.line_of_row[i]));
+        const double values[3] = {calibrate::read_tof(tof[i]).observation.value, ul[i], ur[i]};
         // In a straight run with both wheels commanded alike, a right register equal to the left
         // one is the same count (and the same rounding) twice: it is left out too.
         const bool same = r.symmetric && ur[i] == ul[i];
-        const bool fresh[3] = {true, i == 0 || ul[i] != ul[i - 1], !same && (i == 0 || ur[i] != ur[i - 1])};
+        const bool fresh[3] = {!dropout, i == 0 || ul[i] != ul[i - 1], !same && (i == 0 || ur[i] != ur[i - 1])};
+        first_.push_back(static_cast<std::uint32_t>(y.size()));
         for (int c = 0; c < 3; ++c) {
           slot_[c].push_back(fresh[c] ? static_cast<std::int32_t>(y.size()) : -1);
           if (!fresh[c]) continue;
@@ -592,6 +597,14 @@ class Drive : public ProblemOf<Drive> {
       r.last = time_.size();
       runs_.push_back(r);
     }
+    if (!dropouts.empty()) {
+      std::string at;
+      for (std::size_t k = 0; k < dropouts.size() && k < 5; ++k) at += (k ? ", " : "") + dropouts[k];
+      warnings.push_back(std::to_string(dropouts.size()) + " ToF \"no target\" codes (>= 8190) where the encoders put the obstacle within " +
+                         std::to_string(static_cast<int>((1.0 - calibrate::kTofInViewMargin) * s::kPluginTof.max_mm)) +
+                         " mm: dropouts, left out of the ToF residuals as the drive calibration leaves them out (" + at +
+                         (dropouts.size() > 5 ? ", ..." : "") + ")");
+    }
     // A limit above every command changes nothing (a flat cost): start from several fractions of
     // the largest command.
     ix_ = add_catalogue(*this, fx::drive_catalogue());
@@ -610,6 +623,7 @@ class Drive : public ProblemOf<Drive> {
     covariates.emplace_back("channel", std::move(cov_channel));
     for (auto* v : {&time_, &left_, &right_}) v->shrink_to_fit();
     for (auto& v : slot_) v.shrink_to_fit();
+    first_.shrink_to_fit();
   }
 
   /// A calibrated base: its encoders' steps per metre and the effects it already carries.
@@ -637,15 +651,17 @@ class Drive : public ProblemOf<Drive> {
     std::deque<s::DriveState<T>> window;
     const bool delayed = value_of(e.latency.delay_s) > 0;
     for (const Run& r : runs_) {
-      if (static_cast<std::size_t>(slot_[0][r.first]) >= needed) break;
+      if (first_[r.first] >= needed) break;
       s::DriveState<T> st;
       window.clear();
       std::size_t k = r.first;  // window.front() is the state at the start of row k
       for (std::size_t i = r.first; i < r.last; ++i) {
-        if (static_cast<std::size_t>(slot_[0][i]) >= needed) break;
+        if (first_[i] >= needed) break;
         if (slot_[1][i] >= 0) out[slot_[1][i]] = encoder(st.xl);
         if (slot_[2][i] >= 0) out[slot_[2][i]] = encoder(st.xr);
-        if (!delayed) {
+        if (slot_[0][i] < 0) {  // a ToF dropout: no reading to predict (the state still advances)
+          if (delayed) window.push_back(st);
+        } else if (!delayed) {
           out[slot_[0][i]] = s::drive_tof_mean_mm(e, r.obstacle_m, st.xg);
         } else {
           window.push_back(st);
@@ -677,6 +693,7 @@ class Drive : public ProblemOf<Drive> {
   std::vector<double> time_, left_, right_;
   /// Per row: the residual index of the ToF reading and of each encoder register (-1: left out).
   std::array<std::vector<std::int32_t>, 3> slot_;
+  std::vector<std::uint32_t> first_;  ///< per row: the index its residuals start at (the next row's when it has none)
   std::vector<Run> runs_;
   CatalogueIndex ix_;
   double steps_per_m_ = s::kPluginStepsPerMetre;

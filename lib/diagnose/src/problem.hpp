@@ -120,6 +120,8 @@ class Problem {
   /// Extra numeric columns, per residual: candidates for `covariate:NAME`.
   std::vector<std::pair<std::string, std::vector<double>>> extra_columns;
   std::string notes;
+  /// What the kind left out or read specially while building the problem, for Report::warnings.
+  std::vector<std::string> warnings;
 
   /// What the finding of effect `cause` is, at the parameters `values` with their covariance
   /// (every parameter's row and column; empty when it could not be computed), when its parameters

@@ -4,7 +4,7 @@
 // source: data/fitted/light.json fnv1a64 50160271b68402e0
 // source: data/fitted/ground.json fnv1a64 d47314555b1ef49d
 // source: data/fitted/camera.json fnv1a64 a3030913c8faa15a
-// source: data/fitted/drive.json fnv1a64 5fb230684641d739
+// source: data/fitted/drive.json fnv1a64 b49c168346ac74be
 // Coefficients fitted by epuck2-fit from the raw logs in data/raw (see data/fitted/README.md).
 #pragma once
 
@@ -264,8 +264,6 @@ inline models::sensors::CameraModel camera_model() {
   m.base.cx_px = 81.81161173670161;
   m.base.cy_px = 57.92416519777999;
   m.distortion.k1 = 0;
-  m.distortion.k2 = 0;
-  m.distortion.k3 = 0;
   m.noise_sd_px = 0.5805908012956219;
   return m;
 }

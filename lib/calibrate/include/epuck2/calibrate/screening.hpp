@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "epuck2/fit/replicates.hpp"
+#include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace epuck2::calibrate {
@@ -28,6 +29,24 @@ void drop_wild_readings_in_place(std::vector<logs::Log>& logs, std::vector<WildR
 /// Readings on a sensor's rails (proximity and light 0/4095, ground 0/1023, ToF <= 20 or >= 2000
 /// mm including the out-of-range codes): the censored ones.
 std::size_t readings_on_rails(const std::vector<logs::Log>& logs);
+
+/// A ToF reading as every fit reads it (the drive calibration and the diagnosis, docs/fitting.md):
+/// inside the VL53L0X's rails the reading itself; at or below 20 mm censored at the floor; at or
+/// above 2000 mm censored at the ceiling, the "no target" codes (>= 8190) included: they say
+/// "nothing within 2000 mm", not a distance.
+struct TofReading {
+  fit::Observation observation;  ///< value (the rail when censored) and censoring; `where` empty
+  bool no_target_code = false;   ///< an out-of-range code (>= 8190)
+};
+TofReading read_tof(double mm);
+
+/// A "no target" code where the target is in view: the range the encoders give (obstacle distance
+/// minus the travel at the nominal steps per metre) is inside the ToF's ceiling by more than
+/// kTofInViewMargin of it. Such a code is a dropout, not a reading beyond the ceiling: the
+/// calibration's robust fit leaves it out (the curve puts it far on the wrong side of its rail)
+/// and the diagnosis leaves it out before anything is fitted.
+inline constexpr double kTofInViewMargin = 0.1;
+bool tof_code_in_view(double mm, double encoder_range_mm);
 
 /// A copy of `log` without the rows flagged in `drop`.
 logs::Log without_rows(const logs::Log& log, const std::vector<bool>& drop);

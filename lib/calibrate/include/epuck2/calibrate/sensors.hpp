@@ -144,6 +144,7 @@ struct DriveRun {
   std::string path;
   double obstacle_distance_m = 0;
   std::vector<double> time_s, command_m_s, steps, tof_mm;  ///< steps unwrapped, mean of both wheels
+  std::vector<double> command_uncapped_m_s;                ///< the commands as logged (command_m_s: capped)
   std::vector<int> line;                                   ///< source line of each row
   bool over_speed_limit = false;  ///< some command exceeds the firmware's limit (taken as the limit)
   std::size_t capped_rows = 0;    ///< rows whose command was above the limit
@@ -156,6 +157,12 @@ struct DriveFit {
   double plugin_tof_mse = 0;  ///< the plug-in's ToF (scale 1, offset 0, no slip) on the same rows, mm^2
   std::size_t steps_rows = 0, tof_rows = 0, tof_censored = 0, tof_out_of_range_codes = 0, capped_rows = 0;
   std::vector<std::string> over_limit_runs;  ///< runs with a command above the firmware's limit
+  /// With commands above the firmware's limit, the cap is tested, not assumed: the steps fit with
+  /// the commands capped and as logged, each BIC over every row (n ln(RSS/n) + ln n). The cap is
+  /// kept unless the uncapped model's BIC is lower by kCapBicMargin or more: then the wheels run
+  /// faster than the firmware's limit, the runs' commands are taken as logged, and a warning says so.
+  bool cap_tested = false, cap_kept = true;
+  double bic_capped = 0, bic_uncapped = 0;
   std::vector<std::string> warnings;
   /// Rows of a run are a time series: the residuals of each fit are autocorrelated within a run,
   /// and its standard errors need this correction (epuck2/fit/report.hpp).
@@ -176,7 +183,12 @@ inline constexpr std::size_t kMinStillReadings = 30;
 inline constexpr double kFirmwareSpeedLimit_m_s =
     models::sensors::kFirmwareSpeedLimit_steps_s / models::sensors::kPluginStepsPerMetre;
 
-/// A drive log's rows; commands above the firmware's limit are taken as the limit (what the robot does).
+/// "Very strong" evidence on the BIC scale (Kass and Raftery 1995): the uncapped model must beat
+/// the firmware's cap by this much before the cap is dropped.
+inline constexpr double kCapBicMargin = 10.0;
+
+/// A drive log's rows; commands above the firmware's limit are taken as the limit (what the robot
+/// does; fit_drive tests it), the logged ones kept in command_uncapped_m_s.
 DriveRun drive_run_from_log(const logs::Log& log);
 DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {});
 

@@ -68,6 +68,11 @@ struct Finding {
   /// RSS (weighted residuals, in the reading's units squared), reduced chi^2, R^2, AIC, BIC
   /// (fit::FitStatistics conventions).
   fit::FitStatistics fit;
+  /// Why the logs cannot determine it (Report::possible); empty for a finding that is kept.
+  std::string undetermined;
+  /// BIC(final model without it) - BIC(final model): what it carries of the gain in the end (the
+  /// largest names the verdict; its delta_bic is what it gained at the step it joined).
+  double removal_delta_bic = 0;
 };
 
 struct CovariateScore {
@@ -101,7 +106,8 @@ logs::Kind base_model_kind(const BaseModel& m);
 
 /// What a diagnosis concludes.
 enum class Verdict {
-  none,         ///< no effect found and nothing left in the residuals (or too few rows to judge)
+  none,         ///< no effect found and nothing left in the residuals
+  not_judged,   ///< too few rows to judge any effect (Report::too_few_rows): never "none"
   effect,       ///< effects found (the first, the largest gain, names the verdict) and nothing left
   unexplained,  ///< the residuals still depend on a covariate (structure_after says which)
 };
@@ -111,7 +117,7 @@ struct Report {
   bool supported = false;
   /// Too few rows to judge any effect (`message` says how many there are and how many are
   /// needed, `minimum_rows`): the report holds the plug-in's error on every row and verdict
-  /// `none`, with no recalibration, search or finding. The minimum is Options::folds times
+  /// `not_judged` ("not judged (too few rows: N of M)", never "none"), with no recalibration, search or finding. The minimum is Options::folds times
   /// Options::rows_per_parameter times the parameters of the largest model the search tries
   /// first (the base model's free ones and the largest effect's), and at least one row in every
   /// block of every fold; the problem must also hold more residuals than twice all its
@@ -125,7 +131,10 @@ struct Report {
   /// plug-in's published one). The extended model is built on it.
   BaseModel base_model;
   Verdict verdict = Verdict::none;
-  /// The verdict as the report writes it: "none", "unexplained", or the first finding's cause.
+  /// The finding that carries most of the gain (largest removal_delta_bic; null when none).
+  const Finding* dominant() const;
+  /// The verdict as the report writes it: "none", "unexplained", the dominant finding's cause, or
+  /// "not judged (too few rows: N of M)" (N rows, M the minimum_rows).
   std::string verdict_name() const;
   std::vector<NamedValue> recalibrated;  ///< the base model's free parameters recalibrated alone (empty: none)
   /// The base model's free parameters in the final joint fit with every finding (what the extended
@@ -157,6 +166,12 @@ struct Report {
   double heldout_mse_final = 0;          ///< with every finding (these three: the reading, channel 0)
   double heldout_weighted_base = 0, heldout_weighted_final = 0;  ///< every channel, weighted
   std::vector<Finding> findings;
+  /// Findings the search kept but the logs cannot determine (Finding::undetermined says why: a
+  /// relative standard error beyond Options::max_relative_se, a parameter on its bound, or two
+  /// findings whose parameters correlate beyond Options::max_correlation): "possible, not
+  /// determined". They are left out of the final model and of the extended model (`-o`); their
+  /// parameters are those of the joint fit in which they were judged.
+  std::vector<Finding> possible;
   std::vector<CovariateScore> structure_before;  ///< residuals of the recalibrated base model
   std::vector<CovariateScore> structure_after;   ///< residuals after the findings (the JSON report's residual_structure)
   std::vector<Trial> trials;
@@ -197,6 +212,13 @@ struct Options {
   double min_heldout_gain = 0.03;      ///< held-out MSE must fall by at least this fraction
   double structure_threshold = 0.03;   ///< practical size of a residual dependence (fraction of variance)
   int max_findings = 5;
+  /// A finding is not determined when a parameter's standard error exceeds this multiple of its
+  /// size (its value, or its neutral value when that is larger: a scale near 1 is judged against 1)
+  /// -- an order of magnitude: the logs say nothing of it.
+  double max_relative_se = 10.0;
+  /// ... or when a parameter of one finding correlates with one of another beyond this: the two
+  /// are the same direction of misfit to these logs, and neither is determined.
+  double max_correlation = 0.999;
   /// battery: the discharge model simulated (--battery-model, Cubic by default), in the
   /// corrected behaviour (smooth in its parameters), with these tables; none given: the plug-in's
   /// published tables.
