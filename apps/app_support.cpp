@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <unistd.h>
 
 #include "epuck2/logs/json_location.hpp"
 #include "epuck2/logs/log.hpp"
@@ -178,6 +179,33 @@ const std::string& coefficient_file(const std::string& source) {
 CLI::Validator figure_file() {
   return CLI::Validator(
       [](std::string& input) -> std::string { return plot::why_not_a_figure(input); }, "{.png,.svg,.pdf}");
+}
+
+std::string why_not_writable(const std::string& path, bool folder_allowed) {
+  namespace fs = std::filesystem;
+  if (path.empty() || path == "-") return std::string();
+  const std::string shown = "'" + logs::escape_control(path) + "'";
+  std::error_code ec;
+  fs::path target(path);
+  if (fs::is_symlink(target, ec)) target = fs::weakly_canonical(target, ec);  // the file it names is replaced
+  if (fs::is_directory(target, ec)) {
+    if (!folder_allowed) return shown + " is a folder; give the name of the file to write";
+    if (::access(target.c_str(), W_OK | X_OK) != 0) return shown + " is a folder that cannot be written to";
+    return std::string();
+  }
+  const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  const std::string folder_shown = "'" + logs::escape_control(folder.string()) + "'";
+  if (!fs::exists(folder, ec))
+    return shown + ": the folder " + folder_shown + " does not exist (create it first: nothing was run)";
+  if (!fs::is_directory(folder, ec)) return shown + ": " + folder_shown + " is not a folder";
+  if (::access(folder.c_str(), W_OK | X_OK) != 0)
+    return shown + ": the folder " + folder_shown + " cannot be written to (nothing was run)";
+  return std::string();
+}
+
+CLI::Validator output_file(bool folder_allowed) {
+  return CLI::Validator(
+      [folder_allowed](std::string& input) -> std::string { return why_not_writable(input, folder_allowed); }, "");
 }
 
 void add_skip_bad_rows(CLI::App* sub, bool& flag) {

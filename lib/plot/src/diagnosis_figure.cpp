@@ -104,13 +104,13 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
     }
     a.label = name == "log"      ? "log (file name)"
               : name == "sensor" ? "sensor (id)"
-              : name == "axis"   ? "image axis (px: column, py: row)"
+              : name == "axis"   ? "image axis (px: image column, py: image row)"
                                  : "measured quantity (channel)";
     return a;
   }
   const bool drive = r.kind == logs::Kind::drive;
   static const std::map<std::string, std::string> kKnown{
-      {"row", "row number within its log (rows)"},
+      {"log_row", "row number within its log (log_row)"},
       {"time_s", "time (s)"},
       {"commanded_cm_s", "commanded wheel speed (cm/s)"},
       {"acceleration_cm_s2", "acceleration measured by the encoders (cm/s²)"},
@@ -169,7 +169,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   const std::vector<Panel> panels = panels_of(r);
   const std::size_t n = r.residual_before.size();
   // The covariate: the one the diagnosis chose for the figure, else the residual's index.
-  std::string cov_name = "row";
+  std::string cov_name = "log_row";
   std::vector<double> x;
   if (!r.covariates.empty() && r.covariates.front().second.size() == n) {
     cov_name = r.covariates.front().first;
