@@ -1122,7 +1122,11 @@ class Diagnosis {
   /// again; the residuals in their channels' own units (the weights were for the fits and scores).
   void keep_figure_data() {
     Problem& p = *problem_;
+    // With no structure to show: time where the logs are time series (battery, drive), else the
+    // row number within the log.
     std::string wanted = "log_row";
+    for (const auto& c : p.covariates)
+      if (c.first == "time_s") wanted = "time_s";
     if (report_.verdict == Verdict::unexplained) wanted = report_.structure_after.front().covariate;
     else if (!report_.structure_before.empty() && report_.structure_before.front().significant)
       wanted = report_.structure_before.front().covariate;

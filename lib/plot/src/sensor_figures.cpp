@@ -195,9 +195,12 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
       for (std::size_t k = 0; k < run.time_s.size(); ++k) {
         // The VL53L0X's out-of-range codes (>= 8190) are no distance: drawn apart, at the top.
         const bool code = run.tof_mm[k] >= kOutOfRangeCode_mm;
+        // The curves as the sensor reports them: clamped to its rails (20 and 2000 mm), never
+        // drawn above the 2000 mm a reading cannot exceed.
+        auto on_rails = [](double mm) { return std::clamp(mm, s::kPluginTof.min_mm, s::kPluginTof.max_mm); };
         rows.push_back({run.time_s[k], code ? kNaN : run.tof_mm[k],
-                        s::tof_response_mm(scale, offset, run.obstacle_distance_m - travel[k]),
-                        s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc[k]), run.steps[k], spm * commanded,
+                        on_rails(s::tof_response_mm(scale, offset, run.obstacle_distance_m - travel[k])),
+                        on_rails(s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc[k])), run.steps[k], spm * commanded,
                         code ? kCodeRow_mm : kNaN});
         codes += code;
         if (k + 1 < run.time_s.size()) commanded += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
@@ -206,7 +209,7 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
       const std::string first = r == 0 ? "" : ", ";
       const std::string d = "$r" + std::to_string(r);
       plot_tof += first + d + " using 1:2 with points pt 7 ps 0.4 lc rgb '#1f77b4' " + (r ? "notitle" : "title 'ToF readings'") +
-                  ", " + d + " using 1:3 with lines lw 2 lc rgb '#d62728' " + (r ? "notitle" : "title 'fit (scale, offset, slip lag)'") +
+                  ", " + d + " using 1:3 with lines lw 2 lc rgb '#d62728' " + (r ? "notitle" : "title 'fit (scale, offset, slip lag), on the rails'") +
                   ", " + d + " using 1:4 with lines lw 1.5 dt 2 lc rgb '#000000' " + (r ? "notitle" : "title 'plug-in: 1000 (D - encoder travel)'");
       plot_steps += first + d + " using 1:5 with points pt 7 ps 0.4 lc rgb '#2ca02c' " + (r ? "notitle" : "title 'encoder steps'") +
                     ", " + d + " using 1:6 with lines lw 1.5 lc rgb '#d62728' " + (r ? "notitle" : "title 'fitted steps/m × commanded distance'");
