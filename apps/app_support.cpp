@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <tuple>
 #include <unistd.h>
 
 #include "epuck2/logs/json_location.hpp"
@@ -206,6 +207,40 @@ std::string why_not_writable(const std::string& path, bool folder_allowed) {
 CLI::Validator output_file(bool folder_allowed) {
   return CLI::Validator(
       [folder_allowed](std::string& input) -> std::string { return why_not_writable(input, folder_allowed); }, "");
+}
+
+void add_figure_options(CLI::App* sub) {
+  sub->add_option_function<std::string>(
+         "--figure-size",
+         [](const std::string& v) {
+           plot::Page p = plot::page();
+           std::tie(p.width_in, p.height_in) = plot::parse_figure_size(v);
+           plot::set_page(p);
+         },
+         "Print size of every figure, WIDTHxHEIGHT in cm, mm or in: 8.5x6cm for one column of a two-column paper, "
+         "17x10cm for both (PNG at 300 dpi; SVG and PDF at that size)")
+      ->type_name("WxH")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            try {
+              plot::parse_figure_size(v);
+            } catch (const std::invalid_argument& e) {
+              return e.what();
+            }
+            return std::string();
+          },
+          "WxH{cm,mm,in}"));
+  sub->add_option_function<double>(
+         "--font-size",
+         [](double pt) {
+           plot::Page p = plot::page();
+           p.font_pt = pt;
+           plot::set_page(p);
+         },
+         "Size of the figures' text in points (default 11 at the default size; 8-9 suits a paper's column); titles keep "
+         "their proportion to it")
+      ->type_name("PT")
+      ->check(finite_range(4, 40));
 }
 
 void add_skip_bad_rows(CLI::App* sub, bool& flag) {

@@ -72,6 +72,11 @@ CLI::Validator output_file(bool folder_allowed = false);
 /// Why `path` cannot be written as an output ("" when it can): output_file()'s check.
 std::string why_not_writable(const std::string& path, bool folder_allowed = false);
 
+/// Adds --figure-size WxH{cm,mm,in} and --font-size PT (the same on every subcommand that draws):
+/// the printed size and text of every figure the run draws (plot::set_page). A bad value is
+/// exit 2 saying what was expected.
+void add_figure_options(CLI::App* sub);
+
 /// Adds --skip-bad-rows (the same help text on every subcommand that reads logs).
 void add_skip_bad_rows(CLI::App* sub, bool& flag);
 /// Reads the logs (logs::read_logs), then reports on standard error every row left out under

@@ -241,6 +241,7 @@ void setup_battery(CLI::App& app, Action& action) {
   sub->add_option("--robust-scale", o->robust_scale, "Huber threshold in charge units")
       ->capture_default_str()
       ->check(finite_range(1e-6, 1.0));
+  add_figure_options(sub);
   add_charge_map_option(sub, o->charge_map);
   sub->add_option("--plot-charge-map", o->plot_charge_map, "Draw the voltage->charge map and the rows it was fitted to (PNG)")->check(output_file());
   sub->footer(log_format_footer(logs::Kind::battery,

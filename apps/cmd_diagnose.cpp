@@ -574,6 +574,7 @@ void setup_diagnose(CLI::App& app, Action& action) {
           "{.png,.svg,.pdf}|DIR"))
       ->check(output_file(true))
       ->type_name("FILE");
+  add_figure_options(sub);
   CLI::Option* battery_model = sub->add_option(
       "--battery-model", o->battery_model, "battery: the discharge model simulated (default: a diagnosis file's, else cubic)")
       ->capture_default_str()

@@ -57,6 +57,7 @@ inline void add_common_options(CLI::App* sub, SensorOptions& o, const std::strin
       ->type_name("FILE")
       ->check(figure_file())
       ->check(output_file());
+  add_figure_options(sub);
   sub->add_flag("--least-squares", o.least_squares,
                 "Plain least squares: no reading is left out as an outlier (readings on a rail stay censored)");
   sub->add_option("--reject-sd", o.reject_sd, "Robust fits: readings farther than this many noise sd are outliers")

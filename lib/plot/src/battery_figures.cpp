@@ -33,7 +33,8 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
   const int n = static_cast<int>(f.speeds.size());
   const int cols = n <= 4 ? std::max(n, 1) : 4;
   const int rows = (n + cols - 1) / cols;
-  const int width = 450 * cols + 100, height = 330 * rows + 170;
+  const std::pair<int, int> canvas = canvas_px(450 * cols + 100, 330 * rows + 170);
+  const int width = canvas.first, height = canvas.second;
   Layout layout;
   layout.rows = rows;
   layout.cols = cols;
@@ -107,7 +108,7 @@ void battery_lifetime_figure(logs::OutputStage& stage, const std::string& path, 
         gp.send1d(mean);
         gp.send1d(published);
       },
-      1200, 800);
+      canvas_px(1200, 800).first, canvas_px(1200, 800).second);
 }
 
 }  // namespace epuck2::plot

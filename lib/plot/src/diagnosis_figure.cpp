@@ -195,14 +195,17 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   // Two columns: before the findings on the left, after them on the right, each on a y scale of
   // its own (an `unexplained` verdict's structure is often 20x smaller than what the findings
   // removed). The legend is one band under the title.
-  const int width = 1500, plot_h = 380, top_px = 140, column_gap_px = 120;
+  const int plot_h = 380, top_px = 140, column_gap_px = 120;
   // Long tic labels stand upright (about 6.5 px a character at 9 pt, in every format). gnuplot
   // would put the x label below the room it reckons they take at the default font's width, which
   // differs from terminal to terminal: the label is placed by hand just below them instead.
   const int tics_px = rotate ? static_cast<int>(7.0 * static_cast<double>(longest)) + 14 : 22;
   const int below_px = tics_px + 32;  // tic labels and the x label
   const int gap_px = below_px + 45;   // ... and the next panel's title
-  const int height = top_px + rows * plot_h + (rows - 1) * gap_px + below_px + 10;
+  // The canvas: the figure's own size, or a page's (--figure-size), whose panels share what
+  // the fixed margins leave.
+  const std::pair<int, int> canvas = canvas_px(1500, top_px + rows * plot_h + (rows - 1) * gap_px + below_px + 10);
+  const int width = canvas.first, height = canvas.second;
   Layout layout;
   layout.rows = rows;
   layout.cols = 2;
@@ -295,7 +298,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
             if (!clip.empty()) gp << datablock(name + "c", clip);
 
             std::string panel_title = (side == 0 ? std::string("before: base model, recalibrated") : after_name) + " — " +
-                                      p.quantity + ", " + std::to_string(p.residuals.size()) + " residuals";
+                                      p.quantity + " (" + p.unit + "), " + std::to_string(p.residuals.size()) + " residuals";
             if (stride > 1) panel_title += "\n1 in " + std::to_string(stride) + " drawn, means from all";
             if (beyond > 0) panel_title += (stride > 1 ? "; " : "\n") + std::to_string(beyond) + " beyond the y scale, drawn at its edge";
             gp << "set title " << quoted(panel_title) << " font ',11'\n";

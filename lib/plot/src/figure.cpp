@@ -1,12 +1,15 @@
 #include "epuck2/plot/figure.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include <unistd.h>
 
@@ -25,30 +28,93 @@ std::string lower_extension(const std::string& path) {
 // page of width_px / 144 inches keeps the PNG's proportions of text to plot (1500 px: 10.4 in).
 constexpr double kPixelsPerInch = 144.0;
 
+/// Text of 11 pt is what every figure's pixel margins are written for.
+constexpr double kDesignFont_pt = 11.0;
+/// A PNG drawn for a page (--figure-size or --font-size) has this resolution.
+constexpr double kPagePngDpi = 300.0;
+
+Page g_page;
+
+/// The terminal for a canvas of width_px x height_px (design pixels, text of 11 pt at 144 to the
+/// inch). Without a page: exactly the canvas. With one: the page's printed size and text size;
+/// every font (the body's and the titles' ',14') scales by fontscale, so titles keep their
+/// proportion to the text.
 std::string terminal(Format format, int width_px, int height_px) {
-  char buf[256];
+  const bool paged = g_page.width_in > 0 || g_page.font_pt > 0;
+  const double font = g_page.font_pt > 0 ? g_page.font_pt : kDesignFont_pt;
+  const double scale = font / kDesignFont_pt;
+  // The printed size: the canvas at 144 px/in, with its text at `font`, is (canvas / 144) * scale.
+  const double w_in = width_px / kPixelsPerInch * scale, h_in = height_px / kPixelsPerInch * scale;
+  char buf[320];
   switch (format) {
-    case Format::png:
+    case Format::png: {
+      const double dpi = paged ? kPagePngDpi : kPixelsPerInch;
       std::snprintf(buf, sizeof buf,
-                    "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' background rgb 'white'\n",
-                    width_px, height_px);
+                    "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' fontscale %.4f background rgb 'white'\n",
+                    static_cast<int>(std::lround(w_in * dpi)), static_cast<int>(std::lround(h_in * dpi)), scale * dpi / kPixelsPerInch);
       break;
+    }
     case Format::svg:
       // svg's type is smaller than pngcairo's at the same size (measured: x1.33-1.36 to match).
-      std::snprintf(buf, sizeof buf,
-                    "set terminal svg size %d,%d noenhanced font 'DejaVu Sans,11' fontscale 1.35 background rgb 'white'\n",
-                    width_px, height_px);
+      // A page is 96 px to the inch (the SVG pixel), so it prints at its size.
+      if (paged)
+        std::snprintf(buf, sizeof buf,
+                      "set terminal svg size %d,%d noenhanced font 'DejaVu Sans,11' fontscale %.4f background rgb 'white'\n",
+                      static_cast<int>(std::lround(w_in * 96)), static_cast<int>(std::lround(h_in * 96)), 1.35 * scale * 96 / kPixelsPerInch);
+      else
+        std::snprintf(buf, sizeof buf,
+                      "set terminal svg size %d,%d noenhanced font 'DejaVu Sans,11' fontscale 1.35 background rgb 'white'\n",
+                      width_px, height_px);
       break;
     case Format::pdf:
       std::snprintf(buf, sizeof buf,
-                    "set terminal pdfcairo size %.3fin,%.3fin noenhanced font 'DejaVu Sans,11' background rgb 'white'\n",
-                    width_px / kPixelsPerInch, height_px / kPixelsPerInch);
+                    "set terminal pdfcairo size %.3fin,%.3fin noenhanced font 'DejaVu Sans,11' fontscale %.4f background rgb 'white'\n",
+                    w_in, h_in, scale);
       break;
   }
   return buf;
 }
 
 }  // namespace
+
+void set_page(const Page& page) { g_page = page; }
+const Page& page() { return g_page; }
+
+std::pair<double, double> parse_figure_size(const std::string& text) {
+  const std::string expected = "expected WIDTHxHEIGHT with a unit, cm, mm or in (e.g. 8.5x6cm for one column, 17x10cm for two)";
+  const std::size_t x = text.find_first_of("xX");
+  std::size_t unit_at = text.find_first_not_of("0123456789.", x == std::string::npos ? 0 : x + 1);
+  if (x == std::string::npos || x == 0 || unit_at == std::string::npos || unit_at == x + 1)
+    throw std::invalid_argument("'" + text + "': " + expected);
+  const std::string unit = text.substr(unit_at);
+  const double per_inch = unit == "in" ? 1.0 : unit == "cm" ? 2.54 : unit == "mm" ? 25.4 : 0.0;
+  if (per_inch == 0) throw std::invalid_argument("'" + text + "': unknown unit '" + unit + "'; " + expected);
+  double w = 0, h = 0;
+  try {
+    std::size_t used = 0;
+    w = std::stod(text.substr(0, x), &used);
+    if (used != x) throw std::invalid_argument("");
+    const std::string hs = text.substr(x + 1, unit_at - x - 1);
+    h = std::stod(hs, &used);
+    if (used != hs.size()) throw std::invalid_argument("");
+  } catch (const std::exception&) {
+    throw std::invalid_argument("'" + text + "': " + expected);
+  }
+  w /= per_inch;
+  h /= per_inch;
+  // A figure between a stamp (1 in) and a poster page (40 in).
+  if (!(w >= 1.0 && w <= 40.0 && h >= 1.0 && h <= 40.0))
+    throw std::invalid_argument("'" + text + "': each side must lie between 1 in (2.54 cm) and 40 in");
+  return {w, h};
+}
+
+std::pair<int, int> canvas_px(int default_width_px, int default_height_px) {
+  const double font = g_page.font_pt > 0 ? g_page.font_pt : kDesignFont_pt;
+  const double per_in = kPixelsPerInch * kDesignFont_pt / font;  // design pixels per printed inch
+  const double w_in = g_page.width_in > 0 ? g_page.width_in : default_width_px / kPixelsPerInch;
+  const double h_in = g_page.height_in > 0 ? g_page.height_in : default_height_px / kPixelsPerInch;
+  return {static_cast<int>(std::lround(w_in * per_in)), static_cast<int>(std::lround(h_in * per_in))};
+}
 
 std::optional<Format> format_of(const std::string& path) {
   const std::string ext = lower_extension(path);
@@ -121,6 +187,7 @@ void render(logs::OutputStage& stage, const std::string& path, const Draw& draw,
   namespace fs = std::filesystem;
   const std::optional<Format> format = format_of(path);
   if (!format) throw UnknownFormat(why_not_a_figure(path));
+  if (width_px <= 0 || height_px <= 0) std::tie(width_px, height_px) = canvas_px(1400, 900);
   const std::string tmp = stage.reserve(path);
   // gnuplot's own messages: dropped, or with EPUCK2_PLOT_STRICT set (the figure tests) an error.
   const bool strict = std::getenv("EPUCK2_PLOT_STRICT") != nullptr;
