@@ -33,7 +33,8 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
   const int n = static_cast<int>(f.speeds.size());
   const int cols = n <= 4 ? std::max(n, 1) : 4;
   const int rows = (n + cols - 1) / cols;
-  const std::pair<int, int> canvas = canvas_px(450 * cols + 100, 330 * rows + 170);
+  // At least 1300 x 600: the title and the one-row legend fit over one or two speeds' panels.
+  const std::pair<int, int> canvas = canvas_px(std::max(450 * cols + 100, 1300), std::max(330 * rows + 170, 600));
   const int width = canvas.first, height = canvas.second;
   Layout layout;
   layout.rows = rows;
@@ -44,11 +45,18 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
   layout.top = 1.0 - 135.0 / height;  // the title, then the legend (two rows at most), then the first row's titles
   layout.hspace = 75.0 / width;
   layout.vspace = 85.0 / height;
+  // Every panel on one time axis: to the longest run or lifetime, so that speeds compare at a glance.
+  double t_max_h = 0;
+  for (const auto& r : runs)
+    if (!r.time_s.empty()) t_max_h = std::max(t_max_h, r.time_s.back() / 3600.0);
+  for (const auto& s : f.speeds) t_max_h = std::max(t_max_h, s.lifetime_s / 3600.0);
   render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
         gp << multiplot(layout, "Battery discharge per wheel speed: the logs and the four fitted models");
-        gp << "set grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset ytics 0.25\nset xrange [0:*]\nset key off\n";
+        char xrange[64];
+        std::snprintf(xrange, sizeof xrange, "set xrange [0:%.4g]\n", t_max_h > 0 ? 1.02 * t_max_h : 1.0);
+        gp << "set grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset ytics 0.25\n" << xrange << "set key off\n";
         gp << "set xlabel 'time (h)' offset 0,0.5\nset ylabel 'charge (fraction of full)' offset 1.5,0\n";
         for (int i = 0; i < n; ++i) {
           const calibrate::SpeedFit& s = f.speeds[static_cast<std::size_t>(i)];
@@ -70,14 +78,15 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
           std::snprintf(title, sizeof title, "%g cm/s: lifetime %.2f h, %zu run%s", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs,
                         s.runs == 1 ? "" : "s");
           gp << "set title " << quoted(title) << " font ',11' offset 0,-0.3\n";
-          gp << "plot '-' with points pt 7 ps 0.3 lc rgb '#a0a0a0' notitle";
-          for (const auto& st : kStyles) gp << ", '-' with linespoints " << st.style << " notitle";
-          gp << "\n";
-          gp.send1d(pts);
+          // The models first, the logs over them: the readings stay visible where the curves lie.
+          gp << "plot ";
+          for (const auto& st : kStyles) gp << (&st == kStyles ? "" : ", ") << "'-' with linespoints " << st.style << " notitle";
+          gp << ", '-' with points pt 7 ps 0.3 lc rgb '#707070' notitle\n";
           for (const auto& c : curves) gp.send1d(c);
+          gp.send1d(pts);
         }
         // One legend for all panels, across the top under the overall title.
-        std::vector<std::string> entries{"NaN with points pt 7 ps 1 lc rgb '#a0a0a0' title 'logs (at most 400 readings a run drawn)'"};
+        std::vector<std::string> entries{"NaN with points pt 7 ps 1 lc rgb '#707070' title 'logs (at most 400 readings a run drawn)'"};
         for (const auto& st : kStyles) entries.push_back(std::string("NaN with linespoints ") + st.style + " title " + quoted(st.title));
         gp << legend_band(0.02, 0.98, 1.0 - 95.0 / height, 1.0 - 42.0 / height, entries);
         gp << "unset multiplot\n";

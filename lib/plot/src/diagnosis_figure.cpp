@@ -195,13 +195,15 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   // Two columns: before the findings on the left, after them on the right, each on a y scale of
   // its own (an `unexplained` verdict's structure is often 20x smaller than what the findings
   // removed). The legend is one band under the title.
-  const int plot_h = 380, top_px = 140, column_gap_px = 120;
+  // From the top: the two-line title (to 65 px), the legend (75-110 px), each panel's title of up
+  // to two lines (just above the panel).
+  const int plot_h = 380, top_px = 180, column_gap_px = 120;
   // Long tic labels stand upright (about 6.5 px a character at 9 pt, in every format). gnuplot
   // would put the x label below the room it reckons they take at the default font's width, which
   // differs from terminal to terminal: the label is placed by hand just below them instead.
   const int tics_px = rotate ? static_cast<int>(7.0 * static_cast<double>(longest)) + 14 : 22;
   const int below_px = tics_px + 32;  // tic labels and the x label
-  const int gap_px = below_px + 45;   // ... and the next panel's title
+  const int gap_px = below_px + 70;   // ... and the next panel's title (two lines)
   // The canvas: the figure's own size, or a page's (--figure-size), whose panels share what
   // the fixed margins leave.
   const std::pair<int, int> canvas = canvas_px(1500, top_px + rows * plot_h + (rows - 1) * gap_px + below_px + 10);
@@ -301,7 +303,9 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
                                       p.quantity + " (" + p.unit + "), " + std::to_string(p.residuals.size()) + " residuals";
             if (stride > 1) panel_title += "\n1 in " + std::to_string(stride) + " drawn, means from all";
             if (beyond > 0) panel_title += (stride > 1 ? "; " : "\n") + std::to_string(beyond) + " beyond the y scale, drawn at its edge";
-            gp << "set title " << quoted(panel_title) << " font ',11'\n";
+            // Qualified: for a non-const std::string, ADL would pick std::quoted (a better match),
+            // which leaves the title's line break raw and breaks gnuplot's command line.
+            gp << "set title " << plot::quoted(panel_title) << " font ',11'\n";
             gp << "set ylabel " << quoted("measured − simulated (" + p.unit + ")") << "\n";
             if (rotate) {
               // This panel's lower border, then the tic labels' length below it.
@@ -337,7 +341,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
         }
         // The legend, once, under the title.
         gp << "unset label\n";
-        gp << legend_band(layout.left, layout.right, 1.0 - (top_px - 8.0) / height, 1.0 - (top_px - 40.0) / height,
+        gp << legend_band(layout.left, layout.right, 1.0 - 110.0 / height, 1.0 - 75.0 / height,
                           {"NaN with points pt 7 ps 0.8 lc rgb '#d62728' title 'a residual before'",
                            "NaN with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'a residual after'",
                            std::string("NaN with linespoints lw 2.5 pt 5 lc rgb '#404040' title ") +
