@@ -356,7 +356,10 @@ inline void print_autocorrelation(const fit::AutocorrelationCorrection& a, const
 /// false: the camera's pixels, the encoders' steps) gets no rail counts and no Tobit line.
 inline void print_handling(const fit::RobustFit& r, const std::string& unit = "", const char* indent = "  ",
                            const fit::AutocorrelationCorrection* autocorrelation = nullptr, bool has_rails = true) {
-  std::printf("%s%s\n", indent, r.method.c_str());
+  std::string method = r.method;
+  const std::string censoring = "; readings on a rail censored (Tobit)";
+  if (const std::size_t at = method.find(censoring); !has_rails && at != std::string::npos) method.erase(at, censoring.size());
+  std::printf("%s%s\n", indent, method.c_str());
   if (has_rails)
     std::printf("%s%zu observations: %zu inside the rails, %zu censored (%zu at or below the low rail, %zu at or above the high), "
                 "%zu outliers left out\n",

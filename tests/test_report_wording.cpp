@@ -139,7 +139,8 @@ TEST_F(ReportWording, RailAndTobitLinesOnlyForReadingsWithRails) {
   CliRun r = run("camera " + src("data/raw/camera/camera_virtual-epuck2-1.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(contains(r.out, "Tobit")) << r.out;
-  EXPECT_FALSE(contains(r.out, "rail")) << r.out;
+  EXPECT_FALSE(contains(r.out, "inside the rails")) << r.out;
+  EXPECT_FALSE(contains(r.out, "low rail")) << r.out;
   EXPECT_TRUE(contains(r.out, "(no rails: none censored)")) << r.out;
 
   r = run("ground " + src("data/raw/ground/ground_virtual-epuck2-1.csv"));
@@ -149,9 +150,9 @@ TEST_F(ReportWording, RailAndTobitLinesOnlyForReadingsWithRails) {
 
   r = run("drive" + shipped("drive", "drive_toward"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  // One Tobit line (the ToF's), and one "no rails" line (the encoders').
+  // One Tobit likelihood line (the ToF's), and one "no rails" line (the encoders').
   std::size_t tobit = 0, no_rails = 0;
-  for (std::size_t at = r.out.find("Tobit"); at != std::string::npos; at = r.out.find("Tobit", at + 1)) ++tobit;
+  for (std::size_t at = r.out.find("Tobit likelihood"); at != std::string::npos; at = r.out.find("Tobit likelihood", at + 1)) ++tobit;
   for (std::size_t at = r.out.find("no rails"); at != std::string::npos; at = r.out.find("no rails", at + 1)) ++no_rails;
   EXPECT_EQ(tobit, 1u) << r.out;
   EXPECT_EQ(no_rails, 1u) << r.out;
@@ -178,7 +179,7 @@ TEST(InformationCriteria, UndefinedAtZeroRssAndSaidWhy) {
 
 TEST_F(ReportWording, EveryWritingCommandSaysWhatItWrote) {
   const std::string sim = (dir_ / "sim.csv").string();
-  CliRun r = run("simulate battery --profile " + src("data/profiles/example_profile.csv") + " -o \"" + sim + "\"");
+  CliRun r = run("simulate battery --model cubic --profile " + src("data/profiles/example_profile.csv") + " -o \"" + sim + "\"");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(contains(r.err, "simulate: wrote " + sim + "\n")) << r.err;
   const std::string like = (dir_ / "like.csv").string();

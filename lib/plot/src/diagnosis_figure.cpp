@@ -152,7 +152,7 @@ std::string num(double v) {
 /// At most this many points of one series are drawn (the means use every residual): in a PNG,
 /// and in a vector file (SVG, PDF), where every point is an element of the file.
 constexpr std::size_t kMaxPoints = 20000;
-constexpr std::size_t kMaxVectorPoints = 3000;
+constexpr std::size_t kMaxVectorPoints = 800;
 
 std::string verdict_line(const dg::Report& r) {
   std::string line = "verdict: " + r.verdict_name();
@@ -197,7 +197,10 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   // removed). The legend is one band under the title.
   // From the top: the two-line title (to 65 px), the legend (75-110 px), each panel's title of up
   // to two lines (just above the panel).
-  const int plot_h = 380, top_px = 180, column_gap_px = 120;
+  // A page narrower than the figure's own 1500 canvas pixels: short titles, the verdict and the
+  // findings on lines of their own, the legend in two rows.
+  const bool narrow = canvas_px(1500, 100).first < 1500;
+  const int plot_h = 380, top_px = narrow ? 250 : 180, column_gap_px = 120;
   // Long tic labels stand upright (about 6.5 px a character at 9 pt, in every format). gnuplot
   // would put the x label below the room it reckons they take at the default font's width, which
   // differs from terminal to terminal: the label is placed by hand just below them instead.
@@ -220,9 +223,14 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   // Vector files stay small: at most this many points of one series (the means use every residual).
   const std::size_t max_points = format_of(path) == Format::png ? kMaxPoints : kMaxVectorPoints;
 
-  const std::string title = "Diagnosis of the " + std::string(logs::to_string(r.kind)) +
-                            " logs: residuals (measured − simulated), before and after the findings, each on its own scale\n" +
-                            verdict_line(r);
+  std::string title = "Diagnosis of the " + std::string(logs::to_string(r.kind)) +
+                      " logs: residuals (measured − simulated), before and after the findings, each on its own scale\n" +
+                      verdict_line(r);
+  if (narrow) {
+    title = "Diagnosis of the " + std::string(logs::to_string(r.kind)) + " logs\n" + verdict_line(r);
+    const std::size_t semi = title.rfind("; ");
+    if (semi != std::string::npos) title.replace(semi, 2, "\n");
+  }
   const std::string after_name = r.findings.empty() ? "after: no finding (the same model)"
                                                     : "after: with the " + std::to_string(r.findings.size()) + " finding" +
                                                           (r.findings.size() == 1 ? "" : "s");
@@ -301,8 +309,14 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
 
             std::string panel_title = (side == 0 ? std::string("before: base model, recalibrated") : after_name) + " — " +
                                       p.quantity + " (" + p.unit + "), " + std::to_string(p.residuals.size()) + " residuals";
+            if (narrow)  // the quantity is in the y label
+              panel_title = (side == 0 ? std::string("before the findings") : r.findings.empty() ? std::string("after: no finding")
+                                                                                                   : "after: " + std::to_string(r.findings.size()) + " finding" + (r.findings.size() == 1 ? "" : "s")) +
+                            ", " + std::to_string(p.residuals.size()) + " residuals";
             if (stride > 1) panel_title += "\n1 in " + std::to_string(stride) + " drawn, means from all";
-            if (beyond > 0) panel_title += (stride > 1 ? "; " : "\n") + std::to_string(beyond) + " beyond the y scale, drawn at its edge";
+            if (beyond > 0)
+              panel_title += (stride > 1 ? (narrow ? "\n" : "; ") : "\n") + std::to_string(beyond) +
+                             (narrow ? " off the scale, at its edge" : " beyond the y scale, drawn at its edge");
             // Qualified: for a non-const std::string, ADL would pick std::quoted (a better match),
             // which leaves the title's line break raw and breaks gnuplot's command line.
             gp << "set title " << plot::quoted(panel_title) << " font ',11'\n";
@@ -341,13 +355,14 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
         }
         // The legend, once, under the title.
         gp << "unset label\n";
-        gp << legend_band(layout.left, layout.right, 1.0 - 110.0 / height, 1.0 - 75.0 / height,
+        gp << legend_band(layout.left, layout.right, 1.0 - (narrow ? 170.0 : 110.0) / height, 1.0 - (narrow ? 105.0 : 75.0) / height,
                           {"NaN with points pt 7 ps 0.8 lc rgb '#d62728' title 'a residual before'",
                            "NaN with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'a residual after'",
                            std::string("NaN with linespoints lw 2.5 pt 5 lc rgb '#404040' title ") +
-                               (probe.categorical ? "'mean per category'" : "'mean per bin of the x axis'"),
-                           "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'beyond the y scale, at its edge'"},
-                          10);
+                               (probe.categorical ? "'mean per category'" : narrow ? "'mean per bin'" : "'mean per bin of the x axis'"),
+                           narrow ? "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'off the scale'"
+                                  : "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'beyond the y scale, at its edge'"},
+                          10, narrow ? 2 : 1);
         gp << "unset multiplot\n";
       },
       width, height);

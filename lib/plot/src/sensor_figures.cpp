@@ -29,7 +29,10 @@ Layout two_panels() {
   layout.cols = 2;
   layout.top = 0.9;
   layout.bottom = 0.1;
-  layout.hspace = 0.09;
+  // Room for the tics and the y label in canvas pixels (text-sized), whatever the page's size.
+  const double width = canvas_px(1400, 900).first;
+  layout.left = std::max(0.07, 110.0 / width);
+  layout.hspace = std::max(0.09, 130.0 / width);
   return layout;
 }
 

@@ -95,7 +95,7 @@ std::string multiplot(const Layout& layout, const std::string& title, int title_
 /// "NaN with lines lw 2 lc rgb 'red' title 'cubic'". Leaves the multiplot's settings changed
 /// (border, tics, labels): issue it after the last panel.
 std::string legend_band(double left, double right, double bottom, double top, const std::vector<std::string>& entries,
-                        int font_pt = 11);
+                        int font_pt = 11, int max_rows = 1);
 
 /// An axis label: quantity and unit, "distance to the surface (mm)".
 inline std::string axis_label(const std::string& quantity, const std::string& unit) { return quantity + " (" + unit + ")"; }
