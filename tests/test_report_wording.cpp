@@ -175,6 +175,7 @@ TEST(InformationCriteria, UndefinedAtZeroRssAndSaidWhy) {
   EXPECT_TRUE(j.at("aic").is_null());
   EXPECT_TRUE(j.at("bic").is_null());
   EXPECT_TRUE(contains(j.at("aic_why").get<std::string>(), "RSS is 0")) << j.dump();
+  EXPECT_TRUE(contains(j.at("bic_why").get<std::string>(), "RSS is 0")) << j.dump();
 }
 
 TEST_F(ReportWording, EveryWritingCommandSaysWhatItWrote) {
