@@ -51,7 +51,9 @@ const std::vector<Figure>& figures() {
       {"proximity", "proximity" + logs_of("proximity"), "--plot",
        {"distance to the surface (mm)", "normalised reading (reading / 4095, dimensionless)", "plug-in"}},
       {"light", "light" + logs_of("light"), "--plot", {"distance to the light (cm)", "raw reading (counts", "plug-in"}},
-      {"ground", "ground" + logs_of("ground"), "--plot", {"grey level (fraction", "raw reading (counts, 0..1023)", "plug-in"}},
+      // Two robots' logs: each robot named in the legend (its own marker), not one cloud.
+      {"ground", "ground" + logs_of("ground"), "--plot",
+       {"grey level (fraction", "raw reading (counts, 0..1023)", "plug-in", "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
       {"camera", "camera" + logs_of("camera"), "--plot",
        {"column px (pixels", "row py (pixels", "dimensionless", "plug-in"}},
       {"drive", "drive" + logs_of("drive"), "--plot",

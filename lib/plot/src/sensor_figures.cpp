@@ -126,13 +126,23 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
       lines.push_back(row);
     }
     gp << datablock("lines", lines);
+    // Several robots: each robot its own marker (filled circle, open square, open triangle, ...)
+    // in its sensor's colour, so that one robot's black cluster is not taken for another's.
+    const std::size_t robots = std::max<std::size_t>(1, f.robot_names.size());
+    static const int kMarkers[] = {7, 4, 8, 6, 12, 10};
     for (std::size_t k = 0; k < f.sensors.size(); ++k) {
       std::vector<std::vector<double>> rows;
-      for (std::size_t i = 0; i < f.grey[k].size(); ++i) rows.push_back({f.grey[k][i] + (double(k) - 1) * 0.006, f.value_raw[k][i]});
+      for (std::size_t i = 0; i < f.grey[k].size(); ++i) {
+        const int robot = i < f.robot[k].size() ? f.robot[k][i] : 0;
+        // Sideways: 0.006 between sensors, 0.002 between robots (each robot's cluster its own column).
+        const double shift = (double(k) - 1) * 0.006 + (robots > 1 ? (robot - 0.5 * double(robots - 1)) * 0.002 : 0.0);
+        rows.push_back({f.grey[k][i] + shift, f.value_raw[k][i],
+                        static_cast<double>(kMarkers[static_cast<std::size_t>(robot) % 6])});
+      }
       gp << datablock("s" + std::to_string(k), rows);
     }
     gp << "set title 'Ground sensors (paper section 4.1.3): reading against the grey level of the floor' font ',13'\n";
-    gp << "set xlabel 'grey level (fraction: 0 = black, 1 = white; each sensor''s points shifted sideways by 0.006)'\n";
+    gp << "set xlabel 'grey level (fraction: 0 = black, 1 = white; each sensor''s points shifted sideways by 0.006, each robot''s by 0.002)'\n";
     gp << "set ylabel 'raw reading (counts, 0..1023)'\n";
     gp << "set xrange [-0.03:1.03]\nset yrange [-20:1060]\nset grid lc rgb '#d8d8d8'\nset key top left opaque box Left reverse\n";
     const char* colours[] = {"#d62728", "#2ca02c", "#1f77b4"};
@@ -140,13 +150,18 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
     for (std::size_t k = 0; k < f.sensors.size(); ++k) {
       char buf[500];
       std::snprintf(buf, sizeof buf,
-                    "$s%zu using 1:2 with points pt 7 ps 0.5 lc rgb '%s' title 'sensor %s', "
+                    "$s%zu using 1:2:3 with points pt variable ps 0.5 lc rgb '%s' notitle, "
+                    "NaN with points pt 7 ps 1 lc rgb '%s' title 'sensor %s', "
                     "$lines using 1:%zu with lines lw 2.5 lc rgb '%s' title 'fit: %.1f + %.1f grey', ",
-                    k, colours[k], calibrate::kGroundSensorNames[k], k + 2, colours[k], f.sensors[k].value("offset"),
+                    k, colours[k], colours[k], calibrate::kGroundSensorNames[k], k + 2, colours[k], f.sensors[k].value("offset"),
                     f.sensors[k].value("gain"));
       gp << buf;
     }
-    gp << "$lines using 1:" << f.sensors.size() + 2 << " with lines lw 2 dt 2 lc rgb '#000000' title 'plug-in: 1023 grey'\n";
+    gp << "$lines using 1:" << f.sensors.size() + 2 << " with lines lw 2 dt 2 lc rgb '#000000' title 'plug-in: 1023 grey'";
+    if (robots > 1)
+      for (std::size_t r = 0; r < robots; ++r)
+        gp << ", NaN with points pt " << kMarkers[r % 6] << " ps 0.9 lc rgb '#000000' title " << plot::quoted("robot " + f.robot_names[r]);
+    gp << "\n";
   });
 }
 
