@@ -10,6 +10,8 @@
 #include <iostream>
 #include <sstream>
 #include <streambuf>
+#include <tuple>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -237,6 +239,67 @@ const std::string& coefficient_file(const std::string& source) {
 CLI::Validator figure_file() {
   return CLI::Validator(
       [](std::string& input) -> std::string { return plot::why_not_a_figure(input); }, "{.png,.svg,.pdf}");
+}
+
+std::string why_not_writable(const std::string& path, bool folder_allowed) {
+  namespace fs = std::filesystem;
+  if (path.empty() || path == "-") return std::string();
+  const std::string shown = "'" + logs::escape_control(path) + "'";
+  std::error_code ec;
+  fs::path target(path);
+  if (fs::is_symlink(target, ec)) target = fs::weakly_canonical(target, ec);  // the file it names is replaced
+  if (fs::is_directory(target, ec)) {
+    if (!folder_allowed) return shown + " is a folder; give the name of the file to write";
+    if (::access(target.c_str(), W_OK | X_OK) != 0) return shown + " is a folder that cannot be written to";
+    return std::string();
+  }
+  const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  const std::string folder_shown = "'" + logs::escape_control(folder.string()) + "'";
+  if (!fs::exists(folder, ec))
+    return shown + ": the folder " + folder_shown + " does not exist (create it first: nothing was run)";
+  if (!fs::is_directory(folder, ec)) return shown + ": " + folder_shown + " is not a folder";
+  if (::access(folder.c_str(), W_OK | X_OK) != 0)
+    return shown + ": the folder " + folder_shown + " cannot be written to (nothing was run)";
+  return std::string();
+}
+
+CLI::Validator output_file(bool folder_allowed) {
+  return CLI::Validator(
+      [folder_allowed](std::string& input) -> std::string { return why_not_writable(input, folder_allowed); }, "");
+}
+
+void add_figure_options(CLI::App* sub) {
+  sub->add_option_function<std::string>(
+         "--figure-size",
+         [](const std::string& v) {
+           plot::Page p = plot::page();
+           std::tie(p.width_in, p.height_in) = plot::parse_figure_size(v);
+           plot::set_page(p);
+         },
+         "Print size of every figure, WIDTHxHEIGHT in cm, mm or in: 8.5x6cm for one column of a two-column paper, "
+         "17x10cm for both (PNG at 300 dpi; SVG and PDF at that size)")
+      ->type_name("WxH")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            try {
+              plot::parse_figure_size(v);
+            } catch (const std::invalid_argument& e) {
+              return e.what();
+            }
+            return std::string();
+          },
+          "WxH{cm,mm,in}"));
+  sub->add_option_function<double>(
+         "--font-size",
+         [](double pt) {
+           plot::Page p = plot::page();
+           p.font_pt = pt;
+           plot::set_page(p);
+         },
+         "Size of the figures' text in points (default 11 at the default size; 8-9 suits a paper's column); titles keep "
+         "their proportion to it")
+      ->type_name("PT")
+      ->check(finite_range(4, 40));
 }
 
 void add_skip_bad_rows(CLI::App* sub, bool& flag) {

@@ -73,6 +73,19 @@ const std::string& coefficient_file(const std::string& source);
 /// exit 2 saying which are accepted.
 CLI::Validator figure_file();
 
+/// A CLI11 check for a file the run will write (-o, --plot, ...), made when the options are read,
+/// before any work: the folder it goes into exists, is a folder and is writable, and the path is
+/// not itself a folder (unless `folder_allowed`: diagnose's old `--plot DIR`). Otherwise exit 2 at
+/// once, naming the path and what is wrong. "-" (standard output) passes; a symlink is followed.
+CLI::Validator output_file(bool folder_allowed = false);
+/// Why `path` cannot be written as an output ("" when it can): output_file()'s check.
+std::string why_not_writable(const std::string& path, bool folder_allowed = false);
+
+/// Adds --figure-size WxH{cm,mm,in} and --font-size PT (the same on every subcommand that draws):
+/// the printed size and text of every figure the run draws (plot::set_page). A bad value is
+/// exit 2 saying what was expected.
+void add_figure_options(CLI::App* sub);
+
 /// Adds --skip-bad-rows (the same help text on every subcommand that reads logs).
 void add_skip_bad_rows(CLI::App* sub, bool& flag);
 /// Reads the logs (logs::read_logs), then reports on standard error every row left out under

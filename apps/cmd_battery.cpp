@@ -69,9 +69,8 @@ std::string parameter(const fit::FitResult& r, const std::string& name, const st
 
 void print_fit_statistics(const fit::FitResult& r, const fit::AutocorrelationCorrection& a) {
   const fit::FitStatistics st = fit::fit_statistics(r);
-  std::printf("    n %zu, k %d, RSS %.4g charge², MSE %.4g charge², reduced χ² = RSS/(n-k) %.4g charge², R² %.5f, "
-              "AIC %.1f, BIC %.1f\n",
-              st.n, st.k, st.rss, st.mse, st.reduced_chi2, st.r2, st.aic, st.bic);
+  std::printf("    n %zu, k %d, RSS %.4g charge², MSE %.4g charge², reduced χ² = RSS/(n-k) %.4g charge², R² %.5f, %s\n",
+              st.n, st.k, st.rss, st.mse, st.reduced_chi2, st.r2, fit::format_information_criteria(st, 1).c_str());
   const auto c = fit::correlations(r);
   std::printf("    correlations (|r| > 0.1):");
   if (c.empty()) std::printf(" none");
@@ -224,14 +223,16 @@ void setup_battery(CLI::App& app, Action& action) {
   CLI::App* sub = app.add_subcommand("battery", "Fit the four discharge models (simple, linear, cubic, approximated) per speed");
   sub->add_option("logs", o->logs, "Battery discharge logs (CSV, docs/logs.md#battery)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o->json, "Print one JSON object instead of the report");
-  sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically")->type_name("FILE");
+  sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically")->type_name("FILE")->check(output_file());
   sub->add_option("--plot", o->plot, "Draw the logs and the four fitted models per speed to FILE (.png, .svg or .pdf, by the extension)")
       ->type_name("FILE")
-      ->check(figure_file());
+      ->check(figure_file())
+      ->check(output_file());
   sub->add_option("--plot-lifetime", o->plot_lifetime,
                   "Draw lifetime against speed, as the paper's Fig. 10b, to FILE (.png, .svg or .pdf, by the extension)")
       ->type_name("FILE")
-      ->check(figure_file());
+      ->check(figure_file())
+      ->check(output_file());
   sub->add_flag("--robust", o->robust, "Huber loss instead of least squares");
   sub->add_flag("--least-squares", o->least_squares,
                 "Keep every reading (by default readings more than 6 robust sd from a speed's cubic are left out and listed)");
@@ -240,8 +241,9 @@ void setup_battery(CLI::App& app, Action& action) {
   sub->add_option("--robust-scale", o->robust_scale, "Huber threshold in charge units")
       ->capture_default_str()
       ->check(finite_range(1e-6, 1.0));
+  add_figure_options(sub);
   add_charge_map_option(sub, o->charge_map);
-  sub->add_option("--plot-charge-map", o->plot_charge_map, "Draw the voltage->charge map and the rows it was fitted to (PNG)");
+  sub->add_option("--plot-charge-map", o->plot_charge_map, "Draw the voltage->charge map and the rows it was fitted to (PNG)")->check(output_file());
   sub->footer(log_format_footer(logs::Kind::battery,
                                 "Optional: voltage_v (with charge: the voltage->charge map is fitted and written; without charge: "
                                 "converted through the map). One speed per run; the last row is the moment the robot stopped."));

@@ -33,7 +33,7 @@ void print_report(const calibrate::CameraFit& f) {
                   .c_str());
   app::sensors::print_parameter(r, "cx_px", "px", "", "image centre column");
   app::sensors::print_parameter(r, "cy_px", "px", "", "image centre row");
-  app::sensors::print_handling(r, "px");
+  app::sensors::print_handling(r, "px", "  ", nullptr, /*has_rails=*/false);
   std::printf("MSE %.3f px^2 (plug-in, 29.97 deg centred at (80, 60): %.3f px^2)\n", r.mse, f.plugin_mse);
   std::printf("Table 4 method (alpha from the pixel offset, centre taken as column 80), %zu points: mean %s (± the points' sd, "
               "not a standard error)\n",

@@ -358,18 +358,25 @@ std::string format_parameters(logs::Kind kind, const std::vector<dg::NamedValue>
 
 /// "n .., k .., RSS .., MSE .., reduced chi^2 .., R^2 .., AIC .., BIC .." of a fit to all rows.
 std::string format_statistics(const fit::FitStatistics& s, const std::string& unit) {
-  char buf[400];
+  char buf[600];
   const std::string u2 = fit::pretty_unit(unit + "^2");
-  std::snprintf(buf, sizeof buf, "n %zu, k %d, RSS %.4g %s, MSE %.4g %s, reduced χ² = RSS/(n-k) %.4g %s, R² %.5f, AIC %.1f, BIC %.1f",
-                s.n, s.k, s.rss, u2.c_str(), s.mse, u2.c_str(), s.reduced_chi2, u2.c_str(), s.r2, s.aic, s.bic);
+  std::snprintf(buf, sizeof buf, "n %zu, k %d, RSS %.4g %s, MSE %.4g %s, reduced χ² = RSS/(n-k) %.4g %s, R² %.5f, %s",
+                s.n, s.k, s.rss, u2.c_str(), s.mse, u2.c_str(), s.reduced_chi2, u2.c_str(), s.r2,
+                fit::format_information_criteria(s, 1).c_str());
   return buf;
 }
 
-void print_report(const dg::Report& r) {
+/// The base model as it is named in the report: the plug-in's, or FILE's (--coefficients).
+std::string base_model_name(const std::string& coefficients) {
+  if (coefficients.empty() || coefficients == "plugin") return "The plug-in's model with the coefficients given";
+  if (coefficients == "fitted") return "The plug-in's model with the CLI's compiled-in fitted battery tables";
+  return logs::escape_control(coefficients) + "'s model with its coefficients";
+}
+
+void print_report(const dg::Report& r, const std::string& base_name) {
   const std::string u = fit::pretty_unit(units_of(r.kind));
   std::printf("Diagnosis of %zu %s rows (%zu residuals)\n", r.rows, std::string(logs::to_string(r.kind)).c_str(), r.residuals);
-  std::printf("The plug-in's model with the coefficients given, before recalibration: MSE %.4g %s.\n", r.heldout_mse_plugin,
-              u.c_str());
+  std::printf("%s, before recalibration: MSE %.4g %s.\n", base_name.c_str(), r.heldout_mse_plugin, u.c_str());
   if (r.too_few_rows) {
     const std::string m = r.message.empty() ? r.message : std::string(1, static_cast<char>(std::toupper(r.message[0]))) + r.message.substr(1);
     std::printf("%s.\nNo effect was judged: no recalibration, no search, no finding.\n", m.c_str());
@@ -566,7 +573,7 @@ int run_diagnose(const DiagnoseOptions& o) {
   if (!output.empty()) std::cerr << "diagnose: wrote " << output << '\n';
   if (!figure.empty()) std::cerr << "diagnose: drew " << figure << '\n';
   if (o.json) std::cout << text;
-  else print_report(r);
+  else print_report(r, base_model_name(o.coefficients));
   return 0;
 }
 
@@ -580,8 +587,8 @@ void setup_diagnose(CLI::App& app, Action& action) {
   sub->add_flag("--json", o->json,
                 "Print the JSON report instead of the human one (the old spellings --json FILE.json and "
                 "--json - still work: the first is -o FILE.json)");
-  sub->add_option("-o,--output", o->output, "Write the JSON report to FILE, atomically")->type_name("FILE");
-  sub->add_option("--json-file", o->json_file)->group("");  // what main.cpp makes of the old --json FILE.json
+  sub->add_option("-o,--output", o->output, "Write the JSON report to FILE, atomically")->type_name("FILE")->check(output_file());
+  sub->add_option("--json-file", o->json_file)->group("")->check(output_file());  // what main.cpp makes of the old --json FILE.json
   sub->add_option("--plot", o->plot,
                   "Draw the residuals before and after the findings, one panel per measured quantity, to FILE "
                   "(.png, .svg or .pdf, by the extension); an existing folder DIR (the old spelling) gets "
@@ -593,7 +600,9 @@ void setup_diagnose(CLI::App& app, Action& action) {
             return why + " (or an existing folder, the old spelling: DIR/diagnose_<kind>.png)";
           },
           "{.png,.svg,.pdf}|DIR"))
+      ->check(output_file(true))
       ->type_name("FILE");
+  add_figure_options(sub);
   CLI::Option* battery_model = sub->add_option(
       "--battery-model", o->battery_model, "battery: the discharge model simulated (default: a diagnosis file's, else cubic)")
       ->capture_default_str()

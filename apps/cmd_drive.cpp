@@ -23,7 +23,7 @@ void print_report(const calibrate::DriveFit& f) {
     std::printf("  firmware cap tested: BIC %.1f with the cap, %.1f without: %s\n", f.bic_capped, f.bic_uncapped,
                 f.cap_kept ? "kept" : "the wheels run faster, fitted as they run");
   app::sensors::print_parameter(f.steps, "steps_per_m", "steps/m", "  ", "plug-in 7763.656", &f.steps_autocorrelation);
-  app::sensors::print_handling(f.steps, "steps", "  ", &f.steps_autocorrelation);
+  app::sensors::print_handling(f.steps, "steps", "  ", &f.steps_autocorrelation, /*has_rails=*/false);
   for (const auto& p : f.over_limit_runs) std::printf("  commands above the limit (capped): %s\n", p.c_str());
   std::printf("\nToF: tof_mm = scale * 1000 (D - travel) + offset, travel = encoder travel lagged by tau (%zu rows; %zu at the "
               "20/2000 mm rails or out-of-range codes, censored; %zu codes >= 8190)\n",

@@ -97,6 +97,7 @@ int run_simulate(const SimulateOptions& o) {
     csv += line;
   }
   write_output(csv, o.output);
+  if (!o.output.empty()) std::cerr << "simulate: wrote " << o.output << '\n';
   return 0;
 }
 }  // namespace
@@ -142,7 +143,7 @@ void setup_simulate(CLI::App& app, Action& action) {
   for (CLI::Option* profile_only : {model, compat, profile, dt}) like->excludes(profile_only);
   for (CLI::Option* like_only : {battery_model, noise, seed}) like_only->needs(like);
   add_skip_bad_rows(sub, o->skip_bad_rows);
-  sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output")->type_name("FILE");
+  sub->add_option("-o,--output", o->output, "Write the CSV to this file (atomically) instead of standard output")->type_name("FILE")->check(output_file());
   sub->callback([o, &action] { action = [o] { return run_simulate(*o); }; });
   setup_simulate_like(*sim, action);
 }

@@ -228,7 +228,11 @@ int run_like(const LikeOptions& o) {
                                                                                  : " with " + o.coefficients;
   w.comment("Simulated by epuck2-fit simulate " + std::string(logs::to_string(log.kind)) + " --like " + o.like + model +
             (o.noise ? " and reading noise, seed " + std::to_string(o.seed) : std::string(", without noise")));
-  for (const auto& [k, v] : log.metadata) w.metadata(k, v);
+  // The log's conditions are the simulation's too (robot, obstacle distance), but its seed is the
+  // recording's: the simulation's own replaces it (with --noise), or none is written.
+  for (const auto& [k, v] : log.metadata)
+    if (k != "seed") w.metadata(k, v);
+  if (o.noise) w.metadata("seed", std::to_string(o.seed));
   for (std::size_t i = 0; i < log.rows(); ++i) {
     std::vector<double> row;
     for (const auto& c : columns) {
@@ -238,6 +242,7 @@ int run_like(const LikeOptions& o) {
     w.row(row);
   }
   write_output(w.str(), o.output);
+  if (!o.output.empty()) std::cerr << "simulate: wrote " << o.output << '\n';
   return 0;
 }
 
@@ -258,7 +263,9 @@ void setup_simulate_like(CLI::App& sim, Action& action) {
         ->check(CLI::ExistingFile);
     sub->add_flag("--noise", o->noise, "Add the file's reading noise (Gaussian, its `noise` section)");
     sub->add_option("--seed", o->seed, "Seed of the noise")->capture_default_str();
-    sub->add_option("-o,--output", o->output, "Write the log to this file (atomically) instead of standard output");
+    sub->add_option("-o,--output", o->output, "Write the log to this file (atomically) instead of standard output")
+        ->type_name("FILE")
+        ->check(output_file());
     add_skip_bad_rows(sub, o->skip_bad_rows);
     sub->callback([o, &action] { action = [o] { return run_like(*o); }; });
   }

@@ -13,11 +13,13 @@ namespace epuck2::app::sensors {
 void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what) {
   sub->add_option("logs", o.logs, what + " logs (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o.json, "Print one JSON object instead of the report");
-  sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically")->type_name("FILE");
+  sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically")->type_name("FILE")->check(output_file());
   sub->add_option("--plot", o.plot,
                   "Draw the data, the fitted curve and the plug-in's curve to FILE (.png, .svg or .pdf, by the extension)")
       ->type_name("FILE")
-      ->check(figure_file());
+      ->check(figure_file())
+      ->check(output_file());
+  add_figure_options(sub);
   sub->add_flag("--least-squares", o.least_squares,
                 "Plain least squares: no reading is left out as an outlier (readings on a rail stay censored)");
   sub->add_option("--reject-sd", o.reject_sd, "Robust fits: readings farther than this many noise sd are outliers")
@@ -248,7 +250,7 @@ void print_statistics(const fit::FitStatistics& s, const std::string& unit, cons
   else std::snprintf(r2, sizeof r2, "undefined (the data do not vary)");
   std::printf("%sn %zu, k %d free parameters, RSS %.4g%s, MSE %.4g%s, reduced χ² = RSS/(n-k) %.4g%s, R² %s\n", indent, s.n, s.k,
               s.rss, u.c_str(), s.mse, u.c_str(), s.reduced_chi2, u.c_str(), r2);
-  std::printf("%sAIC %.2f, BIC %.2f (n ln(RSS/n) + 2k and + k ln n, as lmfit)\n", indent, s.aic, s.bic);
+  std::printf("%s%s (n ln(RSS/n) + 2k and + k ln n, as lmfit)\n", indent, fit::format_information_criteria(s, 2).c_str());
 }
 
 void print_correlations(const std::vector<fit::Correlation>& c, const char* indent) {
@@ -276,21 +278,32 @@ void print_autocorrelation(const fit::AutocorrelationCorrection& a, const char* 
 }
 
 void print_handling(const fit::RobustFit& r, const std::string& unit, const char* indent,
-                    const fit::AutocorrelationCorrection* autocorrelation) {
-  std::printf("%s%s\n", indent, r.method.c_str());
-  std::printf("%s%zu observations: %zu inside the rails, %zu censored (%zu at or below the low rail, %zu at or above the high), "
-              "%zu outliers left out\n",
-              indent, r.observations + r.outliers.size(), r.exact, r.censored(), r.censored_below, r.censored_above,
-              r.outliers.size());
+                    const fit::AutocorrelationCorrection* autocorrelation, bool has_rails) {
+  std::string method = r.method;
+  const std::string censoring = "; readings on a rail censored (Tobit)";
+  if (const std::size_t at = method.find(censoring); !has_rails && at != std::string::npos) method.erase(at, censoring.size());
+  std::printf("%s%s\n", indent, method.c_str());
+  if (has_rails)
+    std::printf("%s%zu observations: %zu inside the rails, %zu censored (%zu at or below the low rail, %zu at or above the high), "
+                "%zu outliers left out\n",
+                indent, r.observations + r.outliers.size(), r.exact, r.censored(), r.censored_below, r.censored_above,
+                r.outliers.size());
+  else
+    std::printf("%s%zu observations (no rails: none censored), %zu outliers left out\n", indent,
+                r.observations + r.outliers.size(), r.outliers.size());
   for (std::size_t i = 0; i < r.outlier_where.size() && i < 5; ++i) std::printf("%s  outlier: %s\n", indent, r.outlier_where[i].c_str());
   if (r.outlier_where.size() > 5) std::printf("%s  ... and %zu more (all in the JSON)\n", indent, r.outlier_where.size() - 5);
-  std::printf("%skept: %zu inside the rails (the RSS's n), %zu at or below the low rail, %zu at or above the high; noise sd %.4g%s\n",
-              indent, r.kept_exact, r.kept_censored_below, r.kept_censored_above, r.noise_sd,
-              unit.empty() ? "" : (" " + fit::pretty_unit(unit)).c_str());
+  const std::string sd_unit = unit.empty() ? "" : " " + fit::pretty_unit(unit);
+  if (has_rails)
+    std::printf("%skept: %zu inside the rails (the RSS's n), %zu at or below the low rail, %zu at or above the high; noise sd %.4g%s\n",
+                indent, r.kept_exact, r.kept_censored_below, r.kept_censored_above, r.noise_sd, sd_unit.c_str());
+  else
+    std::printf("%skept: %zu (the RSS's n); noise sd %.4g%s\n", indent, r.kept_exact, r.noise_sd, sd_unit.c_str());
   print_statistics(calibrate::robust_statistics(r), unit, indent);
-  std::printf("%sTobit likelihood (censored readings included, sigma estimated): ln L %.2f, AIC %.2f, BIC %.2f "
-              "(-2 ln L + 2(k+1) and + (k+1) ln n)\n",
-              indent, r.log_likelihood, r.aic, r.bic);
+  if (has_rails)
+    std::printf("%sTobit likelihood (censored readings included, sigma estimated): ln L %.2f, AIC %.2f, BIC %.2f "
+                "(-2 ln L + 2(k+1) and + (k+1) ln n)\n",
+                indent, r.log_likelihood, r.aic, r.bic);
   print_correlations(fit::correlations(r), indent);
   if (autocorrelation != nullptr) print_autocorrelation(*autocorrelation, indent);
   if (r.lack_of_fit.tested)

@@ -129,9 +129,10 @@ void print_autocorrelation(const fit::AutocorrelationCorrection& a, const char* 
 
 /// The human report's lines on what a fit did with the readings: the loss, the censoring per
 /// rail, the outliers, the statistics in `unit` (the readings' unit), the correlations, the
-/// autocorrelation correction when given, the lack of fit.
+/// autocorrelation correction when given, the lack of fit. A reading without rails (`has_rails`
+/// false: the camera's pixels, the encoders' steps) gets no rail counts and no Tobit line.
 void print_handling(const fit::RobustFit& r, const std::string& unit = "", const char* indent = "  ",
-                    const fit::AutocorrelationCorrection* autocorrelation = nullptr);
+                    const fit::AutocorrelationCorrection* autocorrelation = nullptr, bool has_rails = true);
 
 /// The human report's line on a channel's reading noise (the coefficient file's `noise` entry).
 void print_noise(const calibrate::ReadingNoise& n);

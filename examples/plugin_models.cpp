@@ -1,7 +1,7 @@
 // The fitted models as an ARGoS plug-in (or any simulator) uses them: every kind's model from the
 // header `epuck2-fit codegen` writes (epuck2::fitted::<kind>_model(), battery_tables()), run by
 // lib/models (kinds.hpp, battery.hpp). It links epuck2::models and epuck2::fitted only: no JSON,
-// no Ceres. The README's "Using the models from an ARGoS plug-in" quotes the part between the
+// no Ceres. docs/plugin-models.md ("Using the models from an ARGoS plug-in") quotes the part between the
 // [readme] marks (tests/test_docs.cpp checks the quote). CTest runs it (example_plugin_models) and
 // examples/check_plugin_models.py checks every number it prints against data/fitted/<kind>.json by
 // the documented formulas.

@@ -6,6 +6,7 @@
 // format rules of lib/plot/figure.hpp on their own.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <tuple>
@@ -50,7 +51,9 @@ const std::vector<Figure>& figures() {
       {"proximity", "proximity" + logs_of("proximity"), "--plot",
        {"distance to the surface (mm)", "normalised reading (reading / 4095, dimensionless)", "plug-in"}},
       {"light", "light" + logs_of("light"), "--plot", {"distance to the light (cm)", "raw reading (counts", "plug-in"}},
-      {"ground", "ground" + logs_of("ground"), "--plot", {"grey level (fraction", "raw reading (counts, 0..1023)", "plug-in"}},
+      // Two robots' logs: each robot named in the legend (its own marker), not one cloud.
+      {"ground", "ground" + logs_of("ground"), "--plot",
+       {"grey level (fraction", "raw reading (counts, 0..1023)", "plug-in", "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
       {"camera", "camera" + logs_of("camera"), "--plot",
        {"column px (pixels", "row py (pixels", "dimensionless", "plug-in"}},
       {"drive", "drive" + logs_of("drive"), "--plot",
@@ -79,7 +82,8 @@ const std::vector<Figure>& figures() {
   return f;
 }
 
-class Figures : public epuck2::testing::CliTest, public ::testing::WithParamInterface<std::tuple<std::size_t, std::string>> {
+/// The real binary with EPUCK2_PLOT_STRICT set: any word from gnuplot fails the figure.
+class StrictFigures : public epuck2::testing::CliTest {
  protected:
   void SetUp() override {
     CliTest::SetUp();
@@ -90,6 +94,8 @@ class Figures : public epuck2::testing::CliTest, public ::testing::WithParamInte
     CliTest::TearDown();
   }
 };
+
+class Figures : public StrictFigures, public ::testing::WithParamInterface<std::tuple<std::size_t, std::string>> {};
 
 TEST_P(Figures, AreDrawnInTheFormatTheExtensionNames) {
   const Figure& f = figures()[std::get<0>(GetParam())];
@@ -128,6 +134,110 @@ INSTANTIATE_TEST_SUITE_P(EveryFigure, Figures, ::testing::ValuesIn(all_cases()),
                          [](const ::testing::TestParamInfo<std::tuple<std::size_t, std::string>>& info) {
                            return figures()[std::get<0>(info.param)].name + "_" + std::get<1>(info.param);
                          });
+
+// ---- a paper's figure: --figure-size and --font-size ----
+
+/// The width and height a PNG's IHDR gives (bytes 16..23, big-endian).
+std::pair<unsigned, unsigned> png_size(const std::string& bytes) {
+  auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned>(static_cast<unsigned char>(bytes[at])) << 24) |
+           (static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 1])) << 16) |
+           (static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 2])) << 8) | static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 3]));
+  };
+  return {be32(16), be32(20)};
+}
+
+class PaperFigures : public StrictFigures {};
+
+// 8.5 x 6 cm, worked by hand: a PDF page of 8.5 / 2.54 * 72 = 240.94 by 170.08 pt; a PNG at
+// 300 dpi of 1003.9 -> 1004 by 708.7 -> 709 px; an SVG at 96 px/in of 321.3 -> 321 by 226.8 -> 227.
+TEST_F(PaperFigures, TheSizeAskedIsTheSizePrinted) {
+  const std::string logs = logs_of("ground");
+  for (const char* format : {"pdf", "png", "svg"}) {
+    SCOPED_TRACE(format);
+    const fs::path out = dir_ / (std::string("ground.") + format);
+    const CliRun r = run("ground" + logs + " --plot \"" + out.string() + "\" --figure-size 8.5x6cm --font-size 8");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string bytes = slurp(out);
+    if (std::string(format) == "pdf") {
+      const std::size_t box = bytes.find("/MediaBox [");
+      ASSERT_NE(box, std::string::npos);
+      double x0 = -1, y0 = -1, x1 = 0, y1 = 0;
+      ASSERT_EQ(std::sscanf(bytes.c_str() + box + 11, "%lf %lf %lf %lf", &x0, &y0, &x1, &y1), 4);
+      EXPECT_NEAR(x1 - x0, 240.94, 1.0);  // pdfcairo writes whole points
+      EXPECT_NEAR(y1 - y0, 170.08, 1.0);
+    } else if (std::string(format) == "png") {
+      const auto [w, h] = png_size(bytes);
+      EXPECT_EQ(w, 1004u);
+      EXPECT_EQ(h, 709u);
+    } else {
+      EXPECT_NE(bytes.find("width=\"321\""), std::string::npos) << bytes.substr(0, 400);
+      EXPECT_NE(bytes.find("height=\"227\""), std::string::npos) << bytes.substr(0, 400);
+    }
+  }
+}
+
+// Figures are redone at a paper's size without a word from gnuplot, and keep their axes' labels:
+// the lifetime at one column's size, the diagnosis at two columns'.
+TEST_F(PaperFigures, TheDiagnosisAtTwoColumnsSize) {
+  const fs::path out = dir_ / "d.svg";
+  const CliRun r = run("diagnose" + logs_of("ground") + " --plot \"" + out.string() + "\" --figure-size 17x12cm --font-size 8");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string svg = slurp(out);
+  for (const char* text : {"measured − simulated (counts, 0..1023)", "before the findings", "after: 3 findings", "log (file name)"})
+    EXPECT_NE(svg.find(text), std::string::npos) << text;
+}
+
+TEST_F(PaperFigures, LaidOutAgainAtOneColumnsSize) {
+  struct Case {
+    std::string command, option, label;
+  };
+  const std::vector<Case> cases{
+      {"battery" + logs_of("battery"), "--plot-lifetime", "lifetime (h)"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.command.substr(0, 20) + " " + c.option);
+    const fs::path out = dir_ / "f.svg";
+    const CliRun r = run(c.command + " " + c.option + " \"" + out.string() + "\" --figure-size 3.3x2.6in --font-size 8");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string svg = slurp(out);
+    EXPECT_NE(svg.find("width=\"317\""), std::string::npos) << svg.substr(0, 300);  // 3.3 in x 96 = 316.8
+    EXPECT_NE(svg.find(c.label), std::string::npos) << c.label;
+    fs::remove(out);
+  }
+}
+
+TEST_F(PaperFigures, ABadSizeIsExitTwoSayingWhatWasExpected) {
+  for (const char* bad : {"8.5x6", "8.5cm", "x6cm", "8.5x6ft", "0.5x0.5cm", "8,5x6cm"}) {
+    SCOPED_TRACE(bad);
+    const CliRun r = run("ground" + logs_of("ground") + " --plot \"" + (dir_ / "g.png").string() + "\" --figure-size " + bad);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--figure-size"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "g.png"));
+  }
+  const CliRun r = run("ground" + logs_of("ground") + " --font-size 0");
+  EXPECT_EQ(r.exit_code, 2);
+}
+
+// Vector files stay small: the diagnosis of the whole drive set (thousands of residuals in
+// each panel) draws at most 3000 points a series in an SVG, and says so.
+TEST_F(PaperFigures, ADiagnosisSvgStaysSmall) {
+  const fs::path out = dir_ / "d.svg";
+  const CliRun r = run("diagnose" + logs_of("drive") + " --plot \"" + out.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_LT(fs::file_size(out), 500u * 1024u);
+  EXPECT_NE(slurp(out).find("drawn, means from all"), std::string::npos);  // the thinning, stated
+}
+
+TEST(FigureSize, ParsedInInches) {
+  using epuck2::plot::parse_figure_size;
+  EXPECT_NEAR(parse_figure_size("8.5x6cm").first, 8.5 / 2.54, 1e-12);
+  EXPECT_NEAR(parse_figure_size("8.5x6cm").second, 6 / 2.54, 1e-12);
+  EXPECT_NEAR(parse_figure_size("85X60mm").first, 85 / 25.4, 1e-12);
+  EXPECT_EQ(parse_figure_size("3.5x2in"), std::make_pair(3.5, 2.0));
+  for (const char* bad : {"", "x", "3x", "3x2", "3x2pt", "3.5.1x2in", "-3x2in", "50x2in"})
+    EXPECT_THROW(parse_figure_size(bad), std::invalid_argument) << bad;
+}
 
 // ---- the format rules on their own (lib/plot/figure.hpp) ----
 

@@ -20,6 +20,8 @@ json statistics_json(const fit::FitStatistics& s, const std::string& rss_unit) {
          {"rss_unit", rss_unit}};
   if (!std::isfinite(s.r2)) j["r2_why"] = "the data do not vary: there is no variance to explain";
   if (!std::isfinite(s.reduced_chi2)) j["reduced_chi2_why"] = "no degree of freedom left (n <= k)";
+  if (!std::isfinite(s.aic)) j["aic_why"] = s.n == 0 ? "no residual" : fit::kInformationCriteriaUndefined;
+  if (!std::isfinite(s.bic)) j["bic_why"] = s.n == 0 ? "no residual" : fit::kInformationCriteriaUndefined;
   return j;
 }
 

@@ -479,12 +479,16 @@ GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions&
     const auto& sen = log.col("sensor");
     const auto& v = log.col("value");
     out.readings += log.rows();
+    const auto named = std::find(out.robot_names.begin(), out.robot_names.end(), log.robot);
+    const int robot = static_cast<int>(named - out.robot_names.begin());
+    if (named == out.robot_names.end()) out.robot_names.push_back(log.robot);
     for (std::size_t i = 0; i < log.rows(); ++i) {
       const auto k = static_cast<std::size_t>(sen[i]);
       const Censoring c = rail_of(v[i], 0, full);
       if (c != Censoring::none) ++out.censored;
       out.grey[k].push_back(g[i]);
       out.value_raw[k].push_back(v[i]);
+      out.robot[k].push_back(robot);
       // Replicates: the same grey level (to a tenth of a percent).
       obs[k].push_back({v[i], c, where(log, i), static_cast<int>(std::lround(g[i] * 1000))});
     }

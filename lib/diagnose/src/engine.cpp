@@ -53,7 +53,7 @@ void add_common_covariates(Problem& p, const std::vector<logs::Log>& logs, const
       index.push_back(static_cast<double>(i));
       which.push_back(static_cast<double>(l));
     }
-  p.add_row_covariate("row", std::move(index));
+  p.add_row_covariate("log_row", std::move(index));  // not "row": a camera's image has rows
   if (logs.size() > 1) p.add_row_covariate("log", std::move(which));
 }
 
@@ -1299,7 +1299,11 @@ class Diagnosis {
   /// again; the residuals in their channels' own units (the weights were for the fits and scores).
   void keep_figure_data() {
     Problem& p = *problem_;
-    std::string wanted = "row";
+    // With no structure to show: time where the logs are time series (battery, drive), else the
+    // row number within the log.
+    std::string wanted = "log_row";
+    for (const auto& c : p.covariates)
+      if (c.first == "time_s") wanted = "time_s";
     if (report_.verdict == Verdict::unexplained) wanted = report_.structure_after.front().covariate;
     else if (!report_.structure_before.empty() && report_.structure_before.front().significant)
       wanted = report_.structure_before.front().covariate;

@@ -151,9 +151,19 @@ FitStatistics fit_statistics(std::size_t n, int k, double rss, double r2) {
   const double nn = static_cast<double>(n);
   s.mse = n > 0 ? rss / nn : kNaN;
   s.reduced_chi2 = nn > k ? rss / (nn - k) : kNaN;
-  s.aic = n > 0 ? akaike(n, rss, k) : kNaN;
-  s.bic = n > 0 ? bayes(n, rss, k) : kNaN;
+  // RSS 0 (every residual exactly 0): n ln(0) has no value; akaike() would floor it at the
+  // smallest double and print a meaningless -1e5.
+  s.aic = n > 0 && rss > 0 ? akaike(n, rss, k) : kNaN;
+  s.bic = n > 0 && rss > 0 ? bayes(n, rss, k) : kNaN;
   return s;
+}
+
+std::string format_information_criteria(const FitStatistics& s, int decimals) {
+  if (!std::isfinite(s.aic) || !std::isfinite(s.bic))
+    return std::string("AIC and BIC undefined (") + (s.n == 0 ? "no residual" : kInformationCriteriaUndefined) + ")";
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "AIC %.*f, BIC %.*f", decimals, s.aic, decimals, s.bic);
+  return buf;
 }
 
 FitStatistics fit_statistics(const FitResult& r) { return fit_statistics(r.observations, r.free_parameters, r.rss, r.r2); }

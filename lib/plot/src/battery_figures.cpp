@@ -31,25 +31,43 @@ constexpr ModelStyle kStyles[] = {
 void battery_fits_figure(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::BatteryRun>& runs,
                          const calibrate::BatteryFit& f) {
   const int n = static_cast<int>(f.speeds.size());
-  const int cols = n <= 4 ? std::max(n, 1) : 4;
-  const int rows = (n + cols - 1) / cols;
-  const int width = 450 * cols + 100, height = 330 * rows + 170;
+  int cols = n <= 4 ? std::max(n, 1) : 4;
+  int rows = (n + cols - 1) / cols;
+  // At least 1300 x 600: the title and the one-row legend fit over one or two speeds' panels.
+  const std::pair<int, int> canvas = canvas_px(std::max(450 * cols + 100, 1300), std::max(330 * rows + 170, 600));
+  const int width = canvas.first, height = canvas.second;
+  // A page narrower than the figure's own size (--figure-size, --font-size): fewer columns, so
+  // that each panel keeps room for its title (about 150 of the canvas's pixels) and its tics.
+  cols = std::max(1, std::min(cols, (width - 115) / 180));
+  rows = (n + cols - 1) / cols;
+  // Narrower than 1700 pixels, the legend takes three rows and the title its short form.
+  const bool narrow = width < 1700;
+  const double top_px = narrow && rows * cols == n ? 235.0 : narrow ? 115.0 : 135.0;  // narrow: the legend may stack
   Layout layout;
   layout.rows = rows;
   layout.cols = cols;
-  layout.left = 60.0 / width;
+  layout.left = (narrow ? 115.0 : 60.0) / width;
   layout.right = 1.0 - 20.0 / width;
-  layout.bottom = 50.0 / height;
-  layout.top = 1.0 - 135.0 / height;  // the title, then the legend (two rows at most), then the first row's titles
-  layout.hspace = 75.0 / width;
-  layout.vspace = 85.0 / height;
+  layout.bottom = (narrow ? 75.0 : 50.0) / height;
+  layout.top = 1.0 - top_px / height;  // the title, then the legend (two rows at most), then the first row's titles
+  layout.hspace = 95.0 / width;
+  layout.vspace = (narrow ? 110.0 : 85.0) / height;
+  // Every panel on one time axis: to the longest run or lifetime, so that speeds compare at a glance.
+  double t_max_h = 0;
+  for (const auto& r : runs)
+    if (!r.time_s.empty()) t_max_h = std::max(t_max_h, r.time_s.back() / 3600.0);
+  for (const auto& s : f.speeds) t_max_h = std::max(t_max_h, s.lifetime_s / 3600.0);
   render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
-        gp << multiplot(layout, "Battery discharge per wheel speed: the logs and the four fitted models");
-        gp << "set grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset ytics 0.25\nset xrange [0:*]\nset key off\n";
-        gp << "set xlabel 'time (h)' offset 0,0.5\nset ylabel 'charge (fraction of full)' offset 1.5,0\n";
+        gp << multiplot(layout, narrow ? "Battery discharge per wheel speed" : "Battery discharge per wheel speed: the logs and the four fitted models");
+        char xrange[64];
+        std::snprintf(xrange, sizeof xrange, "set xrange [0:%.4g]\n", t_max_h > 0 ? 1.02 * t_max_h : 1.0);
+        gp << "set grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset ytics 0.25\n" << xrange << "set key off\n";
         for (int i = 0; i < n; ++i) {
+          // Axis labels once: the charge on the first column, the time under each column's last panel.
+          gp << (i % cols == 0 ? "set ylabel 'charge (fraction of full)' offset 1.5,0\n" : "unset ylabel\n");
+          gp << (i + cols >= n ? "set xlabel 'time (h)' offset 0,0.5\n" : "unset xlabel\n");
           const calibrate::SpeedFit& s = f.speeds[static_cast<std::size_t>(i)];
           std::vector<std::tuple<double, double>> pts;
           for (const auto& r : runs) {
@@ -68,17 +86,36 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
           char title[128];
           std::snprintf(title, sizeof title, "%g cm/s: lifetime %.2f h, %zu run%s", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs,
                         s.runs == 1 ? "" : "s");
+          if (cols < 4 && n > cols)  // a narrow page: the short form
+            std::snprintf(title, sizeof title, "%g cm/s: %.2f h, %zu run%s", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs,
+                          s.runs == 1 ? "" : "s");
           gp << "set title " << quoted(title) << " font ',11' offset 0,-0.3\n";
-          gp << "plot '-' with points pt 7 ps 0.3 lc rgb '#a0a0a0' notitle";
-          for (const auto& st : kStyles) gp << ", '-' with linespoints " << st.style << " notitle";
-          gp << "\n";
-          gp.send1d(pts);
+          // The models first, the logs over them: the readings stay visible where the curves lie.
+          gp << "plot ";
+          for (const auto& st : kStyles) gp << (&st == kStyles ? "" : ", ") << "'-' with linespoints " << st.style << " notitle";
+          gp << ", '-' with points pt 7 ps 0.3 lc rgb '#707070' notitle\n";
           for (const auto& c : curves) gp.send1d(c);
+          gp.send1d(pts);
         }
         // One legend for all panels, across the top under the overall title.
-        std::vector<std::string> entries{"NaN with points pt 7 ps 1 lc rgb '#a0a0a0' title 'logs (at most 400 readings a run drawn)'"};
-        for (const auto& st : kStyles) entries.push_back(std::string("NaN with linespoints ") + st.style + " title " + quoted(st.title));
-        gp << legend_band(0.02, 0.98, 1.0 - 95.0 / height, 1.0 - 42.0 / height, entries);
+        // On a narrow page the entries' first words alone (the long forms are in docs/cli.md).
+        std::vector<std::string> entries{std::string("NaN with points pt 7 ps 1 lc rgb '#707070' title ") +
+                                         (narrow ? "'logs (≤ 400 readings a run)'" : "'logs (at most 400 readings a run drawn)'")};
+        for (const auto& st : kStyles) {
+          const std::string name = st.title;
+          entries.push_back(std::string("NaN with linespoints ") + st.style + " title " +
+                            quoted(narrow ? name.substr(0, name.find(' ')) : name));
+        }
+        // A narrow page with empty panel slots at the end: the legend fills them.
+        const int empty = rows * cols - n;
+        if (narrow && empty > 0) {
+          const double panel_w = (layout.right - layout.left - (cols - 1) * layout.hspace) / cols;
+          const double panel_h = (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
+          gp << legend_band(layout.left + (cols - empty) * (panel_w + layout.hspace), layout.right, layout.bottom,
+                            layout.bottom + panel_h, entries, 11, static_cast<int>(entries.size()));
+        } else {
+          gp << legend_band(0.02, 0.98, 1.0 - (top_px - 40.0) / height, 1.0 - 42.0 / height, entries);
+        }
         gp << "unset multiplot\n";
       },
       width, height);
@@ -107,7 +144,7 @@ void battery_lifetime_figure(logs::OutputStage& stage, const std::string& path, 
         gp.send1d(mean);
         gp.send1d(published);
       },
-      1200, 800);
+      canvas_px(1200, 800).first, canvas_px(1200, 800).second);
 }
 
 }  // namespace epuck2::plot

@@ -59,7 +59,7 @@ void charge_map_figure(logs::OutputStage& stage, const std::string& path, const 
         gp.send1d(resid);
         gp << "unset multiplot\n";
       },
-      1200, 900);
+      canvas_px(1200, 900).first, canvas_px(1200, 900).second);
 }
 
 }  // namespace epuck2::plot

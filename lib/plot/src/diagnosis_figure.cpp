@@ -62,10 +62,11 @@ struct Axis {
   std::map<double, std::string> categories;  ///< value -> tic label, in order
 };
 
-/// "temperature_c" -> "temperature (°C)": a log column's unit from its suffix.
+/// "temperature_c" -> "temperature (°C)": a log column's unit from its suffix (a column in metres
+/// is drawn in mm, as every distance of the figures).
 std::string column_label(const std::string& name) {
   static const std::pair<const char*, const char*> kUnits[] = {
-      {"_cm_s2", "cm/s²"}, {"_cm_s", "cm/s"}, {"_mm", "mm"}, {"_cm", "cm"}, {"_m", "m"}, {"_ms", "ms"}, {"_s", "s"},
+      {"_cm_s2", "cm/s²"}, {"_cm_s", "cm/s"}, {"_mm", "mm"}, {"_cm", "cm"}, {"_m", "mm"}, {"_ms", "ms"}, {"_s", "s"},
       {"_deg", "°"},       {"_rad", "rad"},   {"_c", "°C"},  {"_k", "K"},   {"_v", "V"}, {"_a", "A"},   {"_hz", "Hz"},
       {"_pct", "%"},       {"_px", "px"}};
   for (const auto& [suffix, unit] : kUnits) {
@@ -104,21 +105,21 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
     }
     a.label = name == "log"      ? "log (file name)"
               : name == "sensor" ? "sensor (id)"
-              : name == "axis"   ? "image axis (px: column, py: row)"
+              : name == "axis"   ? "image axis (px: image column, py: image row)"
                                  : "measured quantity (channel)";
     return a;
   }
   const bool drive = r.kind == logs::Kind::drive;
   static const std::map<std::string, std::string> kKnown{
-      {"row", "row number within its log (rows)"},
+      {"log_row", "row number within its log (log_row)"},
       {"time_s", "time (s)"},
       {"commanded_cm_s", "commanded wheel speed (cm/s)"},
       {"acceleration_cm_s2", "acceleration measured by the encoders (cm/s²)"},
-      {"range_m", "range to the obstacle (m)"},
+      {"range_m", "range to the obstacle (mm)"},
       {"time_since_command_s", "time since the last command (s)"},
-      {"forward_m", "LED distance ahead of the camera (m)"},
-      {"lateral_m", "LED lateral offset (m, left > 0)"},
-      {"vertical_m", "LED vertical offset (m, up > 0)"},
+      {"forward_m", "LED distance ahead of the camera (mm)"},
+      {"lateral_m", "LED lateral offset (mm, left > 0)"},
+      {"vertical_m", "LED vertical offset (mm, up > 0)"},
       {"radius2", "squared radius in the image, (lateral² + vertical²) / forward² (dimensionless)"},
       {"grey", "grey level (fraction: 0 = black, 1 = white)"},
       {"intensity", "source intensity (simulator units; 1 = the reference source)"},
@@ -126,7 +127,7 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
   };
   if (name == "speed_cm_s") a.label = drive ? "speed measured by the encoders (cm/s)" : "wheel speed (cm/s)";
   else if (name == "distance_m")
-    a.label = drive ? "distance travelled from the start (m; negative: backwards)" : r.kind == logs::Kind::light ? "distance to the light (m)" : "distance to the surface (m)";
+    a.label = drive ? "distance travelled from the start (mm; negative: backwards)" : r.kind == logs::Kind::light ? "distance to the light (mm)" : "distance to the surface (mm)";
   else if (name == "predicted") a.label = "value the recalibrated base model simulates (" + panel_unit + ")";
   else if (const auto it = kKnown.find(name); it != kKnown.end()) a.label = it->second;
   else a.label = column_label(name);
@@ -148,8 +149,10 @@ std::string num(double v) {
   return buf;
 }
 
-/// At most this many points of one series are drawn (the means use every residual).
+/// At most this many points of one series are drawn (the means use every residual): in a PNG,
+/// and in a vector file (SVG, PDF), where every point is an element of the file.
 constexpr std::size_t kMaxPoints = 20000;
+constexpr std::size_t kMaxVectorPoints = 800;
 
 std::string verdict_line(const dg::Report& r) {
   std::string line = "verdict: " + r.verdict_name();
@@ -169,7 +172,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   const std::vector<Panel> panels = panels_of(r);
   const std::size_t n = r.residual_before.size();
   // The covariate: the one the diagnosis chose for the figure, else the residual's index.
-  std::string cov_name = "row";
+  std::string cov_name = "log_row";
   std::vector<double> x;
   if (!r.covariates.empty() && r.covariates.front().second.size() == n) {
     cov_name = r.covariates.front().first;
@@ -179,86 +182,102 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
     x.resize(n);
     for (std::size_t i = 0; i < n; ++i) x[i] = static_cast<double>(i);
   }
+  // Distances in mm, as the calibration figures draw them: a covariate in metres is scaled.
+  const bool metres = !cov_name.empty() && cov_name.size() > 2 && cov_name.compare(cov_name.size() - 2, 2, "_m") == 0;
+  if (metres)
+    for (double& v : x) v *= 1000.0;
   // Tic labels of a category: the longest decides the room under each panel.
   const Axis probe = axis_of(cov_name, r, x, log_names, panels.empty() ? "" : panels.front().unit);
   std::size_t longest = 0;
   for (const auto& [v, label] : probe.categories) longest = std::max(longest, label.size());
   const bool rotate = probe.categorical && (longest > 6 || probe.categories.size() > 12);
   const int rows = std::max<int>(1, static_cast<int>(panels.size()));
-  const int width = 1500, plot_h = 400, top_px = 110, key_px = 400;
+  // Two columns: before the findings on the left, after them on the right, each on a y scale of
+  // its own (an `unexplained` verdict's structure is often 20x smaller than what the findings
+  // removed). The legend is one band under the title.
+  // From the top: the two-line title (to 65 px), the legend (75-110 px), each panel's title of up
+  // to two lines (just above the panel).
+  // A page narrower than the figure's own 1500 canvas pixels: short titles, the verdict and the
+  // findings on lines of their own, the legend in two rows.
+  const bool narrow = canvas_px(1500, 100).first < 1500;
+  const int plot_h = 380, top_px = narrow ? 250 : 180, column_gap_px = 120;
   // Long tic labels stand upright (about 6.5 px a character at 9 pt, in every format). gnuplot
   // would put the x label below the room it reckons they take at the default font's width, which
   // differs from terminal to terminal: the label is placed by hand just below them instead.
   const int tics_px = rotate ? static_cast<int>(7.0 * static_cast<double>(longest)) + 14 : 22;
   const int below_px = tics_px + 32;  // tic labels and the x label
-  const int gap_px = below_px + 45;   // ... and the next panel's title
-  const int height = top_px + rows * plot_h + (rows - 1) * gap_px + below_px + 10;
+  const int gap_px = below_px + 70;   // ... and the next panel's title (two lines)
+  // The canvas: the figure's own size, or a page's (--figure-size), whose panels share what
+  // the fixed margins leave.
+  const std::pair<int, int> canvas = canvas_px(1500, top_px + rows * plot_h + (rows - 1) * gap_px + below_px + 10);
+  const int width = canvas.first, height = canvas.second;
   Layout layout;
   layout.rows = rows;
-  layout.cols = 1;
+  layout.cols = 2;
   layout.left = 95.0 / width;
-  layout.right = 1.0 - static_cast<double>(key_px) / width;
+  layout.right = 1.0 - 25.0 / width;
   layout.bottom = (below_px + 10.0) / height;
   layout.top = 1.0 - static_cast<double>(top_px) / height;
-  layout.hspace = 0.0;
+  layout.hspace = static_cast<double>(column_gap_px) / width;
   layout.vspace = static_cast<double>(gap_px) / height;
+  // Vector files stay small: at most this many points of one series (the means use every residual).
+  const std::size_t max_points = format_of(path) == Format::png ? kMaxPoints : kMaxVectorPoints;
 
-  const std::string title = "Diagnosis of the " + std::string(logs::to_string(r.kind)) +
-                            " logs: residuals (measured − simulated) before and after the findings\n" + verdict_line(r);
+  std::string title = "Diagnosis of the " + std::string(logs::to_string(r.kind)) +
+                      " logs: residuals (measured − simulated), before and after the findings, each on its own scale\n" +
+                      verdict_line(r);
+  if (narrow) {
+    title = "Diagnosis of the " + std::string(logs::to_string(r.kind)) + " logs\n" + verdict_line(r);
+    const std::size_t semi = title.rfind("; ");
+    if (semi != std::string::npos) title.replace(semi, 2, "\n");
+  }
+  const std::string after_name = r.findings.empty() ? "after: no finding (the same model)"
+                                                    : "after: with the " + std::to_string(r.findings.size()) + " finding" +
+                                                          (r.findings.size() == 1 ? "" : "s");
   render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
         gp << multiplot(layout, title, 14);
-        gp << "set grid lc rgb '#e0e0e0'\nset xzeroaxis lt 1 lc rgb '#404040' lw 1\n";
-        gp << "set key outside right top vertical Left reverse samplen 2 spacing 1.15 font ',10'\n";
+        gp << "set grid lc rgb '#e0e0e0'\nset xzeroaxis lt 1 lc rgb '#404040' lw 1\nunset key\n";
         int p_index = 0;
         for (const Panel& p : panels) {
-          const std::string b = "b" + std::to_string(p_index), a = "a" + std::to_string(p_index);
           ++p_index;
           const Axis axis = axis_of(cov_name, r, x, log_names, p.unit);
-          // One y scale for before and after: the central 99 % of both, widened by 15 % on each
-          // side (and reaching 0); residuals beyond it are drawn at its edge.
-          std::vector<double> all;
-          all.reserve(2 * p.residuals.size());
-          for (std::size_t i : p.residuals) {
-            all.push_back(r.residual_before[i]);
-            all.push_back(r.residual_after[i]);
-          }
-          double lo = std::min(0.0, quantile(all, 0.005)), hi = std::max(0.0, quantile(all, 0.995));
-          const double span = hi > lo ? hi - lo : std::max(1.0, std::abs(hi));
-          lo -= 0.15 * span;
-          hi += 0.15 * span;
           // Category positions 0..K-1.
           std::map<double, int> position;
           for (const auto& [v, label] : axis.categories) position.emplace(v, static_cast<int>(position.size()));
-          auto xpos = [&](std::size_t i, double side) {
+          auto xpos = [&](std::size_t i) {
             if (!axis.categorical) return x[i];
             const double u = std::fmod(static_cast<double>(i) * 0.6180339887498949, 1.0);  // deterministic jitter
-            return position[x[i]] + side + 0.28 * (u - 0.5);
+            return position[x[i]] + 0.5 * (u - 0.5);
           };
-          const std::size_t stride = (p.residuals.size() + kMaxPoints - 1) / kMaxPoints;
-          std::vector<std::vector<double>> pts_b, pts_a, clip_b, clip_a;
-          for (std::size_t k = 0; k < p.residuals.size(); k += std::max<std::size_t>(1, stride)) {
-            const std::size_t i = p.residuals[k];
-            for (int which = 0; which < 2; ++which) {
-              const double y = which == 0 ? r.residual_before[i] : r.residual_after[i];
-              const double xi = xpos(i, axis.categorical ? (which == 0 ? -0.2 : 0.2) : 0.0);
-              auto& pts = which == 0 ? pts_b : pts_a;
-              auto& clip = which == 0 ? clip_b : clip_a;
-              if (y < lo) clip.push_back({xi, lo, 11});
-              else if (y > hi) clip.push_back({xi, hi, 9});
-              else pts.push_back({xi, y});
+          const std::size_t stride = (p.residuals.size() + max_points - 1) / max_points;
+          std::vector<std::size_t> order = p.residuals;
+          std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return x[i] < x[j]; });
+          for (int side = 0; side < 2; ++side) {
+            const std::vector<double>& res = side == 0 ? r.residual_before : r.residual_after;
+            const std::string colour = side == 0 ? "#d62728" : "#1f77b4", dark = side == 0 ? "#7f0000" : "#08306b";
+            const std::string name = (side == 0 ? "b" : "a") + std::to_string(p_index);
+            // This side's y scale: the central 99 % of its residuals, widened by 15 % on each side
+            // (and reaching 0); residuals beyond it are drawn at its edge.
+            std::vector<double> all;
+            all.reserve(p.residuals.size());
+            for (std::size_t i : p.residuals) all.push_back(res[i]);
+            double lo = std::min(0.0, quantile(all, 0.005)), hi = std::max(0.0, quantile(all, 0.995));
+            const double span = hi > lo ? hi - lo : std::max(1.0, std::abs(hi));
+            lo -= 0.15 * span;
+            hi += 0.15 * span;
+            std::vector<std::vector<double>> pts, clip, mean;
+            for (std::size_t k = 0; k < p.residuals.size(); k += std::max<std::size_t>(1, stride)) {
+              const std::size_t i = p.residuals[k];
+              if (res[i] < lo) clip.push_back({xpos(i), lo, 11});
+              else if (res[i] > hi) clip.push_back({xpos(i), hi, 9});
+              else pts.push_back({xpos(i), res[i]});
             }
-          }
-          std::size_t beyond = 0;  // every residual beyond the scale, not only those drawn
-          for (std::size_t i : p.residuals)
-            beyond += (r.residual_before[i] < lo || r.residual_before[i] > hi) + (r.residual_after[i] < lo || r.residual_after[i] > hi);
-          // Means: per category, or over equal-count bins of the covariate (by value when it
-          // takes few values).
-          std::vector<std::vector<double>> mean_b, mean_a;
-          {
-            std::vector<std::size_t> order = p.residuals;
-            std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return x[i] < x[j]; });
+            std::size_t beyond = 0;  // every residual beyond the scale, not only those drawn
+            for (std::size_t i : p.residuals) beyond += res[i] < lo || res[i] > hi;
+            // Means: per category, or over equal-count bins of the covariate (by value when it
+            // takes few values).
             std::set<double> distinct;
             for (std::size_t i : order) {
               distinct.insert(x[i]);
@@ -275,78 +294,75 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
                 end = std::max(end, (bin + 1) * order.size() / bins);
                 while (end < order.size() && x[order[end]] == x[order[end - 1]]) ++end;  // ties stay together
               }
-              double sx = 0, sb = 0, sa = 0;
+              double sx = 0, sy = 0;
               for (std::size_t k = start; k < end; ++k) {
                 sx += x[order[k]];
-                sb += r.residual_before[order[k]];
-                sa += r.residual_after[order[k]];
+                sy += res[order[k]];
               }
               const double m = static_cast<double>(end - start);
-              if (axis.categorical) {
-                const double c = position[x[order[start]]];
-                mean_b.push_back({c - 0.2, std::clamp(sb / m, lo, hi), 0.17});
-                mean_a.push_back({c + 0.2, std::clamp(sa / m, lo, hi), 0.17});
-              } else {
-                mean_b.push_back({sx / m, std::clamp(sb / m, lo, hi)});
-                mean_a.push_back({sx / m, std::clamp(sa / m, lo, hi)});
-              }
+              if (axis.categorical) mean.push_back({static_cast<double>(position[x[order[start]]]), std::clamp(sy / m, lo, hi), 0.3});
+              else mean.push_back({sx / m, std::clamp(sy / m, lo, hi)});
               start = end;
             }
-          }
-          gp << datablock(b, pts_b) << datablock(a, pts_a) << datablock(b + "m", mean_b) << datablock(a + "m", mean_a);
-          if (!clip_b.empty()) gp << datablock(b + "c", clip_b);
-          if (!clip_a.empty()) gp << datablock(a + "c", clip_a);
+            gp << datablock(name, pts) << datablock(name + "m", mean);
+            if (!clip.empty()) gp << datablock(name + "c", clip);
 
-          std::string panel_title = p.quantity + " (" + p.unit + "), " + std::to_string(p.residuals.size()) + " residuals";
-          if (stride > 1) panel_title += "; 1 in " + std::to_string(stride) + " drawn, means from all";
-          gp << "set title " << quoted(panel_title) << " font ',12'\n";
-          gp << "set ylabel " << quoted("measured − simulated (" + p.unit + ")") << "\n";
-          if (rotate) {
-            // This panel's lower border, then the tic labels' length below it.
-            const double panel_h = (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
-            const double border = layout.top - p_index * panel_h - (p_index - 1) * layout.vspace;
-            const double y = border - (tics_px + 16.0) / height;
-            gp << "unset xlabel\nset label 90 " << quoted(axis.label) << " at screen " << num((layout.left + layout.right) / 2)
-               << "," << num(y) << " center front\n";
-          } else {
-            gp << "set xlabel " << quoted(axis.label) << "\n";
+            std::string panel_title = (side == 0 ? std::string("before: base model, recalibrated") : after_name) + " — " +
+                                      p.quantity + " (" + p.unit + "), " + std::to_string(p.residuals.size()) + " residuals";
+            if (narrow)  // the quantity is in the y label
+              panel_title = (side == 0 ? std::string("before the findings") : r.findings.empty() ? std::string("after: no finding")
+                                                                                                   : "after: " + std::to_string(r.findings.size()) + " finding" + (r.findings.size() == 1 ? "" : "s")) +
+                            ", " + std::to_string(p.residuals.size()) + " residuals";
+            if (stride > 1) panel_title += "\n1 in " + std::to_string(stride) + " drawn, means from all";
+            if (beyond > 0)
+              panel_title += (stride > 1 ? (narrow ? "\n" : "; ") : "\n") + std::to_string(beyond) +
+                             (narrow ? " off the scale, at its edge" : " beyond the y scale, drawn at its edge");
+            // Qualified: for a non-const std::string, ADL would pick std::quoted (a better match),
+            // which leaves the title's line break raw and breaks gnuplot's command line.
+            gp << "set title " << plot::quoted(panel_title) << " font ',11'\n";
+            gp << "set ylabel " << quoted("measured − simulated (" + p.unit + ")") << "\n";
+            if (rotate) {
+              // This panel's lower border, then the tic labels' length below it.
+              const double panel_h = (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
+              const double panel_w = (layout.right - layout.left - layout.hspace) / 2;
+              const double border = layout.top - p_index * panel_h - (p_index - 1) * layout.vspace;
+              const double y = border - (tics_px + 16.0) / height;
+              const double xc = layout.left + side * (panel_w + layout.hspace) + panel_w / 2;
+              gp << "unset xlabel\nunset label\nset label 90 " << quoted(axis.label) << " at screen " << num(xc) << "," << num(y)
+                 << " center front\n";
+            } else {
+              gp << "set xlabel " << quoted(axis.label) << "\n";
+            }
+            gp << "set yrange [" << num(lo) << ":" << num(hi) << "]\n";
+            if (axis.categorical) {
+              gp << "set xrange [-0.6:" << static_cast<double>(axis.categories.size()) - 0.4 << "]\n";
+              std::string tics = "set xtics (";
+              for (const auto& [v, label] : axis.categories)
+                tics += (tics.back() == '(' ? "" : ", ") + quoted(label) + " " + std::to_string(position[v]);
+              gp << tics << ")" << (rotate ? " rotate by 90 right font ',9'" : "") << "\nset grid noxtics\n";
+            } else {
+              gp << "set xrange [*:*]\nset xtics autofreq norotate\nset grid xtics\n";
+            }
+            const std::string ps = pts.size() > 3000 ? "0.35" : "0.6";
+            gp << "plot $" << name << " using 1:2 with points pt 7 ps " << ps << " lc rgb '#99" << colour.substr(1) << "' notitle";
+            if (axis.categorical)
+              gp << ", $" << name << "m using 1:2:3 with xerrorbars pt 7 ps 0.9 lw 3 lc rgb '" << dark << "' notitle";
+            else
+              gp << ", $" << name << "m using 1:2 with linespoints lw 2.5 pt 5 ps 0.8 lc rgb '" << dark << "' notitle";
+            if (!clip.empty()) gp << ", $" << name << "c using 1:2:3 with points pt variable ps 1.1 lc rgb '" << colour << "' notitle";
+            gp << "\n";
           }
-          gp << "set yrange [" << num(lo) << ":" << num(hi) << "]\n";
-          if (axis.categorical) {
-            gp << "set xrange [-0.6:" << static_cast<double>(axis.categories.size()) - 0.4 << "]\n";
-            std::string tics = "set xtics (";
-            for (const auto& [v, label] : axis.categories)
-              tics += (tics.back() == '(' ? "" : ", ") + quoted(label) + " " + std::to_string(position[v]);
-            gp << tics << ")" << (rotate ? " rotate by 90 right font ',9'" : "") << "\nset grid noxtics\n";
-          } else {
-            gp << "set xrange [*:*]\nset xtics autofreq norotate\nset grid xtics\n";
-          }
-          const bool many = pts_b.size() > 3000;
-          const std::string ps = many ? "0.35" : "0.6";
-          gp << "plot $" << b << " using 1:2 with points pt 7 ps " << ps
-             << " lc rgb '#99d62728' title 'before: base model, recalibrated', "
-             << "$" << a << " using 1:2 with points pt 7 ps " << ps << " lc rgb '#991f77b4' title "
-             << quoted(r.findings.empty() ? "after: no finding (the same model)"
-                                          : "after: with the " + std::to_string(r.findings.size()) + " finding" +
-                                                (r.findings.size() == 1 ? "" : "s"));
-          if (axis.categorical) {
-            gp << ", $" << b << "m using 1:2:3 with xerrorbars pt 7 ps 0.9 lw 3 lc rgb '#7f0000' title 'before: mean per category'"
-               << ", $" << a << "m using 1:2:3 with xerrorbars pt 5 ps 0.9 lw 3 lc rgb '#08306b' title 'after: mean per category'";
-          } else {
-            gp << ", $" << b << "m using 1:2 with linespoints dt (9,5) lw 2.5 pt 6 ps 1 lc rgb '#7f0000' title 'before: mean per bin'"
-               << ", $" << a << "m using 1:2 with linespoints dt 1 lw 2.5 pt 5 ps 0.8 lc rgb '#08306b' title 'after: mean per bin'";
-          }
-          // Residuals beyond the y range: triangles at its edge, in their series' colour; one
-          // legend entry (a black sample) for both.
-          if (!clip_b.empty())
-            gp << ", $" << b << "c using 1:2:3 with points pt variable ps 1.1 lc rgb '#d62728' notitle";
-          if (!clip_a.empty())
-            gp << ", $" << a << "c using 1:2:3 with points pt variable ps 1.1 lc rgb '#1f77b4' notitle";
-          if (beyond > 0)
-            gp << ", NaN with points pt 9 ps 1.1 lc rgb 'black' title "
-               << quoted("beyond the y range, at its edge: " + std::to_string(beyond));
-          gp << "\n";
         }
+        // The legend, once, under the title.
+        gp << "unset label\n";
+        gp << legend_band(layout.left, layout.right, 1.0 - (narrow ? 170.0 : 110.0) / height, 1.0 - (narrow ? 105.0 : 75.0) / height,
+                          {"NaN with points pt 7 ps 0.8 lc rgb '#d62728' title 'a residual before'",
+                           "NaN with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'a residual after'",
+                           std::string("NaN with linespoints lw 2.5 pt 5 lc rgb '#404040' title ") +
+                               (probe.categorical ? "'mean per category'" : narrow ? "'mean per bin'" : "'mean per bin of the x axis'"),
+                           narrow ? "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'off the scale'"
+                                  : "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'beyond the y scale, at its edge'"},
+                          10, narrow ? 2 : 1);
         gp << "unset multiplot\n";
       },
       width, height);

@@ -1,12 +1,15 @@
 #include "epuck2/plot/figure.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include <unistd.h>
 
@@ -20,35 +23,120 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// The pixel canvas as a PDF page: pngcairo draws type and lines about twice as large as a
-// pdfcairo page at 72 pixels per inch would (measured: a title's width matches at 144-146), so a
-// page of width_px / 144 inches keeps the PNG's proportions of text to plot (1500 px: 10.4 in).
+// The pixel canvas as a PDF page: a figure's pixels are laid out for gnuplot's 11 pt text as
+// pngcairo draws it. Measured on the drive figure (a title's width against the page's), a
+// pdfcairo page shows the same proportions of text to plot at 72 canvas pixels to the inch with
+// 11 pt text, or at 144 with 5.5 pt: the default page is width_px / 144 inches (1500 px: 10.4 in)
+// with the fonts at half size. (The 144 measured first held only for that 10.4 in page with text
+// twice the size: every PDF then had its text overflow the layout.)
 constexpr double kPixelsPerInch = 144.0;
+/// Canvas pixels per printed inch at which the layout's text is 11 pt.
+constexpr double kDesignPixelsPerInch = 72.0;
+/// The font every figure names (its pixel margins are written for it).
+constexpr double kDesignFont_pt = 11.0;
+/// A PNG drawn for a page (--figure-size or --font-size) has this resolution.
+constexpr double kPagePngDpi = 300.0;
+/// A page with a size but no --font-size: text of this size.
+constexpr double kPageFont_pt = 9.0;
 
+Page g_page;
+
+bool paged() { return g_page.width_in > 0 || g_page.font_pt > 0; }
+
+/// The printed text size: a page's; without one, what the default PDF page gives the design's text.
+double printed_font_pt() {
+  if (g_page.font_pt > 0) return g_page.font_pt;
+  if (g_page.width_in > 0) return kPageFont_pt;
+  return kDesignFont_pt * kDesignPixelsPerInch / kPixelsPerInch;  // 5.5 pt on the default page
+}
+
+/// The terminal for a canvas of width_px x height_px (design pixels). Without a page: a PNG or SVG
+/// of exactly the canvas, a PDF of canvas / 144 inches. With one: the page's printed size, every
+/// font (the body's and the titles' ',14') scaled by fontscale, so titles keep their proportion.
 std::string terminal(Format format, int width_px, int height_px) {
-  char buf[256];
+  const double font = printed_font_pt();
+  const double scale = font / kDesignFont_pt;  // printed points per design point
+  // The printed size: the page's own (not the canvas's, which is rounded to whole pixels), else
+  // the canvas at the pixels per inch its text size gives.
+  const double per_in = kDesignPixelsPerInch / scale;
+  const double w_in = g_page.width_in > 0 ? g_page.width_in : width_px / per_in;
+  const double h_in = g_page.height_in > 0 ? g_page.height_in : height_px / per_in;
+  char buf[320];
   switch (format) {
     case Format::png:
-      std::snprintf(buf, sizeof buf,
-                    "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' background rgb 'white'\n",
-                    width_px, height_px);
+      if (paged())
+        std::snprintf(buf, sizeof buf,
+                      "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' fontscale %.4f background rgb 'white'\n",
+                      static_cast<int>(std::lround(w_in * kPagePngDpi)), static_cast<int>(std::lround(h_in * kPagePngDpi)),
+                      kPagePngDpi / per_in);
+      else
+        std::snprintf(buf, sizeof buf,
+                      "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' background rgb 'white'\n", width_px,
+                      height_px);
       break;
     case Format::svg:
       // svg's type is smaller than pngcairo's at the same size (measured: x1.33-1.36 to match).
-      std::snprintf(buf, sizeof buf,
-                    "set terminal svg size %d,%d noenhanced font 'DejaVu Sans,11' fontscale 1.35 background rgb 'white'\n",
-                    width_px, height_px);
+      // A page is 96 px to the inch (the SVG pixel), so it prints at its size.
+      if (paged())
+        std::snprintf(buf, sizeof buf,
+                      "set terminal svg size %d,%d noenhanced font 'DejaVu Sans,11' fontscale %.4f background rgb 'white'\n",
+                      static_cast<int>(std::lround(w_in * 96)), static_cast<int>(std::lround(h_in * 96)), 1.35 * 96 / per_in);
+      else
+        std::snprintf(buf, sizeof buf,
+                      "set terminal svg size %d,%d noenhanced font 'DejaVu Sans,11' fontscale 1.35 background rgb 'white'\n",
+                      width_px, height_px);
       break;
     case Format::pdf:
       std::snprintf(buf, sizeof buf,
-                    "set terminal pdfcairo size %.3fin,%.3fin noenhanced font 'DejaVu Sans,11' background rgb 'white'\n",
-                    width_px / kPixelsPerInch, height_px / kPixelsPerInch);
+                    "set terminal pdfcairo size %.3fin,%.3fin noenhanced font 'DejaVu Sans,11' fontscale %.4f background rgb 'white'\n",
+                    w_in, h_in, scale);
       break;
   }
   return buf;
 }
 
 }  // namespace
+
+void set_page(const Page& page) { g_page = page; }
+const Page& page() { return g_page; }
+
+std::pair<double, double> parse_figure_size(const std::string& text) {
+  const std::string expected = "expected WIDTHxHEIGHT with a unit, cm, mm or in (e.g. 8.5x6cm for one column, 17x10cm for two)";
+  const std::size_t x = text.find_first_of("xX");
+  std::size_t unit_at = text.find_first_not_of("0123456789.", x == std::string::npos ? 0 : x + 1);
+  if (x == std::string::npos || x == 0 || unit_at == std::string::npos || unit_at == x + 1)
+    throw std::invalid_argument("'" + text + "': " + expected);
+  const std::string unit = text.substr(unit_at);
+  const double per_inch = unit == "in" ? 1.0 : unit == "cm" ? 2.54 : unit == "mm" ? 25.4 : 0.0;
+  if (per_inch == 0) throw std::invalid_argument("'" + text + "': unknown unit '" + unit + "'; " + expected);
+  double w = 0, h = 0;
+  try {
+    std::size_t used = 0;
+    w = std::stod(text.substr(0, x), &used);
+    if (used != x) throw std::invalid_argument("");
+    const std::string hs = text.substr(x + 1, unit_at - x - 1);
+    h = std::stod(hs, &used);
+    if (used != hs.size()) throw std::invalid_argument("");
+  } catch (const std::exception&) {
+    throw std::invalid_argument("'" + text + "': " + expected);
+  }
+  w /= per_inch;
+  h /= per_inch;
+  // A figure between a stamp (1 in) and a poster page (40 in).
+  if (!(w >= 1.0 && w <= 40.0 && h >= 1.0 && h <= 40.0))
+    throw std::invalid_argument("'" + text + "': each side must lie between 1 in (2.54 cm) and 40 in");
+  return {w, h};
+}
+
+std::pair<int, int> canvas_px(int default_width_px, int default_height_px) {
+  if (!paged()) return {default_width_px, default_height_px};
+  // Design pixels per printed inch at the page's text size; a side the page leaves open keeps the
+  // default page's printed size.
+  const double per_in = kDesignPixelsPerInch * kDesignFont_pt / printed_font_pt();
+  const double w_in = g_page.width_in > 0 ? g_page.width_in : default_width_px / kPixelsPerInch;
+  const double h_in = g_page.height_in > 0 ? g_page.height_in : default_height_px / kPixelsPerInch;
+  return {static_cast<int>(std::lround(w_in * per_in)), static_cast<int>(std::lround(h_in * per_in))};
+}
 
 std::optional<Format> format_of(const std::string& path) {
   const std::string ext = lower_extension(path);
@@ -102,15 +190,15 @@ std::string multiplot(const Layout& l, const std::string& title, int title_font_
 }
 
 std::string legend_band(double left, double right, double bottom, double top, const std::vector<std::string>& entries,
-                        int font_pt) {
+                        int font_pt, int max_rows) {
   char buf[512];
   std::snprintf(buf, sizeof buf,
                 "set multiplot next\nset lmargin at screen %.4f\nset rmargin at screen %.4f\nset bmargin at screen %.4f\n"
                 "set tmargin at screen %.4f\nunset border\nunset xtics\nunset ytics\nunset x2tics\nunset y2tics\n"
                 "unset title\nunset xlabel\nunset ylabel\nunset grid\nunset xzeroaxis\nunset label\nunset arrow\n"
                 "set xrange [0:1]\nset yrange [0:1]\n"
-                "set key center center horizontal Left reverse maxrows 1 samplen 5 spacing 1.2 width 2 font ',%d'\n",
-                left, right, bottom, top, font_pt);
+                "set key center center %s Left reverse maxrows %d samplen 5 spacing 1.2 width 2 font ',%d'\n",
+                left, right, bottom, top, max_rows > 1 ? "vertical" : "horizontal", max_rows, font_pt);
   std::string out = buf;
   out += "plot ";
   for (std::size_t i = 0; i < entries.size(); ++i) out += (i ? ", " : "") + entries[i];
@@ -121,6 +209,7 @@ void render(logs::OutputStage& stage, const std::string& path, const Draw& draw,
   namespace fs = std::filesystem;
   const std::optional<Format> format = format_of(path);
   if (!format) throw UnknownFormat(why_not_a_figure(path));
+  if (width_px <= 0 || height_px <= 0) std::tie(width_px, height_px) = canvas_px(1400, 900);
   const std::string tmp = stage.reserve(path);
   // gnuplot's own messages: dropped, or with EPUCK2_PLOT_STRICT set (the figure tests) an error.
   const bool strict = std::getenv("EPUCK2_PLOT_STRICT") != nullptr;

@@ -30,7 +30,10 @@ Layout two_panels() {
   layout.cols = 2;
   layout.top = 0.9;
   layout.bottom = 0.1;
-  layout.hspace = 0.09;
+  // Room for the tics and the y label in canvas pixels (text-sized), whatever the page's size.
+  const double width = canvas_px(1400, 900).first;
+  layout.left = std::max(0.07, 110.0 / width);
+  layout.hspace = std::max(0.09, 130.0 / width);
   return layout;
 }
 
@@ -124,13 +127,23 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
       lines.push_back(row);
     }
     gp << datablock("lines", lines);
+    // Several robots: each robot its own marker (filled circle, open square, open triangle, ...)
+    // in its sensor's colour, so that one robot's black cluster is not taken for another's.
+    const std::size_t robots = std::max<std::size_t>(1, f.robot_names.size());
+    static const int kMarkers[] = {7, 4, 8, 6, 12, 10};
     for (std::size_t k = 0; k < f.sensors.size(); ++k) {
       std::vector<std::vector<double>> rows;
-      for (std::size_t i = 0; i < f.grey[k].size(); ++i) rows.push_back({f.grey[k][i] + (double(k) - 1) * 0.006, f.value_raw[k][i]});
+      for (std::size_t i = 0; i < f.grey[k].size(); ++i) {
+        const int robot = i < f.robot[k].size() ? f.robot[k][i] : 0;
+        // Sideways: 0.006 between sensors, 0.002 between robots (each robot's cluster its own column).
+        const double shift = (double(k) - 1) * 0.006 + (robots > 1 ? (robot - 0.5 * double(robots - 1)) * 0.002 : 0.0);
+        rows.push_back({f.grey[k][i] + shift, f.value_raw[k][i],
+                        static_cast<double>(kMarkers[static_cast<std::size_t>(robot) % 6])});
+      }
       gp << datablock("s" + std::to_string(k), rows);
     }
     gp << "set title 'Ground sensors (paper section 4.1.3): reading against the grey level of the floor' font ',13'\n";
-    gp << "set xlabel 'grey level (fraction: 0 = black, 1 = white; each sensor''s points shifted sideways by 0.006)'\n";
+    gp << "set xlabel 'grey level (fraction: 0 = black, 1 = white; each sensor''s points shifted sideways by 0.006, each robot''s by 0.002)'\n";
     gp << "set ylabel 'raw reading (counts, 0..1023)'\n";
     gp << "set xrange [-0.03:1.03]\nset yrange [-20:1060]\nset grid lc rgb '#d8d8d8'\nset key top left opaque box Left reverse\n";
     const char* colours[] = {"#d62728", "#2ca02c", "#1f77b4"};
@@ -138,13 +151,18 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
     for (std::size_t k = 0; k < f.sensors.size(); ++k) {
       char buf[500];
       std::snprintf(buf, sizeof buf,
-                    "$s%zu using 1:2 with points pt 7 ps 0.5 lc rgb '%s' title 'sensor %s', "
+                    "$s%zu using 1:2:3 with points pt variable ps 0.5 lc rgb '%s' notitle, "
+                    "NaN with points pt 7 ps 1 lc rgb '%s' title 'sensor %s', "
                     "$lines using 1:%zu with lines lw 2.5 lc rgb '%s' title 'fit: %.1f + %.1f grey', ",
-                    k, colours[k], calibrate::kGroundSensorNames[k], k + 2, colours[k], f.sensors[k].value("offset"),
+                    k, colours[k], colours[k], calibrate::kGroundSensorNames[k], k + 2, colours[k], f.sensors[k].value("offset"),
                     f.sensors[k].value("gain"));
       gp << buf;
     }
-    gp << "$lines using 1:" << f.sensors.size() + 2 << " with lines lw 2 dt 2 lc rgb '#000000' title 'plug-in: 1023 grey'\n";
+    gp << "$lines using 1:" << f.sensors.size() + 2 << " with lines lw 2 dt 2 lc rgb '#000000' title 'plug-in: 1023 grey'";
+    if (robots > 1)
+      for (std::size_t r = 0; r < robots; ++r)
+        gp << ", NaN with points pt " << kMarkers[r % 6] << " ps 0.9 lc rgb '#000000' title " << plot::quoted("robot " + f.robot_names[r]);
+    gp << "\n";
   });
 }
 
@@ -196,9 +214,12 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
       for (std::size_t k = 0; k < run.time_s.size(); ++k) {
         // The VL53L0X's out-of-range codes (>= 8190) are no distance: drawn apart, at the top.
         const bool code = run.tof_mm[k] >= kOutOfRangeCode_mm;
+        // The curves as the sensor reports them: clamped to its rails (20 and 2000 mm), never
+        // drawn above the 2000 mm a reading cannot exceed.
+        auto on_rails = [](double mm) { return std::clamp(mm, s::kPluginTof.min_mm, s::kPluginTof.max_mm); };
         rows.push_back({run.time_s[k], code ? kNaN : run.tof_mm[k],
-                        s::tof_response_mm(scale, offset, run.obstacle_distance_m - travel[k]),
-                        s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc[k]), run.steps[k], spm * commanded,
+                        on_rails(s::tof_response_mm(scale, offset, run.obstacle_distance_m - travel[k])),
+                        on_rails(s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc[k])), run.steps[k], spm * commanded,
                         code ? kCodeRow_mm : kNaN});
         codes += code;
         if (k + 1 < run.time_s.size()) commanded += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
@@ -207,7 +228,7 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
       const std::string first = r == 0 ? "" : ", ";
       const std::string d = "$r" + std::to_string(r);
       plot_tof += first + d + " using 1:2 with points pt 7 ps 0.4 lc rgb '#1f77b4' " + (r ? "notitle" : "title 'ToF readings'") +
-                  ", " + d + " using 1:3 with lines lw 2 lc rgb '#d62728' " + (r ? "notitle" : "title 'fit (scale, offset, slip lag)'") +
+                  ", " + d + " using 1:3 with lines lw 2 lc rgb '#d62728' " + (r ? "notitle" : "title 'fit (scale, offset, slip lag), on the rails'") +
                   ", " + d + " using 1:4 with lines lw 1.5 dt 2 lc rgb '#000000' " + (r ? "notitle" : "title 'plug-in: 1000 (D - encoder travel)'");
       plot_steps += first + d + " using 1:5 with points pt 7 ps 0.4 lc rgb '#2ca02c' " + (r ? "notitle" : "title 'encoder steps'") +
                     ", " + d + " using 1:6 with lines lw 1.5 lc rgb '#d62728' " + (r ? "notitle" : "title 'fitted steps/m × commanded distance'");

@@ -106,6 +106,10 @@ inline constexpr std::array<const char*, models::sensors::kGroundCount> kGroundS
 struct GroundFit {
   std::array<RobustFit, models::sensors::kGroundCount> sensors;  ///< gain_raw, offset_raw per sensor
   std::array<std::vector<double>, models::sensors::kGroundCount> grey, value_raw;  ///< readings (rails included)
+  /// Each reading's robot, an index into robot_names (the logs' `robot`, in the order first met):
+  /// what the figure tells apart.
+  std::array<std::vector<int>, models::sensors::kGroundCount> robot;
+  std::vector<std::string> robot_names;
   std::array<double, models::sensors::kGroundCount> plugin_mse{};  ///< gain 1023, offset 0
   double mse = 0;  ///< pooled over the three sensors
   std::size_t readings = 0, censored = 0;

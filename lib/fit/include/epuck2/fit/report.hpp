@@ -62,8 +62,14 @@ struct FitStatistics {
 inline constexpr const char* kReducedChi2Convention = "RSS / (n - k), unit weights (the residual variance)";
 inline constexpr const char* kAicConvention = "n ln(RSS/n) + 2k (lmfit)";
 inline constexpr const char* kBicConvention = "n ln(RSS/n) + k ln(n) (lmfit)";
-/// From n, k, RSS and R^2 (NaN reduced chi^2 when n <= k; NaN AIC and BIC when n = 0).
+/// Why AIC and BIC are not given when the RSS is 0: their ln(RSS/n) has no finite value.
+inline constexpr const char* kInformationCriteriaUndefined =
+    "RSS is 0 (the fit passes through every reading): ln(RSS/n) is minus infinity, so AIC and BIC are undefined";
+/// From n, k, RSS and R^2 (NaN reduced chi^2 when n <= k; NaN AIC and BIC when n = 0 or RSS = 0,
+/// kInformationCriteriaUndefined says why).
 FitStatistics fit_statistics(std::size_t n, int k, double rss, double r2);
+/// "AIC 12.3, BIC 15.6" with `decimals` decimals, or "AIC and BIC undefined (why)" when they are NaN.
+std::string format_information_criteria(const FitStatistics& s, int decimals);
 /// From a FitResult whose RSS is over its `observations` residuals.
 FitStatistics fit_statistics(const FitResult& r);
 

@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <optional>
+#include <utility>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -33,6 +34,25 @@ struct UnknownFormat : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// A paper's figure: its printed size and the size of its text. Unset (0) fields keep the
+/// defaults: a figure's own canvas in pixels at 144 to the inch (a 1500-pixel PNG is 10.4 in
+/// wide) and text of 11 pt. Set once per run (the CLI's --figure-size and --font-size) before
+/// drawing; every figure the run draws takes it.
+struct Page {
+  double width_in = 0, height_in = 0;  ///< the printed size (0: the figure's default)
+  double font_pt = 0;                  ///< the body text (0: 11 pt; titles keep their proportion to it)
+};
+void set_page(const Page& page);
+const Page& page();
+/// "8.5x6cm", "3.3x2.5in", "85x60mm" as a size in inches; throws std::invalid_argument saying
+/// what was expected.
+std::pair<double, double> parse_figure_size(const std::string& text);
+
+/// The canvas a figure lays itself out on, in the pixels its margins are written in (text of
+/// 11 pt at 144 pixels to the inch): its default size when no page is set; else the page's size
+/// at the page's text size (smaller text leaves more pixels for the plot, larger text fewer).
+std::pair<int, int> canvas_px(int default_width_px, int default_height_px);
+
 /// Draws a figure: `draw` sets up and plots (the terminal, its size, font and output are set).
 using Draw = std::function<void(gnuplotio::Gnuplot&)>;
 
@@ -44,11 +64,13 @@ using Draw = std::function<void(gnuplotio::Gnuplot&)>;
 /// when the folder does not exist or gnuplot produced no figure. gnuplot's messages are dropped;
 /// with the environment variable EPUCK2_PLOT_STRICT set (the figure tests) any message it writes
 /// (an error or a warning in the commands) is a std::runtime_error quoting it.
-void render(logs::OutputStage& stage, const std::string& path, const Draw& draw, int width_px = 1400,
-            int height_px = 900);
+/// The canvas (width_px x height_px) is in design pixels: a figure with a layout of its own
+/// passes canvas_px() of its default; without sizes, canvas_px(1400, 900).
+void render(logs::OutputStage& stage, const std::string& path, const Draw& draw, int width_px = 0,
+            int height_px = 0);
 
 /// One figure on its own, atomically (a one-file stage).
-void render(const std::string& path, const Draw& draw, int width_px = 1400, int height_px = 900);
+void render(const std::string& path, const Draw& draw, int width_px = 0, int height_px = 0);
 
 /// `text` as a gnuplot string: double-quoted, backslash and double quote escaped, a newline
 /// written as the escape \n (a line break in a title); other control characters become '?'.
@@ -73,7 +95,7 @@ std::string multiplot(const Layout& layout, const std::string& title, int title_
 /// "NaN with lines lw 2 lc rgb 'red' title 'cubic'". Leaves the multiplot's settings changed
 /// (border, tics, labels): issue it after the last panel.
 std::string legend_band(double left, double right, double bottom, double top, const std::vector<std::string>& entries,
-                        int font_pt = 11);
+                        int font_pt = 11, int max_rows = 1);
 
 /// An axis label: quantity and unit, "distance to the surface (mm)".
 inline std::string axis_label(const std::string& quantity, const std::string& unit) { return quantity + " (" + unit + ")"; }

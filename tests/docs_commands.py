@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""The docs run as written (CTest `docs_commands`, issue #24).
+
+Every command block of README.md and docs/*.md is run from the repository root, in a scratch copy
+of the repository (so nothing in the tree changes), with the build's `build/bin` on PATH as the
+README's set-up says (`export PATH=$PWD/build/bin:$PATH`):
+
+* a block fenced as ```sh or ```bash is a list of commands: it is run with `bash -e -o pipefail`
+  and must exit 0;
+* a block fenced as ```text whose first line starts with `$ ` is a command and what it printed:
+  the command is run and its standard output must be the block's other lines, exactly. A stale
+  number in a quoted output fails the suite.
+
+A block that cannot run here (it installs packages, builds ARGoS, needs the user's own logs or
+files) carries, on the line right before its fence, the visible marker
+
+    *Not run by the docs test: REASON.*
+
+and is skipped with that reason (printed). Synopses of a command's options (`[--json] [-o FILE]`)
+are no commands: they are fenced as ```text without `$ `, and are not run.
+
+Usage: docs_commands.py --source DIR --bin DIR [--only FILE] [--list]
+"""
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+SKIP = re.compile(r"^\*Not run by the docs test: (.+?)\.?\*\s*$")
+FENCE = re.compile(r"^```(\w*)\s*$")
+
+
+def blocks(path):
+    """(line, language, text, skip reason or None) of every fenced block of a Markdown file."""
+    out = []
+    lines = open(path, encoding="utf-8").read().split("\n")
+    i = 0
+    while i < len(lines):
+        m = FENCE.match(lines[i])
+        if not m or not m.group(1):
+            i += 1
+            continue
+        lang, start = m.group(1), i
+        j = i + 1
+        while j < len(lines) and not lines[j].startswith("```"):
+            j += 1
+        before = next((lines[k] for k in range(start - 1, -1, -1) if lines[k].strip()), "")
+        skip = SKIP.match(before)
+        out.append((start + 1, lang, "\n".join(lines[start + 1 : j]), skip.group(1) if skip else None))
+        i = j + 1
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--source", required=True)
+    ap.add_argument("--bin", required=True, help="the build's bin folder (epuck2-fit)")
+    ap.add_argument("--only", help="one Markdown file (relative to the source)")
+    ap.add_argument("--list", action="store_true", help="list the blocks and what would be done")
+    a = ap.parse_args()
+    src = os.path.abspath(a.source)
+    files = [a.only] if a.only else ["README.md"] + sorted(
+        os.path.join("docs", f) for f in os.listdir(os.path.join(src, "docs")) if f.endswith(".md"))
+
+    work = tempfile.mkdtemp(prefix="epuck2-docs-")
+    failures, ran, skipped = [], 0, 0
+    try:
+        for md in files:
+            for line, lang, text, skip in blocks(os.path.join(src, md)):
+                where = f"{md}:{line}"
+                is_output = lang == "text" and text.startswith("$ ")
+                if lang not in ("sh", "bash") and not is_output:
+                    continue
+                if skip:
+                    skipped += 1
+                    print(f"skipped {where}: {skip}")
+                    continue
+                if a.list:
+                    print(f"would run {where} ({'output' if is_output else 'commands'})")
+                    continue
+                # A fresh copy of the repository for every block: a block sees the tree as the docs
+                # describe it, whatever the blocks before it wrote.
+                root = os.path.join(work, f"repo{ran}")
+                tracked = subprocess.run(["git", "-C", src, "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+                                         capture_output=True, check=True).stdout.decode().split("\0")
+                for f in tracked:
+                    if not f or not os.path.isfile(os.path.join(src, f)):
+                        continue
+                    os.makedirs(os.path.join(root, os.path.dirname(f)), exist_ok=True)
+                    shutil.copy2(os.path.join(src, f), os.path.join(root, f))
+                os.makedirs(os.path.join(root, "build"), exist_ok=True)
+                os.symlink(os.path.abspath(a.bin), os.path.join(root, "build", "bin"))
+                env = dict(os.environ)
+                env["PATH"] = os.path.join(root, "build", "bin") + os.pathsep + env.get("PATH", "")
+                if is_output:
+                    command, expected = text.split("\n", 1)[0][2:], text.split("\n", 1)[1] if "\n" in text else ""
+                    script = command
+                else:
+                    script, expected = text, None
+                t0 = time.monotonic()
+                r = subprocess.run(["bash", "-e", "-o", "pipefail", "-c", script], cwd=root, env=env,
+                                   capture_output=True, text=True, timeout=900)
+                took = time.monotonic() - t0
+                ran += 1
+                if r.returncode != 0:
+                    failures.append(f"{where}: exit {r.returncode}\n--- the block\n{script}\n--- stderr\n{r.stderr[-3000:]}")
+                elif expected is not None and r.stdout.rstrip("\n") != expected.rstrip("\n"):
+                    got, want = r.stdout.rstrip("\n").split("\n"), expected.rstrip("\n").split("\n")
+                    diff = [f"  line {k + 1}:\n    docs: {w}\n    now:  {g}" for k, (w, g) in
+                            enumerate(zip(want + [""] * len(got), got + [""] * len(want))) if w != g][:8]
+                    failures.append(f"{where}: the quoted output differs from what `{command}` prints now "
+                                    f"(update the docs):\n" + "\n".join(diff))
+                print(f"ran {where} in {took:.1f} s: {'ok' if r.returncode == 0 else 'FAILED'}")
+                shutil.rmtree(root, ignore_errors=True)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    print(f"{ran} blocks run, {skipped} skipped (each with its reason above), {len(failures)} failed")
+    for f in failures:
+        print("FAILED " + f, file=sys.stderr)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
