@@ -91,6 +91,10 @@ CoefficientFile CoefficientFile::load(const std::string& path, const std::vector
     if (!root.at("noise").is_object()) f.fail("'noise' must be an object {channel: {sd, unit, ...}}");
     f.noise_ = root.at("noise");
   }
+  if (root.contains("effects") && !root.at("effects").is_null()) {
+    if (!root.at("effects").is_object()) f.fail("'effects' must be an object {effect: {parameter: number}}");
+    f.effects_ = root.at("effects");
+  }
   if (!robot.empty()) {
     const json robots = root.value("robots", json::object());
     if (!robots.is_object() || !robots.contains(robot)) {
@@ -102,6 +106,7 @@ CoefficientFile CoefficientFile::load(const std::string& path, const std::vector
     const json& r = robots.at(robot);
     f.parameters_ = merged(f.parameters_, r.value("parameters", json::object()));
     if (r.contains("noise") && r.at("noise").is_object()) f.noise_ = merged(f.noise_, r.at("noise"));
+    if (r.contains("effects") && r.at("effects").is_object()) f.effects_ = merged(f.effects_, r.at("effects"));
   }
   return f;
 }

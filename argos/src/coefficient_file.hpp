@@ -59,14 +59,19 @@ class CoefficientFile {
   /// to `unit`, `per_sensor_sd` (when present) `sensors` non-negative numbers. std::nullopt when
   /// the file has no `noise` section; an error when the section lacks the channel.
   std::optional<ReadingNoise> noise(const std::string& channel, const std::string& unit, std::size_t sensors) const;
+  /// The extended model's `effects` (a diagnosis file; the robot's set merged over the top level):
+  /// {name: {parameter: number}}; an empty object for a calibration file.
+  const nlohmann::json& effects() const { return effects_; }
+  /// An error naming the file (and robot): what the calibrated sensors throw.
+  [[noreturn]] void fail(const std::string& what) const;
 
  private:
-  [[noreturn]] void fail(const std::string& what) const;
   std::string path_;
   std::string robot_;
   std::shared_ptr<const nlohmann::json> root_;  ///< shared by every sensor that loads the file
   nlohmann::json parameters_;  ///< top level, with the robot's set merged over it
   nlohmann::json noise_;       ///< top level, with the robot's set merged over it (per channel)
+  nlohmann::json effects_ = nlohmann::json::object();  ///< top level, the robot's set merged over it
 };
 
 /// The battery tables of a battery coefficient file (the layout lib/fit's battery_json.cpp
