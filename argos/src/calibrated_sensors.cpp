@@ -271,6 +271,11 @@ REGISTER_SENSOR(CEPuck2CalibratedGroundSensor, "epuck2_ground", "calibrated", "e
 /* Time of flight                       */
 /****************************************/
 
+void CEPuck2CalibratedTOFSensor::SetRobot(CComposableEntity& c_entity) {
+  m_pcRobot = &c_entity;
+  CEPuck2TOFDefaultSensor::SetRobot(c_entity);
+}
+
 void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_tof";
   CEPuck2TOFDefaultSensor::Init(t_tree);
@@ -278,11 +283,24 @@ void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
   Checked(strName, [&] {
     m_sCoefficients.scale = s.File->scalar("tof_scale");
     m_sCoefficients.offset_mm = s.File->scalar("tof_offset_mm");
+    const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.File, "the calibrated " + strName);
+    m_cDelay = epuck2::argos_plugin::DelayLine(sDrive.effects.latency.delay_s);
     m_sCoefficients.range_m = m_pcTOFEntity->GetSensor(0).Direction.Length();
     /* The model scales a unit noise by the range, in mm */
     ConfigureNoise(s, "tof", "mm", 1, m_sCoefficients.range_m * 1000.0, m_cNoise);
+    const bool bDriveEffects = !s.File->effects().empty() || sDrive.effects.slip.tau_s > 0;
+    if (bDriveEffects && !epuck2::argos_plugin::DriveRegistry::find(m_pcRobot))
+      WarnOnce("calibrated " + strName + ": " + s.File->path() +
+               ": the robot's differential_steering is not implementation=\"calibrated\": the file's speed limit, "
+               "slip and other drive effects do not move the body, only the ToF's own (scale, offset, latency) apply");
   });
   m_bAddNoise = false;
+  Reset();
+}
+
+void CEPuck2CalibratedTOFSensor::Reset() {
+  m_cDelay.reset();
+  m_fTime = 0;
 }
 
 void CEPuck2CalibratedTOFSensor::Update() {
@@ -298,6 +316,9 @@ void CEPuck2CalibratedTOFSensor::Update() {
   } else if (m_bShowRays) {
     m_pcControllableEntity->AddCheckedRay(false, cRay);
   }
+  /* latency: the distance delay_s ago */
+  m_fTime += CPhysicsEngine::GetSimulationClockTick();
+  fDistance = m_cDelay.push_and_read(m_fTime, fDistance);
   m_iReading = ms::tof_reading_mm(m_sCoefficients, fDistance, m_cNoise.level(0), m_cNoise.unit(0));
 }
 
@@ -305,7 +326,8 @@ REGISTER_SENSOR(CEPuck2CalibratedTOFSensor, "epuck2_tof", "calibrated", "epuck2-
                 "The E-Puck2 time-of-flight sensor with coefficients fitted by epuck2-fit.",
                 "Same ray and control interface as the default implementation; the reading is\n"
                 "tof_scale * distance + tof_offset_mm in mm, rounded and clamped to [20, 2000],\n"
-                "with tof_scale and tof_offset_mm from a drive coefficient file.\n\n"
+                "with tof_scale and tof_offset_mm from a drive coefficient file, the distance\n"
+                "being the one latency's delay_s ago (a diagnosis's effects.latency).\n\n"
                 "  <epuck2_tof implementation=\"calibrated\" coefficients=\"drive.json\"\n"
                 "              robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
                 "noise (default true): the coefficient file's measured reading noise, noise.tof\n"
@@ -320,16 +342,28 @@ REGISTER_SENSOR(CEPuck2CalibratedTOFSensor, "epuck2_tof", "calibrated", "epuck2-
 /* Encoders                             */
 /****************************************/
 
+void CEPuck2CalibratedEncoderSensor::SetRobot(CComposableEntity& c_entity) {
+  m_pcRobot = &c_entity;
+  CEPuck2EncoderDefaultSensor::SetRobot(c_entity);
+}
+
 void CEPuck2CalibratedEncoderSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_encoder";
   CEPuck2EncoderDefaultSensor::Init(t_tree);
   SCommon s = ReadCommon(t_tree, strName, {"drive", "encoder"});
   Checked(strName, [&] {
-    m_sCoefficients.steps_per_m = s.File->scalar("steps_per_m");
-    if (!(m_sCoefficients.steps_per_m > 0)) throw std::runtime_error(s.File->path() + ": steps_per_m must be positive");
+    const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.File, "the calibrated " + strName);
+    m_sCoefficients.steps_per_m = sDrive.steps_per_m;
     /* The model scales a unit noise by 32767 steps; one channel per wheel */
     ConfigureNoise(s, "encoder", "steps", 2, kEncoderNoiseScale, m_cNoise);
   });
+  /* ARGoS sets up a controller's actuators before its sensors: the calibrated actuator's drive is
+     there by now, if the robot has one */
+  m_pcDrive = epuck2::argos_plugin::DriveRegistry::find(m_pcRobot);
+  if (!m_pcDrive)
+    WarnOnce("calibrated " + strName + ": " + s.File->path() +
+             ": the robot's differential_steering is not implementation=\"calibrated\": the encoders count the "
+             "wheels as the plug-in turns them (the command, uncapped), not as the file's drive does");
   m_bAddNoise = false;
   Reset();
 }
@@ -337,6 +371,9 @@ void CEPuck2CalibratedEncoderSensor::Init(TConfigurationNode& t_tree) {
 void CEPuck2CalibratedEncoderSensor::Reset() {
   m_cLeft = epuck2::models::sensors::Encoder(m_sCoefficients);
   m_cRight = epuck2::models::sensors::Encoder(m_sCoefficients);
+  m_cLeftRegister = epuck2::argos_plugin::StepRegister(m_sCoefficients.steps_per_m);
+  m_cRightRegister = epuck2::argos_plugin::StepRegister(m_sCoefficients.steps_per_m);
+  m_fLeftTravel = m_fRightTravel = 0;
   m_tReadings.EncoderLeftWheel = 0;
   m_tReadings.EncoderRightWheel = 0;
 }
@@ -346,21 +383,32 @@ void CEPuck2CalibratedEncoderSensor::Update() {
     Reset();
     return;
   }
-  CEPuck2EncoderEquippedEntity::SSensor& sSens = m_pcEncoderEntity->GetSensor(0);
   const Real fDeltaT = CPhysicsEngine::GetSimulationClockTick();
-  /* Wheel velocities in m/s */
-  if (m_cNoise.gaussian()) {
-    /* The measured noise is the spread of a reading about the travel: added to the reading, the
-       count itself stays noiseless (a step counter does not drift) */
-    m_cLeft.tick(sSens.Wheels.GetWheelVelocity(0), fDeltaT);
-    m_cRight.tick(sSens.Wheels.GetWheelVelocity(1), fDeltaT);
-    m_tReadings.EncoderLeftWheel = m_cLeft.reading(ms::uniform_noise(m_cNoise.unit(0), m_cNoise.level(0)) * kEncoderNoiseScale);
-    m_tReadings.EncoderRightWheel = m_cRight.reading(ms::uniform_noise(m_cNoise.unit(1), m_cNoise.level(1)) * kEncoderNoiseScale);
+  /* Each wheel's travel: the calibrated actuator's wheels, else the wheeled entity's speeds */
+  const Real fLeftBefore = m_fLeftTravel, fRightBefore = m_fRightTravel;
+  if (m_pcDrive) {
+    m_fLeftTravel = m_pcDrive->state().xl;
+    m_fRightTravel = m_pcDrive->state().xr;
+  } else {
+    CEPuck2EncoderEquippedEntity::SSensor& sSens = m_pcEncoderEntity->GetSensor(0);
+    m_fLeftTravel += sSens.Wheels.GetWheelVelocity(0) * fDeltaT;
+    m_fRightTravel += sSens.Wheels.GetWheelVelocity(1) * fDeltaT;
+  }
+  if (m_cNoise.gaussian() || !m_cNoise.any()) {
+    /* The measured noise is the spread of a reading about the travel: added to the reading, drawn
+       only when the count moved (a register standing still reads what it read) */
+    auto read = [&](epuck2::argos_plugin::StepRegister& r, Real f_travel, std::size_t i) {
+      const double fNoise =
+          r.moved(f_travel) ? ms::uniform_noise(m_cNoise.unit(i), m_cNoise.level(i)) * kEncoderNoiseScale : 0.0;
+      return r.read(f_travel, fNoise);
+    };
+    m_tReadings.EncoderLeftWheel = read(m_cLeftRegister, m_fLeftTravel, 0);
+    m_tReadings.EncoderRightWheel = read(m_cRightRegister, m_fRightTravel, 1);
     return;
   }
   /* The plug-in's noise: added to the count every tick (it accumulates) */
-  m_cLeft.tick(sSens.Wheels.GetWheelVelocity(0), fDeltaT, m_cNoise.level(0), m_cNoise.unit(0));
-  m_cRight.tick(sSens.Wheels.GetWheelVelocity(1), fDeltaT, m_cNoise.level(1), m_cNoise.unit(1));
+  m_cLeft.tick((m_fLeftTravel - fLeftBefore) / fDeltaT, fDeltaT, m_cNoise.level(0), m_cNoise.unit(0));
+  m_cRight.tick((m_fRightTravel - fRightBefore) / fDeltaT, fDeltaT, m_cNoise.level(1), m_cNoise.unit(1));
   m_tReadings.EncoderLeftWheel = m_cLeft.reading();
   m_tReadings.EncoderRightWheel = m_cRight.reading();
 }
@@ -368,8 +416,9 @@ void CEPuck2CalibratedEncoderSensor::Update() {
 REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", "epuck2-fit", "1.0",
                 "The E-Puck2 wheel encoders with coefficients fitted by epuck2-fit.",
                 "Same control interface as the default implementation; each wheel's register\n"
-                "counts steps_per_m * wheel speed * dt (int16 wrap, read as floor), with\n"
-                "steps_per_m from a drive coefficient file.\n\n"
+                "counts floor(steps_per_m * the wheel's travel) (int16 wrap), with steps_per_m\n"
+                "from a drive coefficient file. With the calibrated differential_steering\n"
+                "actuator the travel is its wheels' (capped, accelerated, not the lagging body).\n\n"
                 "  <epuck2_encoder implementation=\"calibrated\" coefficients=\"drive.json\"\n"
                 "                  robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
                 "noise (default true): the coefficient file's measured reading noise, noise.encoder\n"
@@ -379,7 +428,8 @@ REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", 
                 "A file without a noise section: the plug-in's uniform noise of noise_level\n"
                 "(x 32767), with a warning. noise=\"false\": none.\n"
                 "The Gaussian is added to each reading (the count stays noiseless: a step\n"
-                "counter does not drift); the uniform noise, as in the plug-in, to the count\n"
+                "counter does not drift), drawn only when the count moved: a register standing\n"
+                "still reads exactly what it read; the uniform noise, as in the plug-in, to the count\n"
                 "every tick, where it accumulates (after k ticks its sd is sqrt(k) times the\n"
                 "file's).",
                 "Usable");

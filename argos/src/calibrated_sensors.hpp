@@ -34,6 +34,7 @@
 #include <epuck2/models/sensors.hpp>
 
 #include "argos_noise.hpp"
+#include "calibrated_drive.hpp"
 
 namespace argos {
 
@@ -61,23 +62,34 @@ class CEPuck2CalibratedGroundSensor : public CEPuck2GroundRotZOnlySensor {
 
 class CEPuck2CalibratedTOFSensor : public CEPuck2TOFDefaultSensor {
  public:
-  void Init(TConfigurationNode& t_tree) override;
-  void Update() override;
-
- private:
-  epuck2::models::sensors::TofCoefficients m_sCoefficients;
-  epuck2::argos_plugin::ArgosNoise m_cNoise;
-};
-
-class CEPuck2CalibratedEncoderSensor : public CEPuck2EncoderDefaultSensor {
- public:
+  void SetRobot(CComposableEntity& c_entity) override;
   void Init(TConfigurationNode& t_tree) override;
   void Update() override;
   void Reset() override;
 
  private:
+  const void* m_pcRobot = nullptr;
+  epuck2::models::sensors::TofCoefficients m_sCoefficients;
+  epuck2::argos_plugin::DelayLine m_cDelay;  ///< latency (a diagnosis's effects.latency.delay_s)
+  Real m_fTime = 0;
+  epuck2::argos_plugin::ArgosNoise m_cNoise;
+};
+
+class CEPuck2CalibratedEncoderSensor : public CEPuck2EncoderDefaultSensor {
+ public:
+  void SetRobot(CComposableEntity& c_entity) override;
+  void Init(TConfigurationNode& t_tree) override;
+  void Update() override;
+  void Reset() override;
+
+ private:
+  const void* m_pcRobot = nullptr;
   epuck2::models::sensors::EncoderCoefficients m_sCoefficients;
   epuck2::models::sensors::Encoder m_cLeft, m_cRight;
+  /// With the calibrated actuator: the wheels' travel it computes, counted by these registers
+  std::shared_ptr<const epuck2::argos_plugin::CalibratedDrive> m_pcDrive;
+  epuck2::argos_plugin::StepRegister m_cLeftRegister, m_cRightRegister;
+  Real m_fLeftTravel = 0, m_fRightTravel = 0;  ///< the wheels' travel without the calibrated actuator, m
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 
