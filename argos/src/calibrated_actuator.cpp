@@ -43,9 +43,10 @@ class CEPuck2CalibratedDifferentialSteeringActuator : public CSimulatedActuator,
 
   void Init(TConfigurationNode& t_tree) override {
     CCI_DifferentialSteeringActuator::Init(t_tree);
-    std::string strFile, strRobot;
+    std::string strFile, strRobot, strRobotMap;
     GetNodeAttributeOrDefault(t_tree, "coefficients", strFile, strFile);
     GetNodeAttributeOrDefault(t_tree, "robot", strRobot, strRobot);
+    GetNodeAttributeOrDefault(t_tree, "robot_map", strRobotMap, strRobotMap);
     if (strFile.empty())
       THROW_ARGOSEXCEPTION(
           "calibrated differential_steering: the attribute 'coefficients' is required (a drive coefficient file or "
@@ -55,7 +56,15 @@ class CEPuck2CalibratedDifferentialSteeringActuator : public CSimulatedActuator,
         epuck2::argos_plugin::resolve_coefficient_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
     epuck2::argos_plugin::DriveConfig sConfig;
     try {
-      const auto cFile = epuck2::argos_plugin::CoefficientFile::load(strPath, {"drive"}, strRobot);
+      /* robot="auto": this robot's own set, by its entity id or robot_map */
+      const auto sChoice = epuck2::argos_plugin::choose_robot(*epuck2::argos_plugin::parse_coefficient_file(strPath),
+                                                              strPath, strRobot, strRobotMap, m_pcRobot->GetId());
+      if (!sChoice.warning.empty()) {
+        static bool bWarned = false;
+        if (!bWarned) LOGERR << "[WARNING] calibrated differential_steering: " << sChoice.warning << std::endl;
+        bWarned = true;
+      }
+      const auto cFile = epuck2::argos_plugin::CoefficientFile::load(strPath, {"drive"}, sChoice.robot);
       sConfig = epuck2::argos_plugin::read_drive_config(cFile, "the calibrated differential_steering actuator");
     } catch (const std::exception& ex) {
       THROW_ARGOSEXCEPTION("calibrated differential_steering: " << ex.what());
@@ -113,7 +122,9 @@ REGISTER_ACTUATOR(CEPuck2CalibratedDifferentialSteeringActuator, "differential_s
                   "wheels' travel, its calibrated ToF reads the body's distance. An effect ARGoS\n"
                   "cannot apply (a covariate, an effect of another kind) stops ARGoS at Init.\n\n"
                   "  <differential_steering implementation=\"calibrated\" coefficients=\"drive.json\"\n"
-                  "                         robot=\"ID\" />",
+                  "                         robot=\"ID|auto\" robot_map=\"ep*:robot1\" />\n\n"
+                  "robot: the file's robots.ID set; \"auto\": each robot's own set, named like its\n"
+                  "entity id or by robot_map (PATTERN:ID pairs, * any run of characters).",
                   "Usable");
 
 }  // namespace argos

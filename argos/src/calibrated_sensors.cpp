@@ -31,11 +31,22 @@ using epuck2::argos_plugin::CoefficientFile;
 
 namespace {
 
+/// A warning on ARGoS's error log, once per process for each text (50 robots: one line).
+void WarnOnce(const std::string& str_text) {
+  static std::mutex cMutex;
+  static std::set<std::string> setSaid;
+  std::lock_guard<std::mutex> cLock(cMutex);
+  if (!setSaid.insert(str_text).second) return;
+  LOGERR << "[WARNING] " << str_text << std::endl;
+  LOGERR.Flush();
+}
+
 /// What every calibrated sensor reads from its XML node: the coefficient file (loaded, with the
 /// robot's set when `robot` is given), whether noise is on, its distribution and the uniform
 /// noise level.
 struct SCommon {
   std::string Sensor;
+  std::string Robot;  ///< the file's robot set this robot uses (empty: the top level)
   std::optional<CoefficientFile> File;
   bool Noise = true;
   bool Uniform = false;  ///< noise_distribution="uniform"
@@ -44,16 +55,17 @@ struct SCommon {
 };
 
 SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor,
-                   const std::vector<std::string>& vec_kinds) {
+                   const std::vector<std::string>& vec_kinds, const CEntity& c_component) {
   SCommon s;
   s.Sensor = str_sensor;
-  std::string strFile, strRobot, strDistribution = "gaussian";
+  std::string strFile, strRobot, strRobotMap, strDistribution = "gaussian";
   GetNodeAttributeOrDefault(t_tree, "coefficients", strFile, strFile);
   if (strFile.empty())
     THROW_ARGOSEXCEPTION("calibrated " << str_sensor
                                        << ": the attribute 'coefficients' is required (a coefficient file written by epuck2-fit)");
   ExpandEnvVariables(strFile);
   GetNodeAttributeOrDefault(t_tree, "robot", strRobot, strRobot);
+  GetNodeAttributeOrDefault(t_tree, "robot_map", strRobotMap, strRobotMap);
   GetNodeAttributeOrDefault(t_tree, "noise", s.Noise, s.Noise);
   GetNodeAttributeOrDefault(t_tree, "noise_distribution", strDistribution, strDistribution);
   if (strDistribution != "gaussian" && strDistribution != "uniform")
@@ -66,21 +78,16 @@ SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor,
   const std::string strPath =
       epuck2::argos_plugin::resolve_coefficient_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
   try {
-    s.File = CoefficientFile::load(strPath, vec_kinds, strRobot);
+    /* robot="auto": this robot's own set, by its entity id or robot_map */
+    const auto sChoice = epuck2::argos_plugin::choose_robot(*epuck2::argos_plugin::parse_coefficient_file(strPath), strPath,
+                                                            strRobot, strRobotMap, c_component.GetRootEntity().GetId());
+    if (!sChoice.warning.empty()) WarnOnce("calibrated " + str_sensor + ": " + sChoice.warning);
+    s.Robot = sChoice.robot;
+    s.File = CoefficientFile::load(strPath, vec_kinds, s.Robot);
   } catch (const std::exception& ex) {
     THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": " << ex.what());
   }
   return s;
-}
-
-/// A warning on ARGoS's error log, once per process for each text (50 robots: one line).
-void WarnOnce(const std::string& str_text) {
-  static std::mutex cMutex;
-  static std::set<std::string> setSaid;
-  std::lock_guard<std::mutex> cLock(cMutex);
-  if (!setSaid.insert(str_text).second) return;
-  LOGERR << "[WARNING] " << str_text << std::endl;
-  LOGERR.Flush();
 }
 
 /// A sensor's noise: with noise="true", the file's measured reading noise noise.<channel> (sd in
@@ -155,7 +162,7 @@ CRay3 WorldRay(const SENSOR& s_sensor) {
 void CEPuck2CalibratedProximitySensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_proximity";
   CEPuck2ProximityDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"proximity"});
+  SCommon s = ReadCommon(t_tree, strName, {"proximity"}, *m_pcProximityEntity);
   std::string strCurve = "max";
   GetNodeAttributeOrDefault(t_tree, "curve", strCurve, strCurve);
   if (strCurve != "max" && strCurve != "mean")
@@ -222,7 +229,7 @@ REGISTER_SENSOR(CEPuck2CalibratedProximitySensor, "epuck2_proximity", "calibrate
 void CEPuck2CalibratedGroundSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_ground";
   CEPuck2GroundRotZOnlySensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"ground"});
+  SCommon s = ReadCommon(t_tree, strName, {"ground"}, *m_pcGroundSensorEntity);
   Checked(strName, [&] {
     const std::size_t n = m_tReadings.size();
     const auto gain = s.File->per_sensor("gain", n), offset = s.File->per_sensor("offset", n);
@@ -279,7 +286,7 @@ void CEPuck2CalibratedTOFSensor::SetRobot(CComposableEntity& c_entity) {
 void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_tof";
   CEPuck2TOFDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"drive", "tof"});
+  SCommon s = ReadCommon(t_tree, strName, {"drive", "tof"}, *m_pcTOFEntity);
   Checked(strName, [&] {
     m_sCoefficients.scale = s.File->scalar("tof_scale");
     m_sCoefficients.offset_mm = s.File->scalar("tof_offset_mm");
@@ -350,7 +357,7 @@ void CEPuck2CalibratedEncoderSensor::SetRobot(CComposableEntity& c_entity) {
 void CEPuck2CalibratedEncoderSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_encoder";
   CEPuck2EncoderDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"drive", "encoder"});
+  SCommon s = ReadCommon(t_tree, strName, {"drive", "encoder"}, *m_pcEncoderEntity);
   Checked(strName, [&] {
     const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.File, "the calibrated " + strName);
     m_sCoefficients.steps_per_m = sDrive.steps_per_m;
@@ -441,7 +448,7 @@ REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", 
 void CEPuck2CalibratedLightSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_light";
   CEPuck2LightDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"light"});
+  SCommon s = ReadCommon(t_tree, strName, {"light"}, *m_pcLightEntity);
   Checked(strName, [&] {
     const std::size_t n = m_tReadings.size();
     const auto gamma = s.File->per_sensor("gamma", n);
@@ -453,10 +460,8 @@ void CEPuck2CalibratedLightSensor::Init(TConfigurationNode& t_tree) {
     /* Per-sensor fits (light.json's per_sensor list) replace the common gamma; a robot's set
        has them in robots.ID.per_sensor */
     nlohmann::json jPer = s.File->root().value("per_sensor", nlohmann::json::array());
-    std::string strRobot;
-    GetNodeAttributeOrDefault(t_tree, "robot", strRobot, strRobot);
-    if (!strRobot.empty() && s.File->root().contains("robots"))
-      jPer = s.File->root().at("robots").at(strRobot).value("per_sensor", jPer);
+    if (!s.Robot.empty() && s.File->root().contains("robots"))
+      jPer = s.File->root().at("robots").at(s.Robot).value("per_sensor", jPer);
     for (const auto& e : jPer) {
       if (!e.is_object() || !e.contains("sensor") || !e.contains("gamma") || !e.at("sensor").is_number_integer() ||
           !e.at("gamma").is_number())
@@ -523,7 +528,7 @@ REGISTER_SENSOR(CEPuck2CalibratedLightSensor, "epuck2_light", "calibrated", "epu
 
 void CEPuck2CalibratedCameraSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_colored_blob_perspective_camera";
-  SCommon s = ReadCommon(t_tree, strName, {"camera"});
+  SCommon s = ReadCommon(t_tree, strName, {"camera"}, *m_pcCamEntity);
   Checked(strName, [&] {
     const SInt32 nW = m_pcCamEntity->GetImagePxWidth(), nH = m_pcCamEntity->GetImagePxHeight();
     /* The fitted horizontal field of view as ARGoS's aperture (half-angle on the diagonal) */

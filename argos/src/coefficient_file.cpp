@@ -239,6 +239,72 @@ std::shared_ptr<const mb::Tables> shared_battery_tables(const std::string& path)
   return tables;
 }
 
+namespace {
+
+/// `text` matches `pattern`, '*' standing for any run of characters.
+bool glob_match(const char* pattern, const char* text) {
+  if (*pattern == '\0') return *text == '\0';
+  if (*pattern == '*') return glob_match(pattern + 1, text) || (*text != '\0' && glob_match(pattern, text + 1));
+  return *text == *pattern && glob_match(pattern + 1, text + 1);
+}
+
+std::string robot_list(const json& robots) {
+  std::string known;
+  if (robots.is_object())
+    for (auto it = robots.begin(); it != robots.end(); ++it) known += (known.empty() ? "" : ", ") + it.key();
+  return known.empty() ? "none" : known;
+}
+
+}  // namespace
+
+RobotChoice choose_robot(const json& root, const std::string& path, const std::string& attribute,
+                         const std::string& robot_map, const std::string& entity_id) {
+  RobotChoice c;
+  const json robots = root.value("robots", json::object());
+  if (!robot_map.empty() && attribute != "auto")
+    throw std::runtime_error(path + ": robot_map is used only with robot=\"auto\"");
+  if (attribute == "auto") {
+    if (!robot_map.empty()) {
+      std::istringstream in(robot_map);
+      std::string item;
+      while (std::getline(in, item, ',')) {
+        const auto colon = item.rfind(':');
+        if (colon == std::string::npos || colon == 0 || colon + 1 == item.size())
+          throw std::runtime_error(path + ": robot_map entry '" + item + "' is not PATTERN:ROBOT_ID");
+        if (glob_match(item.substr(0, colon).c_str(), entity_id.c_str())) {
+          c.robot = item.substr(colon + 1);
+          return c;
+        }
+      }
+      throw std::runtime_error(path + ": robot=\"auto\": no robot_map pattern matches the entity '" + entity_id +
+                               "' (robot_map \"" + robot_map + "\")");
+    }
+    if (robots.is_object() && robots.contains(entity_id)) {
+      c.robot = entity_id;
+      return c;
+    }
+    throw std::runtime_error(path + ": robot=\"auto\": the entity '" + entity_id +
+                             "' has no robot set in the file (robots: " + robot_list(robots) +
+                             "); name the sets after the entities or give robot_map=\"PATTERN:ROBOT_ID,...\"");
+  }
+  c.robot = attribute;
+  if (!attribute.empty() || !robots.is_object() || robots.size() < 2) return c;
+  // The pooled set of several robots: say so, with what differs between them.
+  std::string differ;
+  for (const json& e : root.value("robot_spread", json::array()))
+    if (e.is_object() && e.value("exceeds_uncertainty", false) && e.contains("parameter") && e.contains("spread_sd")) {
+      std::ostringstream os;
+      os << e.at("parameter").get<std::string>() << " (spread sd " << e.at("spread_sd").get<double>() << ")";
+      differ += (differ.empty() ? "" : ", ") + os.str();
+    }
+  c.warning = path + " holds " + std::to_string(robots.size()) + " robots (" + robot_list(robots) +
+              ") and no robot= is given: using the pooled set, which describes no robot" +
+              (differ.empty() ? std::string(" (the robots agree within their uncertainties)")
+                              : "; the robots differ beyond their uncertainties in " + differ) +
+              ". robot=\"ID\" or robot=\"auto\" uses a robot's own set";
+  return c;
+}
+
 std::string resolve_coefficient_path(const std::string& name, const std::string& experiment_file) {
   const fs::path p(name);
   if (p.is_absolute()) return name;

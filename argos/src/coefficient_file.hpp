@@ -74,6 +74,20 @@ class CoefficientFile {
   nlohmann::json effects_ = nlohmann::json::object();  ///< top level, the robot's set merged over it
 };
 
+/// Which of a file's robot sets an ARGoS robot uses (docs/argos.md, "A swarm, one controller").
+struct RobotChoice {
+  std::string robot;    ///< the set's id; empty: the top-level (pooled) set
+  std::string warning;  ///< non-empty: to be said at Init (a multi-robot file read without robot=)
+};
+/// `attribute` is the XML's robot= (empty, an id, or "auto"), `robot_map` its robot_map=
+/// ("PATTERN:ID,PATTERN:ID", '*' matching any run of characters, the first match wins) and
+/// `entity_id` the ARGoS robot's id. "auto": the robot_map's match, else the set named like the
+/// entity; an entity without a set is an error naming it and the file's robots. No robot= on a
+/// file with several robots: the pooled set, with a warning naming the parameters that differ
+/// between the robots (the file's robot_spread).
+RobotChoice choose_robot(const nlohmann::json& root, const std::string& path, const std::string& attribute,
+                         const std::string& robot_map, const std::string& entity_id);
+
 /// The battery tables of a battery coefficient file (the layout lib/fit's battery_json.cpp
 /// writes: `speeds` [16 x {speed_cm_s, cubic [d,c,b,a], lifetime_s, linear_slope, segments [4 x
 /// {h,m,x1_s,x2_s,y1,y2}]}], `simple` {static_slope_per_s, moving_slope_per_s}).

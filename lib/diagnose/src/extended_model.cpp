@@ -68,11 +68,14 @@ Values values_of(const Report& r, std::vector<std::string>* left_out, const std:
   return v;
 }
 
-/// Every reading the diagnosis sees is a whole number of its unit (counts, px, mm, steps): the
-/// residuals' sd holds the rounding's 1/12 unit^2 besides the noise. The simulation rounds too, so
-/// the noise it adds before rounding is what the residuals hold beyond that.
-double register_noise(double residual_sd) {
-  return std::sqrt(std::max(0.0, residual_sd * residual_sd - 1.0 / 12.0));
+/// The noise of one reading of `channel` per sensor (reading_noise.hpp: the replicates', else the
+/// final model's residuals, less the rounding's 1/12 unit^2: every reading the diagnosis sees is a
+/// whole number of its unit and the simulation rounds too).
+template <std::size_t N>
+std::array<double, N> noise_per_sensor(const ModelInputs& inputs, const std::string& channel, double residual_sd) {
+  std::array<double, N> sd{};
+  for (std::size_t k = 0; k < N; ++k) sd[k] = model_noise_sd(inputs.replicate_noise, channel, residual_sd, static_cast<int>(k));
+  return sd;
 }
 
 /// The report's `covariate:NAME` findings, centred on the column's mean in `inputs` (left out
@@ -143,7 +146,7 @@ s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* 
   m.effects.incidence.k = v.at("incidence_angle", "k", m.effects.incidence.k);
   if (v.has("saturation")) m.effects.saturation.level_raw = v.at("saturation", "level", m.effects.saturation.level_raw);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
-  m.noise_sd_raw.fill(register_noise(r.noise_sd));
+  m.noise_sd_raw = noise_per_sensor<s::kProximityCount>(inputs, "proximity", r.noise_sd);
   return m;
 }
 
@@ -156,7 +159,7 @@ s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out
   m.effects.falloff.exponent = v.at("falloff_exponent", "exponent", m.effects.falloff.exponent);
   m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain", m.effects.gains.gain);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
-  m.noise_sd_raw.fill(register_noise(r.noise_sd));
+  m.noise_sd_raw = noise_per_sensor<s::kProximityCount>(inputs, "light", r.noise_sd);
   return m;
 }
 
@@ -179,7 +182,7 @@ s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_o
   }
   m.effects.exponent = v.at("nonlinear_response", "exponent", m.effects.exponent);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
-  m.noise_sd_raw.fill(register_noise(r.noise_sd));
+  m.noise_sd_raw = noise_per_sensor<s::kGroundCount>(inputs, "ground", r.noise_sd);
   return m;
 }
 
@@ -192,7 +195,7 @@ s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_o
   m.base.cy_px = s::kCameraHeight_px / 2.0 + v.at("principal_offset", "dy_px", m.base.cy_px - s::kCameraHeight_px / 2.0);
   m.distortion.k1 = v.at("radial_distortion", "k1", m.distortion.k1);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
-  m.noise_sd_px = register_noise(r.noise_sd);
+  m.noise_sd_px = model_noise_sd(inputs.replicate_noise, "camera", r.noise_sd);
   return m;
 }
 
@@ -208,11 +211,12 @@ s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out
   m.effects.latency.delay_s = v.at("latency", "delay_s", m.effects.latency.delay_s);
   m.effects.tof_offset.offset_mm = v.at("tof_offset", "offset_mm", m.effects.tof_offset.offset_mm);
   m.effects.tof_scale.k = v.at("tof_scale", "k", m.effects.tof_scale.k);
-  m.tof_noise_sd_mm = register_noise(r.noise_sd);
+  double tof_residual_sd = r.noise_sd;
   for (const NamedValue& c : r.channel_noise_sd) {
-    if (c.name == "tof_mm") m.tof_noise_sd_mm = register_noise(c.value);
-    if (c.name == "steps") m.encoder_noise_sd_steps = register_noise(c.value);
+    if (c.name == "tof_mm") tof_residual_sd = c.value;
+    if (c.name == "steps") m.encoder_noise_sd_steps = model_noise_sd(inputs.replicate_noise, "encoder", c.value);
   }
+  m.tof_noise_sd_mm = model_noise_sd(inputs.replicate_noise, "tof", tof_residual_sd);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   return m;
 }
@@ -235,6 +239,7 @@ ModelInputs model_inputs(const std::vector<logs::Log>& logs, const Options& opti
   in.battery_tables = options.battery_tables;
   in.battery_capacity_k = options.battery_capacity_k;
   if (logs.empty()) return in;
+  in.replicate_noise = replicate_noise(logs);
   for (const std::string& name : logs.front().extra_numeric_columns()) {
     double sum = 0;
     std::size_t n = 0;
