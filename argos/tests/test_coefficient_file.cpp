@@ -172,3 +172,31 @@ TEST(CoefficientFile, RelativeNamesResolveNextToTheExperimentFirst) {
 }
 
 }  // namespace
+
+// robot="auto" and robot_map: which set each ARGoS entity uses (argos/tests/swarm.sh runs it in ARGoS).
+namespace {
+TEST(CoefficientFile, RobotAutoPicksEachEntitysSet) {
+  const nlohmann::json root = nlohmann::json::parse(R"({"parameters":{},"robots":{"A":{},"B":{},"ep3":{}},
+      "robot_spread":[{"parameter":"gain[0]","spread_sd":12.5,"exceeds_uncertainty":true},
+                      {"parameter":"offset[0]","spread_sd":0.1,"exceeds_uncertainty":false}]})");
+  EXPECT_EQ(ap::choose_robot(root, "f.json", "auto", "ep0:A,ep1:A,ep*:B", "ep1").robot, "A");
+  EXPECT_EQ(ap::choose_robot(root, "f.json", "auto", "ep0:A,ep1:A,ep*:B", "ep4").robot, "B");
+  EXPECT_EQ(ap::choose_robot(root, "f.json", "auto", "*bot*:A", "footbot_7").robot, "A");
+  EXPECT_EQ(ap::choose_robot(root, "f.json", "auto", "", "ep3").robot, "ep3");  // named like the entity
+  EXPECT_EQ(ap::choose_robot(root, "f.json", "B", "", "ep0").robot, "B");
+  const std::string missing = error_of([&] { ap::choose_robot(root, "f.json", "auto", "", "ep0"); });
+  EXPECT_NE(missing.find("the entity 'ep0' has no robot set in the file (robots: A, B, ep3)"), std::string::npos) << missing;
+  const std::string nomatch = error_of([&] { ap::choose_robot(root, "f.json", "auto", "fb*:A", "ep0"); });
+  EXPECT_NE(nomatch.find("no robot_map pattern matches the entity 'ep0'"), std::string::npos) << nomatch;
+  const std::string bad = error_of([&] { ap::choose_robot(root, "f.json", "auto", "ep0", "ep0"); });
+  EXPECT_NE(bad.find("robot_map entry 'ep0' is not PATTERN:ROBOT_ID"), std::string::npos) << bad;
+  // No robot= on a multi-robot file: the pooled set, with a warning naming what differs.
+  const auto pooled = ap::choose_robot(root, "f.json", "", "", "ep0");
+  EXPECT_EQ(pooled.robot, "");
+  EXPECT_NE(pooled.warning.find("f.json holds 3 robots (A, B, ep3)"), std::string::npos) << pooled.warning;
+  EXPECT_NE(pooled.warning.find("differ beyond their uncertainties in gain[0] (spread sd 12.5)"), std::string::npos);
+  EXPECT_EQ(pooled.warning.find("offset[0]"), std::string::npos);
+  // One robot, or none: nothing to say.
+  EXPECT_EQ(ap::choose_robot(nlohmann::json::parse(R"({"robots":{"A":{}}})"), "f.json", "", "", "ep0").warning, "");
+}
+}  // namespace

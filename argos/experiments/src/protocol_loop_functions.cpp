@@ -96,6 +96,14 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       for (Real g : ParseList(str)) m_vecSteps.push_back(std::round(g * 255.0) / 255.0);  // 8-bit floor colours
       Open(m_strOutDir + "/ground_" + m_strRobot + ".csv", "grey,sensor,value",
            {"protocol: ARGoS, the whole floor at each grey (8-bit colour, grey = level/255)"});
+      /* Several robots (a swarm, each with its own set): every other robot's log too, named and
+         tagged with its entity id */
+      for (std::size_t i = 1; i < m_vecRobots.size(); ++i) {
+        const std::string& id = m_vecRobots[i]->GetId();
+        m_vecGroundOut.push_back(std::make_unique<std::ofstream>(m_strOutDir + "/ground_" + id + ".csv"));
+        if (!*m_vecGroundOut.back()) THROW_ARGOSEXCEPTION("epuck2_protocol: cannot write in " << m_strOutDir);
+        *m_vecGroundOut.back() << "# robot: " << id << "\n# protocol: ARGoS, the whole floor at each grey\ngrey,sensor,value\n";
+      }
     } else if (m_strKind == "light") {
       std::string str = "0.1:0.05:0.5", strI = "0.5,1,1.5,2";
       GetNodeAttributeOrDefault(t_tree, "distances", str, str);
@@ -155,6 +163,11 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     } else if (m_strKind == "ground") {
       const auto v = c.Ground();
       for (std::size_t i = 0; i < v.size(); ++i) m_cOut << Num(m_vecSteps[m_unStep], 8) << ',' << i << ',' << v[i] << '\n';
+      for (std::size_t r = 1; r < m_vecRobots.size(); ++r) {
+        const auto w = Controller(r).Ground();
+        for (std::size_t i = 0; i < w.size(); ++i)
+          *m_vecGroundOut[r - 1] << Num(m_vecSteps[m_unStep], 8) << ',' << i << ',' << w[i] << '\n';
+      }
       Advance(m_unSamples, m_vecSteps.size());
     } else if (m_strKind == "light") {
       const auto v = c.Light();
@@ -192,6 +205,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
           << r.MinSpeed << ".." << r.MaxSpeed << " cm/s" << std::endl;
     m_cOut.close();
     m_vecBattery.clear();
+    m_vecGroundOut.clear();
   }
 
  private:
@@ -359,6 +373,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   UInt32 m_unSample = 0, m_unLightSensor = 0, m_unRunTick = 0;
   bool m_bDone = false, m_bRunStarted = false;
   std::ofstream m_cOut;
+  std::vector<std::unique_ptr<std::ofstream>> m_vecGroundOut;  ///< ground: robots 1.. (a swarm)
   CLightEntity* m_pcLight = nullptr;
   Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0;
   SInt32 m_nStartLeft = 0, m_nStartRight = 0;
