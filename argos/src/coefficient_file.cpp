@@ -1,5 +1,6 @@
 #include "coefficient_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -181,62 +182,92 @@ double number_at(const json& o, const char* key, const std::string& path, const 
 
 }  // namespace
 
-mb::Tables load_battery_tables(const std::string& path) {
+BatteryFile load_battery_file(const std::string& path) {
   const json& j = *parse_coefficient_file(path);
   if (j.contains("kind") && j.at("kind") != "battery")
     throw std::runtime_error(path + ": a '" + (j.at("kind").is_string() ? j.at("kind").get<std::string>() : j.at("kind").dump()) +
                              "' file, expected battery");
-  if (!j.contains("speeds") || !j.at("speeds").is_array())
-    throw std::runtime_error(path + ": not a battery coefficient file: expected an object with a 'speeds' array");
+  if (!j.contains("speeds") || !j.at("speeds").is_array() || j.at("speeds").empty())
+    throw std::runtime_error(path + ": not a battery coefficient file: expected an object with a 'speeds' array of 1 to 16 entries");
   const json& speeds = j.at("speeds");
-  if (speeds.size() != mb::kSpeedCount)
-    throw std::runtime_error(path + ": expected 16 entries in 'speeds' (0..15 cm/s), found " + std::to_string(speeds.size()));
-  mb::Tables t{};
-  for (std::size_t s = 0; s < speeds.size(); ++s) {
-    const json& e = speeds.at(s);
-    const std::string where = "speeds[" + std::to_string(s) + "]";
-    if (std::abs(number_at(e, "speed_cm_s", path, where) - static_cast<double>(s)) > 1e-9)
-      throw std::runtime_error(path + ": " + where + ": expected speed_cm_s " + std::to_string(s));
+  if (speeds.size() > mb::kSpeedCount)
+    throw std::runtime_error(path + ": expected at most 16 entries in 'speeds' (0..15 cm/s), found " + std::to_string(speeds.size()));
+  BatteryFile f;
+  f.tables = mb::plugin_tables();  // the plug-in's where the file has no table
+  for (std::size_t k = 0; k < speeds.size(); ++k) {
+    const json& e = speeds.at(k);
+    const std::string where = "speeds[" + std::to_string(k) + "]";
+    const double v = number_at(e, "speed_cm_s", path, where);
+    const double whole = std::round(v);
+    if (std::abs(v - whole) > 1e-9 || whole < 0 || whole >= static_cast<double>(mb::kSpeedCount))
+      throw std::runtime_error(path + ": " + where + ": speed_cm_s must be a whole number of cm/s in 0..15, found " + e.at("speed_cm_s").dump());
+    const auto s = static_cast<std::size_t>(whole);
+    if (std::find(f.fitted_speeds.begin(), f.fitted_speeds.end(), static_cast<int>(s)) != f.fitted_speeds.end())
+      throw std::runtime_error(path + ": " + where + ": a second table for " + std::to_string(s) + " cm/s");
+    f.fitted_speeds.push_back(static_cast<int>(s));
     if (!e.contains("cubic") || !e.at("cubic").is_array() || e.at("cubic").size() != 4)
       throw std::runtime_error(path + ": " + where + ": expected 'cubic' as [d, c, b, a]");
     const json& c = e.at("cubic");
     for (const json& x : c)
       if (!x.is_number()) throw std::runtime_error(path + ": " + where + ": 'cubic' must hold numbers");
     const double life = number_at(e, "lifetime_s", path, where);
-    t.cubic[s] = mb::CubicRow{c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>(),
-                              c.at(3).get<double>(), life};
-    t.lifetime_s[s] = life;
-    t.linear_slope_per_s[s] = number_at(e, "linear_slope", path, where);
+    f.tables.cubic[s] = mb::CubicRow{c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>(),
+                                     c.at(3).get<double>(), life};
+    f.tables.lifetime_s[s] = life;
+    f.tables.linear_slope_per_s[s] = number_at(e, "linear_slope", path, where);
     if (!e.contains("segments") || !e.at("segments").is_array() || e.at("segments").size() != mb::kSegmentCount)
       throw std::runtime_error(path + ": " + where + ": expected 4 'segments'");
-    for (std::size_t k = 0; k < mb::kSegmentCount; ++k) {
-      const json& g = e.at("segments").at(k);
-      const std::string gw = where + ".segments[" + std::to_string(k) + "]";
-      t.segments[s][k] = mb::Segment{number_at(g, "h", path, gw),    number_at(g, "m", path, gw),
-                                     number_at(g, "x1_s", path, gw), number_at(g, "x2_s", path, gw),
-                                     number_at(g, "y1", path, gw),   number_at(g, "y2", path, gw)};
+    for (std::size_t k2 = 0; k2 < mb::kSegmentCount; ++k2) {
+      const json& g = e.at("segments").at(k2);
+      const std::string gw = where + ".segments[" + std::to_string(k2) + "]";
+      f.tables.segments[s][k2] = mb::Segment{number_at(g, "h", path, gw),    number_at(g, "m", path, gw),
+                                             number_at(g, "x1_s", path, gw), number_at(g, "x2_s", path, gw),
+                                             number_at(g, "y1", path, gw),   number_at(g, "y2", path, gw)};
     }
   }
-  if (!j.contains("simple")) throw std::runtime_error(path + ": expected a 'simple' object");
-  t.simple_static_slope_per_s = number_at(j.at("simple"), "static_slope_per_s", path, "simple");
-  t.simple_moving_slope_per_s = number_at(j.at("simple"), "moving_slope_per_s", path, "simple");
-  return t;
+  std::sort(f.fitted_speeds.begin(), f.fitted_speeds.end());
+  if (j.contains("simple")) {
+    f.tables.simple_static_slope_per_s = number_at(j.at("simple"), "static_slope_per_s", path, "simple");
+    f.tables.simple_moving_slope_per_s = number_at(j.at("simple"), "moving_slope_per_s", path, "simple");
+    f.fitted_simple = true;
+  }
+  if (j.contains("battery_model")) {
+    mb::Model m{};
+    if (!j.at("battery_model").is_string() || !mb::parse_model(j.at("battery_model").get<std::string>(), m))
+      throw std::runtime_error(path + ": battery_model must be simple, linear, cubic or approximated, found " +
+                               j.at("battery_model").dump());
+    f.model = m;
+  }
+  if (j.contains("effects") && j.at("effects").is_object()) {
+    for (auto it = j.at("effects").begin(); it != j.at("effects").end(); ++it) {
+      if (it.key() == "capacity_scale") continue;
+      throw std::runtime_error(path + ": effects." + it.key() + ": the calibrated battery cannot apply it in ARGoS" +
+                               (it.key().rfind("covariate:", 0) == 0 ? ": it needs the log column '" + it.key().substr(10) +
+                                                                           "', which ARGoS does not have"
+                                                                     : std::string(": not a battery effect (the battery's is capacity_scale)")));
+    }
+    if (j.at("effects").contains("capacity_scale")) {
+      f.capacity_k = number_at(j.at("effects").at("capacity_scale"), "k", path, "effects.capacity_scale");
+      if (!(f.capacity_k > 0)) throw std::runtime_error(path + ": effects.capacity_scale.k must be positive");
+    }
+  }
+  return f;
 }
 
-std::shared_ptr<const mb::Tables> shared_battery_tables(const std::string& path) {
+std::shared_ptr<const BatteryFile> shared_battery_file(const std::string& path) {
   struct Entry {
     std::shared_ptr<const json> root;  ///< the parse the tables were read from
-    std::shared_ptr<const mb::Tables> tables;
+    std::shared_ptr<const BatteryFile> file;
   };
   static std::mutex mutex;
   static std::map<std::string, Entry> cache;
   const std::shared_ptr<const json> root = parse_coefficient_file(path);
   std::lock_guard<std::mutex> lock(mutex);
   const auto it = cache.find(path);
-  if (it != cache.end() && it->second.root == root) return it->second.tables;
-  auto tables = std::make_shared<const mb::Tables>(load_battery_tables(path));
-  cache[path] = Entry{root, tables};
-  return tables;
+  if (it != cache.end() && it->second.root == root) return it->second.file;
+  auto file = std::make_shared<const BatteryFile>(load_battery_file(path));
+  cache[path] = Entry{root, file};
+  return file;
 }
 
 namespace {

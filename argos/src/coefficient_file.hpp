@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <epuck2/models/battery.hpp>
+#include <epuck2/models/plugin_battery_tables.hpp>
 
 namespace epuck2::argos_plugin {
 
@@ -88,13 +89,25 @@ struct RobotChoice {
 RobotChoice choose_robot(const nlohmann::json& root, const std::string& path, const std::string& attribute,
                          const std::string& robot_map, const std::string& entity_id);
 
-/// The battery tables of a battery coefficient file (the layout lib/fit's battery_json.cpp
-/// writes: `speeds` [16 x {speed_cm_s, cubic [d,c,b,a], lifetime_s, linear_slope, segments [4 x
-/// {h,m,x1_s,x2_s,y1,y2}]}], `simple` {static_slope_per_s, moving_slope_per_s}).
-epuck2::models::battery::Tables load_battery_tables(const std::string& path);
+/// A battery coefficient file (a calibration, `battery -o`, or a battery diagnosis, `diagnose -o`;
+/// the layout lib/fit's battery_json.cpp writes: `speeds` [{speed_cm_s, cubic [d,c,b,a],
+/// lifetime_s, linear_slope, segments [4 x {h,m,x1_s,x2_s,y1,y2}]}], `simple` {static_slope_per_s,
+/// moving_slope_per_s}, and a diagnosis's `battery_model` and `effects.capacity_scale.k`).
+struct BatteryFile {
+  /// The file's table at each speed it has, the plug-in's at the others (and the plug-in's
+  /// Simple slopes when the file has no `simple`).
+  epuck2::models::battery::Tables tables;
+  std::vector<int> fitted_speeds;  ///< the speeds (cm/s) whose tables are the file's, ascending
+  bool fitted_simple = false;      ///< the Simple model's slopes are the file's
+  std::optional<epuck2::models::battery::Model> model;  ///< battery_model, when the file names one
+  double capacity_k = 1.0;         ///< effects.capacity_scale.k (1: none)
+};
+/// Reads a battery file: 1 to 16 speeds (whole cm/s, 0..15, each once); any effect other than
+/// capacity_scale is an error naming it (ARGoS cannot apply it).
+BatteryFile load_battery_file(const std::string& path);
 /// The same, read once per process and file (while the file stays the same) and shared: 50 robots
 /// with the calibrated battery model step through one copy of the tables, not 50.
-std::shared_ptr<const epuck2::models::battery::Tables> shared_battery_tables(const std::string& path);
+std::shared_ptr<const BatteryFile> shared_battery_file(const std::string& path);
 
 /// Every file is parsed once per process and path (while its size and modification time stay the
 /// same): 50 robots with a calibrated sensor share one parse of the file, not 50.

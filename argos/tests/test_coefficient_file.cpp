@@ -118,13 +118,49 @@ TEST(CoefficientFile, AFileIsParsedOncePerProcessUntilItChanges) {
 
 TEST(CoefficientFile, ShippedBatteryFileLoads) {
   // Every robot's model shares one copy of a file's tables, equal to a fresh load's.
-  const auto shared = ap::shared_battery_tables(fitted("battery.json"));
-  EXPECT_EQ(ap::shared_battery_tables(fitted("battery.json")).get(), shared.get());
-  const auto t = ap::load_battery_tables(fitted("battery.json"));
-  EXPECT_EQ(shared->lifetime_s, t.lifetime_s);
-  EXPECT_EQ(shared->cubic[7].d, t.cubic[7].d);
-  EXPECT_GT(t.lifetime_s[0], 10000.0);
-  EXPECT_LT(t.simple_moving_slope_per_s, 0.0);
+  const auto shared = ap::shared_battery_file(fitted("battery.json"));
+  EXPECT_EQ(ap::shared_battery_file(fitted("battery.json")).get(), shared.get());
+  const auto f = ap::load_battery_file(fitted("battery.json"));
+  EXPECT_EQ(shared->tables.lifetime_s, f.tables.lifetime_s);
+  EXPECT_EQ(shared->tables.cubic[7].d, f.tables.cubic[7].d);
+  EXPECT_GT(f.tables.lifetime_s[0], 10000.0);
+  EXPECT_LT(f.tables.simple_moving_slope_per_s, 0.0);
+  EXPECT_EQ(f.fitted_speeds.size(), 16u);
+  EXPECT_EQ(f.capacity_k, 1.0);
+}
+
+// A battery calibrated from two runs: its tables at 5 and 10 cm/s, the plug-in's elsewhere; a
+// diagnosis's model and capacity scale; what ARGoS cannot apply is refused by name.
+TEST(CoefficientFile, PartialBatteryTablesAndADiagnosisCapacityScale) {
+  std::ifstream in(fitted("battery.json"));
+  nlohmann::json j = nlohmann::json::parse(in);
+  nlohmann::json two = nlohmann::json::array({j.at("speeds").at(5), j.at("speeds").at(10)});
+  j["speeds"] = two;
+  j.erase("simple");
+  j["battery_model"] = "linear";
+  j["effects"] = {{"capacity_scale", {{"k", 0.8}}}};
+  const auto f = ap::load_battery_file(write_temp("partial_battery.json", j.dump()));
+  EXPECT_EQ(f.fitted_speeds, (std::vector<int>{5, 10}));
+  const auto& plugin = epuck2::models::battery::plugin_tables();
+  EXPECT_EQ(f.tables.lifetime_s[5], two.at(0).at("lifetime_s").get<double>());
+  EXPECT_EQ(f.tables.lifetime_s[10], two.at(1).at("lifetime_s").get<double>());
+  EXPECT_EQ(f.tables.lifetime_s[6], plugin.lifetime_s[6]);
+  EXPECT_EQ(f.tables.cubic[0].d, plugin.cubic[0].d);
+  EXPECT_FALSE(f.fitted_simple);
+  EXPECT_EQ(f.tables.simple_moving_slope_per_s, plugin.simple_moving_slope_per_s);
+  ASSERT_TRUE(f.model.has_value());
+  EXPECT_EQ(*f.model, epuck2::models::battery::Model::linear);
+  EXPECT_EQ(f.capacity_k, 0.8);
+  j["effects"] = {{"covariate:temperature_c", {{"slope", 0.01}, {"centre", 20}}}};
+  const std::string cov = error_of([&] { ap::load_battery_file(write_temp("cov_battery.json", j.dump())); });
+  EXPECT_NE(cov.find("effects.covariate:temperature_c: the calibrated battery cannot apply it in ARGoS: it needs the log "
+                     "column 'temperature_c', which ARGoS does not have"),
+            std::string::npos)
+      << cov;
+  j.erase("effects");
+  j["speeds"].push_back(j["speeds"][0]);
+  EXPECT_NE(error_of([&] { ap::load_battery_file(write_temp("dup_battery.json", j.dump())); }).find("a second table for 5 cm/s"),
+            std::string::npos);
 }
 
 TEST(CoefficientFile, RobotSetsAndNoiseOverrideTheTopLevel) {
@@ -160,7 +196,7 @@ TEST(CoefficientFile, ErrorsNameTheFileAndTheProblem) {
   const std::string wrong = write_temp("wrong.json", R"({"kind": "ground", "parameters": {"gain": [1, 2], "offset": 0}})");
   const auto g = ap::CoefficientFile::load(wrong, {"ground"});
   EXPECT_NE(error_of([&] { g.per_sensor("gain", 3); }).find("an array of 3 numbers"), std::string::npos);
-  EXPECT_NE(error_of([&] { ap::load_battery_tables(fitted("ground.json")); }).find("expected battery"), std::string::npos);
+  EXPECT_NE(error_of([&] { ap::load_battery_file(fitted("ground.json")); }).find("expected battery"), std::string::npos);
 }
 
 TEST(CoefficientFile, RelativeNamesResolveNextToTheExperimentFirst) {
