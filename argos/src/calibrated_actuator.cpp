@@ -44,6 +44,8 @@ class CEPuck2CalibratedDifferentialSteeringActuator : public CSimulatedActuator,
   void Init(TConfigurationNode& t_tree) override {
     CCI_DifferentialSteeringActuator::Init(t_tree);
     std::string strFile, strRobot, strRobotMap;
+    bool bFirmwareCap = true;
+    GetNodeAttributeOrDefault(t_tree, "firmware_cap", bFirmwareCap, bFirmwareCap);
     GetNodeAttributeOrDefault(t_tree, "coefficients", strFile, strFile);
     GetNodeAttributeOrDefault(t_tree, "robot", strRobot, strRobot);
     GetNodeAttributeOrDefault(t_tree, "robot_map", strRobotMap, strRobotMap);
@@ -69,12 +71,21 @@ class CEPuck2CalibratedDifferentialSteeringActuator : public CSimulatedActuator,
     } catch (const std::exception& ex) {
       THROW_ARGOSEXCEPTION("calibrated differential_steering: " << ex.what());
     }
+    /* firmware_cap="false": a robot without the e-puck2 firmware's cap (a simulated robot of
+       another model); a diagnosis's speed_limit still applies */
+    if (!bFirmwareCap && sConfig.limit_from == "firmware") {
+      sConfig.effects.speed_limit.max_cm_s = epuck2::models::sensors::kDriveNoLimit;
+      sConfig.limit_from = "none";
+    }
     m_pcDrive = epuck2::argos_plugin::DriveRegistry::create(m_pcRobot, sConfig.effects);
     std::ostringstream os;
-    os << "calibrated differential_steering: " << strPath << ": wheels capped at " << sConfig.effects.speed_limit.max_cm_s
-       << " cm/s ("
-       << (sConfig.limit_from == "firmware" ? "the firmware's 1100 steps/s over steps_per_m" : "the diagnosis's speed_limit")
-       << ")";
+    os << "calibrated differential_steering: " << strPath << ": ";
+    if (sConfig.limit_from == "none")
+      os << "wheels not capped (firmware_cap=\"false\")";
+    else
+      os << "wheels capped at " << sConfig.effects.speed_limit.max_cm_s << " cm/s ("
+         << (sConfig.limit_from == "firmware" ? "the firmware's 1100 steps/s over steps_per_m" : "the diagnosis's speed_limit")
+         << ")";
     if (sConfig.effects.accel_limit.accel_cm_s2 < epuck2::models::sensors::kDriveLimitOn)
       os << ", acceleration limited to " << sConfig.effects.accel_limit.accel_cm_s2 << " cm/s^2";
     if (sConfig.effects.speed_scale.k != 1.0) os << ", body speed " << sConfig.effects.speed_scale.k << " x the wheels'";
@@ -122,7 +133,9 @@ REGISTER_ACTUATOR(CEPuck2CalibratedDifferentialSteeringActuator, "differential_s
                   "wheels' travel, its calibrated ToF reads the body's distance. An effect ARGoS\n"
                   "cannot apply (a covariate, an effect of another kind) stops ARGoS at Init.\n\n"
                   "  <differential_steering implementation=\"calibrated\" coefficients=\"drive.json\"\n"
-                  "                         robot=\"ID|auto\" robot_map=\"ep*:robot1\" />\n\n"
+                  "                         robot=\"ID|auto\" robot_map=\"ep*:robot1\"\n"
+                  "                         firmware_cap=\"true\" />\n\n"
+                  "firmware_cap=\"false\": no firmware cap (a diagnosis's speed_limit still applies).\n"
                   "robot: the file's robots.ID set; \"auto\": each robot's own set, named like its\n"
                   "entity id or by robot_map (PATTERN:ID pairs, * any run of characters).",
                   "Usable");

@@ -115,6 +115,10 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       std::string str = "2.5,5,7.5,10,12.5,15";
       GetNodeAttributeOrDefault(t_tree, "speeds", str, str);
       GetNodeAttributeOrDefault(t_tree, "obstacle_distance", m_fObstacle, m_fObstacle);
+      /* like="LOG": replay a measured drive log's commands row by row (scripts/argos-record.sh --like) */
+      GetNodeAttributeOrDefault(t_tree, "like", m_strLike, m_strLike);
+      GetNodeAttributeOrDefault(t_tree, "like_out", m_strLikeOut, m_strLikeOut);
+      if (!m_strLike.empty()) ReadDriveLog();
       GetNodeAttributeOrDefault(t_tree, "travel", m_fTravel, m_fTravel);
       for (Real s : ParseList(str)) {
         m_vecSteps.push_back(s);
@@ -150,7 +154,20 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     if (m_bDone || m_unSample != 0) return;
     if (m_strKind == "proximity") PlaceFacing(CurrentWall(), 0, m_vecSteps[m_unStep]);
     if (m_strKind == "light") PlaceLight();
-    if (m_strKind == "drive") StartRun();
+    if (m_strKind == "drive") {
+      if (!m_strLike.empty()) {
+        if (!m_bRunStarted) {
+          auto& s = m_vecRobots[0]->GetComponent<CEPuck2TOFEquippedEntity>("tof_sensor").GetSensor(0);
+          Place(CurrentWall(), s.Offset, s.Direction, m_fObstacle);
+          Open(m_strLikeOut, "time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm",
+               {"obstacle_distance_m: " + Num(m_fObstacle, 10), "replayed_from: " + m_strLike,
+                "protocol: ARGoS, the commands of the log above row by row, readings at the tick nearest each row's time"});
+          m_bRunStarted = true;
+        }
+        return;
+      }
+      StartRun();
+    }
   }
 
   void PostStep() override {
@@ -184,6 +201,8 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
           }
         }
       }
+    } else if (m_strKind == "drive" && !m_strLike.empty()) {
+      LikeStep(c);
     } else if (m_strKind == "drive") {
       DriveStep(c, t);
     } else if (m_strKind == "battery") {
@@ -324,6 +343,90 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     }
   }
 
+  /// A measured drive log to replay: its obstacle distance (metadata) and each row's time and
+  /// commands. Errors name the file and line.
+  void ReadDriveLog() {
+    std::ifstream in(m_strLike);
+    if (!in) THROW_ARGOSEXCEPTION("epuck2_protocol: cannot read the log \"" << m_strLike << "\"");
+    std::string line;
+    int nLine = 0, nTime = -1, nLeft = -1, nRight = -1;
+    bool bObstacle = false;
+    while (std::getline(in, line)) {
+      ++nLine;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.empty()) continue;
+      if (line[0] == '#') {
+        const auto p = line.find("obstacle_distance_m:");
+        if (p != std::string::npos) {
+          try {
+            m_fObstacle = std::stod(line.substr(p + 20));
+            bObstacle = true;
+          } catch (const std::exception&) {
+            THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": expected a number after obstacle_distance_m:");
+          }
+        }
+        continue;
+      }
+      std::vector<std::string> vecCells;
+      std::istringstream is(line);
+      std::string cell;
+      while (std::getline(is, cell, ',')) vecCells.push_back(cell);
+      if (nTime < 0) {
+        for (int i = 0; i < static_cast<int>(vecCells.size()); ++i) {
+          if (vecCells[i] == "time_s") nTime = i;
+          if (vecCells[i] == "left_speed_cm_s") nLeft = i;
+          if (vecCells[i] == "right_speed_cm_s") nRight = i;
+        }
+        if (nTime < 0 || nLeft < 0 || nRight < 0)
+          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine
+                                         << ":1: expected a drive log header with time_s, left_speed_cm_s and right_speed_cm_s");
+        continue;
+      }
+      SLikeRow r;
+      const int nCols[3] = {nTime, nLeft, nRight};
+      Real* pfOut[3] = {&r.Time, &r.Left, &r.Right};
+      for (int k = 0; k < 3; ++k) {
+        if (nCols[k] >= static_cast<int>(vecCells.size()))
+          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": expected at least " << nCols[k] + 1 << " cells");
+        try {
+          *pfOut[k] = std::stod(vecCells[nCols[k]]);
+        } catch (const std::exception&) {
+          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ":" << nCols[k] + 1 << ": expected a number, found \""
+                                         << vecCells[nCols[k]] << "\"");
+        }
+      }
+      if (!m_vecLike.empty() && r.Time < m_vecLike.back().Time)
+        THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": time_s goes backwards");
+      m_vecLike.push_back(r);
+    }
+    if (!bObstacle) THROW_ARGOSEXCEPTION(m_strLike << ": expected a '# obstacle_distance_m: D' line before the header");
+    if (m_vecLike.empty()) THROW_ARGOSEXCEPTION(m_strLike << ": no rows to replay");
+    if (m_strLikeOut.empty()) THROW_ARGOSEXCEPTION("epuck2_protocol: like= needs like_out= (the log to write)");
+  }
+
+  /// Replay: at the first PostStep the robot stands where the log's run starts (row 0, time 0);
+  /// each later row is read at the tick nearest its time and its commands then hold.
+  void LikeStep(CEPuck2RecorderController& c) {
+    const UInt64 unClock = GetSpace().GetSimulationClock();
+    if (m_unLikeRow == 0) {
+      m_nStartLeft = c.LeftSteps();
+      m_nStartRight = c.RightSteps();
+      m_unLikeStart = unClock;
+    }
+    const Real fNow = m_vecLike.front().Time + static_cast<Real>(unClock - m_unLikeStart) * m_fTick;
+    while (m_unLikeRow < m_vecLike.size() && m_vecLike[m_unLikeRow].Time <= fNow + m_fTick / 2) {
+      const SLikeRow& r = m_vecLike[m_unLikeRow];
+      m_cOut << Num(r.Time, 10) << ',' << Num(r.Left) << ',' << Num(r.Right) << ',' << Wrap16(c.LeftSteps(), m_nStartLeft)
+             << ',' << Wrap16(c.RightSteps(), m_nStartRight) << ',' << c.Tof() << '\n';
+      c.SetWheels(r.Left, r.Right);
+      ++m_unLikeRow;
+    }
+    if (m_unLikeRow == m_vecLike.size()) {
+      m_cOut.close();
+      m_bDone = true;
+    }
+  }
+
   void BatteryStep(Real t) {
     bool bAll = true;
     const long tick = std::lround(t / m_fTick);
@@ -377,6 +480,14 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   CLightEntity* m_pcLight = nullptr;
   Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0;
   SInt32 m_nStartLeft = 0, m_nStartRight = 0;
+  /* like= (drive): the measured log replayed */
+  struct SLikeRow {
+    Real Time = 0, Left = 0, Right = 0;
+  };
+  std::string m_strLike, m_strLikeOut;
+  std::vector<SLikeRow> m_vecLike;
+  std::size_t m_unLikeRow = 0;
+  UInt64 m_unLikeStart = 0;
   int m_nChargeDigits = 6;
   std::vector<SBatteryRun> m_vecBattery;
 };
