@@ -5,7 +5,7 @@
 #          scripts/argos-record.sh drive COEFFICIENT_FILE|default OUT_LOG --like LOG
 #     --like LOG         (drive) the robot placed at the log's obstacle_distance_m, the log's wheel
 #                        commands given row by row, ARGoS's readings written as one log in the
-#                        log's format, row for row, at 100 ticks/s (each row read at the tick
+#                        log's format, row for row, at 1000 ticks/s (each row read at the tick
 #                        nearest its time), into OUT_LOG (written whole or not at all);
 #     KIND               proximity | ground | light | drive | battery
 #     COEFFICIENT_FILE   a coefficient file written by epuck2-fit (proximity.json, ground.json,
@@ -68,7 +68,7 @@ sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$OUT\"|" \
     -e "s|charge_digits=\"6\"|charge_digits=\"${EPUCK2_ARGOS_CHARGE_DIGITS:-6}\"|" \
     "$ROOT/argos/experiments/$KIND.argos" > "$EXP"
 if [ -n "$LIKE" ]; then
-  sed -i -e "s|ticks_per_second=\"[^\"]*\"|ticks_per_second=\"100\"|" \
+  sed -i -e "s|ticks_per_second=\"[^\"]*\"|ticks_per_second=\"1000\"|" \
          -e "s|kind=\"drive\"|kind=\"drive\" like=\"$LIKE\" like_out=\"$OUT/replay.csv\"|" "$EXP"
 fi
 if [ "${EPUCK2_ARGOS_FIRMWARE_CAP:-true}" = false ]; then

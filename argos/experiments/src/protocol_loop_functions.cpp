@@ -416,7 +416,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     const Real fNow = m_vecLike.front().Time + static_cast<Real>(unClock - m_unLikeStart) * m_fTick;
     while (m_unLikeRow < m_vecLike.size() && m_vecLike[m_unLikeRow].Time <= fNow + m_fTick / 2) {
       const SLikeRow& r = m_vecLike[m_unLikeRow];
-      m_cOut << Num(r.Time, 10) << ',' << Num(r.Left) << ',' << Num(r.Right) << ',' << Wrap16(c.LeftSteps(), m_nStartLeft)
+      m_cOut << Num(r.Time, 10) << ',' << Num(r.Left, 10) << ',' << Num(r.Right, 10) << ',' << Wrap16(c.LeftSteps(), m_nStartLeft)
              << ',' << Wrap16(c.RightSteps(), m_nStartRight) << ',' << c.Tof() << '\n';
       c.SetWheels(r.Left, r.Right);
       ++m_unLikeRow;
