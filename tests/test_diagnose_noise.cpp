@@ -74,6 +74,10 @@ TEST(DiagnoseNoise, WithoutReplicatesTheFinalResiduals) {
   EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "proximity", 211.0, 0), std::sqrt(64.0 - 1.0 / 12.0));
   EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "proximity", 211.0, 1), std::sqrt(9.7 * 9.7 - 1.0 / 12.0));  // no readings of its own
   EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "proximity", 211.0, 0, false), 8.0);
+  // "Replicates" scattering more than the final residuals were not under the same conditions (an
+  // angle or a temperature varying within a group): the residuals bound the noise.
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "proximity", 5.0, -1, false), 5.0);
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "proximity", 5.0, 1, false), 5.0);
 }
 
 }  // namespace

@@ -52,11 +52,15 @@ double model_noise_sd(const std::map<std::string, calibrate::ReadingNoise>& repl
   const auto it = replicates.find(channel);
   if (it != replicates.end()) {
     const calibrate::ReadingNoise& n = it->second;
-    sd = n.sd;
+    double rep = n.sd;
     const auto k = static_cast<std::size_t>(sensor);
     if (sensor >= 0 && k < n.per_sensor_sd.size() && k < n.per_sensor_n.size() && n.per_sensor_n[k] > 0 &&
         std::isfinite(n.per_sensor_sd[k]))
-      sd = n.per_sensor_sd[k];
+      rep = n.per_sensor_sd[k];
+    // The final residuals hold the noise and whatever misfit is left: the noise is at most their
+    // sd. Replicates scattering more were not taken under the same conditions (a column the
+    // calibration's groups do not hold varies within them: an angle, a temperature).
+    sd = std::min(rep, residual_sd);
   }
   return whole ? std::sqrt(std::max(0.0, sd * sd - 1.0 / 12.0)) : sd;
 }

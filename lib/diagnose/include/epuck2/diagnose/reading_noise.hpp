@@ -21,7 +21,9 @@ struct Report;
 std::map<std::string, calibrate::ReadingNoise> replicate_noise(const std::vector<logs::Log>& logs);
 
 /// The noise sd of one reading of `channel` for the extended model: the replicates' (`sensor` >=
-/// 0: that sensor's own where it has readings), else `residual_sd`, the final model's residual sd;
+/// 0: that sensor's own where it has readings) but at most `residual_sd`, the final model's
+/// residual sd (replicates scattering more vary in a condition the groups do not hold), else
+/// `residual_sd`;
 /// either less the rounding's 1/12 unit^2 when `whole` (readings that are whole counts, px, mm or
 /// steps: the simulation rounds too).
 double model_noise_sd(const std::map<std::string, calibrate::ReadingNoise>& replicates, const std::string& channel,
