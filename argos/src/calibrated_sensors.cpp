@@ -413,9 +413,11 @@ void CEPuck2CalibratedEncoderSensor::Update() {
     m_tReadings.EncoderRightWheel = read(m_cRightRegister, m_fRightTravel, 1);
     return;
   }
-  /* The plug-in's noise: added to the count every tick (it accumulates) */
-  m_cLeft.tick((m_fLeftTravel - fLeftBefore) / fDeltaT, fDeltaT, m_cNoise.level(0), m_cNoise.unit(0));
-  m_cRight.tick((m_fRightTravel - fRightBefore) / fDeltaT, fDeltaT, m_cNoise.level(1), m_cNoise.unit(1));
+  /* The plug-in's noise: added to the count every tick the wheel turns (it accumulates); a wheel
+     standing still adds nothing */
+  const bool bLeft = m_fLeftTravel != fLeftBefore, bRight = m_fRightTravel != fRightBefore;
+  m_cLeft.tick((m_fLeftTravel - fLeftBefore) / fDeltaT, fDeltaT, bLeft ? m_cNoise.level(0) : 0.0, m_cNoise.unit(0));
+  m_cRight.tick((m_fRightTravel - fRightBefore) / fDeltaT, fDeltaT, bRight ? m_cNoise.level(1) : 0.0, m_cNoise.unit(1));
   m_tReadings.EncoderLeftWheel = m_cLeft.reading();
   m_tReadings.EncoderRightWheel = m_cRight.reading();
 }
@@ -437,8 +439,8 @@ REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", 
                 "The Gaussian is added to each reading (the count stays noiseless: a step\n"
                 "counter does not drift), drawn only when the count moved: a register standing\n"
                 "still reads exactly what it read; the uniform noise, as in the plug-in, to the count\n"
-                "every tick, where it accumulates (after k ticks its sd is sqrt(k) times the\n"
-                "file's).",
+                "every tick the wheel turns, where it accumulates (after k ticks its sd is sqrt(k)\n"
+                "times the file's).",
                 "Usable");
 
 /****************************************/
