@@ -27,6 +27,7 @@ write("cap", {"slip_time_constant_s": 0.0})
 write("accel", {"slip_time_constant_s": 0.0}, {"accel_limit": {"accel_cm_s2": 50.0}})
 write("slip", {"slip_time_constant_s": 0.3})
 write("still", {"slip_time_constant_s": 0.0}, None, {"sd": 3.0})
+write("covariate", {}, {"covariate:temperature_c": {"slope": 0.5, "centre": 25.0}})
 PY
 run() {  # name speeds noise actuator_implementation
   local dir="$WORK/$1"; mkdir -p "$dir"
@@ -41,4 +42,12 @@ run default 20 false default cap
 run accel 10 false calibrated
 run slip 10 false calibrated
 run still 10 true calibrated
+# A refusal: an effect ARGoS cannot apply stops it at Init, naming the effect and why.
+mkdir -p "$WORK/covariate"
+sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$WORK/covariate\"|" -e "s|coefficients=\"[^\"]*\"|coefficients=\"$WORK/covariate.json\"|g" \
+    "$ROOT/argos/experiments/drive.argos" > "$WORK/covariate/exp.argos"
+if argos3 -n -z -c "$WORK/covariate/exp.argos" > "$WORK/covariate/log" 2>&1; then echo "FAIL: ARGoS ran with a covariate effect"; exit 1; fi
+grep -q "calibrated differential_steering: .*covariate.json: effects.covariate:temperature_c: the calibrated differential_steering actuator cannot apply it in ARGoS: it needs the log column 'temperature_c', which ARGoS does not have" "$WORK/covariate/log" ||
+  { cat "$WORK/covariate/log"; echo "FAIL: no message naming the covariate"; exit 1; }
+echo "ok   refusal: $(grep -o "effects.covariate:temperature_c: [^(]*" "$WORK/covariate/log" | head -1)"
 python3 "$HERE/actuator_check.py" "$WORK"
