@@ -26,7 +26,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 LIKE=""
 if [ $# -eq 5 ] && [ "$4" = "--like" ]; then LIKE="$5"; set -- "$1" "$2" "$3"; fi
 if [ $# -ne 3 ]; then
-  sed -n '2,24p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2
+  sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | grep -v '^set -euo' | sed 's/^# \{0,1\}//' >&2
   exit 2
 fi
 KIND="$1"; COEFF="$2"; OUT="$3"
@@ -91,6 +91,10 @@ else
 fi
 # Headless: the experiment files have an empty <visualization/>.
 ARGOS_PLUGIN_PATH="$LIBDIR${ARGOS_PLUGIN_PATH:+:$ARGOS_PLUGIN_PATH}" argos3 -n -z -c "$EXP" > "$OUT/.$KIND.argos.log" 2>&1 || {
+  # A log to replay that cannot be read is bad input (exit 2), said with its file and line.
+  if [ -n "$LIKE" ] && grep -q "FATAL\] $LIKE" "$OUT/.$KIND.argos.log"; then
+    grep "FATAL\] $LIKE" "$OUT/.$KIND.argos.log" | head -n1 | sed 's/^.*FATAL\] /argos-record: /' >&2; exit 2
+  fi
   echo "argos-record: argos3 failed on $EXP:" >&2; tail -n 20 "$OUT/.$KIND.argos.log" >&2; exit 1; }
 ls "$OUT"/*.csv >/dev/null 2>&1 || { echo "argos-record: no log written in $OUT" >&2; exit 1; }
 if [ -n "$LIKE" ]; then
