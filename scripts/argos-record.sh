@@ -7,9 +7,9 @@
 #                        commands given row by row, ARGoS's readings written as one log in the
 #                        log's format, row for row, at 1000 ticks/s (each row read at the tick
 #                        nearest its time), into OUT_LOG (written whole or not at all);
-#     KIND               proximity | ground | light | drive | battery
+#     KIND               proximity | ground | light | camera | drive | battery
 #     COEFFICIENT_FILE   a coefficient file written by epuck2-fit (proximity.json, ground.json,
-#                        light.json, drive.json for drive, battery.json): the `calibrated`
+#                        light.json, camera.json, drive.json for drive, battery.json): the `calibrated`
 #                        implementations use it;
 #     default            the E-Puck2 plug-in's own implementations (and its battery tables).
 # Environment: EPUCK2_BUILD_DIR (default build), EPUCK2_ARGOS_ROBOT (the `# robot:` id, default
@@ -35,7 +35,7 @@ if [ -n "$LIKE" ]; then
   [ -r "$LIKE" ] || { echo "argos-record: cannot read $LIKE" >&2; exit 2; }
   LIKE="$(cd "$(dirname "$LIKE")" && pwd)/$(basename "$LIKE")"
 fi
-case "$KIND" in proximity|ground|light|drive|battery) ;; *) echo "argos-record: unknown kind '$KIND'" >&2; exit 2;; esac
+case "$KIND" in proximity|ground|light|camera|drive|battery) ;; *) echo "argos-record: unknown kind '$KIND'" >&2; exit 2;; esac
 BUILD="${EPUCK2_BUILD_DIR:-$ROOT/build}"
 LIBDIR="$(cd "$BUILD" 2>/dev/null && pwd)/lib/argos3"
 command -v argos3 >/dev/null 2>&1 || { echo "argos-record: argos3 not found (see docs/argos.md)" >&2; exit 3; }

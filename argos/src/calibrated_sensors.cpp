@@ -12,11 +12,13 @@
 #include <argos3/core/simulator/entity/embodied_entity.h>
 #include <argos3/core/simulator/entity/floor_entity.h>
 #include <argos3/core/simulator/simulator.h>
+#include <argos3/core/simulator/space/positional_indices/positional_index.h>
 #include <argos3/core/utility/string_utilities.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_camera_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_encoder_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
 #include <argos3/plugins/simulator/entities/ground_sensor_equipped_entity.h>
+#include <argos3/plugins/simulator/entities/led_entity.h>
 #include <argos3/plugins/simulator/entities/light_entity.h>
 #include <argos3/plugins/simulator/entities/light_sensor_equipped_entity.h>
 #include <argos3/plugins/simulator/entities/proximity_sensor_equipped_entity.h>
@@ -550,48 +552,112 @@ REGISTER_SENSOR(CEPuck2CalibratedLightSensor, "epuck2_light", "calibrated", "epu
 void CEPuck2CalibratedCameraSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_colored_blob_perspective_camera";
   SCommon s = ReadCommon(t_tree, strName, {"camera"}, *m_pcCamEntity);
-  RefuseEffects(s);
   Checked(strName, [&] {
-    const SInt32 nW = m_pcCamEntity->GetImagePxWidth(), nH = m_pcCamEntity->GetImagePxHeight();
-    /* The fitted horizontal field of view as ARGoS's aperture (half-angle on the diagonal) */
-    const double fAperture =
-        ms::aperture_from_horizontal_fov_rad(ms::deg_to_rad(s.File->scalar("fov_deg")), nW, nH);
-    m_pcCamEntity->SetAperture(CRadians(fAperture));
-    m_pcCamEntity->SetRange(s.File->scalar_or("range_m", m_pcCamEntity->GetRange()));
-    /* The image size in metres follows the aperture */
-    m_pcCamEntity->SetImagePxSize(nW, nH);
-    m_nShiftX = static_cast<SInt32>(std::lround(s.File->scalar_or("cx_px", nW / 2.0) - nW / 2.0));
-    m_nShiftY = static_cast<SInt32>(std::lround(s.File->scalar_or("cy_px", nH / 2.0) - nH / 2.0));
+    for (auto it = s.File->effects().begin(); it != s.File->effects().end(); ++it)
+      if (it.key() != "radial_distortion")
+        s.File->fail("effects." + it.key() + ": the calibrated camera cannot apply it in ARGoS" +
+                     (it.key().rfind("covariate:", 0) == 0
+                          ? ": it needs the log column '" + it.key().substr(10) + "', which ARGoS does not have"
+                          : std::string(": not a camera effect (the camera's is radial_distortion)")));
+    const double fW = m_pcCamEntity->GetImagePxWidth(), fH = m_pcCamEntity->GetImagePxHeight();
+    m_sModel.base.width_px = fW;
+    m_sModel.base.horizontal_fov_rad = ms::deg_to_rad(s.File->scalar("fov_deg"));
+    m_sModel.base.cx_px = s.File->scalar_or("cx_px", fW / 2.0);
+    m_sModel.base.cy_px = s.File->scalar_or("cy_px", fH / 2.0);
+    const auto& e = s.File->effects();
+    if (e.contains("radial_distortion")) {
+      const auto& d = e.at("radial_distortion");
+      if (!d.is_object() || !d.contains("k1") || !d.at("k1").is_number())
+        s.File->fail("effects.radial_distortion.k1 must be a number");
+      m_sModel.distortion.k1 = d.at("k1").get<double>();
+    }
+    /* Which LEDs it sees: the cone of the fitted field of view's aperture (ARGoS's, the half-angle
+       on the image diagonal) and the range, as the plug-in's camera */
+    m_fAperture = ms::aperture_from_horizontal_fov_rad(m_sModel.base.horizontal_fov_rad, static_cast<int>(fW),
+                                                       static_cast<int>(fH));
+    m_fRange = s.File->scalar_or("range_m", m_pcCamEntity->GetRange());
+    m_pcCamEntity->SetAperture(CRadians(m_fAperture));
+    m_pcCamEntity->SetRange(m_fRange);
+    m_pcCamEntity->SetImagePxSize(static_cast<SInt32>(fW), static_cast<SInt32>(fH));
+    /* The pixel noise (noise.camera, px), each axis; scale 1: the noise is in pixels */
+    ConfigureNoise(s, "camera", "px", 2, 1.0, m_cNoise);
   });
   CEPuck2ColoredBlobPerspectiveCameraDefaultSensor::Init(t_tree);
 }
 
-void CEPuck2CalibratedCameraSensor::Update() {
-  CEPuck2ColoredBlobPerspectiveCameraDefaultSensor::Update();
-  if (m_nShiftX == 0 && m_nShiftY == 0) return;
-  auto& tBlobs = m_sReadings.BlobList;
-  const SInt32 nW = m_pcCamEntity->GetImagePxWidth(), nH = m_pcCamEntity->GetImagePxHeight();
-  std::size_t unKept = 0;
-  for (std::size_t i = 0; i < tBlobs.size(); ++i) {
-    tBlobs[i]->X += m_nShiftX;
-    tBlobs[i]->Y += m_nShiftY;
-    if (tBlobs[i]->X < 0 || tBlobs[i]->X >= nW || tBlobs[i]->Y < 0 || tBlobs[i]->Y >= nH) {
-      delete tBlobs[i];
-    } else {
-      tBlobs[unKept++] = tBlobs[i];
-    }
+namespace {
+
+/// The LEDs the calibrated camera sees in one frame, projected with lib/models' camera model.
+class CCalibratedCameraLEDs : public CPositionalIndex<CLEDEntity>::COperation {
+ public:
+  CCalibratedCameraLEDs(CEPuck2CameraEquippedEntity& c_cam, CEmbodiedEntity& c_body, const ms::CameraModel& s_model,
+                        Real f_aperture, Real f_range, ArgosNoise& c_noise,
+                        CCI_ColoredBlobPerspectiveCameraSensor::TBlobList& t_blobs)
+      : m_cCam(c_cam), m_cBody(c_body), m_sModel(s_model), m_fAperture(f_aperture), m_fRange(f_range), m_cNoise(c_noise),
+        m_tBlobs(t_blobs), m_cInverse(c_cam.GetOrientation().Inverse()) {
+    m_cRay.SetStart(c_cam.GetPosition());
   }
-  tBlobs.resize(unKept);
+  bool operator()(CLEDEntity& c_led) override {
+    if (c_led.GetColor() == CColor::BLACK || &c_led.GetRootEntity() == &m_cBody.GetRootEntity()) return true;
+    CVector3 cRel = c_led.GetPosition() - m_cCam.GetPosition();
+    cRel.Rotate(m_cInverse);  // X forward, Y left, Z up
+    if (!ms::camera_sees(m_fAperture, m_fRange, cRel.GetX(), cRel.GetY(), cRel.GetZ())) return true;
+    m_cRay.SetEnd(c_led.GetPosition());
+    SEmbodiedEntityIntersectionItem sItem;
+    if (GetClosestEmbodiedEntityIntersectedByRay(sItem, m_cRay, m_cBody)) return true;
+    /* The sub-pixel image position, the noise, then the rounding (lib/models' reading) */
+    const auto p = ms::mean_px(m_sModel, cRel.GetX(), cRel.GetY(), cRel.GetZ());
+    const double fX = std::round(p[0] + ms::uniform_noise(m_cNoise.unit(0), m_cNoise.level(0)));
+    const double fY = std::round(p[1] + ms::uniform_noise(m_cNoise.unit(1), m_cNoise.level(1)));
+    if (fX < 0 || fY < 0 || fX >= m_cCam.GetImagePxWidth() || fY >= m_cCam.GetImagePxHeight()) return true;
+    m_tBlobs.push_back(new CCI_ColoredBlobPerspectiveCameraSensor::SBlob(c_led.GetColor(), static_cast<SInt32>(fX),
+                                                                         static_cast<SInt32>(fY)));
+    return true;
+  }
+
+ private:
+  CEPuck2CameraEquippedEntity& m_cCam;
+  CEmbodiedEntity& m_cBody;
+  const ms::CameraModel& m_sModel;
+  Real m_fAperture, m_fRange;
+  ArgosNoise& m_cNoise;
+  CCI_ColoredBlobPerspectiveCameraSensor::TBlobList& m_tBlobs;
+  CQuaternion m_cInverse;
+  CRay3 m_cRay;
+};
+
+}  // namespace
+
+void CEPuck2CalibratedCameraSensor::Update() {
+  if (IsDisabled()) return;
+  ++m_sReadings.Counter;
+  auto& tBlobs = m_sReadings.BlobList;
+  while (!tBlobs.empty()) {
+    delete tBlobs.back();
+    tBlobs.pop_back();
+  }
+  /* The plug-in's search box: half the range ahead, as wide as the aperture there */
+  const Real fHalfRange = m_fRange * 0.5;
+  const Real fHalfSide = fHalfRange * std::tan(m_fAperture);
+  CVector3 cCenter(fHalfRange, 0.0, 0.0);
+  cCenter.Rotate(m_pcCamEntity->GetOrientation());
+  cCenter += m_pcCamEntity->GetPosition();
+  CVector3 cCorner(fHalfRange, fHalfSide, fHalfSide);
+  cCorner.Rotate(m_pcCamEntity->GetOrientation());
+  const CVector3 cHalf(Abs(cCorner.GetX()) + fHalfSide, Abs(cCorner.GetY()) + fHalfSide, Abs(cCorner.GetZ()) + fHalfSide);
+  CCalibratedCameraLEDs cOp(*m_pcCamEntity, *m_pcEmbodiedEntity, m_sModel, m_fAperture, m_fRange, m_cNoise, tBlobs);
+  m_pcLEDIndex->ForEntitiesInBoxRange(cCenter, cHalf, cOp);
 }
 
 REGISTER_SENSOR(CEPuck2CalibratedCameraSensor, "epuck2_colored_blob_perspective_camera", "calibrated", "epuck2-fit",
-                "1.0", "The E-Puck2 camera with the field of view and image centre fitted by epuck2-fit.",
-                "The plug-in's colored blob perspective camera with the camera coefficient file's\n"
-                "horizontal field of view fov_deg (set as ARGoS's aperture, the half-angle on the\n"
-                "image diagonal), range_m, and image centre cx_px, cy_px (blobs shifted by the\n"
-                "centre's offset from the middle of the image, in whole pixels).\n\n"
+                "1.0", "The E-Puck2 camera with the project's projection and the coefficients fitted by epuck2-fit.",
+                "The LEDs of the LED medium the plug-in's camera would see (cone of the fitted field of\n"
+                "view's aperture, range_m, occlusions), each projected with lib/models' camera model:\n"
+                "the camera file's horizontal field of view fov_deg, image centre cx_px, cy_px at\n"
+                "sub-pixel accuracy, a diagnosis's radial_distortion k1, and the measured pixel noise\n"
+                "noise.camera (Gaussian, each axis), then rounded; blobs off the image are dropped.\n\n"
                 "  <epuck2_colored_blob_perspective_camera implementation=\"calibrated\"\n"
-                "      coefficients=\"camera.json\" medium=\"leds\" />",
+                "      coefficients=\"camera.json\" medium=\"leds\" noise=\"true\" robot=\"ID|auto\" />",
                 "Usable");
 
 }  // namespace argos

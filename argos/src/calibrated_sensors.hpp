@@ -31,6 +31,7 @@
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_default_sensor.h>
 
+#include <epuck2/models/kinds.hpp>
 #include <epuck2/models/sensors.hpp>
 
 #include "argos_noise.hpp"
@@ -103,16 +104,18 @@ class CEPuck2CalibratedLightSensor : public CEPuck2LightDefaultSensor {
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 
-/// The camera: the plug-in's projection with the fitted field of view (as ARGoS's aperture, the
-/// half-angle on the diagonal) and range; the fitted image centre shifts the blobs by whole
-/// pixels (the plug-in's blob coordinates are integers).
+/// The camera with the project's projection (lib/models camera.hpp): the fitted horizontal field
+/// of view, the image centre at sub-pixel accuracy before rounding, radial distortion and the
+/// calibrated pixel noise; LEDs found, seen and occluded as the plug-in's camera does.
 class CEPuck2CalibratedCameraSensor : public CEPuck2ColoredBlobPerspectiveCameraDefaultSensor {
  public:
   void Init(TConfigurationNode& t_tree) override;
   void Update() override;
 
  private:
-  SInt32 m_nShiftX = 0, m_nShiftY = 0;
+  epuck2::models::sensors::CameraModel m_sModel;
+  Real m_fAperture = 0, m_fRange = 0;
+  epuck2::argos_plugin::ArgosNoise m_cNoise;  ///< two channels: px, py (the same sd)
 };
 
 }  // namespace argos

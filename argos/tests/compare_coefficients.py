@@ -25,11 +25,16 @@ import sys
 #         argos/tests/actuator.sh, 0.312 s for a file's 0.3 s), hence 0.015 s.
 #  battery: rows every 10 s; the lifetime is the last tick with charge left.
 #  light: 12-bit counts.
+#  camera: whole pixels, noiseless, every frame of a grid position the same: the rounding (+-0.5 px)
+#          is not averaged out as the robot's noise dithers it; over the grid's 190 positions it
+#          moves the centre by a few hundredths of a pixel and the field of view (f = 290 px) by a
+#          few hundredths of a degree, hence 0.1 px and 0.05 deg.
 TOLERANCE = {
     "proximity": {"a": 0.5, "b": 0.02, "c": 0.0003},
     "ground": {"gain": 0.75, "offset": 0.5},
     "drive": {"steps_per_m": 4.0, "tof_scale": 0.0015, "tof_offset_mm": 0.5, "slip_time_constant_s": 0.015},
     "light": {"gamma": 5e-5},
+    "camera": {"cx_px": 0.1, "cy_px": 0.1, "fov_deg": 0.05},
     "battery": {},
 }
 PLUGIN = {
@@ -43,6 +48,8 @@ NOT_COMPARED = {
     "proximity": {"mean_a": "means of noiseless readings equal the maxima", "mean_b": "idem", "mean_c": "idem",
                   "range_m": "geometry, not fitted"},
     "light": {"range_m": "geometry, not fitted"},
+    "camera": {"aperture_deg": "ARGoS's aperture, computed from fov_deg", "width_px": "the image's size, not fitted",
+               "height_px": "the image's size, not fitted", "range_m": "geometry, not fitted"},
 }
 
 

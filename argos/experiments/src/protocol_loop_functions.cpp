@@ -26,6 +26,7 @@
 #include <argos3/core/simulator/simulator.h>
 #include <argos3/core/simulator/physics_engine/physics_engine.h>
 #include <argos3/core/utility/math/vector2.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_camera_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
 #include <argos3/plugins/simulator/entities/box_entity.h>
@@ -124,6 +125,20 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
         m_vecSteps.push_back(s);
         m_vecSteps.push_back(-s);
       }
+    } else if (m_strKind == "camera") {
+      /* An LED (the light entity, in the LED medium) at each position of a grid in the camera's
+         frame (forward, lateral, vertical), held for a settling tick and then `samples` frames */
+      std::string strF = "0.15:0.05:0.4", strL = "-0.06:0.02:0.06", strV = "-0.03:0.015:0.03";
+      GetNodeAttributeOrDefault(t_tree, "forward", strF, strF);
+      GetNodeAttributeOrDefault(t_tree, "lateral", strL, strL);
+      GetNodeAttributeOrDefault(t_tree, "vertical", strV, strV);
+      for (Real f : ParseList(strF))
+        for (Real l : ParseList(strL))
+          for (Real v : ParseList(strV)) m_vecCameraPoints.push_back(CVector3(f, l, v));
+      m_pcLight = &dynamic_cast<CLightEntity&>(GetSpace().GetEntity("light"));
+      Open(m_strOutDir + "/camera_" + m_strRobot + ".csv", "forward_m,lateral_m,vertical_m,px,py",
+           {"protocol: ARGoS, one LED at each position of a grid in the camera's frame, " + std::to_string(m_unSamples) +
+            " frames each"});
     } else if (m_strKind == "battery") {
       GetNodeAttributeOrDefault(t_tree, "period", m_fPeriod, m_fPeriod);
       /* Significant digits of the charge (the firmware's percentage/100 has 6; 17 for bit-exact comparisons) */
@@ -146,7 +161,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
         Controller(i).SetWheels(-fSpeed, fSpeed);
       }
     } else {
-      THROW_ARGOSEXCEPTION("epuck2_protocol: kind must be proximity, ground, light, drive or battery, not \"" << m_strKind << "\"");
+      THROW_ARGOSEXCEPTION("epuck2_protocol: kind must be proximity, ground, light, camera, drive or battery, not \"" << m_strKind << "\"");
     }
   }
 
@@ -154,6 +169,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     if (m_bDone || m_unSample != 0) return;
     if (m_strKind == "proximity") PlaceFacing(CurrentWall(), 0, m_vecSteps[m_unStep]);
     if (m_strKind == "light") PlaceLight();
+    if (m_strKind == "camera") PlaceLed();
     if (m_strKind == "drive") {
       if (!m_strLike.empty()) {
         if (!m_bRunStarted) {
@@ -207,6 +223,8 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       DriveStep(c, t);
     } else if (m_strKind == "battery") {
       BatteryStep(t);
+    } else if (m_strKind == "camera") {
+      CameraStep(c);
     }
   }
 
@@ -306,6 +324,32 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       std::snprintf(name, sizeof name, "/light_intensity_%.2f.csv", m_vecIntensities[m_unIntensity]);
       Open(m_strOutDir + name, "distance_m,intensity,sensor,value",
            {"protocol: ARGoS, one light on sensor 0's then sensor 7's axis, at the sensor's height"});
+    }
+  }
+
+  /// Camera: the LED at the current grid point, in the camera's frame (X forward, Y left, Z up).
+  void PlaceLed() {
+    if (m_bCameraSettled) return;
+    auto& cCam = m_vecRobots[0]->GetComponent<CEPuck2CameraEquippedEntity>("perspective_camera");
+    CVector3 cPoint = m_vecCameraPoints[m_unStep];
+    cPoint.Rotate(cCam.GetOrientation());
+    m_pcLight->SetPosition(cCam.GetPosition() + cPoint);
+  }
+
+  /// A settling tick after each move (the LED medium's index follows the light a tick later), then
+  /// `samples` frames: every blob the camera reports is a row.
+  void CameraStep(CEPuck2RecorderController& c) {
+    if (!m_bCameraSettled) {
+      m_bCameraSettled = true;
+      return;
+    }
+    const CVector3& p = m_vecCameraPoints[m_unStep];
+    for (const auto& b : c.Blobs())
+      m_cOut << Num(p.GetX()) << ',' << Num(p.GetY()) << ',' << Num(p.GetZ()) << ',' << b.first << ',' << b.second << '\n';
+    if (++m_unSample == m_unSamples) {
+      m_unSample = 0;
+      m_bCameraSettled = false;
+      if (++m_unStep == m_vecCameraPoints.size()) m_bDone = true;
     }
   }
 
@@ -477,6 +521,8 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   bool m_bDone = false, m_bRunStarted = false;
   std::ofstream m_cOut;
   std::vector<std::unique_ptr<std::ofstream>> m_vecGroundOut;  ///< ground: robots 1.. (a swarm)
+  std::vector<CVector3> m_vecCameraPoints;  ///< camera: the LED's positions in the camera's frame
+  bool m_bCameraSettled = false;
   CLightEntity* m_pcLight = nullptr;
   Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0;
   SInt32 m_nStartLeft = 0, m_nStartRight = 0;
