@@ -12,10 +12,10 @@
 #include <sstream>
 
 #include "app_support.hpp"
-#include "epuck2/calibrate/model_file.hpp"
+#include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/logs/json_location.hpp"
 #include "commands.hpp"
-#include "epuck2/calibrate/battery_json.hpp"
+#include "epuck2/coefficients/codegen.hpp"
 #include "epuck2/logs/output.hpp"
 
 namespace epuck2::app {
@@ -92,46 +92,6 @@ std::string identifier_problem(const std::string& name) {
   return "";
 }
 
-void emit_battery(std::ostringstream& os, const nlohmann::json& j, const std::string& path) {
-  const mb::Tables t = calibrate::battery_tables_from_json(j, path);
-  os << "#define EPUCK2_FITTED_HAS_BATTERY 1\n\n";
-  os << "/// The four discharge models' tables fitted from " << path << ".\n";
-  os << "inline const models::battery::Tables& battery_tables() {\n";
-  os << "  static const models::battery::Tables tables = [] {\n";
-  os << "    models::battery::Tables t{};\n";
-  for (int s = 0; s < mb::kSpeedCount; ++s) {
-    const auto& q = t.cubic[static_cast<std::size_t>(s)];
-    os << "    // " << s << " cm/s\n";
-    os << "    t.cubic[" << s << "] = {" << num(q.d) << ", " << num(q.c) << ", " << num(q.b) << ", " << num(q.a) << ", "
-       << num(q.end_s) << "};\n";
-    for (int k = 0; k < mb::kSegmentCount; ++k) {
-      const auto& g = t.segments[static_cast<std::size_t>(s)][static_cast<std::size_t>(k)];
-      os << "    t.segments[" << s << "][" << k << "] = {" << num(g.h) << ", " << num(g.m) << ", " << num(g.x1_s) << ", "
-         << num(g.x2_s) << ", " << num(g.y1) << ", " << num(g.y2) << "};\n";
-    }
-    os << "    t.linear_slope_per_s[" << s << "] = " << num(t.linear_slope_per_s[static_cast<std::size_t>(s)]) << ";\n";
-    os << "    t.lifetime_s[" << s << "] = " << num(t.lifetime_s[static_cast<std::size_t>(s)]) << ";\n";
-  }
-  os << "    t.simple_static_slope_per_s = " << num(t.simple_static_slope_per_s) << ";\n";
-  os << "    t.simple_moving_slope_per_s = " << num(t.simple_moving_slope_per_s) << ";\n";
-  os << "    return t;\n  }();\n  return tables;\n}\n";
-}
-
-// The battery as a model (kinds.hpp BatteryModel): the tables above, the discharge model, the
-// capacity scale a diagnosis found (1 for a calibration) and the charge reading's noise.
-std::string covariates_code(const std::vector<models::sensors::CovariateEffect>& covariates);
-
-void emit_battery_model(std::ostringstream& os, const nlohmann::json& j, const std::string& path) {
-  const models::sensors::BatteryModel m = calibrate::battery_model_from_json(j, path);
-  os << "\n/// The battery model of " << path << ": the discharge model, the tables above, the capacity scale and the\n"
-     << "/// charge reading's noise.\n"
-     << "inline models::sensors::BatteryModel battery_model() {\n  models::sensors::BatteryModel m;\n"
-     << "  m.model = models::battery::Model::" << mb::to_string(m.model) << ";\n"
-     << "  m.tables = battery_tables();\n"
-     << "  m.capacity.k = " << num(m.capacity.k) << ";\n"
-     << "  m.noise_sd = " << num(m.noise_sd) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
-}
-
 // Any other kind: every numeric entry of "parameters" (and "std_errors") as a named constant.
 void emit_parameters(std::ostringstream& os, const nlohmann::json& j, const std::string& path, const std::string& kind) {
   os << "namespace " << kind << " {\n";
@@ -177,94 +137,20 @@ void emit_parameters(std::ostringstream& os, const nlohmann::json& j, const std:
   os << "}  // namespace " << kind << "\n";
 }
 
-template <std::size_t N>
-std::string array_of(const std::array<double, N>& a) {
-  std::string s = "{";
-  for (std::size_t i = 0; i < N; ++i) s += (i ? ", " : "") + num(a[i]);
-  return s + "}";
-}
-
-/// `  m.covariates = {{"NAME", slope, centre}, ...};` for a model with covariate:NAME effects
-/// (nothing for one without: the calibration files' headers are unchanged).
-std::string covariates_code(const std::vector<models::sensors::CovariateEffect>& covariates) {
-  if (covariates.empty()) return "";
-  std::string out = "  m.covariates = {";
-  for (std::size_t i = 0; i < covariates.size(); ++i) {
-    std::string name;
-    for (char ch : covariates[i].column) {
-      if (ch == '"' || ch == '\\') name += '\\';
-      name += ch;
-    }
-    out += std::string(i ? ", " : "") + "{\"" + name + "\", " + num(covariates[i].slope) + ", " + num(covariates[i].centre) + "}";
-  }
-  return out + "};\n";
-}
-
 /// The kind's model (lib/models kinds.hpp) as a function returning a constant instance, in the
-/// units the model takes (radians for the camera's field of view), read from the file by the same
-/// reader `simulate --like` uses (lib/calibrate model_file).
+/// units the model takes (radians for the camera's field of view), read and written by the
+/// coefficient file's owner (lib/coefficients), the same reader `simulate --like` uses.
 void emit_model(std::ostringstream& os, const nlohmann::json& j, const std::string& path, const std::string& kind) {
   namespace s = models::sensors;
-  auto model_error = [&](const std::exception& e) { return logs::json_file_error(path, "", e.what()); };
   try {
-    if (kind == "proximity") {
-      const s::ProximityModel m = calibrate::proximity_model_from_json(j, path);
-      const auto& e = m.effects;
-      os << "/// The proximity model of " << path << ": base, effects, reading noise (counts).\n"
-         << "inline models::sensors::ProximityModel proximity_model() {\n  models::sensors::ProximityModel m;\n"
-         << "  m.base = {" << num(m.base.a_per_m2) << ", " << num(m.base.b_per_m) << ", " << num(m.base.c) << ", " << num(m.base.range_m) << "};\n"
-         << "  m.effects.ambient.offset_raw = " << num(e.ambient.offset_raw) << ";\n"
-         << "  m.effects.gains.gain = " << array_of(e.gains.gain) << ";\n"
-         << "  m.effects.tail.amplitude_raw = " << num(e.tail.amplitude_raw) << ";\n"
-         << "  m.effects.tail.length_m = " << num(e.tail.length_m) << ";\n"
-         << "  m.effects.incidence.k = " << num(e.incidence.k) << ";\n"
-         << "  m.effects.saturation.level_raw = " << num(e.saturation.level_raw) << ";\n"
-         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
-    } else if (kind == "light") {
-      const s::LightModel m = calibrate::light_model_from_json(j, path);
-      os << "/// The light model of " << path << ": base, effects, reading noise (counts).\n"
-         << "inline models::sensors::LightModel light_model() {\n  models::sensors::LightModel m;\n"
-         << "  m.base.gamma_m = " << num(m.base.gamma_m) << ";\n  m.base.range_m = " << num(m.base.range_m) << ";\n"
-         << "  m.effects.ambient.offset_raw = " << num(m.effects.ambient.offset_raw) << ";\n"
-         << "  m.effects.falloff.exponent = " << num(m.effects.falloff.exponent) << ";\n"
-         << "  m.effects.gains.gain = " << array_of(m.effects.gains.gain) << ";\n"
-         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
-    } else if (kind == "ground") {
-      const s::GroundModel m = calibrate::ground_model_from_json(j, path);
-      os << "/// The ground model of " << path << ": per-sensor gain and black offset, effects, reading noise (counts).\n"
-         << "inline models::sensors::GroundModel ground_model() {\n  models::sensors::GroundModel m;\n";
-      for (std::size_t k = 0; k < m.sensors.size(); ++k)
-        os << "  m.sensors[" << k << "] = {" << num(m.sensors[k].gain_raw) << ", " << num(m.sensors[k].offset_raw) << "};\n";
-      os << "  m.effects.exponent = " << num(m.effects.exponent) << ";\n"
-         << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
-    } else if (kind == "camera") {
-      const s::CameraModel m = calibrate::camera_model_from_json(j, path);
-      os << "/// The camera model of " << path << " (field of view in radians), distortion, pixel noise.\n"
-         << "inline models::sensors::CameraModel camera_model() {\n  models::sensors::CameraModel m;\n"
-         << "  m.base.horizontal_fov_rad = " << num(m.base.horizontal_fov_rad) << ";\n"
-         << "  m.base.cx_px = " << num(m.base.cx_px) << ";\n  m.base.cy_px = " << num(m.base.cy_px) << ";\n"
-         << "  m.distortion.k1 = " << num(m.distortion.k1) << ";\n"
-         << "  m.noise_sd_px = " << num(m.noise_sd_px) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
-    } else if (kind == "drive") {
-      const s::DriveModel m = calibrate::drive_model_from_json(j, path);
-      const auto& e = m.effects;
-      os << "/// The drive model of " << path << ": encoders, effects, ToF and encoder noise.\n"
-         << "inline models::sensors::DriveModel drive_model() {\n  models::sensors::DriveModel m;\n"
-         << "  m.steps_per_m = " << num(m.steps_per_m) << ";\n"
-         << "  m.effects.speed_limit.max_cm_s = " << num(e.speed_limit.max_cm_s) << ";\n"
-         << "  m.effects.accel_limit.accel_cm_s2 = " << num(e.accel_limit.accel_cm_s2) << ";\n"
-         << "  m.effects.slip.tau_s = " << num(e.slip.tau_s) << ";\n"
-         << "  m.effects.speed_scale.k = " << num(e.speed_scale.k) << ";\n"
-         << "  m.effects.latency.delay_s = " << num(e.latency.delay_s) << ";\n"
-         << "  m.effects.tof_offset.offset_mm = " << num(e.tof_offset.offset_mm) << ";\n"
-         << "  m.effects.tof_scale.k = " << num(e.tof_scale.k) << ";\n"
-         << "  m.tof_noise_sd_mm = " << num(m.tof_noise_sd_mm) << ";\n"
-         << "  m.encoder_noise_sd_steps = " << num(m.encoder_noise_sd_steps) << ";\n" << covariates_code(m.covariates) << "  return m;\n}\n";
-    }
-  } catch (const logs::InputError&) {
-    throw;
-  } catch (const std::runtime_error& e) {
-    throw model_error(e);
+    if (kind == "proximity") os << coefficients::model_to_cpp(coefficients::proximity_model_from_json(j, path), path);
+    else if (kind == "light") os << coefficients::model_to_cpp(coefficients::light_model_from_json(j, path), path);
+    else if (kind == "ground") os << coefficients::model_to_cpp(coefficients::ground_model_from_json(j, path), path);
+    else if (kind == "camera") os << coefficients::model_to_cpp(coefficients::camera_model_from_json(j, path), path);
+    else if (kind == "drive") os << coefficients::model_to_cpp(coefficients::drive_model_from_json(j, path), path);
+    else if (kind == "battery") os << coefficients::model_to_cpp(coefficients::battery_model_from_json(j, path), path);
+  } catch (const std::domain_error& e) {
+    throw logs::json_file_error(path, "", e.what());
   }
 }
 
@@ -298,8 +184,7 @@ int run_codegen(const CodegenOptions& o) {
                                                    "): give one file per kind");
     body << "\n// ---- " << kind << " (" << in << ") ----\n";
     if (kind == "battery") {
-      emit_battery(body, j, in);
-      emit_battery_model(body, j, in);
+      emit_model(body, j, in, kind);
     } else {
       emit_parameters(body, j, in, kind);
       emit_model(body, j, in, kind);

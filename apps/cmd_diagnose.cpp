@@ -15,9 +15,10 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
+#include "epuck2/models/effects.hpp"
 #include "log_help.hpp"
 #include "epuck2/calibrate/battery_json.hpp"
-#include "epuck2/calibrate/model_file.hpp"
+#include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/calibrate/report_json.hpp"
 #include "epuck2/fit/report.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
@@ -73,6 +74,11 @@ std::string residual_unit(logs::Kind k) {
 /// A catalogue parameter's unit, from its name (docs/diagnose.md's catalogue).
 std::string parameter_unit(logs::Kind kind, const std::string& name) {
   const std::string base = name.substr(0, name.find('['));
+  if (base == "slope") return residual_unit(kind) + " per unit of the column";
+  // A catalogue parameter: its unit in the registry (lib/models effects.hpp).
+  if (const auto* c = models::effects::catalogue(std::string(logs::to_string(kind))))
+    for (const auto& e : *c)
+      if (const auto* p = e.param(base)) return std::string(p->unit) == "counts" ? residual_unit(kind) : p->unit;
   auto ends = [&](const std::string& suffix) {
     return base.size() >= suffix.size() && base.compare(base.size() - suffix.size(), suffix.size(), suffix) == 0;
   };
@@ -95,34 +101,14 @@ const char* kDiagnosisLoss =
     "least squares on the expected reading E[clamp(model + noise)] (readings on a rail enter through the clamp's "
     "expected value), each channel's residuals weighted by the reading's noise sd over its own";
 
-/// What a cause means, in plain words.
-std::string meaning(const std::string& cause) {
-  static const std::map<std::string, std::string> m{
-      {"black_offset", "black still reflects: readings over black sit above 0"},
-      {"white_level", "white reads a different level than the model's full scale"},
-      {"sensor_gain", "the sensors disagree: each has its own gain"},
-      {"nonlinear_response", "the reading is not proportional to the grey level"},
-      {"sensor_offset", "each sensor reads its own level over black"},
-      {"ambient_offset", "ambient light shifts every reading by the same amount"},
-      {"long_tail", "the sensor still responds beyond the model's cut-off"},
-      {"incidence_angle", "readings fall as the surface tilts away from the sensor"},
-      {"saturation", "readings saturate below full scale"},
-      {"falloff_exponent", "the reading does not fall with the square of the distance"},
-      {"principal_offset", "the optical axis is off the image centre"},
-      {"radial_distortion", "the lens bends points away from (or towards) the centre"},
-      {"speed_limit", "the wheels do not turn faster than a limit, whatever the command"},
-      {"accel_limit", "the wheels reach a new command only gradually: their acceleration is limited"},
-      {"wheel_slip", "the robot's speed over the ground trails the wheels while it accelerates"},
-      {"speed_scale", "the robot covers a different distance than its wheels turn (worn or mis-sized wheels)"},
-      {"latency", "the ToF reading describes an earlier moment than its time stamp"},
-      {"tof_offset", "the ToF reads a constant amount off at every range"},
-      {"tof_scale", "the ToF reading is off in proportion to the range"},
-      {"capacity_scale", "the battery holds a different charge than the calibration batteries"},
-      {"near_field_curve", "the reading's curve within the sensor's range has another shape than the model's quadratic"},
-  };
-  if (cause.rfind("covariate:", 0) == 0) return "the readings drift with the column " + cause.substr(10);
-  const auto it = m.find(cause);
-  return it == m.end() ? cause : it->second;
+/// What a cause means, in plain words: the registry's meaning (lib/models effects.hpp), or a
+/// covariate's column, or a renamed finding's.
+std::string meaning(logs::Kind kind, const std::string& cause) {
+  if (cause.rfind(models::effects::kCovariatePrefix, 0) == 0)
+    return "the readings drift with the column " + cause.substr(std::string(models::effects::kCovariatePrefix).size());
+  if (const auto* c = models::effects::catalogue(std::string(logs::to_string(kind))))
+    if (const auto* e = models::effects::find(*c, cause)) return e->meaning;
+  return dg::finding_meaning(cause);
 }
 
 /// Parameters named "gains[3]" become arrays (null where a sensor was not seen or is the reference).
@@ -293,7 +279,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
       fj["heldout_weighted_after"] = f.heldout_weighted_after;
     }
     fj["delta_bic"] = f.delta_bic;
-    fj["meaning"] = meaning(f.cause);
+    fj["meaning"] = meaning(r.kind, f.cause);
     fj["alternatives"] = f.alternatives;
     j["findings"].push_back(fj);
   }
@@ -375,7 +361,7 @@ void print_report(const dg::Report& r) {
     std::printf("Its residuals depend most on %s (%.0f %% of their variance).\n", r.structure_before.front().covariate.c_str(),
                 100 * r.structure_before.front().score);
   for (const auto& f : r.findings) {
-    std::printf("Finding: %s (%s); %s explains it; held-out MSE %.4g -> %.4g %s", f.cause.c_str(), meaning(f.cause).c_str(),
+    std::printf("Finding: %s (%s); %s explains it; held-out MSE %.4g -> %.4g %s", f.cause.c_str(), meaning(r.kind, f.cause).c_str(),
                 format_parameters(r.kind, f.parameters).c_str(), f.heldout_mse_before, f.heldout_mse_after, u.c_str());
     if (!r.channel_noise_sd.empty())
       std::printf(", all channels weighted %.4g -> %.4g", f.heldout_weighted_before, f.heldout_weighted_after);
@@ -472,11 +458,11 @@ int run_diagnose(const DiagnoseOptions& o) {
     const nlohmann::json j = read_json(file);
     try {
       switch (logs_kind) {
-        case logs::Kind::proximity: options.base_model = calibrate::proximity_model_from_json(j, file); break;
-        case logs::Kind::light: options.base_model = calibrate::light_model_from_json(j, file); break;
-        case logs::Kind::ground: options.base_model = calibrate::ground_model_from_json(j, file); break;
-        case logs::Kind::camera: options.base_model = calibrate::camera_model_from_json(j, file); break;
-        case logs::Kind::drive: options.base_model = calibrate::drive_model_from_json(j, file); break;
+        case logs::Kind::proximity: options.base_model = coefficients::proximity_model_from_json(j, file); break;
+        case logs::Kind::light: options.base_model = coefficients::light_model_from_json(j, file); break;
+        case logs::Kind::ground: options.base_model = coefficients::ground_model_from_json(j, file); break;
+        case logs::Kind::camera: options.base_model = coefficients::camera_model_from_json(j, file); break;
+        case logs::Kind::drive: options.base_model = coefficients::drive_model_from_json(j, file); break;
         default: break;
       }
     } catch (const logs::InputError&) {
@@ -497,7 +483,7 @@ int run_diagnose(const DiagnoseOptions& o) {
     const std::string& file = coefficient_file(o.coefficients);
     const nlohmann::json j = read_json(file);
     try {
-      const models::sensors::BatteryModel m = calibrate::battery_model_from_json(j, file);
+      const models::sensors::BatteryModel m = coefficients::battery_model_from_json(j, file);
       options.battery_tables = m.tables;
       options.battery_capacity_k = m.capacity.k;
       if (j.contains("battery_model") && o.battery_model_given == 0) options.battery_model = m.model;

@@ -4,6 +4,7 @@
 // the wheels.
 #include <cstdio>
 
+#include "epuck2/models/effects.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/sensor_figures.hpp"
 #include "sensor_support.hpp"
@@ -24,7 +25,7 @@ void print_report(const calibrate::DriveFit& f) {
               "20/2000 mm rails or out-of-range codes, censored; %zu codes >= 8190)\n",
               f.tof_rows, f.tof_censored, f.tof_out_of_range_codes);
   const auto& t = f.tof;
-  app::sensors::print_parameter(t, "tof_scale", "", "  ", "", &f.tof_autocorrelation);
+  app::sensors::print_parameter(t, models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), "", "  ", "", &f.tof_autocorrelation);
   app::sensors::print_parameter(t, "tof_offset_mm", "mm", "  ", "", &f.tof_autocorrelation);
   app::sensors::print_parameter(t, "slip_time_constant_s", "s", "  ", "", &f.tof_autocorrelation);
   app::sensors::print_handling(t, "mm", "  ", &f.tof_autocorrelation);
@@ -37,7 +38,7 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
   app::sensors::require_usable(f.steps, "encoder fit");
   app::sensors::require_usable(f.tof, "ToF fit");
   nlohmann::json j = app::sensors::skeleton("drive", logs);
-  j["units"] = {{"steps_per_m", "steps/m"}, {"tof_offset_mm", "mm"}, {"tof_scale", "1"}, {"slip_time_constant_s", "s"},
+  j["units"] = {{"steps_per_m", "steps/m"}, {"tof_offset_mm", "mm"}, {models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), "1"}, {"slip_time_constant_s", "s"},
                 {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}, {"rss", "mm^2 (ToF)"}, {"steps_rss", "steps^2"}};
   // Rows of a run are a time series: both fits' errors get the autocorrelation correction.
   app::sensors::add_parameters(j, f.steps, "", "steps", "steps", &f.steps_autocorrelation);

@@ -51,7 +51,7 @@ mb::Tables choose_tables(const SimulateOptions& o, bool argos) {
     throw UsageError("this build has no compiled-in fitted battery tables; give --coefficients FILE");
 #endif
   }
-  return calibrate::battery_tables_from_json(read_json(coefficient_file(source)), source);
+  return coefficients::battery_tables_from_json(read_json(coefficient_file(source)), source);
 }
 
 int run_simulate(const SimulateOptions& o) {

@@ -16,7 +16,7 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
-#include "epuck2/calibrate/model_file.hpp"
+#include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/logs/output.hpp"
 #include "epuck2/models/kinds.hpp"
@@ -67,7 +67,7 @@ s::BatteryModel load_battery(const LikeOptions& o) {
   } else if (!o.coefficients.empty() && o.coefficients != "plugin") {
     const std::string& file = coefficient_file(o.coefficients);
     try {
-      m = calibrate::battery_model_from_json(read_json(file), file);
+      m = coefficients::battery_model_from_json(read_json(file), file);
     } catch (const logs::InputError&) {
       throw;
     } catch (const std::runtime_error& e) {
@@ -80,10 +80,10 @@ s::BatteryModel load_battery(const LikeOptions& o) {
 }
 
 template <class Model>
-Model load(const LikeOptions& o, Model (*from_json)(const nlohmann::json&, const std::string&)) {
+Model load(const LikeOptions& o, Model (*from_json)(const nlohmann::json&, const std::string&, const std::string&)) {
   if (o.coefficients.empty()) return Model{};
   try {
-    return from_json(read_json(o.coefficients), o.coefficients);
+    return from_json(read_json(o.coefficients), o.coefficients, "");
   } catch (const logs::InputError&) {
     throw;
   } catch (const std::runtime_error& e) {
@@ -101,7 +101,7 @@ std::vector<std::vector<double>> simulate(const LikeOptions& o, const logs::Log&
   auto draw = [&](auto&& noisy, auto&& mean) { return o.noise ? noisy(normal) : mean(); };
   switch (log.kind) {
     case logs::Kind::proximity: {
-      const auto m = load<s::ProximityModel>(o, calibrate::proximity_model_from_json);
+      const auto m = load<s::ProximityModel>(o, coefficients::proximity_model_from_json);
       const auto& d = log.col("distance_m");
       const auto& sn = log.col("sensor");
       const bool angle = log.has("angle_deg");
@@ -116,7 +116,7 @@ std::vector<std::vector<double>> simulate(const LikeOptions& o, const logs::Log&
       break;
     }
     case logs::Kind::light: {
-      const auto m = load<s::LightModel>(o, calibrate::light_model_from_json);
+      const auto m = load<s::LightModel>(o, coefficients::light_model_from_json);
       const auto& d = log.col("distance_m");
       const auto& in = log.col("intensity");
       const auto& sn = log.col("sensor");
@@ -130,7 +130,7 @@ std::vector<std::vector<double>> simulate(const LikeOptions& o, const logs::Log&
       break;
     }
     case logs::Kind::ground: {
-      const auto m = load<s::GroundModel>(o, calibrate::ground_model_from_json);
+      const auto m = load<s::GroundModel>(o, coefficients::ground_model_from_json);
       const auto& grey = log.col("grey");
       const auto& sn = log.col("sensor");
       const auto cov = covariate_offsets(m.covariates, log, o);
@@ -142,7 +142,7 @@ std::vector<std::vector<double>> simulate(const LikeOptions& o, const logs::Log&
       break;
     }
     case logs::Kind::camera: {
-      const auto m = load<s::CameraModel>(o, calibrate::camera_model_from_json);
+      const auto m = load<s::CameraModel>(o, coefficients::camera_model_from_json);
       const auto& f = log.col("forward_m");
       const auto& l = log.col("lateral_m");
       const auto& v = log.col("vertical_m");
@@ -159,7 +159,7 @@ std::vector<std::vector<double>> simulate(const LikeOptions& o, const logs::Log&
       break;
     }
     case logs::Kind::drive: {
-      const auto m = load<s::DriveModel>(o, calibrate::drive_model_from_json);
+      const auto m = load<s::DriveModel>(o, coefficients::drive_model_from_json);
       s::DriveSimulation sim(m, log.metadata_number("obstacle_distance_m"));
       const auto& t = log.col("time_s");
       const auto& cl = log.col("left_speed_cm_s");

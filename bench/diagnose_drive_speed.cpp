@@ -13,12 +13,13 @@
 
 #include "../tests/diagnose_generators.hpp"
 #include "machine.hpp"
+#include "epuck2/models/effects.hpp"
 
 int main(int argc, char** argv) {
   using namespace epuck2;
   namespace gen = testing::diagnose;
   const int rows = argc > 1 ? std::stoi(argv[1]) : 100000;
-  const std::string cause = argc > 2 ? argv[2] : "wheel_slip";
+  const std::string cause = argc > 2 ? argv[2] : models::effects::drive_catalogue()[models::effects::drive::wheel_slip].name;
   gen::Hidden h = gen::hidden(cause);
   const std::string text = gen::drive_log(20241121, h, rows);
   const auto log = logs::parse_log(text, "long_drive.csv", logs::Kind::drive);

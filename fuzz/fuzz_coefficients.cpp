@@ -20,6 +20,7 @@
 
 #include "epuck2/calibrate/battery_json.hpp"
 #include "epuck2/calibrate/sensors.hpp"
+#include "epuck2/coefficients/model_file.hpp"
 
 namespace {
 
@@ -62,7 +63,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         // text, so that is the caller's business, not this reader's.
         return 0;
       }
-      const auto t = calibrate::battery_tables_from_json(j, "fuzz.json");
+      const auto t = coefficients::battery_tables_from_json(j, "fuzz.json");
       for (std::size_t s = 0; s < t.cubic.size(); ++s)
         finite({t.cubic[s].a, t.cubic[s].b, t.cubic[s].c, t.cubic[s].d, t.lifetime_s[s], t.linear_slope_per_s[s]});
       return 0;
@@ -73,22 +74,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     switch (pick) {
       case 0: {
-        const auto k = calibrate::load_proximity_coefficients(temp_path());
-        finite({k.a_per_m2, k.b_per_m, k.c});
+        const auto k = coefficients::read_model_file<models::sensors::ProximityModel>(temp_path());
+        finite({k.base.a_per_m2, k.base.b_per_m, k.base.c});
         break;
       }
-      case 1: finite({calibrate::load_light_coefficients(temp_path()).gamma_m}); break;
+      case 1: finite({coefficients::read_model_file<models::sensors::LightModel>(temp_path()).base.gamma_m}); break;
       case 2:
-        for (const auto& g : calibrate::load_ground_coefficients(temp_path())) finite({g.gain_raw, g.offset_raw});
+        for (const auto& g : coefficients::read_model_file<models::sensors::GroundModel>(temp_path()).sensors) finite({g.gain_raw, g.offset_raw});
         break;
       case 3: {
-        const auto c = calibrate::load_camera_coefficients(temp_path());
-        finite({c.horizontal_fov_rad, c.cx_px, c.cy_px});
+        const auto c = coefficients::read_model_file<models::sensors::CameraModel>(temp_path());
+        finite({c.base.horizontal_fov_rad, c.base.cx_px, c.base.cy_px});
         break;
       }
       case 4: {
-        const auto d = calibrate::load_drive_coefficients(temp_path());
-        finite({d.encoder.steps_per_m, d.tof.scale, d.tof.offset_mm, d.slip_time_constant_s});
+        const auto d = coefficients::read_model_file<models::sensors::DriveModel>(temp_path());
+        finite({d.steps_per_m, d.effects.tof_scale.k, d.effects.tof_offset.offset_mm, d.effects.slip.tau_s});
         break;
       }
     }

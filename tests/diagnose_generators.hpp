@@ -47,7 +47,7 @@ inline std::vector<std::string> hidden_effects(logs::Kind kind) {
     case logs::Kind::light:
       return {"none", "ambient_offset", "falloff_exponent", "sensor_gain", "covariate:temperature_c", "quadratic:temperature_c"};
     case logs::Kind::camera:
-      return {"none", "principal_offset", "radial_distortion", "covariate:temperature_c", "quadratic:temperature_c"};
+      return {"none", "principal_offset", "radial_distortion", "distortion_k2", "covariate:temperature_c", "quadratic:temperature_c"};
     case logs::Kind::proximity:
       return {"none", "ambient_offset", "sensor_gain", "long_tail", "saturation", "incidence_angle", "covariate:temperature_c",
               "quadratic:temperature_c"};
@@ -181,12 +181,15 @@ inline std::string camera_log(std::uint64_t seed, Hidden& h) {
   Draw d(seed);
   const int n = d.integer(150, 500);
   const double fov = d.uniform(28, 33);
-  double dx = 0, dy = 0, k1 = 0;
+  double dx = 0, dy = 0, k1 = 0, k2 = 0;
   if (h.cause == "principal_offset") {
     h.truth["dx_px"] = dx = d.signed_size(1.0, 3.0);
     h.truth["dy_px"] = dy = d.signed_size(1.0, 3.0);
   }
   if (h.cause == "radial_distortion") h.truth["k1"] = k1 = d.signed_size(0.5, 1.2);
+  // OpenCV's fourth-order term alone: r^2 reaches 0.09 in these logs, so k2 8..20 moves the
+  // image's corners by 4..10 px (the jitter is 0.5 px).
+  if (h.cause == "distortion_k2") h.truth["k2"] = k2 = d.signed_size(8.0, 20.0);
   const Temperature temp = temperature_effect(h, d, 0.06, 0.15, 0.02, 0.04);
   constexpr double kJitter = 0.5;  // px, as the virtual robot's camera (sensor_truth.hpp)
   covariate_precision(h, temp, kJitter, 2.0 * n);  // px and py both drift
@@ -196,7 +199,8 @@ inline std::string camera_log(std::uint64_t seed, Hidden& h) {
     const double fw = d.uniform(0.2, 0.9);
     const double x = d.uniform(-0.9, 0.9) * 80.0 / f, z = d.uniform(-0.9, 0.9) * 60.0 / f;
     const double t = d.uniform(20, 40);
-    const double sc = 1.0 + k1 * (x * x + z * z);
+    const double r2 = x * x + z * z;
+    const double sc = 1.0 + k1 * r2 + k2 * r2 * r2;
     const double px = 80 + dx - f * x * sc + temp.effect(t) + kJitter * d.normal();
     const double py = 60 + dy - f * z * sc + temp.effect(t) + kJitter * d.normal();
     out += fmt(fw) + "," + fmt(x * fw) + "," + fmt(z * fw) + "," + fmt(std::clamp(std::round(px), 0.0, 159.0)) + "," +

@@ -14,6 +14,7 @@
 
 #include "cli_harness.hpp"
 #include "epuck2/calibrate/battery_json.hpp"
+#include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/logs/json_location.hpp"
 #include "epuck2/logs/log.hpp"
@@ -313,7 +314,7 @@ TEST_F(CoefficientFiles, SensorLoaderErrorsNameFileLineAndColumn) {
   // gamma's value starts at character 14 of line 4.
   const std::string overflow = write("light.json", "{\n  \"kind\": \"light\",\n  \"parameters\": {\n    \"gamma\": 1e999\n  }\n}\n");
   try {
-    epuck2::calibrate::load_light_coefficients(overflow);
+    epuck2::coefficients::read_model_file<epuck2::models::sensors::LightModel>(overflow);
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), overflow);
@@ -322,7 +323,7 @@ TEST_F(CoefficientFiles, SensorLoaderErrorsNameFileLineAndColumn) {
   }
   const std::string type = write("t.json", "{\"kind\": \"light\",\n \"parameters\": {\"gamma\": \"0.07\"}}");
   try {
-    epuck2::calibrate::load_light_coefficients(type);
+    epuck2::coefficients::read_model_file<epuck2::models::sensors::LightModel>(type);
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 2);
@@ -331,7 +332,7 @@ TEST_F(CoefficientFiles, SensorLoaderErrorsNameFileLineAndColumn) {
   }
   const std::string ground = write("g.json", "{\"kind\": \"ground\", \"parameters\": {\n\"gain\": [1, 2, 3],\n\"offset\": [1, null, 3]}}");
   try {
-    epuck2::calibrate::load_ground_coefficients(ground);
+    epuck2::coefficients::read_model_file<epuck2::models::sensors::GroundModel>(ground);
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 3);
@@ -339,7 +340,7 @@ TEST_F(CoefficientFiles, SensorLoaderErrorsNameFileLineAndColumn) {
   }
   const std::string syntax = write("s.json", "{\"kind\": \"light\",\n \"parameters\": {\"gamma\": 0.07,}}");
   try {
-    epuck2::calibrate::load_light_coefficients(syntax);
+    epuck2::coefficients::read_model_file<epuck2::models::sensors::LightModel>(syntax);
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 2);
@@ -352,7 +353,7 @@ TEST_F(CoefficientFiles, BatteryTableErrorsNameTheLineOfTheKey) {
   const std::string path = write("b.json", "{\"speeds\": [\n  {\"speed_cm_s\": 0,\n   \"cubic\": [1, 0, 0, 0], \"linear_slope\": 0}\n]}\n");
   const nlohmann::json j = nlohmann::json::parse(epuck2::testing::slurp(path));
   try {
-    epuck2::calibrate::battery_tables_from_json(j, path);
+    epuck2::coefficients::battery_tables_from_json(j, path);
     FAIL();
   } catch (const InputError& e) {
     // 16 speeds are expected: the error is at the 'speeds' array (line 1, character 12).
@@ -363,15 +364,15 @@ TEST_F(CoefficientFiles, BatteryTableErrorsNameTheLineOfTheKey) {
   std::string speeds;
   for (int s = 0; s < 16; ++s)
     speeds += std::string(s ? ",\n" : "") + "{\"speed_cm_s\": " + std::to_string(s) +
-              ", \"cubic\": [1, 0, 0, 0], \"lifetime_s\": 100, \"linear_slope\": 0, \"segments\": []}";
-  // speeds[0] (line 2) has no 4 segments: its "segments" value starts at character 92.
+              ", \"cubic\": [1, 0, 0, 0], \"lifetime_s\": 100, \"linear_slope\": -0.01, \"segments\": []}";
+  // speeds[0] (line 2) has no 4 segments: its "segments" value starts at character 96 (a valid, negative linear_slope before it).
   const std::string full = write("full.json", "{\"speeds\": [\n" + speeds + "\n]}\n");
   try {
-    epuck2::calibrate::battery_tables_from_json(nlohmann::json::parse(epuck2::testing::slurp(full)), full);
+    epuck2::coefficients::battery_tables_from_json(nlohmann::json::parse(epuck2::testing::slurp(full)), full);
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 2);
-    EXPECT_EQ(e.column(), 92);
+    EXPECT_EQ(e.column(), 96);
     EXPECT_TRUE(contains(e.message(), "speeds[0]: expected 4 'segments'")) << e.what();
   }
 }

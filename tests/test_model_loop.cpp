@@ -13,7 +13,7 @@
 #include "cli_harness.hpp"
 #include "diagnose_generators.hpp"
 #include "epuck2/calibrate/battery_json.hpp"
-#include "epuck2/calibrate/model_file.hpp"
+#include "epuck2/coefficients/model_file.hpp"
 
 using epuck2::testing::CliRun;
 using epuck2::testing::CliTest;
@@ -170,10 +170,10 @@ TEST_P(ModelLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinItsNoise) {
         const auto j = nlohmann::json::parse(slurp(ext));
         ASSERT_FALSE(j.contains("effects_not_in_model")) << j.dump();
         switch (c.kind) {
-          case logs::Kind::proximity: (void)epuck2::calibrate::proximity_model_from_json(j, ext); break;
-          case logs::Kind::light: (void)epuck2::calibrate::light_model_from_json(j, ext); break;
-          case logs::Kind::ground: (void)epuck2::calibrate::ground_model_from_json(j, ext); break;
-          case logs::Kind::camera: (void)epuck2::calibrate::camera_model_from_json(j, ext); break;
+          case logs::Kind::proximity: (void)epuck2::coefficients::proximity_model_from_json(j, ext); break;
+          case logs::Kind::light: (void)epuck2::coefficients::light_model_from_json(j, ext); break;
+          case logs::Kind::ground: (void)epuck2::coefficients::ground_model_from_json(j, ext); break;
+          case logs::Kind::camera: (void)epuck2::coefficients::camera_model_from_json(j, ext); break;
           default: break;
         }
       }());
@@ -281,7 +281,7 @@ TEST_P(DriveLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinEachChannelsNoise) {
   ASSERT_NE(d.out.find(c.cause), std::string::npos) << "the diagnosis did not name " << c.cause << ":\n" << d.out;
   const auto model_json = nlohmann::json::parse(slurp(ext));
   ASSERT_FALSE(model_json.contains("effects_not_in_model")) << model_json.dump();
-  ASSERT_NO_THROW((void)epuck2::calibrate::drive_model_from_json(model_json, ext));
+  ASSERT_NO_THROW((void)epuck2::coefficients::drive_model_from_json(model_json, ext));
 
   const std::string sim_ext = (dir_ / "sim_ext.csv").string(), sim_plugin = (dir_ / "sim_plugin.csv").string(),
                     sim_noisy = (dir_ / "sim_noisy.csv").string();
@@ -369,7 +369,7 @@ TEST_P(BatteryLoop, CapacityScaleOnHalfSimulatesTheOtherHalfWithinItsNoise) {
   ASSERT_NE(d.out.find("capacity_scale"), std::string::npos) << d.out;
   const auto model_json = nlohmann::json::parse(slurp(ext));
   ASSERT_FALSE(model_json.contains("effects_not_in_model")) << model_json.dump();
-  const auto model = epuck2::calibrate::battery_model_from_json(model_json, ext);
+  const auto model = epuck2::coefficients::battery_model_from_json(model_json, ext);
   EXPECT_EQ(model.model, epuck2::models::battery::Model::cubic);
 
   const std::string sim_ext = (dir_ / "sim_ext.csv").string(), sim_plugin = (dir_ / "sim_plugin.csv").string(),
@@ -464,7 +464,7 @@ TEST_F(SimulateLike, CodegenOfABatteryDiagnosisCarriesItsCapacityScale) {
 TEST_F(SimulateLike, ACovariateEffectReadsItsColumn) {
   s::GroundModel g;
   g.covariates = {{"temperature_c", 2.0, 30.0}};
-  const std::string model = write("g.json", epuck2::calibrate::model_to_json(g).dump());
+  const std::string model = write("g.json", epuck2::coefficients::model_to_json(g).dump());
   const std::string with = write("with.csv", "grey,sensor,value,temperature_c\n0.5,0,500,35\n0.5,1,500,25\n");
   const std::string without = write("without.csv", "grey,sensor,value\n0.5,0,500\n");
   const CliRun bad = run("simulate ground --like \"" + without + "\" --coefficients \"" + model + "\"");
@@ -507,7 +507,7 @@ TEST_F(SimulateLike, BatteryLikeRunsTheLogsSpeedsAndTimesAndLeavesItsVoltageOut)
 TEST_F(SimulateLike, CodegenEmitsTheCovariates) {
   s::GroundModel g;
   g.covariates = {{"temperature_c", 2.0, 30.5}};
-  const std::string model = write("g.json", epuck2::calibrate::model_to_json(g).dump());
+  const std::string model = write("g.json", epuck2::coefficients::model_to_json(g).dump());
   const std::string header = (dir_ / "g.hpp").string();
   ASSERT_EQ(run("codegen \"" + model + "\" -o \"" + header + "\"").exit_code, 0);
   EXPECT_NE(slurp(header).find("  m.covariates = {{\"temperature_c\", 2, 30.5}};\n"), std::string::npos) << slurp(header);
@@ -523,7 +523,7 @@ TEST(ModelFile, JsonModelJsonRoundTripsEveryKind) {
   p.effects.tail = {80.0, 0.03};
   p.effects.saturation.level_raw = 3900;
   p.noise_sd_raw = {10, 11, 12, 10, 10, 10, 10, 9};
-  const auto p2 = epuck2::calibrate::proximity_model_from_json(epuck2::calibrate::model_to_json(p), "p.json");
+  const auto p2 = epuck2::coefficients::proximity_model_from_json(epuck2::coefficients::model_to_json(p), "p.json");
   EXPECT_EQ(p2.base.a_per_m2, 190.0);
   EXPECT_EQ(p2.effects.ambient.offset_raw, 12.5);
   EXPECT_EQ(p2.effects.gains.gain[2], 0.9);
@@ -531,14 +531,14 @@ TEST(ModelFile, JsonModelJsonRoundTripsEveryKind) {
   EXPECT_EQ(p2.effects.saturation.level_raw, 3900);
   EXPECT_EQ(p2.effects.incidence.k, 0.0);
   EXPECT_EQ(p2.noise_sd_raw[7], 9.0);
-  EXPECT_EQ(epuck2::calibrate::model_to_json(p2), epuck2::calibrate::model_to_json(p));
+  EXPECT_EQ(epuck2::coefficients::model_to_json(p2), epuck2::coefficients::model_to_json(p));
 
   s::GroundModel g;
   g.sensors = {{{900, 60}, {950, 50}, {880, 70}}};
   g.effects.exponent = 1.2;
   g.noise_sd_raw = {5, 5, 5};
-  const auto gj = epuck2::calibrate::model_to_json(g);
-  EXPECT_EQ(epuck2::calibrate::model_to_json(epuck2::calibrate::ground_model_from_json(gj, "g.json")), gj);
+  const auto gj = epuck2::coefficients::model_to_json(g);
+  EXPECT_EQ(epuck2::coefficients::model_to_json(epuck2::coefficients::ground_model_from_json(gj, "g.json")), gj);
   EXPECT_FALSE(gj.at("noise").at("ground").contains("per_sensor_sd"));  // equal sensors: one sd
 
   s::DriveModel dm;
@@ -547,28 +547,28 @@ TEST(ModelFile, JsonModelJsonRoundTripsEveryKind) {
   dm.effects.latency.delay_s = 0.05;
   dm.effects.speed_limit.max_cm_s = 12;
   dm.tof_noise_sd_mm = 3;
-  const auto dj = epuck2::calibrate::model_to_json(dm);
-  EXPECT_EQ(epuck2::calibrate::model_to_json(epuck2::calibrate::drive_model_from_json(dj, "d.json")), dj);
+  const auto dj = epuck2::coefficients::model_to_json(dm);
+  EXPECT_EQ(epuck2::coefficients::model_to_json(epuck2::coefficients::drive_model_from_json(dj, "d.json")), dj);
   EXPECT_EQ(dj.at("effects").at("latency").at("delay_s"), 0.05);
   EXPECT_FALSE(dj.at("effects").contains("accel_limit"));  // neutral effects are not written
 
   // covariate:NAME, any kind: slope and centre under the catalogue's name.
   g.covariates = {{"temperature_c", 2.5, 30.1}};
-  const auto gcj = epuck2::calibrate::model_to_json(g);
+  const auto gcj = epuck2::coefficients::model_to_json(g);
   EXPECT_EQ(gcj.at("effects").at("covariate:temperature_c").at("centre"), 30.1);
-  const auto g2 = epuck2::calibrate::ground_model_from_json(gcj, "g.json");
+  const auto g2 = epuck2::coefficients::ground_model_from_json(gcj, "g.json");
   ASSERT_EQ(g2.covariates.size(), 1u);
   EXPECT_EQ(g2.covariates[0].column, "temperature_c");
   EXPECT_EQ(g2.covariates[0].slope, 2.5);
-  EXPECT_EQ(epuck2::calibrate::model_to_json(g2), gcj);
+  EXPECT_EQ(epuck2::coefficients::model_to_json(g2), gcj);
 
   s::CameraModel cm;
   cm.base.horizontal_fov_rad = s::deg_to_rad(31.0);
   cm.base.cx_px = 82;
   cm.distortion.k1 = -0.2;
-  const auto cj = epuck2::calibrate::model_to_json(cm);
+  const auto cj = epuck2::coefficients::model_to_json(cm);
   EXPECT_NEAR(cj.at("parameters").at("fov_deg").get<double>(), 31.0, 1e-12);
-  EXPECT_EQ(epuck2::calibrate::model_to_json(epuck2::calibrate::camera_model_from_json(cj, "c.json")), cj);
+  EXPECT_EQ(epuck2::coefficients::model_to_json(epuck2::coefficients::camera_model_from_json(cj, "c.json")), cj);
 
   namespace mb = epuck2::models::battery;
   s::BatteryModel bm;
@@ -576,11 +576,11 @@ TEST(ModelFile, JsonModelJsonRoundTripsEveryKind) {
   bm.capacity.k = 1.07;
   bm.noise_sd = 0.02;
   bm.covariates = {{"temperature_c", 0.002, 29.5}};
-  const auto bj = epuck2::calibrate::model_to_json(bm);
+  const auto bj = epuck2::coefficients::model_to_json(bm);
   EXPECT_EQ(bj.at("battery_model"), "approximated");
   EXPECT_EQ(bj.at("effects").at("capacity_scale").at("k"), 1.07);
-  const auto bm2 = epuck2::calibrate::battery_model_from_json(bj, "b.json");
-  EXPECT_EQ(epuck2::calibrate::model_to_json(bm2), bj);
+  const auto bm2 = epuck2::coefficients::battery_model_from_json(bj, "b.json");
+  EXPECT_EQ(epuck2::coefficients::model_to_json(bm2), bj);
   EXPECT_EQ(bm2.model, mb::Model::approximated);
   EXPECT_EQ(bm2.noise_sd, 0.02);
   ASSERT_EQ(bm2.covariates.size(), 1u);
@@ -596,33 +596,33 @@ TEST(ModelFile, JsonModelJsonRoundTripsEveryKind) {
   }
   EXPECT_EQ(bm2.tables.simple_moving_slope_per_s, plugin.simple_moving_slope_per_s);
   // Neutral: no capacity_scale written, the Cubic when the file names no discharge model.
-  nlohmann::json neutral = epuck2::calibrate::model_to_json(s::BatteryModel{});
+  nlohmann::json neutral = epuck2::coefficients::model_to_json(s::BatteryModel{});
   EXPECT_FALSE(neutral.at("effects").contains("capacity_scale"));
   neutral.erase("battery_model");
-  EXPECT_EQ(epuck2::calibrate::battery_model_from_json(neutral, "n.json").model, mb::Model::cubic);
+  EXPECT_EQ(epuck2::coefficients::battery_model_from_json(neutral, "n.json").model, mb::Model::cubic);
 }
 
 TEST(ModelFile, BadFilesNameTheKey) {
   nlohmann::json j = {{"kind", "light"}, {"parameters", {{"gamma", "x"}}}};
   try {
-    (void)epuck2::calibrate::light_model_from_json(j, "bad.json");
+    (void)epuck2::coefficients::light_model_from_json(j, "bad.json");
     FAIL() << "accepted a text gamma";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.json: parameters.gamma"), std::string::npos) << e.what();
   }
   nlohmann::json wrong = {{"kind", "ground"}, {"parameters", {{"gamma", 0.07}}}};
-  EXPECT_THROW((void)epuck2::calibrate::light_model_from_json(wrong, "g.json"), std::runtime_error);
-  nlohmann::json no_centre = epuck2::calibrate::model_to_json(s::GroundModel{});
+  EXPECT_THROW((void)epuck2::coefficients::light_model_from_json(wrong, "g.json"), std::runtime_error);
+  nlohmann::json no_centre = epuck2::coefficients::model_to_json(s::GroundModel{});
   no_centre["effects"]["covariate:temperature_c"] = {{"slope", 2.0}};
   try {
-    (void)epuck2::calibrate::ground_model_from_json(no_centre, "c.json");
+    (void)epuck2::coefficients::ground_model_from_json(no_centre, "c.json");
     FAIL() << "accepted a covariate without its centre";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("c.json: missing effects.covariate:temperature_c.centre"), std::string::npos) << e.what();
   }
-  nlohmann::json bad_model = epuck2::calibrate::model_to_json(s::BatteryModel{});
+  nlohmann::json bad_model = epuck2::coefficients::model_to_json(s::BatteryModel{});
   bad_model["battery_model"] = "quartic";
-  EXPECT_THROW((void)epuck2::calibrate::battery_model_from_json(bad_model, "b.json"), std::runtime_error);
+  EXPECT_THROW((void)epuck2::coefficients::battery_model_from_json(bad_model, "b.json"), std::runtime_error);
 }
 
 /// The shipped calibration files are models: base from `parameters`, noise from `noise` (when the
@@ -630,16 +630,16 @@ TEST(ModelFile, BadFilesNameTheKey) {
 TEST(ModelFile, ShippedCoefficientFilesReadAsModels) {
   const std::string dir = std::string(EPUCK2_SOURCE_DIR) + "/data/fitted/";
   auto read = [&](const std::string& k) { return nlohmann::json::parse(slurp(dir + k + ".json")); };
-  const auto p = epuck2::calibrate::proximity_model_from_json(read("proximity"), "proximity.json");
+  const auto p = epuck2::coefficients::proximity_model_from_json(read("proximity"), "proximity.json");
   EXPECT_EQ(p.base.a_per_m2, read("proximity").at("parameters").at("a").get<double>());
-  const auto g = epuck2::calibrate::ground_model_from_json(read("ground"), "ground.json");
+  const auto g = epuck2::coefficients::ground_model_from_json(read("ground"), "ground.json");
   EXPECT_GT(g.sensors[0].offset_raw, 0.0);
-  EXPECT_NO_THROW((void)epuck2::calibrate::light_model_from_json(read("light"), "light.json"));
-  EXPECT_NO_THROW((void)epuck2::calibrate::camera_model_from_json(read("camera"), "camera.json"));
-  EXPECT_NO_THROW((void)epuck2::calibrate::drive_model_from_json(read("drive"), "drive.json"));
+  EXPECT_NO_THROW((void)epuck2::coefficients::light_model_from_json(read("light"), "light.json"));
+  EXPECT_NO_THROW((void)epuck2::coefficients::camera_model_from_json(read("camera"), "camera.json"));
+  EXPECT_NO_THROW((void)epuck2::coefficients::drive_model_from_json(read("drive"), "drive.json"));
   // The battery file: its tables, the Cubic, and its speeds' residual sd as the charge noise.
-  const auto b = epuck2::calibrate::battery_model_from_json(read("battery"), "battery.json");
-  const auto tables = epuck2::calibrate::battery_tables_from_json(read("battery"), "battery.json");
+  const auto b = epuck2::coefficients::battery_model_from_json(read("battery"), "battery.json");
+  const auto tables = epuck2::coefficients::battery_tables_from_json(read("battery"), "battery.json");
   EXPECT_EQ(b.tables.cubic[7].b, tables.cubic[7].b);
   EXPECT_EQ(b.model, epuck2::models::battery::Model::cubic);
   double sum = 0;
@@ -660,22 +660,22 @@ namespace {
 TEST(ModelFile, GeneratedHeaderGivesTheFilesReadings) {
   const std::string dir = std::string(EPUCK2_SOURCE_DIR) + "/data/fitted/";
   auto read = [&](const std::string& k) { return nlohmann::json::parse(slurp(dir + k + ".json")); };
-  const auto pj = epuck2::calibrate::proximity_model_from_json(read("proximity"), "proximity.json");
+  const auto pj = epuck2::coefficients::proximity_model_from_json(read("proximity"), "proximity.json");
   const auto ph = epuck2::fitted::proximity_model();
   for (double d : {0.0, 0.005, 0.02, 0.049, 0.06})
     for (int sensor : {0, 3, 7}) EXPECT_EQ(s::mean_raw(ph, sensor, d), s::mean_raw(pj, sensor, d)) << d;
   EXPECT_EQ(ph.noise_sd_raw, pj.noise_sd_raw);
-  const auto lj = epuck2::calibrate::light_model_from_json(read("light"), "light.json");
+  const auto lj = epuck2::coefficients::light_model_from_json(read("light"), "light.json");
   const auto lh = epuck2::fitted::light_model();
   for (double d : {0.02, 0.1, 0.3}) EXPECT_EQ(s::mean_raw(lh, 2, 1.0, d), s::mean_raw(lj, 2, 1.0, d));
-  const auto gj = epuck2::calibrate::ground_model_from_json(read("ground"), "ground.json");
+  const auto gj = epuck2::coefficients::ground_model_from_json(read("ground"), "ground.json");
   const auto gh = epuck2::fitted::ground_model();
   for (double g : {0.0, 0.3, 1.0})
     for (int sensor : {0, 1, 2}) EXPECT_EQ(s::mean_raw(gh, sensor, g), s::mean_raw(gj, sensor, g));
-  const auto cj = epuck2::calibrate::camera_model_from_json(read("camera"), "camera.json");
+  const auto cj = epuck2::coefficients::camera_model_from_json(read("camera"), "camera.json");
   const auto ch = epuck2::fitted::camera_model();
   EXPECT_EQ(s::mean_px(ch, 0.3, 0.05, -0.02), s::mean_px(cj, 0.3, 0.05, -0.02));
-  const auto dj = epuck2::calibrate::drive_model_from_json(read("drive"), "drive.json");
+  const auto dj = epuck2::coefficients::drive_model_from_json(read("drive"), "drive.json");
   const auto dh = epuck2::fitted::drive_model();
   s::DriveSimulation a(dj, 1.0), b(dh, 1.0);
   s::StandardNormal na(5), nb(5);
@@ -686,7 +686,7 @@ TEST(ModelFile, GeneratedHeaderGivesTheFilesReadings) {
   }
   // The battery as a model: discharge model, tables, capacity scale and noise, the same charge
   // over a two-hour run at 5 cm/s.
-  const auto bj = epuck2::calibrate::battery_model_from_json(read("battery"), "battery.json");
+  const auto bj = epuck2::coefficients::battery_model_from_json(read("battery"), "battery.json");
   const auto bh = epuck2::fitted::battery_model();
   EXPECT_TRUE(bh.model == bj.model);
   EXPECT_EQ(bh.capacity.k, bj.capacity.k);

@@ -3,6 +3,8 @@
 // coefficient loaders read back what the CLI writes.
 #include <gtest/gtest.h>
 
+#include "epuck2/coefficients/model_file.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +17,7 @@
 
 namespace fit = epuck2::fit;
 namespace calibrate = epuck2::calibrate;
+namespace coefficients = epuck2::coefficients;
 namespace vr = epuck2::virtual_robot;
 namespace s = epuck2::models::sensors;
 using epuck2::logs::Kind;
@@ -205,29 +208,30 @@ TEST(SensorCoefficientFiles, LoadBackWhatTheCliWrites) {
     std::ofstream(dir / name) << text;
     return (dir / name).string();
   };
-  const auto p = calibrate::load_proximity_coefficients(write("p.json", R"({"kind":"proximity","parameters":{"a":1.5,"b":-2,"c":0.9}})"));
-  EXPECT_EQ(p.a_per_m2, 1.5);
-  EXPECT_EQ(p.b_per_m, -2);
-  EXPECT_EQ(p.c, 0.9);
-  EXPECT_EQ(calibrate::load_light_coefficients(write("l.json", R"({"kind":"light","parameters":{"gamma":0.07}})")).gamma_m, 0.07);
-  const auto g = calibrate::load_ground_coefficients(
+  const auto p = coefficients::read_model_file<s::ProximityModel>(write("p.json", R"({"kind":"proximity","parameters":{"a":1.5,"b":-2,"c":0.9}})"));
+  EXPECT_EQ(p.base.a_per_m2, 1.5);
+  EXPECT_EQ(p.base.b_per_m, -2);
+  EXPECT_EQ(p.base.c, 0.9);
+  EXPECT_EQ(coefficients::read_model_file<s::LightModel>(write("l.json", R"({"kind":"light","parameters":{"gamma":0.07}})")).base.gamma_m, 0.07);
+  const auto g = coefficients::read_model_file<s::GroundModel>(
       write("g.json", R"({"kind":"ground","parameters":{"gain":[900,910,920],"offset":[1,2,3]}})"));
-  EXPECT_EQ(g[2].gain_raw, 920);
-  EXPECT_EQ(g[1].offset_raw, 2);
-  const auto c = calibrate::load_camera_coefficients(write("c.json", R"({"kind":"camera","parameters":{"fov_deg":30,"cx_px":81,"cy_px":59}})"));
-  EXPECT_NEAR(c.horizontal_fov_rad, s::deg_to_rad(30), 1e-15);
-  const auto d = calibrate::load_drive_coefficients(
+  EXPECT_EQ(g.sensors[2].gain_raw, 920);
+  EXPECT_EQ(g.sensors[1].offset_raw, 2);
+  const auto c = coefficients::read_model_file<s::CameraModel>(write("c.json", R"({"kind":"camera","parameters":{"fov_deg":30,"cx_px":81,"cy_px":59}})"));
+  EXPECT_NEAR(c.base.horizontal_fov_rad, s::deg_to_rad(30), 1e-15);
+  const auto d = coefficients::read_model_file<s::DriveModel>(
       write("d.json", R"({"kind":"drive","parameters":{"steps_per_m":7700,"tof_scale":0.99,"tof_offset_mm":5}})"));
-  EXPECT_EQ(d.encoder.steps_per_m, 7700);
-  EXPECT_EQ(d.tof.offset_mm, 5);
+  EXPECT_EQ(d.steps_per_m, 7700);
+  EXPECT_EQ(d.effects.tof_offset.offset_mm, 5);
+  EXPECT_EQ(d.effects.tof_scale.k, 0.99);
   // Missing key, wrong kind: errors naming the file.
   try {
-    calibrate::load_light_coefficients(write("bad.json", R"({"kind":"light","parameters":{}})"));
+    coefficients::read_model_file<s::LightModel>(write("bad.json", R"({"kind":"light","parameters":{}})"));
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(calibrate::load_light_coefficients(write("kind.json", R"({"kind":"ground","parameters":{"gamma":1}})")),
+  EXPECT_THROW(coefficients::read_model_file<s::LightModel>(write("kind.json", R"({"kind":"ground","parameters":{"gamma":1}})")),
                std::runtime_error);
   fs::remove_all(dir);
 }

@@ -1,5 +1,6 @@
 // Wild readings in static logs: see epuck2/calibrate/screening.hpp.
 #include "epuck2/calibrate/screening.hpp"
+#include "epuck2/models/kind_facts.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -26,12 +27,23 @@ struct Rule {
   double floor = 2.0;                   ///< smallest robust sd (a few counts of quantisation)
 };
 
+/// The kind's first channel (lib/models kind_facts.hpp): its rails.
+const models::Channel& channel_of(logs::Kind kind, std::size_t k = 0) {
+  return models::kind_facts(std::string(logs::to_string(kind)))->channels.at(k);
+}
+
 bool rule_for(logs::Kind kind, Rule* r) {
+  const auto rails = [&](Rule rule) {
+    const models::Channel& c = channel_of(kind);
+    if (std::isfinite(c.low_rail)) rule.low = c.low_rail;
+    if (std::isfinite(c.high_rail)) rule.high = c.high_rail;
+    return rule;
+  };
   switch (kind) {
-    case logs::Kind::proximity: *r = {{"distance_m", "sensor", "angle_deg"}, {"value"}, 0, 4095, 2.0}; return true;
-    case logs::Kind::light: *r = {{"distance_m", "intensity", "sensor"}, {"value"}, 0, 4095, 2.0}; return true;
-    case logs::Kind::ground: *r = {{"grey", "sensor"}, {"value"}, 0, 1023, 2.0}; return true;
-    case logs::Kind::camera: *r = {{"forward_m", "lateral_m", "vertical_m"}, {"px", "py"}, -1e300, 1e300, 1.0}; return true;
+    case logs::Kind::proximity: *r = rails({{"distance_m", "sensor", "angle_deg"}, {"value"}, -1e300, 1e300, 2.0}); return true;
+    case logs::Kind::light: *r = rails({{"distance_m", "intensity", "sensor"}, {"value"}, -1e300, 1e300, 2.0}); return true;
+    case logs::Kind::ground: *r = rails({{"grey", "sensor"}, {"value"}, -1e300, 1e300, 2.0}); return true;
+    case logs::Kind::camera: *r = rails({{"forward_m", "lateral_m", "vertical_m"}, {"px", "py"}, -1e300, 1e300, 1.0}); return true;
     default: return false;
   }
 }
@@ -92,7 +104,8 @@ std::vector<std::vector<bool>> tof_spikes(const std::vector<logs::Log>& all, std
       const auto& tof = log.col("tof_mm");
       const auto& cl = log.col("left_speed_cm_s");
       const auto& cr = log.col("right_speed_cm_s");
-      auto inside = [](double v) { return v > 20 && v < 2000; };
+      const models::Channel& tof_rails = channel_of(logs::Kind::drive);
+      auto inside = [&](double v) { return v > tof_rails.low_rail && v < tof_rails.high_rail; };
       std::vector<double> d(n, 0.0), dev;
       for (std::size_t i = 1; i + 1 < n; ++i)
         if (inside(tof[i - 1]) && inside(tof[i]) && inside(tof[i + 1])) {
@@ -179,9 +192,9 @@ std::size_t readings_on_rails(const std::vector<logs::Log>& all) {
     };
     switch (log.kind) {
       case logs::Kind::proximity:
-      case logs::Kind::light: count("value", 0, 4095); break;
-      case logs::Kind::ground: count("value", 0, 1023); break;
-      case logs::Kind::drive: count("tof_mm", 20, 2000); break;
+      case logs::Kind::light:
+      case logs::Kind::ground: count("value", channel_of(log.kind).low_rail, channel_of(log.kind).high_rail); break;
+      case logs::Kind::drive: count("tof_mm", channel_of(log.kind).low_rail, channel_of(log.kind).high_rail); break;
       default: break;
     }
   }

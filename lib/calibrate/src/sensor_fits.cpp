@@ -14,6 +14,7 @@
 
 #include "epuck2/calibrate/screening.hpp"
 #include "epuck2/calibrate/sensors.hpp"
+#include "epuck2/models/effects.hpp"
 #include "epuck2/logs/json_location.hpp"
 
 namespace epuck2::calibrate {
@@ -760,7 +761,7 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
   // decides what a log that cannot tell them apart keeps: the scale and the lag before the offset.
   out.tof = fit_robust(TofModel{&out.runs, steps_per_m}, tobs,
                        {{"tof_offset_mm", 0.0, s::kPluginTof.offset_mm, -500.0, 500.0},
-                        {"tof_scale", 1.0, s::kPluginTof.scale, 0.5, 2.0},
+                        {models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), 1.0, s::kPluginTof.scale, 0.5, 2.0},
                         {"slip_time_constant_s", 0.05, 0.0, 0.0, 2.0}},
                        robust_options(options, kQuantisationSd));
   collect(out.warnings, "ToF: ", out.tof.warnings);
@@ -793,109 +794,6 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
     out.encoder_noise = noise_from_residuals("encoder", "steps", kArgosNoiseScaleEncoder_steps, out.steps);
   }
   return out;
-}
-
-// ================================================================================================
-// Coefficient files
-// ================================================================================================
-
-namespace {
-
-// A coefficient file's text (kept to place errors at their line) and its "parameters" object.
-struct CoefficientFile {
-  std::string path;
-  std::string text;
-  nlohmann::json parameters;
-};
-
-CoefficientFile load_parameters(const std::string& path, const std::string& kind) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw logs::InputError(path, 0, 0, "cannot open the coefficient file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  CoefficientFile f{path, ss.str(), {}};
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(f.text);
-  } catch (const nlohmann::json::parse_error& e) {
-    const logs::SourcePos at = logs::position_of(f.text, e.byte > 0 ? e.byte - 1 : 0);
-    throw logs::InputError(path, at.line, at.column, std::string("not JSON: ") + e.what());
-  } catch (const nlohmann::json::exception& e) {
-    const logs::SourcePos at = logs::locate_json_overflow(f.text);  // e.g. 1e999
-    throw logs::InputError(path, at.line, at.column, std::string("not JSON: ") + e.what());
-  }
-  if (!j.is_object()) throw logs::json_error(path, f.text, "", "expected an object with 'kind' and 'parameters'");
-  if (j.contains("kind")) {
-    if (!j.at("kind").is_string()) throw logs::json_error(path, f.text, "/kind", "expected 'kind' as a string");
-    if (j.at("kind").get<std::string>() != kind)
-      throw logs::json_error(path, f.text, "/kind", "a " + j.at("kind").get<std::string>() + " file, expected " + kind);
-  }
-  if (!j.contains("parameters") || !j.at("parameters").is_object())
-    throw logs::json_error(path, f.text, "/parameters", "expected a 'parameters' object");
-  f.parameters = j.at("parameters");
-  return f;
-}
-
-double number(const CoefficientFile& f, const std::string& key) {
-  if (!f.parameters.contains(key) || !f.parameters.at(key).is_number())
-    throw logs::json_error(f.path, f.text, "/parameters/" + key, "expected a number 'parameters." + key + "'");
-  return f.parameters.at(key).get<double>();
-}
-
-double number(const CoefficientFile& f, const std::string& key, std::size_t index, std::size_t count) {
-  const std::string what = "expected 'parameters." + key + "' as an array of " + std::to_string(count) + " numbers";
-  if (!f.parameters.contains(key) || !f.parameters.at(key).is_array() || f.parameters.at(key).size() != count)
-    throw logs::json_error(f.path, f.text, "/parameters/" + key, what);
-  const nlohmann::json& v = f.parameters.at(key).at(index);
-  if (!v.is_number()) throw logs::json_error(f.path, f.text, "/parameters/" + key + "/" + std::to_string(index), what);
-  return v.get<double>();
-}
-
-}  // namespace
-
-s::ProximityCoefficients load_proximity_coefficients(const std::string& path) {
-  const CoefficientFile f = load_parameters(path, "proximity");
-  s::ProximityCoefficients k;
-  k.a_per_m2 = number(f, "a");
-  k.b_per_m = number(f, "b");
-  k.c = number(f, "c");
-  return k;
-}
-
-s::LightCoefficients load_light_coefficients(const std::string& path) {
-  const CoefficientFile f = load_parameters(path, "light");
-  s::LightCoefficients k;
-  k.gamma_m = number(f, "gamma");
-  return k;
-}
-
-std::array<s::GroundCoefficients, s::kGroundCount> load_ground_coefficients(const std::string& path) {
-  const CoefficientFile f = load_parameters(path, "ground");
-  std::array<s::GroundCoefficients, s::kGroundCount> k;
-  for (std::size_t i = 0; i < k.size(); ++i) {
-    k[i].gain_raw = number(f, "gain", i, k.size());
-    k[i].offset_raw = number(f, "offset", i, k.size());
-  }
-  return k;
-}
-
-s::CameraCoefficients load_camera_coefficients(const std::string& path) {
-  const CoefficientFile f = load_parameters(path, "camera");
-  s::CameraCoefficients k;
-  k.horizontal_fov_rad = s::deg_to_rad(number(f, "fov_deg"));
-  k.cx_px = number(f, "cx_px");
-  k.cy_px = number(f, "cy_px");
-  return k;
-}
-
-DriveCoefficients load_drive_coefficients(const std::string& path) {
-  const CoefficientFile f = load_parameters(path, "drive");
-  DriveCoefficients k;
-  k.encoder.steps_per_m = number(f, "steps_per_m");
-  k.tof.scale = number(f, "tof_scale");
-  k.tof.offset_mm = number(f, "tof_offset_mm");
-  if (f.parameters.contains("slip_time_constant_s")) k.slip_time_constant_s = number(f, "slip_time_constant_s");
-  return k;
 }
 
 }  // namespace epuck2::calibrate

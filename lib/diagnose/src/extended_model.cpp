@@ -6,15 +6,17 @@
 #include <map>
 #include <stdexcept>
 
-#include "epuck2/calibrate/model_file.hpp"
+#include "epuck2/coefficients/model_file.hpp"
+#include "epuck2/models/effects.hpp"
 
 namespace epuck2::diagnose {
 
 namespace s = models::sensors;
+namespace fx = models::effects;
 
 namespace {
 
-constexpr const char* kCovariate = "covariate:";
+constexpr const char* kCovariate = fx::kCovariatePrefix;
 
 /// Every parameter of the report by name: the base's (final joint fit) and each finding's, keyed
 /// "cause.name" for findings (catalogue names repeat across causes: drive's two `k`).
@@ -50,15 +52,14 @@ struct Values {
   }
 };
 
-Values values_of(const Report& r, std::vector<std::string>* left_out, const std::vector<std::string>& known) {
+Values values_of(const Report& r, std::vector<std::string>* left_out, const fx::Catalogue& catalogue) {
   Values v;
   for (const NamedValue& p : r.final_base.empty() ? r.recalibrated : r.final_base) v.base[p.name] = p.value;
   for (const Finding& f : r.findings) {
     if (f.cause.rfind(kCovariate, 0) == 0) continue;  // covariates(), below
     // The formula the finding carries (a renamed finding keeps its effect's).
     const std::string& effect = f.effect.empty() ? f.cause : f.effect;
-    bool ok = false;
-    for (const auto& k : known) ok = ok || k == effect;
+    const bool ok = fx::find(catalogue, effect) != nullptr;
     if (!ok) {
       if (left_out) left_out->push_back(f.cause);
       continue;
@@ -122,29 +123,35 @@ Model base_of(const Report& r) {
 /// "gains[3]" of a finding, per sensor (the reference sensor, not fitted, and sensors the logs do
 /// not hold keep the base's gain).
 template <std::size_t N>
-std::array<double, N> gains(const Values& v, const std::string& cause, const std::array<double, N>& base) {
+std::array<double, N> gains(const Values& v, const std::string& cause, const std::string& key, const std::array<double, N>& base) {
   std::array<double, N> g = base;
-  for (std::size_t k = 0; k < N; ++k) g[k] = v.optional_at(cause, "gains[" + std::to_string(k) + "]", base[k]);
+  for (std::size_t k = 0; k < N; ++k) g[k] = v.optional_at(cause, key + "[" + std::to_string(k) + "]", base[k]);
   return g;
+}
+
+/// Every finding of an effect that lives in the model's effect struct, through the registry: its
+/// parameters (KEY, or KEY[k] per sensor: a sensor the finding does not fit keeps the base's).
+template <class Model>
+void apply_findings(const Values& v, Model& m) {
+  const fx::Catalogue& catalogue = fx::catalogue_of(m);
+  fx::for_each_param(fx::effects_of(m), [&](std::size_t id, int q, int k, double& slot) {
+    const fx::Effect& e = catalogue[id];
+    const fx::Param& p = e.params[static_cast<std::size_t>(q)];
+    if (p.count == 1) slot = v.at(e.name, p.key, slot);
+    else slot = v.optional_at(e.name, std::string(p.key) + "[" + std::to_string(k) + "]", slot);
+  });
 }
 
 }  // namespace
 
 s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::proximity);
-  const Values v = values_of(r, left_out, {"ambient_offset", "sensor_gain", "long_tail", "incidence_angle", "saturation"});
   s::ProximityModel m = base_of<s::ProximityModel>(r);
+  const Values v = values_of(r, left_out, fx::catalogue_of(m));
   m.base.a_per_m2 = v.base_or("a", m.base.a_per_m2);
   m.base.b_per_m = v.base_or("b", m.base.b_per_m);
   m.base.c = v.base_or("c", m.base.c);
-  m.effects.ambient.offset_raw = v.at("ambient_offset", "offset", m.effects.ambient.offset_raw);
-  m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain", m.effects.gains.gain);
-  if (v.has("long_tail")) {
-    m.effects.tail.amplitude_raw = v.at("long_tail", "amplitude", m.effects.tail.amplitude_raw);
-    m.effects.tail.length_m = v.at("long_tail", "length_m", m.effects.tail.length_m);
-  }
-  m.effects.incidence.k = v.at("incidence_angle", "k", m.effects.incidence.k);
-  if (v.has("saturation")) m.effects.saturation.level_raw = v.at("saturation", "level", m.effects.saturation.level_raw);
+  apply_findings(v, m);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   m.noise_sd_raw = noise_per_sensor<s::kProximityCount>(inputs, "proximity", r.noise_sd);
   return m;
@@ -152,12 +159,10 @@ s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* 
 
 s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::light);
-  const Values v = values_of(r, left_out, {"ambient_offset", "falloff_exponent", "sensor_gain"});
   s::LightModel m = base_of<s::LightModel>(r);
+  const Values v = values_of(r, left_out, fx::catalogue_of(m));
   m.base.gamma_m = v.base_or("gamma_m", m.base.gamma_m);
-  m.effects.ambient.offset_raw = v.at("ambient_offset", "offset", m.effects.ambient.offset_raw);
-  m.effects.falloff.exponent = v.at("falloff_exponent", "exponent", m.effects.falloff.exponent);
-  m.effects.gains.gain = gains<s::kProximityCount>(v, "sensor_gain", m.effects.gains.gain);
+  apply_findings(v, m);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   m.noise_sd_raw = noise_per_sensor<s::kProximityCount>(inputs, "light", r.noise_sd);
   return m;
@@ -165,22 +170,28 @@ s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out
 
 s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::ground);
-  const Values v = values_of(r, left_out, {"black_offset", "white_level", "sensor_gain", "nonlinear_response", "sensor_offset"});
   s::GroundModel m = base_of<s::GroundModel>(r);
+  const fx::Catalogue& c = fx::catalogue_of(m);
+  const Values v = values_of(r, left_out, c);
   // The catalogue's effects relative to each sensor's base (B_s over black, G_s from black to
   // white; the plug-in's 0 and 1023): sensor s has the black offset B_s + o_s and the gain
   // G_s (level - o_s) / 1023 g_s, o_s = offset + offsets[s] (the diagnosis's ground model,
   // kinds.cpp).
-  const double offset = v.at("black_offset", "offset", 0.0);
-  const double level = v.at("white_level", "level", s::kGroundFullScale_raw);
+  const fx::Effect& black_offset = c[fx::ground::black_offset];
+  const fx::Effect& white_level = c[fx::ground::white_level];
+  const fx::Effect& sensor_gain = c[fx::ground::sensor_gain];
+  const fx::Effect& sensor_offset = c[fx::ground::sensor_offset];
+  const double offset = v.at(black_offset.name, black_offset.params[0].key, black_offset.params[0].neutral);
+  const double level = v.at(white_level.name, white_level.params[0].key, white_level.params[0].neutral);
   std::array<double, s::kGroundCount> ones;
-  ones.fill(1.0);
-  const auto g = gains<s::kGroundCount>(v, "sensor_gain", ones);
+  ones.fill(sensor_gain.params[0].neutral);
+  const auto g = gains<s::kGroundCount>(v, sensor_gain.name, sensor_gain.params[0].key, ones);
   for (std::size_t k = 0; k < m.sensors.size(); ++k) {
-    const double black = offset + v.optional_at("sensor_offset", "offsets[" + std::to_string(k) + "]", 0.0);
+    const double black = offset + v.optional_at(sensor_offset.name, std::string(sensor_offset.params[0].key) + "[" + std::to_string(k) + "]",
+                                                sensor_offset.params[0].neutral);
     m.sensors[k] = {m.sensors[k].gain_raw * (level - black) / s::kGroundFullScale_raw * g[k], m.sensors[k].offset_raw + black};
   }
-  m.effects.exponent = v.at("nonlinear_response", "exponent", m.effects.exponent);
+  apply_findings(v, m);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   m.noise_sd_raw = noise_per_sensor<s::kGroundCount>(inputs, "ground", r.noise_sd);
   return m;
@@ -188,12 +199,14 @@ s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_o
 
 s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::camera);
-  const Values v = values_of(r, left_out, {"principal_offset", "radial_distortion"});
   s::CameraModel m = base_of<s::CameraModel>(r);
+  const fx::Catalogue& c = fx::catalogue_of(m);
+  const Values v = values_of(r, left_out, c);
+  const fx::Effect& principal = c[fx::camera::principal_offset];
   m.base.horizontal_fov_rad = s::deg_to_rad(v.base_or("fov_deg", s::rad_to_deg(m.base.horizontal_fov_rad)));
-  m.base.cx_px = s::kCameraWidth_px / 2.0 + v.at("principal_offset", "dx_px", m.base.cx_px - s::kCameraWidth_px / 2.0);
-  m.base.cy_px = s::kCameraHeight_px / 2.0 + v.at("principal_offset", "dy_px", m.base.cy_px - s::kCameraHeight_px / 2.0);
-  m.distortion.k1 = v.at("radial_distortion", "k1", m.distortion.k1);
+  m.base.cx_px = s::kCameraWidth_px / 2.0 + v.at(principal.name, principal.params[0].key, m.base.cx_px - s::kCameraWidth_px / 2.0);
+  m.base.cy_px = s::kCameraHeight_px / 2.0 + v.at(principal.name, principal.params[1].key, m.base.cy_px - s::kCameraHeight_px / 2.0);
+  apply_findings(v, m);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   m.noise_sd_px = model_noise_sd(inputs.replicate_noise, "camera", r.noise_sd);
   return m;
@@ -201,16 +214,9 @@ s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_o
 
 s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::drive);
-  const Values v = values_of(r, left_out,
-                             {"speed_limit", "accel_limit", "wheel_slip", "speed_scale", "latency", "tof_offset", "tof_scale"});
   s::DriveModel m = base_of<s::DriveModel>(r);
-  m.effects.speed_limit.max_cm_s = v.at("speed_limit", "max_cm_s", m.effects.speed_limit.max_cm_s);
-  m.effects.accel_limit.accel_cm_s2 = v.at("accel_limit", "accel_cm_s2", m.effects.accel_limit.accel_cm_s2);
-  m.effects.slip.tau_s = v.at("wheel_slip", "tau_s", m.effects.slip.tau_s);
-  m.effects.speed_scale.k = v.at("speed_scale", "k", m.effects.speed_scale.k);
-  m.effects.latency.delay_s = v.at("latency", "delay_s", m.effects.latency.delay_s);
-  m.effects.tof_offset.offset_mm = v.at("tof_offset", "offset_mm", m.effects.tof_offset.offset_mm);
-  m.effects.tof_scale.k = v.at("tof_scale", "k", m.effects.tof_scale.k);
+  const Values v = values_of(r, left_out, fx::catalogue_of(m));
+  apply_findings(v, m);
   double tof_residual_sd = r.noise_sd;
   for (const NamedValue& c : r.channel_noise_sd) {
     if (c.name == "tof_mm") tof_residual_sd = c.value;
@@ -223,11 +229,12 @@ s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out
 
 s::BatteryModel extended_battery(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
   require(r, logs::Kind::battery);
-  const Values v = values_of(r, left_out, {"capacity_scale"});
   s::BatteryModel m;
+  const Values v = values_of(r, left_out, fx::catalogue_of(m));
   m.model = inputs.battery_model;
   if (inputs.battery_tables) m.tables = *inputs.battery_tables;
-  m.capacity.k = v.at("capacity_scale", "k", inputs.battery_capacity_k);
+  m.capacity.k = inputs.battery_capacity_k;
+  apply_findings(v, m);
   m.noise_sd = r.noise_sd;  // a charge is not rounded: no register's share to take out
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   return m;
@@ -261,12 +268,12 @@ nlohmann::json extended_model_json(const Report& r, const ModelInputs& inputs) {
   std::vector<std::string> left_out;
   nlohmann::json j;
   switch (r.kind) {
-    case logs::Kind::proximity: j = calibrate::model_to_json(extended_proximity(r, &left_out, inputs)); break;
-    case logs::Kind::light: j = calibrate::model_to_json(extended_light(r, &left_out, inputs)); break;
-    case logs::Kind::ground: j = calibrate::model_to_json(extended_ground(r, &left_out, inputs)); break;
-    case logs::Kind::camera: j = calibrate::model_to_json(extended_camera(r, &left_out, inputs)); break;
-    case logs::Kind::drive: j = calibrate::model_to_json(extended_drive(r, &left_out, inputs)); break;
-    case logs::Kind::battery: j = calibrate::model_to_json(extended_battery(r, &left_out, inputs)); break;
+    case logs::Kind::proximity: j = coefficients::model_to_json(extended_proximity(r, &left_out, inputs)); break;
+    case logs::Kind::light: j = coefficients::model_to_json(extended_light(r, &left_out, inputs)); break;
+    case logs::Kind::ground: j = coefficients::model_to_json(extended_ground(r, &left_out, inputs)); break;
+    case logs::Kind::camera: j = coefficients::model_to_json(extended_camera(r, &left_out, inputs)); break;
+    case logs::Kind::drive: j = coefficients::model_to_json(extended_drive(r, &left_out, inputs)); break;
+    case logs::Kind::battery: j = coefficients::model_to_json(extended_battery(r, &left_out, inputs)); break;
   }
   if (!left_out.empty()) j["effects_not_in_model"] = left_out;
   return j;

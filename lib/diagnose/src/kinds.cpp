@@ -15,6 +15,7 @@
 #include "problem.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/fit/robust.hpp"
+#include "epuck2/models/effects.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 #include "epuck2/models/sensors.hpp"
 
@@ -26,6 +27,7 @@ namespace detail {
 namespace {
 
 namespace s = models::sensors;
+namespace fx = models::effects;
 
 /// Sensor gains whose equality the Wald test of their differences does not reject at this level are one common gain.
 constexpr double kEqualGainsP = 0.01;
@@ -48,6 +50,56 @@ int add_param(Problem& p, const std::string& name, double neutral, double start,
   p.params.push_back({name, start, neutral, lower, upper, false, {}});
   p.plugin_values.push_back(neutral);
   return static_cast<int>(p.params.size()) - 1;
+}
+
+/// Every parameter of a kind's catalogue effects (lib/models' registry): one per element, named
+/// KEY or KEY[k], with the registry's neutral value, start and range; the kind's effects list the
+/// effect with all of them (kinds narrow per-sensor effects to the sensors the logs hold).
+/// [effect][parameter][element] -> index into Problem::params.
+using CatalogueIndex = std::vector<std::vector<std::vector<int>>>;
+CatalogueIndex add_catalogue(Problem& p, const fx::Catalogue& catalogue) {
+  CatalogueIndex ix(catalogue.size());
+  for (std::size_t id = 0; id < catalogue.size(); ++id) {
+    const fx::Effect& e = catalogue[id];
+    Effect effect{e.name, {}};
+    for (const fx::Param& q : e.params) {
+      ix[id].emplace_back();
+      for (int k = 0; k < q.count; ++k) {
+        const std::string name = q.count == 1 ? std::string(q.key) : std::string(q.key) + "[" + std::to_string(k) + "]";
+        ix[id].back().push_back(add_param(p, name, q.neutral, q.start, q.lower, q.upper));
+        effect.params.push_back(ix[id].back().back());
+      }
+    }
+    p.effects.push_back(effect);
+  }
+  return ix;
+}
+
+/// The effect of the catalogue in p.effects (added by add_catalogue).
+Effect& effect_of(Problem& p, const fx::Catalogue& catalogue, std::size_t id) {
+  for (Effect& e : p.effects)
+    if (e.cause == catalogue[id].name) return e;
+  throw std::logic_error("the catalogue's effect " + std::string(catalogue[id].name) + " is not in the problem");
+}
+void drop_effect(Problem& p, const fx::Catalogue& catalogue, std::size_t id) {
+  p.effects.erase(std::remove_if(p.effects.begin(), p.effects.end(), [&](const Effect& e) { return e.cause == catalogue[id].name; }),
+                  p.effects.end());
+}
+
+/// The kind's effect struct (lib/models) at the parameters p, through the registry's visitor.
+template <class Effects, class T>
+void fill_effects(const CatalogueIndex& ix, const T* p, Effects& e) {
+  fx::for_each_param(e, [&](std::size_t id, int q, int k, auto& slot) {
+    slot = p[ix[id][static_cast<std::size_t>(q)][static_cast<std::size_t>(k)]];
+  });
+}
+
+/// A base model's effects (a calibration's or a diagnosis's file) as the parameters' off values.
+template <class Effects>
+void set_base_effects(Problem& p, const CatalogueIndex& ix, Effects e) {
+  fx::for_each_param(e, [&](std::size_t id, int q, int k, double& v) {
+    set_base(p, ix[id][static_cast<std::size_t>(q)][static_cast<std::size_t>(k)], v);
+  });
 }
 
 std::vector<int> sensors_seen(const std::vector<double>& sensor) {
@@ -77,26 +129,30 @@ class Ground : public ProblemOf<Ground> {
     }
     channel_lo = {0.0};
     channel_hi = {s::kGroundFullScale_raw};
-    offset_ = add_param(*this, "offset", 0.0, 20.0, -s::kGroundFullScale_raw, s::kGroundFullScale_raw);
-    level_ = add_param(*this, "level", s::kGroundFullScale_raw, s::kGroundFullScale_raw, 1.0, 4.0 * s::kGroundFullScale_raw);
-    Effect gains{"sensor_gain", {}};
-    for (int k = 0; k < s::kGroundCount; ++k) gain_[static_cast<std::size_t>(k)] = add_param(*this, "gains[" + std::to_string(k) + "]", 1.0, 1.0, 0.05, 5.0);
-    for (int k : sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end())))
-      if (k >= 0 && k < s::kGroundCount) gains.params.push_back(gain_[static_cast<std::size_t>(k)]);
-    exponent_ = add_param(*this, "exponent", 1.0, 1.0, 0.05, 20.0);
-    // Per-sensor black offsets (the real robots' ground sensors differ over black), relative to
-    // the first sensor seen, whose offset is the common black_offset.
-    Effect offsets{"sensor_offset", {}};
-    for (int k = 0; k < s::kGroundCount; ++k)
-      sensor_offset_[static_cast<std::size_t>(k)] =
-          add_param(*this, "offsets[" + std::to_string(k) + "]", 0.0, 0.0, -s::kGroundFullScale_raw, s::kGroundFullScale_raw);
+    const fx::Catalogue& c = fx::ground_catalogue();
+    ix_ = add_catalogue(*this, c);
+    offset_ = ix_[fx::ground::black_offset][0][0];
+    level_ = ix_[fx::ground::white_level][0][0];
+    for (std::size_t k = 0; k < gain_.size(); ++k) gain_[k] = ix_[fx::ground::sensor_gain][0][k];
+    for (std::size_t k = 0; k < sensor_offset_.size(); ++k) sensor_offset_[k] = ix_[fx::ground::sensor_offset][0][k];
+    // Per-sensor gains of the sensors seen; per-sensor black offsets (the real robots' ground
+    // sensors differ over black) relative to the first sensor seen, whose offset is the common
+    // black_offset.
     const auto seen = sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end()));
+    std::vector<int> gains, offsets;
+    for (int k : seen)
+      if (k >= 0 && k < s::kGroundCount) gains.push_back(gain_[static_cast<std::size_t>(k)]);
     for (std::size_t j = 1; j < seen.size(); ++j)
-      if (seen[j] >= 0 && seen[j] < s::kGroundCount) offsets.params.push_back(sensor_offset_[static_cast<std::size_t>(seen[j])]);
-    effects = {{"black_offset", {offset_}}, {"white_level", {level_}}, {"nonlinear_response", {exponent_}}};
-    if (gains.params.size() >= 2) effects.push_back(gains);
-    if (!offsets.params.empty()) effects.push_back(offsets);
-    identifiable = {"sensor_gain"};
+      if (seen[j] >= 0 && seen[j] < s::kGroundCount) offsets.push_back(sensor_offset_[static_cast<std::size_t>(seen[j])]);
+    effect_of(*this, c, fx::ground::sensor_gain).params = gains;
+    effect_of(*this, c, fx::ground::sensor_offset).params = offsets;
+    // The order the engine tries them in: the common offset and level first.
+    if (offsets.empty()) drop_effect(*this, c, fx::ground::sensor_offset);
+    if (gains.size() < 2) drop_effect(*this, c, fx::ground::sensor_gain);
+    std::stable_partition(effects.begin(), effects.end(), [&](const Effect& e) {
+      return e.cause != c[fx::ground::sensor_gain].name && e.cause != c[fx::ground::sensor_offset].name;
+    });
+    identifiable = {c[fx::ground::sensor_gain].name};
     std::vector<double> sensor_d(sensor_.begin(), sensor_.end());
     covariates.emplace_back("grey", grey_);
     covariates.emplace_back("sensor", std::move(sensor_d));
@@ -108,7 +164,8 @@ class Ground : public ProblemOf<Ground> {
   /// kEqualGainsP.
   std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
                                    const Eigen::MatrixXd& covariance) const override {
-    if (cause != "sensor_gain" || values[static_cast<std::size_t>(level_)] != params[static_cast<std::size_t>(level_)].fallback)
+    const fx::Catalogue& c = fx::ground_catalogue();
+    if (cause != c[fx::ground::sensor_gain].name || values[static_cast<std::size_t>(level_)] != params[static_cast<std::size_t>(level_)].fallback)
       return std::nullopt;  // a white level already in the model: the gains are its sensors' spread
     std::vector<std::size_t> g;  // the gains' parameter indices, sensors seen
     for (int k : sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end())))
@@ -143,13 +200,13 @@ class Ground : public ProblemOf<Ground> {
                   "the %zu sensor gains are equal within their errors (Wald test of their differences with their covariance: "
                   "%.3g on %g degrees of freedom, p = %.2g): one white level common to every sensor, %.4g",
                   g.size(), wald, dof, p_value, level);
-    return Identity{"white_level", why, "white_level", {{level_, level}}};
+    return Identity{c[fx::ground::white_level].name, why, c[fx::ground::white_level].name, {{level_, level}}};
   }
 
   /// A calibrated base: each sensor's own offset and gain, and its nonlinear response.
   void set_base_model(const s::GroundModel& m) {
     base_ = m.sensors;
-    set_base(*this, exponent_, m.effects.exponent);
+    set_base_effects(*this, ix_, m.effects);
   }
 
   // The catalogue's parameters map onto lib/models' ground response, relative to each sensor's
@@ -160,7 +217,7 @@ class Ground : public ProblemOf<Ground> {
   template <typename T>
   void eval(const T* p, T* out, std::size_t /*needed: every row is computed*/) const {
     s::GroundNonlinear<T> nonlinear;
-    nonlinear.exponent = p[exponent_];
+    fill_effects(ix_, p, nonlinear);
     std::array<T, s::kGroundCount> gain, offset;
     for (std::size_t k = 0; k < gain.size(); ++k) {
       const T black = p[offset_] + p[sensor_offset_[k]];
@@ -177,7 +234,8 @@ class Ground : public ProblemOf<Ground> {
   std::vector<double> grey_;
   std::vector<int> sensor_;
   std::array<s::GroundCoefficients, s::kGroundCount> base_{s::kPluginGround, s::kPluginGround, s::kPluginGround};
-  int offset_ = 0, level_ = 0, exponent_ = 0;
+  CatalogueIndex ix_;
+  int offset_ = 0, level_ = 0;
   std::array<int, s::kGroundCount> gain_{}, sensor_offset_{};
 };
 
@@ -211,27 +269,27 @@ class Proximity : public ProblemOf<Proximity> {
     add_param(*this, "b", k.b_per_m, k.b_per_m);
     add_param(*this, "c", k.c, k.c);
     base_free = {a_, a_ + 1, a_ + 2};
-    offset_ = add_param(*this, "offset", 0.0, 10.0, -s::kProximityFullScale_raw, s::kProximityFullScale_raw);
-    for (int j = 0; j < s::kProximityCount; ++j)
-      gain_[static_cast<std::size_t>(j)] = add_param(*this, "gains[" + std::to_string(j) + "]", 1.0, 1.0, 0.05, 20.0);
-    amplitude_ = add_param(*this, "amplitude", 0.0, 200.0, 0.0, 20.0 * s::kProximityFullScale_raw);
-    length_ = add_param(*this, "length_m", 0.02, 0.02, 0.001, 1.0);
-    k_ = add_param(*this, "k", 0.0, 1.0, 0.0, 50.0);
+    const fx::Catalogue& c = fx::proximity_catalogue();
+    ix_ = add_catalogue(*this, c);
+    amplitude_ = ix_[fx::proximity::long_tail][0][0];
+    // The saturation level starts at the highest reading.
     double top = 0;
     for (double v : y) top = std::max(top, v);
-    level_ = add_param(*this, "level", 1e9, top, 1.0, 1e9);
-    effects = {{"ambient_offset", {offset_}}, {"long_tail", {amplitude_, length_}}, {"saturation", {level_}}};
-    identifiable = {"long_tail"};
+    params[static_cast<std::size_t>(ix_[fx::proximity::saturation][0][0])].value = top;
+    identifiable = {c[fx::proximity::long_tail].name};
     // With a, b, c free the overall gain is theirs: the first sensor seen is the reference (1).
     const auto seen = sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end()));
-    if (seen.size() >= 2) {
-      Effect g{"sensor_gain", {}};
-      for (std::size_t j = 1; j < seen.size(); ++j) g.params.push_back(gain_[static_cast<std::size_t>(seen[j])]);
-      effects.push_back(g);
-    }
+    std::vector<int> gains;
+    for (std::size_t j = 1; j < seen.size(); ++j) gains.push_back(ix_[fx::proximity::sensor_gain][0][static_cast<std::size_t>(seen[j])]);
+    effect_of(*this, c, fx::proximity::sensor_gain).params = gains;
+    if (gains.empty()) drop_effect(*this, c, fx::proximity::sensor_gain);
     bool angles_vary = false;
-    for (double c : cos_) angles_vary = angles_vary || std::abs(c - cos_.front()) > 1e-9 || c < 1.0 - 1e-12;
-    if (angle && angles_vary) effects.push_back({"incidence_angle", {k_}});
+    for (double v : cos_) angles_vary = angles_vary || std::abs(v - cos_.front()) > 1e-9 || v < 1.0 - 1e-12;
+    if (!(angle && angles_vary)) drop_effect(*this, c, fx::proximity::incidence_angle);
+    // The order the engine tries them in (as before the registry): the common effects first.
+    std::stable_partition(effects.begin(), effects.end(), [&](const Effect& e) {
+      return e.cause != c[fx::proximity::sensor_gain].name && e.cause != c[fx::proximity::incidence_angle].name;
+    });
     range_m_ = k.range_m;
     std::vector<double> sensor_d(sensor_.begin(), sensor_.end());
     covariates.emplace_back("distance_m", distance_);
@@ -249,12 +307,7 @@ class Proximity : public ProblemOf<Proximity> {
     set_base(*this, a_ + 1, m.base.b_per_m);
     set_base(*this, a_ + 2, m.base.c);
     range_m_ = m.base.range_m;
-    set_base(*this, offset_, m.effects.ambient.offset_raw);
-    for (std::size_t j = 0; j < gain_.size(); ++j) set_base(*this, gain_[j], m.effects.gains.gain[j]);
-    set_base(*this, amplitude_, m.effects.tail.amplitude_raw);
-    set_base(*this, length_, m.effects.tail.length_m);
-    set_base(*this, k_, m.effects.incidence.k);
-    set_base(*this, level_, m.effects.saturation.level_raw);
+    set_base_effects(*this, ix_, m.effects);
   }
 
   /// A long tail that carries most of the modelled reading within the base model's range
@@ -262,7 +315,7 @@ class Proximity : public ProblemOf<Proximity> {
   /// the finding is the near-field curve's shape (near_field_curve), the same formula renamed.
   std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
                                    const Eigen::MatrixXd& /*covariance*/) const override {
-    if (cause != "long_tail") return std::nullopt;
+    if (cause != fx::proximity_catalogue()[fx::proximity::long_tail].name) return std::nullopt;
     std::vector<double> with(distance_.size()), without(distance_.size());
     eval<double>(values.data(), with.data(), kAllResiduals);
     std::vector<double> off = values;
@@ -293,12 +346,7 @@ class Proximity : public ProblemOf<Proximity> {
   template <typename T>
   void eval(const T* p, T* out, std::size_t /*needed: every row is computed*/) const {
     s::ProximityEffects<T> e;
-    e.ambient.offset_raw = p[offset_];
-    for (std::size_t j = 0; j < gain_.size(); ++j) e.gains.gain[j] = p[gain_[j]];
-    e.tail.amplitude_raw = p[amplitude_];
-    e.tail.length_m = p[length_];
-    e.incidence.k = p[k_];
-    e.saturation.level_raw = p[level_];
+    fill_effects(ix_, p, e);
     for (std::size_t i = 0; i < distance_.size(); ++i)
       out[i] = s::proximity_mean_raw(p + a_, range_m_, e, sensor_[i], distance_[i], cos_[i]);
   }
@@ -306,8 +354,8 @@ class Proximity : public ProblemOf<Proximity> {
  private:
   std::vector<double> distance_, cos_;
   std::vector<int> sensor_;
-  int a_ = 0, offset_ = 0, amplitude_ = 0, length_ = 0, k_ = 0, level_ = 0;
-  std::array<int, s::kProximityCount> gain_{};
+  CatalogueIndex ix_;
+  int a_ = 0, amplitude_ = 0;
   double range_m_ = 0.05;
 };
 
@@ -336,17 +384,13 @@ class Light : public ProblemOf<Light> {
     }
     gamma_ = add_param(*this, "gamma_m", s::kPluginLight.gamma_m, s::kPluginLight.gamma_m, 1e-4, 10.0);
     base_free = {gamma_};
-    offset_ = add_param(*this, "offset", 0.0, 10.0, -s::kProximityFullScale_raw, s::kProximityFullScale_raw);
-    exponent_ = add_param(*this, "exponent", 2.0, 2.0, 0.2, 10.0);
-    for (int j = 0; j < s::kProximityCount; ++j)
-      gain_[static_cast<std::size_t>(j)] = add_param(*this, "gains[" + std::to_string(j) + "]", 1.0, 1.0, 0.05, 20.0);
-    effects = {{"ambient_offset", {offset_}}, {"falloff_exponent", {exponent_}}};
+    const fx::Catalogue& c = fx::light_catalogue();
+    ix_ = add_catalogue(*this, c);
     const auto seen = sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end()));
-    if (seen.size() >= 2) {
-      Effect g{"sensor_gain", {}};
-      for (std::size_t j = 1; j < seen.size(); ++j) g.params.push_back(gain_[static_cast<std::size_t>(seen[j])]);
-      effects.push_back(g);
-    }
+    std::vector<int> gains;
+    for (std::size_t j = 1; j < seen.size(); ++j) gains.push_back(ix_[fx::light::sensor_gain][0][static_cast<std::size_t>(seen[j])]);
+    effect_of(*this, c, fx::light::sensor_gain).params = gains;
+    if (gains.empty()) drop_effect(*this, c, fx::light::sensor_gain);
     range_m_ = s::kPluginLight.range_m;
     std::vector<double> sensor_d(sensor_.begin(), sensor_.end());
     covariates.emplace_back("distance_m", distance_);
@@ -357,17 +401,13 @@ class Light : public ProblemOf<Light> {
   void set_base_model(const s::LightModel& m) {
     set_base(*this, gamma_, m.base.gamma_m);
     range_m_ = m.base.range_m;
-    set_base(*this, offset_, m.effects.ambient.offset_raw);
-    set_base(*this, exponent_, m.effects.falloff.exponent);
-    for (std::size_t j = 0; j < gain_.size(); ++j) set_base(*this, gain_[j], m.effects.gains.gain[j]);
+    set_base_effects(*this, ix_, m.effects);
   }
 
   template <typename T>
   void eval(const T* p, T* out, std::size_t /*needed: every row is computed*/) const {
     s::LightEffects<T> e;
-    e.ambient.offset_raw = p[offset_];
-    e.falloff.exponent = p[exponent_];
-    for (std::size_t j = 0; j < gain_.size(); ++j) e.gains.gain[j] = p[gain_[j]];
+    fill_effects(ix_, p, e);
     for (std::size_t i = 0; i < distance_.size(); ++i)
       out[i] = s::light_mean_raw(p[gamma_], range_m_, e, sensor_[i], intensity_[i], distance_[i]);
   }
@@ -375,8 +415,8 @@ class Light : public ProblemOf<Light> {
  private:
   std::vector<double> distance_, intensity_;
   std::vector<int> sensor_;
-  int gamma_ = 0, offset_ = 0, exponent_ = 0;
-  std::array<int, s::kProximityCount> gain_{};
+  CatalogueIndex ix_;
+  int gamma_ = 0;
   double range_m_ = 0.5;
 };
 
@@ -415,10 +455,9 @@ class Camera : public ProblemOf<Camera> {
     constexpr double kNominalFov_deg = 30.0;
     fov_ = add_param(*this, "fov_deg", kNominalFov_deg, kNominalFov_deg, 1.0, 170.0);
     base_free = {fov_};
-    dx_ = add_param(*this, "dx_px", 0.0, 0.0);
-    dy_ = add_param(*this, "dy_px", 0.0, 0.0);
-    k1_ = add_param(*this, "k1", 0.0, 0.0, -10.0, 10.0);
-    effects = {{"principal_offset", {dx_, dy_}}, {"radial_distortion", {k1_}}};
+    ix_ = add_catalogue(*this, fx::camera_catalogue());
+    dx_ = ix_[fx::camera::principal_offset][0][0];
+    dy_ = ix_[fx::camera::principal_offset][1][0];
     covariates.emplace_back("forward_m", std::move(fw));
     covariates.emplace_back("lateral_m", std::move(lat));
     covariates.emplace_back("vertical_m", std::move(ver));
@@ -430,13 +469,13 @@ class Camera : public ProblemOf<Camera> {
     set_base(*this, fov_, s::rad_to_deg(m.base.horizontal_fov_rad));
     set_base(*this, dx_, m.base.cx_px - s::kCameraWidth_px / 2.0);
     set_base(*this, dy_, m.base.cy_px - s::kCameraHeight_px / 2.0);
-    set_base(*this, k1_, m.distortion.k1);
+    set_base_effects(*this, ix_, m.distortion);
   }
 
   template <typename T>
   void eval(const T* p, T* out, std::size_t /*needed: every row is computed*/) const {
     s::CameraRadialDistortion<T> distortion;
-    distortion.k1 = p[k1_];
+    fill_effects(ix_, p, distortion);
     const T hfov_rad = p[fov_] * (s::kPi / 180.0);
     const T cx = s::kCameraWidth_px / 2.0 + p[dx_], cy = s::kCameraHeight_px / 2.0 + p[dy_];
     for (std::size_t i = 0; i < x_.size(); ++i)
@@ -446,7 +485,8 @@ class Camera : public ProblemOf<Camera> {
 
  private:
   std::vector<double> x_, z_;
-  int fov_ = 0, dx_ = 0, dy_ = 0, k1_ = 0;
+  CatalogueIndex ix_;
+  int fov_ = 0, dx_ = 0, dy_ = 0;
 };
 
 
@@ -554,17 +594,12 @@ class Drive : public ProblemOf<Drive> {
     }
     // A limit above every command changes nothing (a flat cost): start from several fractions of
     // the largest command.
-    max_ = add_param(*this, "max_cm_s", kNoLimit, std::max(0.5, 0.9 * max_command), 0.1, kNoLimit);
-    params[static_cast<std::size_t>(max_)].other_starts = {std::max(0.5, 0.65 * max_command), std::max(0.5, 0.4 * max_command)};
-    accel_ = add_param(*this, "accel_cm_s2", kNoLimit, 40.0, 0.5, kNoLimit);
-    params[static_cast<std::size_t>(accel_)].other_starts = {10.0};
-    tau_ = add_param(*this, "tau_s", 0.0, 0.1, 1e-3, 10.0);
-    speed_k_ = add_param(*this, "k", 1.0, 1.0, 0.2, 5.0);
-    delay_ = add_param(*this, "delay_s", 0.0, 0.05, 0.0, 5.0);
-    offset_ = add_param(*this, "offset_mm", 0.0, 0.0, -2000.0, 2000.0);
-    tof_k_ = add_param(*this, "k", 1.0, 1.0, 0.2, 5.0);
-    effects = {{"speed_limit", {max_}},  {"accel_limit", {accel_}}, {"wheel_slip", {tau_}}, {"speed_scale", {speed_k_}},
-               {"latency", {delay_}},    {"tof_offset", {offset_}}, {"tof_scale", {tof_k_}}};
+    ix_ = add_catalogue(*this, fx::drive_catalogue());
+    const std::size_t max = static_cast<std::size_t>(ix_[fx::drive::speed_limit][0][0]);
+    const std::size_t accel = static_cast<std::size_t>(ix_[fx::drive::accel_limit][0][0]);
+    params[max].value = std::max(0.5, 0.9 * max_command);
+    params[max].other_starts = {std::max(0.5, 0.65 * max_command), std::max(0.5, 0.4 * max_command)};
+    params[accel].other_starts = {10.0};
     add_row_covariate("time_s", std::move(cov_time));
     add_row_covariate("commanded_cm_s", std::move(cov_cmd));
     add_row_covariate("speed_cm_s", std::move(cov_speed));
@@ -580,26 +615,14 @@ class Drive : public ProblemOf<Drive> {
   /// A calibrated base: its encoders' steps per metre and the effects it already carries.
   void set_base_model(const s::DriveModel& m) {
     steps_per_m_ = m.steps_per_m;
-    set_base(*this, max_, m.effects.speed_limit.max_cm_s);
-    set_base(*this, accel_, m.effects.accel_limit.accel_cm_s2);
-    set_base(*this, tau_, m.effects.slip.tau_s);
-    set_base(*this, speed_k_, m.effects.speed_scale.k);
-    set_base(*this, delay_, m.effects.latency.delay_s);
-    set_base(*this, offset_, m.effects.tof_offset.offset_mm);
-    set_base(*this, tof_k_, m.effects.tof_scale.k);
+    set_base_effects(*this, ix_, m.effects);
   }
 
   /// The catalogue's drive effects (lib/models drive.hpp) at the parameters p.
   template <typename T>
   s::DriveEffects<T> effects_at(const T* p) const {
     s::DriveEffects<T> e;
-    e.speed_limit.max_cm_s = p[max_];
-    e.accel_limit.accel_cm_s2 = p[accel_];
-    e.slip.tau_s = p[tau_];
-    e.speed_scale.k = p[speed_k_];
-    e.latency.delay_s = p[delay_];
-    e.tof_offset.offset_mm = p[offset_];
-    e.tof_scale.k = p[tof_k_];
+    fill_effects(ix_, p, e);
     return e;
   }
 
@@ -655,7 +678,7 @@ class Drive : public ProblemOf<Drive> {
   /// Per row: the residual index of the ToF reading and of each encoder register (-1: left out).
   std::array<std::vector<std::int32_t>, 3> slot_;
   std::vector<Run> runs_;
-  int max_ = 0, accel_ = 0, tau_ = 0, speed_k_ = 0, delay_ = 0, offset_ = 0, tof_k_ = 0;
+  CatalogueIndex ix_;
   double steps_per_m_ = s::kPluginStepsPerMetre;
 };
 
@@ -670,7 +693,7 @@ class Battery : public ProblemOf<Battery> {
  public:
   /// A base model's capacity scale (a diagnosis file's): the model with capacity_scale off.
   void set_base_capacity(double k) {
-    if (k != 1.0) set_base(*this, k_, k);
+    if (k != 1.0) set_base(*this, k_, k);  // the registry's neutral capacity_scale is 1
   }
 
   Battery(const std::vector<logs::Log>& logs, models::battery::Model model, const models::battery::Tables& tables)
@@ -713,8 +736,7 @@ class Battery : public ProblemOf<Battery> {
       r.last = time_.size();
       runs_.push_back(r);
     }
-    k_ = add_param(*this, "k", 1.0, 1.0, 0.05, 20.0);
-    effects = {{"capacity_scale", {k_}}};
+    k_ = add_catalogue(*this, fx::battery_catalogue())[fx::battery::capacity_scale][0][0];
     covariates.emplace_back("time_s", std::move(cov_time));
     covariates.emplace_back("speed_cm_s", std::move(cov_speed));
   }
@@ -826,6 +848,12 @@ std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const 
 }
 
 }  // namespace detail
+
+std::string finding_meaning(const std::string& cause) {
+  if (cause == "near_field_curve")
+    return "the reading's curve within the sensor's range has another shape than the model's quadratic";
+  return cause;
+}
 
 bool supported(logs::Kind kind) {
   switch (kind) {

@@ -1,5 +1,5 @@
-// Internal to the diagnosis engine: what a kind hands the engine (diagnose_kinds.cpp builds one per
-// kind; diagnose_engine.cpp searches, fits and scores).
+// Internal to the diagnosis engine: what a kind hands the engine (kinds.cpp builds one per
+// kind; engine.cpp searches, fits and scores).
 #pragma once
 
 #include <ceres/jet.h>

@@ -1,4 +1,5 @@
 #include "epuck2/plot/sensor_figures.hpp"
+#include "epuck2/models/effects.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -180,7 +181,7 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
 
 void drive_figure(logs::OutputStage& stage, const std::string& path, const calibrate::DriveFit& f) {
   const double spm = f.steps.value("steps_per_m");
-  const double scale = f.tof.value("tof_scale"), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
+  const double scale = f.tof.value(models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale)), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
   constexpr double kOutOfRangeCode_mm = 8190, kCodeRow_mm = 2250;
   const double kNaN = std::numeric_limits<double>::quiet_NaN();
   std::size_t codes = 0;

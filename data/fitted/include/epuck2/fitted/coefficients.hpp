@@ -3,8 +3,8 @@
 // source: data/fitted/proximity.json fnv1a64 02379ca01cd2153b
 // source: data/fitted/light.json fnv1a64 50160271b68402e0
 // source: data/fitted/ground.json fnv1a64 d47314555b1ef49d
-// source: data/fitted/camera.json fnv1a64 10771126944ed964
-// source: data/fitted/drive.json fnv1a64 aae3c2a1e9a827e0
+// source: data/fitted/camera.json fnv1a64 a3030913c8faa15a
+// source: data/fitted/drive.json fnv1a64 5fb230684641d739
 // Coefficients fitted by epuck2-fit from the raw logs in data/raw (see data/fitted/README.md).
 #pragma once
 
@@ -248,10 +248,10 @@ inline constexpr double fov_deg = 30.796571081414047;
 inline constexpr double height_px = 120;
 inline constexpr double range_m = 1;
 inline constexpr double width_px = 160;
-inline constexpr double aperture_deg_std_error = 0.006527350706345752;
-inline constexpr double cx_px_std_error = 0.02270271789525535;
-inline constexpr double cy_px_std_error = 0.022688530127583675;
-inline constexpr double fov_deg_std_error = 0.010857949338556149;
+inline constexpr double aperture_deg_std_error = 0.006527350706345755;
+inline constexpr double cx_px_std_error = 0.022702717895255353;
+inline constexpr double cy_px_std_error = 0.022688530127583734;
+inline constexpr double fov_deg_std_error = 0.010857949338556154;
 inline constexpr double height_px_std_error = 0;
 inline constexpr double range_m_std_error = 0;
 inline constexpr double width_px_std_error = 0;
@@ -264,6 +264,8 @@ inline models::sensors::CameraModel camera_model() {
   m.base.cx_px = 81.81161173670161;
   m.base.cy_px = 57.92416519777999;
   m.distortion.k1 = 0;
+  m.distortion.k2 = 0;
+  m.distortion.k3 = 0;
   m.noise_sd_px = 0.5805908012956219;
   return m;
 }
@@ -274,10 +276,10 @@ inline constexpr double slip_time_constant_s = 0.12432330204991833;
 inline constexpr double steps_per_m = 7760.036043885046;
 inline constexpr double tof_offset_mm = 9.017031702392433;
 inline constexpr double tof_scale = 0.9844897935086737;
-inline constexpr double slip_time_constant_s_std_error = 0.0020324323680759628;
+inline constexpr double slip_time_constant_s_std_error = 0.002032432368075964;
 inline constexpr double steps_per_m_std_error = 0.014709203507788721;
-inline constexpr double tof_offset_mm_std_error = 0.15953551577822392;
-inline constexpr double tof_scale_std_error = 0.00032740324765156466;
+inline constexpr double tof_offset_mm_std_error = 0.1595355157782229;
+inline constexpr double tof_scale_std_error = 0.0003274032476515642;
 inline constexpr double mse = 13.223299903195658;
 }  // namespace drive
 /// The drive model of data/fitted/drive.json: encoders, effects, ToF and encoder noise.

@@ -194,19 +194,7 @@ std::vector<T> lagged_travel_m(const DriveRun& run, double steps_per_m, const T&
   return out;
 }
 
-// ----- Coefficient files (data/fitted/<kind>.json, written by `epuck2-fit KIND -o`) -----------
-// Each reads `parameters` with .at(); a missing key or a wrong type throws std::runtime_error
-// naming the file and the key.
-
-models::sensors::ProximityCoefficients load_proximity_coefficients(const std::string& path);
-models::sensors::LightCoefficients load_light_coefficients(const std::string& path);
-std::array<models::sensors::GroundCoefficients, models::sensors::kGroundCount> load_ground_coefficients(const std::string& path);
-models::sensors::CameraCoefficients load_camera_coefficients(const std::string& path);
-struct DriveCoefficients {
-  models::sensors::EncoderCoefficients encoder;
-  models::sensors::TofCoefficients tof;
-  double slip_time_constant_s = 0;
-};
-DriveCoefficients load_drive_coefficients(const std::string& path);
+// A coefficient file as a model: lib/coefficients (epuck2/coefficients/model_file.hpp), the one
+// reader.
 
 }  // namespace epuck2::calibrate

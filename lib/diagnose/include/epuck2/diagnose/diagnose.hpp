@@ -9,7 +9,7 @@
 // A greedy forward search keeps several. What the residuals still depend on is scored against
 // every covariate (log columns and derived quantities).
 //
-// Supported kinds: every kind of docs/logs.md (see diagnose_kinds.cpp).
+// Supported kinds: every kind of docs/logs.md (see src/kinds.cpp; their effects: lib/models effects.hpp).
 #pragma once
 
 #include <cstdint>
@@ -45,7 +45,7 @@ struct NamedValue {
 };
 
 struct Finding {
-  /// What the misfit is: a catalogue name, e.g. "black_offset", "covariate:temperature_c", or the
+  /// What the misfit is: a catalogue name (lib/models effects.hpp), "covariate:COLUMN", or the
   /// name a finding gets when its fitted parameters make it something else (Problem::identify:
   /// "near_field_curve" for a long tail that replaces the near-field curve).
   std::string cause;
@@ -223,6 +223,11 @@ Report diagnose(const std::vector<logs::Log>& logs, const Options& options = {})
 /// The same, releasing the logs once the diagnosis has taken what it needs from them (long logs:
 /// their parsed cells are not kept beside the fits).
 Report diagnose(std::vector<logs::Log>&& logs, const Options& options = {});
+
+/// What a finding that names no catalogue effect means (a renamed finding, such as
+/// near_field_curve), in plain words; the name itself for an unknown one. A catalogue effect's
+/// meaning is in lib/models' registry (effects.hpp).
+std::string finding_meaning(const std::string& cause);
 
 /// Kinds that diagnose() supports.
 bool supported(logs::Kind kind);

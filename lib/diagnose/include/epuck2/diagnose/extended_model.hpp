@@ -57,7 +57,7 @@ models::sensors::BatteryModel extended_battery(const Report& r, std::vector<std:
                                                const ModelInputs& inputs = {});
 
 /// {"kind", "parameters" (battery: "battery_model", "speeds", "simple"), "effects", "noise"} of
-/// the report's extended model (calibrate::model_to_json), plus "effects_not_in_model" when some
+/// the report's extended model (coefficients::model_to_json), plus "effects_not_in_model" when some
 /// finding cannot be represented.
 nlohmann::json extended_model_json(const Report& r, const ModelInputs& inputs = {});
 

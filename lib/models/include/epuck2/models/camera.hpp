@@ -47,11 +47,14 @@ inline CameraCoefficients plugin_camera() {
   return c;
 }
 
-/// radial_distortion (docs/diagnose.md): with x = lateral/forward, y = vertical/forward and
-/// r^2 = x^2 + y^2, both are scaled by (1 + k1 r^2) before projection. k1 = 0: the pinhole.
+/// radial_distortion, distortion_k2, distortion_k3 (docs/diagnose.md; OpenCV's k1, k2, k3): with
+/// x = lateral/forward, y = vertical/forward and r^2 = x^2 + y^2, both are scaled by
+/// (1 + k1 r^2 + k2 r^4 + k3 r^6) before projection. All 0: the pinhole.
 template <typename T = double>
 struct CameraRadialDistortion {
   T k1 = T(0.0);
+  T k2 = T(0.0);
+  T k3 = T(0.0);
 };
 
 /// Projection of a point (forward x > 0, lateral y to the left, vertical z up, camera frame) to
@@ -67,7 +70,9 @@ void camera_projection(const T& hfov_rad, const T& cx_px, const T& cy_px, double
   using std::tan;
   const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);
   const double x = lateral_m / forward_m, y = vertical_m / forward_m;
-  const T scale = 1.0 + distortion.k1 * (x * x + y * y);
+  const double r2 = x * x + y * y;
+  // Left to right: at k2 = k3 = 0 the added terms are exact zeros, the k1-only scale bit for bit.
+  const T scale = 1.0 + distortion.k1 * r2 + distortion.k2 * (r2 * r2) + distortion.k3 * (r2 * r2 * r2);
   px[0] = cx_px - f_px * x * scale;
   py[0] = cy_px - f_px * y * scale;
 }

@@ -1,0 +1,24 @@
+// The battery tables of a coefficient file (docs/coefficient-files.md): `speeds` [16 x
+// {speed_cm_s, lifetime_s, cubic [d, c, b, a], linear_slope, segments [4 x {h, m, x1_s, x2_s, y1,
+// y2}]}] and `simple` {static_slope_per_s, moving_slope_per_s}.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "epuck2/models/battery.hpp"
+
+namespace epuck2::coefficients {
+
+/// The four models' tables from a coefficient file; `path` names the file in errors, which say
+/// where (file:line:column, JSON path) and what is wrong (logs::InputError). Every number must be
+/// finite and physical: lifetimes positive, the linear and simple slopes negative (a charge falls),
+/// each segment's x1_s <= x2_s.
+models::battery::Tables battery_tables_from_json(const nlohmann::json& j, const std::string& path);
+
+/// The tables alone, as battery_tables_from_json reads them back bit for bit (a cubic row's end_s
+/// is its speed's lifetime_s, as in every table the project makes or ships).
+nlohmann::json battery_tables_to_json(const models::battery::Tables& t);
+
+}  // namespace epuck2::coefficients

@@ -1,0 +1,67 @@
+// A coefficient file as a model (lib/models kinds.hpp), for every kind, calibration files and
+// diagnosis files alike (docs/coefficient-files.md):
+//   "parameters": the base model's coefficients under the names the calibration writes, and the
+//                 effects whose home is the parameters (the drive's tof_offset_mm, tof_scale,
+//                 slip_time_constant_s); battery files have their tables instead
+//                 (battery_tables.hpp) and "battery_model";
+//   "effects":    {"NAME": {PARAM: value or [per sensor]}} for the catalogue's effects of the kind
+//                 (lib/models effects.hpp, the one registry), and {"covariate:COLUMN": {"slope",
+//                 "centre"}};
+//   "noise":      {"CHANNEL": {"sd", "per_sensor_sd", "unit", ...}}: the reading noise;
+//   "robots":     {"ID": {"parameters", "noise"}}: one robot's set, read over the pooled one when
+//                 asked for.
+// Reading validates everything: a value outside its physical range (the registry's for an
+// effect, the kind's for a base coefficient), a noise sd that is not finite or reaches full
+// scale, an unknown effect or parameter name (with "did you mean"), a file of another kind. Every
+// error is a logs::InputError at FILE:LINE:COLUMN naming the JSON path (the file is read again to
+// find the line; an in-memory document gives the JSON path alone).
+// Writing refuses (std::domain_error) a model with a value that is not finite.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "epuck2/models/kinds.hpp"
+
+namespace epuck2::coefficients {
+
+namespace s = models::sensors;
+
+/// The model of a coefficient file `j` read from `path`. With a non-empty `robot`, that robot's
+/// set (`robots.<robot>`) replaces the pooled parameters and noise it has (an error when the file
+/// has no such robot).
+s::ProximityModel proximity_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
+s::LightModel light_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
+s::GroundModel ground_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
+s::CameraModel camera_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
+s::DriveModel drive_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
+/// A battery coefficient file (`epuck2-fit battery -o`) or a battery diagnosis report: its tables,
+/// `battery_model` (default cubic), its effects and noise (a calibration file without `noise`:
+/// the RMS of its speeds' `noise_sd`).
+s::BatteryModel battery_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
+
+/// The same, reading the file `path` (errors located in it).
+template <class Model>
+Model read_model_file(const std::string& path, const std::string& robot = "");
+
+/// The robots a file has a set for (`robots`' keys), in the file's order.
+std::vector<std::string> robot_ids(const nlohmann::json& j);
+
+/// {"kind", "parameters", "effects" (non-neutral ones only), "noise"}: what the readers above read
+/// back to the same model, bit for bit.
+nlohmann::json model_to_json(const s::ProximityModel& m);
+nlohmann::json model_to_json(const s::LightModel& m);
+nlohmann::json model_to_json(const s::GroundModel& m);
+nlohmann::json model_to_json(const s::CameraModel& m);
+nlohmann::json model_to_json(const s::DriveModel& m);
+/// {"kind", "battery_model", "speeds", "simple" (the tables), "effects", "noise"}.
+nlohmann::json model_to_json(const s::BatteryModel& m);
+
+/// The noise section of one channel: {"sd", "per_sensor_sd" (when the sensors differ), "unit"};
+/// sd is the root mean square of the sensors' (computed without overflow). Throws
+/// std::domain_error for an sd that is negative or not finite.
+nlohmann::json noise_json(const std::vector<double>& per_sensor_sd, const std::string& unit);
+
+}  // namespace epuck2::coefficients

@@ -1,0 +1,555 @@
+// A coefficient file as a model: see epuck2/coefficients/model_file.hpp. Every effect is read and
+// written through lib/models' registry (effects.hpp); every base coefficient and noise channel is
+// checked against the kind's facts (kind_facts.hpp).
+#include "epuck2/coefficients/model_file.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "epuck2/coefficients/battery_tables.hpp"
+#include "epuck2/logs/json_location.hpp"
+#include "epuck2/models/effects.hpp"
+#include "epuck2/models/kind_facts.hpp"
+
+namespace epuck2::coefficients {
+
+namespace fx = models::effects;
+using nlohmann::json;
+
+namespace {
+
+/// A key as one token of a JSON pointer (RFC 6901: ~ and / escaped).
+std::string token(const std::string& key) {
+  std::string t;
+  for (const char c : key) t += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  return t;
+}
+
+std::string number_text(double v) { return json(v).dump(); }
+
+std::string range_text(double lo, double hi, bool open_lo, bool open_hi, const std::string& unit) {
+  return std::string(open_lo ? "(" : "[") + number_text(lo) + ", " + number_text(hi) + (open_hi ? ")" : "]") +
+         (unit.empty() || unit == "1" ? "" : " " + unit);
+}
+
+/// The reading of one file: its JSON, its name, the robot asked for, and where each section is.
+class Doc {
+ public:
+  Doc(const json& j, std::string path, std::string robot, const char* kind) : j_(j), path_(std::move(path)), robot_(std::move(robot)) {
+    if (!j.is_object()) fail("", "not a JSON object (a coefficient file is one)");
+    if (j.contains("kind") && (!j.at("kind").is_string() || j.at("kind").get<std::string>() != kind))
+      fail("/kind", std::string("is not a ") + kind + " coefficient file (kind " + j.at("kind").dump() + ")");
+    facts_ = models::kind_facts(kind);
+    if (!robot_.empty()) {
+      if (!j.contains("robots") || !j.at("robots").is_object() || !j.at("robots").contains(robot_)) {
+        std::string known;
+        if (j.contains("robots") && j.at("robots").is_object())
+          for (auto it = j.at("robots").begin(); it != j.at("robots").end(); ++it) known += (known.empty() ? "" : ", ") + it.key();
+        fail(j.contains("robots") ? "/robots" : "",
+             "no set for robot '" + robot_ + "' (robots in the file: " + (known.empty() ? "none" : known) + ")");
+      }
+      robot_set_ = &j.at("robots").at(robot_);
+      if (!robot_set_->is_object()) fail("/robots/" + token(robot_), "a robot's set must be an object");
+    }
+  }
+
+  [[noreturn]] void fail(const std::string& pointer, const std::string& what) const {
+    throw logs::json_file_error(path_, pointer, what);
+  }
+  const std::string& path() const { return path_; }
+  const json& root() const { return j_; }
+  const models::KindFacts& facts() const { return *facts_; }
+
+  /// The value `key` of section `section` ("parameters", "noise"): the robot's set first, then the
+  /// pooled one; nullptr when neither has it. `pointer` receives where it is.
+  const json* find(const char* section, const std::string& key, std::string& pointer) const {
+    if (robot_set_ && robot_set_->contains(section)) {
+      const json& s = robot_set_->at(section);
+      if (!s.is_object()) fail("/robots/" + token(robot_) + "/" + section, std::string("`") + section + "` must be an object");
+      if (s.contains(key)) {
+        pointer = "/robots/" + token(robot_) + "/" + section + "/" + token(key);
+        return &s.at(key);
+      }
+    }
+    if (!j_.contains(section)) return nullptr;
+    const json& s = j_.at(section);
+    if (!s.is_object()) fail(std::string("/") + section, std::string("`") + section + "` must be an object");
+    if (!s.contains(key)) return nullptr;
+    pointer = std::string("/") + section + "/" + token(key);
+    return &s.at(key);
+  }
+  bool has_section(const char* section) const {
+    return j_.contains(section) || (robot_set_ && robot_set_->contains(section));
+  }
+
+  /// A finite number at `pointer`, named `what` in messages.
+  double number(const json& v, const std::string& pointer, const std::string& what) const {
+    if (!v.is_number()) fail(pointer, what + " must be a number (found " + v.dump() + ")");
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail(pointer, what + " must be a finite number");
+    return x;
+  }
+  /// `count` numbers: an array of `count`, or one number for every element.
+  std::vector<double> numbers(const json& v, std::size_t count, const std::string& pointer, const std::string& what) const {
+    if (v.is_number() && count >= 1) return std::vector<double>(count, number(v, pointer, what));
+    if (!v.is_array() || v.size() != count)
+      fail(pointer, what + " must be " + (count == 1 ? std::string("a number") : "an array of " + std::to_string(count) + " numbers") +
+                        " (found " + v.dump() + ")");
+    std::vector<double> out;
+    for (std::size_t i = 0; i < count; ++i) out.push_back(number(v.at(i), pointer + "/" + std::to_string(i), what + "[" + std::to_string(i) + "]"));
+    return out;
+  }
+
+  /// The base coefficient `key` (kind_facts' range), per element; `fallback` when absent (empty:
+  /// required).
+  std::vector<double> base(const std::string& key, std::size_t count, const std::vector<double>& fallback = {}) const {
+    const models::BaseParam* p = facts_->base_param(key);
+    std::string pointer;
+    const json* v = find("parameters", key, pointer);
+    if (!v) {
+      if (!fallback.empty()) return fallback;
+      if (!has_section("parameters")) fail("", "no `parameters` section");
+      fail("/parameters", "missing parameters." + key);
+    }
+    std::vector<double> out = numbers(*v, count, pointer, "parameters." + key);
+    if (p)
+      for (std::size_t i = 0; i < out.size(); ++i) {
+        const double x = out[i];
+        const bool ok = (p->open_lower ? x > p->lower : x >= p->lower) && (p->open_upper ? x < p->upper : x <= p->upper);
+        if (!ok)
+          fail(v->is_array() ? pointer + "/" + std::to_string(i) : pointer,
+               "parameters." + key + (count > 1 ? "[" + std::to_string(i) + "]" : "") + " = " + number_text(x) +
+                   " is outside its physical range " + range_text(p->lower, p->upper, p->open_lower, p->open_upper, p->unit));
+      }
+    return out;
+  }
+  double base1(const std::string& key) const { return base(key, 1)[0]; }
+  double base1(const std::string& key, double fallback) const { return base(key, 1, {fallback})[0]; }
+
+  /// The reading noise of channel `c` per sensor: per_sensor_sd, else sd for every sensor, else 0
+  /// (no noise section: a noiseless model). Finite, non-negative, below the channel's full scale.
+  std::vector<double> noise(const models::Channel& c) const {
+    const std::size_t n = static_cast<std::size_t>(c.sensors);
+    std::vector<double> out(n, 0.0);
+    if (!has_section("noise")) return out;
+    std::string pointer;
+    const json* e = find("noise", c.name, pointer);
+    if (!e) return out;
+    const std::string where = std::string("noise.") + c.name;
+    if (!e->is_object()) fail(pointer, where + " must be an object {sd, unit, ...}");
+    if (e->contains("unit") && (!e->at("unit").is_string() || e->at("unit").get<std::string>() != c.unit))
+      fail(pointer + "/unit", where + ".unit must be \"" + c.unit + "\" (found " + e->at("unit").dump() + ")");
+    std::string at = pointer + "/sd";
+    if (n > 1 && e->contains("per_sensor_sd")) {
+      at = pointer + "/per_sensor_sd";
+      out = numbers(e->at("per_sensor_sd"), n, at, where + ".per_sensor_sd");
+    } else {
+      if (!e->contains("sd")) fail(pointer, "missing " + where + ".sd");
+      out.assign(n, number(e->at("sd"), at, where + ".sd"));
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      if (!(out[i] >= 0 && out[i] < c.full_scale))
+        fail(at, where + ": a reading's noise sd must lie in [0, " + number_text(c.full_scale) + ") " + c.unit + " (found " +
+                     number_text(out[i]) + ")");
+    return out;
+  }
+
+  /// Every entry of "effects" into the model's effect struct `e` through the registry, and the
+  /// covariate:NAME entries into `covariates`.
+  template <class Effects>
+  void effects(const fx::Catalogue& catalogue, Effects& e, std::vector<models::sensors::CovariateEffect>& covariates) const {
+    // Effects whose home is "parameters" are read there first.
+    for (std::size_t id = 0; id < catalogue.size(); ++id) {
+      const fx::Effect& effect = catalogue[id];
+      if (effect.home != fx::Home::parameters) continue;
+      for (std::size_t p = 0; p < effect.params.size(); ++p) {
+        const fx::Param& param = effect.params[p];
+        std::string pointer;
+        const json* v = find("parameters", param.file_key, pointer);
+        if (!v) continue;  // neutral
+        set(e, id, p, numbers(*v, static_cast<std::size_t>(param.count), pointer, std::string("parameters.") + param.file_key), pointer,
+            std::string("parameters.") + param.file_key);
+      }
+    }
+    if (!j_.contains("effects")) return;
+    const json& section = j_.at("effects");
+    if (!section.is_object()) fail("/effects", "`effects` must be an object");
+    const std::string prefix = fx::kCovariatePrefix;
+    for (auto it = section.begin(); it != section.end(); ++it) {
+      const std::string& name = it.key();
+      const json& value = it.value();
+      const std::string pointer = "/effects/" + token(name);
+      const std::string where = "effects." + name;
+      if (!value.is_object()) fail(pointer, where + " must be an object");
+      if (name.rfind(prefix, 0) == 0) {
+        if (name.size() == prefix.size()) fail(pointer, where + ": the effect names no column");
+        for (auto k = value.begin(); k != value.end(); ++k)
+          if (k.key() != "slope" && k.key() != "centre")
+            fail(pointer + "/" + token(k.key()), where + " has no parameter '" + k.key() + "' (it has: slope, centre)");
+        auto need = [&](const char* key) {
+          if (!value.contains(key)) fail(pointer, "missing " + where + "." + key);
+          return number(value.at(key), pointer + "/" + key, where + "." + key);
+        };
+        covariates.push_back({name.substr(prefix.size()), need("slope"), need("centre")});
+        continue;
+      }
+      const fx::Effect* effect = fx::find(catalogue, name);
+      if (!effect) fail(pointer, unknown_effect(catalogue, name));
+      if (effect->home == fx::Home::base)
+        fail(pointer, "'" + name + "' is not an effect a model file holds: a diagnosis folds it into the base coefficients "
+                                   "(`parameters`)");
+      const std::size_t id = static_cast<std::size_t>(effect - catalogue.data());
+      std::string names;
+      for (const fx::Param& p : effect->params) names += (names.empty() ? "" : ", ") + std::string(p.key);
+      for (auto k = value.begin(); k != value.end(); ++k)
+        if (!effect->param(k.key())) fail(pointer + "/" + token(k.key()), where + " has no parameter '" + k.key() + "' (it has: " + names + ")");
+      for (std::size_t p = 0; p < effect->params.size(); ++p) {
+        const fx::Param& param = effect->params[p];
+        if (!value.contains(param.key)) fail(pointer, "missing " + where + "." + param.key);
+        const std::string at = pointer + "/" + token(param.key);
+        set(e, id, p, numbers(value.at(param.key), static_cast<std::size_t>(param.count), at, where + "." + param.key), at,
+            where + "." + param.key);
+      }
+    }
+  }
+
+ private:
+  std::string unknown_effect(const fx::Catalogue& catalogue, const std::string& name) const {
+    std::string known, best;
+    std::size_t best_d = std::numeric_limits<std::size_t>::max();
+    for (const fx::Effect& e : catalogue) {
+      if (e.home == fx::Home::base) continue;
+      known += (known.empty() ? "" : ", ") + std::string(e.name);
+      const std::size_t d = logs::edit_distance(name, e.name);
+      if (d < best_d) {
+        best_d = d;
+        best = e.name;
+      }
+    }
+    std::string msg = "unknown effect '" + name + "' for a " + facts_->name + " model (the effects a " + facts_->name +
+                      " model file holds: " + known + ", and covariate:COLUMN)";
+    if (!best.empty() && best_d <= std::max<std::size_t>(2, name.size() / 3)) msg += "; did you mean '" + best + "'?";
+    return msg;
+  }
+
+  /// Element values of parameter p of effect `id`, checked against the registry's range.
+  template <class Effects>
+  void set(Effects& e, std::size_t id, std::size_t p, const std::vector<double>& values, const std::string& pointer,
+           const std::string& what) const {
+    fx::for_each_param(e, [&](std::size_t eid, int pid, int k, double& slot) {
+      if (eid != id || static_cast<std::size_t>(pid) != p) return;
+      const double v = values[static_cast<std::size_t>(k)];
+      (void)slot;
+      const fx::Param& param = catalogue_param(id, p);
+      if (!fx::Effect::admissible(param, v))
+        fail(values.size() > 1 ? pointer + "/" + std::to_string(k) : pointer,
+             what + (values.size() > 1 ? "[" + std::to_string(k) + "]" : "") + " = " + number_text(v) +
+                 " is outside its physical range " + range_text(param.lower, param.upper, false, false, param.unit) +
+                 " (neutral " + number_text(param.neutral) + ")");
+      slot = v;
+    });
+  }
+  const fx::Param& catalogue_param(std::size_t id, std::size_t p) const {
+    return (*fx::catalogue(facts_->name))[id].params[p];
+  }
+
+  const json& j_;
+  std::string path_;
+  std::string robot_;
+  const json* robot_set_ = nullptr;
+  const models::KindFacts* facts_ = nullptr;
+};
+
+template <std::size_t N>
+std::array<double, N> to_array(const std::vector<double>& v) {
+  std::array<double, N> a{};
+  for (std::size_t i = 0; i < N; ++i) a[i] = v[i];
+  return a;
+}
+
+void require_finite(double v, const std::string& what) {
+  if (!std::isfinite(v)) throw std::domain_error("cannot write " + what + ": it is not finite (" + number_text(v) + ")");
+}
+
+/// The effects section and the parameters-home effects of a model, through the registry: an
+/// effect is written when any of its values is not neutral.
+template <class Model>
+void write_effects(Model m, json& parameters, json& effects) {
+  const fx::Catalogue& catalogue = fx::catalogue_of(m);
+  std::vector<json> values(catalogue.size() * 8);  // [effect][param]: a number or an array
+  std::vector<bool> active(catalogue.size(), false);
+  fx::for_each_param(fx::effects_of(m), [&](std::size_t id, int p, int k, double& v) {
+    const fx::Param& param = catalogue[id].params[static_cast<std::size_t>(p)];
+    require_finite(v, std::string("effects.") + catalogue[id].name + "." + param.key);
+    if (v != param.neutral) active[id] = true;
+    json& slot = values[id * 8 + static_cast<std::size_t>(p)];
+    if (param.count == 1) slot = v;
+    else {
+      if (!slot.is_array()) slot = json::array();
+      slot.push_back(v);
+      (void)k;
+    }
+  });
+  for (std::size_t id = 0; id < catalogue.size(); ++id) {
+    const fx::Effect& e = catalogue[id];
+    if (e.home == fx::Home::parameters) {
+      for (std::size_t p = 0; p < e.params.size(); ++p) parameters[e.params[p].file_key] = values[id * 8 + p];
+    } else if (e.home == fx::Home::effects && active[id]) {
+      json o = json::object();
+      for (std::size_t p = 0; p < e.params.size(); ++p) o[e.params[p].key] = values[id * 8 + p];
+      effects[e.name] = o;
+    }
+  }
+  for (const auto& c : m.covariates) {
+    require_finite(c.slope, "the covariate effect " + c.column + "'s slope");
+    require_finite(c.centre, "the covariate effect " + c.column + "'s centre");
+    effects[std::string(fx::kCovariatePrefix) + c.column] = {{"slope", c.slope}, {"centre", c.centre}};
+  }
+}
+
+template <class Model>
+json with_common(const char* kind, json parameters, const Model& m) {
+  json j;
+  j["kind"] = kind;
+  json effects = json::object();
+  write_effects(m, parameters, effects);
+  for (auto it = parameters.begin(); it != parameters.end(); ++it)
+    if (it.value().is_number()) require_finite(it.value().get<double>(), std::string("parameters.") + it.key());
+  j["parameters"] = parameters;
+  j["effects"] = effects;
+  return j;
+}
+
+template <std::size_t N>
+std::vector<double> vec(const std::array<double, N>& a) {
+  return {a.begin(), a.end()};
+}
+
+}  // namespace
+
+json noise_json(const std::vector<double>& sd, const std::string& unit) {
+  json c;
+  double sum = 0, top = 0;
+  bool same = true;
+  for (double v : sd) {
+    if (!(v >= 0) || !std::isfinite(v)) throw std::domain_error("cannot write a noise sd of " + number_text(v) + " " + unit);
+    sum += v * v;
+    top = std::max(top, v);
+    same = same && v == sd[0];
+  }
+  double rms = std::sqrt(sum / static_cast<double>(sd.size()));
+  if (!std::isfinite(rms)) {  // the squares overflowed: the same root mean square, scaled
+    double scaled = 0;
+    for (double v : sd) scaled += (v / top) * (v / top);
+    rms = top * std::sqrt(scaled / static_cast<double>(sd.size()));
+  }
+  c["sd"] = same ? sd[0] : rms;
+  if (!same) c["per_sensor_sd"] = sd;
+  c["unit"] = unit;
+  return c;
+}
+
+std::vector<std::string> robot_ids(const json& j) {
+  std::vector<std::string> out;
+  if (j.is_object() && j.contains("robots") && j.at("robots").is_object())
+    for (auto it = j.at("robots").begin(); it != j.at("robots").end(); ++it) out.push_back(it.key());
+  return out;
+}
+
+// ----- proximity -----
+
+s::ProximityModel proximity_model_from_json(const json& j, const std::string& path, const std::string& robot) {
+  const Doc d(j, path, robot, "proximity");
+  s::ProximityModel m;
+  m.base.a_per_m2 = d.base1("a");
+  m.base.b_per_m = d.base1("b");
+  m.base.c = d.base1("c");
+  m.base.range_m = d.base1("range_m", m.base.range_m);
+  d.effects(fx::proximity_catalogue(), m.effects, m.covariates);
+  m.noise_sd_raw = to_array<s::kProximityCount>(d.noise(d.facts().channels[0]));
+  return m;
+}
+
+json model_to_json(const s::ProximityModel& m) {
+  json j = with_common("proximity", {{"a", m.base.a_per_m2}, {"b", m.base.b_per_m}, {"c", m.base.c}, {"range_m", m.base.range_m}}, m);
+  j["noise"] = {{"proximity", noise_json(vec(m.noise_sd_raw), "counts")}};
+  return j;
+}
+
+// ----- light -----
+
+s::LightModel light_model_from_json(const json& j, const std::string& path, const std::string& robot) {
+  const Doc d(j, path, robot, "light");
+  s::LightModel m;
+  m.base.gamma_m = d.base1("gamma");
+  m.base.range_m = d.base1("range_m", m.base.range_m);
+  d.effects(fx::light_catalogue(), m.effects, m.covariates);
+  m.noise_sd_raw = to_array<s::kProximityCount>(d.noise(d.facts().channels[0]));
+  return m;
+}
+
+json model_to_json(const s::LightModel& m) {
+  json j = with_common("light", {{"gamma", m.base.gamma_m}, {"range_m", m.base.range_m}}, m);
+  j["noise"] = {{"light", noise_json(vec(m.noise_sd_raw), "counts")}};
+  return j;
+}
+
+// ----- ground -----
+
+s::GroundModel ground_model_from_json(const json& j, const std::string& path, const std::string& robot) {
+  const Doc d(j, path, robot, "ground");
+  s::GroundModel m;
+  const auto gain = d.base("gain", s::kGroundCount);
+  const auto offset = d.base("offset", s::kGroundCount);
+  for (std::size_t k = 0; k < m.sensors.size(); ++k) m.sensors[k] = {gain[k], offset[k]};
+  d.effects(fx::ground_catalogue(), m.effects, m.covariates);
+  m.noise_sd_raw = to_array<s::kGroundCount>(d.noise(d.facts().channels[0]));
+  return m;
+}
+
+json model_to_json(const s::GroundModel& m) {
+  std::array<double, s::kGroundCount> gain{}, offset{};
+  for (std::size_t k = 0; k < m.sensors.size(); ++k) {
+    gain[k] = m.sensors[k].gain_raw;
+    offset[k] = m.sensors[k].offset_raw;
+    require_finite(gain[k], "parameters.gain");
+    require_finite(offset[k], "parameters.offset");
+  }
+  json j = with_common("ground", {{"gain", gain}, {"offset", offset}}, m);
+  j["noise"] = {{"ground", noise_json(vec(m.noise_sd_raw), "counts")}};
+  return j;
+}
+
+// ----- camera -----
+
+s::CameraModel camera_model_from_json(const json& j, const std::string& path, const std::string& robot) {
+  const Doc d(j, path, robot, "camera");
+  s::CameraModel m;
+  m.base.horizontal_fov_rad = s::deg_to_rad(d.base1("fov_deg"));
+  m.base.cx_px = d.base1("cx_px");
+  m.base.cy_px = d.base1("cy_px");
+  d.effects(fx::camera_catalogue(), m.distortion, m.covariates);
+  m.noise_sd_px = d.noise(d.facts().channels[0])[0];
+  return m;
+}
+
+json model_to_json(const s::CameraModel& m) {
+  json j = with_common(
+      "camera", {{"fov_deg", s::rad_to_deg(m.base.horizontal_fov_rad)}, {"cx_px", m.base.cx_px}, {"cy_px", m.base.cy_px}}, m);
+  j["noise"] = {{"camera", noise_json({m.noise_sd_px}, "px")}};
+  return j;
+}
+
+// ----- drive -----
+
+s::DriveModel drive_model_from_json(const json& j, const std::string& path, const std::string& robot) {
+  const Doc d(j, path, robot, "drive");
+  s::DriveModel m;
+  m.steps_per_m = d.base1("steps_per_m");
+  d.effects(fx::drive_catalogue(), m.effects, m.covariates);
+  m.tof_noise_sd_mm = d.noise(d.facts().channels[0])[0];
+  m.encoder_noise_sd_steps = d.noise(d.facts().channels[1])[0];
+  return m;
+}
+
+json model_to_json(const s::DriveModel& m) {
+  json j = with_common("drive", {{"steps_per_m", m.steps_per_m}}, m);
+  j["noise"] = {{"tof", noise_json({m.tof_noise_sd_mm}, "mm")}, {"encoder", noise_json({m.encoder_noise_sd_steps}, "steps")}};
+  return j;
+}
+
+// ----- battery -----
+
+s::BatteryModel battery_model_from_json(const json& j, const std::string& path, const std::string& robot) {
+  const Doc d(j, path, robot, "battery");
+  s::BatteryModel m;
+  m.tables = battery_tables_from_json(j, path);
+  if (j.contains("battery_model")) {
+    const json& name = j.at("battery_model");
+    if (!name.is_string() || !models::battery::parse_model(name.get<std::string>(), m.model))
+      d.fail("/battery_model", "battery_model must be one of simple, linear, cubic, approximated (found " + name.dump() + ")");
+  }
+  d.effects(fx::battery_catalogue(), m.capacity, m.covariates);
+  if (d.has_section("noise")) {
+    m.noise_sd = d.noise(d.facts().channels[0])[0];
+  } else {
+    // A calibration file (`epuck2-fit battery -o`) has each speed's residual sd (`noise_sd`):
+    // their root mean square.
+    double sum = 0;
+    int n = 0;
+    for (const json& speed : j.at("speeds"))
+      if (speed.contains("noise_sd") && speed.at("noise_sd").is_number() && std::isfinite(speed.at("noise_sd").get<double>())) {
+        sum += speed.at("noise_sd").get<double>() * speed.at("noise_sd").get<double>();
+        ++n;
+      }
+    m.noise_sd = n > 0 ? std::sqrt(sum / n) : 0.0;
+  }
+  return m;
+}
+
+json model_to_json(const s::BatteryModel& m) {
+  json j = battery_tables_to_json(m.tables);
+  for (const auto& speed : j.at("speeds"))
+    for (const auto& [k, v] : speed.items())
+      if (v.is_number()) require_finite(v.get<double>(), "the battery tables");
+  j["kind"] = "battery";
+  j["battery_model"] = std::string(models::battery::to_string(m.model));
+  json parameters = json::object(), effects = json::object();
+  write_effects(m, parameters, effects);
+  j["effects"] = effects;
+  j["noise"] = {{"charge", noise_json({m.noise_sd}, "charge")}};
+  return j;
+}
+
+// ----- from a file -----
+
+namespace {
+
+json read_json_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw logs::InputError(path, 0, 0, "cannot open the coefficient file for reading");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    const logs::SourcePos at = logs::position_of(text, e.byte > 0 ? e.byte - 1 : 0);
+    throw logs::InputError(path, at.line, at.column, std::string("not valid JSON: ") + e.what());
+  } catch (const json::out_of_range& e) {
+    const logs::SourcePos at = logs::locate_json_overflow(text);
+    throw logs::InputError(path, at.line, at.column, std::string("a number too large for a double: ") + e.what());
+  }
+}
+
+}  // namespace
+
+template <>
+s::ProximityModel read_model_file<s::ProximityModel>(const std::string& path, const std::string& robot) {
+  return proximity_model_from_json(read_json_file(path), path, robot);
+}
+template <>
+s::LightModel read_model_file<s::LightModel>(const std::string& path, const std::string& robot) {
+  return light_model_from_json(read_json_file(path), path, robot);
+}
+template <>
+s::GroundModel read_model_file<s::GroundModel>(const std::string& path, const std::string& robot) {
+  return ground_model_from_json(read_json_file(path), path, robot);
+}
+template <>
+s::CameraModel read_model_file<s::CameraModel>(const std::string& path, const std::string& robot) {
+  return camera_model_from_json(read_json_file(path), path, robot);
+}
+template <>
+s::DriveModel read_model_file<s::DriveModel>(const std::string& path, const std::string& robot) {
+  return drive_model_from_json(read_json_file(path), path, robot);
+}
+template <>
+s::BatteryModel read_model_file<s::BatteryModel>(const std::string& path, const std::string& robot) {
+  return battery_model_from_json(read_json_file(path), path, robot);
+}
+
+}  // namespace epuck2::coefficients

@@ -1,0 +1,83 @@
+// The facts of each kind of log that every part of the project needs alike: its name, the
+// channels it measures (name, unit, the register's rails, full scale, sensors), and where its
+// base model's coefficients may physically lie. The coefficient files' noise sections, the
+// validation of a model, the screening and the figures read them here.
+//
+// Header-only, standard library only (epuck2::models).
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "epuck2/models/kinds.hpp"
+
+namespace epuck2::models {
+
+/// One measured quantity of a kind.
+struct Channel {
+  const char* name;     ///< the noise section's key in a coefficient file ("proximity", "tof", ...)
+  const char* unit;     ///< "counts", "mm", "steps", "px", "charge"
+  double low_rail;      ///< the register's lowest value (-inf: none)
+  double high_rail;     ///< the register's highest value (+inf: none)
+  double full_scale;    ///< a noise sd at or above this is not a reading's noise
+  int sensors;          ///< how many sensors share the channel (a noise sd per sensor)
+};
+
+/// One base coefficient of a kind's model: its key in a coefficient file's "parameters", unit and
+/// physical range (open where `open` says so).
+struct BaseParam {
+  const char* key;
+  const char* unit;
+  double lower, upper;
+  bool open_lower, open_upper;
+};
+
+struct KindFacts {
+  const char* name;
+  std::vector<Channel> channels;
+  std::vector<BaseParam> base;
+  /// The base coefficient `key`, or nullptr.
+  const BaseParam* base_param(const std::string& key) const {
+    for (const BaseParam& p : base)
+      if (key == p.key) return &p;
+    return nullptr;
+  }
+};
+
+/// The facts of the kind named `kind`; nullptr for another name.
+inline const KindFacts* kind_facts(const std::string& kind) {
+  namespace s = sensors;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  static const std::vector<KindFacts> all{
+      {"proximity",
+       {{"proximity", "counts", 0.0, s::kProximityFullScale_raw, s::kProximityFullScale_raw, s::kProximityCount}},
+       {{"a", "1/m^2", -1e6, 1e6, false, false},
+        {"b", "1/m", -1e5, 1e5, false, false},
+        {"c", "1", -100.0, 100.0, false, false},
+        {"range_m", "m", 0.0, 1.0, true, false}}},
+      {"light",
+       {{"light", "counts", 0.0, s::kProximityFullScale_raw, s::kProximityFullScale_raw, s::kProximityCount}},
+       {{"gamma", "m", 0.0, 10.0, true, false}, {"range_m", "m", 0.0, 10.0, true, false}}},
+      {"ground",
+       {{"ground", "counts", 0.0, s::kGroundFullScale_raw, s::kGroundFullScale_raw, s::kGroundCount}},
+       {{"gain", "counts", 0.0, 4.0 * s::kGroundFullScale_raw, true, false},
+        {"offset", "counts", -s::kGroundFullScale_raw, s::kGroundFullScale_raw, false, false}}},
+      {"camera",
+       {{"camera", "px", -inf, inf, static_cast<double>(s::kCameraWidth_px), 1}},
+       {{"fov_deg", "deg", 0.0, 180.0, true, true},
+        {"cx_px", "px", 0.0, static_cast<double>(s::kCameraWidth_px), false, false},
+        {"cy_px", "px", 0.0, static_cast<double>(s::kCameraHeight_px), false, false}}},
+      {"drive",
+       {{"tof", "mm", s::kPluginTof.min_mm, s::kPluginTof.max_mm, s::kPluginTof.max_mm, 1},
+        {"encoder", "steps", -inf, inf, 65536.0, 1}},
+       // Steps per metre within 20 % of the plug-in's (docs/fitting.md: wheels are not that far off).
+       {{"steps_per_m", "steps/m", 0.8 * s::kPluginStepsPerMetre, 1.2 * s::kPluginStepsPerMetre, false, false}}},
+      {"battery", {{"charge", "charge", -1.0, 1.05, 1.0, 1}}, {}},
+  };
+  for (const KindFacts& k : all)
+    if (kind == k.name) return &k;
+  return nullptr;
+}
+
+}  // namespace epuck2::models
