@@ -309,9 +309,9 @@ void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
   CEPuck2TOFDefaultSensor::Init(t_tree);
   SCommon s = ReadCommon(t_tree, strName, {"drive", "tof"}, *m_pcTOFEntity);
   Checked(strName, [&] {
-    m_sCoefficients.scale = s.File->scalar(epuck2::models::effects::file_key(epuck2::models::effects::drive_catalogue(), epuck2::models::effects::drive::tof_scale));
-    m_sCoefficients.offset_mm = s.File->scalar("tof_offset_mm");
     const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.File, "the calibrated " + strName);
+    m_sCoefficients.scale = sDrive.effects.tof_scale.k;
+    m_sCoefficients.offset_mm = sDrive.effects.tof_offset.offset_mm;
     m_cDelay = epuck2::argos_plugin::DelayLine(sDrive.effects.latency.delay_s);
     m_sCoefficients.range_m = m_pcTOFEntity->GetSensor(0).Direction.Length();
     /* The model scales a unit noise by the range, in mm */

@@ -45,6 +45,8 @@ class CoefficientFile {
                               const std::string& robot = "");
 
   const std::string& path() const { return path_; }
+  /// The robot set asked for (empty: the top level).
+  const std::string& robot() const { return robot_; }
   const nlohmann::json& root() const { return *root_; }
 
   bool has(const std::string& name) const;
