@@ -26,6 +26,8 @@
 
 #include "coefficient_file.hpp"
 
+#include <epuck2/coefficients/model_file.hpp>
+
 namespace argos {
 
 namespace ms = epuck2::models::sensors;
@@ -554,24 +556,15 @@ void CEPuck2CalibratedCameraSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_colored_blob_perspective_camera";
   SCommon s = ReadCommon(t_tree, strName, {"camera"}, *m_pcCamEntity);
   Checked(strName, [&] {
-    for (auto it = s.File->effects().begin(); it != s.File->effects().end(); ++it)
-      if (it.key() != "radial_distortion")
-        s.File->fail("effects." + it.key() + ": the calibrated camera cannot apply it in ARGoS" +
-                     (it.key().rfind("covariate:", 0) == 0
-                          ? ": it needs the log column '" + it.key().substr(10) + "', which ARGoS does not have"
-                          : std::string(": not a camera effect (the camera's is radial_distortion)")));
+    /* The project's one reader (lib/coefficients): the field of view, the centre, the radial
+       distortion (k1, k2, k3), every value checked; ARGoS cannot apply a covariate */
+    m_sModel = epuck2::coefficients::camera_model_from_json(s.File->root(), s.File->path(), s.Robot);
+    if (!m_sModel.covariates.empty())
+      s.File->fail("effects.covariate:" + m_sModel.covariates.front().column +
+                   ": the calibrated camera cannot apply it in ARGoS: it needs the log column '" +
+                   m_sModel.covariates.front().column + "', which ARGoS does not have");
     const double fW = m_pcCamEntity->GetImagePxWidth(), fH = m_pcCamEntity->GetImagePxHeight();
     m_sModel.base.width_px = fW;
-    m_sModel.base.horizontal_fov_rad = ms::deg_to_rad(s.File->scalar("fov_deg"));
-    m_sModel.base.cx_px = s.File->scalar_or("cx_px", fW / 2.0);
-    m_sModel.base.cy_px = s.File->scalar_or("cy_px", fH / 2.0);
-    const auto& e = s.File->effects();
-    if (e.contains("radial_distortion")) {
-      const auto& d = e.at("radial_distortion");
-      if (!d.is_object() || !d.contains("k1") || !d.at("k1").is_number())
-        s.File->fail("effects.radial_distortion.k1 must be a number");
-      m_sModel.distortion.k1 = d.at("k1").get<double>();
-    }
     /* Which LEDs it sees: the cone of the fitted field of view's aperture (ARGoS's, the half-angle
        on the image diagonal) and the range, as the plug-in's camera */
     m_fAperture = ms::aperture_from_horizontal_fov_rad(m_sModel.base.horizontal_fov_rad, static_cast<int>(fW),
@@ -655,7 +648,7 @@ REGISTER_SENSOR(CEPuck2CalibratedCameraSensor, "epuck2_colored_blob_perspective_
                 "The LEDs of the LED medium the plug-in's camera would see (cone of the fitted field of\n"
                 "view's aperture, range_m, occlusions), each projected with lib/models' camera model:\n"
                 "the camera file's horizontal field of view fov_deg, image centre cx_px, cy_px at\n"
-                "sub-pixel accuracy, a diagnosis's radial_distortion k1, and the measured pixel noise\n"
+                "sub-pixel accuracy, a diagnosis's radial_distortion (k1, k2, k3), and the measured pixel noise\n"
                 "noise.camera (Gaussian, each axis), then rounded; blobs off the image are dropped.\n\n"
                 "  <epuck2_colored_blob_perspective_camera implementation=\"calibrated\"\n"
                 "      coefficients=\"camera.json\" medium=\"leds\" noise=\"true\" robot=\"ID|auto\" />",
