@@ -1,6 +1,7 @@
 #include "calibrated_sensors.hpp"
 #include <epuck2/models/effects.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 #include <optional>
@@ -252,14 +253,19 @@ void CEPuck2CalibratedGroundSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_ground";
   CEPuck2GroundRotZOnlySensor::Init(t_tree);
   SCommon s = ReadCommon(t_tree, strName, {"ground"}, *m_pcGroundSensorEntity);
-  RefuseEffects(s);
   Checked(strName, [&] {
-    const std::size_t n = m_tReadings.size();
-    const auto gain = s.File->per_sensor("gain", n), offset = s.File->per_sensor("offset", n);
-    m_vecCoefficients.resize(n);
-    for (std::size_t i = 0; i < n; ++i) m_vecCoefficients[i] = ms::GroundCoefficients{gain[i], offset[i]};
+    /* The project's one reader (lib/coefficients): each sensor's gain and offset, a diagnosis's
+       nonlinear_response; ARGoS cannot apply a covariate */
+    m_sModel = epuck2::coefficients::ground_model_from_json(s.File->root(), s.File->path(), s.Robot);
+    if (!m_sModel.covariates.empty())
+      s.File->fail("effects.covariate:" + m_sModel.covariates.front().column +
+                   ": the calibrated epuck2_ground cannot apply it in ARGoS: it needs the log column '" +
+                   m_sModel.covariates.front().column + "', which ARGoS does not have");
+    if (m_tReadings.size() != m_sModel.sensors.size())
+      s.File->fail("the robot has " + std::to_string(m_tReadings.size()) + " ground sensors, the model " +
+                   std::to_string(m_sModel.sensors.size()));
     /* The model scales a unit noise by the full scale, 1023 counts */
-    ConfigureNoise(s, "ground", "counts", n, ms::kPluginNoiseScaleGround_counts, m_cNoise);
+    ConfigureNoise(s, "ground", "counts", m_tReadings.size(), ms::kPluginNoiseScaleGround_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -277,16 +283,19 @@ void CEPuck2CalibratedGroundSensor::Update() {
     const CColor& cColor = m_pcFloorEntity->GetColorAtPoint(cSensorPos.GetX(), cSensorPos.GetY());
     /* grey in [0, 1], 0 = black */
     const double fGrey = cColor.ToGrayScale() / 255.0;
-    m_tReadings[i] = ms::ground_reading(m_vecCoefficients[i], fGrey, m_cNoise.level(i), m_cNoise.unit(i));
+    /* lib/models' mean (the nonlinear response included), the noise, the rounding and the rails */
+    const double fMean = ms::mean_raw(m_sModel, static_cast<int>(i), fGrey) +
+                         ms::uniform_noise(m_cNoise.unit(i), m_cNoise.level(i)) * ms::kPluginNoiseScaleGround_counts;
+    m_tReadings[i] = static_cast<SInt32>(std::clamp(std::round(fMean), 0.0, ms::kGroundFullScale_raw));
   }
 }
 
 REGISTER_SENSOR(CEPuck2CalibratedGroundSensor, "epuck2_ground", "calibrated", "epuck2-fit", "1.0",
                 "The E-Puck2 ground sensors with coefficients fitted by epuck2-fit.",
                 "Same control interface and floor sampling as the rot_z_only implementation; the\n"
-                "reading is offset + gain * grey (grey in [0, 1], 0 = black), rounded and clamped\n"
-                "to [0, 1023], with gain and offset (numbers or arrays of 3: right, centre, left)\n"
-                "from the coefficient file.\n\n"
+                "reading is offset + gain * grey^exponent (grey in [0, 1], 0 = black), rounded and\n"
+                "clamped to [0, 1023], with gain and offset (arrays of 3: right, centre, left) and a\n"
+                "diagnosis's nonlinear_response exponent (1 without) from the coefficient file.\n\n"
                 "  <epuck2_ground implementation=\"calibrated\" coefficients=\"ground.json\"\n"
                 "                 robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
                 "noise (default true): the coefficient file's measured reading noise, noise.ground\n"

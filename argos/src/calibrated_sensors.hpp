@@ -57,7 +57,7 @@ class CEPuck2CalibratedGroundSensor : public CEPuck2GroundRotZOnlySensor {
   void Update() override;
 
  private:
-  std::vector<epuck2::models::sensors::GroundCoefficients> m_vecCoefficients;
+  epuck2::models::sensors::GroundModel m_sModel;
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 

@@ -3,7 +3,8 @@
 # (A: gain 900, offset 20; B: gain 600, offset 100), robot_map="ep0:A,ep1:A,ep*:B": ep0 and ep1
 # must read A's offset + gain * grey, ep2..ep4 B's (worked here from the sets, noise off). Then
 # the sets named like the entities (no robot_map), an entity without a set stopping ARGoS at Init
-# with its name, and the pooled set of a two-robot file without robot= warning at Init.
+# with its name, the pooled set of a two-robot file without robot= warning at Init, and a
+# diagnosis's nonlinear_response applied (the ground sensor reads its model through lib/coefficients).
 #   usage: swarm.sh ARGOS_LIBDIR WORK_DIR
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -77,3 +78,31 @@ grep -q "holds 2 robots (virtual-epuck2-1, virtual-epuck2-2) and no robot= is gi
   || { cat "$WORK/pooled/log"; fail "no pooled-set warning"; }
 [ "$(grep -c 'using the pooled set' "$WORK/pooled/log")" = 1 ] || fail "the pooled-set warning is not said once"
 echo "ok   a two-robot file without robot= warns once: $(grep -o 'holds 2 robots.*' "$WORK/pooled/log" | cut -c1-160)..."
+# 5. a diagnosis's nonlinear_response (exponent 1.5) is applied: every robot reads offset + gain *
+#    grey^1.5 per sensor (rounded), worked here from the file
+python3 - "$ROOT/data/fitted/ground.json" "$WORK/nonlinear.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d.pop("robots", None)
+d["effects"] = {"nonlinear_response": {"exponent": 1.5}}
+json.dump(d, open(sys.argv[2], "w"))
+PY
+experiment "$WORK/nonlinear" "coefficients=\"$WORK/nonlinear.json\""
+argos3 -n -z -c "$WORK/nonlinear/exp.argos" > "$WORK/nonlinear/log" 2>&1 || { cat "$WORK/nonlinear/log"; fail "argos3 (nonlinear)"; }
+python3 - "$WORK" <<'PY' || fail "nonlinear_response"
+import glob, json, sys
+work = sys.argv[1]
+p = json.load(open(f"{work}/nonlinear.json"))["parameters"]
+n = wrong = 0
+for path in glob.glob(f"{work}/nonlinear/ground_*.csv"):
+    for l in open(path):
+        if not l[0].isdigit():
+            continue
+        g, s, v = l.strip().split(",")
+        g, s = float(g), int(s)
+        want = min(1023, max(0, round(p["offset"][s] + p["gain"][s] * g ** 1.5)))
+        n += 1
+        wrong += int(v) != want
+print(("ok   " if n and not wrong else "FAIL ") + f"nonlinear_response 1.5: {n} readings of 5 robots, {wrong} off offset + gain grey^1.5")
+sys.exit(1 if wrong or not n else 0)
+PY
