@@ -559,9 +559,12 @@ int run_diagnose(const DiagnoseOptions& o) {
     };
   }
   const dg::ModelInputs inputs = dg::model_inputs(logs, options);  // the covariates' centres, the battery's tables
-  const dg::Report r = dg::diagnose(std::move(logs), options);  // the logs are released once read
+  dg::Report r = dg::diagnose(std::move(logs), options);  // the logs are released once read
   if (options.progress && tty) std::fprintf(stderr, "\r\033[K");
   if (!r.supported) throw UsageError(r.message);
+  // The model's noise is the replicates' where the logs have them: say when the residuals are far
+  // from it (misfit the model leaves, which a simulation must not draw as noise).
+  for (std::string& w : dg::noise_warnings(r, inputs.replicate_noise)) r.warnings.push_back(std::move(w));
   for (const auto& w : r.warnings) std::fprintf(stderr, "diagnose: warning: %s\n", w.c_str());
   // All or nothing: the JSON report and the figure are renamed into place together, then printed.
   const std::string text = o.json || !output.empty() ? json_text(to_json(r, o.logs, inputs)) : std::string();

@@ -6,7 +6,8 @@
 # default and the calibrated run of a row alternate (ABBA: A B, then B A, ...), so that a drift
 # of the machine's load hits both alike. Prints the machine, its load, the medians, their ratio
 # and whether the targets are met:
-#   a calibrated sensor costs at most 5 % more than the plug-in's implementation (ratio <= 1.05);
+#   a calibrated sensor, or the calibrated wheels (row actuator: the shipped drive diagnosis's
+#   speed_limit and slip on), costs at most 5 % more than the plug-in's implementation (ratio <= 1.05);
 #   the calibrated corrected Cubic battery (behaviour="corrected") costs no more than the
 #   plug-in's Cubic (ratio <= 1.00).
 # Noise is off on both sides (the plug-in's noise_level 0, the calibrated noise="false"): the
@@ -17,14 +18,14 @@
 # are the instructions of the sensor's Update or the discharge model alone (inclusive), default
 # and calibrated, in millions.
 #   usage: bench/argos_cost.sh [SIM_SECONDS (default 7200)] [REPEATS (default 3)] [ROBOTS (default "1 10 50")] [ROWS]
-#     ROWS: a space-separated subset of: proximity ground tof encoder light battery-simple
+#     ROWS: a space-separated subset of: proximity ground tof encoder light actuator battery-simple
 #           battery-linear battery-cubic battery-approximated battery-cubic-corrected (default: all)
 # Environment: EPUCK2_BUILD_DIR (default build), EPUCK2_BENCH_MEASURE (cpu, default, or instructions).
 # Needs ARGoS, the E-Puck2 plug-in and the project built with them (build/lib/argos3), python3.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SECONDS_SIM="${1:-7200}"; REPEATS="${2:-3}"; ROBOTS="${3:-1 10 50}"
-ROWS="${4:-proximity ground tof encoder light battery-simple battery-linear battery-cubic battery-approximated battery-cubic-corrected}"
+ROWS="${4:-proximity ground tof encoder light actuator battery-simple battery-linear battery-cubic battery-approximated battery-cubic-corrected}"
 LIBDIR="${EPUCK2_BUILD_DIR:-$ROOT/build}/lib/argos3"
 command -v argos3 >/dev/null || { echo "argos_cost: argos3 not found (docs/argos.md)" >&2; exit 3; }
 command -v python3 >/dev/null || { echo "argos_cost: python3 not found" >&2; exit 3; }
@@ -43,8 +44,17 @@ sensor_xml() {
     tof) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/drive.json\""; echo "<epuck2_tof implementation=\"$impl\"$c/>";;
     encoder) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/drive.json\""; echo "<epuck2_encoder implementation=\"$impl\"$c/>";;
     light) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/light.json\""; echo "<epuck2_light implementation=\"$impl\"$c/>";;
-    battery-*) echo "<epuck2_battery implementation=\"default\"/>";;
+    battery-*|actuator) echo "<epuck2_battery implementation=\"default\"/>";;
   esac
+}
+# actuator XML for (what, impl): the actuator row compares the calibrated wheels, with the shipped
+# drive diagnosis's effects on (its speed_limit and slip), with the default differential steering.
+actuator_xml() {
+  if [ "$1" = actuator ] && [ "$2" = calibrated ]; then
+    echo "<differential_steering implementation=\"calibrated\" coefficients=\"$F/reports/diagnose_drive.json\"/>"
+  else
+    echo "<differential_steering implementation=\"default\"/>"
+  fi
 }
 # battery XML for (what, impl): battery-MODEL compares the calibrated model (behaviour="argos")
 # with the plug-in's MODEL; battery-cubic-corrected the calibrated Cubic with behaviour="corrected"
@@ -69,7 +79,7 @@ write_exp() {  # what impl n file
   <framework><system threads="0"/><experiment length="$SECONDS_SIM" ticks_per_second="10" random_seed="1"/></framework>
   <controllers>
     <epuck2_recorder_controller id="c" library="libepuck2_argos_protocols">
-      <actuators><differential_steering implementation="default"/></actuators>
+      <actuators>$(actuator_xml "$what" "$impl")</actuators>
       <sensors>$(sensor_xml "$what" "$impl")</sensors>
       <params left="5" right="4"/>
     </epuck2_recorder_controller>
@@ -120,7 +130,7 @@ cpu_run() {  # experiment -> CPU seconds (or millions of instructions) on stdout
     awk '/^summary:/ {printf "%.3f\n", $2 / 1e6}' "$WORK/cg"
     # The model alone: the sensor's Update() or the discharge model's operator()(), inclusive.
     callgrind_annotate --inclusive=yes --threshold=100 "$WORK/cg" 2>/dev/null > "$WORK/annotated" || true
-    grep -E 'argos::CEPuck2[A-Za-z]*(Sensor::Update\(\)|DischargeModel[A-Za-z]*::operator\(\)\(\)) ' "$WORK/annotated" |
+    grep -E 'argos::C(EPuck2[A-Za-z]*(Sensor|Actuator)::Update\(\)|DifferentialSteeringDefaultActuator::Update\(\)|EPuck2[A-Za-z]*DischargeModel[A-Za-z]*::operator\(\)\(\)) ' "$WORK/annotated" |
       head -n1 | awk '{gsub(",", "", $1); printf "%.3f\n", $1 / 1e6}' > "$1.model" || true
     return
   fi
@@ -156,7 +166,7 @@ for n in $ROBOTS; do
     ma=$(median < "$WORK/a.times"); mb=$(median < "$WORK/b.times")
     lo=$(sort -g "$WORK/ratios" | head -n1); hi=$(sort -g "$WORK/ratios" | tail -n1)
     case "$what" in
-      proximity|ground|tof|encoder|light) target=1.05;;
+      proximity|ground|tof|encoder|light|actuator) target=1.05;;
       battery-cubic-corrected) target=1.00;;
       *) target=-;;
     esac

@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
 # Records one of the paper's protocols in ARGoS, headless, and writes its logs in the project's
-# CSV formats (the ones epuck2-fit reads).
+# CSV formats (the ones epuck2-fit reads); with --like, replays a measured log instead.
 #   usage: scripts/argos-record.sh KIND COEFFICIENT_FILE|default OUT_DIR
-#     KIND               proximity | ground | light | drive | battery
+#          scripts/argos-record.sh drive COEFFICIENT_FILE|default OUT_LOG --like LOG
+#     --like LOG         (drive) the robot placed at the log's obstacle_distance_m, the log's wheel
+#                        commands given row by row, ARGoS's readings written as one log in the
+#                        log's format, row for row, at 1000 ticks/s (each row read at the tick
+#                        nearest its time), into OUT_LOG (written whole or not at all);
+#     KIND               proximity | ground | light | camera | drive | battery
 #     COEFFICIENT_FILE   a coefficient file written by epuck2-fit (proximity.json, ground.json,
-#                        light.json, drive.json for drive, battery.json): the `calibrated`
+#                        light.json, camera.json, drive.json for drive, battery.json): the `calibrated`
 #                        implementations use it;
 #     default            the E-Puck2 plug-in's own implementations (and its battery tables).
 # Environment: EPUCK2_BUILD_DIR (default build), EPUCK2_ARGOS_ROBOT (the `# robot:` id, default
@@ -12,16 +17,25 @@
 # EPUCK2_BATTERY_MODEL (simple|linear|cubic|approximated, default cubic), EPUCK2_BATTERY_BEHAVIOUR
 # (argos|corrected, default argos), EPUCK2_ARGOS_SEED (default 124), EPUCK2_ARGOS_CHARGE_DIGITS
 # (significant digits of the battery charge, default 6), EPUCK2_ARGOS_SAMPLES (readings per
-# condition for proximity, ground and light; default: the experiment's).
+# condition for proximity, ground and light; default: the experiment's), EPUCK2_ARGOS_FIRMWARE_CAP
+# (true|false, default true: the calibrated wheels capped at the e-puck2 firmware's 1100 steps/s;
+# false for logs of a robot without it, e.g. the project's generated logs).
 # Needs ARGoS 3, the E-Puck2 ARGoS plug-in and the project built with them (build/lib/argos3).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+LIKE=""
+if [ $# -eq 5 ] && [ "$4" = "--like" ]; then LIKE="$5"; set -- "$1" "$2" "$3"; fi
 if [ $# -ne 3 ]; then
-  sed -n '2,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2
+  sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | grep -v '^set -euo' | sed 's/^# \{0,1\}//' >&2
   exit 2
 fi
 KIND="$1"; COEFF="$2"; OUT="$3"
-case "$KIND" in proximity|ground|light|drive|battery) ;; *) echo "argos-record: unknown kind '$KIND'" >&2; exit 2;; esac
+if [ -n "$LIKE" ]; then
+  [ "$KIND" = drive ] || { echo "argos-record: --like replays drive logs only (the other kinds: not yet)" >&2; exit 2; }
+  [ -r "$LIKE" ] || { echo "argos-record: cannot read $LIKE" >&2; exit 2; }
+  LIKE="$(cd "$(dirname "$LIKE")" && pwd)/$(basename "$LIKE")"
+fi
+case "$KIND" in proximity|ground|light|camera|drive|battery) ;; *) echo "argos-record: unknown kind '$KIND'" >&2; exit 2;; esac
 BUILD="${EPUCK2_BUILD_DIR:-$ROOT/build}"
 LIBDIR="$(cd "$BUILD" 2>/dev/null && pwd)/lib/argos3"
 command -v argos3 >/dev/null 2>&1 || { echo "argos-record: argos3 not found (see docs/argos.md)" >&2; exit 3; }
@@ -31,8 +45,14 @@ if [ "$COEFF" != default ]; then
   [ -r "$COEFF" ] || { echo "argos-record: cannot read $COEFF" >&2; exit 2; }
   COEFF="$(cd "$(dirname "$COEFF")" && pwd)/$(basename "$COEFF")"
 fi
-mkdir -p "$OUT"
-OUT="$(cd "$OUT" && pwd)"
+if [ -n "$LIKE" ]; then
+  LIKE_OUT="$(cd "$(dirname "$OUT")" 2>/dev/null && pwd)/$(basename "$OUT")" || { echo "argos-record: no directory for $OUT" >&2; exit 2; }
+  OUT="$(mktemp -d "${TMPDIR:-/tmp}/argos-record.XXXXXX")"
+  trap 'rm -rf "$OUT"' EXIT
+else
+  mkdir -p "$OUT"
+  OUT="$(cd "$OUT" && pwd)"
+fi
 ROBOT="${EPUCK2_ARGOS_ROBOT:-argos-epuck2}"
 NOISE="${EPUCK2_ARGOS_NOISE:-false}"
 MODEL="${EPUCK2_BATTERY_MODEL:-cubic}"
@@ -47,6 +67,13 @@ sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$OUT\"|" \
     -e "s|model=\"cubic\" behaviour=\"argos\"|model=\"$MODEL\" behaviour=\"$BEHAVIOUR\"|" \
     -e "s|charge_digits=\"6\"|charge_digits=\"${EPUCK2_ARGOS_CHARGE_DIGITS:-6}\"|" \
     "$ROOT/argos/experiments/$KIND.argos" > "$EXP"
+if [ -n "$LIKE" ]; then
+  sed -i -e "s|ticks_per_second=\"[^\"]*\"|ticks_per_second=\"1000\"|" \
+         -e "s|kind=\"drive\"|kind=\"drive\" like=\"$LIKE\" like_out=\"$OUT/replay.csv\"|" "$EXP"
+fi
+if [ "${EPUCK2_ARGOS_FIRMWARE_CAP:-true}" = false ]; then
+  sed -i -e 's|<differential_steering implementation="calibrated"|<differential_steering implementation="calibrated" firmware_cap="false"|' "$EXP"
+fi
 if [ -n "${EPUCK2_ARGOS_SAMPLES:-}" ]; then
   case "$EPUCK2_ARGOS_SAMPLES" in ''|*[!0-9]*) echo "argos-record: EPUCK2_ARGOS_SAMPLES must be a whole number" >&2; exit 2;; esac
   sed -i -e "s|samples=\"[^\"]*\"|samples=\"$EPUCK2_ARGOS_SAMPLES\"|" "$EXP"
@@ -64,6 +91,18 @@ else
 fi
 # Headless: the experiment files have an empty <visualization/>.
 ARGOS_PLUGIN_PATH="$LIBDIR${ARGOS_PLUGIN_PATH:+:$ARGOS_PLUGIN_PATH}" argos3 -n -z -c "$EXP" > "$OUT/.$KIND.argos.log" 2>&1 || {
+  # A log to replay that cannot be read is bad input (exit 2), said with its file and line.
+  if [ -n "$LIKE" ] && grep -q "FATAL\] $LIKE" "$OUT/.$KIND.argos.log"; then
+    grep "FATAL\] $LIKE" "$OUT/.$KIND.argos.log" | head -n1 | sed 's/^.*FATAL\] /argos-record: /' >&2; exit 2
+  fi
   echo "argos-record: argos3 failed on $EXP:" >&2; tail -n 20 "$OUT/.$KIND.argos.log" >&2; exit 1; }
 ls "$OUT"/*.csv >/dev/null 2>&1 || { echo "argos-record: no log written in $OUT" >&2; exit 1; }
+if [ -n "$LIKE" ]; then
+  # All or nothing: the replay is renamed into place only once ARGoS has written all of it.
+  [ "$(grep -c '^[0-9-]' "$OUT/replay.csv")" = "$(grep -c '^[0-9-]' "$LIKE")" ] || {
+    echo "argos-record: the replay of $LIKE has a different number of rows" >&2; exit 1; }
+  cp "$OUT/replay.csv" "$LIKE_OUT.tmp.$$" && mv -f "$LIKE_OUT.tmp.$$" "$LIKE_OUT"
+  echo "argos-record: $LIKE replayed ($([ "$COEFF" = default ] && echo "plug-in defaults" || echo "$COEFF")) -> $LIKE_OUT"
+  exit 0
+fi
 echo "argos-record: $KIND ($([ "$COEFF" = default ] && echo "plug-in defaults" || echo "$COEFF")) -> $OUT"

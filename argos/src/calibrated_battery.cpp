@@ -4,7 +4,12 @@
 //
 //   <epuck2 id="ep0">
 //     <epuck2_battery discharge_model="calibrated" coefficients="battery.json"
-//                     model="cubic" behaviour="argos" start_charge="1.0"/>
+//                     [model="cubic"] behaviour="argos" [tables="file|plugin"] start_charge="1.0"/>
+//
+// The file may have some speeds only (a battery calibrated from a few runs): its tables there,
+// the plug-in's elsewhere, said at Init. A diagnosis's battery_model is the model when the XML
+// names none, and its effects.capacity_scale.k scales the capacity (time runs 1/k as fast).
+// tables="plugin": the plug-in's tables with the file's capacity scale (one or two runs).
 //
 // behaviour="argos": Behaviour::argos_compatible, bit for bit the plug-in's arithmetic (with the
 // plug-in's own tables it reproduces its models exactly); behaviour="corrected": the project's
@@ -17,7 +22,11 @@
 #include <argos3/core/utility/string_utilities.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_battery_equipped_entity.h>
 
+#include <algorithm>
 #include <memory>
+#include <set>
+#include <sstream>
+#include <vector>
 
 #include <epuck2/models/battery.hpp>
 
@@ -27,31 +36,84 @@ namespace argos {
 
 namespace mb = epuck2::models::battery;
 
+/// "0, 2..5, 9" for a list of whole speeds.
+std::string Speeds(const std::vector<int>& v) {
+  std::ostringstream os;
+  for (std::size_t i = 0; i < v.size();) {
+    std::size_t j = i;
+    while (j + 1 < v.size() && v[j + 1] == v[j] + 1) ++j;
+    os << (i ? ", " : "") << v[i];
+    if (j > i) os << (j == i + 1 ? ", " : "..") << v[j];
+    i = j + 1;
+  }
+  return os.str();
+}
+
 class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeModel {
  public:
   void Init(TConfigurationNode& t_tree) override {
-    std::string strFile, strModel = "cubic", strBehaviour = "argos";
+    std::string strFile, strModel, strBehaviour = "argos", strTables = "file";
     GetNodeAttributeOrDefault(t_tree, "coefficients", strFile, strFile);
     GetNodeAttributeOrDefault(t_tree, "model", strModel, strModel);
     GetNodeAttributeOrDefault(t_tree, "behaviour", strBehaviour, strBehaviour);
-    if (strFile.empty())
+    GetNodeAttributeOrDefault(t_tree, "tables", strTables, strTables);
+    if (strTables != "file" && strTables != "plugin")
+      THROW_ARGOSEXCEPTION("calibrated battery: tables must be 'file' (the coefficient file's, the plug-in's at speeds it lacks) or "
+                           "'plugin' (the plug-in's, with the file's capacity scale), not '" << strTables << "'");
+    if (strFile.empty() && strTables == "file")
       THROW_ARGOSEXCEPTION("calibrated battery: the attribute 'coefficients' is required (a battery coefficient file written by epuck2-fit)");
-    if (strModel == "approx") strModel = "approximated";
-    if (!mb::parse_model(strModel, m_eModel))
-      THROW_ARGOSEXCEPTION("calibrated battery: model must be simple, linear, cubic or approximated, not '" << strModel << "'");
     if (strBehaviour == "argos" || strBehaviour == "argos_compatible")
       m_eBehaviour = mb::Behaviour::argos_compatible;
     else if (strBehaviour == "corrected")
       m_eBehaviour = mb::Behaviour::corrected;
     else
       THROW_ARGOSEXCEPTION("calibrated battery: behaviour must be 'argos' or 'corrected', not '" << strBehaviour << "'");
-    ExpandEnvVariables(strFile);
-    const std::string strPath =
-        epuck2::argos_plugin::resolve_coefficient_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
-    try {
-      m_pcTables = epuck2::argos_plugin::shared_battery_tables(strPath);
-    } catch (const std::exception& ex) {
-      THROW_ARGOSEXCEPTION("calibrated battery: " << ex.what());
+    std::shared_ptr<const epuck2::argos_plugin::BatteryFile> pcFile;
+    std::string strPath;
+    if (!strFile.empty()) {
+      ExpandEnvVariables(strFile);
+      strPath = epuck2::argos_plugin::resolve_coefficient_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
+      try {
+        pcFile = epuck2::argos_plugin::shared_battery_file(strPath);
+      } catch (const std::exception& ex) {
+        THROW_ARGOSEXCEPTION("calibrated battery: " << ex.what());
+      }
+    }
+    /* The discharge model: the XML's, else the file's battery_model (a diagnosis), else Cubic */
+    if (strModel == "approx") strModel = "approximated";
+    if (!strModel.empty()) {
+      if (!mb::parse_model(strModel, m_eModel))
+        THROW_ARGOSEXCEPTION("calibrated battery: model must be simple, linear, cubic or approximated, not '" << strModel << "'");
+    } else if (pcFile && pcFile->model) {
+      m_eModel = *pcFile->model;
+    }
+    m_sCapacity.k = pcFile ? pcFile->capacity_k : 1.0;
+    if (strTables == "plugin") {
+      static const mb::Tables& cPlugin = mb::plugin_tables();
+      m_pcTables = std::shared_ptr<const mb::Tables>(std::shared_ptr<const mb::Tables>{}, &cPlugin);
+    } else {
+      m_pcTables = std::shared_ptr<const mb::Tables>(pcFile, &pcFile->tables);
+    }
+    /* Say once per file what is used where */
+    static std::set<std::string> setSaid;
+    const std::string strKey = strPath + "|" + strTables;
+    if (setSaid.insert(strKey).second) {
+      std::ostringstream os;
+      os << "calibrated battery: " << (strPath.empty() ? std::string("no file") : strPath) << ": ";
+      if (strTables == "plugin") {
+        os << "the plug-in's tables at every speed";
+      } else {
+        os << "fitted tables at " << Speeds(pcFile->fitted_speeds) << " cm/s";
+        std::vector<int> vecPlugin;
+        for (int v = 0; v < static_cast<int>(mb::kSpeedCount); ++v)
+          if (std::find(pcFile->fitted_speeds.begin(), pcFile->fitted_speeds.end(), v) == pcFile->fitted_speeds.end())
+            vecPlugin.push_back(v);
+        if (!vecPlugin.empty()) os << ", the plug-in's at " << Speeds(vecPlugin) << " cm/s";
+        if (!pcFile->fitted_simple) os << "; the Simple model's slopes the plug-in's";
+      }
+      os << "; model " << mb::to_string(m_eModel);
+      if (m_sCapacity.k != 1.0) os << "; capacity scale " << m_sCapacity.k << " (lifetimes x " << m_sCapacity.k << ")";
+      LOG << "[INFO] " << os.str() << std::endl;
     }
   }
 
@@ -86,8 +148,12 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
       cDeltaOrient.ToAngleAxis(cDeltaAngle, cDeltaAxis);
       if (fDeltaPos == 0.0 && cDeltaAngle.GetValue() != 0.0) fDeltaPos = cDeltaAngle.GetValue() * mb::kHalfAxleFloat_m;
       const Real fDeltaT = CPhysicsEngine::GetSimulationClockTick();
-      m_pcBattery->SetAvailableCharge(
-          mb::step(m_eModel, m_eBehaviour, *m_pcTables, m_pcBattery->GetAvailableCharge(), fDeltaPos, fDeltaT, m_sHints));
+      /* capacity_scale: a battery of k times the capacity discharges as the model does with time
+         running 1/k as fast (lib/models battery.hpp, CapacityScale); k = 1 is the plain tick */
+      const double fK = m_sCapacity.k;
+      m_pcBattery->SetAvailableCharge(mb::step(m_eModel, m_eBehaviour, *m_pcTables, m_pcBattery->GetAvailableCharge(),
+                                               fK == 1.0 ? fDeltaPos : fDeltaPos / fK,
+                                               fK == 1.0 ? fDeltaT : fDeltaT / fK, m_sHints));
       m_cOldPosition = m_psAnchor->Position;
       m_cOldOrientation = m_psAnchor->Orientation;
     }
@@ -100,6 +166,7 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
   mb::Model m_eModel = mb::Model::cubic;
   mb::Behaviour m_eBehaviour = mb::Behaviour::argos_compatible;
   std::shared_ptr<const mb::Tables> m_pcTables;  ///< shared by every robot with the same file
+  mb::CapacityScale m_sCapacity;
   mb::corrected::CubicHints m_sHints{};
 };
 

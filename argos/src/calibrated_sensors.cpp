@@ -1,6 +1,7 @@
 #include "calibrated_sensors.hpp"
 #include <epuck2/models/effects.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 #include <optional>
@@ -13,16 +14,20 @@
 #include <argos3/core/simulator/entity/embodied_entity.h>
 #include <argos3/core/simulator/entity/floor_entity.h>
 #include <argos3/core/simulator/simulator.h>
+#include <argos3/core/simulator/space/positional_indices/positional_index.h>
 #include <argos3/core/utility/string_utilities.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_camera_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_encoder_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
 #include <argos3/plugins/simulator/entities/ground_sensor_equipped_entity.h>
+#include <argos3/plugins/simulator/entities/led_entity.h>
 #include <argos3/plugins/simulator/entities/light_entity.h>
 #include <argos3/plugins/simulator/entities/light_sensor_equipped_entity.h>
 #include <argos3/plugins/simulator/entities/proximity_sensor_equipped_entity.h>
 
 #include "coefficient_file.hpp"
+
+#include <epuck2/coefficients/model_file.hpp>
 
 namespace argos {
 
@@ -32,11 +37,22 @@ using epuck2::argos_plugin::CoefficientFile;
 
 namespace {
 
+/// A warning on ARGoS's error log, once per process for each text (50 robots: one line).
+void WarnOnce(const std::string& str_text) {
+  static std::mutex cMutex;
+  static std::set<std::string> setSaid;
+  std::lock_guard<std::mutex> cLock(cMutex);
+  if (!setSaid.insert(str_text).second) return;
+  LOGERR << "[WARNING] " << str_text << std::endl;
+  LOGERR.Flush();
+}
+
 /// What every calibrated sensor reads from its XML node: the coefficient file (loaded, with the
 /// robot's set when `robot` is given), whether noise is on, its distribution and the uniform
 /// noise level.
 struct SCommon {
   std::string Sensor;
+  std::string Robot;  ///< the file's robot set this robot uses (empty: the top level)
   std::optional<CoefficientFile> File;
   bool Noise = true;
   bool Uniform = false;  ///< noise_distribution="uniform"
@@ -45,16 +61,17 @@ struct SCommon {
 };
 
 SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor,
-                   const std::vector<std::string>& vec_kinds) {
+                   const std::vector<std::string>& vec_kinds, const CEntity& c_component) {
   SCommon s;
   s.Sensor = str_sensor;
-  std::string strFile, strRobot, strDistribution = "gaussian";
+  std::string strFile, strRobot, strRobotMap, strDistribution = "gaussian";
   GetNodeAttributeOrDefault(t_tree, "coefficients", strFile, strFile);
   if (strFile.empty())
     THROW_ARGOSEXCEPTION("calibrated " << str_sensor
                                        << ": the attribute 'coefficients' is required (a coefficient file written by epuck2-fit)");
   ExpandEnvVariables(strFile);
   GetNodeAttributeOrDefault(t_tree, "robot", strRobot, strRobot);
+  GetNodeAttributeOrDefault(t_tree, "robot_map", strRobotMap, strRobotMap);
   GetNodeAttributeOrDefault(t_tree, "noise", s.Noise, s.Noise);
   GetNodeAttributeOrDefault(t_tree, "noise_distribution", strDistribution, strDistribution);
   if (strDistribution != "gaussian" && strDistribution != "uniform")
@@ -67,21 +84,16 @@ SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor,
   const std::string strPath =
       epuck2::argos_plugin::resolve_coefficient_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
   try {
-    s.File = CoefficientFile::load(strPath, vec_kinds, strRobot);
+    /* robot="auto": this robot's own set, by its entity id or robot_map */
+    const auto sChoice = epuck2::argos_plugin::choose_robot(*epuck2::argos_plugin::parse_coefficient_file(strPath), strPath,
+                                                            strRobot, strRobotMap, c_component.GetRootEntity().GetId());
+    if (!sChoice.warning.empty()) WarnOnce("calibrated " + str_sensor + ": " + sChoice.warning);
+    s.Robot = sChoice.robot;
+    s.File = CoefficientFile::load(strPath, vec_kinds, s.Robot);
   } catch (const std::exception& ex) {
     THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": " << ex.what());
   }
   return s;
-}
-
-/// A warning on ARGoS's error log, once per process for each text (50 robots: one line).
-void WarnOnce(const std::string& str_text) {
-  static std::mutex cMutex;
-  static std::set<std::string> setSaid;
-  std::lock_guard<std::mutex> cLock(cMutex);
-  if (!setSaid.insert(str_text).second) return;
-  LOGERR << "[WARNING] " << str_text << std::endl;
-  LOGERR.Flush();
 }
 
 /// A sensor's noise: with noise="true", the file's measured reading noise noise.<channel> (sd in
@@ -131,6 +143,22 @@ void Checked(const std::string& str_sensor, F&& f) {
   }
 }
 
+/// A file's effects that this sensor does not apply yet (proximity, light, ground, camera: issue
+/// #20's model-type sensors wait for the project's one coefficient reader): ARGoS stops at Init
+/// naming them, rather than dropping them (a diagnosis's base curve was fitted together with
+/// them and reads wrong without them).
+void RefuseEffects(const SCommon& s) {
+  const nlohmann::json& e = s.File->effects();
+  if (e.empty()) return;
+  std::string strNames;
+  for (auto it = e.begin(); it != e.end(); ++it) strNames += (strNames.empty() ? "" : ", ") + std::string("effects.") + it.key();
+  THROW_ARGOSEXCEPTION("calibrated " << s.Sensor << ": " << s.File->path() << ": " << strNames
+                                     << ": the calibrated " << s.Sensor
+                                     << " does not apply a diagnosis's effects yet, and its base was fitted together "
+                                        "with them (docs/argos.md): use a calibration file (epuck2-fit KIND -o), or the "
+                                        "extended model through the generated header in your own sensor");
+}
+
 /// The plug-in's encoder noise scale: a unit noise is 32767 steps.
 constexpr double kEncoderNoiseScale = ms::kPluginNoiseScaleEncoder_steps;
 
@@ -156,7 +184,8 @@ CRay3 WorldRay(const SENSOR& s_sensor) {
 void CEPuck2CalibratedProximitySensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_proximity";
   CEPuck2ProximityDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"proximity"});
+  SCommon s = ReadCommon(t_tree, strName, {"proximity"}, *m_pcProximityEntity);
+  RefuseEffects(s);
   std::string strCurve = "max";
   GetNodeAttributeOrDefault(t_tree, "curve", strCurve, strCurve);
   if (strCurve != "max" && strCurve != "mean")
@@ -223,14 +252,20 @@ REGISTER_SENSOR(CEPuck2CalibratedProximitySensor, "epuck2_proximity", "calibrate
 void CEPuck2CalibratedGroundSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_ground";
   CEPuck2GroundRotZOnlySensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"ground"});
+  SCommon s = ReadCommon(t_tree, strName, {"ground"}, *m_pcGroundSensorEntity);
   Checked(strName, [&] {
-    const std::size_t n = m_tReadings.size();
-    const auto gain = s.File->per_sensor("gain", n), offset = s.File->per_sensor("offset", n);
-    m_vecCoefficients.resize(n);
-    for (std::size_t i = 0; i < n; ++i) m_vecCoefficients[i] = ms::GroundCoefficients{gain[i], offset[i]};
+    /* The project's one reader (lib/coefficients): each sensor's gain and offset, a diagnosis's
+       nonlinear_response; ARGoS cannot apply a covariate */
+    m_sModel = epuck2::coefficients::ground_model_from_json(s.File->root(), s.File->path(), s.Robot);
+    if (!m_sModel.covariates.empty())
+      s.File->fail("effects.covariate:" + m_sModel.covariates.front().column +
+                   ": the calibrated epuck2_ground cannot apply it in ARGoS: it needs the log column '" +
+                   m_sModel.covariates.front().column + "', which ARGoS does not have");
+    if (m_tReadings.size() != m_sModel.sensors.size())
+      s.File->fail("the robot has " + std::to_string(m_tReadings.size()) + " ground sensors, the model " +
+                   std::to_string(m_sModel.sensors.size()));
     /* The model scales a unit noise by the full scale, 1023 counts */
-    ConfigureNoise(s, "ground", "counts", n, ms::kPluginNoiseScaleGround_counts, m_cNoise);
+    ConfigureNoise(s, "ground", "counts", m_tReadings.size(), ms::kPluginNoiseScaleGround_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -248,16 +283,19 @@ void CEPuck2CalibratedGroundSensor::Update() {
     const CColor& cColor = m_pcFloorEntity->GetColorAtPoint(cSensorPos.GetX(), cSensorPos.GetY());
     /* grey in [0, 1], 0 = black */
     const double fGrey = cColor.ToGrayScale() / 255.0;
-    m_tReadings[i] = ms::ground_reading(m_vecCoefficients[i], fGrey, m_cNoise.level(i), m_cNoise.unit(i));
+    /* lib/models' mean (the nonlinear response included), the noise, the rounding and the rails */
+    const double fMean = ms::mean_raw(m_sModel, static_cast<int>(i), fGrey) +
+                         ms::uniform_noise(m_cNoise.unit(i), m_cNoise.level(i)) * ms::kPluginNoiseScaleGround_counts;
+    m_tReadings[i] = static_cast<SInt32>(std::clamp(std::round(fMean), 0.0, ms::kGroundFullScale_raw));
   }
 }
 
 REGISTER_SENSOR(CEPuck2CalibratedGroundSensor, "epuck2_ground", "calibrated", "epuck2-fit", "1.0",
                 "The E-Puck2 ground sensors with coefficients fitted by epuck2-fit.",
                 "Same control interface and floor sampling as the rot_z_only implementation; the\n"
-                "reading is offset + gain * grey (grey in [0, 1], 0 = black), rounded and clamped\n"
-                "to [0, 1023], with gain and offset (numbers or arrays of 3: right, centre, left)\n"
-                "from the coefficient file.\n\n"
+                "reading is offset + gain * grey^exponent (grey in [0, 1], 0 = black), rounded and\n"
+                "clamped to [0, 1023], with gain and offset (arrays of 3: right, centre, left) and a\n"
+                "diagnosis's nonlinear_response exponent (1 without) from the coefficient file.\n\n"
                 "  <epuck2_ground implementation=\"calibrated\" coefficients=\"ground.json\"\n"
                 "                 robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
                 "noise (default true): the coefficient file's measured reading noise, noise.ground\n"
@@ -272,18 +310,36 @@ REGISTER_SENSOR(CEPuck2CalibratedGroundSensor, "epuck2_ground", "calibrated", "e
 /* Time of flight                       */
 /****************************************/
 
+void CEPuck2CalibratedTOFSensor::SetRobot(CComposableEntity& c_entity) {
+  m_pcRobot = &c_entity;
+  CEPuck2TOFDefaultSensor::SetRobot(c_entity);
+}
+
 void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_tof";
   CEPuck2TOFDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"drive", "tof"});
+  SCommon s = ReadCommon(t_tree, strName, {"drive", "tof"}, *m_pcTOFEntity);
   Checked(strName, [&] {
-    m_sCoefficients.scale = s.File->scalar(epuck2::models::effects::file_key(epuck2::models::effects::drive_catalogue(), epuck2::models::effects::drive::tof_scale));
-    m_sCoefficients.offset_mm = s.File->scalar("tof_offset_mm");
+    const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.File, "the calibrated " + strName);
+    m_sCoefficients.scale = sDrive.effects.tof_scale.k;
+    m_sCoefficients.offset_mm = sDrive.effects.tof_offset.offset_mm;
+    m_cDelay = epuck2::argos_plugin::DelayLine(sDrive.effects.latency.delay_s);
     m_sCoefficients.range_m = m_pcTOFEntity->GetSensor(0).Direction.Length();
     /* The model scales a unit noise by the range, in mm */
     ConfigureNoise(s, "tof", "mm", 1, m_sCoefficients.range_m * 1000.0, m_cNoise);
+    const bool bDriveEffects = !s.File->effects().empty() || sDrive.effects.slip.tau_s > 0;
+    if (bDriveEffects && !epuck2::argos_plugin::DriveRegistry::find(m_pcRobot))
+      WarnOnce("calibrated " + strName + ": " + s.File->path() +
+               ": the robot's differential_steering is not implementation=\"calibrated\": the file's speed limit, "
+               "slip and other drive effects do not move the body, only the ToF's own (scale, offset, latency) apply");
   });
   m_bAddNoise = false;
+  Reset();
+}
+
+void CEPuck2CalibratedTOFSensor::Reset() {
+  m_cDelay.reset();
+  m_fTime = 0;
 }
 
 void CEPuck2CalibratedTOFSensor::Update() {
@@ -299,6 +355,9 @@ void CEPuck2CalibratedTOFSensor::Update() {
   } else if (m_bShowRays) {
     m_pcControllableEntity->AddCheckedRay(false, cRay);
   }
+  /* latency: the distance delay_s ago */
+  m_fTime += CPhysicsEngine::GetSimulationClockTick();
+  fDistance = m_cDelay.push_and_read(m_fTime, fDistance);
   m_iReading = ms::tof_reading_mm(m_sCoefficients, fDistance, m_cNoise.level(0), m_cNoise.unit(0));
 }
 
@@ -306,7 +365,8 @@ REGISTER_SENSOR(CEPuck2CalibratedTOFSensor, "epuck2_tof", "calibrated", "epuck2-
                 "The E-Puck2 time-of-flight sensor with coefficients fitted by epuck2-fit.",
                 "Same ray and control interface as the default implementation; the reading is\n"
                 "tof_scale * distance + tof_offset_mm in mm, rounded and clamped to [20, 2000],\n"
-                "with tof_scale and tof_offset_mm from a drive coefficient file.\n\n"
+                "with tof_scale and tof_offset_mm from a drive coefficient file, the distance\n"
+                "being the one latency's delay_s ago (a diagnosis's effects.latency).\n\n"
                 "  <epuck2_tof implementation=\"calibrated\" coefficients=\"drive.json\"\n"
                 "              robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
                 "noise (default true): the coefficient file's measured reading noise, noise.tof\n"
@@ -321,16 +381,28 @@ REGISTER_SENSOR(CEPuck2CalibratedTOFSensor, "epuck2_tof", "calibrated", "epuck2-
 /* Encoders                             */
 /****************************************/
 
+void CEPuck2CalibratedEncoderSensor::SetRobot(CComposableEntity& c_entity) {
+  m_pcRobot = &c_entity;
+  CEPuck2EncoderDefaultSensor::SetRobot(c_entity);
+}
+
 void CEPuck2CalibratedEncoderSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_encoder";
   CEPuck2EncoderDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"drive", "encoder"});
+  SCommon s = ReadCommon(t_tree, strName, {"drive", "encoder"}, *m_pcEncoderEntity);
   Checked(strName, [&] {
-    m_sCoefficients.steps_per_m = s.File->scalar("steps_per_m");
-    if (!(m_sCoefficients.steps_per_m > 0)) throw std::runtime_error(s.File->path() + ": steps_per_m must be positive");
+    const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.File, "the calibrated " + strName);
+    m_sCoefficients.steps_per_m = sDrive.steps_per_m;
     /* The model scales a unit noise by 32767 steps; one channel per wheel */
     ConfigureNoise(s, "encoder", "steps", 2, kEncoderNoiseScale, m_cNoise);
   });
+  /* ARGoS sets up a controller's actuators before its sensors: the calibrated actuator's drive is
+     there by now, if the robot has one */
+  m_pcDrive = epuck2::argos_plugin::DriveRegistry::find(m_pcRobot);
+  if (!m_pcDrive)
+    WarnOnce("calibrated " + strName + ": " + s.File->path() +
+             ": the robot's differential_steering is not implementation=\"calibrated\": the encoders count the "
+             "wheels as the plug-in turns them (the command, uncapped), not as the file's drive does");
   m_bAddNoise = false;
   Reset();
 }
@@ -338,6 +410,9 @@ void CEPuck2CalibratedEncoderSensor::Init(TConfigurationNode& t_tree) {
 void CEPuck2CalibratedEncoderSensor::Reset() {
   m_cLeft = epuck2::models::sensors::Encoder(m_sCoefficients);
   m_cRight = epuck2::models::sensors::Encoder(m_sCoefficients);
+  m_cLeftRegister = epuck2::argos_plugin::StepRegister(m_sCoefficients.steps_per_m);
+  m_cRightRegister = epuck2::argos_plugin::StepRegister(m_sCoefficients.steps_per_m);
+  m_fLeftTravel = m_fRightTravel = 0;
   m_tReadings.EncoderLeftWheel = 0;
   m_tReadings.EncoderRightWheel = 0;
 }
@@ -347,21 +422,34 @@ void CEPuck2CalibratedEncoderSensor::Update() {
     Reset();
     return;
   }
-  CEPuck2EncoderEquippedEntity::SSensor& sSens = m_pcEncoderEntity->GetSensor(0);
   const Real fDeltaT = CPhysicsEngine::GetSimulationClockTick();
-  /* Wheel velocities in m/s */
-  if (m_cNoise.gaussian()) {
-    /* The measured noise is the spread of a reading about the travel: added to the reading, the
-       count itself stays noiseless (a step counter does not drift) */
-    m_cLeft.tick(sSens.Wheels.GetWheelVelocity(0), fDeltaT);
-    m_cRight.tick(sSens.Wheels.GetWheelVelocity(1), fDeltaT);
-    m_tReadings.EncoderLeftWheel = m_cLeft.reading(ms::uniform_noise(m_cNoise.unit(0), m_cNoise.level(0)) * kEncoderNoiseScale);
-    m_tReadings.EncoderRightWheel = m_cRight.reading(ms::uniform_noise(m_cNoise.unit(1), m_cNoise.level(1)) * kEncoderNoiseScale);
+  /* Each wheel's travel: the calibrated actuator's wheels, else the wheeled entity's speeds */
+  const Real fLeftBefore = m_fLeftTravel, fRightBefore = m_fRightTravel;
+  if (m_pcDrive) {
+    m_fLeftTravel = m_pcDrive->state().xl;
+    m_fRightTravel = m_pcDrive->state().xr;
+  } else {
+    CEPuck2EncoderEquippedEntity::SSensor& sSens = m_pcEncoderEntity->GetSensor(0);
+    m_fLeftTravel += sSens.Wheels.GetWheelVelocity(0) * fDeltaT;
+    m_fRightTravel += sSens.Wheels.GetWheelVelocity(1) * fDeltaT;
+  }
+  if (m_cNoise.gaussian() || !m_cNoise.any()) {
+    /* The measured noise is the spread of a reading about the travel: added to the reading, drawn
+       only when the count moved (a register standing still reads what it read) */
+    auto read = [&](epuck2::argos_plugin::StepRegister& r, Real f_travel, std::size_t i) {
+      const double fNoise =
+          r.moved(f_travel) ? ms::uniform_noise(m_cNoise.unit(i), m_cNoise.level(i)) * kEncoderNoiseScale : 0.0;
+      return r.read(f_travel, fNoise);
+    };
+    m_tReadings.EncoderLeftWheel = read(m_cLeftRegister, m_fLeftTravel, 0);
+    m_tReadings.EncoderRightWheel = read(m_cRightRegister, m_fRightTravel, 1);
     return;
   }
-  /* The plug-in's noise: added to the count every tick (it accumulates) */
-  m_cLeft.tick(sSens.Wheels.GetWheelVelocity(0), fDeltaT, m_cNoise.level(0), m_cNoise.unit(0));
-  m_cRight.tick(sSens.Wheels.GetWheelVelocity(1), fDeltaT, m_cNoise.level(1), m_cNoise.unit(1));
+  /* The plug-in's noise: added to the count every tick the wheel turns (it accumulates); a wheel
+     standing still adds nothing */
+  const bool bLeft = m_fLeftTravel != fLeftBefore, bRight = m_fRightTravel != fRightBefore;
+  m_cLeft.tick((m_fLeftTravel - fLeftBefore) / fDeltaT, fDeltaT, bLeft ? m_cNoise.level(0) : 0.0, m_cNoise.unit(0));
+  m_cRight.tick((m_fRightTravel - fRightBefore) / fDeltaT, fDeltaT, bRight ? m_cNoise.level(1) : 0.0, m_cNoise.unit(1));
   m_tReadings.EncoderLeftWheel = m_cLeft.reading();
   m_tReadings.EncoderRightWheel = m_cRight.reading();
 }
@@ -369,8 +457,9 @@ void CEPuck2CalibratedEncoderSensor::Update() {
 REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", "epuck2-fit", "1.0",
                 "The E-Puck2 wheel encoders with coefficients fitted by epuck2-fit.",
                 "Same control interface as the default implementation; each wheel's register\n"
-                "counts steps_per_m * wheel speed * dt (int16 wrap, read as floor), with\n"
-                "steps_per_m from a drive coefficient file.\n\n"
+                "counts floor(steps_per_m * the wheel's travel) (int16 wrap), with steps_per_m\n"
+                "from a drive coefficient file. With the calibrated differential_steering\n"
+                "actuator the travel is its wheels' (capped, accelerated, not the lagging body).\n\n"
                 "  <epuck2_encoder implementation=\"calibrated\" coefficients=\"drive.json\"\n"
                 "                  robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
                 "noise (default true): the coefficient file's measured reading noise, noise.encoder\n"
@@ -380,9 +469,10 @@ REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", 
                 "A file without a noise section: the plug-in's uniform noise of noise_level\n"
                 "(x 32767), with a warning. noise=\"false\": none.\n"
                 "The Gaussian is added to each reading (the count stays noiseless: a step\n"
-                "counter does not drift); the uniform noise, as in the plug-in, to the count\n"
-                "every tick, where it accumulates (after k ticks its sd is sqrt(k) times the\n"
-                "file's).",
+                "counter does not drift), drawn only when the count moved: a register standing\n"
+                "still reads exactly what it read; the uniform noise, as in the plug-in, to the count\n"
+                "every tick the wheel turns, where it accumulates (after k ticks its sd is sqrt(k)\n"
+                "times the file's).",
                 "Usable");
 
 /****************************************/
@@ -392,7 +482,8 @@ REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", 
 void CEPuck2CalibratedLightSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_light";
   CEPuck2LightDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"light"});
+  SCommon s = ReadCommon(t_tree, strName, {"light"}, *m_pcLightEntity);
+  RefuseEffects(s);
   Checked(strName, [&] {
     const std::size_t n = m_tReadings.size();
     const auto gamma = s.File->per_sensor("gamma", n);
@@ -404,10 +495,8 @@ void CEPuck2CalibratedLightSensor::Init(TConfigurationNode& t_tree) {
     /* Per-sensor fits (light.json's per_sensor list) replace the common gamma; a robot's set
        has them in robots.ID.per_sensor */
     nlohmann::json jPer = s.File->root().value("per_sensor", nlohmann::json::array());
-    std::string strRobot;
-    GetNodeAttributeOrDefault(t_tree, "robot", strRobot, strRobot);
-    if (!strRobot.empty() && s.File->root().contains("robots"))
-      jPer = s.File->root().at("robots").at(strRobot).value("per_sensor", jPer);
+    if (!s.Robot.empty() && s.File->root().contains("robots"))
+      jPer = s.File->root().at("robots").at(s.Robot).value("per_sensor", jPer);
     for (const auto& e : jPer) {
       if (!e.is_object() || !e.contains("sensor") || !e.contains("gamma") || !e.at("sensor").is_number_integer() ||
           !e.at("gamma").is_number())
@@ -474,48 +563,104 @@ REGISTER_SENSOR(CEPuck2CalibratedLightSensor, "epuck2_light", "calibrated", "epu
 
 void CEPuck2CalibratedCameraSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_colored_blob_perspective_camera";
-  SCommon s = ReadCommon(t_tree, strName, {"camera"});
+  SCommon s = ReadCommon(t_tree, strName, {"camera"}, *m_pcCamEntity);
   Checked(strName, [&] {
-    const SInt32 nW = m_pcCamEntity->GetImagePxWidth(), nH = m_pcCamEntity->GetImagePxHeight();
-    /* The fitted horizontal field of view as ARGoS's aperture (half-angle on the diagonal) */
-    const double fAperture =
-        ms::aperture_from_horizontal_fov_rad(ms::deg_to_rad(s.File->scalar("fov_deg")), nW, nH);
-    m_pcCamEntity->SetAperture(CRadians(fAperture));
-    m_pcCamEntity->SetRange(s.File->scalar_or("range_m", m_pcCamEntity->GetRange()));
-    /* The image size in metres follows the aperture */
-    m_pcCamEntity->SetImagePxSize(nW, nH);
-    m_nShiftX = static_cast<SInt32>(std::lround(s.File->scalar_or("cx_px", nW / 2.0) - nW / 2.0));
-    m_nShiftY = static_cast<SInt32>(std::lround(s.File->scalar_or("cy_px", nH / 2.0) - nH / 2.0));
+    /* The project's one reader (lib/coefficients): the field of view, the centre, the radial
+       distortion (k1, k2, k3), every value checked; ARGoS cannot apply a covariate */
+    m_sModel = epuck2::coefficients::camera_model_from_json(s.File->root(), s.File->path(), s.Robot);
+    if (!m_sModel.covariates.empty())
+      s.File->fail("effects.covariate:" + m_sModel.covariates.front().column +
+                   ": the calibrated camera cannot apply it in ARGoS: it needs the log column '" +
+                   m_sModel.covariates.front().column + "', which ARGoS does not have");
+    const double fW = m_pcCamEntity->GetImagePxWidth(), fH = m_pcCamEntity->GetImagePxHeight();
+    m_sModel.base.width_px = fW;
+    /* Which LEDs it sees: the cone of the fitted field of view's aperture (ARGoS's, the half-angle
+       on the image diagonal) and the range, as the plug-in's camera */
+    m_fAperture = ms::aperture_from_horizontal_fov_rad(m_sModel.base.horizontal_fov_rad, static_cast<int>(fW),
+                                                       static_cast<int>(fH));
+    m_fRange = s.File->scalar_or("range_m", m_pcCamEntity->GetRange());
+    m_pcCamEntity->SetAperture(CRadians(m_fAperture));
+    m_pcCamEntity->SetRange(m_fRange);
+    m_pcCamEntity->SetImagePxSize(static_cast<SInt32>(fW), static_cast<SInt32>(fH));
+    /* The pixel noise (noise.camera, px), each axis; scale 1: the noise is in pixels */
+    ConfigureNoise(s, "camera", "px", 2, 1.0, m_cNoise);
   });
   CEPuck2ColoredBlobPerspectiveCameraDefaultSensor::Init(t_tree);
 }
 
-void CEPuck2CalibratedCameraSensor::Update() {
-  CEPuck2ColoredBlobPerspectiveCameraDefaultSensor::Update();
-  if (m_nShiftX == 0 && m_nShiftY == 0) return;
-  auto& tBlobs = m_sReadings.BlobList;
-  const SInt32 nW = m_pcCamEntity->GetImagePxWidth(), nH = m_pcCamEntity->GetImagePxHeight();
-  std::size_t unKept = 0;
-  for (std::size_t i = 0; i < tBlobs.size(); ++i) {
-    tBlobs[i]->X += m_nShiftX;
-    tBlobs[i]->Y += m_nShiftY;
-    if (tBlobs[i]->X < 0 || tBlobs[i]->X >= nW || tBlobs[i]->Y < 0 || tBlobs[i]->Y >= nH) {
-      delete tBlobs[i];
-    } else {
-      tBlobs[unKept++] = tBlobs[i];
-    }
+namespace {
+
+/// The LEDs the calibrated camera sees in one frame, projected with lib/models' camera model.
+class CCalibratedCameraLEDs : public CPositionalIndex<CLEDEntity>::COperation {
+ public:
+  CCalibratedCameraLEDs(CEPuck2CameraEquippedEntity& c_cam, CEmbodiedEntity& c_body, const ms::CameraModel& s_model,
+                        Real f_aperture, Real f_range, ArgosNoise& c_noise,
+                        CCI_ColoredBlobPerspectiveCameraSensor::TBlobList& t_blobs)
+      : m_cCam(c_cam), m_cBody(c_body), m_sModel(s_model), m_fAperture(f_aperture), m_fRange(f_range), m_cNoise(c_noise),
+        m_tBlobs(t_blobs), m_cInverse(c_cam.GetOrientation().Inverse()) {
+    m_cRay.SetStart(c_cam.GetPosition());
   }
-  tBlobs.resize(unKept);
+  bool operator()(CLEDEntity& c_led) override {
+    if (c_led.GetColor() == CColor::BLACK || &c_led.GetRootEntity() == &m_cBody.GetRootEntity()) return true;
+    CVector3 cRel = c_led.GetPosition() - m_cCam.GetPosition();
+    cRel.Rotate(m_cInverse);  // X forward, Y left, Z up
+    if (!ms::camera_sees(m_fAperture, m_fRange, cRel.GetX(), cRel.GetY(), cRel.GetZ())) return true;
+    m_cRay.SetEnd(c_led.GetPosition());
+    SEmbodiedEntityIntersectionItem sItem;
+    if (GetClosestEmbodiedEntityIntersectedByRay(sItem, m_cRay, m_cBody)) return true;
+    /* The sub-pixel image position, the noise, then the rounding (lib/models' reading) */
+    const auto p = ms::mean_px(m_sModel, cRel.GetX(), cRel.GetY(), cRel.GetZ());
+    const double fX = std::round(p[0] + ms::uniform_noise(m_cNoise.unit(0), m_cNoise.level(0)));
+    const double fY = std::round(p[1] + ms::uniform_noise(m_cNoise.unit(1), m_cNoise.level(1)));
+    if (fX < 0 || fY < 0 || fX >= m_cCam.GetImagePxWidth() || fY >= m_cCam.GetImagePxHeight()) return true;
+    m_tBlobs.push_back(new CCI_ColoredBlobPerspectiveCameraSensor::SBlob(c_led.GetColor(), static_cast<SInt32>(fX),
+                                                                         static_cast<SInt32>(fY)));
+    return true;
+  }
+
+ private:
+  CEPuck2CameraEquippedEntity& m_cCam;
+  CEmbodiedEntity& m_cBody;
+  const ms::CameraModel& m_sModel;
+  Real m_fAperture, m_fRange;
+  ArgosNoise& m_cNoise;
+  CCI_ColoredBlobPerspectiveCameraSensor::TBlobList& m_tBlobs;
+  CQuaternion m_cInverse;
+  CRay3 m_cRay;
+};
+
+}  // namespace
+
+void CEPuck2CalibratedCameraSensor::Update() {
+  if (IsDisabled()) return;
+  ++m_sReadings.Counter;
+  auto& tBlobs = m_sReadings.BlobList;
+  while (!tBlobs.empty()) {
+    delete tBlobs.back();
+    tBlobs.pop_back();
+  }
+  /* The plug-in's search box: half the range ahead, as wide as the aperture there */
+  const Real fHalfRange = m_fRange * 0.5;
+  const Real fHalfSide = fHalfRange * std::tan(m_fAperture);
+  CVector3 cCenter(fHalfRange, 0.0, 0.0);
+  cCenter.Rotate(m_pcCamEntity->GetOrientation());
+  cCenter += m_pcCamEntity->GetPosition();
+  CVector3 cCorner(fHalfRange, fHalfSide, fHalfSide);
+  cCorner.Rotate(m_pcCamEntity->GetOrientation());
+  const CVector3 cHalf(Abs(cCorner.GetX()) + fHalfSide, Abs(cCorner.GetY()) + fHalfSide, Abs(cCorner.GetZ()) + fHalfSide);
+  CCalibratedCameraLEDs cOp(*m_pcCamEntity, *m_pcEmbodiedEntity, m_sModel, m_fAperture, m_fRange, m_cNoise, tBlobs);
+  m_pcLEDIndex->ForEntitiesInBoxRange(cCenter, cHalf, cOp);
 }
 
 REGISTER_SENSOR(CEPuck2CalibratedCameraSensor, "epuck2_colored_blob_perspective_camera", "calibrated", "epuck2-fit",
-                "1.0", "The E-Puck2 camera with the field of view and image centre fitted by epuck2-fit.",
-                "The plug-in's colored blob perspective camera with the camera coefficient file's\n"
-                "horizontal field of view fov_deg (set as ARGoS's aperture, the half-angle on the\n"
-                "image diagonal), range_m, and image centre cx_px, cy_px (blobs shifted by the\n"
-                "centre's offset from the middle of the image, in whole pixels).\n\n"
+                "1.0", "The E-Puck2 camera with the project's projection and the coefficients fitted by epuck2-fit.",
+                "The LEDs of the LED medium the plug-in's camera would see (cone of the fitted field of\n"
+                "view's aperture, range_m, occlusions), each projected with lib/models' camera model:\n"
+                "the camera file's horizontal field of view fov_deg, image centre cx_px, cy_px at\n"
+                "sub-pixel accuracy, a diagnosis's radial_distortion (k1, k2, k3), and the measured pixel noise\n"
+                "noise.camera (Gaussian, each axis), then rounded; blobs off the image are dropped.\n\n"
                 "  <epuck2_colored_blob_perspective_camera implementation=\"calibrated\"\n"
-                "      coefficients=\"camera.json\" medium=\"leds\" />",
+                "      coefficients=\"camera.json\" medium=\"leds\" noise=\"true\" robot=\"ID|auto\" />",
                 "Usable");
 
 }  // namespace argos

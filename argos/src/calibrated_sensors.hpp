@@ -31,9 +31,11 @@
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_default_sensor.h>
 
+#include <epuck2/models/kinds.hpp>
 #include <epuck2/models/sensors.hpp>
 
 #include "argos_noise.hpp"
+#include "calibrated_drive.hpp"
 
 namespace argos {
 
@@ -55,29 +57,40 @@ class CEPuck2CalibratedGroundSensor : public CEPuck2GroundRotZOnlySensor {
   void Update() override;
 
  private:
-  std::vector<epuck2::models::sensors::GroundCoefficients> m_vecCoefficients;
+  epuck2::models::sensors::GroundModel m_sModel;
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 
 class CEPuck2CalibratedTOFSensor : public CEPuck2TOFDefaultSensor {
  public:
-  void Init(TConfigurationNode& t_tree) override;
-  void Update() override;
-
- private:
-  epuck2::models::sensors::TofCoefficients m_sCoefficients;
-  epuck2::argos_plugin::ArgosNoise m_cNoise;
-};
-
-class CEPuck2CalibratedEncoderSensor : public CEPuck2EncoderDefaultSensor {
- public:
+  void SetRobot(CComposableEntity& c_entity) override;
   void Init(TConfigurationNode& t_tree) override;
   void Update() override;
   void Reset() override;
 
  private:
+  const void* m_pcRobot = nullptr;
+  epuck2::models::sensors::TofCoefficients m_sCoefficients;
+  epuck2::argos_plugin::DelayLine m_cDelay;  ///< latency (a diagnosis's effects.latency.delay_s)
+  Real m_fTime = 0;
+  epuck2::argos_plugin::ArgosNoise m_cNoise;
+};
+
+class CEPuck2CalibratedEncoderSensor : public CEPuck2EncoderDefaultSensor {
+ public:
+  void SetRobot(CComposableEntity& c_entity) override;
+  void Init(TConfigurationNode& t_tree) override;
+  void Update() override;
+  void Reset() override;
+
+ private:
+  const void* m_pcRobot = nullptr;
   epuck2::models::sensors::EncoderCoefficients m_sCoefficients;
   epuck2::models::sensors::Encoder m_cLeft, m_cRight;
+  /// With the calibrated actuator: the wheels' travel it computes, counted by these registers
+  std::shared_ptr<const epuck2::argos_plugin::CalibratedDrive> m_pcDrive;
+  epuck2::argos_plugin::StepRegister m_cLeftRegister, m_cRightRegister;
+  Real m_fLeftTravel = 0, m_fRightTravel = 0;  ///< the wheels' travel without the calibrated actuator, m
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 
@@ -91,16 +104,18 @@ class CEPuck2CalibratedLightSensor : public CEPuck2LightDefaultSensor {
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 
-/// The camera: the plug-in's projection with the fitted field of view (as ARGoS's aperture, the
-/// half-angle on the diagonal) and range; the fitted image centre shifts the blobs by whole
-/// pixels (the plug-in's blob coordinates are integers).
+/// The camera with the project's projection (lib/models camera.hpp): the fitted horizontal field
+/// of view, the image centre at sub-pixel accuracy before rounding, radial distortion and the
+/// calibrated pixel noise; LEDs found, seen and occluded as the plug-in's camera does.
 class CEPuck2CalibratedCameraSensor : public CEPuck2ColoredBlobPerspectiveCameraDefaultSensor {
  public:
   void Init(TConfigurationNode& t_tree) override;
   void Update() override;
 
  private:
-  SInt32 m_nShiftX = 0, m_nShiftY = 0;
+  epuck2::models::sensors::CameraModel m_sModel;
+  Real m_fAperture = 0, m_fRange = 0;
+  epuck2::argos_plugin::ArgosNoise m_cNoise;  ///< two channels: px, py (the same sd)
 };
 
 }  // namespace argos

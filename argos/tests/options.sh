@@ -86,3 +86,19 @@ if argos3 -n -z -c "$WORK/missing/exp.argos" > "$WORK/missing/log" 2>&1; then fa
 grep -q "calibrated epuck2_proximity: $WORK/nope.json: cannot open the coefficient file" "$WORK/missing/log" ||
   { cat "$WORK/missing/log"; fail "no message naming the file"; }
 echo "ok   missing file: $(grep -o 'calibrated epuck2_proximity: .*' "$WORK/missing/log")"
+
+# 4. a diagnosis file whose effects the calibrated proximity sensor does not apply (the shipped
+#    diagnosis: ambient_offset and long_tail) stops ARGoS at Init naming them, not dropping them
+mkdir -p "$WORK/effects"
+experiment "$WORK/effects" "coefficients=\"$ROOT/data/fitted/reports/diagnose_proximity.json\"" "0.02:0.01:0.02" 1
+if argos3 -n -z -c "$WORK/effects/exp.argos" > "$WORK/effects/log" 2>&1; then fail "argos3 ran with effects it does not apply"; fi
+grep -q "effects.ambient_offset, effects.long_tail: the calibrated epuck2_proximity does not apply a diagnosis's effects yet" "$WORK/effects/log" ||
+  { cat "$WORK/effects/log"; fail "no message naming the effects"; }
+echo "ok   effects not applied: $(grep -o 'effects.ambient_offset, effects.long_tail: [^(]*' "$WORK/effects/log" | head -1)"
+# 5. a file of the wrong kind: the drive file for the wheels given to the proximity sensor
+mkdir -p "$WORK/kind"
+experiment "$WORK/kind" "coefficients=\"$ROOT/data/fitted/drive.json\"" "0.02:0.01:0.02" 1
+if argos3 -n -z -c "$WORK/kind/exp.argos" > "$WORK/kind/log" 2>&1; then fail "argos3 ran with a drive file on the proximity sensor"; fi
+grep -q "calibrated epuck2_proximity: .*drive.json: a 'drive' file, expected proximity" "$WORK/kind/log" ||
+  { cat "$WORK/kind/log"; fail "no message naming the kind"; }
+echo "ok   wrong kind: $(grep -o "a 'drive' file, expected proximity" "$WORK/kind/log" | head -1)"

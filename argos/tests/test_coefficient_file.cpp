@@ -118,13 +118,49 @@ TEST(CoefficientFile, AFileIsParsedOncePerProcessUntilItChanges) {
 
 TEST(CoefficientFile, ShippedBatteryFileLoads) {
   // Every robot's model shares one copy of a file's tables, equal to a fresh load's.
-  const auto shared = ap::shared_battery_tables(fitted("battery.json"));
-  EXPECT_EQ(ap::shared_battery_tables(fitted("battery.json")).get(), shared.get());
-  const auto t = ap::load_battery_tables(fitted("battery.json"));
-  EXPECT_EQ(shared->lifetime_s, t.lifetime_s);
-  EXPECT_EQ(shared->cubic[7].d, t.cubic[7].d);
-  EXPECT_GT(t.lifetime_s[0], 10000.0);
-  EXPECT_LT(t.simple_moving_slope_per_s, 0.0);
+  const auto shared = ap::shared_battery_file(fitted("battery.json"));
+  EXPECT_EQ(ap::shared_battery_file(fitted("battery.json")).get(), shared.get());
+  const auto f = ap::load_battery_file(fitted("battery.json"));
+  EXPECT_EQ(shared->tables.lifetime_s, f.tables.lifetime_s);
+  EXPECT_EQ(shared->tables.cubic[7].d, f.tables.cubic[7].d);
+  EXPECT_GT(f.tables.lifetime_s[0], 10000.0);
+  EXPECT_LT(f.tables.simple_moving_slope_per_s, 0.0);
+  EXPECT_EQ(f.fitted_speeds.size(), 16u);
+  EXPECT_EQ(f.capacity_k, 1.0);
+}
+
+// A battery calibrated from two runs: its tables at 5 and 10 cm/s, the plug-in's elsewhere; a
+// diagnosis's model and capacity scale; what ARGoS cannot apply is refused by name.
+TEST(CoefficientFile, PartialBatteryTablesAndADiagnosisCapacityScale) {
+  std::ifstream in(fitted("battery.json"));
+  nlohmann::json j = nlohmann::json::parse(in);
+  nlohmann::json two = nlohmann::json::array({j.at("speeds").at(5), j.at("speeds").at(10)});
+  j["speeds"] = two;
+  j.erase("simple");
+  j["battery_model"] = "linear";
+  j["effects"] = {{"capacity_scale", {{"k", 0.8}}}};
+  const auto f = ap::load_battery_file(write_temp("partial_battery.json", j.dump()));
+  EXPECT_EQ(f.fitted_speeds, (std::vector<int>{5, 10}));
+  const auto& plugin = epuck2::models::battery::plugin_tables();
+  EXPECT_EQ(f.tables.lifetime_s[5], two.at(0).at("lifetime_s").get<double>());
+  EXPECT_EQ(f.tables.lifetime_s[10], two.at(1).at("lifetime_s").get<double>());
+  EXPECT_EQ(f.tables.lifetime_s[6], plugin.lifetime_s[6]);
+  EXPECT_EQ(f.tables.cubic[0].d, plugin.cubic[0].d);
+  EXPECT_FALSE(f.fitted_simple);
+  EXPECT_EQ(f.tables.simple_moving_slope_per_s, plugin.simple_moving_slope_per_s);
+  ASSERT_TRUE(f.model.has_value());
+  EXPECT_EQ(*f.model, epuck2::models::battery::Model::linear);
+  EXPECT_EQ(f.capacity_k, 0.8);
+  j["effects"] = {{"covariate:temperature_c", {{"slope", 0.01}, {"centre", 20}}}};
+  const std::string cov = error_of([&] { ap::load_battery_file(write_temp("cov_battery.json", j.dump())); });
+  EXPECT_NE(cov.find("effects.covariate:temperature_c: the calibrated battery cannot apply it in ARGoS: it needs the log "
+                     "column 'temperature_c', which ARGoS does not have"),
+            std::string::npos)
+      << cov;
+  j.erase("effects");
+  j["speeds"].push_back(j["speeds"][0]);
+  EXPECT_NE(error_of([&] { ap::load_battery_file(write_temp("dup_battery.json", j.dump())); }).find("a second table for 5 cm/s"),
+            std::string::npos);
 }
 
 TEST(CoefficientFile, RobotSetsAndNoiseOverrideTheTopLevel) {
@@ -160,7 +196,7 @@ TEST(CoefficientFile, ErrorsNameTheFileAndTheProblem) {
   const std::string wrong = write_temp("wrong.json", R"({"kind": "ground", "parameters": {"gain": [1, 2], "offset": 0}})");
   const auto g = ap::CoefficientFile::load(wrong, {"ground"});
   EXPECT_NE(error_of([&] { g.per_sensor("gain", 3); }).find("an array of 3 numbers"), std::string::npos);
-  EXPECT_NE(error_of([&] { ap::load_battery_tables(fitted("ground.json")); }).find("expected battery"), std::string::npos);
+  EXPECT_NE(error_of([&] { ap::load_battery_file(fitted("ground.json")); }).find("expected battery"), std::string::npos);
 }
 
 TEST(CoefficientFile, RelativeNamesResolveNextToTheExperimentFirst) {
@@ -171,4 +207,32 @@ TEST(CoefficientFile, RelativeNamesResolveNextToTheExperimentFirst) {
   EXPECT_EQ(ap::resolve_coefficient_path("/abs/p.json", (dir / "exp.argos").string()), "/abs/p.json");
 }
 
+}  // namespace
+
+// robot="auto" and robot_map: which set each ARGoS entity uses (argos/tests/swarm.sh runs it in ARGoS).
+namespace {
+TEST(CoefficientFile, RobotAutoPicksEachEntitysSet) {
+  const nlohmann::json root = nlohmann::json::parse(R"({"parameters":{},"robots":{"A":{},"B":{},"ep3":{}},
+      "robot_spread":[{"parameter":"gain[0]","spread_sd":12.5,"exceeds_uncertainty":true},
+                      {"parameter":"offset[0]","spread_sd":0.1,"exceeds_uncertainty":false}]})");
+  EXPECT_EQ(ap::choose_robot(root, "f.json", "auto", "ep0:A,ep1:A,ep*:B", "ep1").robot, "A");
+  EXPECT_EQ(ap::choose_robot(root, "f.json", "auto", "ep0:A,ep1:A,ep*:B", "ep4").robot, "B");
+  EXPECT_EQ(ap::choose_robot(root, "f.json", "auto", "*bot*:A", "footbot_7").robot, "A");
+  EXPECT_EQ(ap::choose_robot(root, "f.json", "auto", "", "ep3").robot, "ep3");  // named like the entity
+  EXPECT_EQ(ap::choose_robot(root, "f.json", "B", "", "ep0").robot, "B");
+  const std::string missing = error_of([&] { ap::choose_robot(root, "f.json", "auto", "", "ep0"); });
+  EXPECT_NE(missing.find("the entity 'ep0' has no robot set in the file (robots: A, B, ep3)"), std::string::npos) << missing;
+  const std::string nomatch = error_of([&] { ap::choose_robot(root, "f.json", "auto", "fb*:A", "ep0"); });
+  EXPECT_NE(nomatch.find("no robot_map pattern matches the entity 'ep0'"), std::string::npos) << nomatch;
+  const std::string bad = error_of([&] { ap::choose_robot(root, "f.json", "auto", "ep0", "ep0"); });
+  EXPECT_NE(bad.find("robot_map entry 'ep0' is not PATTERN:ROBOT_ID"), std::string::npos) << bad;
+  // No robot= on a multi-robot file: the pooled set, with a warning naming what differs.
+  const auto pooled = ap::choose_robot(root, "f.json", "", "", "ep0");
+  EXPECT_EQ(pooled.robot, "");
+  EXPECT_NE(pooled.warning.find("f.json holds 3 robots (A, B, ep3)"), std::string::npos) << pooled.warning;
+  EXPECT_NE(pooled.warning.find("differ beyond their uncertainties in gain[0] (spread sd 12.5)"), std::string::npos);
+  EXPECT_EQ(pooled.warning.find("offset[0]"), std::string::npos);
+  // One robot, or none: nothing to say.
+  EXPECT_EQ(ap::choose_robot(nlohmann::json::parse(R"({"robots":{"A":{}}})"), "f.json", "", "", "ep0").warning, "");
+}
 }  // namespace

@@ -26,6 +26,7 @@
 #include <argos3/core/simulator/simulator.h>
 #include <argos3/core/simulator/physics_engine/physics_engine.h>
 #include <argos3/core/utility/math/vector2.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_camera_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
 #include <argos3/plugins/simulator/entities/box_entity.h>
@@ -96,6 +97,14 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       for (Real g : ParseList(str)) m_vecSteps.push_back(std::round(g * 255.0) / 255.0);  // 8-bit floor colours
       Open(m_strOutDir + "/ground_" + m_strRobot + ".csv", "grey,sensor,value",
            {"protocol: ARGoS, the whole floor at each grey (8-bit colour, grey = level/255)"});
+      /* Several robots (a swarm, each with its own set): every other robot's log too, named and
+         tagged with its entity id */
+      for (std::size_t i = 1; i < m_vecRobots.size(); ++i) {
+        const std::string& id = m_vecRobots[i]->GetId();
+        m_vecGroundOut.push_back(std::make_unique<std::ofstream>(m_strOutDir + "/ground_" + id + ".csv"));
+        if (!*m_vecGroundOut.back()) THROW_ARGOSEXCEPTION("epuck2_protocol: cannot write in " << m_strOutDir);
+        *m_vecGroundOut.back() << "# robot: " << id << "\n# protocol: ARGoS, the whole floor at each grey\ngrey,sensor,value\n";
+      }
     } else if (m_strKind == "light") {
       std::string str = "0.1:0.05:0.5", strI = "0.5,1,1.5,2";
       GetNodeAttributeOrDefault(t_tree, "distances", str, str);
@@ -107,11 +116,29 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       std::string str = "2.5,5,7.5,10,12.5,15";
       GetNodeAttributeOrDefault(t_tree, "speeds", str, str);
       GetNodeAttributeOrDefault(t_tree, "obstacle_distance", m_fObstacle, m_fObstacle);
+      /* like="LOG": replay a measured drive log's commands row by row (scripts/argos-record.sh --like) */
+      GetNodeAttributeOrDefault(t_tree, "like", m_strLike, m_strLike);
+      GetNodeAttributeOrDefault(t_tree, "like_out", m_strLikeOut, m_strLikeOut);
+      if (!m_strLike.empty()) ReadDriveLog();
       GetNodeAttributeOrDefault(t_tree, "travel", m_fTravel, m_fTravel);
       for (Real s : ParseList(str)) {
         m_vecSteps.push_back(s);
         m_vecSteps.push_back(-s);
       }
+    } else if (m_strKind == "camera") {
+      /* An LED (the light entity, in the LED medium) at each position of a grid in the camera's
+         frame (forward, lateral, vertical), held for a settling tick and then `samples` frames */
+      std::string strF = "0.15:0.05:0.4", strL = "-0.06:0.02:0.06", strV = "-0.03:0.015:0.03";
+      GetNodeAttributeOrDefault(t_tree, "forward", strF, strF);
+      GetNodeAttributeOrDefault(t_tree, "lateral", strL, strL);
+      GetNodeAttributeOrDefault(t_tree, "vertical", strV, strV);
+      for (Real f : ParseList(strF))
+        for (Real l : ParseList(strL))
+          for (Real v : ParseList(strV)) m_vecCameraPoints.push_back(CVector3(f, l, v));
+      m_pcLight = &dynamic_cast<CLightEntity&>(GetSpace().GetEntity("light"));
+      Open(m_strOutDir + "/camera_" + m_strRobot + ".csv", "forward_m,lateral_m,vertical_m,px,py",
+           {"protocol: ARGoS, one LED at each position of a grid in the camera's frame, " + std::to_string(m_unSamples) +
+            " frames each"});
     } else if (m_strKind == "battery") {
       GetNodeAttributeOrDefault(t_tree, "period", m_fPeriod, m_fPeriod);
       /* Significant digits of the charge (the firmware's percentage/100 has 6; 17 for bit-exact comparisons) */
@@ -134,7 +161,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
         Controller(i).SetWheels(-fSpeed, fSpeed);
       }
     } else {
-      THROW_ARGOSEXCEPTION("epuck2_protocol: kind must be proximity, ground, light, drive or battery, not \"" << m_strKind << "\"");
+      THROW_ARGOSEXCEPTION("epuck2_protocol: kind must be proximity, ground, light, camera, drive or battery, not \"" << m_strKind << "\"");
     }
   }
 
@@ -142,7 +169,21 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     if (m_bDone || m_unSample != 0) return;
     if (m_strKind == "proximity") PlaceFacing(CurrentWall(), 0, m_vecSteps[m_unStep]);
     if (m_strKind == "light") PlaceLight();
-    if (m_strKind == "drive") StartRun();
+    if (m_strKind == "camera") PlaceLed();
+    if (m_strKind == "drive") {
+      if (!m_strLike.empty()) {
+        if (!m_bRunStarted) {
+          auto& s = m_vecRobots[0]->GetComponent<CEPuck2TOFEquippedEntity>("tof_sensor").GetSensor(0);
+          Place(CurrentWall(), s.Offset, s.Direction, m_fObstacle);
+          Open(m_strLikeOut, "time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm",
+               {"obstacle_distance_m: " + Num(m_fObstacle, 10), "replayed_from: " + m_strLike,
+                "protocol: ARGoS, the commands of the log above row by row, readings at the tick nearest each row's time"});
+          m_bRunStarted = true;
+        }
+        return;
+      }
+      StartRun();
+    }
   }
 
   void PostStep() override {
@@ -155,6 +196,11 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     } else if (m_strKind == "ground") {
       const auto v = c.Ground();
       for (std::size_t i = 0; i < v.size(); ++i) m_cOut << Num(m_vecSteps[m_unStep], 8) << ',' << i << ',' << v[i] << '\n';
+      for (std::size_t r = 1; r < m_vecRobots.size(); ++r) {
+        const auto w = Controller(r).Ground();
+        for (std::size_t i = 0; i < w.size(); ++i)
+          *m_vecGroundOut[r - 1] << Num(m_vecSteps[m_unStep], 8) << ',' << i << ',' << w[i] << '\n';
+      }
       Advance(m_unSamples, m_vecSteps.size());
     } else if (m_strKind == "light") {
       const auto v = c.Light();
@@ -171,10 +217,14 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
           }
         }
       }
+    } else if (m_strKind == "drive" && !m_strLike.empty()) {
+      LikeStep(c);
     } else if (m_strKind == "drive") {
       DriveStep(c, t);
     } else if (m_strKind == "battery") {
       BatteryStep(t);
+    } else if (m_strKind == "camera") {
+      CameraStep(c);
     }
   }
 
@@ -192,6 +242,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
           << r.MinSpeed << ".." << r.MaxSpeed << " cm/s" << std::endl;
     m_cOut.close();
     m_vecBattery.clear();
+    m_vecGroundOut.clear();
   }
 
  private:
@@ -276,6 +327,32 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     }
   }
 
+  /// Camera: the LED at the current grid point, in the camera's frame (X forward, Y left, Z up).
+  void PlaceLed() {
+    if (m_bCameraSettled) return;
+    auto& cCam = m_vecRobots[0]->GetComponent<CEPuck2CameraEquippedEntity>("perspective_camera");
+    CVector3 cPoint = m_vecCameraPoints[m_unStep];
+    cPoint.Rotate(cCam.GetOrientation());
+    m_pcLight->SetPosition(cCam.GetPosition() + cPoint);
+  }
+
+  /// A settling tick after each move (the LED medium's index follows the light a tick later), then
+  /// `samples` frames: every blob the camera reports is a row.
+  void CameraStep(CEPuck2RecorderController& c) {
+    if (!m_bCameraSettled) {
+      m_bCameraSettled = true;
+      return;
+    }
+    const CVector3& p = m_vecCameraPoints[m_unStep];
+    for (const auto& b : c.Blobs())
+      m_cOut << Num(p.GetX()) << ',' << Num(p.GetY()) << ',' << Num(p.GetZ()) << ',' << b.first << ',' << b.second << '\n';
+    if (++m_unSample == m_unSamples) {
+      m_unSample = 0;
+      m_bCameraSettled = false;
+      if (++m_unStep == m_vecCameraPoints.size()) m_bDone = true;
+    }
+  }
+
   /// Drive: a run per signed speed: 1 s still, drive `travel` m, 1 s still.
   void StartRun() {
     if (m_unRunTick != 0) return;
@@ -307,6 +384,90 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       m_unRunTick = 0;
       m_cOut.close();
       if (++m_unStep == m_vecSteps.size()) m_bDone = true;
+    }
+  }
+
+  /// A measured drive log to replay: its obstacle distance (metadata) and each row's time and
+  /// commands. Errors name the file and line.
+  void ReadDriveLog() {
+    std::ifstream in(m_strLike);
+    if (!in) THROW_ARGOSEXCEPTION("epuck2_protocol: cannot read the log \"" << m_strLike << "\"");
+    std::string line;
+    int nLine = 0, nTime = -1, nLeft = -1, nRight = -1;
+    bool bObstacle = false;
+    while (std::getline(in, line)) {
+      ++nLine;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.empty()) continue;
+      if (line[0] == '#') {
+        const auto p = line.find("obstacle_distance_m:");
+        if (p != std::string::npos) {
+          try {
+            m_fObstacle = std::stod(line.substr(p + 20));
+            bObstacle = true;
+          } catch (const std::exception&) {
+            THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": expected a number after obstacle_distance_m:");
+          }
+        }
+        continue;
+      }
+      std::vector<std::string> vecCells;
+      std::istringstream is(line);
+      std::string cell;
+      while (std::getline(is, cell, ',')) vecCells.push_back(cell);
+      if (nTime < 0) {
+        for (int i = 0; i < static_cast<int>(vecCells.size()); ++i) {
+          if (vecCells[i] == "time_s") nTime = i;
+          if (vecCells[i] == "left_speed_cm_s") nLeft = i;
+          if (vecCells[i] == "right_speed_cm_s") nRight = i;
+        }
+        if (nTime < 0 || nLeft < 0 || nRight < 0)
+          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine
+                                         << ":1: expected a drive log header with time_s, left_speed_cm_s and right_speed_cm_s");
+        continue;
+      }
+      SLikeRow r;
+      const int nCols[3] = {nTime, nLeft, nRight};
+      Real* pfOut[3] = {&r.Time, &r.Left, &r.Right};
+      for (int k = 0; k < 3; ++k) {
+        if (nCols[k] >= static_cast<int>(vecCells.size()))
+          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": expected at least " << nCols[k] + 1 << " cells");
+        try {
+          *pfOut[k] = std::stod(vecCells[nCols[k]]);
+        } catch (const std::exception&) {
+          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ":" << nCols[k] + 1 << ": expected a number, found \""
+                                         << vecCells[nCols[k]] << "\"");
+        }
+      }
+      if (!m_vecLike.empty() && r.Time < m_vecLike.back().Time)
+        THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": time_s goes backwards");
+      m_vecLike.push_back(r);
+    }
+    if (!bObstacle) THROW_ARGOSEXCEPTION(m_strLike << ": expected a '# obstacle_distance_m: D' line before the header");
+    if (m_vecLike.empty()) THROW_ARGOSEXCEPTION(m_strLike << ": no rows to replay");
+    if (m_strLikeOut.empty()) THROW_ARGOSEXCEPTION("epuck2_protocol: like= needs like_out= (the log to write)");
+  }
+
+  /// Replay: at the first PostStep the robot stands where the log's run starts (row 0, time 0);
+  /// each later row is read at the tick nearest its time and its commands then hold.
+  void LikeStep(CEPuck2RecorderController& c) {
+    const UInt64 unClock = GetSpace().GetSimulationClock();
+    if (m_unLikeRow == 0) {
+      m_nStartLeft = c.LeftSteps();
+      m_nStartRight = c.RightSteps();
+      m_unLikeStart = unClock;
+    }
+    const Real fNow = m_vecLike.front().Time + static_cast<Real>(unClock - m_unLikeStart) * m_fTick;
+    while (m_unLikeRow < m_vecLike.size() && m_vecLike[m_unLikeRow].Time <= fNow + m_fTick / 2) {
+      const SLikeRow& r = m_vecLike[m_unLikeRow];
+      m_cOut << Num(r.Time, 10) << ',' << Num(r.Left, 10) << ',' << Num(r.Right, 10) << ',' << Wrap16(c.LeftSteps(), m_nStartLeft)
+             << ',' << Wrap16(c.RightSteps(), m_nStartRight) << ',' << c.Tof() << '\n';
+      c.SetWheels(r.Left, r.Right);
+      ++m_unLikeRow;
+    }
+    if (m_unLikeRow == m_vecLike.size()) {
+      m_cOut.close();
+      m_bDone = true;
     }
   }
 
@@ -359,9 +520,20 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   UInt32 m_unSample = 0, m_unLightSensor = 0, m_unRunTick = 0;
   bool m_bDone = false, m_bRunStarted = false;
   std::ofstream m_cOut;
+  std::vector<std::unique_ptr<std::ofstream>> m_vecGroundOut;  ///< ground: robots 1.. (a swarm)
+  std::vector<CVector3> m_vecCameraPoints;  ///< camera: the LED's positions in the camera's frame
+  bool m_bCameraSettled = false;
   CLightEntity* m_pcLight = nullptr;
   Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0;
   SInt32 m_nStartLeft = 0, m_nStartRight = 0;
+  /* like= (drive): the measured log replayed */
+  struct SLikeRow {
+    Real Time = 0, Left = 0, Right = 0;
+  };
+  std::string m_strLike, m_strLikeOut;
+  std::vector<SLikeRow> m_vecLike;
+  std::size_t m_unLikeRow = 0;
+  UInt64 m_unLikeStart = 0;
   int m_nChargeDigits = 6;
   std::vector<SBatteryRun> m_vecBattery;
 };

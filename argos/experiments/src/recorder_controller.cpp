@@ -14,6 +14,10 @@ void CEPuck2RecorderController::Init(TConfigurationNode& t_node) {
   if (HasSensor("epuck2_tof")) m_pcTof = GetSensor<CCI_EPuck2TOFSensor>("epuck2_tof");
   if (HasSensor("epuck2_encoder")) m_pcEncoder = GetSensor<CCI_EPuck2EncoderSensor>("epuck2_encoder");
   if (HasSensor("epuck2_battery")) m_pcBattery = GetSensor<CCI_BatterySensor>("epuck2_battery");
+  if (HasSensor("epuck2_colored_blob_perspective_camera")) {
+    m_pcCamera = GetSensor<CCI_ColoredBlobPerspectiveCameraSensor>("epuck2_colored_blob_perspective_camera");
+    m_pcCamera->Enable();  // the camera starts disabled
+  }
 }
 
 void CEPuck2RecorderController::ControlStep() {
@@ -45,6 +49,13 @@ SInt32 CEPuck2RecorderController::Tof() const { return m_pcTof ? m_pcTof->GetRea
 SInt32 CEPuck2RecorderController::LeftSteps() const { return m_pcEncoder ? m_pcEncoder->GetReadings().EncoderLeftWheel : 0; }
 SInt32 CEPuck2RecorderController::RightSteps() const { return m_pcEncoder ? m_pcEncoder->GetReadings().EncoderRightWheel : 0; }
 Real CEPuck2RecorderController::Charge() const { return m_pcBattery ? m_pcBattery->GetReading().AvailableCharge : 0.0; }
+
+std::vector<std::pair<SInt32, SInt32>> CEPuck2RecorderController::Blobs() const {
+  std::vector<std::pair<SInt32, SInt32>> v;
+  if (m_pcCamera)
+    for (const auto* b : m_pcCamera->GetReadings().BlobList) v.emplace_back(b->X, b->Y);
+  return v;
+}
 
 REGISTER_CONTROLLER(CEPuck2RecorderController, "epuck2_recorder_controller")
 

@@ -4,6 +4,7 @@
 // plug-in's control interfaces, so any implementation (default or calibrated) can be recorded.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include <argos3/core/control_interface/ci_controller.h>
@@ -13,6 +14,7 @@
 #include <argos3/plugins/robots/e-puck2/control_interface/ci_epuck2_proximity_sensor.h>
 #include <argos3/plugins/robots/e-puck2/control_interface/ci_epuck2_tof_sensor.h>
 #include <argos3/plugins/robots/generic/control_interface/ci_battery_sensor.h>
+#include <argos3/plugins/robots/generic/control_interface/ci_colored_blob_perspective_camera_sensor.h>
 #include <argos3/plugins/robots/generic/control_interface/ci_differential_steering_actuator.h>
 
 namespace argos {
@@ -36,6 +38,8 @@ class CEPuck2RecorderController : public CCI_Controller {
   SInt32 LeftSteps() const;
   SInt32 RightSteps() const;
   Real Charge() const;
+  /// The camera's blobs (x, y in pixels), when the controller has the camera (enabled at Init).
+  std::vector<std::pair<SInt32, SInt32>> Blobs() const;
 
  private:
   CCI_DifferentialSteeringActuator* m_pcWheels = nullptr;
@@ -45,6 +49,7 @@ class CEPuck2RecorderController : public CCI_Controller {
   CCI_EPuck2TOFSensor* m_pcTof = nullptr;
   CCI_EPuck2EncoderSensor* m_pcEncoder = nullptr;
   CCI_BatterySensor* m_pcBattery = nullptr;
+  CCI_ColoredBlobPerspectiveCameraSensor* m_pcCamera = nullptr;
   Real m_fLeft = 0, m_fRight = 0;
 };
 

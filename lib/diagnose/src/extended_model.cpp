@@ -69,11 +69,14 @@ Values values_of(const Report& r, std::vector<std::string>* left_out, const fx::
   return v;
 }
 
-/// Every reading the diagnosis sees is a whole number of its unit (counts, px, mm, steps): the
-/// residuals' sd holds the rounding's 1/12 unit^2 besides the noise. The simulation rounds too, so
-/// the noise it adds before rounding is what the residuals hold beyond that.
-double register_noise(double residual_sd) {
-  return std::sqrt(std::max(0.0, residual_sd * residual_sd - 1.0 / 12.0));
+/// The noise of one reading of `channel` per sensor (reading_noise.hpp: the replicates', else the
+/// final model's residuals, less the rounding's 1/12 unit^2: every reading the diagnosis sees is a
+/// whole number of its unit and the simulation rounds too).
+template <std::size_t N>
+std::array<double, N> noise_per_sensor(const ModelInputs& inputs, const std::string& channel, double residual_sd) {
+  std::array<double, N> sd{};
+  for (std::size_t k = 0; k < N; ++k) sd[k] = model_noise_sd(inputs.replicate_noise, channel, residual_sd, static_cast<int>(k));
+  return sd;
 }
 
 /// The report's `covariate:NAME` findings, centred on the column's mean in `inputs` (left out
@@ -150,7 +153,7 @@ s::ProximityModel extended_proximity(const Report& r, std::vector<std::string>* 
   m.base.c = v.base_or("c", m.base.c);
   apply_findings(v, m);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
-  m.noise_sd_raw.fill(register_noise(r.noise_sd));
+  m.noise_sd_raw = noise_per_sensor<s::kProximityCount>(inputs, "proximity", r.noise_sd);
   return m;
 }
 
@@ -161,7 +164,7 @@ s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out
   m.base.gamma_m = v.base_or("gamma_m", m.base.gamma_m);
   apply_findings(v, m);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
-  m.noise_sd_raw.fill(register_noise(r.noise_sd));
+  m.noise_sd_raw = noise_per_sensor<s::kProximityCount>(inputs, "light", r.noise_sd);
   return m;
 }
 
@@ -190,7 +193,7 @@ s::GroundModel extended_ground(const Report& r, std::vector<std::string>* left_o
   }
   apply_findings(v, m);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
-  m.noise_sd_raw.fill(register_noise(r.noise_sd));
+  m.noise_sd_raw = noise_per_sensor<s::kGroundCount>(inputs, "ground", r.noise_sd);
   return m;
 }
 
@@ -205,7 +208,7 @@ s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_o
   m.base.cy_px = s::kCameraHeight_px / 2.0 + v.at(principal.name, principal.params[1].key, m.base.cy_px - s::kCameraHeight_px / 2.0);
   apply_findings(v, m);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
-  m.noise_sd_px = register_noise(r.noise_sd);
+  m.noise_sd_px = model_noise_sd(inputs.replicate_noise, "camera", r.noise_sd);
   return m;
 }
 
@@ -214,11 +217,12 @@ s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out
   s::DriveModel m = base_of<s::DriveModel>(r);
   const Values v = values_of(r, left_out, fx::catalogue_of(m));
   apply_findings(v, m);
-  m.tof_noise_sd_mm = register_noise(r.noise_sd);
+  double tof_residual_sd = r.noise_sd;
   for (const NamedValue& c : r.channel_noise_sd) {
-    if (c.name == "tof_mm") m.tof_noise_sd_mm = register_noise(c.value);
-    if (c.name == "steps") m.encoder_noise_sd_steps = register_noise(c.value);
+    if (c.name == "tof_mm") tof_residual_sd = c.value;
+    if (c.name == "steps") m.encoder_noise_sd_steps = model_noise_sd(inputs.replicate_noise, "encoder", c.value);
   }
+  m.tof_noise_sd_mm = model_noise_sd(inputs.replicate_noise, "tof", tof_residual_sd);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   return m;
 }
@@ -242,6 +246,7 @@ ModelInputs model_inputs(const std::vector<logs::Log>& logs, const Options& opti
   in.battery_tables = options.battery_tables;
   in.battery_capacity_k = options.battery_capacity_k;
   if (logs.empty()) return in;
+  in.replicate_noise = replicate_noise(logs);
   for (const std::string& name : logs.front().extra_numeric_columns()) {
     double sum = 0;
     std::size_t n = 0;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/diagnose/reading_noise.hpp"
 #include "epuck2/models/kinds.hpp"
 
 namespace epuck2::diagnose {
@@ -26,6 +27,9 @@ struct ModelInputs {
   models::battery::Model battery_model = models::battery::Model::cubic;
   std::optional<models::battery::Tables> battery_tables;  ///< none: the plug-in's (as Options)
   double battery_capacity_k = 1.0;                         ///< the base's capacity scale (as Options)
+  /// Each channel's noise from the logs' replicates (reading_noise.hpp): the model's noise where
+  /// present, else the final model's residuals.
+  std::map<std::string, calibrate::ReadingNoise> replicate_noise;
 };
 
 /// The inputs of a diagnosis of `logs` under `options` (taken before the logs go to diagnose()):

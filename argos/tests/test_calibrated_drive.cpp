@@ -1,0 +1,160 @@
+// The drive as the calibrated ARGoS actuator, encoders and ToF run it (argos/src/calibrated_drive):
+// no ARGoS needed. Expected values are worked by hand from the effects' definitions
+// (docs/diagnose.md, "drive"), not from lib/models' code.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <string>
+
+#include "../src/calibrated_drive.hpp"
+
+namespace {
+
+namespace ap = epuck2::argos_plugin;
+namespace ms = epuck2::models::sensors;
+namespace fs = std::filesystem;
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const fs::path p = fs::temp_directory_path() / ("epuck2_argos_drive_test_" + name);
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+ap::DriveConfig config_of(const std::string& name, const std::string& text) {
+  return ap::read_drive_config(ap::CoefficientFile::load(write_temp(name, text), {"drive"}), "the actuator");
+}
+
+// A calibration file has no speed_limit: the firmware's 1100 steps/s over its steps_per_m caps a
+// 20 cm/s command (1100 / 7760 steps/m = 14.175 cm/s), and the wheels run at the cap at once.
+TEST(CalibratedDrive, ACommandAboveTheFirmwareCapRunsAtTheCap) {
+  const auto c = config_of("cal.json", R"({"kind":"drive","parameters":{"steps_per_m":7760,"tof_scale":1,"tof_offset_mm":0}})");
+  EXPECT_EQ(c.limit_from, "firmware");
+  EXPECT_NEAR(c.effects.speed_limit.max_cm_s, 110000.0 / 7760.0, 1e-12);
+  ap::CalibratedDrive d(c.effects);
+  const auto v = d.step(20, 20, 0.1);
+  EXPECT_NEAR(v[0], 11.0 / 77.60, 1e-12);
+  EXPECT_NEAR(v[1], 11.0 / 77.60, 1e-12);
+  EXPECT_NEAR(d.state().xl, 0.1 * 11.0 / 77.60, 1e-12);
+  // Below the cap the command is what the wheels do.
+  ap::CalibratedDrive slow(c.effects);
+  EXPECT_NEAR(slow.step(10, 10, 0.1)[0], 0.10, 1e-12);
+}
+
+// A diagnosis's speed_limit replaces the firmware cap.
+TEST(CalibratedDrive, TheDiagnosisSpeedLimitIsTheCap) {
+  const auto c = config_of("diag.json", R"({"kind":"drive","parameters":{"steps_per_m":7763.656},
+                                          "effects":{"speed_limit":{"max_cm_s":12.5}}})");
+  EXPECT_EQ(c.limit_from, "speed_limit");
+  ap::CalibratedDrive d(c.effects);
+  EXPECT_NEAR(d.step(20, 20, 0.1)[0], 0.125, 1e-12);
+  EXPECT_NEAR(d.step(-20, -20, 0.1)[1], -0.125, 1e-12);
+}
+
+// accel_limit 50 cm/s^2, a 10 cm/s step from rest: the wheels reach 5 cm/s after 0.1 s (travel
+// a t^2 / 2 = 2.5 mm), 10 cm/s after 0.2 s (10 mm), then 10 cm/s (20 mm after 0.3 s).
+TEST(CalibratedDrive, AStepReachesSpeedAsTheAccelerationLimitSays) {
+  const auto c = config_of("acc.json", R"({"parameters":{"steps_per_m":7763.656},
+                                         "effects":{"accel_limit":{"accel_cm_s2":50}}})");
+  ap::CalibratedDrive d(c.effects);
+  auto v = d.step(10, 10, 0.1);
+  EXPECT_NEAR(d.state().vl, 0.05, 1e-12);
+  EXPECT_NEAR(d.state().xl, 0.0025, 1e-12);
+  EXPECT_NEAR(v[0], 0.025, 1e-12);  // the tick's mean speed: 2.5 mm in 0.1 s
+  d.step(10, 10, 0.1);
+  EXPECT_NEAR(d.state().vl, 0.10, 1e-12);
+  EXPECT_NEAR(d.state().xl, 0.010, 1e-12);
+  v = d.step(10, 10, 0.1);
+  EXPECT_NEAR(d.state().xl, 0.020, 1e-12);
+  EXPECT_NEAR(v[0], 0.10, 1e-12);
+}
+
+// wheel_slip tau = 0.1 s: from rest under 10 cm/s the body has travelled u (t - tau (1 - e^-t/tau))
+// = 0.1 (0.1 - 0.1 (1 - 1/e)) = 0.01/e m after 0.1 s while the wheels (and the encoders) have
+// turned 10 mm; the physics engine is given the body's mean speed over the tick.
+TEST(CalibratedDrive, WithSlipTheBodyLagsTheWheels) {
+  const auto c = config_of("slip.json", R"({"parameters":{"steps_per_m":7763.656,"slip_time_constant_s":0.1}})");
+  EXPECT_DOUBLE_EQ(c.effects.slip.tau_s, 0.1);
+  ap::CalibratedDrive d(c.effects);
+  const auto v = d.step(10, 10, 0.1);
+  EXPECT_NEAR(d.state().xl, 0.010, 1e-12);
+  EXPECT_NEAR(d.state().xg, 0.01 / std::exp(1.0), 1e-12);
+  EXPECT_NEAR(v[0], 0.1 / std::exp(1.0), 1e-12);
+  EXPECT_NEAR(v[1], v[0], 1e-15);
+}
+
+// Turning in place: the wheels' difference goes to the physics (times speed_scale's k); the
+// body's forward speed stays 0.
+TEST(CalibratedDrive, TurningInPlaceWithSpeedScale) {
+  const auto c = config_of("turn.json", R"({"parameters":{"steps_per_m":7763.656},"effects":{"speed_scale":{"k":0.9}}})");
+  ap::CalibratedDrive d(c.effects);
+  const auto v = d.step(5, -5, 0.1);
+  EXPECT_NEAR(v[0], 0.045, 1e-12);
+  EXPECT_NEAR(v[1], -0.045, 1e-12);
+  EXPECT_NEAR(d.state().xl, 0.005, 1e-12);  // the encoders count the wheels, not the body
+  EXPECT_NEAR(d.state().xr, -0.005, 1e-12);
+}
+
+// A register standing still reads exactly what it read: no noise on a count that did not move.
+TEST(StepRegister, StandingStillTheCountDoesNotChange) {
+  ap::StepRegister r(7763.656);
+  EXPECT_EQ(r.read(0.0, -0.7), 0);  // not moved: exactly 0 whatever the noise
+  EXPECT_FALSE(r.moved(0.0));
+  EXPECT_EQ(r.read(0.0, 0.9), 0);
+  EXPECT_TRUE(r.moved(0.01));
+  EXPECT_EQ(r.read(0.01, 0.3), static_cast<int>(std::floor(77.63656 + 0.3)));
+  EXPECT_FALSE(r.moved(0.01));
+  EXPECT_EQ(r.read(0.01, -0.9), 77);  // the same travel: the same reading, the new noise unused
+  EXPECT_EQ(r.read(0.01, -0.9), 77);
+  // int16 wrap: 5 m is 38818.28 steps, read as 38818 - 65536
+  EXPECT_EQ(r.read(5.0), 38818 - 65536);
+}
+
+// latency 0.15 s at 10 ticks/s: the reading at 0.3 s is the distance at 0.15 s, halfway between
+// the ticks at 0.1 and 0.2 s.
+TEST(DelayLine, TheReadingIsTheDistanceDelayAgo) {
+  ap::DelayLine l(0.15);
+  EXPECT_DOUBLE_EQ(*l.push_and_read(0.1, 1.0), 1.0);
+  EXPECT_DOUBLE_EQ(*l.push_and_read(0.2, 2.0), 1.0);
+  EXPECT_DOUBLE_EQ(*l.push_and_read(0.3, 3.0), 1.5);
+  EXPECT_DOUBLE_EQ(*l.push_and_read(0.4, 4.0), 2.5);
+  ap::DelayLine none(0.0);
+  EXPECT_DOUBLE_EQ(*none.push_and_read(0.1, 7.0), 7.0);
+}
+
+// What ARGoS cannot apply stops it at Init, naming the effect and why.
+TEST(CalibratedDrive, EffectsArgosCannotApplyAreRefusedByName) {
+  const std::string cov = error_of([] {
+    config_of("cov.json", R"({"parameters":{},"effects":{"covariate:temperature_c":{"slope":1,"centre":20}}})");
+  });
+  EXPECT_NE(cov.find("covariate:temperature_c"), std::string::npos) << cov;
+  EXPECT_NE(cov.find("'temperature_c', which ARGoS does not have"), std::string::npos) << cov;
+  const std::string unknown = error_of([] { config_of("unk.json", R"({"parameters":{"steps_per_m":7763.656},"effects":{"ambient_offset":{"offset":3}}})"); });
+  EXPECT_NE(unknown.find("ambient_offset"), std::string::npos) << unknown;
+  const std::string bad = error_of([] { config_of("bad.json", R"({"parameters":{"steps_per_m":7763.656},"effects":{"accel_limit":{"accel_cm_s2":"x"}}})"); });
+  EXPECT_NE(bad.find("accel_limit"), std::string::npos) << bad;
+}
+
+// The shipped diagnosis of the drive logs: its speed limit, its slip.
+TEST(CalibratedDrive, TheShippedDiagnosisLoads) {
+  const std::string path = std::string(EPUCK2_SOURCE_DIR) + "/data/fitted/reports/diagnose_drive.json";
+  std::ifstream in(path);
+  const auto j = nlohmann::json::parse(in);
+  const auto c = ap::read_drive_config(ap::CoefficientFile::load(path, {"drive"}), "the actuator");
+  EXPECT_EQ(c.effects.speed_limit.max_cm_s, j.at("effects").at("speed_limit").at("max_cm_s").get<double>());
+  EXPECT_EQ(c.effects.slip.tau_s, j.at("parameters").at("slip_time_constant_s").get<double>());
+}
+
+}  // namespace
