@@ -1,5 +1,7 @@
 #include "calibrated_drive.hpp"
 
+#include <epuck2/models/effects.hpp>
+
 #include <stdexcept>
 #include <string>
 
@@ -27,7 +29,7 @@ DriveConfig read_drive_config(const CoefficientFile& file, const std::string& wh
   c.steps_per_m = m.steps_per_m;
   c.effects = m.effects;
   if (m.effects.speed_limit.max_cm_s < ms::kDriveLimitOn) {
-    c.limit_from = "speed_limit";
+    c.limit_from = epuck2::models::effects::drive_catalogue()[epuck2::models::effects::drive::speed_limit].name;
   } else {
     c.effects.speed_limit.max_cm_s = firmware_cap_cm_s(c.steps_per_m);
     c.limit_from = "firmware";

@@ -37,7 +37,7 @@ namespace ms = epuck2::models::sensors;
 struct DriveConfig {
   ms::DriveEffects<double> effects;  ///< speed_limit always set (the fitted one or the firmware cap)
   double steps_per_m = ms::kPluginStepsPerMetre;
-  /// Where the speed limit comes from: "speed_limit" (the diagnosis's fit) or "firmware".
+  /// Where the speed limit comes from: the diagnosis's speed-limit finding (its registry name) or "firmware".
   std::string limit_from;
 };
 

@@ -1,5 +1,7 @@
 #include "coefficient_file.hpp"
 
+#include <epuck2/models/effects.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -238,17 +240,18 @@ BatteryFile load_battery_file(const std::string& path) {
                                j.at("battery_model").dump());
     f.model = m;
   }
+  const char* capacity_scale = epuck2::models::effects::battery_catalogue()[epuck2::models::effects::battery::capacity_scale].name;
   if (j.contains("effects") && j.at("effects").is_object()) {
     for (auto it = j.at("effects").begin(); it != j.at("effects").end(); ++it) {
-      if (it.key() == "capacity_scale") continue;
+      if (it.key() == capacity_scale) continue;
       throw std::runtime_error(path + ": effects." + it.key() + ": the calibrated battery cannot apply it in ARGoS" +
                                (it.key().rfind("covariate:", 0) == 0 ? ": it needs the log column '" + it.key().substr(10) +
                                                                            "', which ARGoS does not have"
-                                                                     : std::string(": not a battery effect (the battery's is capacity_scale)")));
+                                                                     : std::string(": not a battery effect (the battery's is ") + capacity_scale + ")"));
     }
-    if (j.at("effects").contains("capacity_scale")) {
-      f.capacity_k = number_at(j.at("effects").at("capacity_scale"), "k", path, "effects.capacity_scale");
-      if (!(f.capacity_k > 0)) throw std::runtime_error(path + ": effects.capacity_scale.k must be positive");
+    if (j.at("effects").contains(capacity_scale)) {
+      f.capacity_k = number_at(j.at("effects").at(capacity_scale), "k", path, std::string("effects.") + capacity_scale);
+      if (!(f.capacity_k > 0)) throw std::runtime_error(path + ": effects." + capacity_scale + ".k must be positive");
     }
   }
   return f;
