@@ -61,6 +61,9 @@ def main():
     ap.add_argument("--bin", required=True, help="the build's bin folder (epuck2-fit)")
     ap.add_argument("--only", help="one Markdown file (relative to the source)")
     ap.add_argument("--list", action="store_true", help="list the blocks and what would be done")
+    ap.add_argument("--update", action="store_true",
+                    help="rewrite every quoted output ($ COMMAND blocks) with what the command prints now "
+                         "(the docs' numbers regenerated, as scripts/regenerate.sh does for data/fitted)")
     a = ap.parse_args()
     src = os.path.abspath(a.source)
     files = [a.only] if a.only else ["README.md"] + sorted(
@@ -68,6 +71,7 @@ def main():
 
     work = tempfile.mkdtemp(prefix="epuck2-docs-")
     failures, ran, skipped = [], 0, 0
+    shift = {}  # --update: how far each file's later blocks moved
     try:
         for md in files:
             for line, lang, text, skip in blocks(os.path.join(src, md)):
@@ -94,6 +98,10 @@ def main():
                     shutil.copy2(os.path.join(src, f), os.path.join(root, f))
                 os.makedirs(os.path.join(root, "build"), exist_ok=True)
                 os.symlink(os.path.abspath(a.bin), os.path.join(root, "build", "bin"))
+                # The build's plug-ins (build/lib/argos3, for scripts/argos-record.sh) beside its bin.
+                lib = os.path.join(os.path.dirname(os.path.abspath(a.bin)), "lib")
+                if os.path.isdir(lib):
+                    os.symlink(lib, os.path.join(root, "build", "lib"))
                 env = dict(os.environ)
                 env["PATH"] = os.path.join(root, "build", "bin") + os.pathsep + env.get("PATH", "")
                 if is_output:
@@ -108,6 +116,18 @@ def main():
                 ran += 1
                 if r.returncode != 0:
                     failures.append(f"{where}: exit {r.returncode}\n--- the block\n{script}\n--- stderr\n{r.stderr[-3000:]}")
+                elif expected is not None and r.stdout.rstrip("\n") != expected.rstrip("\n") and a.update:
+                    path = os.path.join(src, md)
+                    doc = open(path, encoding="utf-8").read().split("\n")
+                    old = text.split("\n")
+                    # The block's lines start after its fence (line numbers are 1-based, of the fence).
+                    at = line + shift.get(md, 0)  # earlier updates of this file moved its later blocks
+                    assert doc[at:at + len(old)] == old, f"{where}: the block moved while updating"
+                    new = [old[0]] + r.stdout.rstrip("\n").split("\n")
+                    doc[at:at + len(old)] = new
+                    shift[md] = shift.get(md, 0) + len(new) - len(old)
+                    open(path, "w", encoding="utf-8").write("\n".join(doc))
+                    print(f"updated {where}: the quoted output of `{command}`")
                 elif expected is not None and r.stdout.rstrip("\n") != expected.rstrip("\n"):
                     got, want = r.stdout.rstrip("\n").split("\n"), expected.rstrip("\n").split("\n")
                     diff = [f"  line {k + 1}:\n    docs: {w}\n    now:  {g}" for k, (w, g) in

@@ -133,15 +133,16 @@ TEST_F(CheckedOutputs, SimulateLikeRefusesConditionsTheModelCannotTake) {
 }
 
 // The edges of the new ranges are accepted (0.001 m from a light, an LED 1000 m to the side) and
-// simulate to finite readings.
+// simulate to finite readings. (A light farther than 5 m is refused as a unit mistake by the
+// plausibility check, docs/fitting.md: the far point is 4.5 m, beyond the 0.5 m range.)
 TEST_F(CheckedOutputs, TheEdgesOfTheRangesAreAcceptedAndSimulateFinite) {
-  const std::string light = write("light.csv", "distance_m,intensity,sensor,value\n0.001,1,0,3000\n1000,1e6,7,3000\n");
+  const std::string light = write("light.csv", "distance_m,intensity,sensor,value\n0.001,1,0,3000\n4.5,1e6,7,3000\n");
   CliRun r = run("simulate light --like " + q(light));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // 0.001 m from an intensity-1 source saturates the sensor: the plug-in's model reads 0 there;
-  // 1000 m is beyond its 0.5 m range: dark, 4095.
+  // 4.5 m is beyond its 0.5 m range: dark, 4095.
   EXPECT_NE(r.out.find("\n0.001,1,0,0\n"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("\n1000,1e+06,7,4095\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n4.5,1e+06,7,4095\n"), std::string::npos) << r.out;
   const std::string camera = write("camera.csv", "forward_m,lateral_m,vertical_m,px,py\n0.2,-1000,1000,70,60\n");
   r = run("simulate camera --like " + q(camera));
   ASSERT_EQ(r.exit_code, 0) << r.err;

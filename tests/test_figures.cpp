@@ -68,7 +68,7 @@ const std::vector<Figure>& figures() {
       {"diagnose_proximity", "diagnose" + logs_of("proximity"), "--plot",
        // long_tail (length on its bound) is possible, not determined, and left out: what is left
        // depends on the distance, the covariate the figure is drawn against.
-       {"measured − simulated (counts, 0..4095)", "distance to the surface (m)", "before:", "after:"}},
+       {"measured − simulated (counts, 0..4095)", "distance to the surface (mm)", "before:", "after:"}},
       {"diagnose_light", "diagnose" + logs_of("light"), "--plot",
        {"measured − simulated (counts, 0..4095)", "light_intensity_2.00_virtual-epuck2-2.csv", "before:", "after:"}},
       {"diagnose_ground", "diagnose" + logs_of("ground"), "--plot",
