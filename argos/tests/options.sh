@@ -88,13 +88,14 @@ grep -q "calibrated epuck2_proximity: $WORK/nope.json: cannot open the coefficie
 echo "ok   missing file: $(grep -o 'calibrated epuck2_proximity: .*' "$WORK/missing/log")"
 
 # 4. a diagnosis file whose effects the calibrated proximity sensor does not apply (the shipped
-#    diagnosis: ambient_offset and long_tail) stops ARGoS at Init naming them, not dropping them
+#    diagnosis: ambient_offset; its long_tail is undetermined and left out of the extended model)
+#    stops ARGoS at Init naming them, not dropping them
 mkdir -p "$WORK/effects"
 experiment "$WORK/effects" "coefficients=\"$ROOT/data/fitted/reports/diagnose_proximity.json\"" "0.02:0.01:0.02" 1
 if argos3 -n -z -c "$WORK/effects/exp.argos" > "$WORK/effects/log" 2>&1; then fail "argos3 ran with effects it does not apply"; fi
-grep -q "effects.ambient_offset, effects.long_tail: the calibrated epuck2_proximity does not apply a diagnosis's effects yet" "$WORK/effects/log" ||
+grep -Eq "effects\.ambient_offset(, effects\.[a-z_]+)*: the calibrated epuck2_proximity does not apply a diagnosis's effects yet" "$WORK/effects/log" ||
   { cat "$WORK/effects/log"; fail "no message naming the effects"; }
-echo "ok   effects not applied: $(grep -o 'effects.ambient_offset, effects.long_tail: [^(]*' "$WORK/effects/log" | head -1)"
+echo "ok   effects not applied: $(grep -Eo 'effects\.ambient_offset[^(]*' "$WORK/effects/log" | head -1)"
 # 5. a file of the wrong kind: the drive file for the wheels given to the proximity sensor
 mkdir -p "$WORK/kind"
 experiment "$WORK/kind" "coefficients=\"$ROOT/data/fitted/drive.json\"" "0.02:0.01:0.02" 1
