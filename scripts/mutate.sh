@@ -56,6 +56,15 @@ NOISE = (["test_reading_noise", "test_sensor_fits", "test_measured_logs", "test_
 RN = "lib/calibrate/src/reading_noise.cpp"
 TOF_CODES = (["test_diagnose_steps", "test_log_reader", "test_measured_logs", "test_sensor_fits", "test_area_boundaries"],
              r"^(DiagnoseBase|DiagnoseSteps|LogReader|MeasuredDrive|DriveFit|DiagnosisTofCodes)")
+# The second fresh set (bench/fresh-slips.md, branch unlisted-bugs): the voltage->charge map, the
+# cluster-robust errors, the robots' Cochran Q test. (The CLI's tests are not in these groups: the
+# mutants' fast build does not relink the CLI.)
+CM = "lib/calibrate/src/charge_map.cpp"
+RP = "lib/fit/src/report.cpp"
+CHARGE = (["test_charge_map", "test_area_boundaries"], r"^(ChargeMap|ChargeMapByHand)")
+CLUSTER = (["test_report", "test_report_files", "test_measured_logs", "test_area_boundaries"],
+           r"^(Autocorrelation|ClusterRobust|ReportFiles|ReportText|Measured|RobustEngine|ClusterRobustByHand)")
+QTEST = (["test_measured_logs", "test_sensor_fits", "test_area_boundaries"], r"^(Measured|RobustEngine|Sensor|RobotSpreadByHand)")
 
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
@@ -103,6 +112,16 @@ MUTANTS = [
     ("noise_small_group_le", RN, "g.kept.size() < kSmallGroup ?", "g.kept.size() <= kSmallGroup ?", NOISE),
     ("noise_per_sensor_inverted", RN, "if (sensor[i] != s) mine[i] = -1;", "if (sensor[i] == s) mine[i] = -1;", NOISE),
     ("noise_median_even_upper", RN, "return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);", "return v[n / 2];", NOISE),
+    ("charge_load_sign", CM, "double x = voltage_v + load_offset_v(m, speed_cm_s);", "double x = voltage_v - load_offset_v(m, speed_cm_s);", CHARGE),
+    ("charge_load_lerp_reversed", CM, "return y[k] + (y[k + 1] - y[k]) * (s - x[k]) / (x[k + 1] - x[k]);", "return y[k] + (y[k + 1] - y[k]) * (x[k + 1] - s) / (x[k + 1] - x[k]);", CHARGE),
+    ("charge_residual_sd_n", CM, "std::sqrt(c.rss / static_cast<double>(d.v.size() - c.parameters));", "std::sqrt(c.rss / static_cast<double>(d.v.size()));", CHARGE),
+    ("charge_clamp_side_high", CM, "    c.side = -1;", "    c.side = 1;", CHARGE),
+    ("cluster_no_small_sample", RP, "bread * meat * bread * (g / (g - 1.0));", "bread * meat * bread;", CLUSTER),
+    ("cluster_min_le", RP, "if (G < kMinClusters) {", "if (G <= kMinClusters) {", CLUSTER),
+    ("cluster_no_floor", RP, "a.std_errors[j] = std::max(se, fit.parameters[j].std_error);", "a.std_errors[j] = se;", CLUSTER),
+    ("q_unweighted_mean", RB, "const double xw = swx / sw;", "const double xw = mean;", QTEST),
+    ("q_dof_robots", RB, "s.dof = x.size() - 1;", "s.dof = x.size();", QTEST),
+    ("q_se_not_squared", RB, "s.q += (x[i] - xw) * (x[i] - xw) / (se[i] * se[i]);", "s.q += (x[i] - xw) * (x[i] - xw) / se[i];", QTEST),
 ]
 
 
