@@ -61,10 +61,14 @@ TOF_CODES = (["test_diagnose_steps", "test_log_reader", "test_measured_logs", "t
 # mutants' fast build does not relink the CLI.)
 CM = "lib/calibrate/src/charge_map.cpp"
 RP = "lib/fit/src/report.cpp"
-CHARGE = (["test_charge_map", "test_area_boundaries"], r"^(ChargeMap|ChargeMapByHand)")
-CLUSTER = (["test_report", "test_report_files", "test_measured_logs", "test_area_boundaries"],
+CHARGE = (["test_charge_map", "test_unlisted_areas"], r"^(ChargeMap|ChargeMapByHand)")
+CLUSTER = (["test_report", "test_report_files", "test_measured_logs", "test_unlisted_areas"],
            r"^(Autocorrelation|ClusterRobust|ReportFiles|ReportText|Measured|RobustEngine|ClusterRobustByHand)")
-QTEST = (["test_measured_logs", "test_sensor_fits", "test_area_boundaries"], r"^(Measured|RobustEngine|Sensor|RobotSpreadByHand)")
+QTEST = (["test_measured_logs", "test_sensor_fits", "test_unlisted_areas"], r"^(Measured|RobustEngine|Sensor|RobotSpreadByHand)")
+TOBIT = (SENSORS[0] + ["test_unlisted_areas"], SENSORS[1][:-1] + "|TobitByHand)")
+CG = "lib/coefficients/src/codegen.cpp"
+# (test_model_loop also writes headers, through the CLI, which the mutants' fast build does not relink.)
+CODEGEN = (["test_coefficients", "test_unlisted_areas"], r"^(CoefficientFile|EffectRegistry|NewEffect|CodegenByHand)")
 
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
@@ -122,6 +126,13 @@ MUTANTS = [
     ("q_unweighted_mean", RB, "const double xw = swx / sw;", "const double xw = mean;", QTEST),
     ("q_dof_robots", RB, "s.dof = x.size() - 1;", "s.dof = x.size();", QTEST),
     ("q_se_not_squared", RB, "s.q += (x[i] - xw) * (x[i] - xw) / (se[i] * se[i]);", "s.q += (x[i] - xw) * (x[i] - xw) / se[i];", QTEST),
+    ("tobit_em_hazard_side", RB, "ss += sigma * sigma * (1 + c * normal_hazard_lower(-c));", "ss += sigma * sigma * (1 + c * normal_hazard_lower(c));", TOBIT),
+    ("tobit_loglik_side", RB, "loglik += log_normal_cdf(sign * (predictions[i] - obs[i].value) / sigma);", "loglik += log_normal_cdf(sign * (obs[i].value - predictions[i]) / sigma);", TOBIT),
+    ("tobit_gradient_unsigned", RB, "-sw * normal_hazard_lower(z) / r * sign / sigma_", "-sw * normal_hazard_lower(z) / r / sigma_", TOBIT),
+    ("codegen_array_first", CG, 'for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + cpp_number(v[i]);', 'for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + cpp_number(v[0]);', CODEGEN),
+    ("codegen_ground_gain_offset_swapped", CG, 'cpp_number(m.sensors[k].gain_raw) << ", " << cpp_number(m.sensors[k].offset_raw)', 'cpp_number(m.sensors[k].offset_raw) << ", " << cpp_number(m.sensors[k].gain_raw)', CODEGEN),
+    ("codegen_covariate_slope_centre", CG, 'cpp_number(covariates[i].slope) + ", " +\n           cpp_number(covariates[i].centre)', 'cpp_number(covariates[i].centre) + ", " +\n           cpp_number(covariates[i].slope)', CODEGEN),
+    ("codegen_parameters_home_dropped", CG, "if (e.home == fx::Home::base) continue;", "if (e.home != fx::Home::effects) continue;", CODEGEN),
 ]
 
 
@@ -167,7 +178,7 @@ def build(targets, fast=False):
     # Every library a test program links (TARGET/fast relinks the test against the archives as
     # they are: a mutant in lib/logs, lib/calibrate or lib/diagnose must be compiled into them first).
     r = sh(["cmake", "--build", BUILD, "-j" + JOBS, "--target", "epuck2_fit", "epuck2_virtual_robot", "epuck2_logs",
-            "epuck2_calibrate", "epuck2_diagnose"],
+            "epuck2_calibrate", "epuck2_diagnose", "epuck2_coefficients"],
            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if r.returncode != 0:
         return False, r.stdout[-3000:]

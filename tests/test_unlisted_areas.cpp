@@ -1,0 +1,217 @@
+// Tests aimed at slips nobody listed (issue #22, item 6), second set: the voltage->charge map,
+// the cluster-robust standard errors and the robots' Cochran Q test. Every expected value is
+// worked by hand below from the formulas the headers and docs state (not read back from the code):
+// a map given by hand with a load term whose offsets differ per speed, runs whose scores differ
+// per parameter, robots whose weights differ, and the cases at the branch points (exactly
+// kMinClusters runs, a voltage exactly at a knot and at the range's ends, a Q whose p-value sits
+// either side of kRobotSpreadP). The slips they were written against: bench/fresh-slips.md.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "epuck2/calibrate/charge_map.hpp"
+#include "epuck2/fit/report.hpp"
+#include "epuck2/fit/robust.hpp"
+
+namespace {
+
+namespace c = epuck2::calibrate;
+namespace fit = epuck2::fit;
+
+// ----- the voltage->charge map ------------------------------------------------------------------
+
+// f through (3.0 V, 0), (3.5 V, 0.4), (4.0 V, 1.0); load offsets 0, 0.02, 0.10 V at 0, 5, 15 cm/s.
+c::ChargeMap hand_map() {
+  c::ChargeMap m;
+  m.knots_v = {3.0, 3.5, 4.0};
+  m.knot_charge = {0.0, 0.4, 1.0};
+  m.load_speeds_cm_s = {0.0, 5.0, 15.0};
+  m.load_offset_v = {0.0, 0.02, 0.10};
+  m.voltage_min_v = 3.0;
+  m.voltage_max_v = 4.0;
+  return m;
+}
+
+TEST(ChargeMapByHand, LoadOffsetIsLinearBetweenSpeedsFromTheLowerOne) {
+  const c::ChargeMap m = hand_map();
+  // 7 cm/s: 0.02 + (0.10 - 0.02) * (7 - 5) / (15 - 5) = 0.036; 10 cm/s: 0.06; 14: 0.092.
+  EXPECT_NEAR(c::load_offset_v(m, 7.0), 0.036, 1e-12);
+  EXPECT_NEAR(c::load_offset_v(m, 10.0), 0.06, 1e-12);
+  EXPECT_NEAR(c::load_offset_v(m, -14.0), 0.092, 1e-12);  // a speed's sign does not matter
+  // Exactly at the speeds (the knots of the load term).
+  EXPECT_NEAR(c::load_offset_v(m, 0.0), 0.0, 1e-15);
+  EXPECT_NEAR(c::load_offset_v(m, 5.0), 0.02, 1e-15);
+  EXPECT_NEAR(c::load_offset_v(m, 15.0), 0.10, 1e-15);
+}
+
+TEST(ChargeMapByHand, ConversionAddsTheLoadOffsetToTheVoltage) {
+  const c::ChargeMap m = hand_map();
+  // 3.64 V at 10 cm/s: corrected 3.70 V, on the second segment: 0.4 + 0.6 * 0.2 / 0.5 = 0.64.
+  c::ChargeConversion r = c::convert_voltage(m, 3.64, 10.0);
+  EXPECT_NEAR(r.charge, 0.64, 1e-12);
+  EXPECT_EQ(r.side, 0);
+  // 3.30 V at 15 cm/s: corrected 3.40 V, first segment: 0.4 * 0.4 / 0.5 = 0.32.
+  r = c::convert_voltage(m, 3.30, 15.0);
+  EXPECT_NEAR(r.charge, 0.32, 1e-12);
+  // Exactly at the middle knot (3.48 V + 0.02 V at 5 cm/s).
+  r = c::convert_voltage(m, 3.48, 5.0);
+  EXPECT_NEAR(r.charge, 0.4, 1e-12);
+  EXPECT_EQ(r.side, 0);
+}
+
+TEST(ChargeMapByHand, OutsideTheRangeClampsAndSaysOnWhichSide) {
+  const c::ChargeMap m = hand_map();
+  c::ChargeConversion below = c::convert_voltage(m, 2.9, 0.0);
+  EXPECT_EQ(below.side, -1);
+  EXPECT_NEAR(below.charge, 0.0, 1e-15);
+  c::ChargeConversion above = c::convert_voltage(m, 3.95, 15.0);  // corrected 4.05 V
+  EXPECT_EQ(above.side, 1);
+  EXPECT_NEAR(above.charge, 1.0, 1e-15);
+  // Exactly at the range's ends: inside.
+  EXPECT_EQ(c::convert_voltage(m, 3.0, 0.0).side, 0);
+  EXPECT_EQ(c::convert_voltage(m, 4.0, 0.0).side, 0);
+  EXPECT_NEAR(c::convert_voltage(m, 4.0, 0.0).charge, 1.0, 1e-15);
+}
+
+// The fitted map's residual sd is sqrt(RSS / (n - p)) (charge_map.hpp, docs): RSS recomputed
+// here from the map's own conversion of each row, p = the map's parameter count.
+TEST(ChargeMapByHand, ResidualSdCountsTheParameters) {
+  std::vector<c::ChargeSample> rows;
+  const int n = 40;
+  for (int i = 0; i < n; ++i) {
+    const double v = 3.0 + 1.0 * i / (n - 1);
+    rows.push_back({v, 4.0, 0.8 * (v - 3.0) + (i % 2 ? 0.01 : -0.01)});  // one speed: no load term
+  }
+  const c::ChargeMapFit f = c::fit_charge_map(rows, {"by-hand"});
+  ASSERT_TRUE(f.usable) << f.message;
+  EXPECT_FALSE(f.map.has_load());
+  double rss = 0, max_abs = 0;
+  for (const auto& r : rows) {
+    const c::ChargeConversion q = c::convert_voltage(f.map, r.voltage_v, r.speed_cm_s);
+    EXPECT_EQ(q.side, 0);
+    rss += (r.charge - q.charge) * (r.charge - q.charge);
+    max_abs = std::max(max_abs, std::abs(r.charge - q.charge));
+  }
+  const double p = static_cast<double>(f.map.parameters());
+  ASSERT_GE(p, 2.0);
+  EXPECT_NEAR(f.map.residual_sd, std::sqrt(rss / (n - p)), 1e-9);
+  EXPECT_NEAR(f.map.max_abs_residual, max_abs, 1e-9);
+  // The alternating +-0.01 is what is left: the sd near 0.01 * sqrt(n / (n - p)).
+  EXPECT_NEAR(f.map.residual_sd, 0.01 * std::sqrt(n / (n - p)), 2e-3);
+}
+
+// ----- the cluster-robust standard errors --------------------------------------------------------
+
+// Two parameters with orthogonal columns (J col 0 = 1, col 1 = +1, -1 within each run of two
+// rows), so J^T J = diag(10, 10). The runs' scores s = J^T r: run 0 r = (1, 1): (2, 0);
+// run 1 (-1, -1): (-2, 0); run 2 (2, 0): (2, 2); run 3 (-1, -1): (-2, 0); run 4 (0, 0): (0, 0).
+// sum s s^T = [[16, 4], [4, 4]]; V = (1/10)^2 [[16, 4], [4, 4]] * 5/4: V00 = 0.2, V11 = 0.05.
+struct Runs {
+  Eigen::MatrixXd J;
+  std::vector<double> r;
+  std::vector<int> run;
+};
+Runs five_runs() {
+  Runs x;
+  const std::vector<double> r{1, 1, -1, -1, 2, 0, -1, -1, 0, 0};
+  x.J.resize(10, 2);
+  for (int i = 0; i < 10; ++i) {
+    x.J(i, 0) = 1.0;
+    x.J(i, 1) = i % 2 ? -1.0 : 1.0;
+    x.run.push_back(i / 2);
+  }
+  x.r = r;
+  return x;
+}
+
+fit::FitResult two_parameters(double se0, double se1) {
+  fit::FitResult f;
+  f.usable = true;
+  f.parameters = {fit::ParameterEstimate("a", 0.0, se0), fit::ParameterEstimate("b", 0.0, se1)};
+  return f;
+}
+
+TEST(ClusterRobustByHand, FiveRunsExactlyAtTheLimitGiveTheSandwichWithGOverGMinusOne) {
+  ASSERT_EQ(fit::kMinClusters, 5u);  // the case below is exactly at the limit
+  const Runs x = five_runs();
+  fit::AutocorrelationCorrection a;
+  fit::apply_cluster_robust(a, two_parameters(0.01, 0.01), x.J, x.r, x.run);
+  ASSERT_TRUE(a.cluster_robust) << a.cluster_why_not;
+  EXPECT_EQ(a.series, 5u);
+  EXPECT_NEAR(a.std_error("a"), std::sqrt(0.2), 1e-12);
+  EXPECT_NEAR(a.std_error("b"), std::sqrt(0.05), 1e-12);
+}
+
+TEST(ClusterRobustByHand, NeverBelowTheCovariancesError) {
+  const Runs x = five_runs();
+  fit::AutocorrelationCorrection a;
+  // a's covariance error 1.0 is above its cluster-robust 0.447: kept; b's 0.1 below 0.224: replaced.
+  fit::apply_cluster_robust(a, two_parameters(1.0, 0.1), x.J, x.r, x.run);
+  ASSERT_TRUE(a.cluster_robust);
+  EXPECT_NEAR(a.std_error("a"), 1.0, 1e-15);
+  EXPECT_NEAR(a.std_error("b"), std::sqrt(0.05), 1e-12);
+}
+
+TEST(ClusterRobustByHand, FourRunsFallBackToTheAr1Factor) {
+  Runs x = five_runs();
+  for (int& g : x.run) g = std::min(g, 3);  // runs 3 and 4 merged: 4 runs
+  fit::AutocorrelationCorrection a;  // not computed: the AR(1) factor is 1
+  fit::apply_cluster_robust(a, two_parameters(0.3, 0.02), x.J, x.r, x.run);
+  EXPECT_FALSE(a.cluster_robust);
+  EXPECT_FALSE(a.cluster_why_not.empty());
+  EXPECT_NEAR(a.std_error("a"), 0.3, 1e-15);
+  EXPECT_NEAR(a.std_error("b"), 0.02, 1e-15);
+}
+
+// ----- the robots' Cochran Q test ---------------------------------------------------------------
+
+fit::FitResult robot(double x, double se) {
+  fit::FitResult f;
+  f.usable = true;
+  f.parameters = {fit::ParameterEstimate("gain", x, se)};
+  return f;
+}
+
+TEST(RobotSpreadByHand, QAboutTheInverseVarianceMean) {
+  // x = 1, 2, 4 with se 0.5, 1, 1: weights 4, 1, 1, x_w = 10 / 6 = 5/3;
+  // Q = 4 (2/3)^2 + (1/3)^2 + (7/3)^2 = 66/9 = 22/3; chi^2(2) tail exp(-Q/2) = exp(-11/3).
+  // The robots' sample sd: mean 7/3, ss = (16 + 1 + 25)/9, sd = sqrt(42/9/2) = sqrt(7/3).
+  const fit::FitResult r1 = robot(1, 0.5), r2 = robot(2, 1), r3 = robot(4, 1);
+  const auto s = fit::robot_spread({&r1, &r2, &r3});
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s[0].parameter, "gain");
+  EXPECT_NEAR(s[0].q, 22.0 / 3.0, 1e-12);
+  EXPECT_EQ(s[0].dof, 2u);
+  EXPECT_NEAR(s[0].p_value, std::exp(-11.0 / 3.0), 1e-9);
+  EXPECT_NEAR(s[0].spread_sd, std::sqrt(7.0 / 3.0), 1e-12);
+  EXPECT_FALSE(s[0].exceeds);  // p = 0.0256 > 0.01
+}
+
+TEST(RobotSpreadByHand, PValueEitherSideOfTheCut) {
+  // x = 0, 0, d with se 1: x_w = d/3, Q = 2 (d/3)^2 + (2d/3)^2 = 2 d^2 / 3; with 2 degrees of
+  // freedom p = exp(-Q/2), so p = 0.01 at Q = 2 ln 100 = 9.2103. Q = 9.0 and 9.5 either side.
+  ASSERT_DOUBLE_EQ(fit::kRobotSpreadP, 0.01);
+  for (const double q : {9.0, 9.5}) {
+    const double d = std::sqrt(1.5 * q);
+    const fit::FitResult r1 = robot(0, 1), r2 = robot(0, 1), r3 = robot(d, 1);
+    const auto s = fit::robot_spread({&r1, &r2, &r3});
+    ASSERT_EQ(s.size(), 1u);
+    EXPECT_NEAR(s[0].q, q, 1e-9);
+    EXPECT_NEAR(s[0].p_value, std::exp(-q / 2), 1e-9);
+    EXPECT_EQ(s[0].exceeds, q > 2 * std::log(100.0)) << "Q = " << q;
+  }
+}
+
+TEST(RobotSpreadByHand, TwoRobotsHaveOneDegreeOfFreedom) {
+  // x = 0 and 3 with se 1 and 2: weights 1, 1/4, x_w = 0.75 / 1.25 = 0.6;
+  // Q = 0.36 + (2.4)^2 / 4 = 0.36 + 1.44 = 1.8; chi^2(1) tail = erfc(sqrt(Q/2)).
+  const fit::FitResult r1 = robot(0, 1), r2 = robot(3, 2);
+  const auto s = fit::robot_spread({&r1, &r2});
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_NEAR(s[0].q, 1.8, 1e-12);
+  EXPECT_EQ(s[0].dof, 1u);
+  EXPECT_NEAR(s[0].p_value, std::erfc(std::sqrt(0.9)), 1e-9);
+}
+
+}  // namespace
