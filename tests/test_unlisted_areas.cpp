@@ -1,5 +1,5 @@
 // Tests aimed at slips nobody listed (issue #22, item 6), second set: the voltage->charge map,
-// the cluster-robust standard errors and the robots' Cochran Q test. Every expected value is
+// the cluster-robust standard errors, the robots' Cochran Q test, the Tobit terms and codegen. Every expected value is
 // worked by hand below from the formulas the headers and docs state (not read back from the code):
 // a map given by hand with a load term whose offsets differ per speed, runs whose scores differ
 // per parameter, robots whose weights differ, and the cases at the branch points (exactly
@@ -8,16 +8,25 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "epuck2/calibrate/charge_map.hpp"
+#include "epuck2/coefficients/codegen.hpp"
 #include "epuck2/fit/report.hpp"
 #include "epuck2/fit/robust.hpp"
+#include "epuck2/models/effects.hpp"
 
 namespace {
 
 namespace c = epuck2::calibrate;
 namespace fit = epuck2::fit;
+namespace fx = epuck2::models::effects;
 
 // ----- the voltage->charge map ------------------------------------------------------------------
 
@@ -212,6 +221,187 @@ TEST(RobotSpreadByHand, TwoRobotsHaveOneDegreeOfFreedom) {
   EXPECT_NEAR(s[0].q, 1.8, 1e-12);
   EXPECT_EQ(s[0].dof, 1u);
   EXPECT_NEAR(s[0].p_value, std::erfc(std::sqrt(0.9)), 1e-9);
+}
+
+
+// ----- the Tobit terms ---------------------------------------------------------------------------
+
+// A constant model f = a; five readings inside the rails, two on an upper rail at 1.5, one on a
+// lower rail at 0. The likelihood of docs/fitting.md, written here afresh with erfc:
+//   inside: -log sigma - log sqrt(2 pi) - (y - a)^2 / 2 sigma^2
+//   upper rail U: log Phi((a - U) / sigma); lower rail L: log Phi((L - a) / sigma)
+// and maximised here by bisection (a) and golden section (sigma), not by the code under test.
+namespace tobit {
+
+const std::vector<double> kInside{0.2, 1.0, 1.4, 0.6, 0.9};
+constexpr double kUpper = 1.5, kLower = 0.0;
+constexpr int kOnUpper = 2, kOnLower = 1;
+
+double Phi(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+double phi(double z) { return std::exp(-0.5 * z * z) / std::sqrt(2 * M_PI); }
+
+double loglik(double a, double s) {
+  double l = 0;
+  for (double y : kInside) l += -std::log(s) - 0.5 * std::log(2 * M_PI) - (y - a) * (y - a) / (2 * s * s);
+  l += kOnUpper * std::log(Phi((a - kUpper) / s)) + kOnLower * std::log(Phi((kLower - a) / s));
+  return l;
+}
+
+// d loglik / d a, decreasing in a.
+double score_a(double a, double s) {
+  double g = 0;
+  for (double y : kInside) g += (y - a) / (s * s);
+  const double zu = (a - kUpper) / s, zl = (kLower - a) / s;
+  return g + kOnUpper * phi(zu) / Phi(zu) / s - kOnLower * phi(zl) / Phi(zl) / s;
+}
+
+double a_of(double s) {
+  double lo = -10, hi = 10;
+  for (int i = 0; i < 200; ++i) (score_a(0.5 * (lo + hi), s) > 0 ? lo : hi) = 0.5 * (lo + hi);
+  return 0.5 * (lo + hi);
+}
+
+double sigma_ml() {
+  double lo = 0.05, hi = 5;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  for (int i = 0; i < 200; ++i) {
+    const double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+    (loglik(a_of(x1), x1) < loglik(a_of(x2), x2) ? lo : hi) = (loglik(a_of(x1), x1) < loglik(a_of(x2), x2) ? x1 : x2);
+  }
+  return 0.5 * (lo + hi);
+}
+
+struct Constant {
+  std::size_t n;
+  template <typename T>
+  bool operator()(const T* p, T* out) const {
+    for (std::size_t i = 0; i < n; ++i) out[i] = p[0];
+    return true;
+  }
+};
+
+fit::RobustFit fit_it(double noise_sd) {
+  std::vector<fit::Observation> obs;
+  for (double y : kInside) obs.push_back({y, fit::Censoring::none, "inside", -1});
+  for (int i = 0; i < kOnUpper; ++i) obs.push_back({kUpper, fit::Censoring::at_or_above, "upper", -1});
+  for (int i = 0; i < kOnLower; ++i) obs.push_back({kLower, fit::Censoring::at_or_below, "lower", -1});
+  fit::RobustOptions o;
+  o.robust = false;
+  o.noise_sd = noise_sd;
+  return fit::fit_robust(Constant{obs.size()}, obs, {fit::free_parameter("a", 0.5)}, o);
+}
+
+}  // namespace tobit
+
+TEST(TobitByHand, GivenNoiseTheEstimateLikelihoodAndErrorAreTobits) {
+  const double s = 0.5;
+  const fit::RobustFit f = tobit::fit_it(s);
+  ASSERT_TRUE(f.usable) << f.message;
+  const double a = tobit::a_of(s);
+  // The two upper-rail readings pull a above the inside readings' mean 0.82, the lower one less.
+  ASSERT_GT(a, 0.82);
+  EXPECT_NEAR(f.value("a"), a, 1e-7);
+  EXPECT_NEAR(f.log_likelihood, tobit::loglik(a, s), 1e-8);
+  EXPECT_EQ(f.kept_censored_above, 2u);
+  EXPECT_EQ(f.kept_censored_below, 1u);
+  // Gauss-Newton covariance of the residuals r = (y - a)/sigma and r = sqrt(-2 log Phi(z)):
+  // d r / d a = -1/sigma inside, -lambda(z) / r * (dz/da) on a rail, lambda = phi/Phi.
+  double info = 5 / (s * s);
+  for (const auto& [z, count] : {std::pair{(a - tobit::kUpper) / s, 2}, std::pair{(tobit::kLower - a) / s, 1}}) {
+    const double r = std::sqrt(-2 * std::log(tobit::Phi(z)));
+    const double d = tobit::phi(z) / tobit::Phi(z) / r / s;
+    info += count * d * d;
+  }
+  EXPECT_NEAR(f.std_error("a"), 1 / std::sqrt(info), 1e-7);
+}
+
+TEST(TobitByHand, EstimatedNoiseIsTheMaximumLikelihoodOne) {
+  const fit::RobustFit f = tobit::fit_it(std::numeric_limits<double>::quiet_NaN());
+  ASSERT_TRUE(f.usable) << f.message;
+  const double s = tobit::sigma_ml(), a = tobit::a_of(s);
+  EXPECT_NEAR(f.value("a"), a, 1e-6);
+  // noise_sd carries the degrees of freedom the one parameter takes from the 5 inside readings.
+  EXPECT_NEAR(f.noise_sd, s * std::sqrt(5.0 / 4.0), 1e-6);
+  EXPECT_NEAR(f.log_likelihood, tobit::loglik(a, s), 1e-8);
+}
+
+// ----- codegen ------------------------------------------------------------------------------------
+
+// Every parameter of every catalogue effect (iterated over the registry, lib/models effects.hpp)
+// set to a value inside its range, not neutral, different per effect, parameter and sensor; the
+// generated C++ is read back here line by line ("  m.MEMBER = value;" or "= {v0, v1, ...};") and
+// must give back exactly the values set (codegen writes numbers that round-trip).
+namespace codegen {
+
+// The number list of the line "  m.<member> = ...;" (one number, or a braced list).
+std::vector<double> numbers_of(const std::string& cpp, const std::string& member) {
+  const std::string head = "\n  m." + member + " = ";
+  const std::size_t at = cpp.find(head);
+  EXPECT_NE(at, std::string::npos) << "no line for " << member << " in\n" << cpp;
+  if (at == std::string::npos) return {};
+  EXPECT_EQ(cpp.find(head, at + 1), std::string::npos) << member << " written twice";
+  const std::size_t end = cpp.find(";\n", at);
+  std::string text = cpp.substr(at + head.size(), end - at - head.size());
+  for (char& ch : text)
+    if (ch == '{' || ch == '}' || ch == ',') ch = ' ';
+  std::istringstream is(text);
+  std::vector<double> out;
+  for (std::string w; is >> w;) out.push_back(std::strtod(w.c_str(), nullptr));
+  return out;
+}
+
+template <class Model>
+void every_effect_round_trips(Model m) {
+  const fx::Catalogue& cat = fx::catalogue_of(m);
+  std::map<std::string, std::vector<double>> set;  // member -> values, in element order
+  fx::for_each_param(fx::effects_of(m), [&](std::size_t id, int p, int k, double& v) {
+    const fx::Param& P = cat[id].params[static_cast<std::size_t>(p)];
+    double frac = 0.21 + 0.061 * k + 0.017 * p + 0.007 * static_cast<double>(id);
+    v = P.lower + frac * (P.upper - P.lower);
+    if (v == P.neutral) v = P.lower + (frac + 0.013) * (P.upper - P.lower);
+    ASSERT_TRUE(fx::Effect::admissible(P, v));
+    if (cat[id].home != fx::Home::base) set[P.member].push_back(v);
+  });
+  ASSERT_FALSE(set.empty());
+  const std::string cpp = epuck2::coefficients::model_to_cpp(m, "a test");
+  for (const auto& [member, values] : set) {
+    const std::vector<double> got = numbers_of(cpp, member);
+    ASSERT_EQ(got.size(), values.size()) << member;
+    for (std::size_t i = 0; i < values.size(); ++i) EXPECT_EQ(got[i], values[i]) << member << "[" << i << "]";
+  }
+}
+
+}  // namespace codegen
+
+TEST(CodegenByHand, EveryCatalogueEffectOfEveryKindWithNonNeutralValues) {
+  namespace s = epuck2::models::sensors;
+  codegen::every_effect_round_trips(s::ProximityModel{});
+  codegen::every_effect_round_trips(s::LightModel{});
+  codegen::every_effect_round_trips(s::GroundModel{});
+  codegen::every_effect_round_trips(s::CameraModel{});
+  codegen::every_effect_round_trips(s::DriveModel{});
+  codegen::every_effect_round_trips(s::BatteryModel{});
+}
+
+TEST(CodegenByHand, GroundSensorsAndCovariatesKeepTheirOrder) {
+  namespace s = epuck2::models::sensors;
+  s::GroundModel m;
+  for (std::size_t k = 0; k < m.sensors.size(); ++k) m.sensors[k] = {1.25 + 0.5 * k, 40.0 + 7.0 * k};  // gain, black offset
+  m.covariates = {{"speed_cm_s", 0.375, 7.5}, {"time_s", -2.25, 300.0}};
+  const std::string cpp = epuck2::coefficients::model_to_cpp(m, "a test");
+  for (std::size_t k = 0; k < m.sensors.size(); ++k) {
+    const std::vector<double> v = codegen::numbers_of(cpp, "sensors[" + std::to_string(k) + "]");
+    ASSERT_EQ(v.size(), 2u);
+    EXPECT_EQ(v[0], 1.25 + 0.5 * k) << "gain of sensor " << k;
+    EXPECT_EQ(v[1], 40.0 + 7.0 * k) << "offset of sensor " << k;
+  }
+  // {"speed_cm_s", slope, centre}, ...: the numbers in the order written.
+  const std::size_t at = cpp.find("  m.covariates = {");
+  ASSERT_NE(at, std::string::npos);
+  const std::string line = cpp.substr(at, cpp.find('\n', at) - at);
+  EXPECT_NE(line.find("{\"speed_cm_s\", 0.375, 7.5}"), std::string::npos) << line;
+  EXPECT_NE(line.find("{\"time_s\", -2.25, 300}"), std::string::npos) << line;
+  EXPECT_LT(line.find("speed_cm_s"), line.find("time_s"));
 }
 
 }  // namespace
