@@ -66,6 +66,7 @@ CLUSTER = (["test_report", "test_report_files", "test_measured_logs", "test_unli
            r"^(Autocorrelation|ClusterRobust|ReportFiles|ReportText|Measured|RobustEngine|ClusterRobustByHand)")
 QTEST = (["test_measured_logs", "test_sensor_fits", "test_unlisted_areas"], r"^(Measured|RobustEngine|Sensor|RobotSpreadByHand)")
 TOBIT = (SENSORS[0] + ["test_unlisted_areas"], SENSORS[1][:-1] + "|TobitByHand)")
+IDENTIFY = (["test_diagnose_steps", "test_unlisted_areas"], r"^(DiagnoseBase|DiagnoseNaming|DiagnoseSteps|IdentifyByHand)")
 CG = "lib/coefficients/src/codegen.cpp"
 # (test_model_loop also writes headers, through the CLI, which the mutants' fast build does not relink.)
 CODEGEN = (["test_coefficients", "test_unlisted_areas"], r"^(CoefficientFile|EffectRegistry|NewEffect|CodegenByHand)")
@@ -133,6 +134,10 @@ MUTANTS = [
     ("codegen_ground_gain_offset_swapped", CG, 'cpp_number(m.sensors[k].gain_raw) << ", " << cpp_number(m.sensors[k].offset_raw)', 'cpp_number(m.sensors[k].offset_raw) << ", " << cpp_number(m.sensors[k].gain_raw)', CODEGEN),
     ("codegen_covariate_slope_centre", CG, 'cpp_number(covariates[i].slope) + ", " +\n           cpp_number(covariates[i].centre)', 'cpp_number(covariates[i].centre) + ", " +\n           cpp_number(covariates[i].slope)', CODEGEN),
     ("codegen_parameters_home_dropped", CG, "if (e.home == fx::Home::base) continue;", "if (e.home != fx::Home::effects) continue;", CODEGEN),
+    ("identify_wald_no_cross", DK, "V(a, b) = cov(ia, ib) - cov(ia, g[0]) - cov(g[0], ib) + cov(g[0], g[0]);", "V(a, b) = cov(ia, ib) + cov(g[0], g[0]);", IDENTIFY),
+    ("identify_wald_dof_sensors", DK, "const double dof = static_cast<double>(m);", "const double dof = static_cast<double>(m + 1);", IDENTIFY),
+    ("identify_level_first_gain", DK, "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;", "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * values[g[0]];", IDENTIFY),
+    ("identify_tail_share_strict", DK, "tail <= kTailShareOfNearField * total) return std::nullopt;", "tail < kTailShareOfNearField * total) return std::nullopt;", IDENTIFY),
 ]
 
 
