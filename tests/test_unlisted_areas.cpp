@@ -1,5 +1,6 @@
 // Tests aimed at slips nobody listed (issue #22, item 6), second set: the voltage->charge map,
-// the cluster-robust standard errors, the robots' Cochran Q test, the Tobit terms and codegen. Every expected value is
+// the cluster-robust standard errors, the robots' Cochran Q test, the Tobit terms, codegen and the
+// naming step of the diagnosis's findings. Every expected value is
 // worked by hand below from the formulas the headers and docs state (not read back from the code):
 // a map given by hand with a load term whose offsets differ per speed, runs whose scores differ
 // per parameter, robots whose weights differ, and the cases at the branch points (exactly
@@ -11,6 +12,7 @@
 #include <cstdlib>
 #include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -18,9 +20,14 @@
 
 #include "epuck2/calibrate/charge_map.hpp"
 #include "epuck2/coefficients/codegen.hpp"
+#include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/fit/report.hpp"
 #include "epuck2/fit/robust.hpp"
+#include "epuck2/logs/log.hpp"
 #include "epuck2/models/effects.hpp"
+// The diagnosis's problems (make_problem, Problem::identify) are the library's own, not in its
+// public headers.
+#include "../lib/diagnose/src/problem.hpp"
 
 namespace {
 
@@ -402,6 +409,93 @@ TEST(CodegenByHand, GroundSensorsAndCovariatesKeepTheirOrder) {
   EXPECT_NE(line.find("{\"speed_cm_s\", 0.375, 7.5}"), std::string::npos) << line;
   EXPECT_NE(line.find("{\"time_s\", -2.25, 300}"), std::string::npos) << line;
   EXPECT_LT(line.find("speed_cm_s"), line.find("time_s"));
+}
+
+
+// ----- the naming step of findings (identify) ------------------------------------------------------
+
+// The ground's rule: sensor gains equal within their errors are one white level. Three sensors,
+// gains 1.0, 1.2, 1.1 (differences from the first d = (0.2, 0.1)); every gain's variance v,
+// every two gains' covariance c (correlated through the offsets). The differences' covariance is
+// V = (v - c) [[2, 1], [1, 2]], so the Wald statistic d^T V^-1 d = (2 0.04 + 2 0.01 - 2 0.02) /
+// (3 (v - c)) = 0.02 / (v - c) on 2 degrees of freedom, p = exp(-W/2); equal when p >= 0.01,
+// that is W <= 2 ln 100 = 9.2103. v - c = 0.0023: W = 8.70, p = 0.0129, one white level
+// offset + (level - offset) * 1.1 (the gains' mean); v - c = 0.0020: W = 10, p = 0.0067, not.
+namespace identify {
+
+namespace d = epuck2::diagnose::detail;
+
+std::unique_ptr<d::Problem> ground_problem() {
+  std::string csv = "grey,sensor,value\n";
+  for (double grey : {0.0, 0.25, 0.5, 0.75, 1.0})
+    for (int k = 0; k < 3; ++k) csv += std::to_string(grey) + "," + std::to_string(k) + "," + std::to_string(40 + 900 * grey) + "\n";
+  std::vector<epuck2::logs::Log> logs{epuck2::logs::parse_log(csv, "ground.csv", epuck2::logs::Kind::ground)};
+  std::string why;
+  auto p = d::make_problem(logs, epuck2::diagnose::Options{}, why);
+  EXPECT_NE(p, nullptr) << why;
+  return p;
+}
+
+const d::Effect* effect(const d::Problem& p, std::size_t id) {
+  for (const d::Effect& e : p.effects)
+    if (e.cause == fx::ground_catalogue()[id].name) return &e;
+  return nullptr;
+}
+
+struct Case {
+  std::vector<double> values;
+  Eigen::MatrixXd covariance;
+  int level = -1, offset = -1;
+  std::vector<int> gains;
+};
+
+// Gains and their covariance as above; every other parameter at the plug-in's value, no error.
+Case ground_case(const d::Problem& p, double v, double c) {
+  Case x;
+  x.values = p.plugin_values;
+  const d::Effect* g = effect(p, fx::ground::sensor_gain);
+  const d::Effect* l = effect(p, fx::ground::white_level);
+  const d::Effect* o = effect(p, fx::ground::black_offset);
+  EXPECT_TRUE(g != nullptr && l != nullptr && o != nullptr);
+  if (g == nullptr || l == nullptr || o == nullptr) return x;
+  x.gains = g->params;
+  EXPECT_EQ(x.gains.size(), 3u);
+  x.level = l->params.at(0);
+  x.offset = o->params.at(0);
+  const auto P = static_cast<Eigen::Index>(p.params.size());
+  x.covariance = Eigen::MatrixXd::Zero(P, P);
+  const std::vector<double> gain{1.0, 1.2, 1.1};
+  for (std::size_t a = 0; a < x.gains.size(); ++a) {
+    x.values[static_cast<std::size_t>(x.gains[a])] = gain[a];
+    for (std::size_t b = 0; b < x.gains.size(); ++b) x.covariance(x.gains[a], x.gains[b]) = a == b ? v : c;
+  }
+  return x;
+}
+
+}  // namespace identify
+
+TEST(IdentifyByHand, GroundGainsEqualWithinTheirCorrelatedErrorsAreOneWhiteLevel) {
+  const auto p = identify::ground_problem();
+  ASSERT_NE(p, nullptr);
+  const std::string gain_cause = fx::ground_catalogue()[fx::ground::sensor_gain].name;
+  // v - c = 0.0023 (p = 0.0129): named a white level at the gains' mean.
+  identify::Case x = identify::ground_case(*p, 0.0060, 0.0037);
+  ASSERT_EQ(x.gains.size(), 3u);
+  const double offset = x.values[static_cast<std::size_t>(x.offset)];
+  const double level = x.values[static_cast<std::size_t>(x.level)];
+  ASSERT_EQ(level, p->params[static_cast<std::size_t>(x.level)].fallback);  // no white level in the model yet
+  const auto named = p->identify(gain_cause, x.values, x.covariance);
+  ASSERT_TRUE(named.has_value());
+  EXPECT_EQ(named->cause, fx::ground_catalogue()[fx::ground::white_level].name);
+  ASSERT_EQ(named->starts.size(), 1u);
+  EXPECT_EQ(named->starts[0].first, x.level);
+  EXPECT_NEAR(named->starts[0].second, offset + (level - offset) * 1.1, 1e-9);
+  // v - c = 0.0020 (W = 10, p = 0.0067): the sensors differ; the finding keeps its name.
+  x = identify::ground_case(*p, 0.0060, 0.0040);
+  EXPECT_FALSE(p->identify(gain_cause, x.values, x.covariance).has_value());
+  // The same variances without the correlation (c = 0: W = 0.02 / 0.006 = 3.33, p = 0.19): equal.
+  x = identify::ground_case(*p, 0.0060, 0.0);
+  EXPECT_TRUE(p->identify(gain_cause, x.values, x.covariance).has_value());
 }
 
 }  // namespace
