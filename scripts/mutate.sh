@@ -56,6 +56,20 @@ NOISE = (["test_reading_noise", "test_sensor_fits", "test_measured_logs", "test_
 RN = "lib/calibrate/src/reading_noise.cpp"
 TOF_CODES = (["test_diagnose_steps", "test_log_reader", "test_measured_logs", "test_sensor_fits", "test_area_boundaries"],
              r"^(DiagnoseBase|DiagnoseSteps|LogReader|MeasuredDrive|DriveFit|DiagnosisTofCodes)")
+# The second fresh set (bench/fresh-slips.md, branch unlisted-bugs): the voltage->charge map, the
+# cluster-robust errors, the robots' Cochran Q test. (The CLI's tests are not in these groups: the
+# mutants' fast build does not relink the CLI.)
+CM = "lib/calibrate/src/charge_map.cpp"
+RP = "lib/fit/src/report.cpp"
+CHARGE = (["test_charge_map", "test_unlisted_areas"], r"^(ChargeMap|ChargeMapByHand)")
+CLUSTER = (["test_report", "test_report_files", "test_measured_logs", "test_unlisted_areas"],
+           r"^(Autocorrelation|ClusterRobust|ReportFiles|ReportText|Measured|RobustEngine|ClusterRobustByHand)")
+QTEST = (["test_measured_logs", "test_sensor_fits", "test_unlisted_areas"], r"^(Measured|RobustEngine|Sensor|RobotSpreadByHand)")
+TOBIT = (SENSORS[0] + ["test_unlisted_areas"], SENSORS[1][:-1] + "|TobitByHand)")
+IDENTIFY = (["test_diagnose_steps", "test_unlisted_areas"], r"^(DiagnoseBase|DiagnoseNaming|DiagnoseSteps|IdentifyByHand)")
+CG = "lib/coefficients/src/codegen.cpp"
+# (test_model_loop also writes headers, through the CLI, which the mutants' fast build does not relink.)
+CODEGEN = (["test_coefficients", "test_unlisted_areas"], r"^(CoefficientFile|EffectRegistry|NewEffect|CodegenByHand)")
 
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
@@ -103,6 +117,27 @@ MUTANTS = [
     ("noise_small_group_le", RN, "g.kept.size() < kSmallGroup ?", "g.kept.size() <= kSmallGroup ?", NOISE),
     ("noise_per_sensor_inverted", RN, "if (sensor[i] != s) mine[i] = -1;", "if (sensor[i] == s) mine[i] = -1;", NOISE),
     ("noise_median_even_upper", RN, "return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);", "return v[n / 2];", NOISE),
+    ("charge_load_sign", CM, "double x = voltage_v + load_offset_v(m, speed_cm_s);", "double x = voltage_v - load_offset_v(m, speed_cm_s);", CHARGE),
+    ("charge_load_lerp_reversed", CM, "return y[k] + (y[k + 1] - y[k]) * (s - x[k]) / (x[k + 1] - x[k]);", "return y[k] + (y[k + 1] - y[k]) * (x[k + 1] - s) / (x[k + 1] - x[k]);", CHARGE),
+    ("charge_residual_sd_n", CM, "std::sqrt(c.rss / static_cast<double>(d.v.size() - c.parameters));", "std::sqrt(c.rss / static_cast<double>(d.v.size()));", CHARGE),
+    ("charge_clamp_side_high", CM, "    c.side = -1;", "    c.side = 1;", CHARGE),
+    ("cluster_no_small_sample", RP, "bread * meat * bread * (g / (g - 1.0));", "bread * meat * bread;", CLUSTER),
+    ("cluster_min_le", RP, "if (G < kMinClusters) {", "if (G <= kMinClusters) {", CLUSTER),
+    ("cluster_no_floor", RP, "a.std_errors[j] = std::max(se, fit.parameters[j].std_error);", "a.std_errors[j] = se;", CLUSTER),
+    ("q_unweighted_mean", RB, "const double xw = swx / sw;", "const double xw = mean;", QTEST),
+    ("q_dof_robots", RB, "s.dof = x.size() - 1;", "s.dof = x.size();", QTEST),
+    ("q_se_not_squared", RB, "s.q += (x[i] - xw) * (x[i] - xw) / (se[i] * se[i]);", "s.q += (x[i] - xw) * (x[i] - xw) / se[i];", QTEST),
+    ("tobit_em_hazard_side", RB, "ss += sigma * sigma * (1 + c * normal_hazard_lower(-c));", "ss += sigma * sigma * (1 + c * normal_hazard_lower(c));", TOBIT),
+    ("tobit_loglik_side", RB, "loglik += log_normal_cdf(sign * (predictions[i] - obs[i].value) / sigma);", "loglik += log_normal_cdf(sign * (obs[i].value - predictions[i]) / sigma);", TOBIT),
+    ("tobit_gradient_unsigned", RB, "-sw * normal_hazard_lower(z) / r * sign / sigma_", "-sw * normal_hazard_lower(z) / r / sigma_", TOBIT),
+    ("codegen_array_first", CG, 'for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + cpp_number(v[i]);', 'for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + cpp_number(v[0]);', CODEGEN),
+    ("codegen_ground_gain_offset_swapped", CG, 'cpp_number(m.sensors[k].gain_raw) << ", " << cpp_number(m.sensors[k].offset_raw)', 'cpp_number(m.sensors[k].offset_raw) << ", " << cpp_number(m.sensors[k].gain_raw)', CODEGEN),
+    ("codegen_covariate_slope_centre", CG, 'cpp_number(covariates[i].slope) + ", " +\n           cpp_number(covariates[i].centre)', 'cpp_number(covariates[i].centre) + ", " +\n           cpp_number(covariates[i].slope)', CODEGEN),
+    ("codegen_parameters_home_dropped", CG, "if (e.home == fx::Home::base) continue;", "if (e.home != fx::Home::effects) continue;", CODEGEN),
+    ("identify_wald_no_cross", DK, "V(a, b) = cov(ia, ib) - cov(ia, g[0]) - cov(g[0], ib) + cov(g[0], g[0]);", "V(a, b) = cov(ia, ib) + cov(g[0], g[0]);", IDENTIFY),
+    ("identify_wald_dof_sensors", DK, "const double dof = static_cast<double>(m);", "const double dof = static_cast<double>(m + 1);", IDENTIFY),
+    ("identify_level_first_gain", DK, "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;", "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * values[g[0]];", IDENTIFY),
+    ("identify_tail_share_strict", DK, "tail <= kTailShareOfNearField * total) return std::nullopt;", "tail < kTailShareOfNearField * total) return std::nullopt;", IDENTIFY),
 ]
 
 
@@ -148,7 +183,7 @@ def build(targets, fast=False):
     # Every library a test program links (TARGET/fast relinks the test against the archives as
     # they are: a mutant in lib/logs, lib/calibrate or lib/diagnose must be compiled into them first).
     r = sh(["cmake", "--build", BUILD, "-j" + JOBS, "--target", "epuck2_fit", "epuck2_virtual_robot", "epuck2_logs",
-            "epuck2_calibrate", "epuck2_diagnose"],
+            "epuck2_calibrate", "epuck2_diagnose", "epuck2_coefficients"],
            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if r.returncode != 0:
         return False, r.stdout[-3000:]
