@@ -24,6 +24,9 @@ void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what
       ->check(CLI::Range(2.0, 100.0));
   sub->add_option("--robot", o.robot, "Fit only this robot's logs (# robot: metadata, a robot column, or the file name)");
   add_skip_bad_rows(sub, o.skip_bad_rows);
+  sub->add_flag("--accept-misfit", o.accept_misfit,
+                "Write the calibration even when a fit misses its data by many times its replicate noise or its R^2 is "
+                "below the floor (a warning instead of exit 1; docs/fitting.md)");
 }
 
 std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::string& robot) {
@@ -86,7 +89,9 @@ nlohmann::json fit_details(const fit::RobustFit& r, const std::string& rss_unit,
   if (r.lack_of_fit.tested)
     d["lack_of_fit"] = {{"reduced_chi2", number(r.lack_of_fit.reduced_chi2)}, {"p_value", number(r.lack_of_fit.p_value)},
                         {"replicate_sd", number(r.lack_of_fit.replicate_sd)}, {"groups", r.lack_of_fit.groups},
-                        {"dof_lack", r.lack_of_fit.dof_lack}, {"dof_pure", r.lack_of_fit.dof_pure}};
+                        {"dof_lack", r.lack_of_fit.dof_lack}, {"dof_pure", r.lack_of_fit.dof_pure},
+                        {"misfit_rms", number(r.lack_of_fit.misfit_rms)}, {"misfit_ratio", number(r.lack_of_fit.misfit_ratio)},
+                        {"worst", r.lack_of_fit.worst}};
   else
     d["lack_of_fit"] = {{"tested", false}, {"why", r.lack_of_fit.why_not}};
   return d;
@@ -354,6 +359,16 @@ void warn_undefined_std_errors(const std::string& kind, const nlohmann::json& j)
 
 void require_usable(const fit::FitResult& r, const std::string& what) {
   if (!r.usable) throw NoUsableFit(what + ": " + (r.message.empty() ? std::string("the solver found no solution") : r.message));
+}
+
+void require_fitting(const fit::RobustFit& r, const std::string& what, const SensorOptions& o,
+                     std::vector<std::string>& warnings) {
+  if (!r.usable) return;
+  const std::string verdict = fit::misfit_verdict(r.lack_of_fit, r.r2);
+  if (verdict.empty()) return;
+  if (!o.accept_misfit)
+    throw NoUsableFit(what + ": " + verdict + ". Nothing was written; --accept-misfit writes it anyway.");
+  warnings.push_back(what + " (accepted by --accept-misfit): " + verdict + ".");
 }
 
 }  // namespace epuck2::app::sensors
