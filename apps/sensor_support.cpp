@@ -301,6 +301,9 @@ void print_handling(const fit::RobustFit& r, const std::string& unit, const char
   if (r.lack_of_fit.tested)
     std::printf("%slack of fit against %zu replicate groups: reduced χ² against the replicates' noise %.3g (p = %.3g), replicate sd %.4g\n", indent,
                 r.lack_of_fit.groups, r.lack_of_fit.reduced_chi2, r.lack_of_fit.p_value, r.lack_of_fit.replicate_sd);
+  if (r.lack_of_fit.tested)
+    std::printf("%smisfit %.3g replicate sd per reading (warning above %g, exit 1 above %g); worst: %s\n", indent,
+                r.lack_of_fit.misfit_ratio, fit::kMisfitWarnRatio, fit::kMisfitFailRatio, r.lack_of_fit.worst.c_str());
   for (const auto& n : r.not_identifiable) {
     const auto why = r.std_error_why.find(n);
     std::printf("%snot identifiable: %s (%s)\n", indent, n.c_str(), why == r.std_error_why.end() ? "" : why->second.c_str());
