@@ -430,4 +430,31 @@ TEST_F(HonestLackOfFit, ANonQuadraticProximityCurveStopsWithTheWorstDistancesUnl
   EXPECT_TRUE(accepted) << j["warnings"].dump();
 }
 
+TEST_F(HonestLackOfFit, AGroundSensorThatDoesNotRespondIsBelowTheR2FloorAndNotWritten) {
+  // Three sensors that read 500 + N(0, 20) counts whatever the grey level: by the generator's
+  // construction no line through grey explains any of the variance (R^2 about 0, far below 0.9),
+  // although the flat line misses no replicate mean (no lack of fit to find).
+  std::mt19937 rng(2103);
+  std::normal_distribution<double> noise(0.0, 20.0);
+  std::ostringstream os;
+  os << "grey,sensor,value\n";
+  for (int sensor = 0; sensor < 3; ++sensor)
+    for (int g = 0; g <= 10; ++g)
+      for (int k = 0; k < 20; ++k) os << g / 10.0 << "," << sensor << "," << std::lround(500 + noise(rng)) << "\n";
+  const std::string log = write("flat.csv", os.str());
+  const std::string out = (dir_ / "flat.json").string();
+  const CliRun r = run("ground -o " + q(out) + " " + q(log));
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("error: no usable fit: ground sensor 0 (right): R^2 = "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" is below the floor of 0.9: the model does not follow the data. Nothing was written"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const CliRun a = run("ground --accept-misfit -o " + q(out) + " " + q(log));
+  EXPECT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  for (const char* sensor : {"0 (right)", "1 (centre)", "2 (left)"})
+    EXPECT_NE(a.err.find(std::string("ground sensor ") + sensor + " (accepted by --accept-misfit): R^2 = "), std::string::npos)
+        << sensor << a.err;
+}
+
 }  // namespace
