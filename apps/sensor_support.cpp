@@ -368,6 +368,8 @@ void require_fitting(const fit::RobustFit& r, const std::string& what, const Sen
                      std::vector<std::string>& warnings) {
   if (!r.usable) return;
   const std::string verdict = fit::misfit_verdict(r.lack_of_fit, r.r2);
+  const std::string low_r2 = fit::misfit_warning(r.lack_of_fit, r.r2);
+  if (!low_r2.empty()) warnings.push_back(what + ": " + low_r2 + ".");
   if (verdict.empty()) return;
   if (!o.accept_misfit)
     throw NoUsableFit(what + ": " + verdict + ". Nothing was written; --accept-misfit writes it anyway.");

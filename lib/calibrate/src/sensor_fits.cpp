@@ -311,6 +311,7 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
   {
     const MisfitWords words{"distances", "mm", "counts", 1000.0, full};
     auto curve = [](const RobustFit& f, double d) {
+      if (!f.usable) return 0.0;  // not tested below
       const double abc[3] = {f.value("a"), f.value("b"), f.value("c")};
       return s::proximity_polynomial(abc, d);
     };

@@ -682,9 +682,23 @@ std::string misfit_verdict(const LackOfFit& lof, double r2) {
   if (lof.tested && lof.misfit_ratio > kMisfitFailRatio)
     return "the curve misses its data by " + fmt(lof.misfit_ratio, 3) + " times the replicates' own sd (limit " +
            fmt(kMisfitFailRatio) + "); worst: " + lof.worst;
-  if (std::isfinite(r2) && r2 < kMisfitR2Floor)
-    return "R^2 = " + fmt(r2, 3) + " is below the floor of " + fmt(kMisfitR2Floor) + ": the model does not follow the data";
+  // A low R^2 alone may be noise over a narrow range of conditions, not a misfit: it stops the
+  // calibration where the replicates show the curve missing too, or where the curve does worse
+  // than a flat line; otherwise it is a warning (misfit_warning).
+  if (std::isfinite(r2) && r2 < kMisfitR2Floor && lof.tested && lof.misfit_ratio > kMisfitWarnRatio)
+    return "R^2 = " + fmt(r2, 3) + " is below the floor of " + fmt(kMisfitR2Floor) + " and the curve misses the replicates by " +
+           fmt(lof.misfit_ratio, 3) + " times their sd; worst: " + lof.worst;
+  if (std::isfinite(r2) && r2 < kMisfitR2Negative)
+    return "R^2 = " + fmt(r2, 3) + ": the curve does worse than a flat line through the readings' mean";
   return "";
+}
+
+std::string misfit_warning(const LackOfFit& lof, double r2) {
+  if (!std::isfinite(r2) || r2 >= kMisfitR2Floor || !misfit_verdict(lof, r2).empty()) return "";
+  return "R^2 = " + fmt(r2, 3) + " is below " + fmt(kMisfitR2Floor) +
+         (lof.tested ? ", but the curve misses the replicates by only " + fmt(lof.misfit_ratio, 3) +
+                           " times their sd: the readings vary mostly by their noise over these conditions"
+                     : "; without replicates, noise cannot be told from misfit");
 }
 
 // ================================================================================================

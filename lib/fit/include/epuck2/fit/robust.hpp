@@ -90,6 +90,8 @@ constexpr double kMisfitWarnRatio = 3.0;
 /// kMisfitR2Floor, the CLI exits 1 unless --accept-misfit (docs/fitting.md, "Lack of fit").
 constexpr double kMisfitFailRatio = 10.0;
 constexpr double kMisfitR2Floor = 0.9;
+/// Below this R^2 (0 less rounding) the curve does worse than a flat line: exit 1 whatever else.
+constexpr double kMisfitR2Negative = -0.01;
 
 /// One set of replicates: readings under the same conditions and the fit's prediction for each
 /// (readings' units). `condition` orders the groups and names them (e.g. a distance); `label`
@@ -119,8 +121,13 @@ LackOfFit lack_of_fit(const std::vector<ReplicateGroup>& groups, std::size_t fre
                       double sd_floor = 0, double replicate_sd = 0, std::size_t dof_pure = 0);
 
 /// The sentence that stops a calibration (exit 1 unless --accept-misfit), or "" when the fit
-/// passes: its misfit ratio beyond kMisfitFailRatio or its R^2 below kMisfitR2Floor.
+/// passes: its misfit ratio beyond kMisfitFailRatio; its R^2 below kMisfitR2Floor with a misfit
+/// beyond kMisfitWarnRatio; or its R^2 below kMisfitR2Negative.
 std::string misfit_verdict(const LackOfFit& lof, double r2);
+
+/// The warning for an R^2 below the floor that does not stop the calibration (the replicates show
+/// no misfit, or there are none to tell), or "".
+std::string misfit_warning(const LackOfFit& lof, double r2);
 
 /// The fit's statistics (FitResult: names, values, standard errors, NaN with a reason in
 /// std_error_why) and what the fit did with the readings.
