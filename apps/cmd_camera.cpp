@@ -45,6 +45,7 @@ void print_report(const calibrate::CameraFit& f) {
 nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::CameraFit* keep) {
   calibrate::CameraFit f = calibrate::fit_camera(logs, o.fit_options());
   app::sensors::require_usable(f.result, "camera fit");
+  app::sensors::require_fitting(f.result, "camera fit", o, f.warnings);
   nlohmann::json j = app::sensors::skeleton("camera", logs);
   j["units"] = {{"fov_deg", "deg"}, {"cx_px", "px"}, {"cy_px", "px"}, {"aperture_deg", "deg"}, {"width_px", "px"},
                 {"height_px", "px"}, {"range_m", "m"}, {"mse", "px^2"}, {"rss", "px^2"}};

@@ -41,6 +41,8 @@ nlohmann::json drive_json(const std::vector<logs::Log>& logs, const app::sensors
   calibrate::DriveFit f = calibrate::fit_drive(logs, o.fit_options());
   app::sensors::require_usable(f.steps, "encoder fit");
   app::sensors::require_usable(f.tof, "ToF fit");
+  app::sensors::require_fitting(f.steps, "encoder fit", o, f.warnings);
+  app::sensors::require_fitting(f.tof, "ToF fit", o, f.warnings);
   nlohmann::json j = app::sensors::skeleton("drive", logs);
   j["units"] = {{"steps_per_m", "steps/m"}, {"tof_offset_mm", "mm"}, {models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), "1"}, {"slip_time_constant_s", "s"},
                 {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}, {"rss", "mm^2 (ToF)"}, {"steps_rss", "steps^2"}};

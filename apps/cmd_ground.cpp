@@ -44,6 +44,7 @@ nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensor
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
     const auto& r = f.sensors[k];
     app::sensors::require_usable(r, std::string("ground sensor ") + calibrate::kGroundSensorNames[k]);
+    app::sensors::require_fitting(r, std::string("ground sensor ") + calibrate::kGroundSensorNames[k], o, f.warnings);
     gain.push_back(r.value("gain"));
     offset.push_back(r.value("offset"));
     gain_se.push_back(app::sensors::number(r.std_error("gain")));

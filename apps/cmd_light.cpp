@@ -36,6 +36,7 @@ void print_report(const calibrate::LightFit& f) {
 nlohmann::json light_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::LightFit* keep) {
   calibrate::LightFit f = calibrate::fit_light(logs, o.fit_options());
   app::sensors::require_usable(f.gamma, "light fit");
+  app::sensors::require_fitting(f.gamma, "light fit", o, f.warnings);
   nlohmann::json j = app::sensors::skeleton("light", logs);
   j["units"] = {{"gamma", "m"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"rss", "(reading / 4095)^2"}};
   j["unit_notes"] = {{"gamma", "metres per unit of the light's intensity I: Eq. 2's gamma I / d is a ratio"},

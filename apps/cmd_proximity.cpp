@@ -48,6 +48,8 @@ nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sen
   calibrate::ProximityFit f = calibrate::fit_proximity(logs, o.fit_options());
   app::sensors::require_usable(f.maxima, "proximity fit to the maxima");
   app::sensors::require_usable(f.means, "proximity fit to the means");
+  app::sensors::require_fitting(f.maxima, "proximity fit to the maxima", o, f.warnings);
+  app::sensors::require_fitting(f.means, "proximity fit to the means", o, f.warnings);
   nlohmann::json j = app::sensors::skeleton("proximity", logs);
   j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"mean_a", "1/m^2"}, {"mean_b", "1/m"}, {"mean_c", "1"},
                 {"values", "reading / 4095"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"mean_mse", "(reading / 4095)^2"},

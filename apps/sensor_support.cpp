@@ -26,6 +26,9 @@ void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what
       ->check(CLI::Range(2.0, 100.0));
   sub->add_option("--robot", o.robot, "Fit only this robot's logs (# robot: metadata, a robot column, or the file name)");
   add_skip_bad_rows(sub, o.skip_bad_rows);
+  sub->add_flag("--accept-misfit", o.accept_misfit,
+                "Write the calibration even when a fit misses its data by many times its replicate noise or its R^2 is "
+                "below the floor (a warning instead of exit 1; docs/fitting.md)");
 }
 
 std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::string& robot) {
@@ -88,7 +91,9 @@ nlohmann::json fit_details(const fit::RobustFit& r, const std::string& rss_unit,
   if (r.lack_of_fit.tested)
     d["lack_of_fit"] = {{"reduced_chi2", number(r.lack_of_fit.reduced_chi2)}, {"p_value", number(r.lack_of_fit.p_value)},
                         {"replicate_sd", number(r.lack_of_fit.replicate_sd)}, {"groups", r.lack_of_fit.groups},
-                        {"dof_lack", r.lack_of_fit.dof_lack}, {"dof_pure", r.lack_of_fit.dof_pure}};
+                        {"dof_lack", r.lack_of_fit.dof_lack}, {"dof_pure", r.lack_of_fit.dof_pure},
+                        {"misfit_rms", number(r.lack_of_fit.misfit_rms)}, {"misfit_ratio", number(r.lack_of_fit.misfit_ratio)},
+                        {"worst", r.lack_of_fit.worst}};
   else
     d["lack_of_fit"] = {{"tested", false}, {"why", r.lack_of_fit.why_not}};
   return d;
@@ -309,6 +314,9 @@ void print_handling(const fit::RobustFit& r, const std::string& unit, const char
   if (r.lack_of_fit.tested)
     std::printf("%slack of fit against %zu replicate groups: reduced χ² against the replicates' noise %.3g (p = %.3g), replicate sd %.4g\n", indent,
                 r.lack_of_fit.groups, r.lack_of_fit.reduced_chi2, r.lack_of_fit.p_value, r.lack_of_fit.replicate_sd);
+  if (r.lack_of_fit.tested)
+    std::printf("%smisfit %.3g replicate sd per reading (warning above %g, exit 1 above %g); worst: %s\n", indent,
+                r.lack_of_fit.misfit_ratio, fit::kMisfitWarnRatio, fit::kMisfitFailRatio, r.lack_of_fit.worst.c_str());
   for (const auto& n : r.not_identifiable) {
     const auto why = r.std_error_why.find(n);
     std::printf("%snot identifiable: %s (%s)\n", indent, n.c_str(), why == r.std_error_why.end() ? "" : why->second.c_str());
@@ -367,6 +375,18 @@ void warn_undefined_std_errors(const std::string& kind, const nlohmann::json& j)
 
 void require_usable(const fit::FitResult& r, const std::string& what) {
   if (!r.usable) throw NoUsableFit(what + ": " + (r.message.empty() ? std::string("the solver found no solution") : r.message));
+}
+
+void require_fitting(const fit::RobustFit& r, const std::string& what, const SensorOptions& o,
+                     std::vector<std::string>& warnings) {
+  if (!r.usable) return;
+  const std::string verdict = fit::misfit_verdict(r.lack_of_fit, r.r2);
+  const std::string low_r2 = fit::misfit_warning(r.lack_of_fit, r.r2);
+  if (!low_r2.empty()) warnings.push_back(what + ": " + low_r2 + ".");
+  if (verdict.empty()) return;
+  if (!o.accept_misfit)
+    throw NoUsableFit(what + ": " + verdict + ". Nothing was written; --accept-misfit writes it anyway.");
+  warnings.push_back(what + " (accepted by --accept-misfit): " + verdict + ".");
 }
 
 }  // namespace epuck2::app::sensors

@@ -46,6 +46,7 @@ struct SensorOptions {
     return f;
   }
   bool skip_bad_rows = false;  ///< skip rows with a bad cell, each reported
+  bool accept_misfit = false;  ///< write a calibration whose fit misses its data (a warning, not exit 1)
 };
 
 /// Adds LOGS..., --json, -o/--output, --plot and --skip-bad-rows to a subcommand.
@@ -157,6 +158,12 @@ void warn_undefined_std_errors(const std::string& kind, const nlohmann::json& j)
 
 /// Throws NoUsableFit when the fit is not usable.
 void require_usable(const fit::FitResult& r, const std::string& what);
+
+/// A fit that misses its data (fit::misfit_verdict: many times its replicate noise, or R^2 below
+/// the floor) throws NoUsableFit (exit 1) naming `what`, unless --accept-misfit: then the verdict
+/// joins `warnings`.
+void require_fitting(const fit::RobustFit& r, const std::string& what, const SensorOptions& o,
+                     std::vector<std::string>& warnings);
 
 /// The outputs all or nothing: -o and the plot staged, renamed into place only when both were
 /// written; then the JSON or the report on standard output. `plot(stage, path)` stages the figure.

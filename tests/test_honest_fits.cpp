@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -318,6 +319,140 @@ TEST_F(HonestUnits, PixelsOfA640By480ImageStopAtTheirCell) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find(log + ":2:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("a pixel column 0..159"), std::string::npos) << r.err;
+}
+
+// ---- (2) every fit tests its lack of fit against its replicates, aggregated fits included -----
+
+/// A proximity log of one sensor, `per` readings at each of `distances` (m): round(truth(d) +
+/// N(0, sd)) counts, seeded. The truth is the generator's, never the fit's.
+template <class Truth>
+std::string replicated_proximity_log(const std::vector<double>& distances, int per, double sd, Truth truth, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sd);
+  std::ostringstream os;
+  os << "distance_m,sensor,value\n";
+  for (double d : distances)
+    for (int k = 0; k < per; ++k) os << d << ",0," << std::lround(truth(d) + noise(rng)) << "\n";
+  return os.str();
+}
+
+const std::vector<double> kLofDistances = {0.002, 0.004, 0.006, 0.008, 0.01, 0.015, 0.02, 0.025, 0.03, 0.035, 0.04};
+
+/// The RMS, over `x`, of f minus its least-squares quadratic (3x3 normal equations solved here by
+/// Cramer's rule): the least any quadratic can miss f by, whatever the fit's constraints.
+/// `worst` gets the x it misses most.
+template <class F>
+double best_quadratic_miss(const std::vector<double>& x, F f, double* worst = nullptr) {
+  double S[5] = {0, 0, 0, 0, 0}, T[3] = {0, 0, 0};
+  for (double d : x) {
+    double p = 1;
+    for (int k = 0; k < 5; ++k, p *= d) S[k] += p;
+    T[0] += f(d);
+    T[1] += d * f(d);
+    T[2] += d * d * f(d);
+  }
+  auto det3 = [](double a, double b, double c, double d, double e, double g, double h, double i, double j) {
+    return a * (e * j - g * i) - b * (d * j - g * h) + c * (d * i - e * h);
+  };
+  const double D = det3(S[0], S[1], S[2], S[1], S[2], S[3], S[2], S[3], S[4]);
+  const double c0 = det3(T[0], S[1], S[2], T[1], S[2], S[3], T[2], S[3], S[4]) / D;
+  const double c1 = det3(S[0], T[0], S[2], S[1], T[1], S[3], S[2], T[2], S[4]) / D;
+  const double c2 = det3(S[0], S[1], T[0], S[1], S[2], T[1], S[2], S[3], T[2]) / D;
+  double ss = 0, top = -1;
+  for (double d : x) {
+    const double r = std::abs(f(d) - (c0 + c1 * d + c2 * d * d));
+    ss += r * r;
+    if (r > top && worst != nullptr) *worst = d;
+    top = std::max(top, r);
+  }
+  return std::sqrt(ss / static_cast<double>(x.size()));
+}
+
+class HonestLackOfFit : public epuck2::testing::CliTest {
+ protected:
+  static std::string q(const std::string& p) { return "\"" + p + "\""; }
+};
+
+TEST_F(HonestLackOfFit, AQuadraticProximityCurveIsTestedOnItsReplicatesAndPasses) {
+  // The plug-in's published quadratic (ARGoS plug-in source), 20 readings a distance, sd 5 counts:
+  // the aggregated fits are tested now, their replicate sd is the generator's, and they pass.
+  auto plugin = [](double d) { return 4095 * (197.8633 * d * d - 30.47182 * d + 1.011635); };
+  const std::string log = write("quad.csv", replicated_proximity_log(kLofDistances, 20, 5.0, plugin, 2101));
+  const CliRun r = run("proximity --json " + q(log));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* fit : {"maxima", "means"}) {
+    const auto& lof = j["fits"][fit]["lack_of_fit"];
+    ASSERT_TRUE(lof.contains("replicate_sd")) << fit << lof.dump();
+    EXPECT_EQ(lof["groups"], kLofDistances.size()) << fit;
+    EXPECT_NEAR(lof["replicate_sd"].get<double>() * 4095, 5.0, 0.75) << fit;  // 15 %: 209 dof
+    EXPECT_LT(lof["misfit_ratio"].get<double>(), 3.0) << fit;
+  }
+  EXPECT_EQ(r.err.find("the curve misses"), std::string::npos) << r.err;
+}
+
+TEST_F(HonestLackOfFit, ANonQuadraticProximityCurveStopsWithTheWorstDistancesUnlessAccepted) {
+  // An exponential tail 3900 exp(-d / 8 mm): no quadratic follows it. Replicates of sd 5 counts.
+  auto tail = [](double d) { return 3900 * std::exp(-d / 0.008); };
+  // Below 1 % of full scale (41 counts) a mean says only "at most": 40 mm (26 counts) is censored.
+  std::vector<double> exact(kLofDistances.begin(), kLofDistances.end() - 1);
+  double worst_m = 0;
+  const double least_miss = best_quadratic_miss(exact, tail, &worst_m);  // counts, the generator's
+  ASSERT_GT(least_miss, 10 * 5.0);  // the generator makes a misfit beyond the failing ratio
+  const std::string log = write("exp.csv", replicated_proximity_log(kLofDistances, 20, 5.0, tail, 2102));
+  const std::string out = (dir_ / "exp.json").string();
+  const CliRun r = run("proximity -o " + q(out) + " " + q(log));
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("proximity fit to the maxima: the curve misses its data by "), std::string::npos) << r.err;
+  // The distance the best quadratic misses most, in the generator's truth, is named.
+  const std::string named = "worst: distance " + std::to_string(std::lround(worst_m * 1000));
+  EXPECT_NE(r.err.find("times the replicates' own sd (limit 10); " + named), std::string::npos) << named << r.err;
+  EXPECT_NE(r.err.find("--accept-misfit writes it anyway"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out)) << "a misfit is not written as a calibration";
+
+  const CliRun a = run("proximity --accept-misfit --json " + q(log));
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const auto j = nlohmann::json::parse(a.out);
+  const auto& lof = j["fits"]["means"]["lack_of_fit"];
+  EXPECT_NEAR(lof["replicate_sd"].get<double>() * 4095, 5.0, 0.75);
+  // Each mean carries its own noise (sd 5 / sqrt 20): the curve misses them by at least the best
+  // quadratic's miss of the truth, less that noise.
+  EXPECT_GT(lof["misfit_rms"].get<double>() * 4095, least_miss - 2.0);
+  EXPECT_GT(lof["misfit_ratio"].get<double>(), 10.0);
+  EXPECT_EQ(lof["groups"], exact.size());
+  EXPECT_EQ(lof["worst"].get<std::string>().rfind(named.substr(7), 0), 0u) << named << lof.dump();
+  bool warned = false, accepted = false;
+  for (const auto& w : j["warnings"]) {
+    warned = warned || w.get<std::string>().find("means fit: the curve misses the readings by ") == 0;
+    accepted = accepted || w.get<std::string>().find("(accepted by --accept-misfit)") != std::string::npos;
+  }
+  EXPECT_TRUE(warned) << j["warnings"].dump();
+  EXPECT_TRUE(accepted) << j["warnings"].dump();
+}
+
+TEST_F(HonestLackOfFit, AGroundSensorThatDoesNotRespondIsBelowTheR2FloorWithoutAMisfitAndWarns) {
+  // Three sensors that read 500 + N(0, 20) counts whatever the grey level: by the generator's
+  // construction no line through grey explains any of the variance (R^2 about 0, below 0.9),
+  // but the flat line misses no replicate mean: noise, not misfit. A warning, not exit 1.
+  std::mt19937 rng(2103);
+  std::normal_distribution<double> noise(0.0, 20.0);
+  std::ostringstream os;
+  os << "grey,sensor,value\n";
+  for (int sensor = 0; sensor < 3; ++sensor)
+    for (int g = 0; g <= 10; ++g)
+      for (int k = 0; k < 20; ++k) os << g / 10.0 << "," << sensor << "," << std::lround(500 + noise(rng)) << "\n";
+  const std::string log = write("flat.csv", os.str());
+  const CliRun r = run("ground --json " + q(log));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* sensor : {"0 (right)", "1 (centre)", "2 (left)"})
+    EXPECT_NE(r.err.find(std::string("ground sensor ") + sensor + ": R^2 = "), std::string::npos) << sensor << r.err;
+  EXPECT_NE(r.err.find("is below 0.9, but the curve misses the replicates by only "), std::string::npos) << r.err;
+  for (const char* fit : {"sensor_0", "sensor_1", "sensor_2"}) {
+    const auto& lof = j["fits"][fit]["lack_of_fit"];
+    EXPECT_LT(lof["misfit_ratio"].get<double>(), 3.0) << fit;
+    EXPECT_NEAR(lof["replicate_sd"].get<double>(), 20.0, 2.0) << fit;  // the generator's sd, 10 %
+  }
 }
 
 }  // namespace

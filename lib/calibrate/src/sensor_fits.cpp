@@ -305,6 +305,50 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
   out.means = fit_robust(MonotoneProximity{x, start.range_m}, obs, params, means_options);
   to_abc(out.means, start.range_m);
 
+  // Lack of fit: both fits ran on one number per distance, but every distance has its raw
+  // replicates behind it; the means are tested against them (F test), the maxima against their sd
+  // (a maximum of n readings varies less than one reading: the test is on the lenient side).
+  {
+    const MisfitWords words{"distances", "mm", "counts", 1000.0, full};
+    auto curve = [](const RobustFit& f, double d) {
+      if (!f.usable) return 0.0;  // not tested below
+      const double abc[3] = {f.value("a"), f.value("b"), f.value("c")};
+      return s::proximity_polynomial(abc, d);
+    };
+    std::vector<ReplicateGroup> means_groups, maxima_groups;
+    for (const ProximityPoint& p : out.points) {
+      const auto& rs = kept[p.distance_m];
+      if (!p.used || rs.empty()) continue;
+      ReplicateGroup mg;
+      mg.condition = p.distance_m;
+      mg.spoilt = p.mean_censoring != Censoring::none;
+      for (const Reading& r : rs) {
+        mg.spoilt = mg.spoilt || r.value <= 0 || r.value >= full;
+        mg.readings.push_back(r.value / full);
+        mg.predictions.push_back(curve(out.means, p.distance_m));
+      }
+      means_groups.push_back(std::move(mg));
+      ReplicateGroup xg;
+      xg.condition = p.distance_m;
+      xg.spoilt = point_out[p.distance_m] || p.max_censoring != Censoring::none;
+      xg.readings = {p.max};
+      xg.predictions = {curve(out.maxima, p.distance_m)};
+      maxima_groups.push_back(std::move(xg));
+    }
+    if (out.means.usable) out.means.lack_of_fit = lack_of_fit(means_groups, 3 - out.means.not_identifiable.size(), words, kQuantisationSd / full);
+    const LackOfFit& pure = out.means.lack_of_fit;
+    if (out.maxima.usable)
+      out.maxima.lack_of_fit = lack_of_fit(maxima_groups, 3 - out.maxima.not_identifiable.size(), words, kQuantisationSd / full,
+                                           pure.tested ? pure.replicate_sd : 0.0, pure.tested ? pure.dof_pure : 0);
+    for (RobustFit* f : {&out.maxima, &out.means}) {
+      const LackOfFit& lof = f->lack_of_fit;
+      if (lof.tested && lof.misfit_ratio > kMisfitWarnRatio)
+        f->warnings.push_back("the curve misses the readings by " + fmt(lof.misfit_rms * full, 3) + " counts RMS, " +
+                              fmt(lof.misfit_ratio, 3) + " times their replicate sd of " + fmt(lof.replicate_sd * full, 3) +
+                              " counts; worst: " + lof.worst + ".");
+    }
+  }
+
   // 4. References and plausibility.
   auto reference_mse = [&](const s::ProximityCoefficients& k, bool maxima) {
     std::vector<double> r;

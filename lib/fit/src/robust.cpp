@@ -573,44 +573,132 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
       if (obs[i].censoring != Censoring::none) spoilt[obs[i].group] = true;
       if (w[i] > 0) groups[obs[i].group].push_back(i);
     }
-    LackOfFit& lof = out.lack_of_fit;
-    double ss_pure = 0, ss_resid = 0;
-    std::size_t count = 0, g = 0;
+    std::vector<ReplicateGroup> replicates;
     for (const auto& [id, members] : groups) {
       if (spoilt[id] || members.empty()) continue;
-      ++g;
-      double mean = 0;
-      for (std::size_t i : members) mean += obs[i].value;
-      mean /= static_cast<double>(members.size());
+      ReplicateGroup rg;
+      rg.condition = static_cast<double>(id);
+      rg.label = "the " + std::to_string(members.size()) + " readings from " + obs[members.front()].where;
       for (std::size_t i : members) {
-        ss_pure += (obs[i].value - mean) * (obs[i].value - mean);
-        ss_resid += (obs[i].value - predictions[i]) * (obs[i].value - predictions[i]);
-        ++count;
+        rg.readings.push_back(obs[i].value);
+        rg.predictions.push_back(predictions[i]);
       }
+      replicates.push_back(std::move(rg));
     }
-    if (g == 0) {
-      lof.why_not = "no repeated readings under the same conditions";
-    } else if (count <= g || g <= k) {
-      lof.why_not = "too few replicate groups (" + std::to_string(g) + ") or readings for the test";
-    } else {
-      lof.tested = true;
-      lof.groups = g;
-      lof.dof_pure = count - g;
-      lof.dof_lack = g - k;
-      const double pure_var = ss_pure / static_cast<double>(lof.dof_pure);
-      lof.replicate_sd = std::sqrt(pure_var);
-      const double lack = std::max(ss_resid - ss_pure, 0.0) / static_cast<double>(lof.dof_lack);
-      lof.reduced_chi2 = pure_var > 0 ? lack / pure_var : std::numeric_limits<double>::infinity();
-      lof.p_value = pure_var > 0 ? f_upper_tail(lof.reduced_chi2, static_cast<double>(lof.dof_lack),
-                                                static_cast<double>(lof.dof_pure))
-                                 : 0.0;
-      if (lof.p_value < 1e-3)
-        out.warnings.push_back("the model does not fit these data within their noise: lack-of-fit reduced chi^2 " +
-                               fmt(lof.reduced_chi2) + " (p = " + fmt(lof.p_value) + ") against the replicates' sd " +
-                               fmt(lof.replicate_sd) + ".");
-    }
+    LackOfFit& lof = out.lack_of_fit;
+    lof = lack_of_fit(replicates, k, {}, opt.noise_floor);
+    if (lof.tested && lof.p_value < 1e-3)
+      out.warnings.push_back("the model does not fit these data within their noise: lack-of-fit reduced chi^2 " +
+                             fmt(lof.reduced_chi2) + " (p = " + fmt(lof.p_value) + ") against the replicates' sd " +
+                             fmt(lof.replicate_sd) + ".");
+    if (lof.tested && lof.misfit_ratio > kMisfitWarnRatio)
+      out.warnings.push_back("the curve misses the replicates' means by " + fmt(lof.misfit_ratio, 3) +
+                             " times their own sd; worst: " + lof.worst + ".");
     return out;
   }
+}
+
+// ================================================================================================
+// Lack of fit against replicates
+// ================================================================================================
+
+LackOfFit lack_of_fit(const std::vector<ReplicateGroup>& groups_in, std::size_t k, const MisfitWords& words,
+                      double sd_floor, double known_sd, std::size_t known_dof_pure) {
+  LackOfFit lof;
+  std::vector<const ReplicateGroup*> groups;
+  for (const ReplicateGroup& g : groups_in)
+    if (!g.spoilt && !g.readings.empty() && g.readings.size() == g.predictions.size()) groups.push_back(&g);
+  std::stable_sort(groups.begin(), groups.end(),
+                   [](const ReplicateGroup* a, const ReplicateGroup* b) { return a->condition < b->condition; });
+  const bool known = known_sd > 0 && known_dof_pure > 0;
+  double ss_pure = 0, ss_resid = 0;
+  std::size_t count = 0;
+  std::vector<double> miss;  // mean reading - mean prediction, per group
+  for (const ReplicateGroup* g : groups) {
+    double mean = 0, pred = 0;
+    for (std::size_t i = 0; i < g->readings.size(); ++i) {
+      mean += g->readings[i];
+      pred += g->predictions[i];
+    }
+    mean /= static_cast<double>(g->readings.size());
+    pred /= static_cast<double>(g->readings.size());
+    for (std::size_t i = 0; i < g->readings.size(); ++i) {
+      ss_pure += (g->readings[i] - mean) * (g->readings[i] - mean);
+      ss_resid += (g->readings[i] - g->predictions[i]) * (g->readings[i] - g->predictions[i]);
+      ++count;
+    }
+    miss.push_back(mean - pred);
+  }
+  const std::size_t g = groups.size();
+  if (g == 0) {
+    lof.why_not = "no repeated readings under the same conditions";
+    return lof;
+  }
+  if ((!known && count <= g) || g <= k) {
+    lof.why_not = "too few replicate groups (" + std::to_string(g) + ") or readings for the test";
+    return lof;
+  }
+  lof.tested = true;
+  lof.groups = g;
+  lof.dof_pure = known ? known_dof_pure : count - g;
+  lof.dof_lack = g - k;
+  const double pure_var = std::max(known ? known_sd * known_sd : ss_pure / static_cast<double>(lof.dof_pure), sd_floor * sd_floor);
+  lof.replicate_sd = std::sqrt(pure_var);
+  const double ss_lack = std::max(ss_resid - (known ? 0.0 : ss_pure), 0.0);
+  const double lack = ss_lack / static_cast<double>(lof.dof_lack);
+  lof.reduced_chi2 = pure_var > 0 ? lack / pure_var : std::numeric_limits<double>::infinity();
+  lof.p_value = pure_var > 0 ? f_upper_tail(lof.reduced_chi2, static_cast<double>(lof.dof_lack),
+                                            static_cast<double>(lof.dof_pure))
+                             : 0.0;
+  lof.misfit_rms = std::sqrt(ss_lack / static_cast<double>(count));
+  lof.misfit_ratio = pure_var > 0 ? lof.misfit_rms / lof.replicate_sd : std::numeric_limits<double>::infinity();
+  // The worst conditions: the group the curve misses most, with its neighbours missed on the same
+  // side by at least half as much.
+  std::size_t top = 0;
+  for (std::size_t i = 1; i < g; ++i)
+    if (std::abs(miss[i]) > std::abs(miss[top])) top = i;
+  auto alike = [&](std::size_t i) {
+    return std::abs(miss[i]) >= 0.5 * std::abs(miss[top]) && (miss[i] > 0) == (miss[top] > 0);
+  };
+  std::size_t first = top, last = top;
+  while (first > 0 && alike(first - 1)) --first;
+  while (last + 1 < g && alike(last + 1)) ++last;
+  const std::string side = miss[top] > 0 ? "the readings above it" : "the readings below it";
+  const std::string by = fmt(std::abs(miss[top]) * words.unit_scale, 3) + (words.unit.empty() ? "" : " " + words.unit);
+  if (words.conditions.empty()) {
+    lof.worst = groups[top]->label + ": the curve misses by " + by + ", " + side;
+  } else {
+    const std::string a = fmt(groups[first]->condition * words.condition_scale, 3);
+    const std::string b = fmt(groups[last]->condition * words.condition_scale, 3);
+    std::string what = words.conditions;  // "distances", one: "distance"
+    if (first == last && !what.empty() && what.back() == 's') what.pop_back();
+    lof.worst = what + " " + a + (first == last ? "" : "\u2013" + b) +
+                (words.condition_unit.empty() ? "" : " " + words.condition_unit) + ": the curve misses by " + by + ", " + side;
+  }
+  return lof;
+}
+
+std::string misfit_verdict(const LackOfFit& lof, double r2) {
+  if (lof.tested && lof.misfit_ratio > kMisfitFailRatio)
+    return "the curve misses its data by " + fmt(lof.misfit_ratio, 3) + " times the replicates' own sd (limit " +
+           fmt(kMisfitFailRatio) + "); worst: " + lof.worst;
+  // A low R^2 alone may be noise over a narrow range of conditions, not a misfit: it stops the
+  // calibration where the replicates show the curve missing too, or where the curve does worse
+  // than a flat line; otherwise it is a warning (misfit_warning).
+  if (std::isfinite(r2) && r2 < kMisfitR2Floor && lof.tested && lof.misfit_ratio > kMisfitWarnRatio)
+    return "R^2 = " + fmt(r2, 3) + " is below the floor of " + fmt(kMisfitR2Floor) + " and the curve misses the replicates by " +
+           fmt(lof.misfit_ratio, 3) + " times their sd; worst: " + lof.worst;
+  if (std::isfinite(r2) && r2 < kMisfitR2Negative)
+    return "R^2 = " + fmt(r2, 3) + ": the curve does worse than a flat line through the readings' mean";
+  return "";
+}
+
+std::string misfit_warning(const LackOfFit& lof, double r2) {
+  if (!std::isfinite(r2) || r2 >= kMisfitR2Floor || !misfit_verdict(lof, r2).empty()) return "";
+  return "R^2 = " + fmt(r2, 3) + " is below " + fmt(kMisfitR2Floor) +
+         (lof.tested ? ", but the curve misses the replicates by only " + fmt(lof.misfit_ratio, 3) +
+                           " times their sd: the readings vary mostly by their noise over these conditions"
+                     : "; without replicates, noise cannot be told from misfit");
 }
 
 // ================================================================================================

@@ -75,7 +75,59 @@ struct LackOfFit {
   double p_value = 1;        ///< F(dof_lack, dof_pure) upper tail
   std::size_t groups = 0, dof_lack = 0, dof_pure = 0;
   std::string why_not;       ///< when not tested
+  /// How far the curve misses the replicates' means, per reading (readings' units):
+  /// sqrt(sum_g sum_i (mean_g - prediction)^2 / readings), and that over replicate_sd.
+  double misfit_rms = 0, misfit_ratio = 0;
+  /// The worst conditions, in words ("distances 5-15 mm: the curve misses by 300 counts, the
+  /// readings above it"); empty when not tested.
+  std::string worst;
 };
+
+/// A misfit the report warns about: the curve misses the replicates' means by more than this many
+/// replicate sd (per reading, LackOfFit::misfit_ratio).
+constexpr double kMisfitWarnRatio = 3.0;
+/// A misfit that is not a calibration: beyond this many replicate sd, or an R^2 below
+/// kMisfitR2Floor, the CLI exits 1 unless --accept-misfit (docs/fitting.md, "Lack of fit").
+constexpr double kMisfitFailRatio = 10.0;
+constexpr double kMisfitR2Floor = 0.9;
+/// Below this R^2 (0 less rounding) the curve does worse than a flat line: exit 1 whatever else.
+constexpr double kMisfitR2Negative = -0.01;
+
+/// One set of replicates: readings under the same conditions and the fit's prediction for each
+/// (readings' units). `condition` orders the groups and names them (e.g. a distance); `label`
+/// names a group when the conditions are not one number. A spoilt group (censored or left-out
+/// readings) is not tested.
+struct ReplicateGroup {
+  std::vector<double> readings, predictions;
+  double condition = 0;
+  std::string label;
+  bool spoilt = false;
+};
+
+/// How `worst` names the conditions and the miss: "<conditions> A-B <condition_unit>: the curve
+/// misses by X <unit>", conditions times condition_scale, misses times unit_scale; with
+/// `conditions` empty, the worst group's label.
+struct MisfitWords {
+  std::string conditions, condition_unit, unit;
+  double condition_scale = 1, unit_scale = 1;
+};
+
+/// The lack-of-fit F test of a fit with `free_parameters` against its replicates' own noise, with
+/// the misfit ratio and the worst conditions. The replicate sd is at least `sd_floor` (a quantised
+/// reading's 1/sqrt(12) of a count: identical replicates are not noise-free). `replicate_sd` > 0
+/// with `dof_pure` replaces the noise estimated from the groups: the groups may then hold one
+/// reading each (a maximum per distance, tested against the raw replicates' sd behind it).
+LackOfFit lack_of_fit(const std::vector<ReplicateGroup>& groups, std::size_t free_parameters, const MisfitWords& words = {},
+                      double sd_floor = 0, double replicate_sd = 0, std::size_t dof_pure = 0);
+
+/// The sentence that stops a calibration (exit 1 unless --accept-misfit), or "" when the fit
+/// passes: its misfit ratio beyond kMisfitFailRatio; its R^2 below kMisfitR2Floor with a misfit
+/// beyond kMisfitWarnRatio; or its R^2 below kMisfitR2Negative.
+std::string misfit_verdict(const LackOfFit& lof, double r2);
+
+/// The warning for an R^2 below the floor that does not stop the calibration (the replicates show
+/// no misfit, or there are none to tell), or "".
+std::string misfit_warning(const LackOfFit& lof, double r2);
 
 /// The fit's statistics (FitResult: names, values, standard errors, NaN with a reason in
 /// std_error_why) and what the fit did with the readings.
