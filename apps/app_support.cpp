@@ -18,7 +18,7 @@
 #include <unistd.h>
 
 #include "epuck2/calibrate/plausibility.hpp"
-#include "epuck2/logs/json_location.hpp"
+#include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/logs/log.hpp"
 #include "commands.hpp"
 #include "epuck2/logs/output.hpp"
@@ -153,25 +153,7 @@ CLI::Validator whole_number() {
       "UINT64");
 }
 
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw logs::InputError(path, 0, 0, "cannot open the file for reading");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.byte is the 1-based offset of the character where parsing failed.
-    const logs::SourcePos at = logs::position_of(text, e.byte > 0 ? e.byte - 1 : 0);
-    throw logs::InputError(path, at.line, at.column, std::string("invalid JSON: ") + e.what());
-  } catch (const nlohmann::json::exception& e) {
-    // E.g. a number too large for a double (1e999): nlohmann says what, not where.
-    const logs::SourcePos at = logs::locate_json_overflow(text);
-    throw logs::InputError(path, at.line, at.column,
-                           std::string("invalid JSON: ") + e.what() + (at.line > 0 ? " (a number too large for a double)" : ""));
-  }
-}
+nlohmann::json read_json(const std::string& path) { return coefficients::read_json_file(path); }
 
 namespace {
 std::string lower(std::string s) {

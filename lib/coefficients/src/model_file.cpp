@@ -242,7 +242,6 @@ class Doc {
     fx::for_each_param(e, [&](std::size_t eid, int pid, int k, double& slot) {
       if (eid != id || static_cast<std::size_t>(pid) != p) return;
       const double v = values[static_cast<std::size_t>(k)];
-      (void)slot;
       const fx::Param& param = catalogue_param(id, p);
       if (!fx::Effect::admissible(param, v))
         fail(values.size() > 1 ? pointer + "/" + std::to_string(k) : pointer,
@@ -279,27 +278,27 @@ void require_finite(double v, const std::string& what) {
 template <class Model>
 void write_effects(Model m, json& parameters, json& effects) {
   const fx::Catalogue& catalogue = fx::catalogue_of(m);
-  std::vector<json> values(catalogue.size() * 8);  // [effect][param]: a number or an array
+  std::vector<std::vector<json>> values(catalogue.size());  // [effect][param]: a number or an array
+  for (std::size_t id = 0; id < catalogue.size(); ++id) values[id].resize(catalogue[id].params.size());
   std::vector<bool> active(catalogue.size(), false);
-  fx::for_each_param(fx::effects_of(m), [&](std::size_t id, int p, int k, double& v) {
+  fx::for_each_param(fx::effects_of(m), [&](std::size_t id, int p, int /*element: in order*/, double& v) {
     const fx::Param& param = catalogue[id].params[static_cast<std::size_t>(p)];
     require_finite(v, std::string("effects.") + catalogue[id].name + "." + param.key);
     if (v != param.neutral) active[id] = true;
-    json& slot = values[id * 8 + static_cast<std::size_t>(p)];
+    json& slot = values[id][static_cast<std::size_t>(p)];
     if (param.count == 1) slot = v;
     else {
       if (!slot.is_array()) slot = json::array();
       slot.push_back(v);
-      (void)k;
     }
   });
   for (std::size_t id = 0; id < catalogue.size(); ++id) {
     const fx::Effect& e = catalogue[id];
     if (e.home == fx::Home::parameters) {
-      for (std::size_t p = 0; p < e.params.size(); ++p) parameters[e.params[p].file_key] = values[id * 8 + p];
+      for (std::size_t p = 0; p < e.params.size(); ++p) parameters[e.params[p].file_key] = values[id][p];
     } else if (e.home == fx::Home::effects && active[id]) {
       json o = json::object();
-      for (std::size_t p = 0; p < e.params.size(); ++p) o[e.params[p].key] = values[id * 8 + p];
+      for (std::size_t p = 0; p < e.params.size(); ++p) o[e.params[p].key] = values[id][p];
       effects[e.name] = o;
     }
   }
@@ -506,50 +505,59 @@ json model_to_json(const s::BatteryModel& m) {
 
 // ----- from a file -----
 
-namespace {
-
 json read_json_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw logs::InputError(path, 0, 0, "cannot open the coefficient file for reading");
+  if (!in) throw logs::InputError(path, 0, 0, "cannot open the file for reading");
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string text = ss.str();
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
+    // e.byte is the 1-based offset of the character where parsing failed.
     const logs::SourcePos at = logs::position_of(text, e.byte > 0 ? e.byte - 1 : 0);
-    throw logs::InputError(path, at.line, at.column, std::string("not valid JSON: ") + e.what());
-  } catch (const json::out_of_range& e) {
+    throw logs::InputError(path, at.line, at.column, std::string("invalid JSON: ") + e.what());
+  } catch (const json::exception& e) {
+    // E.g. a number too large for a double (1e999): nlohmann says what, not where.
     const logs::SourcePos at = logs::locate_json_overflow(text);
-    throw logs::InputError(path, at.line, at.column, std::string("a number too large for a double: ") + e.what());
+    throw logs::InputError(path, at.line, at.column,
+                           std::string("invalid JSON: ") + e.what() + (at.line > 0 ? " (a number too large for a double)" : ""));
   }
+}
+
+namespace {
+
+// One reader per model type, so that read_model_file is written once.
+s::ProximityModel from_json(const json& j, const std::string& path, const std::string& robot, s::ProximityModel*) {
+  return proximity_model_from_json(j, path, robot);
+}
+s::LightModel from_json(const json& j, const std::string& path, const std::string& robot, s::LightModel*) {
+  return light_model_from_json(j, path, robot);
+}
+s::GroundModel from_json(const json& j, const std::string& path, const std::string& robot, s::GroundModel*) {
+  return ground_model_from_json(j, path, robot);
+}
+s::CameraModel from_json(const json& j, const std::string& path, const std::string& robot, s::CameraModel*) {
+  return camera_model_from_json(j, path, robot);
+}
+s::DriveModel from_json(const json& j, const std::string& path, const std::string& robot, s::DriveModel*) {
+  return drive_model_from_json(j, path, robot);
+}
+s::BatteryModel from_json(const json& j, const std::string& path, const std::string& robot, s::BatteryModel*) {
+  return battery_model_from_json(j, path, robot);
 }
 
 }  // namespace
 
-template <>
-s::ProximityModel read_model_file<s::ProximityModel>(const std::string& path, const std::string& robot) {
-  return proximity_model_from_json(read_json_file(path), path, robot);
+template <class Model>
+Model read_model_file(const std::string& path, const std::string& robot) {
+  return from_json(read_json_file(path), path, robot, static_cast<Model*>(nullptr));
 }
-template <>
-s::LightModel read_model_file<s::LightModel>(const std::string& path, const std::string& robot) {
-  return light_model_from_json(read_json_file(path), path, robot);
-}
-template <>
-s::GroundModel read_model_file<s::GroundModel>(const std::string& path, const std::string& robot) {
-  return ground_model_from_json(read_json_file(path), path, robot);
-}
-template <>
-s::CameraModel read_model_file<s::CameraModel>(const std::string& path, const std::string& robot) {
-  return camera_model_from_json(read_json_file(path), path, robot);
-}
-template <>
-s::DriveModel read_model_file<s::DriveModel>(const std::string& path, const std::string& robot) {
-  return drive_model_from_json(read_json_file(path), path, robot);
-}
-template <>
-s::BatteryModel read_model_file<s::BatteryModel>(const std::string& path, const std::string& robot) {
-  return battery_model_from_json(read_json_file(path), path, robot);
-}
+template s::ProximityModel read_model_file<s::ProximityModel>(const std::string&, const std::string&);
+template s::LightModel read_model_file<s::LightModel>(const std::string&, const std::string&);
+template s::GroundModel read_model_file<s::GroundModel>(const std::string&, const std::string&);
+template s::CameraModel read_model_file<s::CameraModel>(const std::string&, const std::string&);
+template s::DriveModel read_model_file<s::DriveModel>(const std::string&, const std::string&);
+template s::BatteryModel read_model_file<s::BatteryModel>(const std::string&, const std::string&);
 
 }  // namespace epuck2::coefficients

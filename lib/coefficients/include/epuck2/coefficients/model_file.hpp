@@ -42,6 +42,10 @@ s::DriveModel drive_model_from_json(const nlohmann::json& j, const std::string& 
 /// the RMS of its speeds' `noise_sd`).
 s::BatteryModel battery_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
 
+/// A JSON file as parsed, its errors located: logs::InputError at FILE:LINE:COLUMN for a file that
+/// cannot be opened, text that is not JSON, or a number too large for a double (1e999).
+nlohmann::json read_json_file(const std::string& path);
+
 /// The same, reading the file `path` (errors located in it).
 template <class Model>
 Model read_model_file(const std::string& path, const std::string& robot = "");
