@@ -2,8 +2,6 @@
 // kind; engine.cpp searches, fits and scores).
 #pragma once
 
-#include <ceres/jet.h>
-
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -14,6 +12,7 @@
 #include <vector>
 
 #include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/fit/jet.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/parameter.hpp"
 #include "epuck2/logs/log.hpp"
@@ -26,20 +25,16 @@ using fit::FitResult;
 
 /// At most this many parameters are free in one fit (the Jet's size).
 inline constexpr int kMaxFree = 24;
-using Jet = ceres::Jet<double, kMaxFree>;
+using Jet = fit::Jet<kMaxFree>;
 /// Most fits free few parameters: a short Jet is several times faster on long logs.
 inline constexpr int kFewFree = 8;
-using ShortJet = ceres::Jet<double, kFewFree>;
+using ShortJet = fit::Jet<kFewFree>;
 /// One effect on a base without free parameters (drive, battery, ground) frees one or two.
 inline constexpr int kTwoFree = 2;
-using PairJet = ceres::Jet<double, kTwoFree>;
+using PairJet = fit::Jet<kTwoFree>;
 
 /// The value of a scalar or a Jet (models branch on values, never on derivatives).
-inline double value_of(double x) { return x; }
-template <int N>
-double value_of(const ceres::Jet<double, N>& x) {
-  return x.a;
-}
+using fit::value_of;
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
