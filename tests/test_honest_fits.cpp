@@ -456,3 +456,56 @@ TEST_F(HonestLackOfFit, AGroundSensorThatDoesNotRespondIsBelowTheR2FloorWithoutA
 }
 
 }  // namespace
+
+// ---- (1) saturation before the noise ------------------------------------------------------------
+
+namespace {
+
+/// A phototransistor that saturates before its noise: one light of intensity 1 at `distances`,
+/// `per` readings each, round(clamp(clamp(4095 (1 - (gamma / d)^2), 0, 4095) + N(0, sd), 0, 4095)).
+/// Where gamma / d >= 1 the sensor is saturated: it reads max(0, noise), half the readings 0 and
+/// half a few counts (sd 25: 1..60 or so), never the unclamped curve's thousands below 0.
+std::string saturated_light_log(double gamma_m, double sd, const std::vector<double>& distances, int per, unsigned seed,
+                                std::size_t* saturated_zero = nullptr, std::size_t* saturated_above = nullptr) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sd);
+  std::ostringstream os;
+  os << "distance_m,intensity,sensor,value\n";
+  std::size_t zero = 0, above = 0;
+  for (double d : distances)
+    for (int sensor = 0; sensor < 8; ++sensor)
+      for (int k = 0; k < per; ++k) {
+        const double r = gamma_m / d;
+        const double physical = std::clamp(4095.0 * (1.0 - r * r), 0.0, 4095.0);
+        const double reading = std::clamp(std::round(physical + noise(rng)), 0.0, 4095.0);
+        if (physical == 0.0) (reading == 0.0 ? zero : above) += 1;
+        os << d << ",1," << sensor << "," << reading << "\n";
+      }
+  if (saturated_zero) *saturated_zero = zero;
+  if (saturated_above) *saturated_above = above;
+  return os.str();
+}
+
+}  // namespace
+
+TEST(HonestSaturation, ASaturatedPhototransistorsNoisyZerosDoNotBendGamma) {
+  // gamma 0.09 m: saturated at 3..8 cm (gamma / d >= 1), read on its curve from 10 to 50 cm.
+  const double gamma = 0.09;
+  std::size_t zero = 0, above = 0;
+  const std::string text = saturated_light_log(gamma, 25.0, {0.03, 0.04, 0.05, 0.06, 0.07, 0.08, 0.1, 0.12, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5},
+                                               5, 2111, &zero, &above);
+  // The generator makes what a real saturated sensor gives: about half its saturated readings at
+  // 0, half a few counts above.
+  ASSERT_GT(zero, 80u);
+  ASSERT_GT(above, 80u);
+  const auto f = epuck2::calibrate::fit_light({logs::parse_log(text, "sat.csv", logs::Kind::light)});
+  ASSERT_TRUE(f.gamma.usable) << f.gamma.message;
+  EXPECT_NEAR(f.gamma.value("gamma"), gamma, 0.02 * gamma);
+  // The diagnosis reads the same log with the same treatment: with gamma recalibrated, nothing is
+  // wrong with this sensor, and the recalibrated gamma is the generator's.
+  const dg::Report r = dg::diagnose({logs::parse_log(text, "sat.csv", logs::Kind::light)});
+  ASSERT_TRUE(r.supported) << r.message;
+  EXPECT_TRUE(r.findings.empty()) << r.findings.front().cause;
+  ASSERT_EQ(r.recalibrated.size(), 1u);
+  EXPECT_NEAR(r.recalibrated[0].value, gamma, 0.02 * gamma);
+}

@@ -16,6 +16,7 @@
 #include "epuck2/calibrate/screening.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/models/effects.hpp"
+#include "epuck2/models/saturation.hpp"
 #include "epuck2/logs/json_location.hpp"
 
 namespace epuck2::calibrate {
@@ -129,6 +130,9 @@ AutocorrelationCorrection run_autocorrelation(const RobustFit& f, const std::vec
   apply_cluster_robust(a, f, f.jacobian, r, run_of);
   return a;
 }
+
+// No saturation on that side (models::saturate).
+constexpr double kNoSaturation = std::numeric_limits<double>::infinity();
 
 // Quantisation noise of an integer reading: 1/sqrt(12) of a count.
 constexpr double kQuantisationSd = 0.28867513459481287;
@@ -406,12 +410,17 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
 // ================================================================================================
 
 namespace {
-// Eq. 2 for one light: y = 1 - g (gamma I / d)^2 over the observations' x = I / d (per metre).
+// Eq. 2 for one light: y = 1 - g (gamma I / d)^2 over the observations' x = I / d (per metre),
+// saturated at 0 before the noise (a phototransistor in bright light reads 0 plus its noise, not
+// the -4700 counts of the unclamped curve; lib/models saturation.hpp). The register's rail at 0 is
+// the Tobit censoring of fit_robust: together, the mean of a reading is
+// E[clamp(clamp(model) + noise)].
 struct LightCurve {
   std::vector<double> intensity_per_m;
   template <typename T>
   bool operator()(const T* gamma_m, T* out) const {
-    for (std::size_t i = 0; i < intensity_per_m.size(); ++i) out[i] = s::light_response(gamma_m[0], intensity_per_m[i], 1.0);
+    for (std::size_t i = 0; i < intensity_per_m.size(); ++i)
+      out[i] = models::saturate(s::light_response(gamma_m[0], intensity_per_m[i], 1.0), 0.0, kNoSaturation);
     return true;
   }
 };

@@ -370,6 +370,9 @@ class Light : public ProblemOf<Light> {
   explicit Light(const std::vector<logs::Log>& logs) {
     channel_lo = {0.0};
     channel_hi = {s::kProximityFullScale_raw};
+    // The phototransistor saturates at 0 in bright light before its noise (docs/diagnose.md);
+    // in the dark its reading is the register's rail.
+    channel_saturation_lo = {0.0};
     for (const auto& log : logs) {
       const auto& d = log.col("distance_m");
       const auto& in = log.col("intensity");

@@ -87,6 +87,10 @@ class Problem {
   /// Per channel: the reading's clamp (±inf, or missing: none). A clamp is the sensor's, the same
   /// for every residual of a channel: it is not stored per residual.
   std::vector<double> channel_lo, channel_hi;
+  /// Per channel: where the sensor itself saturates before its noise is added (±inf, or missing:
+  /// nowhere); the mean is E[clamp(clamp(model, saturation) + noise, clamp)] (lib/models
+  /// saturation.hpp).
+  std::vector<double> channel_saturation_lo, channel_saturation_hi;
   /// Per channel: the smallest noise standard deviation believed (empty: 0.3, a whole count's
   /// rounding).
   std::vector<double> channel_min_sd;
