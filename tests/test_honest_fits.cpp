@@ -509,3 +509,99 @@ TEST(HonestSaturation, ASaturatedPhototransistorsNoisyZerosDoNotBendGamma) {
   ASSERT_EQ(r.recalibrated.size(), 1u);
   EXPECT_NEAR(r.recalibrated[0].value, gamma, 0.02 * gamma);
 }
+
+TEST(HonestSaturation, AProximitySensorSaturatedAtContactKeepsItsCurve) {
+  // 4095 (300 d^2 - 35 d + 1.15): above full scale under 4.5 mm, so the sensor saturates there
+  // and reads 4095 minus noise (sd 25), half the readings on the register's rail.
+  auto truth = [](double d) { return 300 * d * d - 35 * d + 1.15; };
+  std::mt19937 rng(2112);
+  std::normal_distribution<double> noise(0.0, 25.0);
+  std::ostringstream os;
+  os << "distance_m,sensor,value\n";
+  std::size_t below_rail = 0;
+  for (double d : {0.001, 0.002, 0.003, 0.004, 0.006, 0.008, 0.01, 0.015, 0.02, 0.025, 0.03, 0.035, 0.04, 0.045, 0.05})
+    for (int k = 0; k < 20; ++k) {
+      const double physical = std::clamp(4095 * truth(d), 0.0, 4095.0);
+      const double v = std::clamp(std::round(physical + noise(rng)), 0.0, 4095.0);
+      if (physical == 4095.0 && v < 4095) ++below_rail;
+      os << d << ",0," << v << "\n";
+    }
+  ASSERT_GT(below_rail, 30u);  // saturated readings under the rail, as a real sensor gives
+  const auto f = epuck2::calibrate::fit_proximity({logs::parse_log(os.str(), "contact.csv", logs::Kind::proximity)});
+  ASSERT_TRUE(f.means.usable) << f.means.message;
+  EXPECT_NEAR(f.means.value("a"), 300.0, 0.02 * 300.0);
+  EXPECT_NEAR(f.means.value("b"), -35.0, 0.02 * 35.0);
+  EXPECT_NEAR(f.means.value("c"), 1.15, 0.02 * 1.15);
+  const dg::Report r = dg::diagnose({logs::parse_log(os.str(), "contact.csv", logs::Kind::proximity)});
+  ASSERT_TRUE(r.supported) << r.message;
+  ASSERT_EQ(r.recalibrated.size(), 3u);
+  EXPECT_NEAR(r.recalibrated[0].value, 300.0, 0.02 * 300.0);
+  EXPECT_NEAR(r.recalibrated[1].value, -35.0, 0.02 * 35.0);
+  EXPECT_NEAR(r.recalibrated[2].value, 1.15, 0.02 * 1.15);
+  EXPECT_TRUE(r.findings.empty()) << r.findings.front().cause;
+}
+
+// ---- (3) left-out readings are shown as measured; the range is fitted ---------------------------
+
+/// The plug-in's published curve to 50 mm (sd 5 counts, 20 readings a distance), then `beyond`
+/// (distance, counts) pairs read the same way.
+std::string curve_and_beyond(const std::vector<std::pair<double, double>>& beyond, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 5.0);
+  std::ostringstream os;
+  os << "distance_m,sensor,value\n";
+  auto write = [&](double d, double counts) {
+    for (int k = 0; k < 20; ++k) os << d << ",0," << std::clamp(std::round(counts + noise(rng)), 0.0, 4095.0) << "\n";
+  };
+  for (double d : {0.002, 0.005, 0.01, 0.015, 0.02, 0.025, 0.03, 0.035, 0.04, 0.045})
+    write(d, 4095 * std::clamp(197.8633 * d * d - 30.47182 * d + 1.011635, 0.0, 1.0));
+  for (const auto& [d, counts] : beyond) write(d, counts);
+  return os.str();
+}
+
+TEST_F(HonestLackOfFit, ReadingsBeyondTheRangeAreShownAsMeasuredWithTheirReason) {
+  // About 100 counts at 60 and 70 mm: beyond the model's 50 mm, still detected.
+  const std::string log = write("beyond.csv", curve_and_beyond({{0.06, 100.0}, {0.07, 100.0}}, 2113));
+  const CliRun r = run("proximity --json " + q(log));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  std::size_t shown = 0;
+  for (const auto& p : j["points"]) {
+    if (p["distance_m"].get<double>() < 0.055) continue;
+    ++shown;
+    EXPECT_FALSE(p["used"].get<bool>());
+    EXPECT_EQ(p["left_out_why"], "beyond the sensor's range (50 mm)");
+    // The generator's 100 counts, within 4 standard errors of a mean of 20 (5 / sqrt 20 ~ 1.1).
+    EXPECT_NEAR(p["mean"].get<double>() * 4095, 100.0, 4.5) << p.dump();
+    EXPECT_GT(p["min"].get<double>() * 4095, 100.0 - 5 * 5.0) << p.dump();
+    EXPECT_LT(p["max"].get<double>() * 4095, 100.0 + 5 * 5.0) << p.dump();
+  }
+  EXPECT_EQ(shown, 2u);
+  // Detected at the farthest distance logged: the range is at least 70 mm, without an error.
+  ASSERT_TRUE(j.contains("range_fit")) << j.dump();
+  EXPECT_TRUE(j["range_fit"]["lower_bound"].get<bool>());
+  EXPECT_DOUBLE_EQ(j["range_fit"]["value_m"].get<double>(), 0.07);
+  EXPECT_FALSE(j["range_fit"].contains("std_error_m"));
+  // The text report's table shows the same, never 0.0000.
+  const CliRun t = run("proximity " + q(log));
+  EXPECT_NE(t.out.find("    0.0600       20      0   0.02"), std::string::npos) << t.out;
+  EXPECT_EQ(t.out.find("0.0000   0.0000   0.0000"), std::string::npos) << t.out;
+}
+
+TEST_F(HonestLackOfFit, TheRangeIsBracketedByTheLastDetectedDistanceAndTheNext) {
+  // Detected at 60 mm (100 counts), nothing at 70 mm (0 counts): the range lies between them,
+  // 65 mm with the uniform bracket's sd 10 / sqrt(12) = 2.887 mm.
+  const std::string log = write("bracket.csv", curve_and_beyond({{0.06, 100.0}, {0.07, 0.0}}, 2114));
+  const CliRun r = run("proximity --json " + q(log));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("range_fit")) << j.dump();
+  const auto& range = j["range_fit"];
+  EXPECT_FALSE(range["lower_bound"].get<bool>());
+  EXPECT_NEAR(range["value_m"].get<double>(), 0.065, 1e-12);
+  EXPECT_NEAR(range["std_error_m"].get<double>(), 0.010 / std::sqrt(12.0), 1e-12);
+  EXPECT_NEAR(range["detected_to_m"].get<double>(), 0.06, 1e-12);
+  EXPECT_NEAR(range["undetected_from_m"].get<double>(), 0.07, 1e-12);
+  const CliRun t = run("proximity " + q(log));
+  EXPECT_NE(t.out.find("Range (where the readings stop being detected): 65.0 ± 2.9 mm, between 60 mm"), std::string::npos) << t.out;
+}
