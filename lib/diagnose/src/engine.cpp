@@ -657,8 +657,9 @@ class Diagnosis {
       fit_final();
       estimate_uncertainties();
       for (const Finding& f : report_.possible)
-        report_.warnings.push_back("possible, not determined: " + f.cause + " (" + f.undetermined +
-                                   "); left out of the final and the extended model");
+        report_.warnings.push_back((f.undetermined.find(detail::kOutsidePhysicalRange) != std::string::npos ? "not written: "
+                                                                                                    : "possible, not determined: ") +
+                                   f.cause + " (" + f.undetermined + "); left out of the final and the extended model");
     }
     score_shares();
     score_residual_structure();
@@ -1170,6 +1171,7 @@ class Diagnosis {
       std::snprintf(b, sizeof b, "%.3g", v);
       return std::string(b);
     };
+    for (std::size_t k = 0; k < F; ++k) why[k] = p.implausible(order_[k].cause, current_.values);
     for (std::size_t k = 0; k < F; ++k)
       for (std::size_t q = 0; q < order_[k].params.size() && why[k].empty(); ++q) {
         const int j = order_[k].params[q];

@@ -53,6 +53,10 @@ struct Effect {
   std::vector<int> params;  ///< indices into Problem::params
 };
 
+/// The words that end Problem::implausible's reasons: such a finding is "not written", not merely
+/// "possible, not determined".
+constexpr const char* kOutsidePhysicalRange = "outside the physical range of the quantity";
+
 /// What a finding is when its fitted parameters make it another effect (Problem::identify).
 struct Identity {
   std::string cause;         ///< its name
@@ -132,6 +136,14 @@ class Problem {
   /// make it another effect; nothing when it is what its name says (the default).
   /// The causes identify() has a rule for (the others are not asked).
   std::vector<std::string> identifiable;
+  /// Why the finding of effect `cause` at the parameters `values` lies outside the physical range
+  /// of its quantity (kind_facts: a tail above the sensor's full scale), or "" (the default): such
+  /// a finding is never written into the extended model (Report::possible, with this reason).
+  virtual std::string implausible(const std::string& cause, const std::vector<double>& values) const {
+    (void)cause;
+    (void)values;
+    return "";
+  }
   virtual std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
                                            const Eigen::MatrixXd& covariance) const {
     (void)cause;
