@@ -673,3 +673,78 @@ TEST(HonestDiagnosis, ATailAboveFullScaleIsNotWrittenWithTheReason) {
   // The extended model carries no tail.
   EXPECT_EQ(dg::extended_proximity(r).effects.tail.amplitude_raw, 0.0);
 }
+
+// ---- (5) a battery cubic that misses its replicates stops, as the sensor fits do ----------------
+
+/// The RMS, over `u`, of f minus its least-squares cubic (4x4 normal equations solved here by
+/// Gaussian elimination): the least any cubic can miss f by.
+template <class F>
+double best_cubic_miss(const std::vector<double>& u, F f) {
+  double A[4][5] = {};
+  for (double x : u) {
+    const double p[4] = {1, x, x * x, x * x * x};
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 4; ++c) A[r][c] += p[r] * p[c];
+      A[r][4] += p[r] * f(x);
+    }
+  }
+  for (int k = 0; k < 4; ++k)
+    for (int r = k + 1; r < 4; ++r) {
+      const double m = A[r][k] / A[k][k];
+      for (int c = k; c < 5; ++c) A[r][c] -= m * A[k][c];
+    }
+  double coef[4];
+  for (int k = 3; k >= 0; --k) {
+    double v = A[k][4];
+    for (int c = k + 1; c < 4; ++c) v -= A[k][c] * coef[c];
+    coef[k] = v / A[k][k];
+  }
+  double ss = 0;
+  for (double x : u) {
+    const double r = f(x) - (coef[0] + coef[1] * x + coef[2] * x * x + coef[3] * x * x * x);
+    ss += r * r;
+  }
+  return std::sqrt(ss / static_cast<double>(u.size()));
+}
+
+TEST_F(HonestLackOfFit, ABatteryCubicThatMissesItsReplicatesStopsUnlessAccepted) {
+  // Two runs at 5 cm/s on one clock (every 10 s to 3000 s): charge 1 - 0.3 u - 0.7 u^12
+  // (u = t / 3000 s), a knee no cubic follows, read with noise sd 0.002.
+  const double lifetime = 3000, sd = 0.002;
+  auto truth = [](double u) { return 1 - 0.3 * u - 0.7 * std::pow(u, 12); };
+  std::vector<double> u;
+  for (int i = 0; i <= 300; ++i) u.push_back(i * 10.0 / lifetime);
+  // The generator makes a misfit: its best cubic misses it by more than 10 replicate sd.
+  ASSERT_GT(best_cubic_miss(u, truth), 10 * sd);
+  std::mt19937 rng(2117);
+  std::normal_distribution<double> noise(0.0, sd);
+  std::vector<std::string> logs;
+  for (const char* robot : {"a", "b"}) {
+    std::ostringstream os;
+    os << "# robot: " << robot << "\ntime_s,speed_cm_s,charge\n";
+    for (double x : u) os << x * lifetime << ",5," << std::max(0.0, truth(x) + noise(rng)) << "\n";
+    logs.push_back(q(write(std::string("knee_") + robot + ".csv", os.str())));
+  }
+  const std::string out = (dir_ / "knee.json").string();
+  const CliRun r = run("battery -o " + q(out) + " " + logs[0] + " " + logs[1]);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("battery cubic at 5 cm/s: the curve misses its data by "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("times the replicates' own sd (limit 10); worst: times "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Nothing was written; --accept-misfit writes it anyway."), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const CliRun a = run("battery --accept-misfit -o " + q(out) + " " + logs[0] + " " + logs[1]);
+  EXPECT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  EXPECT_NE(a.err.find("(accepted by --accept-misfit)."), std::string::npos) << a.err;
+
+  // The same protocol on a cubic discharge passes: 1 - 0.5 u - 0.5 u^3.
+  std::vector<std::string> fine;
+  for (const char* robot : {"a", "b"}) {
+    std::ostringstream os;
+    os << "# robot: " << robot << "\ntime_s,speed_cm_s,charge\n";
+    for (double x : u) os << x * lifetime << ",5," << std::max(0.0, 1 - 0.5 * x - 0.5 * x * x * x + noise(rng)) << "\n";
+    fine.push_back(q(write(std::string("cubic_") + robot + ".csv", os.str())));
+  }
+  const CliRun c = run("battery " + fine[0] + " " + fine[1]);
+  EXPECT_EQ(c.exit_code, 0) << c.err;
+}
