@@ -13,6 +13,7 @@
 #include "epuck2/calibrate/screening.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/problem.hpp"
+#include "epuck2/models/saturation.hpp"
 
 namespace epuck2::diagnose {
 
@@ -73,32 +74,9 @@ using detail::kMaxFree;
 using detail::Problem;
 using detail::ShortJet;
 
-/// E[clamp(mu + e, lo, hi)] for e ~ N(0, sigma^2): the mean of a clamped noisy reading, smooth in
-/// mu, so that readings at a clamp are fitted without bias (for hi - lo >> sigma).
-template <typename T>
-T expected_clamp(const T& mu, double lo, double hi, double sigma) {
-  using std::erfc;
-  using std::exp;
-  constexpr double kInvSqrt2 = 0.70710678118654752440;
-  constexpr double kInvSqrt2Pi = 0.39894228040143267794;
-  // Beyond 9 sigma from both clamps the correction is below 1e-20 sigma: the mean itself.
-  constexpr double kFar = 9.0;
-  const double m = detail::value_of(mu);
-  if (!(m - lo < kFar * sigma) && !(hi - m < kFar * sigma)) return mu;
-  // Beyond 9 sigma outside one clamp (and far from the other), the reading is that clamp.
-  if (lo - m > kFar * sigma && hi - m > kFar * sigma) return T(lo);
-  if (m - hi > kFar * sigma && m - lo > kFar * sigma) return T(hi);
-  T out = mu;
-  if (std::isfinite(lo)) {
-    const T z = (lo - mu) / sigma;  // E[max(0, lo - X)] = sigma (z Phi(z) + phi(z))
-    out += sigma * (z * (0.5 * erfc(-z * kInvSqrt2)) + kInvSqrt2Pi * exp(-0.5 * z * z));
-  }
-  if (std::isfinite(hi)) {
-    const T z = (mu - hi) / sigma;
-    out -= sigma * (z * (0.5 * erfc(-z * kInvSqrt2)) + kInvSqrt2Pi * exp(-0.5 * z * z));
-  }
-  return out;
-}
+/// The mean of a reading that saturates before its noise (lib/models saturation.hpp, shared with
+/// the calibration fits).
+using models::expected_saturated_reading;
 
 class Engine {
  public:
@@ -125,6 +103,8 @@ class Engine {
     if (p_.channel.empty()) p_.channel.assign(n_, 0);
     p_.channel_lo.resize(p_.channel_names.size(), -detail::kInf);
     p_.channel_hi.resize(p_.channel_names.size(), detail::kInf);
+    p_.channel_saturation_lo.resize(p_.channel_names.size(), -detail::kInf);
+    p_.channel_saturation_hi.resize(p_.channel_names.size(), detail::kInf);
     if (p_.channel_min_sd.size() < p_.channel_names.size()) p_.channel_min_sd.resize(p_.channel_names.size(), kDefaultMinimumSd);
     set_sigma(std::vector<double>(p_.channel_names.size(), 1.0));
     // Folds: contiguous blocks of rows dealt round-robin.
@@ -163,7 +143,9 @@ class Engine {
       for (std::size_t i = 0; i < n; ++i)
         if (p_.channel[i] == 0) out[i] += values[s.param] * s.centred[i];
     for (std::size_t i = 0; i < n; ++i)
-      out[i] = expected_clamp(out[i], lo(i), hi(i), sigma_[static_cast<std::size_t>(p_.channel[i])]);
+      out[i] = expected_saturated_reading(out[i], p_.channel_saturation_lo[static_cast<std::size_t>(p_.channel[i])],
+                                          p_.channel_saturation_hi[static_cast<std::size_t>(p_.channel[i])], lo(i), hi(i),
+                                          sigma_[static_cast<std::size_t>(p_.channel[i])]);
   }
   std::vector<double> predict(const std::vector<double>& values) const {
     std::vector<double> out;
@@ -669,8 +651,9 @@ class Diagnosis {
       fit_final();
       estimate_uncertainties();
       for (const Finding& f : report_.possible)
-        report_.warnings.push_back("possible, not determined: " + f.cause + " (" + f.undetermined +
-                                   "); left out of the final and the extended model");
+        report_.warnings.push_back((f.undetermined.find(detail::kOutsidePhysicalRange) != std::string::npos ? "not written: "
+                                                                                                    : "possible, not determined: ") +
+                                   f.cause + " (" + f.undetermined + "); left out of the final and the extended model");
     }
     score_shares();
     score_residual_structure();
@@ -1182,6 +1165,7 @@ class Diagnosis {
       std::snprintf(b, sizeof b, "%.3g", v);
       return std::string(b);
     };
+    for (std::size_t k = 0; k < F; ++k) why[k] = p.implausible(order_[k].cause, current_.values);
     for (std::size_t k = 0; k < F; ++k)
       for (std::size_t q = 0; q < order_[k].params.size() && why[k].empty(); ++q) {
         const int j = order_[k].params[q];

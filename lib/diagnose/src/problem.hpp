@@ -48,6 +48,10 @@ struct Effect {
   std::vector<int> params;  ///< indices into Problem::params
 };
 
+/// The words that end Problem::implausible's reasons: such a finding is "not written", not merely
+/// "possible, not determined".
+constexpr const char* kOutsidePhysicalRange = "outside the physical range of the quantity";
+
 /// What a finding is when its fitted parameters make it another effect (Problem::identify).
 struct Identity {
   std::string cause;         ///< its name
@@ -82,6 +86,10 @@ class Problem {
   /// Per channel: the reading's clamp (±inf, or missing: none). A clamp is the sensor's, the same
   /// for every residual of a channel: it is not stored per residual.
   std::vector<double> channel_lo, channel_hi;
+  /// Per channel: where the sensor itself saturates before its noise is added (±inf, or missing:
+  /// nowhere); the mean is E[clamp(clamp(model, saturation) + noise, clamp)] (lib/models
+  /// saturation.hpp).
+  std::vector<double> channel_saturation_lo, channel_saturation_hi;
   /// Per channel: the smallest noise standard deviation believed (empty: 0.3, a whole count's
   /// rounding).
   std::vector<double> channel_min_sd;
@@ -123,6 +131,14 @@ class Problem {
   /// make it another effect; nothing when it is what its name says (the default).
   /// The causes identify() has a rule for (the others are not asked).
   std::vector<std::string> identifiable;
+  /// Why the finding of effect `cause` at the parameters `values` lies outside the physical range
+  /// of its quantity (kind_facts: a tail above the sensor's full scale), or "" (the default): such
+  /// a finding is never written into the extended model (Report::possible, with this reason).
+  virtual std::string implausible(const std::string& cause, const std::vector<double>& values) const {
+    (void)cause;
+    (void)values;
+    return "";
+  }
   virtual std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
                                            const Eigen::MatrixXd& covariance) const {
     (void)cause;
