@@ -47,7 +47,8 @@ class CEPuck2CalibratedProximitySensor : public CEPuck2ProximityDefaultSensor {
   Real CalculateReading(Real f_distance) override;
 
  private:
-  std::vector<epuck2::models::sensors::ProximityCoefficients> m_vecCoefficients;
+  epuck2::models::sensors::ProximityModel m_sModel;
+  std::vector<Real> m_vecRayScale;  ///< each ray stretched to where the model stops responding
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 
@@ -100,7 +101,7 @@ class CEPuck2CalibratedLightSensor : public CEPuck2LightDefaultSensor {
   void Update() override;
 
  private:
-  std::vector<epuck2::models::sensors::LightCoefficients> m_vecCoefficients;
+  std::vector<epuck2::models::sensors::LightModel> m_vecModels;  ///< per sensor: its own gamma
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 
