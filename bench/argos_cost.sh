@@ -8,6 +8,9 @@
 # and whether the targets are met:
 #   a calibrated sensor, or the calibrated wheels (row actuator: the shipped drive diagnosis's
 #   speed_limit and slip on), costs at most 5 % more than the plug-in's implementation (ratio <= 1.05);
+#   so do the calibrated proximity and light sensors with a diagnosis's effects on (rows
+#   proximity-effects: ambient_offset, sensor_gain, long_tail of 300 counts over 20 mm (rays 0.13 m
+#   long) and saturation; light-effects: ambient_offset, falloff_exponent 2.3, sensor_gain);
 #   the calibrated corrected Cubic battery (behaviour="corrected") costs no more than the
 #   plug-in's Cubic (ratio <= 1.00).
 # Noise is off on both sides (the plug-in's noise_level 0, the calibrated noise="false"): the
@@ -18,14 +21,14 @@
 # are the instructions of the sensor's Update or the discharge model alone (inclusive), default
 # and calibrated, in millions.
 #   usage: bench/argos_cost.sh [SIM_SECONDS (default 7200)] [REPEATS (default 3)] [ROBOTS (default "1 10 50")] [ROWS]
-#     ROWS: a space-separated subset of: proximity ground tof encoder light actuator battery-simple
+#     ROWS: a space-separated subset of: proximity proximity-effects ground tof encoder light light-effects actuator battery-simple
 #           battery-linear battery-cubic battery-approximated battery-cubic-corrected (default: all)
 # Environment: EPUCK2_BUILD_DIR (default build), EPUCK2_BENCH_MEASURE (cpu, default, or instructions).
 # Needs ARGoS, the E-Puck2 plug-in and the project built with them (build/lib/argos3), python3.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SECONDS_SIM="${1:-7200}"; REPEATS="${2:-3}"; ROBOTS="${3:-1 10 50}"
-ROWS="${4:-proximity ground tof encoder light actuator battery-simple battery-linear battery-cubic battery-approximated battery-cubic-corrected}"
+ROWS="${4:-proximity proximity-effects ground tof encoder light light-effects actuator battery-simple battery-linear battery-cubic battery-approximated battery-cubic-corrected}"
 LIBDIR="${EPUCK2_BUILD_DIR:-$ROOT/build}/lib/argos3"
 command -v argos3 >/dev/null || { echo "argos_cost: argos3 not found (docs/argos.md)" >&2; exit 3; }
 command -v python3 >/dev/null || { echo "argos_cost: python3 not found" >&2; exit 3; }
@@ -33,6 +36,19 @@ command -v python3 >/dev/null || { echo "argos_cost: python3 not found" >&2; exi
 LIBDIR="$(cd "$LIBDIR" && pwd)"
 WORK="$(mktemp -d)"; trap 'rm -rf "$WORK"' EXIT
 F="$ROOT/data/fitted"
+# The shipped diagnoses with every applicable effect of their kind switched on.
+python3 - "$F" "$WORK" <<'PY'
+import json, sys
+f, work = sys.argv[1], sys.argv[2]
+p = json.load(open(f"{f}/reports/diagnose_proximity.json"))
+p["effects"] = {"ambient_offset": {"offset": 40.0}, "sensor_gain": {"gains": [1, 1.1, 0.9, 1, 1.05, 1, 0.95, 1]},
+                "long_tail": {"amplitude": 300.0, "length_m": 0.02}, "saturation": {"level": 3800.0}}
+json.dump(p, open(f"{work}/proximity_effects.json", "w"))
+l = json.load(open(f"{f}/reports/diagnose_light.json"))
+l["effects"] = {"ambient_offset": {"offset": 30.0}, "falloff_exponent": {"exponent": 2.3},
+                "sensor_gain": {"gains": [1, 1.1, 0.9, 1, 1.05, 1, 0.95, 1]}}
+json.dump(l, open(f"{work}/light_effects.json", "w"))
+PY
 
 # sensor XML for (what, impl)
 sensor_xml() {
@@ -40,6 +56,8 @@ sensor_xml() {
   [ "$impl" = calibrated ] && c=" noise=\"false\""
   case "$what" in
     proximity) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/proximity.json\""; echo "<epuck2_proximity implementation=\"$impl\"$c/>";;
+    proximity-effects) [ "$impl" = calibrated ] && c+=" coefficients=\"$WORK/proximity_effects.json\""; echo "<epuck2_proximity implementation=\"$impl\"$c/>";;
+    light-effects) [ "$impl" = calibrated ] && c+=" coefficients=\"$WORK/light_effects.json\""; echo "<epuck2_light implementation=\"$impl\"$c/>";;
     ground) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/ground.json\"" || impl=rot_z_only; echo "<epuck2_ground implementation=\"$impl\"$c/>";;
     tof) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/drive.json\""; echo "<epuck2_tof implementation=\"$impl\"$c/>";;
     encoder) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/drive.json\""; echo "<epuck2_encoder implementation=\"$impl\"$c/>";;
@@ -166,7 +184,7 @@ for n in $ROBOTS; do
     ma=$(median < "$WORK/a.times"); mb=$(median < "$WORK/b.times")
     lo=$(sort -g "$WORK/ratios" | head -n1); hi=$(sort -g "$WORK/ratios" | tail -n1)
     case "$what" in
-      proximity|ground|tof|encoder|light|actuator) target=1.05;;
+      proximity|proximity-effects|ground|tof|encoder|light|light-effects|actuator) target=1.05;;
       battery-cubic-corrected) target=1.00;;
       *) target=-;;
     esac

@@ -122,6 +122,14 @@ void ConfigureNoise(const SCommon& s, const std::string& str_channel, const std:
     c_noise.uniform(std::vector<double>(vec_sd.size(), s.NoiseLevel));
     return;
   }
+  const auto HasChannel = [&](const nlohmann::json& j) {
+    return j.is_object() && j.contains("noise") && j.at("noise").is_object() && j.at("noise").contains(str_channel);
+  };
+  const nlohmann::json* pcRobotSet = nullptr;
+  if (!s.Robot.empty()) pcRobotSet = &s.Root->at("robots").at(s.Robot);
+  if (!HasChannel(*s.Root) && !(pcRobotSet && HasChannel(*pcRobotSet)))
+    WarnOnce("calibrated " + s.Sensor + ": " + s.Path + ": the 'noise' section has no '" + str_channel +
+             "' entry: this sensor draws no noise (as simulate does with the file)");
   if (s.NoiseLevelGiven)
     WarnOnce("calibrated " + s.Sensor + ": noise_level is ignored: " + s.Path +
              " gives the measured reading noise (noise." + str_channel + "); noise=\"false\" turns noise off");

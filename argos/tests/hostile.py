@@ -115,7 +115,7 @@ for name, part, path, literal, reason in CASES:
     except subprocess.TimeoutExpired:
         log, code = "timed out: ARGoS ran on", 0
     where = f"{coeff}:{line}:{column}"
-    message = next((l for l in log.splitlines() if coeff in l), "")
+    message = next((l for l in log.splitlines() if where in l), "")
     ok = code != 0 and where in log and reason in log
     failures += not ok
     print(f"{'ok  ' if ok else 'FAIL'} {name}: {message.strip()[:260] if ok else ''}")
