@@ -9,8 +9,9 @@
 #   a calibrated sensor, or the calibrated wheels (row actuator: the shipped drive diagnosis's
 #   speed_limit and slip on), costs at most 5 % more than the plug-in's implementation (ratio <= 1.05);
 #   so do the calibrated proximity and light sensors with a diagnosis's effects on (rows
-#   proximity-effects: ambient_offset, sensor_gain, long_tail of 300 counts over 20 mm (rays 0.13 m
-#   long) and saturation; light-effects: ambient_offset, falloff_exponent 2.3, sensor_gain);
+#   proximity-effects and light-effects: every effect of the kind ARGoS applies, from
+#   bench/argos_effects.json; the proximity's long tail of 300 counts over 20 mm makes its rays
+#   0.13 m long);
 #   the calibrated corrected Cubic battery (behaviour="corrected") costs no more than the
 #   plug-in's Cubic (ratio <= 1.00).
 # Noise is off on both sides (the plug-in's noise_level 0, the calibrated noise="false"): the
@@ -36,18 +37,14 @@ command -v python3 >/dev/null || { echo "argos_cost: python3 not found" >&2; exi
 LIBDIR="$(cd "$LIBDIR" && pwd)"
 WORK="$(mktemp -d)"; trap 'rm -rf "$WORK"' EXIT
 F="$ROOT/data/fitted"
-# The shipped diagnoses with every applicable effect of their kind switched on.
-python3 - "$F" "$WORK" <<'PY'
+# The shipped diagnoses with every effect of their kind ARGoS applies switched on (bench/argos_effects.json).
+python3 - "$F" "$WORK" "$ROOT/bench/argos_effects.json" <<'PY'
 import json, sys
-f, work = sys.argv[1], sys.argv[2]
-p = json.load(open(f"{f}/reports/diagnose_proximity.json"))
-p["effects"] = {"ambient_offset": {"offset": 40.0}, "sensor_gain": {"gains": [1, 1.1, 0.9, 1, 1.05, 1, 0.95, 1]},
-                "long_tail": {"amplitude": 300.0, "length_m": 0.02}, "saturation": {"level": 3800.0}}
-json.dump(p, open(f"{work}/proximity_effects.json", "w"))
-l = json.load(open(f"{f}/reports/diagnose_light.json"))
-l["effects"] = {"ambient_offset": {"offset": 30.0}, "falloff_exponent": {"exponent": 2.3},
-                "sensor_gain": {"gains": [1, 1.1, 0.9, 1, 1.05, 1, 0.95, 1]}}
-json.dump(l, open(f"{work}/light_effects.json", "w"))
+f, work, effects = sys.argv[1], sys.argv[2], json.load(open(sys.argv[3]))
+for kind in ("proximity", "light"):
+    d = json.load(open(f"{f}/reports/diagnose_{kind}.json"))
+    d["effects"] = effects[kind]
+    json.dump(d, open(f"{work}/{kind}_effects.json", "w"))
 PY
 
 # sensor XML for (what, impl)
