@@ -216,10 +216,9 @@ void CEPuck2CalibratedProximitySensor::Init(TConfigurationNode& t_tree) {
        a diagnosis's effects, the noise; every value checked */
     m_sModel = ec::proximity_model_from_json(*s.Root, s.Path, s.Robot,
                                              strCurve == "mean" ? ec::ProximityCurve::means : ec::ProximityCurve::maxima);
-    RefuseWhatArgosCannotApply(
-        s, m_sModel, [](std::size_t un_id) { return un_id == fx::proximity::incidence_angle; },
-        "it needs the angle between the ray and the surface's normal at the hit point, and ARGoS's ray query "
-        "(GetClosestEmbodiedEntityIntersectedByRay) gives the distance and the entity, not the normal");
+    RefuseWhatArgosCannotApply(s, m_sModel, [](std::size_t) { return false; }, "");
+    /* incidence_angle: the angle of each hit surface, computed only when the file has one */
+    m_bIncidence = m_sModel.effects.incidence.k != 0.0;
     if (m_tReadings.size() != m_sModel.noise_sd_raw.size())
       s.Fail("", "the robot has " + std::to_string(m_tReadings.size()) + " proximity sensors, the model " +
                      std::to_string(m_sModel.noise_sd_raw.size()));
@@ -236,6 +235,36 @@ void CEPuck2CalibratedProximitySensor::Init(TConfigurationNode& t_tree) {
     ConfigureNoise(s, "proximity", Sd(m_sModel.noise_sd_raw), ms::kPluginNoiseScaleProximity_counts, m_cNoise);
   });
   m_bAddNoise = false;
+}
+
+Real CEPuck2CalibratedProximitySensor::CosIncidence(const CRay3& c_ray, Real f_distance) {
+  const Real fEpsilon = 0.001;
+  CVector3 cU = c_ray.GetEnd() - c_ray.GetStart();
+  cU.Normalize();
+  /* two directions across the ray */
+  CVector3 cV1 = cU;
+  cV1.CrossProduct(Abs(cU.GetZ()) < 0.9 ? CVector3::Z : CVector3::X);
+  cV1.Normalize();
+  CVector3 cV2 = cU;
+  cV2.CrossProduct(cV1);
+  cV2.Normalize();
+  const CVector3 cHit = c_ray.GetStart() + cU * f_distance;
+  SEmbodiedEntityIntersectionItem sSide;
+  /* the hit of the ray moved by f_offset across it along c_v, or nothing */
+  auto SideHit = [&](const CVector3& c_v, Real f_offset, CVector3& c_out) {
+    const CRay3 cSide(c_ray.GetStart() + c_v * f_offset, c_ray.GetEnd() + c_v * f_offset);
+    if (!GetClosestEmbodiedEntityIntersectedByRay(sSide, cSide, *m_pcEmbodiedEntity)) return false;
+    c_out = cSide.GetStart() + cU * cSide.GetDistance(sSide.TOnRay);
+    return true;
+  };
+  CVector3 cP1, cP2;
+  if (!SideHit(cV1, fEpsilon, cP1) && !SideHit(cV1, -fEpsilon, cP1)) return 1.0;
+  if (!SideHit(cV2, fEpsilon, cP2) && !SideHit(cV2, -fEpsilon, cP2)) return 1.0;
+  CVector3 cNormal = cP1 - cHit;
+  cNormal.CrossProduct(cP2 - cHit);
+  const Real fLength = cNormal.Length();
+  if (!(fLength > 0)) return 1.0;
+  return Abs(cNormal.DotProduct(cU)) / fLength;
 }
 
 Real CEPuck2CalibratedProximitySensor::CalculateReading(Real f_distance) {
@@ -256,8 +285,9 @@ void CEPuck2CalibratedProximitySensor::Update() {
     } else if (m_bShowRays) {
       m_pcControllableEntity->AddCheckedRay(false, cRay);
     }
+    const double fCos = m_bIncidence && fDistance ? CosIncidence(cRay, *fDistance) : 1.0;
     /* lib/models' mean (every effect the file has), the noise in counts, the rounding and the rails */
-    const double fMean = ms::mean_raw(m_sModel, static_cast<int>(i), fDistance) +
+    const double fMean = ms::mean_raw(m_sModel, static_cast<int>(i), fDistance, fCos) +
                          ms::uniform_noise(m_cNoise.unit(i), m_cNoise.level(i)) * ms::kPluginNoiseScaleProximity_counts;
     m_tReadings[i].Value = std::clamp(std::round(fMean), 0.0, ms::kProximityFullScale_raw);
   }

@@ -3,8 +3,10 @@
 
 The expected mean reading of each condition is the generator's formula (tests/diagnose_generators.hpp,
 written again here) with its drawn parameters (truth.json):
-  proximity: min(4095 clamp01(a d^2 + b d + c) [d <= 0.05] + offset + amplitude exp(-d / length), level),
+  proximity: min(4095 clamp01(cos(theta)^k (a d^2 + b d + c)) [d <= 0.05] + offset + amplitude exp(-d / length), level),
              a, b, c the plug-in's published 197.8633, -30.47182, 1.011635 (the generator's base);
+             theta 0, or 30 deg for incidence_angle, whose protocol turns the wall by 30 deg (the
+             ray then meets it 0.01 (1 - 1 / cos 30) m short of the nominal distance d);
   light:     4095 (1 - (gamma I / d)^p) - offset, gamma the generator's draw.
 rounded and clamped to 0..4095 as the register. Required: the diagnosis recording's RMS error over
 the conditions at most the generator's reading noise sd (10 counts proximity, 15 light), and, when
@@ -26,9 +28,13 @@ clamp = lambda v: min(max(round(v), 0), 4095)
 def expected(row):
     d = float(row["distance_m"])
     if kind == "proximity":
-        base = 0.0
+        base, k = 0.0, truth.get("k", 0.0)
+        cos = 1.0
+        if cause == "incidence_angle":  # the wall turned by 30 degrees (closed_loop_sensors.sh)
+            cos = math.cos(math.radians(30.0))
+            d = d + 0.01 - 0.01 / cos
         if d <= 0.05:
-            base = 4095 * min(max((197.8633 * d - 30.47182) * d + 1.011635, 0.0), 1.0)
+            base = 4095 * min(max(cos ** k * ((197.8633 * d - 30.47182) * d + 1.011635), 0.0), 1.0)
         tail = truth.get("amplitude", 0.0) * math.exp(-d / truth.get("length_m", 0.02))
         return clamp(min(base + truth.get("offset", 0.0) + tail, truth.get("level", 1e9)))
     gamma, i = t["generator_gamma_m"], float(row["intensity"])

@@ -26,6 +26,27 @@ open(f"{work}/log.csv", "w").write("\n".join(",".join(l.split(",")[i] for i in k
 PY
 run "$FIT" diagnose "$WORK/log.csv" --kind "$KIND" -o "$WORK/diagnosis.json" > "$WORK/diagnosis.txt"
 grep -iE "verdict|finding" "$WORK/diagnosis.txt" | head -5 || true
-run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/diagnosis.json" "$WORK/argos_diagnosis"
-run "$ROOT/scripts/argos-record.sh" "$KIND" default "$WORK/argos_plugin"
+if [ "$CAUSE" = incidence_angle ]; then
+  # The protocol with the wall turned by 30 degrees about its centre: every ray meets it at 30
+  # degrees from its normal (and 0.01 (1 - 1 / cos 30) m short of the nominal distance, the face
+  # turning about the wall's centre line); distances from 25 mm, where the turned wall clears the body.
+  record() {  # coefficients|default out_dir
+    mkdir -p "$2"
+    sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$2\"|" -e 's|distances="[^"]*"|distances="0.025:0.005:0.05"|' \
+        -e 's|<body position="0.5,0,0" orientation="0,0,0" />|<body position="0.5,0,0" orientation="30,0,0" />|' \
+        "$ROOT/argos/experiments/proximity.argos" > "$2/exp.argos"
+    if [ "$1" = default ]; then
+      sed -i -e 's|implementation="calibrated"|implementation="default"|' -e 's| coefficients="[^"]*"||' "$2/exp.argos"
+    else
+      sed -i -e "s|coefficients=\"[^\"]*\"|coefficients=\"$1\"|" "$2/exp.argos"
+    fi
+    grep -q 'orientation="30,0,0"' "$2/exp.argos" || { echo "FAIL: the wall was not turned"; exit 1; }
+    ARGOS_PLUGIN_PATH="$LIBDIR" argos3 -n -z -c "$2/exp.argos" > "$2/log" 2>&1 || { tail -20 "$2/log"; exit 1; }
+  }
+  run record "$WORK/diagnosis.json" "$WORK/argos_diagnosis"
+  run record default "$WORK/argos_plugin"
+else
+  run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/diagnosis.json" "$WORK/argos_diagnosis"
+  run "$ROOT/scripts/argos-record.sh" "$KIND" default "$WORK/argos_plugin"
+fi
 python3 "$HERE/closed_loop_sensors.py" "$WORK"

@@ -60,9 +60,10 @@ for part, (_, _, _, channel) in PARTS.items():
         CASES.append((f"{part}_noise_1e308", part, ["noise", channel, "sd"], "1e308", "noise sd must lie in"))
     CASES.append((f"{part}_1e999", part, None, "1e999", "too large for a double"))
     CASES.append((f"{part}_unknown_effect", part, ["effects", "warp_drive"], '{"speed": 9}', "unknown effect 'warp_drive'"))
-# What the proximity sensor cannot apply in ARGoS: the incidence angle (no surface normal)
-CASES.append(("proximity_incidence_angle", "proximity", ["effects", "incidence_angle"], '{"k": 1.5}',
-              "cannot apply it in ARGoS: it needs the angle between the ray and the surface's normal"))
+# What ARGoS cannot apply: a covariate (no log column)
+CASES.append(("proximity_covariate", "proximity", ["effects", "covariate:temperature_c"], '{"slope": 2, "centre": 25}',
+              "it needs the log column 'temperature_c', which ARGoS does not have"))
+CASES.append(("proximity_incidence_k_negative", "proximity", ["effects", "incidence_angle"], '{"k": -1}', RANGE))
 CASES.append(("light_covariate", "light", ["effects", "covariate:temperature_c"], '{"slope": 2, "centre": 25}',
               "it needs the log column 'temperature_c', which ARGoS does not have"))
 
