@@ -63,7 +63,7 @@ for part, (_, _, _, channel) in PARTS.items():
 # What ARGoS cannot apply: a covariate (no log column)
 CASES.append(("proximity_covariate", "proximity", ["effects", "covariate:temperature_c"], '{"slope": 2, "centre": 25}',
               "it needs the log column 'temperature_c', which ARGoS does not have"))
-CASES.append(("proximity_incidence_k_negative", "proximity", ["effects", "incidence_angle"], '{"k": -1}', RANGE))
+CASES.append(("proximity_incidence_k_negative", "proximity", ["effects", "incidence_angle", "k"], "-1", RANGE))
 CASES.append(("light_covariate", "light", ["effects", "covariate:temperature_c"], '{"slope": 2, "centre": 25}',
               "it needs the log column 'temperature_c', which ARGoS does not have"))
 
