@@ -8,6 +8,10 @@
 # and whether the targets are met:
 #   a calibrated sensor, or the calibrated wheels (row actuator: the shipped drive diagnosis's
 #   speed_limit and slip on), costs at most 5 % more than the plug-in's implementation (ratio <= 1.05);
+#   so do the calibrated proximity and light sensors with a diagnosis's effects on (rows
+#   proximity-effects and light-effects: every effect of the kind ARGoS applies, from
+#   bench/argos_effects.json; the proximity's long tail of 300 counts over 20 mm makes its rays
+#   0.13 m long);
 #   the calibrated corrected Cubic battery (behaviour="corrected") costs no more than the
 #   plug-in's Cubic (ratio <= 1.00).
 # Noise is off on both sides (the plug-in's noise_level 0, the calibrated noise="false"): the
@@ -18,14 +22,14 @@
 # are the instructions of the sensor's Update or the discharge model alone (inclusive), default
 # and calibrated, in millions.
 #   usage: bench/argos_cost.sh [SIM_SECONDS (default 7200)] [REPEATS (default 3)] [ROBOTS (default "1 10 50")] [ROWS]
-#     ROWS: a space-separated subset of: proximity ground tof encoder light actuator battery-simple
+#     ROWS: a space-separated subset of: proximity proximity-effects ground tof encoder light light-effects actuator battery-simple
 #           battery-linear battery-cubic battery-approximated battery-cubic-corrected (default: all)
 # Environment: EPUCK2_BUILD_DIR (default build), EPUCK2_BENCH_MEASURE (cpu, default, or instructions).
 # Needs ARGoS, the E-Puck2 plug-in and the project built with them (build/lib/argos3), python3.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SECONDS_SIM="${1:-7200}"; REPEATS="${2:-3}"; ROBOTS="${3:-1 10 50}"
-ROWS="${4:-proximity ground tof encoder light actuator battery-simple battery-linear battery-cubic battery-approximated battery-cubic-corrected}"
+ROWS="${4:-proximity proximity-effects ground tof encoder light light-effects actuator battery-simple battery-linear battery-cubic battery-approximated battery-cubic-corrected}"
 LIBDIR="${EPUCK2_BUILD_DIR:-$ROOT/build}/lib/argos3"
 command -v argos3 >/dev/null || { echo "argos_cost: argos3 not found (docs/argos.md)" >&2; exit 3; }
 command -v python3 >/dev/null || { echo "argos_cost: python3 not found" >&2; exit 3; }
@@ -33,6 +37,15 @@ command -v python3 >/dev/null || { echo "argos_cost: python3 not found" >&2; exi
 LIBDIR="$(cd "$LIBDIR" && pwd)"
 WORK="$(mktemp -d)"; trap 'rm -rf "$WORK"' EXIT
 F="$ROOT/data/fitted"
+# The shipped diagnoses with every effect of their kind ARGoS applies switched on (bench/argos_effects.json).
+python3 - "$F" "$WORK" "$ROOT/bench/argos_effects.json" <<'PY'
+import json, sys
+f, work, effects = sys.argv[1], sys.argv[2], json.load(open(sys.argv[3]))
+for kind in ("proximity", "light"):
+    d = json.load(open(f"{f}/reports/diagnose_{kind}.json"))
+    d["effects"] = effects[kind]
+    json.dump(d, open(f"{work}/{kind}_effects.json", "w"))
+PY
 
 # sensor XML for (what, impl)
 sensor_xml() {
@@ -40,6 +53,8 @@ sensor_xml() {
   [ "$impl" = calibrated ] && c=" noise=\"false\""
   case "$what" in
     proximity) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/proximity.json\""; echo "<epuck2_proximity implementation=\"$impl\"$c/>";;
+    proximity-effects) [ "$impl" = calibrated ] && c+=" coefficients=\"$WORK/proximity_effects.json\""; echo "<epuck2_proximity implementation=\"$impl\"$c/>";;
+    light-effects) [ "$impl" = calibrated ] && c+=" coefficients=\"$WORK/light_effects.json\""; echo "<epuck2_light implementation=\"$impl\"$c/>";;
     ground) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/ground.json\"" || impl=rot_z_only; echo "<epuck2_ground implementation=\"$impl\"$c/>";;
     tof) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/drive.json\""; echo "<epuck2_tof implementation=\"$impl\"$c/>";;
     encoder) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/drive.json\""; echo "<epuck2_encoder implementation=\"$impl\"$c/>";;
@@ -166,7 +181,7 @@ for n in $ROBOTS; do
     ma=$(median < "$WORK/a.times"); mb=$(median < "$WORK/b.times")
     lo=$(sort -g "$WORK/ratios" | head -n1); hi=$(sort -g "$WORK/ratios" | tail -n1)
     case "$what" in
-      proximity|ground|tof|encoder|light|actuator) target=1.05;;
+      proximity|proximity-effects|ground|tof|encoder|light|light-effects|actuator) target=1.05;;
       battery-cubic-corrected) target=1.00;;
       *) target=-;;
     esac

@@ -22,7 +22,7 @@
 #include <sstream>
 
 #include "calibrated_drive.hpp"
-#include "coefficient_file.hpp"
+#include <epuck2/coefficients/model_sets.hpp>
 
 namespace argos {
 
@@ -55,19 +55,19 @@ class CEPuck2CalibratedDifferentialSteeringActuator : public CSimulatedActuator,
           "a drive diagnosis written by epuck2-fit)");
     ExpandEnvVariables(strFile);
     const std::string strPath =
-        epuck2::argos_plugin::resolve_coefficient_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
+        epuck2::coefficients::resolve_model_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
     epuck2::argos_plugin::DriveConfig sConfig;
     try {
       /* robot="auto": this robot's own set, by its entity id or robot_map */
-      const auto sChoice = epuck2::argos_plugin::choose_robot(*epuck2::argos_plugin::parse_coefficient_file(strPath),
-                                                              strPath, strRobot, strRobotMap, m_pcRobot->GetId());
+      const auto pcRoot = epuck2::coefficients::shared_json_file(strPath);
+      const auto sChoice = epuck2::coefficients::choose_robot(*pcRoot, strPath, strRobot, strRobotMap, m_pcRobot->GetId());
       if (!sChoice.warning.empty()) {
         static bool bWarned = false;
         if (!bWarned) LOGERR << "[WARNING] calibrated differential_steering: " << sChoice.warning << std::endl;
         bWarned = true;
       }
-      const auto cFile = epuck2::argos_plugin::CoefficientFile::load(strPath, {"drive"}, sChoice.robot);
-      sConfig = epuck2::argos_plugin::read_drive_config(cFile, "the calibrated differential_steering actuator");
+      sConfig = epuck2::argos_plugin::read_drive_config(*pcRoot, strPath, sChoice.robot,
+                                                        "the calibrated differential_steering actuator");
     } catch (const std::exception& ex) {
       THROW_ARGOSEXCEPTION("calibrated differential_steering: " << ex.what());
     }

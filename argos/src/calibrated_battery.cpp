@@ -23,14 +23,18 @@
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_battery_equipped_entity.h>
 
 #include <algorithm>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <sstream>
 #include <vector>
 
 #include <epuck2/models/battery.hpp>
 
-#include "coefficient_file.hpp"
+#include <epuck2/coefficients/model_file.hpp>
+#include <epuck2/coefficients/model_sets.hpp>
+#include <epuck2/models/effects.hpp>
 
 namespace argos {
 
@@ -47,6 +51,41 @@ std::string Speeds(const std::vector<int>& v) {
     i = j + 1;
   }
   return os.str();
+}
+
+/// A battery file as the calibrated model runs it: the file's tables at its speeds, the plug-in's
+/// elsewhere, read by the project's one reader (lib/coefficients).
+struct SBatteryFile {
+  mb::Tables Tables;
+  epuck2::coefficients::TableSources Sources;
+  bool HasModel = false;  ///< the file names its battery_model
+  mb::Model Model = mb::Model::cubic;
+  double CapacityK = 1.0;  ///< effects.capacity_scale.k (1: none)
+};
+
+/// The file read once per process (while it stays the same) and shared: 50 robots step through
+/// one copy of the tables, not 50. A covariate stops ARGoS at Init (no log column in ARGoS).
+std::shared_ptr<const SBatteryFile> SharedBatteryFile(const std::string& str_path) {
+  static std::mutex cMutex;
+  static std::map<std::string, std::pair<std::shared_ptr<const nlohmann::json>, std::shared_ptr<const SBatteryFile>>> mapCache;
+  const auto pcRoot = epuck2::coefficients::shared_json_file(str_path);
+  std::lock_guard<std::mutex> cLock(cMutex);
+  const auto it = mapCache.find(str_path);
+  if (it != mapCache.end() && it->second.first == pcRoot) return it->second.second;
+  auto pcFile = std::make_shared<SBatteryFile>();
+  const auto sModel = epuck2::coefficients::battery_model_from_json(*pcRoot, str_path, "", pcFile->Sources);
+  if (!sModel.covariates.empty()) {
+    const std::string strName = std::string(epuck2::models::effects::kCovariatePrefix) + sModel.covariates.front().column;
+    epuck2::coefficients::fail_in_file(str_path, "/effects/" + strName,
+                                        "effects." + strName + ": the calibrated battery cannot apply it in ARGoS: it needs "
+                                        "the log column '" + sModel.covariates.front().column + "', which ARGoS does not have");
+  }
+  pcFile->Tables = sModel.tables;
+  pcFile->HasModel = pcRoot->contains("battery_model");
+  pcFile->Model = sModel.model;
+  pcFile->CapacityK = sModel.capacity.k;
+  mapCache[str_path] = {pcRoot, pcFile};
+  return pcFile;
 }
 
 class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeModel {
@@ -68,13 +107,13 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
       m_eBehaviour = mb::Behaviour::corrected;
     else
       THROW_ARGOSEXCEPTION("calibrated battery: behaviour must be 'argos' or 'corrected', not '" << strBehaviour << "'");
-    std::shared_ptr<const epuck2::argos_plugin::BatteryFile> pcFile;
+    std::shared_ptr<const SBatteryFile> pcFile;
     std::string strPath;
     if (!strFile.empty()) {
       ExpandEnvVariables(strFile);
-      strPath = epuck2::argos_plugin::resolve_coefficient_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
+      strPath = epuck2::coefficients::resolve_model_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
       try {
-        pcFile = epuck2::argos_plugin::shared_battery_file(strPath);
+        pcFile = SharedBatteryFile(strPath);
       } catch (const std::exception& ex) {
         THROW_ARGOSEXCEPTION("calibrated battery: " << ex.what());
       }
@@ -84,15 +123,15 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
     if (!strModel.empty()) {
       if (!mb::parse_model(strModel, m_eModel))
         THROW_ARGOSEXCEPTION("calibrated battery: model must be simple, linear, cubic or approximated, not '" << strModel << "'");
-    } else if (pcFile && pcFile->model) {
-      m_eModel = *pcFile->model;
+    } else if (pcFile && pcFile->HasModel) {
+      m_eModel = pcFile->Model;
     }
-    m_sCapacity.k = pcFile ? pcFile->capacity_k : 1.0;
+    m_sCapacity.k = pcFile ? pcFile->CapacityK : 1.0;
     if (strTables == "plugin") {
       static const mb::Tables& cPlugin = mb::plugin_tables();
       m_pcTables = std::shared_ptr<const mb::Tables>(std::shared_ptr<const mb::Tables>{}, &cPlugin);
     } else {
-      m_pcTables = std::shared_ptr<const mb::Tables>(pcFile, &pcFile->tables);
+      m_pcTables = std::shared_ptr<const mb::Tables>(pcFile, &pcFile->Tables);
     }
     /* Say once per file what is used where */
     static std::set<std::string> setSaid;
@@ -103,13 +142,13 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
       if (strTables == "plugin") {
         os << "the plug-in's tables at every speed";
       } else {
-        os << "fitted tables at " << Speeds(pcFile->fitted_speeds) << " cm/s";
+        os << "fitted tables at " << Speeds(pcFile->Sources.fitted_speeds) << " cm/s";
         std::vector<int> vecPlugin;
         for (int v = 0; v < static_cast<int>(mb::kSpeedCount); ++v)
-          if (std::find(pcFile->fitted_speeds.begin(), pcFile->fitted_speeds.end(), v) == pcFile->fitted_speeds.end())
+          if (std::find(pcFile->Sources.fitted_speeds.begin(), pcFile->Sources.fitted_speeds.end(), v) == pcFile->Sources.fitted_speeds.end())
             vecPlugin.push_back(v);
         if (!vecPlugin.empty()) os << ", the plug-in's at " << Speeds(vecPlugin) << " cm/s";
-        if (!pcFile->fitted_simple) os << "; the Simple model's slopes the plug-in's";
+        if (!pcFile->Sources.fitted_simple) os << "; the Simple model's slopes the plug-in's";
       }
       os << "; model " << mb::to_string(m_eModel);
       if (m_sCapacity.k != 1.0) os << "; capacity scale " << m_sCapacity.k << " (lifetimes x " << m_sCapacity.k << ")";

@@ -2,28 +2,25 @@
 
 #include <epuck2/models/effects.hpp>
 
-#include <stdexcept>
 #include <string>
 
 #include <epuck2/coefficients/model_file.hpp>
+#include <epuck2/coefficients/model_sets.hpp>
 
 namespace epuck2::argos_plugin {
 
-DriveConfig read_drive_config(const CoefficientFile& file, const std::string& who) {
-  /* What ARGoS cannot apply, said here; everything else is the project's one reader's
-     (lib/coefficients: names, ranges, robot sets, errors at file:line:column) */
-  for (auto it = file.effects().begin(); it != file.effects().end(); ++it) {
-    const std::string& name = it.key();
-    if (name.rfind("covariate:", 0) == 0)
-      file.fail("effects." + name + ": " + who + " cannot apply it in ARGoS: it needs the log column '" +
-                name.substr(10) + "', which ARGoS does not have (a diagnosis without --effects " + name +
-                ", or a calibration file, runs in ARGoS)");
-  }
-  ms::DriveModel m;
-  try {
-    m = epuck2::coefficients::drive_model_from_json(file.root(), file.path(), file.robot());
-  } catch (const std::exception& e) {
-    throw std::runtime_error(e.what());
+DriveConfig read_drive_config(const nlohmann::json& root, const std::string& path, const std::string& robot,
+                              const std::string& who) {
+  /* Everything is the project's one reader's (lib/coefficients: names, ranges, robot sets, errors
+     at file:line:column); what ARGoS cannot apply is said here */
+  const ms::DriveModel m = epuck2::coefficients::drive_model_from_json(root, path, robot);
+  if (!m.covariates.empty()) {
+    const std::string name = std::string(epuck2::models::effects::kCovariatePrefix) + m.covariates.front().column;
+    epuck2::coefficients::fail_in_file(
+        path, "/effects/" + name,
+        "effects." + name + ": " + who + " cannot apply it in ARGoS: it needs the log column '" +
+            m.covariates.front().column + "', which ARGoS does not have (a diagnosis without --effects " + name +
+            ", or a calibration file, runs in ARGoS)");
   }
   DriveConfig c;
   c.steps_per_m = m.steps_per_m;
@@ -35,6 +32,10 @@ DriveConfig read_drive_config(const CoefficientFile& file, const std::string& wh
     c.limit_from = "firmware";
   }
   return c;
+}
+
+DriveConfig read_drive_config(const std::string& path, const std::string& who) {
+  return read_drive_config(epuck2::coefficients::read_json_file(path), path, "", who);
 }
 
 }  // namespace epuck2::argos_plugin

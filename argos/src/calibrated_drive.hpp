@@ -27,7 +27,7 @@
 #include <epuck2/models/drive.hpp>
 #include <epuck2/models/encoders.hpp>
 
-#include "coefficient_file.hpp"
+#include <nlohmann/json.hpp>
 
 namespace epuck2::argos_plugin {
 
@@ -41,11 +41,15 @@ struct DriveConfig {
   std::string limit_from;
 };
 
-/// Reads a drive file's steps_per_m, slip_time_constant_s (wheel_slip's tau) and its `effects`:
-/// speed_limit, accel_limit, speed_scale, latency. Any other effect stops ARGoS at Init: a
-/// covariate (`covariate:NAME`) because ARGoS has no log column NAME, anything else because the
-/// drive has no such effect. `who` names the sensor or actuator in the messages.
-DriveConfig read_drive_config(const CoefficientFile& file, const std::string& who);
+/// Reads a drive file `root` (read from `path`; `robot`: its robot set, empty for the top level)
+/// through the project's one reader (lib/coefficients: steps_per_m, slip_time_constant_s,
+/// speed_limit, accel_limit, speed_scale, latency, tof_offset, tof_scale, every value checked).
+/// A covariate (`covariate:NAME`) stops ARGoS at Init: ARGoS has no log column NAME. `who` names
+/// the sensor or actuator in the messages. Errors are logs::InputError at FILE:LINE:COLUMN.
+DriveConfig read_drive_config(const nlohmann::json& root, const std::string& path, const std::string& robot,
+                              const std::string& who);
+/// The same, reading the file `path`.
+DriveConfig read_drive_config(const std::string& path, const std::string& who);
 
 /// The firmware's cap in cm/s for a robot of `steps_per_m`: 1100 steps/s (the e-puck2 firmware's
 /// MOTOR_SPEED_LIMIT, lib/models encoders.hpp) over steps_per_m.

@@ -25,15 +25,15 @@
 #include <argos3/plugins/simulator/entities/light_sensor_equipped_entity.h>
 #include <argos3/plugins/simulator/entities/proximity_sensor_equipped_entity.h>
 
-#include "coefficient_file.hpp"
-
 #include <epuck2/coefficients/model_file.hpp>
+#include <epuck2/coefficients/model_sets.hpp>
 
 namespace argos {
 
 namespace ms = epuck2::models::sensors;
 using epuck2::argos_plugin::ArgosNoise;
-using epuck2::argos_plugin::CoefficientFile;
+namespace ec = epuck2::coefficients;
+namespace fx = epuck2::models::effects;
 
 namespace {
 
@@ -47,21 +47,26 @@ void WarnOnce(const std::string& str_text) {
   LOGERR.Flush();
 }
 
-/// What every calibrated sensor reads from its XML node: the coefficient file (loaded, with the
-/// robot's set when `robot` is given), whether noise is on, its distribution and the uniform
-/// noise level.
+/// What every calibrated sensor reads from its XML node: the coefficient file (read once per
+/// process through lib/coefficients, the project's one reader), the robot set this robot uses,
+/// whether noise is on, its distribution and the uniform noise level.
 struct SCommon {
   std::string Sensor;
+  std::string Path;
   std::string Robot;  ///< the file's robot set this robot uses (empty: the top level)
-  std::optional<CoefficientFile> File;
+  std::shared_ptr<const nlohmann::json> Root;
+  bool HasNoise = false;  ///< the file has a `noise` section
   bool Noise = true;
   bool Uniform = false;  ///< noise_distribution="uniform"
   Real NoiseLevel = 0.0;
   bool NoiseLevelGiven = false;
+  /// An error at `pointer` in the file: FILE:LINE:COLUMN, the JSON path and `what`.
+  [[noreturn]] void Fail(const std::string& pointer, const std::string& what) const {
+    epuck2::coefficients::fail_in_file(Path, pointer, what);
+  }
 };
 
-SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor,
-                   const std::vector<std::string>& vec_kinds, const CEntity& c_component) {
+SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor, const CEntity& c_component) {
   SCommon s;
   s.Sensor = str_sensor;
   std::string strFile, strRobot, strRobotMap, strDistribution = "gaussian";
@@ -81,53 +86,59 @@ SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor,
   s.NoiseLevelGiven = NodeAttributeExists(t_tree, "noise_level");
   GetNodeAttributeOrDefault(t_tree, "noise_level", s.NoiseLevel, s.NoiseLevel);
   if (s.NoiseLevel < 0) THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": noise_level must not be negative");
-  const std::string strPath =
-      epuck2::argos_plugin::resolve_coefficient_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
+  s.Path = ec::resolve_model_path(strFile, CSimulator::GetInstance().GetExperimentFileName());
   try {
+    s.Root = ec::shared_json_file(s.Path);
     /* robot="auto": this robot's own set, by its entity id or robot_map */
-    const auto sChoice = epuck2::argos_plugin::choose_robot(*epuck2::argos_plugin::parse_coefficient_file(strPath), strPath,
-                                                            strRobot, strRobotMap, c_component.GetRootEntity().GetId());
+    const auto sChoice = ec::choose_robot(*s.Root, s.Path, strRobot, strRobotMap, c_component.GetRootEntity().GetId());
     if (!sChoice.warning.empty()) WarnOnce("calibrated " + str_sensor + ": " + sChoice.warning);
     s.Robot = sChoice.robot;
-    s.File = CoefficientFile::load(strPath, vec_kinds, s.Robot);
+    s.HasNoise = ec::has_noise_section(*s.Root, s.Robot);
   } catch (const std::exception& ex) {
     THROW_ARGOSEXCEPTION("calibrated " << str_sensor << ": " << ex.what());
   }
   return s;
 }
 
-/// A sensor's noise: with noise="true", the file's measured reading noise noise.<channel> (sd in
-/// `str_unit`, per sensor where the file has per_sensor_sd), as a Gaussian of that sd, or with
-/// noise_distribution="uniform" as the plug-in's uniform noise of the same variance (level
-/// sqrt(3) sd / scale). A file without a noise section: the plug-in's uniform noise of
-/// noise_level, with a warning. `f_scale` is the model's factor from a unit noise to `str_unit`.
-void ConfigureNoise(const SCommon& s, const std::string& str_channel, const std::string& str_unit, std::size_t un_sensors,
-                    double f_scale, ArgosNoise& c_noise) {
+/// A sensor's noise: with noise="true", the file's measured reading noise `vec_sd` (per sensor, in
+/// the reading's units, as lib/coefficients read and checked it from noise.<channel>), as a
+/// Gaussian of that sd, or with noise_distribution="uniform" as the plug-in's uniform noise of the
+/// same variance (level sqrt(3) sd / scale). A file without a noise section: the plug-in's uniform
+/// noise of noise_level, with a warning. `f_scale` is the model's factor from a unit noise to the
+/// reading's units.
+void ConfigureNoise(const SCommon& s, const std::string& str_channel, const std::vector<double>& vec_sd, double f_scale,
+                    ArgosNoise& c_noise) {
   if (!s.Noise) {
-    c_noise.off(un_sensors);
+    c_noise.off(vec_sd.size());
     return;
   }
-  const std::optional<epuck2::argos_plugin::ReadingNoise> sNoise = s.File->noise(str_channel, str_unit, un_sensors);
-  if (!sNoise) {
+  if (!s.HasNoise) {
     std::ostringstream os;
-    os << "calibrated " << s.Sensor << ": " << s.File->path()
+    os << "calibrated " << s.Sensor << ": " << s.Path
        << " has no 'noise' section (a file written before epuck2-fit measured the reading noise): using the "
           "plug-in's uniform noise of noise_level = "
        << s.NoiseLevel << (s.NoiseLevel == 0 ? " (none)" : "") << "; fit the logs again to get the measured noise";
     WarnOnce(os.str());
-    c_noise.uniform(std::vector<double>(un_sensors, s.NoiseLevel));
+    c_noise.uniform(std::vector<double>(vec_sd.size(), s.NoiseLevel));
     return;
   }
+  const auto HasChannel = [&](const nlohmann::json& j) {
+    return j.is_object() && j.contains("noise") && j.at("noise").is_object() && j.at("noise").contains(str_channel);
+  };
+  const nlohmann::json* pcRobotSet = nullptr;
+  if (!s.Robot.empty()) pcRobotSet = &s.Root->at("robots").at(s.Robot);
+  if (!HasChannel(*s.Root) && !(pcRobotSet && HasChannel(*pcRobotSet)))
+    WarnOnce("calibrated " + s.Sensor + ": " + s.Path + ": the 'noise' section has no '" + str_channel +
+             "' entry: this sensor draws no noise (as simulate does with the file)");
   if (s.NoiseLevelGiven)
-    WarnOnce("calibrated " + s.Sensor + ": noise_level is ignored: " + s.File->path() +
+    WarnOnce("calibrated " + s.Sensor + ": noise_level is ignored: " + s.Path +
              " gives the measured reading noise (noise." + str_channel + "); noise=\"false\" turns noise off");
-  const std::vector<double> vecSd = sNoise->sd_per_sensor(un_sensors);
   if (s.Uniform) {
     std::vector<double> vecLevel;
-    for (double fSd : vecSd) vecLevel.push_back(ms::uniform_level_with_sd(fSd, f_scale));
+    for (double fSd : vec_sd) vecLevel.push_back(ms::uniform_level_with_sd(fSd, f_scale));
     c_noise.uniform(vecLevel);
   } else {
-    c_noise.gaussian(vecSd, f_scale);
+    c_noise.gaussian(vec_sd, f_scale);
   }
 }
 
@@ -143,33 +154,44 @@ void Checked(const std::string& str_sensor, F&& f) {
   }
 }
 
-/// A file's effects that this sensor does not apply yet (proximity, light, ground, camera: issue
-/// #20's model-type sensors wait for the project's one coefficient reader): ARGoS stops at Init
-/// naming them, rather than dropping them (a diagnosis's base curve was fitted together with
-/// them and reads wrong without them).
-void RefuseEffects(const SCommon& s) {
-  const nlohmann::json& e = s.File->effects();
-  if (e.empty()) return;
-  std::string strNames;
-  for (auto it = e.begin(); it != e.end(); ++it) strNames += (strNames.empty() ? "" : ", ") + std::string("effects.") + it.key();
-  THROW_ARGOSEXCEPTION("calibrated " << s.Sensor << ": " << s.File->path() << ": " << strNames
-                                     << ": the calibrated " << s.Sensor
-                                     << " does not apply a diagnosis's effects yet, and its base was fitted together "
-                                        "with them (docs/argos.md): use a calibration file (epuck2-fit KIND -o), or the "
-                                        "extended model through the generated header in your own sensor");
+/// What ARGoS cannot apply stops it at Init, naming the effect, the file (line:column) and why:
+/// a covariate (ARGoS has no log column), and each effect of the kind's catalogue (through the
+/// registry, never by name) that `b_cannot(id)` says the sensor cannot apply, with `str_why`.
+template <class Model, class Cannot>
+void RefuseWhatArgosCannotApply(const SCommon& s, Model& m, Cannot&& b_cannot, const std::string& str_why) {
+  if (!m.covariates.empty()) {
+    const std::string strName = std::string(fx::kCovariatePrefix) + m.covariates.front().column;
+    s.Fail("/effects/" + strName, "effects." + strName + ": the calibrated " + s.Sensor +
+                                      " cannot apply it in ARGoS: it needs the log column '" + m.covariates.front().column +
+                                      "', which ARGoS does not have");
+  }
+  const fx::Catalogue& cCatalogue = fx::catalogue_of(m);
+  fx::for_each_param(fx::effects_of(m), [&](std::size_t un_id, int n_param, int, double& f_value) {
+    const fx::Param& sParam = cCatalogue[un_id].params[static_cast<std::size_t>(n_param)];
+    if (f_value == sParam.neutral || !b_cannot(un_id)) return;
+    const std::string strName = cCatalogue[un_id].name;
+    s.Fail("/effects/" + strName, "effects." + strName + ": the calibrated " + s.Sensor + " cannot apply it in ARGoS: " + str_why);
+  });
+}
+
+/// Each sensor's reading noise as a vector.
+template <std::size_t N>
+std::vector<double> Sd(const std::array<double, N>& a) {
+  return {a.begin(), a.end()};
 }
 
 /// The plug-in's encoder noise scale: a unit noise is 32767 steps.
 constexpr double kEncoderNoiseScale = ms::kPluginNoiseScaleEncoder_steps;
 
 /// The ray of a ray-casting sensor (proximity, ToF) in world coordinates.
+/// `f_scale` stretches it (1: the sensor's own length).
 template <class SENSOR>
-CRay3 WorldRay(const SENSOR& s_sensor) {
+CRay3 WorldRay(const SENSOR& s_sensor, Real f_scale = 1.0) {
   CVector3 cStart = s_sensor.Offset;
   cStart.Rotate(s_sensor.Anchor.Orientation);
   cStart += s_sensor.Anchor.Position;
   CVector3 cEnd = s_sensor.Offset;
-  cEnd += s_sensor.Direction;
+  cEnd += f_scale == 1.0 ? s_sensor.Direction : s_sensor.Direction * f_scale;
   cEnd.Rotate(s_sensor.Anchor.Orientation);
   cEnd += s_sensor.Anchor.Position;
   return CRay3(cStart, cEnd);
@@ -184,34 +206,75 @@ CRay3 WorldRay(const SENSOR& s_sensor) {
 void CEPuck2CalibratedProximitySensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_proximity";
   CEPuck2ProximityDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"proximity"}, *m_pcProximityEntity);
-  RefuseEffects(s);
+  SCommon s = ReadCommon(t_tree, strName, *m_pcProximityEntity);
   std::string strCurve = "max";
   GetNodeAttributeOrDefault(t_tree, "curve", strCurve, strCurve);
   if (strCurve != "max" && strCurve != "mean")
     THROW_ARGOSEXCEPTION("calibrated " << strName << ": curve must be 'max' (Eq. 1 fitted to the maxima) or 'mean'");
-  const std::string strPrefix = strCurve == "mean" ? "mean_" : "";
   Checked(strName, [&] {
-    const std::size_t n = m_tReadings.size();
-    const auto a = s.File->per_sensor(strPrefix + "a", n), b = s.File->per_sensor(strPrefix + "b", n),
-               c = s.File->per_sensor(strPrefix + "c", n);
-    const double fRange = s.File->scalar_or("range_m", ms::kPluginProximity.range_m);
-    m_vecCoefficients.resize(n);
-    for (std::size_t i = 0; i < n; ++i) m_vecCoefficients[i] = ms::ProximityCoefficients{a[i], b[i], c[i], fRange};
-    /* The model adds the noise to the normalised response, then multiplies by 4095 counts */
-    ConfigureNoise(s, "proximity", "counts", n, ms::kPluginNoiseScaleProximity_counts, m_cNoise);
+    /* The project's one reader (lib/coefficients): Eq. 1's a, b, c (or the means' curve), range_m,
+       a diagnosis's effects, the noise; every value checked */
+    m_sModel = ec::proximity_model_from_json(*s.Root, s.Path, s.Robot,
+                                             strCurve == "mean" ? ec::ProximityCurve::means : ec::ProximityCurve::maxima);
+    RefuseWhatArgosCannotApply(s, m_sModel, [](std::size_t) { return false; }, "");
+    /* incidence_angle: the angle of each hit surface, computed only when the file has one */
+    m_bIncidence = m_sModel.effects.incidence.k != 0.0;
+    if (m_tReadings.size() != m_sModel.noise_sd_raw.size())
+      s.Fail("", "the robot has " + std::to_string(m_tReadings.size()) + " proximity sensors, the model " +
+                     std::to_string(m_sModel.noise_sd_raw.size()));
+    /* The rays reach as far as the model responds: the base curve's range_m, and a long tail
+       until it falls below half a count (it rounds to nothing beyond) */
+    Real fReach = m_sModel.base.range_m;
+    const auto& sTail = m_sModel.effects.tail;
+    if (std::abs(sTail.amplitude_raw) > 0.5)
+      fReach = std::max(fReach, sTail.length_m * std::log(2.0 * std::abs(sTail.amplitude_raw)));
+    m_vecRayScale.clear();
+    for (UInt32 i = 0; i < m_tReadings.size(); ++i)
+      m_vecRayScale.push_back(fReach / m_pcProximityEntity->GetSensor(i).Direction.Length());
+    /* The model adds the noise in counts: a unit noise times 4095 */
+    ConfigureNoise(s, "proximity", Sd(m_sModel.noise_sd_raw), ms::kPluginNoiseScaleProximity_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
 
+Real CEPuck2CalibratedProximitySensor::CosIncidence(const CRay3& c_ray, Real f_distance) {
+  const Real fEpsilon = 0.001;
+  CVector3 cU = c_ray.GetEnd() - c_ray.GetStart();
+  cU.Normalize();
+  /* two directions across the ray */
+  CVector3 cV1 = cU;
+  cV1.CrossProduct(Abs(cU.GetZ()) < 0.9 ? CVector3::Z : CVector3::X);
+  cV1.Normalize();
+  CVector3 cV2 = cU;
+  cV2.CrossProduct(cV1);
+  cV2.Normalize();
+  const CVector3 cHit = c_ray.GetStart() + cU * f_distance;
+  SEmbodiedEntityIntersectionItem sSide;
+  /* the hit of the ray moved by f_offset across it along c_v, or nothing */
+  auto SideHit = [&](const CVector3& c_v, Real f_offset, CVector3& c_out) {
+    const CRay3 cSide(c_ray.GetStart() + c_v * f_offset, c_ray.GetEnd() + c_v * f_offset);
+    if (!GetClosestEmbodiedEntityIntersectedByRay(sSide, cSide, *m_pcEmbodiedEntity)) return false;
+    c_out = cSide.GetStart() + cU * cSide.GetDistance(sSide.TOnRay);
+    return true;
+  };
+  CVector3 cP1, cP2;
+  if (!SideHit(cV1, fEpsilon, cP1) && !SideHit(cV1, -fEpsilon, cP1)) return 1.0;
+  if (!SideHit(cV2, fEpsilon, cP2) && !SideHit(cV2, -fEpsilon, cP2)) return 1.0;
+  CVector3 cNormal = cP1 - cHit;
+  cNormal.CrossProduct(cP2 - cHit);
+  const Real fLength = cNormal.Length();
+  if (!(fLength > 0)) return 1.0;
+  return Abs(cNormal.DotProduct(cU)) / fLength;
+}
+
 Real CEPuck2CalibratedProximitySensor::CalculateReading(Real f_distance) {
-  return m_vecCoefficients.empty() ? 0.0 : ms::proximity_response(m_vecCoefficients[0], f_distance);
+  return std::clamp(ms::mean_raw(m_sModel, 0, f_distance) / ms::kProximityFullScale_raw, 0.0, 1.0);
 }
 
 void CEPuck2CalibratedProximitySensor::Update() {
   SEmbodiedEntityIntersectionItem sIntersection;
   for (UInt32 i = 0; i < m_tReadings.size(); ++i) {
-    CRay3 cRay = WorldRay(m_pcProximityEntity->GetSensor(i));
+    CRay3 cRay = WorldRay(m_pcProximityEntity->GetSensor(i), m_vecRayScale[i]);
     std::optional<double> fDistance;
     if (GetClosestEmbodiedEntityIntersectedByRay(sIntersection, cRay, *m_pcEmbodiedEntity)) {
       if (m_bShowRays) {
@@ -222,7 +285,11 @@ void CEPuck2CalibratedProximitySensor::Update() {
     } else if (m_bShowRays) {
       m_pcControllableEntity->AddCheckedRay(false, cRay);
     }
-    m_tReadings[i].Value = ms::proximity_reading(m_vecCoefficients[i], fDistance, m_cNoise.level(i), m_cNoise.unit(i));
+    const double fCos = m_bIncidence && fDistance ? CosIncidence(cRay, *fDistance) : 1.0;
+    /* lib/models' mean (every effect the file has), the noise in counts, the rounding and the rails */
+    const double fMean = ms::mean_raw(m_sModel, static_cast<int>(i), fDistance, fCos) +
+                         ms::uniform_noise(m_cNoise.unit(i), m_cNoise.level(i)) * ms::kPluginNoiseScaleProximity_counts;
+    m_tReadings[i].Value = std::clamp(std::round(fMean), 0.0, ms::kProximityFullScale_raw);
   }
 }
 
@@ -252,20 +319,17 @@ REGISTER_SENSOR(CEPuck2CalibratedProximitySensor, "epuck2_proximity", "calibrate
 void CEPuck2CalibratedGroundSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_ground";
   CEPuck2GroundRotZOnlySensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"ground"}, *m_pcGroundSensorEntity);
+  SCommon s = ReadCommon(t_tree, strName, *m_pcGroundSensorEntity);
   Checked(strName, [&] {
     /* The project's one reader (lib/coefficients): each sensor's gain and offset, a diagnosis's
        nonlinear_response; ARGoS cannot apply a covariate */
-    m_sModel = epuck2::coefficients::ground_model_from_json(s.File->root(), s.File->path(), s.Robot);
-    if (!m_sModel.covariates.empty())
-      s.File->fail("effects.covariate:" + m_sModel.covariates.front().column +
-                   ": the calibrated epuck2_ground cannot apply it in ARGoS: it needs the log column '" +
-                   m_sModel.covariates.front().column + "', which ARGoS does not have");
+    m_sModel = ec::ground_model_from_json(*s.Root, s.Path, s.Robot);
+    RefuseWhatArgosCannotApply(s, m_sModel, [](std::size_t) { return false; }, "");
     if (m_tReadings.size() != m_sModel.sensors.size())
-      s.File->fail("the robot has " + std::to_string(m_tReadings.size()) + " ground sensors, the model " +
-                   std::to_string(m_sModel.sensors.size()));
+      s.Fail("", "the robot has " + std::to_string(m_tReadings.size()) + " ground sensors, the model " +
+                     std::to_string(m_sModel.sensors.size()));
     /* The model scales a unit noise by the full scale, 1023 counts */
-    ConfigureNoise(s, "ground", "counts", m_tReadings.size(), ms::kPluginNoiseScaleGround_counts, m_cNoise);
+    ConfigureNoise(s, "ground", Sd(m_sModel.noise_sd_raw), ms::kPluginNoiseScaleGround_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -318,18 +382,20 @@ void CEPuck2CalibratedTOFSensor::SetRobot(CComposableEntity& c_entity) {
 void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_tof";
   CEPuck2TOFDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"drive", "tof"}, *m_pcTOFEntity);
+  SCommon s = ReadCommon(t_tree, strName, *m_pcTOFEntity);
   Checked(strName, [&] {
-    const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.File, "the calibrated " + strName);
+    const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.Root, s.Path, s.Robot, "the calibrated " + strName);
+    const ms::DriveModel sModel = ec::drive_model_from_json(*s.Root, s.Path, s.Robot);
     m_sCoefficients.scale = sDrive.effects.tof_scale.k;
     m_sCoefficients.offset_mm = sDrive.effects.tof_offset.offset_mm;
     m_cDelay = epuck2::argos_plugin::DelayLine(sDrive.effects.latency.delay_s);
     m_sCoefficients.range_m = m_pcTOFEntity->GetSensor(0).Direction.Length();
     /* The model scales a unit noise by the range, in mm */
-    ConfigureNoise(s, "tof", "mm", 1, m_sCoefficients.range_m * 1000.0, m_cNoise);
-    const bool bDriveEffects = !s.File->effects().empty() || sDrive.effects.slip.tau_s > 0;
+    ConfigureNoise(s, "tof", {sModel.tof_noise_sd_mm}, m_sCoefficients.range_m * 1000.0, m_cNoise);
+    const bool bDriveEffects = sDrive.limit_from != "firmware" || sDrive.effects.accel_limit.accel_cm_s2 < ms::kDriveLimitOn ||
+                               sDrive.effects.speed_scale.k != 1.0 || sDrive.effects.slip.tau_s > 0;
     if (bDriveEffects && !epuck2::argos_plugin::DriveRegistry::find(m_pcRobot))
-      WarnOnce("calibrated " + strName + ": " + s.File->path() +
+      WarnOnce("calibrated " + strName + ": " + s.Path +
                ": the robot's differential_steering is not implementation=\"calibrated\": the file's speed limit, "
                "slip and other drive effects do not move the body, only the ToF's own (scale, offset, latency) apply");
   });
@@ -389,18 +455,19 @@ void CEPuck2CalibratedEncoderSensor::SetRobot(CComposableEntity& c_entity) {
 void CEPuck2CalibratedEncoderSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_encoder";
   CEPuck2EncoderDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"drive", "encoder"}, *m_pcEncoderEntity);
+  SCommon s = ReadCommon(t_tree, strName, *m_pcEncoderEntity);
   Checked(strName, [&] {
-    const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.File, "the calibrated " + strName);
+    const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.Root, s.Path, s.Robot, "the calibrated " + strName);
+    const ms::DriveModel sModel = ec::drive_model_from_json(*s.Root, s.Path, s.Robot);
     m_sCoefficients.steps_per_m = sDrive.steps_per_m;
     /* The model scales a unit noise by 32767 steps; one channel per wheel */
-    ConfigureNoise(s, "encoder", "steps", 2, kEncoderNoiseScale, m_cNoise);
+    ConfigureNoise(s, "encoder", {sModel.encoder_noise_sd_steps, sModel.encoder_noise_sd_steps}, kEncoderNoiseScale, m_cNoise);
   });
   /* ARGoS sets up a controller's actuators before its sensors: the calibrated actuator's drive is
      there by now, if the robot has one */
   m_pcDrive = epuck2::argos_plugin::DriveRegistry::find(m_pcRobot);
   if (!m_pcDrive)
-    WarnOnce("calibrated " + strName + ": " + s.File->path() +
+    WarnOnce("calibrated " + strName + ": " + s.Path +
              ": the robot's differential_steering is not implementation=\"calibrated\": the encoders count the "
              "wheels as the plug-in turns them (the command, uncapped), not as the file's drive does");
   m_bAddNoise = false;
@@ -482,32 +549,23 @@ REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", 
 void CEPuck2CalibratedLightSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_light";
   CEPuck2LightDefaultSensor::Init(t_tree);
-  SCommon s = ReadCommon(t_tree, strName, {"light"}, *m_pcLightEntity);
-  RefuseEffects(s);
+  SCommon s = ReadCommon(t_tree, strName, *m_pcLightEntity);
   Checked(strName, [&] {
-    const std::size_t n = m_tReadings.size();
-    const auto gamma = s.File->per_sensor("gamma", n);
-    m_vecCoefficients.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      m_vecCoefficients[i].gamma_m = gamma[i];
-      m_vecCoefficients[i].range_m = m_pcLightEntity->GetSensor(i).Direction.Length();
-    }
-    /* Per-sensor fits (light.json's per_sensor list) replace the common gamma; a robot's set
-       has them in robots.ID.per_sensor */
-    nlohmann::json jPer = s.File->root().value("per_sensor", nlohmann::json::array());
-    if (!s.Robot.empty() && s.File->root().contains("robots"))
-      jPer = s.File->root().at("robots").at(s.Robot).value("per_sensor", jPer);
-    for (const auto& e : jPer) {
-      if (!e.is_object() || !e.contains("sensor") || !e.contains("gamma") || !e.at("sensor").is_number_integer() ||
-          !e.at("gamma").is_number())
-        throw std::runtime_error(s.File->path() + ": per_sensor entries need an integer 'sensor' and a number 'gamma'");
-      const int i = e.at("sensor").get<int>();
-      if (i < 0 || static_cast<std::size_t>(i) >= n)
-        throw std::runtime_error(s.File->path() + ": per_sensor: no sensor " + std::to_string(i));
-      m_vecCoefficients[i].gamma_m = e.at("gamma").get<double>();
-    }
-    /* The model adds the noise to the normalised sum, then multiplies by 4095 counts */
-    ConfigureNoise(s, "light", "counts", n, ms::kPluginNoiseScaleLight_counts, m_cNoise);
+    /* The project's one reader (lib/coefficients): Eq. 2's gamma, range_m, a diagnosis's effects
+       (ambient_offset, falloff_exponent, sensor_gain: all applied), the noise; every value checked */
+    const ms::LightModel sModel = ec::light_model_from_json(*s.Root, s.Path, s.Robot);
+    ms::LightModel sChecked = sModel;
+    RefuseWhatArgosCannotApply(s, sChecked, [](std::size_t) { return false; }, "");
+    if (m_tReadings.size() != sModel.noise_sd_raw.size())
+      s.Fail("", "the robot has " + std::to_string(m_tReadings.size()) + " light sensors, the model " +
+                     std::to_string(sModel.noise_sd_raw.size()));
+    /* A light calibration's per-sensor fits (per_sensor; a robot's set has them in
+       robots.ID.per_sensor) replace the common gamma for their sensor */
+    const auto aGamma = ec::light_sensor_gammas(*s.Root, s.Path, s.Robot, sModel);
+    m_vecModels.assign(m_tReadings.size(), sModel);
+    for (std::size_t i = 0; i < m_vecModels.size(); ++i) m_vecModels[i].base.gamma_m = aGamma[i];
+    /* The model adds the noise in counts: a unit noise times 4095 */
+    ConfigureNoise(s, "light", Sd(sModel.noise_sd_raw), ms::kPluginNoiseScaleLight_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -526,7 +584,7 @@ void CEPuck2CalibratedLightSensor::Update() {
         CLightEntity& cLight = *any_cast<CLightEntity*>(tLight.second);
         if (cLight.GetIntensity() <= 0.0) continue;
         CRay3 cRay(cRayStart, cLight.GetPosition());
-        if (cRay.GetLength() > m_vecCoefficients[i].range_m) continue;
+        if (cRay.GetLength() > m_vecModels[i].base.range_m) continue;
         if (GetClosestEmbodiedEntityIntersectedByRay(sIntersection, cRay)) {
           if (m_bShowRays) {
             m_pcControllableEntity->AddIntersectionPoint(cRay, sIntersection.TOnRay);
@@ -538,7 +596,12 @@ void CEPuck2CalibratedLightSensor::Update() {
         vecLights.push_back(ms::LightSource{cRay.GetLength(), cLight.GetIntensity()});
       }
     }
-    m_tReadings[i].Value = ms::light_reading(m_vecCoefficients[i], vecLights, m_cNoise.level(i), m_cNoise.unit(i));
+    /* lib/models' mean over the visible lights (every effect the file has), the noise in counts
+       (the plug-in's sign: noise raises the normalised sum, lowering the reading), the rounding
+       and the rails */
+    const double fMean = ms::mean_raw(m_vecModels[i], static_cast<int>(i), vecLights) -
+                         ms::uniform_noise(m_cNoise.unit(i), m_cNoise.level(i)) * ms::kPluginNoiseScaleLight_counts;
+    m_tReadings[i].Value = std::clamp(std::round(fMean), 0.0, ms::kProximityFullScale_raw);
   }
 }
 
@@ -563,27 +626,30 @@ REGISTER_SENSOR(CEPuck2CalibratedLightSensor, "epuck2_light", "calibrated", "epu
 
 void CEPuck2CalibratedCameraSensor::Init(TConfigurationNode& t_tree) {
   const std::string strName = "epuck2_colored_blob_perspective_camera";
-  SCommon s = ReadCommon(t_tree, strName, {"camera"}, *m_pcCamEntity);
+  SCommon s = ReadCommon(t_tree, strName, *m_pcCamEntity);
   Checked(strName, [&] {
     /* The project's one reader (lib/coefficients): the field of view, the centre, the radial
        distortion (k1, k2, k3), every value checked; ARGoS cannot apply a covariate */
-    m_sModel = epuck2::coefficients::camera_model_from_json(s.File->root(), s.File->path(), s.Robot);
-    if (!m_sModel.covariates.empty())
-      s.File->fail("effects.covariate:" + m_sModel.covariates.front().column +
-                   ": the calibrated camera cannot apply it in ARGoS: it needs the log column '" +
-                   m_sModel.covariates.front().column + "', which ARGoS does not have");
+    m_sModel = ec::camera_model_from_json(*s.Root, s.Path, s.Robot);
+    RefuseWhatArgosCannotApply(s, m_sModel, [](std::size_t) { return false; }, "");
     const double fW = m_pcCamEntity->GetImagePxWidth(), fH = m_pcCamEntity->GetImagePxHeight();
     m_sModel.base.width_px = fW;
     /* Which LEDs it sees: the cone of the fitted field of view's aperture (ARGoS's, the half-angle
        on the image diagonal) and the range, as the plug-in's camera */
     m_fAperture = ms::aperture_from_horizontal_fov_rad(m_sModel.base.horizontal_fov_rad, static_cast<int>(fW),
                                                        static_cast<int>(fH));
-    m_fRange = s.File->scalar_or("range_m", m_pcCamEntity->GetRange());
+    m_fRange = m_pcCamEntity->GetRange();
+    if (s.Root->contains("parameters") && s.Root->at("parameters").is_object() && s.Root->at("parameters").contains("range_m")) {
+      const nlohmann::json& v = s.Root->at("parameters").at("range_m");
+      if (!v.is_number() || !(v.get<double>() > 0) || !std::isfinite(v.get<double>()))
+        s.Fail("/parameters/range_m", "parameters.range_m must be a positive, finite distance in m (found " + v.dump() + ")");
+      m_fRange = v.get<double>();
+    }
     m_pcCamEntity->SetAperture(CRadians(m_fAperture));
     m_pcCamEntity->SetRange(m_fRange);
     m_pcCamEntity->SetImagePxSize(static_cast<SInt32>(fW), static_cast<SInt32>(fH));
     /* The pixel noise (noise.camera, px), each axis; scale 1: the noise is in pixels */
-    ConfigureNoise(s, "camera", "px", 2, 1.0, m_cNoise);
+    ConfigureNoise(s, "camera", {m_sModel.noise_sd_px, m_sModel.noise_sd_px}, 1.0, m_cNoise);
   });
   CEPuck2ColoredBlobPerspectiveCameraDefaultSensor::Init(t_tree);
 }

@@ -47,7 +47,14 @@ class CEPuck2CalibratedProximitySensor : public CEPuck2ProximityDefaultSensor {
   Real CalculateReading(Real f_distance) override;
 
  private:
-  std::vector<epuck2::models::sensors::ProximityCoefficients> m_vecCoefficients;
+  /// cos of the angle between `c_ray` and the normal of the surface it hit `f_distance` along it:
+  /// ARGoS's ray query gives no normal, so two more rays 1 mm beside it find the surface's plane
+  /// through the three hits (1 when a side ray misses on both sides: an edge).
+  Real CosIncidence(const CRay3& c_ray, Real f_distance);
+
+  epuck2::models::sensors::ProximityModel m_sModel;
+  bool m_bIncidence = false;        ///< the file's incidence_angle is not neutral: compute the angle
+  std::vector<Real> m_vecRayScale;  ///< each ray stretched to where the model stops responding
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 
@@ -100,7 +107,7 @@ class CEPuck2CalibratedLightSensor : public CEPuck2LightDefaultSensor {
   void Update() override;
 
  private:
-  std::vector<epuck2::models::sensors::LightCoefficients> m_vecCoefficients;
+  std::vector<epuck2::models::sensors::LightModel> m_vecModels;  ///< per sensor: its own gamma
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 

@@ -47,7 +47,7 @@ mkdir -p "$WORK/covariate"
 sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$WORK/covariate\"|" -e "s|coefficients=\"[^\"]*\"|coefficients=\"$WORK/covariate.json\"|g" \
     "$ROOT/argos/experiments/drive.argos" > "$WORK/covariate/exp.argos"
 if argos3 -n -z -c "$WORK/covariate/exp.argos" > "$WORK/covariate/log" 2>&1; then echo "FAIL: ARGoS ran with a covariate effect"; exit 1; fi
-grep -q "calibrated differential_steering: .*covariate.json: effects.covariate:temperature_c: the calibrated differential_steering actuator cannot apply it in ARGoS: it needs the log column 'temperature_c', which ARGoS does not have" "$WORK/covariate/log" ||
+grep -q "calibrated differential_steering: .*covariate.json:[0-9]*:[0-9]*: effects.covariate:temperature_c: the calibrated differential_steering actuator cannot apply it in ARGoS: it needs the log column 'temperature_c', which ARGoS does not have" "$WORK/covariate/log" ||
   { cat "$WORK/covariate/log"; echo "FAIL: no message naming the covariate"; exit 1; }
 echo "ok   refusal: $(grep -o "effects.covariate:temperature_c: [^(]*" "$WORK/covariate/log" | head -1)"
 python3 "$HERE/actuator_check.py" "$WORK"

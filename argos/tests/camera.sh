@@ -42,7 +42,7 @@ run plain false 1 || { cat "$WORK/plain/log"; fail "argos3 (plain)"; }
 run distortion false 1 || { cat "$WORK/distortion/log"; fail "argos3 (distortion)"; }
 run noise true 20 || { cat "$WORK/noise/log"; fail "argos3 (noise)"; }
 if run covariate false 1; then fail "ARGoS ran with a covariate effect on the camera"; fi
-grep -q "effects.covariate:temperature_c: the calibrated camera cannot apply it in ARGoS: it needs the log column 'temperature_c'" "$WORK/covariate/log" ||
+grep -q "effects.covariate:temperature_c: the calibrated epuck2_colored_blob_perspective_camera cannot apply it in ARGoS: it needs the log column 'temperature_c'" "$WORK/covariate/log" ||
   { cat "$WORK/covariate/log"; fail "no message naming the covariate"; }
 echo "ok   refusal: $(grep -o "effects.covariate:temperature_c: [^(]*" "$WORK/covariate/log" | head -1)"
 python3 - "$WORK" <<'PY'

@@ -34,6 +34,13 @@ int main(int argc, char** argv) {
   const std::string log = gen::make_log(kind, std::stoull(argv[3]), h);
   std::ofstream(argv[4]) << log;
   nlohmann::json t = {{"kind", k}, {"cause", h.cause}, {"truth", h.truth}, {"parameters_matter", h.parameters_matter}};
+  if (kind == epuck2::logs::Kind::light) {
+    // The light generator's base gamma, drawn second from the seed (light_log: the row count, then
+    // gamma): the closed loop's expected readings need it, and the truth holds only the effect's.
+    gen::Draw d(std::stoull(argv[3]));
+    d.integer(400, 1000);
+    t["generator_gamma_m"] = d.uniform(0.07, 0.08);
+  }
   std::ofstream(argv[5]) << t.dump(2) << "\n";
   return 0;
 }

@@ -83,23 +83,30 @@ echo "ok   no noise section: warned once, no noise with noise_level 0"
 mkdir -p "$WORK/missing"
 experiment "$WORK/missing" "coefficients=\"$WORK/nope.json\"" "0.02:0.01:0.02" 1
 if argos3 -n -z -c "$WORK/missing/exp.argos" > "$WORK/missing/log" 2>&1; then fail "argos3 ran with a missing file"; fi
-grep -q "calibrated epuck2_proximity: $WORK/nope.json: cannot open the coefficient file" "$WORK/missing/log" ||
+grep -q "calibrated epuck2_proximity: $WORK/nope.json: cannot open the file for reading" "$WORK/missing/log" ||
   { cat "$WORK/missing/log"; fail "no message naming the file"; }
 echo "ok   missing file: $(grep -o 'calibrated epuck2_proximity: .*' "$WORK/missing/log")"
 
-# 4. a diagnosis file whose effects the calibrated proximity sensor does not apply (the shipped
-#    diagnosis: ambient_offset; its long_tail is undetermined and left out of the extended model)
-#    stops ARGoS at Init naming them, not dropping them
+# 4. a diagnosis file: its effects are applied (the shipped diagnosis: ambient_offset), so that at
+#    20 mm the sensor reads 4095 clamp01(a d^2 + b d + c) + offset with the file's a, b, c and offset
 mkdir -p "$WORK/effects"
-experiment "$WORK/effects" "coefficients=\"$ROOT/data/fitted/reports/diagnose_proximity.json\"" "0.02:0.01:0.02" 1
-if argos3 -n -z -c "$WORK/effects/exp.argos" > "$WORK/effects/log" 2>&1; then fail "argos3 ran with effects it does not apply"; fi
-grep -Eq "effects\.ambient_offset(, effects\.[a-z_]+)*: the calibrated epuck2_proximity does not apply a diagnosis's effects yet" "$WORK/effects/log" ||
-  { cat "$WORK/effects/log"; fail "no message naming the effects"; }
-echo "ok   effects not applied: $(grep -Eo 'effects\.ambient_offset[^(]*' "$WORK/effects/log" | head -1)"
+experiment "$WORK/effects" "coefficients=\"$ROOT/data/fitted/reports/diagnose_proximity.json\" noise=\"false\"" "0.02:0.01:0.02" 1
+argos3 -n -z -c "$WORK/effects/exp.argos" > "$WORK/effects/log" 2>&1 || { cat "$WORK/effects/log"; fail "argos3 with a diagnosis file"; }
+got=$(tail -n 1 "$WORK/effects/proximity_argos-epuck2.csv" | cut -d, -f4)
+want=$(python3 - "$ROOT/data/fitted/reports/diagnose_proximity.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+p, e = d["parameters"], d["effects"]
+v = 4095 * min(max(p["a"] * 0.02 ** 2 + p["b"] * 0.02 + p["c"], 0), 1) + e["ambient_offset"]["offset"]
+print(min(max(round(v), 0), 4095))
+PY
+)
+[ "$got" = "$want" ] || fail "the diagnosis file reads $got at 20 mm, expected $want (its ambient_offset applied)"
+echo "ok   diagnosis file: $got at 20 mm (the base curve with its ambient_offset)"
 # 5. a file of the wrong kind: the drive file for the wheels given to the proximity sensor
 mkdir -p "$WORK/kind"
 experiment "$WORK/kind" "coefficients=\"$ROOT/data/fitted/drive.json\"" "0.02:0.01:0.02" 1
 if argos3 -n -z -c "$WORK/kind/exp.argos" > "$WORK/kind/log" 2>&1; then fail "argos3 ran with a drive file on the proximity sensor"; fi
-grep -q "calibrated epuck2_proximity: .*drive.json: a 'drive' file, expected proximity" "$WORK/kind/log" ||
+grep -q "calibrated epuck2_proximity: .*drive.json:[0-9]*:[0-9]*: is not a proximity coefficient file (kind \"drive\")" "$WORK/kind/log" ||
   { cat "$WORK/kind/log"; fail "no message naming the kind"; }
-echo "ok   wrong kind: $(grep -o "a 'drive' file, expected proximity" "$WORK/kind/log" | head -1)"
+echo "ok   wrong kind: $(grep -o "is not a proximity coefficient file[^)]*)" "$WORK/kind/log" | head -1)"

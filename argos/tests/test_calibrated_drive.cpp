@@ -34,7 +34,7 @@ std::string error_of(const std::function<void()>& f) {
 }
 
 ap::DriveConfig config_of(const std::string& name, const std::string& text) {
-  return ap::read_drive_config(ap::CoefficientFile::load(write_temp(name, text), {"drive"}), "the actuator");
+  return ap::read_drive_config(write_temp(name, text), "the actuator");
 }
 
 // A calibration file has no speed_limit: the firmware's 1100 steps/s over its steps_per_m caps a
@@ -136,9 +136,12 @@ TEST(DelayLine, TheReadingIsTheDistanceDelayAgo) {
 
 // What ARGoS cannot apply stops it at Init, naming the effect and why.
 TEST(CalibratedDrive, EffectsArgosCannotApplyAreRefusedByName) {
-  const std::string cov = error_of([] {
-    config_of("cov.json", R"({"parameters":{},"effects":{"covariate:temperature_c":{"slope":1,"centre":20}}})");
-  });
+  // A file otherwise valid: the covariate is refused at its own line:column (the column of its
+  // value, counted in the text here).
+  static const std::string text = R"({"parameters":{"steps_per_m":7763.656},"effects":{"covariate:temperature_c":{"slope":1,"centre":20}}})";
+  const std::string cov = error_of([] { config_of("cov.json", text); });
+  const std::string where = "epuck2_argos_drive_test_cov.json:1:" + std::to_string(text.find("{\"slope\"") + 1) + ":";
+  EXPECT_NE(cov.find(where), std::string::npos) << cov << " (expected " << where << ")";
   EXPECT_NE(cov.find("covariate:temperature_c"), std::string::npos) << cov;
   EXPECT_NE(cov.find("'temperature_c', which ARGoS does not have"), std::string::npos) << cov;
   const std::string unknown = error_of([] { config_of("unk.json", R"({"parameters":{"steps_per_m":7763.656},"effects":{"ambient_offset":{"offset":3}}})"); });
@@ -152,7 +155,7 @@ TEST(CalibratedDrive, TheShippedDiagnosisLoads) {
   const std::string path = std::string(EPUCK2_SOURCE_DIR) + "/data/fitted/reports/diagnose_drive.json";
   std::ifstream in(path);
   const auto j = nlohmann::json::parse(in);
-  const auto c = ap::read_drive_config(ap::CoefficientFile::load(path, {"drive"}), "the actuator");
+  const auto c = ap::read_drive_config(path, "the actuator");
   EXPECT_EQ(c.effects.speed_limit.max_cm_s, j.at("effects").at("speed_limit").at("max_cm_s").get<double>());
   EXPECT_EQ(c.effects.slip.tau_s, j.at("parameters").at("slip_time_constant_s").get<double>());
 }

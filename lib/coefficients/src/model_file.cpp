@@ -19,6 +19,9 @@ namespace epuck2::coefficients {
 namespace fx = models::effects;
 using nlohmann::json;
 
+/// The battery reader, all 16 speeds (`sources` null) or some (the plug-in's elsewhere).
+s::BatteryModel battery_model_from_json(const json& j, const std::string& path, const std::string& robot, TableSources* sources);
+
 namespace {
 
 /// A key as one token of a JSON pointer (RFC 6901: ~ and / escaped).
@@ -107,6 +110,8 @@ class Doc {
   /// required).
   std::vector<double> base(const std::string& key, std::size_t count, const std::vector<double>& fallback = {}) const {
     const models::BaseParam* p = facts_->base_param(key);
+    // A second fit of the same coefficient (the proximity's mean_a: the means' curve) has its range.
+    if (!p && key.rfind("mean_", 0) == 0) p = facts_->base_param(key.substr(5));
     std::string pointer;
     const json* v = find("parameters", key, pointer);
     if (!v) {
@@ -361,11 +366,17 @@ std::vector<std::string> robot_ids(const json& j) {
 // ----- proximity -----
 
 s::ProximityModel proximity_model_from_json(const json& j, const std::string& path, const std::string& robot) {
+  return proximity_model_from_json(j, path, robot, ProximityCurve::maxima);
+}
+
+s::ProximityModel proximity_model_from_json(const json& j, const std::string& path, const std::string& robot,
+                                            ProximityCurve curve) {
   const Doc d(j, path, robot, "proximity");
+  const std::string prefix = curve == ProximityCurve::means ? "mean_" : "";
   s::ProximityModel m;
-  m.base.a_per_m2 = d.base1("a");
-  m.base.b_per_m = d.base1("b");
-  m.base.c = d.base1("c");
+  m.base.a_per_m2 = d.base1(prefix + "a");
+  m.base.b_per_m = d.base1(prefix + "b");
+  m.base.c = d.base1(prefix + "c");
   m.base.range_m = d.base1("range_m", m.base.range_m);
   d.effects(fx::proximity_catalogue(), m.effects, m.covariates);
   m.noise_sd_raw = to_array<s::kProximityCount>(d.noise(d.facts().channels[0]));
@@ -388,6 +399,38 @@ s::LightModel light_model_from_json(const json& j, const std::string& path, cons
   d.effects(fx::light_catalogue(), m.effects, m.covariates);
   m.noise_sd_raw = to_array<s::kProximityCount>(d.noise(d.facts().channels[0]));
   return m;
+}
+
+std::array<double, s::kProximityCount> light_sensor_gammas(const json& j, const std::string& path, const std::string& robot,
+                                                           const s::LightModel& m) {
+  const Doc d(j, path, robot, "light");
+  std::array<double, s::kProximityCount> gamma{};
+  gamma.fill(m.base.gamma_m);
+  std::string pointer = "/per_sensor";
+  const json* list = j.contains("per_sensor") ? &j.at("per_sensor") : nullptr;
+  if (!robot.empty() && j.at("robots").at(robot).contains("per_sensor")) {
+    list = &j.at("robots").at(robot).at("per_sensor");
+    pointer = "/robots/" + token(robot) + "/per_sensor";
+  }
+  if (!list) return gamma;
+  if (!list->is_array()) d.fail(pointer, "per_sensor must be an array of {\"sensor\", \"gamma\"}");
+  const models::BaseParam& range = *d.facts().base_param("gamma");
+  for (std::size_t i = 0; i < list->size(); ++i) {
+    const json& e = list->at(i);
+    const std::string at = pointer + "/" + std::to_string(i);
+    const std::string what = "per_sensor[" + std::to_string(i) + "]";
+    if (!e.is_object() || !e.contains("sensor") || !e.contains("gamma"))
+      d.fail(at, what + " must be an object with \"sensor\" and \"gamma\"");
+    const double k = d.number(e.at("sensor"), at + "/sensor", what + ".sensor");
+    if (!(k >= 0 && k < static_cast<double>(s::kProximityCount)) || k != std::floor(k))
+      d.fail(at + "/sensor", what + ".sensor must be a light sensor's number, 0 to 7 (found " + number_text(k) + ")");
+    const double g = d.number(e.at("gamma"), at + "/gamma", what + ".gamma");
+    if (!(g > range.lower && g <= range.upper))
+      d.fail(at + "/gamma", what + ".gamma = " + number_text(g) + " is outside its physical range " +
+                                range_text(range.lower, range.upper, range.open_lower, range.open_upper, range.unit));
+    gamma[static_cast<std::size_t>(k)] = g;
+  }
+  return gamma;
 }
 
 json model_to_json(const s::LightModel& m) {
@@ -463,9 +506,17 @@ json model_to_json(const s::DriveModel& m) {
 // ----- battery -----
 
 s::BatteryModel battery_model_from_json(const json& j, const std::string& path, const std::string& robot) {
+  return battery_model_from_json(j, path, robot, nullptr);
+}
+
+s::BatteryModel battery_model_from_json(const json& j, const std::string& path, const std::string& robot, TableSources& sources) {
+  return battery_model_from_json(j, path, robot, &sources);
+}
+
+s::BatteryModel battery_model_from_json(const json& j, const std::string& path, const std::string& robot, TableSources* sources) {
   const Doc d(j, path, robot, "battery");
   s::BatteryModel m;
-  m.tables = battery_tables_from_json(j, path);
+  m.tables = sources ? battery_tables_from_json(j, path, *sources) : battery_tables_from_json(j, path);
   if (j.contains("battery_model")) {
     const json& name = j.at("battery_model");
     if (!name.is_string() || !models::battery::parse_model(name.get<std::string>(), m.model))

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 #include "epuck2/models/battery.hpp"
 
@@ -16,6 +17,18 @@ namespace epuck2::coefficients {
 /// finite and physical: lifetimes positive, the linear and simple slopes negative (a charge falls),
 /// each segment's x1_s <= x2_s.
 models::battery::Tables battery_tables_from_json(const nlohmann::json& j, const std::string& path);
+
+/// Which tables of a battery file with some speeds only are the file's.
+struct TableSources {
+  std::vector<int> fitted_speeds;  ///< the speeds (cm/s) whose tables are the file's, ascending
+  bool fitted_simple = false;      ///< the Simple model's slopes are the file's
+};
+/// A battery file with tables at some speeds only (`epuck2-fit battery` on a few runs): 1 to 16
+/// entries in `speeds`, each at a whole speed_cm_s in 0..15 given once, each checked as above;
+/// `simple` optional. The file's tables at its speeds, the plug-in's published ones
+/// (plugin_battery_tables.hpp) at the others and for `simple` when the file has none; `sources`
+/// says which are which.
+models::battery::Tables battery_tables_from_json(const nlohmann::json& j, const std::string& path, TableSources& sources);
 
 /// The tables alone, as battery_tables_from_json reads them back bit for bit (a cubic row's end_s
 /// is its speed's lifetime_s, as in every table the project makes or ships).

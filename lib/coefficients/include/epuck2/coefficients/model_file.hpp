@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "epuck2/coefficients/battery_tables.hpp"
 #include "epuck2/models/kinds.hpp"
 
 namespace epuck2::coefficients {
@@ -33,7 +34,17 @@ namespace s = models::sensors;
 /// set (`robots.<robot>`) replaces the pooled parameters and noise it has (an error when the file
 /// has no such robot).
 s::ProximityModel proximity_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
+/// Which of a proximity calibration's curves: Eq. 1 fitted to the maxima (a, b, c) or to the
+/// means (mean_a, mean_b, mean_c; the same ranges).
+enum class ProximityCurve { maxima, means };
+s::ProximityModel proximity_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot,
+                                            ProximityCurve curve);
 s::LightModel light_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
+/// Each light sensor's gamma: a light calibration's `per_sensor` entries ({"sensor": 0..7,
+/// "gamma"}; the robot's set's first) over the model's common gamma `m.base.gamma_m`, each in
+/// gamma's physical range.
+std::array<double, s::kProximityCount> light_sensor_gammas(const nlohmann::json& j, const std::string& path,
+                                                           const std::string& robot, const s::LightModel& m);
 s::GroundModel ground_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
 s::CameraModel camera_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
 s::DriveModel drive_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
@@ -41,6 +52,10 @@ s::DriveModel drive_model_from_json(const nlohmann::json& j, const std::string& 
 /// `battery_model` (default cubic), its effects and noise (a calibration file without `noise`:
 /// the RMS of its speeds' `noise_sd`).
 s::BatteryModel battery_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
+/// The same for a file with tables at some speeds only: the plug-in's tables elsewhere
+/// (battery_tables.hpp), `sources` saying which are the file's.
+s::BatteryModel battery_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot,
+                                        TableSources& sources);
 
 /// A JSON file as parsed, its errors located: logs::InputError at FILE:LINE:COLUMN for a file that
 /// cannot be opened, text that is not JSON, or a number too large for a double (1e999).

@@ -96,6 +96,11 @@ struct LightModel {
 inline double mean_raw(const LightModel& m, int sensor, double intensity, double distance_m) {
   return light_mean_raw(m.base, m.effects, sensor, intensity, distance_m);
 }
+/// Several lights at once (`lights`: LightSource), as a simulator sees them.
+template <class Lights>
+double mean_raw(const LightModel& m, int sensor, const Lights& lights) {
+  return light_mean_raw(m.base, m.effects, sensor, lights);
+}
 /// `covariate_raw`: the covariate effects' sum on the row (covariate_offset), added to the mean.
 template <class Normal>
 int reading(const LightModel& m, int sensor, double intensity, double distance_m, Normal& normal,

@@ -108,4 +108,19 @@ inline double light_mean_raw(const LightCoefficients& k, const LightEffects<doub
   return light_mean_raw(k.gamma_m, k.range_m, e, sensor, intensity, distance_m);
 }
 
+/// The mean reading in counts for several lights (LightSource), as the plug-in sums them: each
+/// light within range and of positive intensity adds (gamma I / d)^exponent,
+///   4095 (1 - gain_s sum) - offset;
+/// for one light light_mean_raw's value bit for bit, for none 4095 - offset.
+template <class Lights>
+double light_mean_raw(const LightCoefficients& k, const LightEffects<double>& e, int sensor, const Lights& lights) {
+  double sum = 0.0;
+  for (const LightSource& l : lights)
+    if (l.distance_m <= k.range_m && l.intensity > 0) {
+      const double ratio = k.gamma_m * l.intensity / l.distance_m;
+      sum += ratio * ratio * std::exp((e.falloff.exponent - 2.0) * std::log(ratio));
+    }
+  return kProximityFullScale_raw * (1.0 - e.gains.gain[static_cast<std::size_t>(sensor)] * sum) - e.ambient.offset_raw;
+}
+
 }  // namespace epuck2::models::sensors

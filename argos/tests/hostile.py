@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""Hostile coefficient files against every calibrated part of the ARGoS plug-in (issue #22 item 5).
+
+For each calibrated sensor (proximity, light, ground, camera, ToF, encoders), the wheel actuator
+and the battery: a file with a parameter at 0, negative or 1e308, a noise sd of 1e308, the
+camera's field of view at 0 and 360 deg and its image centre at 1e300, battery lifetimes of 0
+and -100, a literal 1e999, and an unknown effect name. Each must stop ARGoS at Init with a
+message naming the file, the line:column of the offending value and the reason.
+
+The expected line:column come from the text this script writes, not from the plug-in: the value
+is first written as a unique placeholder, whose position in the text is the expected one, and
+then replaced by the hostile literal.
+    usage: hostile.py ARGOS_LIBDIR WORK_DIR
+"""
+import copy
+import json
+import os
+import re
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+LIBDIR, WORK = sys.argv[1], os.path.join(sys.argv[2], "hostile")
+os.makedirs(WORK, exist_ok=True)
+FITTED = os.path.join(ROOT, "data", "fitted")
+PLACEHOLDER = '"@@HOSTILE@@"'
+
+# part: (experiment, XML element, file, [(path to a value, range reason), ...], noise channel)
+PARTS = {
+    "proximity": ("proximity", "epuck2_proximity", "proximity.json", "proximity"),
+    "light": ("light", "epuck2_light", "light.json", "light"),
+    "ground": ("ground", "epuck2_ground", "ground.json", "ground"),
+    "camera": ("camera", "epuck2_colored_blob_perspective_camera", "camera.json", "camera"),
+    "tof": ("drive", "epuck2_tof", "drive.json", "tof"),
+    "encoder": ("drive", "epuck2_encoder", "drive.json", "encoder"),
+    "actuator": ("drive", "differential_steering", "drive.json", None),
+    "battery": ("battery", "epuck2_battery", "battery.json", None),
+}
+RANGE = "is outside its physical range"
+# (case name, part, path of the value in the file, the literal written there, the reason expected)
+CASES = []
+for part, key in [("proximity", "range_m"), ("light", "gamma"), ("ground", "gain"), ("tof", "steps_per_m"),
+                  ("encoder", "steps_per_m"), ("actuator", "steps_per_m")]:
+    CASES += [(f"{part}_{key}_zero", part, ["parameters", key], "0", RANGE),
+              (f"{part}_{key}_negative", part, ["parameters", key], "-7", RANGE),
+              (f"{part}_{key}_1e308", part, ["parameters", key], "1e308", RANGE)]
+CASES += [("proximity_a_1e308", "proximity", ["parameters", "a"], "1e308", RANGE),
+          ("camera_fov_zero", "camera", ["parameters", "fov_deg"], "0", RANGE),
+          ("camera_fov_360", "camera", ["parameters", "fov_deg"], "360", RANGE),
+          ("camera_fov_negative", "camera", ["parameters", "fov_deg"], "-30", RANGE),
+          ("camera_cx_1e300", "camera", ["parameters", "cx_px"], "1e300", RANGE),
+          ("camera_cy_1e300", "camera", ["parameters", "cy_px"], "1e300", RANGE),
+          ("battery_lifetime_zero", "battery", ["speeds", 3, "lifetime_s"], "0", "must be positive"),
+          ("battery_lifetime_negative", "battery", ["speeds", 3, "lifetime_s"], "-100", "must be positive"),
+          ("battery_slope_1e308", "battery", ["speeds", 5, "linear_slope"], "1e308", "must be negative"),
+          ("battery_capacity_zero", "battery", ["effects", "capacity_scale", "k"], "0", RANGE)]
+for part, (_, _, _, channel) in PARTS.items():
+    if channel:
+        CASES.append((f"{part}_noise_1e308", part, ["noise", channel, "sd"], "1e308", "noise sd must lie in"))
+    CASES.append((f"{part}_1e999", part, None, "1e999", "too large for a double"))
+    CASES.append((f"{part}_unknown_effect", part, ["effects", "warp_drive"], '{"speed": 9}', "unknown effect 'warp_drive'"))
+# What ARGoS cannot apply: a covariate (no log column)
+CASES.append(("proximity_covariate", "proximity", ["effects", "covariate:temperature_c"], '{"slope": 2, "centre": 25}',
+              "it needs the log column 'temperature_c', which ARGoS does not have"))
+CASES.append(("proximity_incidence_k_negative", "proximity", ["effects", "incidence_angle", "k"], "-1", RANGE))
+CASES.append(("light_covariate", "light", ["effects", "covariate:temperature_c"], '{"slope": 2, "centre": 25}',
+              "it needs the log column 'temperature_c', which ARGoS does not have"))
+
+
+def hostile_file(part, path, literal, out):
+    """Writes the part's shipped file with `literal` at `path`; returns (line, column) of it."""
+    d = json.load(open(os.path.join(FITTED, PARTS[part][2])))
+    if path is None:  # a literal 1e999 in place of the first base parameter or table number
+        path = ["speeds", 0, "lifetime_s"] if part == "battery" else ["parameters", next(iter(d["parameters"]))]
+    if path[0] == "noise":
+        d["noise"][path[1]].pop("per_sensor_sd", None)  # the reader takes sd for every sensor
+    if part == "battery" and path[0] == "effects":
+        d["effects"] = {}
+    node = d
+    for k in path[:-1]:
+        node = node.setdefault(k, {}) if isinstance(k, str) else node[k]
+    node[path[-1]] = "@@HOSTILE@@"
+    text = json.dumps(d, indent=2)
+    at = text.index(PLACEHOLDER)
+    line = text.count("\n", 0, at) + 1
+    column = at - (text.rfind("\n", 0, at) + 1) + 1
+    open(out, "w").write(text.replace(PLACEHOLDER, literal))
+    return line, column
+
+
+def experiment(part, coeff, out_dir):
+    exp_name, element, shipped, _ = PARTS[part]
+    x = open(os.path.join(ROOT, "argos", "experiments", exp_name + ".argos")).read()
+    x = re.sub(r'output_dir="[^"]*"', f'output_dir="{out_dir}"', x)
+    good = os.path.join(FITTED, shipped)
+    x = re.sub(r'coefficients="[^"]*"', f'coefficients="{good}"', x)
+    # only the part under test gets the hostile file (the battery: every robot)
+    x = re.sub(rf'(<{element} [^>]*?)coefficients="[^"]*"', rf'\1coefficients="{coeff}"', x)
+    path = os.path.join(out_dir, "exp.argos")
+    open(path, "w").write(x)
+    return path
+
+
+failures = 0
+env = dict(os.environ, ARGOS_PLUGIN_PATH=LIBDIR)
+for name, part, path, literal, reason in CASES:
+    out_dir = os.path.join(WORK, name)
+    os.makedirs(out_dir, exist_ok=True)
+    coeff = os.path.join(out_dir, f"{part}.json")
+    line, column = hostile_file(part, path, literal, coeff)
+    exp = experiment(part, coeff, out_dir)
+    try:
+        r = subprocess.run(["argos3", "-n", "-z", "-c", exp], env=env, capture_output=True, text=True, timeout=120)
+        log, code = r.stdout + r.stderr, r.returncode
+    except subprocess.TimeoutExpired:
+        log, code = "timed out: ARGoS ran on", 0
+    where = f"{coeff}:{line}:{column}"
+    message = next((l for l in log.splitlines() if where in l), "")
+    ok = code != 0 and where in log and reason in log
+    failures += not ok
+    print(f"{'ok  ' if ok else 'FAIL'} {name}: {message.strip()[:260] if ok else ''}")
+    if not ok:
+        print(f"     expected exit != 0 (got {code}), '{where}' and '{reason}' in:\n" + log[-1500:])
+print(f"{len(CASES) - failures} of {len(CASES)} hostile files stopped ARGoS at Init with the file, line:column and reason")
+sys.exit(1 if failures else 0)
