@@ -716,6 +716,7 @@ CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions&
 DriveRun drive_run_from_log(const logs::Log& log) {
   DriveRun run;
   run.path = log.path;
+  run.robot = log.robot;
   run.obstacle_distance_m = log.metadata_number("obstacle_distance_m");
   const auto& t = log.col("time_s");
   const auto& vl = log.col("left_speed_cm_s");

@@ -2,6 +2,7 @@
 #include "epuck2/models/effects.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
@@ -294,50 +295,190 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
   const double scale = f.tof.value(models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale)), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
   constexpr double kOutOfRangeCode_mm = 8190, kCodeRow_mm = 2250;
   const double kNaN = std::numeric_limits<double>::quiet_NaN();
+  // The curves as the sensor reports them: clamped to its rails (20 and 2000 mm), never drawn
+  // above the 2000 mm a reading cannot exceed.
+  auto on_rails = [](double mm) { return std::clamp(mm, s::kPluginTof.min_mm, s::kPluginTof.max_mm); };
+
+  // Small multiples: one panel per commanded speed (as logged, to 0.1 cm/s; both directions and
+  // every robot in it), the ToF against time; the runs standing still in one panel against the
+  // obstacle's distance (time says nothing there); the encoders of every run in the last panel,
+  // against the commanded distance (steps_per_m is their slope).
+  std::vector<std::string> robots;
+  std::map<long, std::vector<std::size_t>> by_speed;  // speed in mm/s -> runs
+  std::vector<std::size_t> still;
+  std::vector<int> direction(f.runs.size(), 0), robot_of(f.runs.size(), 0);
+  for (std::size_t r = 0; r < f.runs.size(); ++r) {
+    const auto& run = f.runs[r];
+    double top = 0;
+    for (double c : run.command_uncapped_m_s)
+      if (std::abs(c) > std::abs(top)) top = c;
+    direction[r] = top > 0 ? 1 : top < 0 ? -1 : 0;
+    const auto named = std::find(robots.begin(), robots.end(), run.robot);
+    robot_of[r] = static_cast<int>(named - robots.begin());
+    if (named == robots.end()) robots.push_back(run.robot);
+    const long mm_s = std::lround(std::abs(top) * 1000);
+    if (mm_s == 0) still.push_back(r);
+    else by_speed[mm_s].push_back(r);
+  }
+  const std::size_t panels = by_speed.size() + (still.empty() ? 0 : 1) + 1;
+  // The canvas: 4 panels a row on the figure's own 1600 pixels, fewer on a page narrower.
+  const int default_cols = static_cast<int>(std::min<std::size_t>(4, panels));
+  const int default_rows = static_cast<int>((panels + static_cast<std::size_t>(default_cols) - 1) / static_cast<std::size_t>(default_cols));
+  const std::pair<int, int> canvas = canvas_px(1600, 190 + default_rows * 330);
+  const int width = canvas.first, height = canvas.second;
+  const bool narrow = width < kNarrowCanvas_px;
+  // Panels at least 200 canvas pixels wide (a two-column page holds 4 a row, one column 2).
+  const int cols = std::max(1, std::min(default_cols, (width - 40) / 200));
+  const int rows = static_cast<int>((panels + static_cast<std::size_t>(cols) - 1) / static_cast<std::size_t>(cols));
+  // The legend's entries, in as many columns as fit across.
   std::size_t codes = 0;
-  render(stage, path, [&](gnuplotio::Gnuplot& gp) {
-    std::string plot_tof = "plot ", plot_steps = "plot ";
-    for (std::size_t r = 0; r < f.runs.size(); ++r) {
-      const auto& run = f.runs[r];
-      const std::vector<double> travel = calibrate::lagged_travel_m(run, spm, tau);
-      const std::vector<double> enc = calibrate::lagged_travel_m(run, s::kPluginStepsPerMetre, 0.0);
-      std::vector<std::vector<double>> rows;
-      double commanded = 0;
-      for (std::size_t k = 0; k < run.time_s.size(); ++k) {
-        // The VL53L0X's out-of-range codes (>= 8190) are no distance: drawn apart, at the top.
-        const bool code = run.tof_mm[k] >= kOutOfRangeCode_mm;
-        // The curves as the sensor reports them: clamped to its rails (20 and 2000 mm), never
-        // drawn above the 2000 mm a reading cannot exceed.
-        auto on_rails = [](double mm) { return std::clamp(mm, s::kPluginTof.min_mm, s::kPluginTof.max_mm); };
-        rows.push_back({run.time_s[k], code ? kNaN : run.tof_mm[k],
-                        on_rails(s::tof_response_mm(scale, offset, run.obstacle_distance_m - travel[k])),
-                        on_rails(s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc[k])), run.steps[k], spm * commanded,
-                        code ? kCodeRow_mm : kNaN});
-        codes += code;
-        if (k + 1 < run.time_s.size()) commanded += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
-      }
-      gp << datablock("r" + std::to_string(r), rows);
-      const std::string first = r == 0 ? "" : ", ";
-      const std::string d = "$r" + std::to_string(r);
-      plot_tof += first + d + " using 1:2 with points pt 7 ps 0.4 lc rgb '#1f77b4' " + (r ? "notitle" : "title 'ToF readings'") +
-                  ", " + d + " using 1:3 with lines lw 2 lc rgb '#d62728' " + (r ? "notitle" : "title 'fit (scale, offset, slip lag), on the rails'") +
-                  ", " + d + " using 1:4 with lines lw 1.5 dt 2 lc rgb '#000000' " + (r ? "notitle" : "title 'plug-in: 1000 (D - encoder travel)'");
-      plot_steps += first + d + " using 1:5 with points pt 7 ps 0.4 lc rgb '#2ca02c' " + (r ? "notitle" : "title 'encoder steps'") +
-                    ", " + d + " using 1:6 with lines lw 1.5 lc rgb '#d62728' " + (r ? "notitle" : "title 'fitted steps/m × commanded distance'");
-    }
-    for (std::size_t r = 0; r < f.runs.size() && codes > 0; ++r)
-      plot_tof += ", $r" + std::to_string(r) + " using 1:7 with points pt 9 ps 0.8 lc rgb '#ff7f0e' " +
-                  (r ? "notitle" : "title 'out-of-range codes (≥ 8190), drawn at 2250 mm'");
-    gp << multiplot(two_panels(), "Drive runs (paper sections 4.1.4 and 4.1.5), all runs overlaid");
-    // The legend above the readings (the 2000 mm rail, the codes drawn at 2250 mm).
-    gp << "set grid lc rgb '#d8d8d8'\nset key top left opaque box Left reverse\nset xlabel 'time since the start of the run (s)'\n";
-    gp << "set title 'time-of-flight sensor' font ',12'\nset ylabel 'ToF reading (mm)'\nset yrange [0:2800]\n";
-    gp << plot_tof << "\n";
-    gp << "set title 'wheel encoders' font ',12'\nset ylabel 'encoder register, unwrapped (steps)'\nset yrange [*:*]\n";
-    gp << "set key bottom left\n";
-    gp << plot_steps << "\n";
-    gp << "unset multiplot\n";
-  });
+  for (const auto& run : f.runs)
+    for (double mm : run.tof_mm) codes += mm >= kOutOfRangeCode_mm;
+  const std::size_t entry_count = 5 + (still.empty() ? 0 : 1) + (codes > 0 ? 1 : 0) + (robots.size() > 1 ? robots.size() : 0);
+  const std::size_t legend_cols = std::max<std::size_t>(1, static_cast<std::size_t>(width) / (narrow ? 210 : 370));
+  const int legend_rows = static_cast<int>((entry_count + legend_cols - 1) / legend_cols);
+  // From the top: the title (none on a paper's column: the caption's), the legend, the first
+  // panels' titles. Between rows: the tics, the x label (none on a column's time panels: their
+  // titles say "time (s)"), the next titles.
+  const double top_px = (narrow ? 10.0 : 60.0) + legend_rows * 22.0 + 35.0;
+  Layout layout;
+  layout.rows = rows;
+  layout.cols = cols;
+  layout.left = (narrow ? 70.0 : 85.0) / width;
+  layout.right = 1.0 - 15.0 / width;
+  layout.bottom = 60.0 / height;
+  layout.top = 1.0 - top_px / height;
+  layout.hspace = (narrow ? 95.0 : 85.0) / width;
+  layout.vspace = (narrow ? 75.0 : 100.0) / height;
+  const double panel_px = (height * (layout.top - layout.bottom) - (rows - 1) * height * layout.vspace) / rows;
+  const std::string tof_label = narrow ? "ToF (mm)" : "ToF reading (mm)";
+  const double panel_w_px = (width * (layout.right - layout.left) - (cols - 1) * width * layout.hspace) / cols;
+
+  const char* kToward = "#1f77b4";  // forward, toward the obstacle
+  const char* kAway = "#2ca02c";    // backwards
+  const char* kStill = "#7f7f7f";
+  auto colour = [&](std::size_t r) { return direction[r] > 0 ? kToward : direction[r] < 0 ? kAway : kStill; };
+  render(
+      stage, path,
+      [&](gnuplotio::Gnuplot& gp) {
+        // Every run's rows: time, reading (NaN for a code), fit, plug-in, steps, commanded steps,
+        // the code's row, the robot's marker, the commanded distance (mm), the obstacle (mm).
+        for (std::size_t r = 0; r < f.runs.size(); ++r) {
+          const auto& run = f.runs[r];
+          const std::vector<double> travel = calibrate::lagged_travel_m(run, spm, tau);
+          const std::vector<double> enc = calibrate::lagged_travel_m(run, s::kPluginStepsPerMetre, 0.0);
+          std::vector<std::vector<double>> rows_of_run;
+          double commanded = 0;
+          for (std::size_t k = 0; k < run.time_s.size(); ++k) {
+            // The VL53L0X's out-of-range codes (>= 8190) are no distance: drawn apart, at the top.
+            const bool code = run.tof_mm[k] >= kOutOfRangeCode_mm;
+            rows_of_run.push_back({run.time_s[k], code ? kNaN : run.tof_mm[k],
+                                   on_rails(s::tof_response_mm(scale, offset, run.obstacle_distance_m - travel[k])),
+                                   on_rails(s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc[k])), run.steps[k],
+                                   spm * commanded, code ? kCodeRow_mm : kNaN,
+                                   static_cast<double>(robot_point_type(static_cast<std::size_t>(robot_of[r]))), commanded * 1000,
+                                   run.obstacle_distance_m * 1000});
+            if (k + 1 < run.time_s.size()) commanded += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
+          }
+          gp << datablock("r" + std::to_string(r), rows_of_run);
+        }
+        const std::string title = "Drive runs (paper sections 4.1.4 and 4.1.5): the time-of-flight sensor per commanded speed, and the wheel encoders";
+        gp << multiplot(layout, narrow ? "" : title, 14);
+        gp << "set grid lc rgb '#e0e0e0'\nunset key\n";
+        // The 2000 mm rail, dotted: no reading (and no curve) lies above it.
+        const std::string rail = "set arrow 1 from graph 0, first 2000 to graph 1, first 2000 nohead dt 3 lc rgb '#808080'\n";
+        int index = 0;
+        auto axes_labels = [&](const std::string& x, const std::string& y) {
+          // The ToF's y label on each row's first panel, the encoders' on theirs; the x label on
+          // every panel (their axes differ).
+          gp << "set xlabel " << quoted(x) << " offset 0,0.3\n";
+          gp << (index % cols == 0 || y != tof_label ? "set ylabel " + quoted(y) + (y == tof_label ? " offset 1,0\n" : "\n")
+                                                     : std::string("unset ylabel\n"));
+          ++index;
+        };
+        for (const auto& [mm_s, runs] : by_speed) {
+          char t[96];
+          std::snprintf(t, sizeof t, "%g cm/s: %zu run%s", static_cast<double>(mm_s) / 10.0,
+                        runs.size(), runs.size() == 1 ? "" : "s");
+          if (narrow) std::snprintf(t, sizeof t, "%g cm/s, x: time (s)", static_cast<double>(mm_s) / 10.0);
+          gp << "set title " << quoted(t) << " font ',11'\n";
+          axes_labels(narrow ? "" : "time (s)", tof_label);
+          gp << rail << "set yrange [0:2400]\nset xrange [0:*]\nset ytics " << (panel_px < 150 ? 1000 : 500) << "\n";
+          std::string plot = "plot ";
+          for (std::size_t r : runs) {
+            const std::string d = "$r" + std::to_string(r);
+            plot += (plot.size() > 5 ? ", " : "") + d + " using 1:2:8 with points pt variable ps 0.5 lc rgb '" + colour(r) +
+                    "' notitle, " + d + " using 1:7 with points pt 9 ps 0.8 lc rgb '#ff7f0e' notitle";
+          }
+          for (std::size_t r : runs)  // the curves over the readings
+            plot += ", $r" + std::to_string(r) + " using 1:3 with lines lw 1.5 lc rgb '#d62728' notitle, $r" + std::to_string(r) +
+                    " using 1:4 with lines lw 1.2 dt 2 lc rgb '#000000' notitle";
+          gp << plot << "\n";
+        }
+        if (!still.empty()) {
+          gp << "set title " << quoted("standing still: " + std::to_string(still.size()) + " run" + (still.size() == 1 ? "" : "s")) << " font ',11'\n";
+          axes_labels(narrow ? "obstacle (mm)" : "distance to the obstacle (mm)", tof_label);
+          // Readings spread sideways by their time (±20 mm over the run) so that they do not stack.
+          double lo = 1e300, hi = -1e300;
+          for (std::size_t r : still) {
+            lo = std::min(lo, f.runs[r].obstacle_distance_m * 1000);
+            hi = std::max(hi, f.runs[r].obstacle_distance_m * 1000);
+          }
+          const double pad = std::max(100.0, 0.2 * (hi - lo));
+          std::vector<std::vector<double>> line;  // the fitted response and the plug-in's, without travel
+          for (double mm : samples(lo - pad, hi + pad, 100))
+            line.push_back({mm, on_rails(s::tof_response_mm(scale, offset, mm / 1000)), on_rails(s::tof_response_mm(1.0, 0.0, mm / 1000))});
+          gp << datablock("still", line);
+          gp << "unset arrow 1\nset xrange [" << lo - pad << ":" << hi + pad << "]\nset yrange [*:*]\nset ytics autofreq\nset xtics autofreq\n";
+          std::string plot = "plot $still using 1:2 with lines lw 2 lc rgb '#d62728' notitle, $still using 1:3 with lines lw 1.5 dt 2 lc rgb '#000000' notitle";
+          for (std::size_t r : still) {
+            const double span = std::max(1e-9, f.runs[r].time_s.empty() ? 1.0 : f.runs[r].time_s.back());
+            char spread[64];
+            std::snprintf(spread, sizeof spread, "($10 + 40 * ($1 / %.6g - 0.5))", span);
+            plot += ", $r" + std::to_string(r) + " using " + spread + ":2:8 with points pt variable ps 0.4 lc rgb '" + kStill + "' notitle";
+          }
+          gp << plot << "\n";
+        }
+        gp << "unset arrow 1\n";
+        gp << "set title " << quoted(narrow ? "encoders, every run" : "wheel encoders: every run") << " font ',11'\n";
+        axes_labels(narrow ? "commanded (mm)" : "commanded distance (mm)", "encoder steps");
+        gp << "set xrange [*:*]\nset yrange [*:*]\nset ytics autofreq\n" << (panel_w_px < 300 ? "set xtics 2000\n" : "") << (panel_px < 200 ? "set ytics 5000\n" : "");
+        {
+          std::string plot = "plot ";
+          for (std::size_t r = 0; r < f.runs.size(); ++r)
+            plot += (r ? ", " : "") + std::string("$r") + std::to_string(r) + " using 9:5:8 with points pt variable ps 0.5 lc rgb '" + colour(r) + "' notitle";
+          double lo = 0, hi = 0;
+          for (const auto& run : f.runs) {
+            double c = 0;
+            for (std::size_t k = 0; k + 1 < run.time_s.size(); ++k) {
+              c += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
+              lo = std::min(lo, c * 1000);
+              hi = std::max(hi, c * 1000);
+            }
+          }
+          gp << datablock("steps", {{lo, spm * lo / 1000, s::kPluginStepsPerMetre * lo / 1000}, {hi, spm * hi / 1000, s::kPluginStepsPerMetre * hi / 1000}});
+          plot += ", $steps using 1:2 with lines lw 2 lc rgb '#d62728' notitle, $steps using 1:3 with lines lw 1.5 dt 2 lc rgb '#000000' notitle";
+          gp << plot << "\n";
+        }
+        std::vector<std::string> entries{
+            std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kToward + "' title " + (narrow ? "'forward'" : "'forward (toward the obstacle)'"),
+            std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kAway + "' title " + (narrow ? "'backwards'" : "'backwards (away)'"),
+            std::string("NaN with lines lw 2 lc rgb '#d62728' title ") +
+                (narrow ? "'fit, clipped at rails'" : "'fit (ToF: scale, offset, slip lag; encoders: steps/m), clipped at the rails'"),
+            std::string("NaN with lines lw 1.5 dt 2 lc rgb '#000000' title ") +
+                (narrow ? "'plug-in'" : "'plug-in: 1000 steps/m, ToF = distance, no slip'"),
+            "NaN with lines dt 3 lc rgb '#808080' title 'the 2000 mm rail'"};
+        if (!still.empty()) entries.insert(entries.begin() + 2, std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kStill + "' title 'standing still'");
+        if (codes > 0)
+          entries.push_back(narrow ? "NaN with points pt 9 ps 1 lc rgb '#ff7f0e' title 'no-target code (2250)'"
+                                   : "NaN with points pt 9 ps 1 lc rgb '#ff7f0e' title 'out-of-range codes (≥ 8190), drawn at 2250 mm'");
+        for (std::size_t r = 0; r < robots.size() && robots.size() > 1; ++r)
+          entries.push_back("NaN with points pt " + std::to_string(robot_point_type(r)) + " ps 0.9 lc rgb '#000000' title " + quoted("robot " + robots[r]));
+        const double band_top = 1.0 - (narrow ? 10.0 : 55.0) / height;
+        gp << legend_band(0.01, 0.99, band_top - legend_rows * 22.0 / height, band_top, entries, narrow ? 9 : 10, legend_rows);
+        gp << "unset multiplot\n";
+      },
+      width, height);
 }
 
 }  // namespace epuck2::plot

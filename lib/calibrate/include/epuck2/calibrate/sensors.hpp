@@ -154,6 +154,7 @@ CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions&
 
 struct DriveRun {
   std::string path;
+  std::string robot;  ///< the log's `robot` (the figure tells robots apart)
   double obstacle_distance_m = 0;
   std::vector<double> time_s, command_m_s, steps, tof_mm;  ///< steps unwrapped, mean of both wheels
   std::vector<double> command_uncapped_m_s;                ///< the commands as logged (command_m_s: capped)
