@@ -103,9 +103,10 @@ std::string legend_band(double left, double right, double bottom, double top, co
 /// are kept.
 std::string wrapped(const std::string& text, double width_px, double font_pt = 11);
 
-/// A page narrower than this many canvas pixels is a paper's column (8.5 cm at 8 pt is about
-/// 440): its figures stack their panels, wrap their titles and put their legends below the plot.
-constexpr int kNarrowCanvas_px = 1000;
+/// A page narrower than this many canvas pixels is a paper's column (8.5 cm at 8 pt is about 440
+/// of them; two columns, 17.6 cm, 915 at 8 pt and 730 at 10 pt): its figures stack their panels,
+/// leave their titles to the caption and put their legends below the plot.
+constexpr int kNarrowCanvas_px = 700;
 
 /// The point type (gnuplot's pt) of robot number `robot` in the figures that tell robots apart:
 /// filled circle, open square, open triangle, open circle, open diamond, open inverted triangle.
