@@ -113,7 +113,7 @@ void proximity_figure(logs::OutputStage& stage, const std::string& path, const c
        << "$pts using 1:4 with points pt 7 ps 1.4 lc rgb '#d62728' title 'maxima', "
        << "$pts using 1:3 with points pt 5 ps 1.2 lc rgb '#1f77b4' title 'means', ";
     if (!per_robot.empty())
-      gp << "$robots using 1:2:3 with points pt variable ps 0.8 lc rgb '#ff7f0e' title "
+      gp << "$robots using 1:2:3 with points pt variable ps 0.8 lc rgb '#ff7f0e' notitle, NaN with points pt 7 ps 0.8 lc rgb '#ff7f0e' title "
          << quoted(page.narrow ? "each robot's mean" : "each robot's mean (marker: the robot)") << ", ";
     gp << "$curves using 1:2 with lines lw 2.5 lc rgb '#d62728' title 'fit to maxima', "
        << "$curves using 1:3 with lines lw 2.5 lc rgb '#1f77b4' title 'fit to means', "
