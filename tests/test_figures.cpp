@@ -48,7 +48,8 @@ const std::string kFittedBattery = "\"" + std::string(EPUCK2_SOURCE_DIR) + "/dat
 const std::vector<Figure>& figures() {
   static const std::vector<Figure> f{
       {"battery_fits", "battery" + logs_of("battery"), "--plot",
-       {"time (h)", "charge (fraction of full)", "simple", "linear", "cubic", "approximated", "15 cm/s"}},
+       {"time (h)", "charge (fraction of full)", "simple", "linear", "cubic", "approximated", "15 cm/s", "robot virtual-e-puck2-a",
+        "robot virtual-e-puck2-b"}},
       {"battery_lifetime", "battery" + logs_of("battery"), "--plot-lifetime",
        {"wheel speed (cm/s)", "lifetime (h)", "published end times"}},
       {"proximity", "proximity" + logs_of("proximity"), "--plot",

@@ -1,5 +1,6 @@
 #include "epuck2/plot/battery_figures.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <tuple>
@@ -63,6 +64,12 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
   const bool vector = format_of(path) != Format::png;
   const std::size_t per_run = vector ? 150 : 400;
   const int curve_samples = vector ? 150 : 300;
+  // Logs of several robots: each robot its marker (PNG) or its colour (a vector file's lines).
+  std::vector<std::string> robots;
+  for (const auto& r : runs)
+    if (std::find(robots.begin(), robots.end(), r.robot) == robots.end()) robots.push_back(r.robot);
+  static const int kRobotColours[] = {0x707070, 0xc07830, 0x5f8fbf, 0x8c564b};
+  static const char* kRobotColourNames[] = {"#707070", "#c07830", "#5f8fbf", "#8c564b"};
   render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
@@ -76,12 +83,14 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
                                : "unset ylabel\n");
           gp << (i + cols >= n ? "set xlabel 'time (h)' offset 0,0.5\n" : "unset xlabel\n");
           const calibrate::SpeedFit& s = f.speeds[static_cast<std::size_t>(i)];
-          std::vector<std::tuple<double, double>> pts;
+          std::vector<std::tuple<double, double, double, double>> pts;  // time, charge, marker, colour
           for (const auto& r : runs) {
             if (std::lround(r.speed_cm_s * 100) != std::lround(s.speed_cm_s * 100)) continue;
             const std::size_t stride = std::max<std::size_t>(1, (r.time_s.size() + per_run - 1) / per_run);
-            for (std::size_t k = 0; k < r.time_s.size(); k += stride) pts.emplace_back(r.time_s[k] / 3600.0, r.charge[k]);
-            pts.emplace_back(std::nan(""), std::nan(""));  // the line of one run ends
+            const auto robot = static_cast<std::size_t>(std::find(robots.begin(), robots.end(), r.robot) - robots.begin());
+            for (std::size_t k = 0; k < r.time_s.size(); k += stride)
+              pts.emplace_back(r.time_s[k] / 3600.0, r.charge[k], robot_point_type(robot), kRobotColours[robot % 4]);
+            pts.emplace_back(std::nan(""), std::nan(""), 7, 0x707070);  // the line of one run ends
           }
           std::vector<std::vector<std::tuple<double, double>>> curves(4);
           const int kSamples = curve_samples;
@@ -101,7 +110,8 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
           // The models first, the logs over them: the readings stay visible where the curves lie.
           gp << "plot ";
           for (const auto& st : kStyles) gp << (&st == kStyles ? "" : ", ") << "'-' with linespoints " << st.style << " notitle";
-          gp << (vector ? ", '-' with lines lw 0.8 lc rgb '#707070' notitle\n" : ", '-' with points pt 7 ps 0.3 lc rgb '#707070' notitle\n");
+          gp << (vector ? ", '-' using 1:2:4 with lines lw 0.8 lc rgb variable notitle\n"
+                        : ", '-' using 1:2:3:4 with points pt variable ps 0.3 lc rgb variable notitle\n");
           for (const auto& c : curves) gp.send1d(c);
           gp.send1d(pts);
         }
@@ -112,6 +122,10 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
                          quoted(narrow ? "logs (a line a run)" : "logs (a line through ≤ 150 readings a run)")
                    : std::string("NaN with points pt 7 ps 1 lc rgb '#707070' title ") +
                          quoted(narrow ? "logs (≤ 400 readings a run)" : "logs (at most 400 readings a run drawn)")};
+        for (std::size_t r = 0; r < robots.size() && robots.size() > 1; ++r)
+          entries.push_back(vector ? std::string("NaN with lines lw 2 lc rgb '") + kRobotColourNames[r % 4] + "' title " + quoted("robot " + robots[r])
+                                   : "NaN with points pt " + std::to_string(robot_point_type(r)) + " ps 1 lc rgb '" + kRobotColourNames[r % 4] +
+                                         "' title " + quoted("robot " + robots[r]));
         for (const auto& st : kStyles) {
           const std::string name = st.title;
           entries.push_back(std::string("NaN with linespoints ") + st.style + " title " +
@@ -125,7 +139,7 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
           gp << legend_band(layout.left + (cols - empty) * (panel_w + layout.hspace), layout.right, layout.bottom,
                             layout.bottom + panel_h, entries, 11, static_cast<int>(entries.size()));
         } else {
-          gp << legend_band(0.02, 0.98, 1.0 - (top_px - 40.0) / height, 1.0 - 42.0 / height, entries);
+          gp << legend_band(0.02, 0.98, 1.0 - (top_px - 40.0) / height, 1.0 - 42.0 / height, entries, 11, 2);
         }
         gp << "unset multiplot\n";
       },
