@@ -135,6 +135,27 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
   return a;
 }
 
+/// On a page, the logs' file names without what they all share ("ground_virtual-epuck2-1.csv",
+/// "ground_virtual-epuck2-2.csv" -> "1", "2"), the shared part in the axis label
+/// ("log (ground_virtual-epuck2-*.csv)"): tic labels short enough to stand level under a narrow panel.
+void shorten_log_names(Axis& a) {
+  if (a.categories.size() < 2) return;
+  std::string prefix = a.categories.begin()->second, suffix = prefix;
+  for (const auto& [v, label] : a.categories) {
+    std::size_t k = 0;
+    while (k < prefix.size() && k < label.size() && prefix[k] == label[k]) ++k;
+    prefix.resize(k);
+    std::size_t m = 0;
+    while (m < suffix.size() && m < label.size() && suffix[suffix.size() - 1 - m] == label[label.size() - 1 - m]) ++m;
+    suffix = suffix.substr(suffix.size() - m);
+  }
+  for (const auto& [v, label] : a.categories)
+    if (label.size() <= prefix.size() + suffix.size()) return;  // a name would vanish: keep them whole
+  if (prefix.size() + suffix.size() < 4) return;
+  for (auto& [v, label] : a.categories) label = label.substr(prefix.size(), label.size() - prefix.size() - suffix.size());
+  a.label = "log (" + prefix + "*" + suffix + ")";
+}
+
 /// A tic step giving about `count` tics over [lo, hi]: 1, 2 or 5 times a power of ten.
 double tic_step(double lo, double hi, int count) {
   const double raw = (hi - lo) / count;
@@ -198,7 +219,9 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   if (metres)
     for (double& v : x) v *= 1000.0;
   // Tic labels of a category: the longest decides the room under each panel.
-  const Axis probe = axis_of(cov_name, r, x, log_names, panels.empty() ? "" : panels.front().unit);
+  const bool on_page = canvas_px(1500, 100).first < 1500;
+  Axis probe = axis_of(cov_name, r, x, log_names, panels.empty() ? "" : panels.front().unit);
+  if (on_page && cov_name == "log") shorten_log_names(probe);
   std::size_t longest = 0;
   for (const auto& [v, label] : probe.categories) longest = std::max(longest, label.size());
   const bool rotate = probe.categorical && (longest > 6 || probe.categories.size() > 12);
@@ -258,7 +281,8 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
         int p_index = 0;
         for (const Panel& p : panels) {
           ++p_index;
-          const Axis axis = axis_of(cov_name, r, x, log_names, p.unit);
+          Axis axis = axis_of(cov_name, r, x, log_names, p.unit);
+          if (narrow && cov_name == "log") shorten_log_names(axis);
           // Category positions 0..K-1.
           std::map<double, int> position;
           for (const auto& [v, label] : axis.categories) position.emplace(v, static_cast<int>(position.size()));
@@ -393,7 +417,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
                           {"NaN with points pt 7 ps 0.8 lc rgb '#d62728' title 'a residual before'",
                            "NaN with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'a residual after'",
                            std::string("NaN with linespoints lw 2.5 pt 5 lc rgb '#404040' title ") +
-                               (probe.categorical ? "'mean per category'" : narrow ? "'mean per bin'" : "'mean per bin of the x axis'"),
+                               (probe.categorical ? (column ? "'mean'" : "'mean per category'") : column ? "'mean'" : narrow ? "'mean per bin'" : "'mean per bin of the x axis'"),
                            narrow ? "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'off the scale'"
                                   : "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'beyond the y scale, at its edge'"},
                           10, narrow ? 2 : 1);
