@@ -290,7 +290,7 @@ TEST_F(PaperFigures, EveryPanelKeepsItsLabelsAtOneAndTwoColumns) {
       {"drive" + logs_of("drive"), "8.5x14cm",
        {"2.5 cm/s, x: time (s)", "15 cm/s, x: time (s)", "standing still: 1 run", "encoders, every run", "ToF (mm)",
         "obstacle (mm)", "commanded (mm)", "encoder steps", "fit, clipped at rails", "robot virtual-epuck2-1"}},
-      {"drive" + logs_of("drive"), "17.6x10cm", {"10 cm/s: 5 runs", "standing still: 1 run", "encoder steps"}},
+      {"drive" + logs_of("drive"), "17.6x10cm", {"10 cm/s, x: time (s)", "standing still: 1 run", "encoder steps", "fit, clipped at rails"}},
       {"diagnose" + logs_of("drive"), "8.5x16cm",
        {"before the findings, 1640 residuals", "after: 4 findings, 1640 residuals", "residual (mm)", "residual (steps)",
         "simulated by the base model (steps)"}},

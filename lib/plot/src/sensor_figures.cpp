@@ -326,7 +326,9 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
   const int default_rows = static_cast<int>((panels + static_cast<std::size_t>(default_cols) - 1) / static_cast<std::size_t>(default_cols));
   const std::pair<int, int> canvas = canvas_px(1600, 190 + default_rows * 330);
   const int width = canvas.first, height = canvas.second;
-  const bool narrow = width < kNarrowCanvas_px;
+  // A page narrower than 1200 of its canvas pixels (two columns at 8 pt: 915): short titles and
+  // labels, no overall title (the caption's), the legend in short entries.
+  const bool narrow = width < 1200;
   // Panels at least 200 canvas pixels wide (a two-column page holds 4 a row, one column 2).
   const int cols = std::max(1, std::min(default_cols, (width - 40) / 200));
   const int rows = static_cast<int>((panels + static_cast<std::size_t>(cols) - 1) / static_cast<std::size_t>(cols));
@@ -335,7 +337,8 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
   for (const auto& run : f.runs)
     for (double mm : run.tof_mm) codes += mm >= kOutOfRangeCode_mm;
   const std::size_t entry_count = 5 + (still.empty() ? 0 : 1) + (codes > 0 ? 1 : 0) + (robots.size() > 1 ? robots.size() : 0);
-  const std::size_t legend_cols = std::max<std::size_t>(1, static_cast<std::size_t>(width) / (narrow ? 210 : 370));
+  // (gnuplot gives every column the longest entry's width and drops a column that overflows.)
+  const std::size_t legend_cols = std::max<std::size_t>(1, static_cast<std::size_t>(width) / (narrow ? 210 : 440));
   const int legend_rows = static_cast<int>((entry_count + legend_cols - 1) / legend_cols);
   // From the top: the title (none on a paper's column: the caption's), the legend, the first
   // panels' titles. Between rows: the tics, the x label (none on a column's time panels: their
@@ -348,7 +351,7 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
   layout.right = 1.0 - 15.0 / width;
   layout.bottom = 60.0 / height;
   layout.top = 1.0 - top_px / height;
-  layout.hspace = (narrow ? 95.0 : 85.0) / width;
+  layout.hspace = (narrow ? 95.0 : 105.0) / width;
   layout.vspace = (narrow ? 75.0 : 100.0) / height;
   const double panel_px = (height * (layout.top - layout.bottom) - (rows - 1) * height * layout.vspace) / rows;
   const std::string tof_label = narrow ? "ToF (mm)" : "ToF reading (mm)";
@@ -444,9 +447,9 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
         axes_labels(narrow ? "commanded (mm)" : "commanded distance (mm)", "encoder steps");
         gp << "set xrange [*:*]\nset yrange [*:*]\nset ytics autofreq\n" << (panel_w_px < 300 ? "set xtics 2000\n" : "") << (panel_px < 200 ? "set ytics 5000\n" : "");
         {
-          std::string plot = "plot ";
+          std::string plot = "plot $steps using 1:2 with lines lw 2 lc rgb '#d62728' notitle, $steps using 1:3 with lines lw 1.5 dt 2 lc rgb '#000000' notitle";
           for (std::size_t r = 0; r < f.runs.size(); ++r)
-            plot += (r ? ", " : "") + std::string("$r") + std::to_string(r) + " using 9:5:8 with points pt variable ps 0.5 lc rgb '" + colour(r) + "' notitle";
+            plot += ", $r" + std::to_string(r) + " using 9:5:8 with points pt variable ps 0.5 lc rgb '" + colour(r) + "' notitle";
           double lo = 0, hi = 0;
           for (const auto& run : f.runs) {
             double c = 0;
@@ -457,16 +460,25 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
             }
           }
           gp << datablock("steps", {{lo, spm * lo / 1000, s::kPluginStepsPerMetre * lo / 1000}, {hi, spm * hi / 1000, s::kPluginStepsPerMetre * hi / 1000}});
-          plot += ", $steps using 1:2 with lines lw 2 lc rgb '#d62728' notitle, $steps using 1:3 with lines lw 1.5 dt 2 lc rgb '#000000' notitle";
+          // The ranges by hand: runs that stand still alone leave every point at 0 (an empty range).
+          double ylo = std::min({0.0, spm * lo / 1000, s::kPluginStepsPerMetre * lo / 1000});
+          double yhi = std::max({0.0, spm * hi / 1000, s::kPluginStepsPerMetre * hi / 1000});
+          for (const auto& run : f.runs)
+            for (double v : run.steps) {
+              ylo = std::min(ylo, v);
+              yhi = std::max(yhi, v);
+            }
+          const double xpad = std::max(1.0, 0.03 * (hi - lo)), ypad = std::max(1.0, 0.03 * (yhi - ylo));
+          gp << "set xrange [" << lo - xpad << ":" << hi + xpad << "]\nset yrange [" << ylo - ypad << ":" << yhi + ypad << "]\n";
           gp << plot << "\n";
         }
         std::vector<std::string> entries{
             std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kToward + "' title " + (narrow ? "'forward'" : "'forward (toward the obstacle)'"),
             std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kAway + "' title " + (narrow ? "'backwards'" : "'backwards (away)'"),
             std::string("NaN with lines lw 2 lc rgb '#d62728' title ") +
-                (narrow ? "'fit, clipped at rails'" : "'fit (ToF: scale, offset, slip lag; encoders: steps/m), clipped at the rails'"),
+                (narrow ? "'fit, clipped at rails'" : "'fit, clipped at the rails'"),
             std::string("NaN with lines lw 1.5 dt 2 lc rgb '#000000' title ") +
-                (narrow ? "'plug-in'" : "'plug-in: 1000 steps/m, ToF = distance, no slip'"),
+                (narrow ? "'plug-in'" : "'plug-in (1000 steps/m, no slip)'"),
             "NaN with lines dt 3 lc rgb '#808080' title 'the 2000 mm rail'"};
         if (!still.empty()) entries.insert(entries.begin() + 2, std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kStill + "' title 'standing still'");
         if (codes > 0)
