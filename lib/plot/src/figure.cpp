@@ -92,9 +92,11 @@ std::string terminal(Format format, int width_px, int height_px) {
                       width_px, height_px);
       break;
     case Format::pdf:
+      // Markers scale with the text on a page (pdfcairo draws them at a fixed size otherwise: on an
+      // 8.5 cm page they were as large as the text's capitals).
       std::snprintf(buf, sizeof buf,
-                    "set terminal pdfcairo size %.3fin,%.3fin noenhanced font 'DejaVu Sans,11' fontscale %.4f background rgb 'white'\n",
-                    w_in, h_in, scale);
+                    "set terminal pdfcairo size %.3fin,%.3fin noenhanced font 'DejaVu Sans,11' fontscale %.4f pointscale %.4f background rgb 'white'\n",
+                    w_in, h_in, scale, paged() ? scale : 1.0);
       break;
   }
   return buf;

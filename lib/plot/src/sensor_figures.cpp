@@ -208,11 +208,11 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
     gp << title_and_key(page, "Ground sensors (paper section 4.1.3): reading against the grey level of the floor",
                         "top left opaque box Left reverse");
     gp << "set xlabel "
-       << quoted(page.narrow ? wrapped("grey level (0 = black, 1 = white; shifted sideways: 0.006 a sensor, 0.002 a robot)",
+       << quoted(page.narrow ? wrapped("grey level (0 black, 1 white; shifted: 0.006 a sensor, 0.002 a robot)",
                                        page.width - 120)
                              : "grey level (fraction: 0 = black, 1 = white; each sensor's points shifted sideways by 0.006, each robot's by 0.002)")
        << "\n";
-    gp << "set ylabel 'raw reading (counts, 0..1023)'\n";
+    gp << "set ylabel " << quoted(page.narrow ? "raw reading (counts)" : "raw reading (counts, 0..1023)") << "\n";
     gp << "set xrange [-0.03:1.03]\nset yrange [-20:1060]\nset grid lc rgb '#d8d8d8'\n";
     const char* colours[] = {"#d62728", "#2ca02c", "#1f77b4"};
     gp << "plot ";
