@@ -16,7 +16,17 @@ files) carries, on the line right before its fence, the visible marker
 
     *Not run by the docs test: REASON.*
 
-and is skipped with that reason (printed). Synopses of a command's options (`[--json] [-o FILE]`)
+and is skipped with that reason (printed).
+
+Numbers quoted in prose (or in a block that is no command, like a JSON excerpt) carry, on the line
+right before their paragraph or block, an HTML comment (invisible once rendered) naming the command
+they come from and the strings quoted:
+
+    <!-- checked against: epuck2-fit proximity data/raw/proximity/*.csv quoting: "197.1 ± 1.3" "1.01104 ± 0.00074" -->
+
+The command is run as above; each string must appear both in what it prints and in the paragraph
+(or block) under the comment. A stale number fails the suite; --update does not rewrite these
+(say the new number in the prose and in the comment). Synopses of a command's options (`[--json] [-o FILE]`)
 are no commands: they are fenced as ```text without `$ `, and are not run.
 
 Usage: docs_commands.py --source DIR --bin DIR [--only FILE] [--list]
@@ -31,6 +41,29 @@ import tempfile
 import time
 
 SKIP = re.compile(r"^\*Not run by the docs test: (.+?)\.?\*\s*$")
+CHECKED = re.compile(r"^<!-- checked against: (.+?) quoting: (.+) -->\s*$")
+QUOTED = re.compile(r'"((?:[^"\\]|\\.)*)"')
+
+
+def checked_numbers(path):
+    """(line, command, [strings], the text quoted) of every `checked against` comment of a file."""
+    out = []
+    lines = open(path, encoding="utf-8").read().split("\n")
+    for i, line in enumerate(lines):
+        m = CHECKED.match(line)
+        if not m:
+            continue
+        strings = [q.replace('\\"', '"') for q in QUOTED.findall(m.group(2))]
+        j = i + 1
+        if j < len(lines) and lines[j].startswith("```"):  # a block: to its closing fence
+            j += 1
+            while j < len(lines) and not lines[j].startswith("```"):
+                j += 1
+        else:  # a paragraph: to the next blank line
+            while j < len(lines) and lines[j].strip():
+                j += 1
+        out.append((i + 1, m.group(1), strings, "\n".join(lines[i + 1:j + 1])))
+    return out
 FENCE = re.compile(r"^```(\w*)\s*$")
 
 
@@ -74,17 +107,20 @@ def main():
     shift = {}  # --update: how far each file's later blocks moved
     try:
         for md in files:
-            for line, lang, text, skip in blocks(os.path.join(src, md)):
+            jobs = [(line, lang, text, skip, None) for line, lang, text, skip in blocks(os.path.join(src, md))]
+            jobs += [(line, "checked", command, None, (strings, quoted))
+                     for line, command, strings, quoted in checked_numbers(os.path.join(src, md))]
+            for line, lang, text, skip, numbers in jobs:
                 where = f"{md}:{line}"
                 is_output = lang == "text" and text.startswith("$ ")
-                if lang not in ("sh", "bash") and not is_output:
+                if lang not in ("sh", "bash", "checked") and not is_output:
                     continue
                 if skip:
                     skipped += 1
                     print(f"skipped {where}: {skip}")
                     continue
                 if a.list:
-                    print(f"would run {where} ({'output' if is_output else 'commands'})")
+                    print(f"would run {where} ({'numbers in prose' if numbers else 'output' if is_output else 'commands'})")
                     continue
                 # A fresh copy of the repository for every block: a block sees the tree as the docs
                 # describe it, whatever the blocks before it wrote.
@@ -114,6 +150,14 @@ def main():
                                    capture_output=True, text=True, timeout=900)
                 took = time.monotonic() - t0
                 ran += 1
+                if numbers and r.returncode == 0:
+                    strings, quoted = numbers
+                    for q in strings:
+                        if q not in quoted:
+                            failures.append(f"{where}: '{q}' is in the checked-against comment but not in the text under it")
+                        elif q not in r.stdout:
+                            failures.append(f"{where}: the docs quote '{q}', which `{script}` no longer prints "
+                                            f"(a stale number: update the prose and the comment)")
                 if r.returncode != 0:
                     failures.append(f"{where}: exit {r.returncode}\n--- the block\n{script}\n--- stderr\n{r.stderr[-3000:]}")
                 elif expected is not None and r.stdout.rstrip("\n") != expected.rstrip("\n") and a.update:

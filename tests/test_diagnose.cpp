@@ -5,6 +5,8 @@
 // fast subset; bench/diagnose_sweep.cpp runs the full sweep. Then the CLI on the shipped logs.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
@@ -142,6 +144,19 @@ TEST_F(DiagnoseCli, ShippedCameraNamesThePrincipalOffset) {
   EXPECT_LT(j.at("findings").at(0).at("heldout_mse_after").get<double>(), j.at("findings").at(0).at("heldout_mse_before").get<double>());
   EXPECT_TRUE(j.at("residual_structure").is_array());
   EXPECT_TRUE(std::filesystem::exists(dir_ / "diagnose_camera.png"));
+}
+
+// The camera's residuals are tested against the image row the LED falls on (`image_row`), a
+// covariate apart from the log's row number (`log_row`): both are in the residual structure.
+TEST_F(DiagnoseCli, CameraTestsTheImageRowApartFromTheLogRow) {
+  const auto r = run("diagnose --json -" + shipped("camera"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  std::set<std::string> names;
+  for (const auto& s : j.at("residual_structure")) names.insert(s.at("covariate").get<std::string>());
+  EXPECT_TRUE(names.count("image_row")) << j.at("residual_structure").dump();
+  EXPECT_TRUE(names.count("log_row")) << j.at("residual_structure").dump();
+  EXPECT_FALSE(names.count("row"));
 }
 
 TEST_F(DiagnoseCli, ShippedLightNamesSensorGainAndAmbientLight) {

@@ -6,7 +6,10 @@
 // format rules of lib/plot/figure.hpp on their own.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <map>
 #include <cstdlib>
 #include <string>
 #include <tuple>
@@ -45,20 +48,27 @@ const std::string kFittedBattery = "\"" + std::string(EPUCK2_SOURCE_DIR) + "/dat
 const std::vector<Figure>& figures() {
   static const std::vector<Figure> f{
       {"battery_fits", "battery" + logs_of("battery"), "--plot",
-       {"time (h)", "charge (fraction of full)", "simple", "linear", "cubic", "approximated", "15 cm/s"}},
+       {"time (h)", "charge (fraction of full)", "simple", "linear", "cubic", "approximated", "15 cm/s", "robot virtual-e-puck2-a",
+        "robot virtual-e-puck2-b"}},
       {"battery_lifetime", "battery" + logs_of("battery"), "--plot-lifetime",
        {"wheel speed (cm/s)", "lifetime (h)", "published end times"}},
       {"proximity", "proximity" + logs_of("proximity"), "--plot",
-       {"distance to the surface (mm)", "normalised reading (reading / 4095, dimensionless)", "plug-in"}},
-      {"light", "light" + logs_of("light"), "--plot", {"distance to the light (cm)", "raw reading (counts", "plug-in"}},
+       {"distance to the surface (mm)", "normalised reading (reading / 4095, dimensionless)", "plug-in", "each robot's mean",
+        "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
+      {"light", "light" + logs_of("light"), "--plot",
+       {"distance to the light (cm)", "raw reading (counts", "plug-in", "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
       // Two robots' logs: each robot named in the legend (its own marker), not one cloud.
       {"ground", "ground" + logs_of("ground"), "--plot",
        {"grey level (fraction", "raw reading (counts, 0..1023)", "plug-in", "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
       {"camera", "camera" + logs_of("camera"), "--plot",
-       {"column px (pixels", "row py (pixels", "dimensionless", "plug-in"}},
+       {"column px (pixels", "row py (pixels", "dimensionless", "plug-in", "observed, robot virtual-epuck2-1",
+        "observed, robot virtual-epuck2-2"}},
+      // Small multiples: a panel per commanded speed (the shipped set: 2.5 to 15 cm/s, and the
+      // run standing still), the encoders of every run; both robots by marker.
       {"drive", "drive" + logs_of("drive"), "--plot",
-       {"time since the start of the run (s)", "ToF reading (mm)", "encoder register, unwrapped (steps)",
-        "out-of-range codes"}},
+       {"2.5 cm/s: 2 runs", "5 cm/s: 5 runs", "15 cm/s: 2 runs", "standing still: 1 run", "time (s)", "ToF reading (mm)",
+        "distance to the obstacle (mm)", "wheel encoders: every run", "commanded distance (mm)", "encoder steps",
+        "out-of-range codes", "clipped at the rails", "the 2000 mm rail", "robot virtual-epuck2-2"}},
       // The diagnosis: one panel per measured quantity, residuals with their unit, before and
       // after in one legend; the shipped logs of two robots give the `log` verdict, whose
       // categories are labelled with the file names.
@@ -184,7 +194,9 @@ TEST_F(PaperFigures, TheDiagnosisAtTwoColumnsSize) {
   const CliRun r = run("diagnose" + logs_of("ground") + " --plot \"" + out.string() + "\" --figure-size 17x12cm --font-size 8");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string svg = slurp(out);
-  for (const char* text : {"measured − simulated (counts, 0..1023)", "before the findings", "after: 3 findings", "log (file name)"})
+  // On a page the y label is short (the panel title says what is measured).
+  // ... and the logs' names without what they share (ground_virtual-epuck2-1.csv, -2.csv: 1, 2).
+  for (const char* text : {"residual (counts)", "before the findings", "after: 3 findings", "log (ground_virtual-epuck2-*.csv)", ">1<", ">2<"})
     EXPECT_NE(svg.find(text), std::string::npos) << text;
 }
 
@@ -227,6 +239,74 @@ TEST_F(PaperFigures, ADiagnosisSvgStaysSmall) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_LT(fs::file_size(out), 500u * 1024u);
   EXPECT_NE(slurp(out).find("drawn, means from all"), std::string::npos);  // the thinning, stated
+}
+
+// The battery reference set (32 runs, 16 panels) as an SVG: each run's readings one line, the
+// SVG under 600 KB (2.2 MB when every drawn reading was a point), the thinning stated.
+TEST_F(PaperFigures, ABatterySvgStaysSmallAndSaysItIsThinned) {
+  const fs::path out = dir_ / "b.svg";
+  const CliRun r = run("battery" + logs_of("battery") + " --plot \"" + out.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_LT(fs::file_size(out), 600u * 1024u);
+  EXPECT_NE(slurp(out).find("a line through ≤ 150 readings a run"), std::string::npos);
+}
+
+/// Every `font-size="X"` of an SVG.
+std::vector<double> svg_font_sizes(const std::string& svg) {
+  std::vector<double> sizes;
+  for (std::size_t at = svg.find("font-size=\""); at != std::string::npos; at = svg.find("font-size=\"", at + 1))
+    sizes.push_back(std::atof(svg.c_str() + at + 11));
+  return sizes;
+}
+
+// --font-size 8 prints at 8 pt: an SVG pixel is 1/96 in, so 8 pt = 8 / 72 * 96 = 10.67 px (worked
+// by hand). The body text (tics, labels) is the most common size; the svg terminal's own scale
+// (1.35 for cairo's 4/3) leaves it within 2 %.
+TEST_F(PaperFigures, TheFontSizeAskedIsTheSizePrinted) {
+  for (const char* pt : {"8", "10"}) {
+    SCOPED_TRACE(pt);
+    const fs::path out = dir_ / "g.svg";
+    const CliRun r = run("ground" + logs_of("ground") + " --plot \"" + out.string() + "\" --figure-size 8.5x8cm --font-size " + pt);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::vector<double> sizes = svg_font_sizes(slurp(out));
+    ASSERT_FALSE(sizes.empty());
+    std::map<long, int> count;
+    for (double s : sizes) ++count[std::lround(s * 100)];
+    const auto body = std::max_element(count.begin(), count.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    EXPECT_NEAR(static_cast<double>(body->first) / 100.0, std::atof(pt) * 96.0 / 72.0, 0.02 * std::atof(pt) * 96.0 / 72.0);
+    fs::remove(out);
+  }
+}
+
+// At a paper's sizes every panel keeps its axes' labels and titles (read from the SVG gnuplot
+// drew): the drive's small multiples and the diagnosis on one column (8.5 cm: 2 panels a row,
+// before stacked over after) and on two (17.6 cm).
+TEST_F(PaperFigures, EveryPanelKeepsItsLabelsAtOneAndTwoColumns) {
+  struct Case {
+    std::string command, size;
+    std::vector<std::string> texts;
+  };
+  const std::vector<Case> cases{
+      {"drive" + logs_of("drive"), "8.5x14cm",
+       {"2.5 cm/s, x: time (s)", "15 cm/s, x: time (s)", "standing still: 1 run", "encoders, every run", "ToF (mm)",
+        "obstacle (mm)", "commanded (mm)", "encoder steps", "fit, clipped at rails", "robot virtual-epuck2-1"}},
+      {"drive" + logs_of("drive"), "17.6x10cm", {"10 cm/s, x: time (s)", "standing still: 1 run", "encoder steps", "fit, clipped at rails"}},
+      {"diagnose" + logs_of("drive"), "8.5x16cm",
+       {"before the findings, 1640 residuals", "after: 4 findings, 1640 residuals", "residual (mm)", "residual (steps)",
+        "simulated by the base model (steps)"}},
+      {"diagnose" + logs_of("drive"), "17.6x12cm", {"Diagnosis of the drive logs", "residual (mm)", "before the findings"}},
+      {"camera" + logs_of("camera"), "8.5x9cm", {"columns", "rows", "column px (pixels)", "row py (pixels)", "virtual-epuck2-2"}},
+      {"battery" + logs_of("battery"), "17.6x14cm", {"0 cm/s: 5.48 h, 2 runs", "15 cm/s", "time (h)", "charge (of full)"}},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.command.substr(0, 12) + " " + c.size);
+    const fs::path out = dir_ / "p.svg";
+    const CliRun r = run(c.command + " --plot \"" + out.string() + "\" --figure-size " + c.size + " --font-size 8");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string svg = slurp(out);
+    for (const auto& text : c.texts) EXPECT_NE(svg.find(text), std::string::npos) << text;
+    fs::remove(out);
+  }
 }
 
 TEST(FigureSize, ParsedInInches) {

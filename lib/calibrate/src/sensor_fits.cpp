@@ -166,18 +166,30 @@ constexpr double kProximityUndetectedFraction = 0.01;
 constexpr double kProximityMaxPeelFraction = 0.02;
 }  // namespace
 
+namespace {
+/// `robot`'s index in `names` (the logs' robots in the order first met), added when new.
+int robot_index(std::vector<std::string>& names, const std::string& robot) {
+  const auto named = std::find(names.begin(), names.end(), robot);
+  if (named != names.end()) return static_cast<int>(named - names.begin());
+  names.push_back(robot);
+  return static_cast<int>(names.size()) - 1;
+}
+}  // namespace
+
 ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOptions& options,
                            const s::ProximityCoefficients& start) {
   ProximityFit out;
   struct Reading {
     double value;
     std::string where;
+    int robot;
   };
   std::map<double, std::vector<Reading>> by_distance;
   for (const logs::Log& log : logs) {
     const auto& d = log.col("distance_m");
     const auto& v = log.col("value");
-    for (std::size_t i = 0; i < log.rows(); ++i) by_distance[d[i]].push_back({v[i], where(log, i)});
+    const int robot = robot_index(out.robot_names, log.robot);
+    for (std::size_t i = 0; i < log.rows(); ++i) by_distance[d[i]].push_back({v[i], where(log, i), robot});
     out.readings += log.rows();
   }
   const double full = s::kProximityFullScale_raw;
@@ -226,6 +238,13 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
         kept[d].push_back(r);
       ++k;
     }
+    std::vector<double> sum(out.robot_names.size(), 0.0), count(out.robot_names.size(), 0.0);
+    for (const Reading& r : kept[d]) {
+      sum[static_cast<std::size_t>(r.robot)] += r.value / full;
+      count[static_cast<std::size_t>(r.robot)] += 1;
+    }
+    for (std::size_t b = 0; b < sum.size(); ++b)
+      p.robot_mean.push_back(count[b] > 0 ? sum[b] / count[b] : std::numeric_limits<double>::quiet_NaN());
     if (d > start.range_m) {
       p.excluded_why = "beyond the sensor's range (" + fmt(start.range_m * 1000) + " mm)";
       // Left out of the fits, shown as measured (never as zeros).
@@ -504,6 +523,7 @@ LightFit fit_light(const std::vector<logs::Log>& logs, const SensorFitOptions& o
     const auto& sen = log.col("sensor");
     const auto& v = log.col("value");
     out.readings += log.rows();
+    const int robot = robot_index(out.robot_names, log.robot);
     for (std::size_t i = 0; i < log.rows(); ++i) {
       // A light out of range or of no intensity leaves the reading dark whatever gamma is.
       if (!(d[i] > 0) || d[i] > s::kPluginLight.range_m) {
@@ -517,7 +537,7 @@ LightFit fit_light(const std::vector<logs::Log>& logs, const SensorFitOptions& o
       const int sensor = static_cast<int>(sen[i]);
       seen[sensor] = true;
       if (v[i] <= 0 || v[i] >= s::kProximityFullScale_raw) ++out.censored;
-      out.observations.push_back({d[i], in[i], sensor, v[i], where(log, i)});
+      out.observations.push_back({d[i], in[i], sensor, v[i], where(log, i), robot});
     }
   }
   out.gamma = fit_gamma(out.observations, options, -1);
@@ -584,9 +604,7 @@ GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions&
     const auto& sen = log.col("sensor");
     const auto& v = log.col("value");
     out.readings += log.rows();
-    const auto named = std::find(out.robot_names.begin(), out.robot_names.end(), log.robot);
-    const int robot = static_cast<int>(named - out.robot_names.begin());
-    if (named == out.robot_names.end()) out.robot_names.push_back(log.robot);
+    const int robot = robot_index(out.robot_names, log.robot);
     for (std::size_t i = 0; i < log.rows(); ++i) {
       const auto k = static_cast<std::size_t>(sen[i]);
       const Censoring c = rail_of(v[i], 0, full);
@@ -681,8 +699,9 @@ CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions&
     const auto& z = log.col("vertical_m");
     const auto& px = log.col("px");
     const auto& py = log.col("py");
+    const int robot = robot_index(out.robot_names, log.robot);
     for (std::size_t i = 0; i < log.rows(); ++i) {
-      out.observations.push_back({x[i], y[i], z[i], px[i], py[i], where(log, i)});
+      out.observations.push_back({x[i], y[i], z[i], px[i], py[i], where(log, i), robot});
       const int g = groups.emplace(std::make_tuple(x[i], y[i], z[i]), static_cast<int>(groups.size())).first->second;
       obs.push_back({px[i], Censoring::none, where(log, i), 2 * g});
       obs.push_back({py[i], Censoring::none, where(log, i), 2 * g + 1});
@@ -758,6 +777,7 @@ CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions&
 DriveRun drive_run_from_log(const logs::Log& log) {
   DriveRun run;
   run.path = log.path;
+  run.robot = log.robot;
   run.obstacle_distance_m = log.metadata_number("obstacle_distance_m");
   const auto& t = log.col("time_s");
   const auto& vl = log.col("left_speed_cm_s");

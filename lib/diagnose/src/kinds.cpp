@@ -451,7 +451,7 @@ class Camera : public ProblemOf<Camera> {
  public:
   using BaseModel = s::CameraModel;
   explicit Camera(const std::vector<logs::Log>& logs) {
-    std::vector<double> fw, lat, ver, axis, r2;
+    std::vector<double> fw, lat, ver, axis, r2, image_row;
     for (const auto& log : logs) {
       const auto& f = log.col("forward_m");
       const auto& l = log.col("lateral_m");
@@ -459,6 +459,12 @@ class Camera : public ProblemOf<Camera> {
       const auto& px = log.col("px");
       const auto& py = log.col("py");
       for (std::size_t i = 0; i < log.rows(); ++i) {
+        // The image row the LED falls on (0 = top), as the plug-in's camera projects it: where in
+        // the image, from the geometry, not the measured py (whose own noise its residual shares).
+        double nominal_column = 0, nominal_row = 0;
+        const s::CameraCoefficients plugin = s::plugin_camera();
+        s::camera_projection(plugin.horizontal_fov_rad, plugin.cx_px, plugin.cy_px, s::kCameraWidth_px, f[i], l[i], v[i],
+                             &nominal_column, &nominal_row);
         x_.push_back(l[i] / f[i]);
         z_.push_back(v[i] / f[i]);
         for (int a = 0; a < 2; ++a) {
@@ -469,6 +475,7 @@ class Camera : public ProblemOf<Camera> {
           ver.push_back(v[i]);
           axis.push_back(a);
           r2.push_back(x_.back() * x_.back() + z_.back() * z_.back());
+          image_row.push_back(nominal_row);
         }
         ++rows;
       }
@@ -486,6 +493,7 @@ class Camera : public ProblemOf<Camera> {
     covariates.emplace_back("vertical_m", std::move(ver));
     covariates.emplace_back("axis", std::move(axis));
     covariates.emplace_back("radius2", std::move(r2));
+    covariates.emplace_back("image_row", std::move(image_row));
   }
   /// A calibrated base: its field of view, centre and distortion.
   void set_base_model(const s::CameraModel& m) {

@@ -1,5 +1,6 @@
 #include "epuck2/plot/battery_figures.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <tuple>
@@ -42,7 +43,7 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
   rows = (n + cols - 1) / cols;
   // Narrower than 1700 pixels, the legend takes three rows and the title its short form.
   const bool narrow = width < 1700;
-  const double top_px = narrow && rows * cols == n ? 235.0 : narrow ? 115.0 : 135.0;  // narrow: the legend may stack
+  const double top_px = narrow && rows * cols == n ? 160.0 : narrow ? 115.0 : 135.0;  // narrow: the legend may stack
   Layout layout;
   layout.rows = rows;
   layout.cols = cols;
@@ -51,32 +52,48 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
   layout.bottom = (narrow ? 75.0 : 50.0) / height;
   layout.top = 1.0 - top_px / height;  // the title, then the legend (two rows at most), then the first row's titles
   layout.hspace = 95.0 / width;
-  layout.vspace = (narrow ? 110.0 : 85.0) / height;
+  layout.vspace = (narrow ? 85.0 : 85.0) / height;
   // Every panel on one time axis: to the longest run or lifetime, so that speeds compare at a glance.
   double t_max_h = 0;
   for (const auto& r : runs)
     if (!r.time_s.empty()) t_max_h = std::max(t_max_h, r.time_s.back() / 3600.0);
   for (const auto& s : f.speeds) t_max_h = std::max(t_max_h, s.lifetime_s / 3600.0);
+  // Vector files stay small: every drawn point is an element of an SVG (400 a run made a 2.2 MB
+  // SVG of the reference set); there, each run's readings (at most 150) are one thin line, and
+  // the curves 150 samples; the legend says so.
+  const bool vector = format_of(path) != Format::png;
+  const std::size_t per_run = vector ? 150 : 400;
+  const int curve_samples = vector ? 150 : 300;
+  // Logs of several robots: each robot its marker (PNG) or its colour (a vector file's lines).
+  std::vector<std::string> robots;
+  for (const auto& r : runs)
+    if (std::find(robots.begin(), robots.end(), r.robot) == robots.end()) robots.push_back(r.robot);
+  static const int kRobotColours[] = {0x707070, 0xc07830, 0x5f8fbf, 0x8c564b};
+  static const char* kRobotColourNames[] = {"#707070", "#c07830", "#5f8fbf", "#8c564b"};
   render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
         gp << multiplot(layout, narrow ? "Battery discharge per wheel speed" : "Battery discharge per wheel speed: the logs and the four fitted models");
         char xrange[64];
         std::snprintf(xrange, sizeof xrange, "set xrange [0:%.4g]\n", t_max_h > 0 ? 1.02 * t_max_h : 1.0);
-        gp << "set grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset ytics 0.25\n" << xrange << "set key off\n";
+        gp << "set grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset ytics " << (narrow ? "0.5" : "0.25") << "\n" << xrange << "set key off\n";
         for (int i = 0; i < n; ++i) {
           // Axis labels once: the charge on the first column, the time under each column's last panel.
-          gp << (i % cols == 0 ? "set ylabel 'charge (fraction of full)' offset 1.5,0\n" : "unset ylabel\n");
+          gp << (i % cols == 0 ? (narrow && rows > 2 ? "set ylabel 'charge (of full)' offset 1.5,0\n" : "set ylabel 'charge (fraction of full)' offset 1.5,0\n")
+                               : "unset ylabel\n");
           gp << (i + cols >= n ? "set xlabel 'time (h)' offset 0,0.5\n" : "unset xlabel\n");
           const calibrate::SpeedFit& s = f.speeds[static_cast<std::size_t>(i)];
-          std::vector<std::tuple<double, double>> pts;
+          std::vector<std::tuple<double, double, double, double>> pts;  // time, charge, marker, colour
           for (const auto& r : runs) {
             if (std::lround(r.speed_cm_s * 100) != std::lround(s.speed_cm_s * 100)) continue;
-            const std::size_t stride = std::max<std::size_t>(1, r.time_s.size() / 400);
-            for (std::size_t k = 0; k < r.time_s.size(); k += stride) pts.emplace_back(r.time_s[k] / 3600.0, r.charge[k]);
+            const std::size_t stride = std::max<std::size_t>(1, (r.time_s.size() + per_run - 1) / per_run);
+            const auto robot = static_cast<std::size_t>(std::find(robots.begin(), robots.end(), r.robot) - robots.begin());
+            for (std::size_t k = 0; k < r.time_s.size(); k += stride)
+              pts.emplace_back(r.time_s[k] / 3600.0, r.charge[k], robot_point_type(robot), kRobotColours[robot % 4]);
+            pts.emplace_back(std::nan(""), std::nan(""), 7, 0x707070);  // the line of one run ends
           }
           std::vector<std::vector<std::tuple<double, double>>> curves(4);
-          constexpr int kSamples = 300;
+          const int kSamples = curve_samples;
           for (int k = 0; k <= kSamples; ++k) {
             const double t = s.lifetime_s * k / kSamples;
             int m = 0;
@@ -86,21 +103,29 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
           char title[128];
           std::snprintf(title, sizeof title, "%g cm/s: lifetime %.2f h, %zu run%s", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs,
                         s.runs == 1 ? "" : "s");
-          if (cols < 4 && n > cols)  // a narrow page: the short form
+          if (narrow && n > 1)  // a page: the short form
             std::snprintf(title, sizeof title, "%g cm/s: %.2f h, %zu run%s", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs,
                           s.runs == 1 ? "" : "s");
           gp << "set title " << quoted(title) << " font ',11' offset 0,-0.3\n";
           // The models first, the logs over them: the readings stay visible where the curves lie.
           gp << "plot ";
           for (const auto& st : kStyles) gp << (&st == kStyles ? "" : ", ") << "'-' with linespoints " << st.style << " notitle";
-          gp << ", '-' with points pt 7 ps 0.3 lc rgb '#707070' notitle\n";
+          gp << (vector ? ", '-' using 1:2:4 with lines lw 0.8 lc rgb variable notitle\n"
+                        : ", '-' using 1:2:3:4 with points pt variable ps 0.3 lc rgb variable notitle\n");
           for (const auto& c : curves) gp.send1d(c);
           gp.send1d(pts);
         }
         // One legend for all panels, across the top under the overall title.
         // On a narrow page the entries' first words alone (the long forms are in docs/cli.md).
-        std::vector<std::string> entries{std::string("NaN with points pt 7 ps 1 lc rgb '#707070' title ") +
-                                         (narrow ? "'logs (≤ 400 readings a run)'" : "'logs (at most 400 readings a run drawn)'")};
+        std::vector<std::string> entries{
+            vector ? std::string("NaN with lines lw 1 lc rgb '#707070' title ") +
+                         quoted(narrow ? "logs (a line a run)" : "logs (a line through ≤ 150 readings a run)")
+                   : std::string("NaN with points pt 7 ps 1 lc rgb '#707070' title ") +
+                         quoted(narrow ? "logs (≤ 400 readings a run)" : "logs (at most 400 readings a run drawn)")};
+        for (std::size_t r = 0; r < robots.size() && robots.size() > 1; ++r)
+          entries.push_back(vector ? std::string("NaN with lines lw 2 lc rgb '") + kRobotColourNames[r % 4] + "' title " + quoted("robot " + robots[r])
+                                   : "NaN with points pt " + std::to_string(robot_point_type(r)) + " ps 1 lc rgb '" + kRobotColourNames[r % 4] +
+                                         "' title " + quoted("robot " + robots[r]));
         for (const auto& st : kStyles) {
           const std::string name = st.title;
           entries.push_back(std::string("NaN with linespoints ") + st.style + " title " +
@@ -114,7 +139,7 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
           gp << legend_band(layout.left + (cols - empty) * (panel_w + layout.hspace), layout.right, layout.bottom,
                             layout.bottom + panel_h, entries, 11, static_cast<int>(entries.size()));
         } else {
-          gp << legend_band(0.02, 0.98, 1.0 - (top_px - 40.0) / height, 1.0 - 42.0 / height, entries);
+          gp << legend_band(0.02, 0.98, 1.0 - (top_px - 40.0) / height, 1.0 - 42.0 / height, entries, 11, 2);
         }
         gp << "unset multiplot\n";
       },

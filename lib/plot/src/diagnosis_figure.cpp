@@ -129,9 +129,41 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
   else if (name == "distance_m")
     a.label = drive ? "distance travelled from the start (mm; negative: backwards)" : r.kind == logs::Kind::light ? "distance to the light (mm)" : "distance to the surface (mm)";
   else if (name == "predicted") a.label = "value the recalibrated base model simulates (" + panel_unit + ")";
+  else if (name == "image_row") a.label = "LED's row in the image (px, 0 = top)";
   else if (const auto it = kKnown.find(name); it != kKnown.end()) a.label = it->second;
   else a.label = column_label(name);
   return a;
+}
+
+/// On a page, the logs' file names without what they all share ("ground_virtual-epuck2-1.csv",
+/// "ground_virtual-epuck2-2.csv" -> "1", "2"), the shared part in the axis label
+/// ("log (ground_virtual-epuck2-*.csv)"): tic labels short enough to stand level under a narrow panel.
+void shorten_log_names(Axis& a) {
+  if (a.categories.size() < 2) return;
+  std::string prefix = a.categories.begin()->second, suffix = prefix;
+  for (const auto& [v, label] : a.categories) {
+    std::size_t k = 0;
+    while (k < prefix.size() && k < label.size() && prefix[k] == label[k]) ++k;
+    prefix.resize(k);
+    std::size_t m = 0;
+    while (m < suffix.size() && m < label.size() && suffix[suffix.size() - 1 - m] == label[label.size() - 1 - m]) ++m;
+    suffix = suffix.substr(suffix.size() - m);
+  }
+  for (const auto& [v, label] : a.categories)
+    if (label.size() <= prefix.size() + suffix.size()) return;  // a name would vanish: keep them whole
+  if (prefix.size() + suffix.size() < 4) return;
+  for (auto& [v, label] : a.categories) label = label.substr(prefix.size(), label.size() - prefix.size() - suffix.size());
+  a.label = "log (" + prefix + "*" + suffix + ")";
+}
+
+/// A tic step giving about `count` tics over [lo, hi]: 1, 2 or 5 times a power of ten.
+double tic_step(double lo, double hi, int count) {
+  const double raw = (hi - lo) / count;
+  if (!(raw > 0)) return 1;
+  const double p = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0})
+    if (m * p >= raw) return m * p;
+  return 10 * p;
 }
 
 /// The q-quantile of `v` (sorted copy).
@@ -187,11 +219,12 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   if (metres)
     for (double& v : x) v *= 1000.0;
   // Tic labels of a category: the longest decides the room under each panel.
-  const Axis probe = axis_of(cov_name, r, x, log_names, panels.empty() ? "" : panels.front().unit);
+  const bool on_page = canvas_px(1500, 100).first < 1500;
+  Axis probe = axis_of(cov_name, r, x, log_names, panels.empty() ? "" : panels.front().unit);
+  if (on_page && cov_name == "log") shorten_log_names(probe);
   std::size_t longest = 0;
   for (const auto& [v, label] : probe.categories) longest = std::max(longest, label.size());
   const bool rotate = probe.categorical && (longest > 6 || probe.categories.size() > 12);
-  const int rows = std::max<int>(1, static_cast<int>(panels.size()));
   // Two columns: before the findings on the left, after them on the right, each on a y scale of
   // its own (an `unexplained` verdict's structure is often 20x smaller than what the findings
   // removed). The legend is one band under the title.
@@ -200,7 +233,12 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   // A page narrower than the figure's own 1500 canvas pixels: short titles, the verdict and the
   // findings on lines of their own, the legend in two rows.
   const bool narrow = canvas_px(1500, 100).first < 1500;
-  const int plot_h = 380, top_px = narrow ? 250 : 180, column_gap_px = 120;
+  // A paper's column: before and after one above the other (each quantity's pair in turn), no
+  // title (the caption's), the legend at the top.
+  const bool column = canvas_px(1500, 100).first < kNarrowCanvas_px;
+  const int plot_h = 380, top_px = column ? 110 : narrow ? 190 : 180, column_gap_px = 120;
+  const int quantities = std::max<int>(1, static_cast<int>(panels.size()));
+  const int rows = column ? 2 * quantities : quantities;
   // Long tic labels stand upright (about 6.5 px a character at 9 pt, in every format). gnuplot
   // would put the x label below the room it reckons they take at the default font's width, which
   // differs from terminal to terminal: the label is placed by hand just below them instead.
@@ -213,7 +251,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   const int width = canvas.first, height = canvas.second;
   Layout layout;
   layout.rows = rows;
-  layout.cols = 2;
+  layout.cols = column ? 1 : 2;
   layout.left = 95.0 / width;
   layout.right = 1.0 - 25.0 / width;
   layout.bottom = (below_px + 10.0) / height;
@@ -231,6 +269,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
     const std::size_t semi = title.rfind("; ");
     if (semi != std::string::npos) title.replace(semi, 2, "\n");
   }
+  if (column) title.clear();
   const std::string after_name = r.findings.empty() ? "after: no finding (the same model)"
                                                     : "after: with the " + std::to_string(r.findings.size()) + " finding" +
                                                           (r.findings.size() == 1 ? "" : "s");
@@ -242,7 +281,8 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
         int p_index = 0;
         for (const Panel& p : panels) {
           ++p_index;
-          const Axis axis = axis_of(cov_name, r, x, log_names, p.unit);
+          Axis axis = axis_of(cov_name, r, x, log_names, p.unit);
+          if (narrow && cov_name == "log") shorten_log_names(axis);
           // Category positions 0..K-1.
           std::map<double, int> position;
           for (const auto& [v, label] : axis.categories) position.emplace(v, static_cast<int>(position.size()));
@@ -320,18 +360,23 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
             // Qualified: for a non-const std::string, ADL would pick std::quoted (a better match),
             // which leaves the title's line break raw and breaks gnuplot's command line.
             gp << "set title " << plot::quoted(panel_title) << " font ',11'\n";
-            gp << "set ylabel " << quoted("measured − simulated (" + p.unit + ")") << "\n";
+            // On a page, the short forms: the panel's title says what is measured.
+            const std::string unit_short = p.unit.substr(0, p.unit.find(','));
+            gp << "set ylabel " << quoted(narrow ? "residual (" + unit_short + ")" : "measured − simulated (" + p.unit + ")") << "\n";
             if (rotate) {
               // This panel's lower border, then the tic labels' length below it.
+              const int row = column ? 2 * (p_index - 1) + side + 1 : p_index;
+              const int col = column ? 0 : side;
               const double panel_h = (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
-              const double panel_w = (layout.right - layout.left - layout.hspace) / 2;
-              const double border = layout.top - p_index * panel_h - (p_index - 1) * layout.vspace;
+              const double panel_w = (layout.right - layout.left - (layout.cols - 1) * layout.hspace) / layout.cols;
+              const double border = layout.top - row * panel_h - (row - 1) * layout.vspace;
               const double y = border - (tics_px + 16.0) / height;
-              const double xc = layout.left + side * (panel_w + layout.hspace) + panel_w / 2;
+              const double xc = layout.left + col * (panel_w + layout.hspace) + panel_w / 2;
               gp << "unset xlabel\nunset label\nset label 90 " << quoted(axis.label) << " at screen " << num(xc) << "," << num(y)
                  << " center front\n";
             } else {
-              gp << "set xlabel " << quoted(axis.label) << "\n";
+              gp << "set xlabel " << quoted(narrow && cov_name == "predicted" ? "simulated by the base model (" + unit_short + ")" : axis.label)
+                 << "\n";
             }
             gp << "set yrange [" << num(lo) << ":" << num(hi) << "]\n";
             if (axis.categorical) {
@@ -341,7 +386,19 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
                 tics += (tics.back() == '(' ? "" : ", ") + quoted(label) + " " + std::to_string(position[v]);
               gp << tics << ")" << (rotate ? " rotate by 90 right font ',9'" : "") << "\nset grid noxtics\n";
             } else {
-              gp << "set xrange [*:*]\nset xtics autofreq norotate\nset grid xtics\n";
+              gp << "set xrange [*:*]\nset grid xtics\n";
+              if (narrow && !p.residuals.empty()) {  // about 4 tics: a page's panel is narrow for 6-digit labels
+                double xmin = x[p.residuals.front()], xmax = xmin;
+                for (std::size_t i : p.residuals) {
+                  xmin = std::min(xmin, x[i]);
+                  xmax = std::max(xmax, x[i]);
+                }
+                const double pad = 0.02 * (xmax - xmin) + (xmax > xmin ? 0.0 : 1.0);
+                gp << "set xrange [" << num(xmin - pad) << ":" << num(xmax + pad) << "]\nset xtics "
+                   << num(tic_step(xmin, xmax, column ? 4 : 3)) << " norotate\n";
+              } else {
+                gp << "set xtics autofreq norotate\n";
+              }
             }
             const std::string ps = pts.size() > 3000 ? "0.35" : "0.6";
             gp << "plot $" << name << " using 1:2 with points pt 7 ps " << ps << " lc rgb '#99" << colour.substr(1) << "' notitle";
@@ -355,11 +412,12 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
         }
         // The legend, once, under the title.
         gp << "unset label\n";
-        gp << legend_band(layout.left, layout.right, 1.0 - (narrow ? 170.0 : 110.0) / height, 1.0 - (narrow ? 105.0 : 75.0) / height,
+        gp << legend_band(layout.left, layout.right, 1.0 - (column ? 60.0 : narrow ? 135.0 : 110.0) / height,
+                          1.0 - (column ? 10.0 : narrow ? 85.0 : 75.0) / height,
                           {"NaN with points pt 7 ps 0.8 lc rgb '#d62728' title 'a residual before'",
                            "NaN with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'a residual after'",
                            std::string("NaN with linespoints lw 2.5 pt 5 lc rgb '#404040' title ") +
-                               (probe.categorical ? "'mean per category'" : narrow ? "'mean per bin'" : "'mean per bin of the x axis'"),
+                               (probe.categorical ? (column ? "'mean'" : "'mean per category'") : column ? "'mean'" : narrow ? "'mean per bin'" : "'mean per bin of the x axis'"),
                            narrow ? "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'off the scale'"
                                   : "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'beyond the y scale, at its edge'"},
                           10, narrow ? 2 : 1);

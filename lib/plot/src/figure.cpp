@@ -32,8 +32,13 @@ std::string lower_extension(const std::string& path) {
 constexpr double kPixelsPerInch = 144.0;
 /// Canvas pixels per printed inch at which the layout's text is 11 pt.
 constexpr double kDesignPixelsPerInch = 72.0;
-/// The font every figure names (its pixel margins are written for it).
-constexpr double kDesignFont_pt = 11.0;
+/// The text size the layouts are written for, as printed: every figure names an 11 pt font, which
+/// gnuplot's cairo terminals (pngcairo, pdfcairo) draw at 4/3 of its size (pango's 96 dpi against
+/// the page's 72; measured: pdftotext -bbox on an 8.5x6cm page asked for 8 pt gave text boxes 12.4 pt
+/// high, 10.7 pt text at DejaVu Sans' 1.164 em from descent to ascent, and 12.6 pt for a ',13' title) and the svg terminal, with its
+/// fontscale 1.35, alike. So the design's text prints at 11 x 4/3 = 14.67 pt at 72 canvas pixels to
+/// the inch, and --font-size 8 asks for fonts scaled by 8 / 14.67 to print at 8 pt.
+constexpr double kDesignFont_pt = 11.0 * 4.0 / 3.0;
 /// A PNG drawn for a page (--figure-size or --font-size) has this resolution.
 constexpr double kPagePngDpi = 300.0;
 /// A page with a size but no --font-size: text of this size.
@@ -47,7 +52,7 @@ bool paged() { return g_page.width_in > 0 || g_page.font_pt > 0; }
 double printed_font_pt() {
   if (g_page.font_pt > 0) return g_page.font_pt;
   if (g_page.width_in > 0) return kPageFont_pt;
-  return kDesignFont_pt * kDesignPixelsPerInch / kPixelsPerInch;  // 5.5 pt on the default page
+  return kDesignFont_pt * kDesignPixelsPerInch / kPixelsPerInch;  // 7.3 pt printed on the default page (5.5 pt named)
 }
 
 /// The terminal for a canvas of width_px x height_px (design pixels). Without a page: a PNG or SVG
@@ -87,9 +92,11 @@ std::string terminal(Format format, int width_px, int height_px) {
                       width_px, height_px);
       break;
     case Format::pdf:
+      // Markers scale with the text on a page (pdfcairo draws them at a fixed size otherwise: on an
+      // 8.5 cm page they were as large as the text's capitals).
       std::snprintf(buf, sizeof buf,
-                    "set terminal pdfcairo size %.3fin,%.3fin noenhanced font 'DejaVu Sans,11' fontscale %.4f background rgb 'white'\n",
-                    w_in, h_in, scale);
+                    "set terminal pdfcairo size %.3fin,%.3fin noenhanced font 'DejaVu Sans,11' fontscale %.4f pointscale %.4f background rgb 'white'\n",
+                    w_in, h_in, scale, paged() ? scale : 1.0);
       break;
   }
   return buf;
@@ -187,6 +194,38 @@ std::string multiplot(const Layout& l, const std::string& title, int title_font_
                 "set multiplot layout %d,%d title %s font ',%d' margins screen %.4f,%.4f,%.4f,%.4f spacing screen %.4f,%.4f\n",
                 l.rows, l.cols, quoted(title).c_str(), title_font_pt, l.left, l.right, l.bottom, l.top, l.hspace, l.vspace);
   return buf;
+}
+
+std::string wrapped(const std::string& text, double width_px, double font_pt) {
+  const std::size_t per_line = static_cast<std::size_t>(std::max(8.0, width_px / (0.73 * font_pt)));
+  std::string out, line, word;
+  auto flush_word = [&]() {
+    if (word.empty()) return;
+    if (!line.empty() && line.size() + 1 + word.size() > per_line) {
+      out += line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    word.clear();
+  };
+  for (char c : text) {
+    if (c == ' ') {
+      flush_word();
+    } else if (c == '\n') {
+      flush_word();
+      out += line + "\n";
+      line.clear();
+    } else {
+      word += c;
+    }
+  }
+  flush_word();
+  return out + line;
+}
+
+int robot_point_type(std::size_t robot) {
+  static const int kMarkers[] = {7, 4, 8, 6, 12, 10};
+  return kMarkers[robot % 6];
 }
 
 std::string legend_band(double left, double right, double bottom, double top, const std::vector<std::string>& entries,

@@ -53,6 +53,9 @@ struct ProximityPoint {
   double mean_se = 0;                 ///< standard error of the mean (replicates)
   std::string max_where;              ///< file:line of the maximum
   std::string excluded_why;           ///< empty when used
+  /// The mean of each robot's kept readings (normalised, like `mean`), indexed as
+  /// ProximityFit::robot_names; NaN for a robot with none here. What the figure tells apart.
+  std::vector<double> robot_mean;
 };
 
 /// The proximity range (where the sensor stops detecting), from logs that reach beyond the
@@ -70,6 +73,7 @@ struct ProximityRange {
 struct ProximityFit {
   std::vector<ProximityPoint> points;  ///< one per distance, ascending
   ProximityRange range;                ///< the range fitted from the logs (reported; Eq. 1 keeps its 0.05 m domain)
+  std::vector<std::string> robot_names;  ///< the logs' `robot`, in the order first met
   RobustFit maxima;                    ///< a, b, c of Eq. 1 fitted to the per-distance maxima
   RobustFit means;                     ///< the same fitted to the per-distance means
   double plugin_mse_maxima = 0, plugin_mse_means = 0;  ///< the plug-in's polynomial on the same points
@@ -95,12 +99,14 @@ struct LightObservation {
   int sensor = 0;
   double value_raw = 0;
   std::string where;
+  int robot = 0;  ///< an index into LightFit::robot_names
 };
 
 struct LightFit {
   std::vector<LightObservation> observations;  ///< the readings that enter the fits (rails included)
   RobustFit gamma;                             ///< one gamma for all sensors
   std::vector<int> sensors;                    ///< sensors seen, ascending
+  std::vector<std::string> robot_names;        ///< the logs' `robot`, in the order first met
   std::vector<RobustFit> gamma_per_sensor;     ///< same order as `sensors`
   double plugin_mse = 0;                       ///< the plug-in's gamma = 0.075 on the readings inside the rails (normalised units)
   std::size_t readings = 0, censored = 0;      ///< all readings; readings on a rail (0 or 4095)
@@ -140,10 +146,12 @@ GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions&
 struct CameraObservation {
   double forward_m = 0, lateral_m = 0, vertical_m = 0, px = 0, py = 0;
   std::string where;
+  int robot = 0;  ///< an index into CameraFit::robot_names
 };
 
 struct CameraFit {
   std::vector<CameraObservation> observations;
+  std::vector<std::string> robot_names;  ///< the logs' `robot`, in the order first met
   RobustFit result;        ///< fov_deg (horizontal), cx_px, cy_px; residuals in pixels (px and py)
   double plugin_mse = 0;   ///< the plug-in's 29.97 deg centred camera on the same points (px^2)
   /// The paper's Table 4 method, applied to each observation far from the centre column (more
@@ -161,6 +169,7 @@ CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions&
 
 struct DriveRun {
   std::string path;
+  std::string robot;  ///< the log's `robot` (the figure tells robots apart)
   double obstacle_distance_m = 0;
   std::vector<double> time_s, command_m_s, steps, tof_mm;  ///< steps unwrapped, mean of both wheels
   std::vector<double> command_uncapped_m_s;                ///< the commands as logged (command_m_s: capped)

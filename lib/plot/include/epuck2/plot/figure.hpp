@@ -97,6 +97,21 @@ std::string multiplot(const Layout& layout, const std::string& title, int title_
 std::string legend_band(double left, double right, double bottom, double top, const std::vector<std::string>& entries,
                         int font_pt = 11, int max_rows = 1);
 
+/// `text` broken into lines (at spaces) that fit `width_px` canvas pixels in text of `font_pt`
+/// (the layouts' 11 pt body, a title's 13 or 14; about 0.73 pixel a point per character in
+/// DejaVu Sans), for a page narrower than the figure's own canvas. Line breaks already in `text`
+/// are kept.
+std::string wrapped(const std::string& text, double width_px, double font_pt = 11);
+
+/// A page narrower than this many canvas pixels is a paper's column (8.5 cm at 8 pt is about 440
+/// of them; two columns, 17.6 cm, 915 at 8 pt and 730 at 10 pt): its figures stack their panels,
+/// leave their titles to the caption and put their legends below the plot.
+constexpr int kNarrowCanvas_px = 700;
+
+/// The point type (gnuplot's pt) of robot number `robot` in the figures that tell robots apart:
+/// filled circle, open square, open triangle, open circle, open diamond, open inverted triangle.
+int robot_point_type(std::size_t robot);
+
 /// An axis label: quantity and unit, "distance to the surface (mm)".
 inline std::string axis_label(const std::string& quantity, const std::string& unit) { return quantity + " (" + unit + ")"; }
 

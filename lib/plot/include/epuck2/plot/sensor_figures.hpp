@@ -8,8 +8,11 @@
 //  * ground: raw reading against grey level per sensor, each sensor's line and the plug-in's;
 //  * camera: the LED's image column and row against its direction, the fitted pinhole and the
 //    plug-in's (two panels);
-//  * drive: the ToF and the encoders against time, every run overlaid, the fit and the plug-in
-//    (two panels; the ToF's out-of-range codes drawn apart).
+//  * drive: small multiples, the ToF against time in one panel per commanded speed, the runs
+//    standing still against the obstacle's distance, the encoders of every run against the
+//    commanded distance; the fit and the plug-in clipped at the rails (out-of-range codes apart).
+// Logs of several robots: a marker per robot (proximity, light, ground, camera, drive), named in
+// the legend.
 // The format follows the file name's extension (epuck2/plot/figure.hpp).
 #pragma once
 
