@@ -209,7 +209,7 @@ class Engine {
     ceres::Problem problem;
     std::vector<double*> blocks;
     for (std::size_t j = 0; j < P; ++j) blocks.push_back(&f.values[j]);
-    problem.AddResidualBlock(new Cost(*this, idx, slot), nullptr, blocks);
+    add_cost(problem, idx, slot, f.values);
     for (std::size_t j = 0; j < P; ++j) {
       if (slot[j] < 0) {
         problem.SetParameterBlockConstant(blocks[j]);
@@ -245,17 +245,16 @@ class Engine {
     int k = 0;
     for (int j : free) slot[static_cast<std::size_t>(j)] = k++;
     ceres::Problem problem;
-    std::vector<double*> blocks, free_blocks;
+    std::vector<double*> free_blocks;
     std::vector<std::size_t> param_of;
-    for (std::size_t j = 0; j < P; ++j) blocks.push_back(&values[j]);
-    problem.AddResidualBlock(new Cost(*this, all_, slot), nullptr, blocks);
     for (std::size_t j = 0; j < P; ++j) {
       if (slot[j] < 0) continue;
-      free_blocks.push_back(blocks[j]);
+      free_blocks.push_back(&values[j]);
       param_of.push_back(j);
     }
     *out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n_), static_cast<Eigen::Index>(P));
     if (free_blocks.empty()) return true;
+    add_cost(problem, all_, slot, values);
     ceres::Problem::EvaluateOptions eo;
     eo.parameter_blocks = free_blocks;
     eo.apply_loss_function = false;
@@ -355,23 +354,44 @@ class Engine {
   }
 
  private:
+  /// The cost of the residuals `idx` with the parameters whose `slot` is >= 0 free: every
+  /// parameter of `values` is a block of the problem (in index order, as the fit's layout has
+  /// them), the residual block holds the free ones only, in index order. (Ceres sizes its
+  /// evaluation scratch, and zeroes it at every solve, by the residual block's parameters: with
+  /// all of them in the block, 2M residuals x 7 drive parameters took 112 MB a solve.)
+  void add_cost(ceres::Problem& problem, const std::vector<std::size_t>& idx, const std::vector<int>& slot,
+                std::vector<double>& values) const {
+    std::vector<double*> free_blocks;
+    for (std::size_t j = 0; j < values.size(); ++j) {
+      problem.AddParameterBlock(&values[j], 1);
+      if (slot[j] >= 0) free_blocks.push_back(&values[j]);
+    }
+    problem.AddResidualBlock(new Cost(*this, idx, slot, values), nullptr, free_blocks);
+  }
+
   /// All residuals y_i - E[clamp(model_i)] of the training rows in one block; one parameter block
-  /// of size 1 per parameter; derivatives by Jets over the free parameters.
+  /// of size 1 per free parameter (the others held at their values); derivatives by Jets over
+  /// the free parameters.
   class Cost : public ceres::CostFunction {
    public:
-    Cost(const Engine& e, const std::vector<std::size_t>& idx, const std::vector<int>& slot) : e_(e), idx_(idx), slot_(slot) {
+    Cost(const Engine& e, const std::vector<std::size_t>& idx, const std::vector<int>& slot, const std::vector<double>& values)
+        : e_(e), idx_(idx), slot_(slot), held_(values) {
       for (std::size_t i : idx) limit_ = std::max(limit_, i + 1);
       set_num_residuals(static_cast<int>(idx.size()));
-      for (std::size_t j = 0; j < slot.size(); ++j) mutable_parameter_block_sizes()->push_back(1);
+      for (std::size_t j = 0; j < slot.size(); ++j)
+        if (slot[j] >= 0) {
+          block_of_.push_back(j);
+          mutable_parameter_block_sizes()->push_back(1);
+        }
     }
     bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-      const std::size_t P = slot_.size();
+      const std::size_t B = block_of_.size();
       bool need = false;
       if (jacobians)
-        for (std::size_t j = 0; j < P; ++j) need = need || (jacobians[j] != nullptr);
+        for (std::size_t b = 0; b < B; ++b) need = need || (jacobians[b] != nullptr);
       if (!need) {
-        std::vector<double> v(P);
-        for (std::size_t j = 0; j < P; ++j) v[j] = parameters[j][0];
+        std::vector<double> v = held_;
+        for (std::size_t b = 0; b < B; ++b) v[block_of_[b]] = parameters[b][0];
         std::vector<double>& pred = e_.scratch<double>();
         e_.predict(v.data(), pred, limit_);
         for (std::size_t k = 0; k < idx_.size(); ++k) {
@@ -389,9 +409,10 @@ class Engine {
 
     template <typename J>
     bool with_jets(double const* const* parameters, double* residuals, double** jacobians) const {
-      const std::size_t P = slot_.size();
+      const std::size_t P = slot_.size(), B = block_of_.size();
       std::vector<J> v(P);
-      for (std::size_t j = 0; j < P; ++j) v[j] = slot_[j] >= 0 ? J(parameters[j][0], slot_[j]) : J(parameters[j][0]);
+      for (std::size_t j = 0; j < P; ++j) v[j] = J(held_[j]);
+      for (std::size_t b = 0; b < B; ++b) v[block_of_[b]] = J(parameters[b][0], slot_[block_of_[b]]);
       std::vector<J>& pred = e_.scratch<J>();
       e_.predict(v.data(), pred, limit_);
       for (std::size_t k = 0; k < idx_.size(); ++k) {
@@ -399,11 +420,11 @@ class Engine {
         const double w = e_.weight(idx_[k]);
         residuals[k] = w * (e_.p_.y[idx_[k]] - m.a);
         if (!std::isfinite(residuals[k])) return false;
-        for (std::size_t j = 0; j < P; ++j)
-          if (jacobians[j]) {
-            const double d = slot_[j] >= 0 ? -w * m.v[slot_[j]] : 0.0;
+        for (std::size_t b = 0; b < B; ++b)
+          if (jacobians[b]) {
+            const double d = -w * m.v[slot_[block_of_[b]]];
             if (!std::isfinite(d)) return false;
-            jacobians[j][k] = d;
+            jacobians[b][k] = d;
           }
       }
       return true;
@@ -413,6 +434,8 @@ class Engine {
     const Engine& e_;
     const std::vector<std::size_t>& idx_;  // outlives the problem that owns this cost (Engine::fit)
     const std::vector<int> slot_;
+    const std::vector<double> held_;    ///< every parameter's value (the free ones' are the blocks')
+    std::vector<std::size_t> block_of_;  ///< parameter block b is parameter block_of_[b]
     std::size_t limit_ = 0;  ///< one past the last residual used
   };
 
