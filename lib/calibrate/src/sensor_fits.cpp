@@ -894,7 +894,10 @@ ReadingNoise drive_tof_replicate_noise(const std::vector<logs::Log>& logs) {
   // The still rows end at the first command, capped or as logged (fit_drive's steps fit decides
   // which it keeps): where the two agree in every run, the fits cannot change the estimate.
   for (const DriveRun& run : runs)
-    if (still_rows(run, run.command_m_s) != still_rows(run, run.command_uncapped_m_s)) return fit_drive(logs).tof_noise;
+    if (still_rows(run, run.command_m_s) != still_rows(run, run.command_uncapped_m_s)) {
+      ReadingNoise noise = fit_drive(logs).tof_noise;
+      return noise.from == "replicates" ? noise : ReadingNoise{};
+    }
   ReadingNoise noise = still_tof_noise(runs, &DriveRun::command_m_s);
   if (!(noise.n >= kMinStillReadings) || !std::isfinite(noise.sd)) return ReadingNoise{};  // fit_drive's: from residuals
   return noise;
