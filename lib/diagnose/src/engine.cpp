@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <set>
@@ -131,8 +132,7 @@ class Engine {
     // Folds: contiguous blocks of rows dealt round-robin.
     const std::size_t blocks = static_cast<std::size_t>(std::max(1, o_.folds * o_.blocks_per_fold));
     const std::size_t block_rows = std::max<std::size_t>(1, (p_.rows + blocks - 1) / blocks);
-    fold_.resize(n_);
-    for (std::size_t i = 0; i < n_; ++i) fold_[i] = static_cast<int>((p_.row[i] / block_rows) % static_cast<std::size_t>(o_.folds));
+    block_rows_ = block_rows;
     all_.resize(n_);
     std::iota(all_.begin(), all_.end(), 0);
   }
@@ -155,10 +155,11 @@ class Engine {
 
   /// The model's expected readings (clamp and covariate terms included) of residuals
   /// [0, needed) at least; the others may be left at 0.
+  /// `out` holds size() of them (constructed here).
   template <typename T>
-  void predict(const T* values, std::vector<T>& out, std::size_t needed = detail::kAllResiduals) const {
-    out.assign(n_, T(0.0));
-    p_.mean(values, out.data(), needed);
+  void predict(const T* values, T* out, std::size_t needed = detail::kAllResiduals) const {
+    std::uninitialized_fill_n(out, n_, T(0.0));
+    p_.mean(values, out, needed);
     const std::size_t n = std::min(n_, needed);
     for (const auto& s : slopes_)
       for (std::size_t i = 0; i < n; ++i)
@@ -167,8 +168,8 @@ class Engine {
       out[i] = expected_clamp(out[i], lo(i), hi(i), sigma_[static_cast<std::size_t>(p_.channel[i])]);
   }
   std::vector<double> predict(const std::vector<double>& values) const {
-    std::vector<double> out;
-    predict(values.data(), out);
+    std::vector<double> out(n_);
+    predict(values.data(), out.data());
     return out;
   }
   /// Weighted residuals, in channel 0's units.
@@ -275,7 +276,7 @@ class Engine {
     std::vector<std::vector<double>> fold_values;
     for (int f = 0; f < o_.folds; ++f) {
       std::vector<std::size_t> train, test;
-      for (std::size_t i = 0; i < n_; ++i) (fold_[i] == f ? test : train).push_back(i);
+      for (std::size_t i = 0; i < n_; ++i) (fold_of(i) == f ? test : train).push_back(i);
       if (test.empty() || train.empty()) continue;
       const Fitted fit_f = fit(free, start, train, false);
       if (fit_f.result.usable) fold_values.push_back(fit_f.values);
@@ -385,7 +386,7 @@ class Engine {
       if (!need) {
         std::vector<double> v = held_;
         for (std::size_t b = 0; b < B; ++b) v[block_of_[b]] = parameters[b][0];
-        std::vector<double>& pred = e_.scratch<double>();
+        double* pred = e_.scratch<double>();
         e_.predict(v.data(), pred, limit_);
         for (std::size_t k = 0; k < idx_.size(); ++k) {
           residuals[k] = e_.weight(idx_[k]) * (e_.p_.y[idx_[k]] - pred[idx_[k]]);
@@ -406,7 +407,7 @@ class Engine {
       std::vector<J> v(P);
       for (std::size_t j = 0; j < P; ++j) v[j] = J(held_[j]);
       for (std::size_t b = 0; b < B; ++b) v[block_of_[b]] = J(parameters[b][0], slot_[block_of_[b]]);
-      std::vector<J>& pred = e_.scratch<J>();
+      J* pred = e_.scratch<J>();
       e_.predict(v.data(), pred, limit_);
       for (std::size_t k = 0; k < idx_.size(); ++k) {
         const J& m = pred[idx_[k]];
@@ -436,13 +437,23 @@ class Engine {
   /// instead of allocated in each: on a 1M-row drive log the Jets' are 48 MB or more, which glibc
   /// serves by mmap (above its largest threshold, 32 MiB) and unmaps on free, so that every
   /// evaluation faulted every page of them in afresh (3.3 million page faults, 6 s of system
-  /// time). One evaluation at a time (the engine's solves run on one thread), so one buffer per
-  /// scalar type.
+  /// time). One evaluation at a time (the engine's solves run on one thread), so one buffer for
+  /// every scalar type, sized for the largest asked: the doubles' 16 MB no longer sit beside the
+  /// Jets' (nor 2-wide Jets' beside 8-wide ones). size() of them, constructed by predict.
   template <typename T>
-  std::vector<T>& scratch() const {
-    return std::get<std::vector<T>>(scratch_);
+  T* scratch() const {
+    static_assert(alignof(T) <= alignof(ScratchBlock), "a scalar aligned beyond the scratch's blocks");
+    const std::size_t blocks = (n_ * sizeof(T) + sizeof(ScratchBlock) - 1) / sizeof(ScratchBlock);
+    if (scratch_.size() < blocks) {
+      std::vector<ScratchBlock>().swap(scratch_);  // not held beside the larger one
+      scratch_.resize(blocks);
+    }
+    return reinterpret_cast<T*>(scratch_.data());
   }
-  mutable std::tuple<std::vector<double>, std::vector<detail::PairJet>, std::vector<ShortJet>, std::vector<Jet>> scratch_;
+  struct alignas(64) ScratchBlock {
+    unsigned char bytes[64];
+  };
+  mutable std::vector<ScratchBlock> scratch_;
 
   struct Slope {
     int param;
@@ -453,8 +464,10 @@ class Engine {
   std::vector<Slope> slopes_;
   std::size_t n_ = 0;
   std::vector<double> sigma_, channel_weight_;
-  std::vector<int> fold_;
+  std::size_t block_rows_ = 1;  ///< rows per block of the folds
   std::vector<std::size_t> all_;
+  /// Residual i's fold (not stored: 8 MB on a 1M-row drive log).
+  int fold_of(std::size_t i) const { return static_cast<int>((p_.row[i] / block_rows_) % static_cast<std::size_t>(o_.folds)); }
 };
 
 /// Upper quantile of chi-square with `df` degrees of freedom at tail probability 1e-6
