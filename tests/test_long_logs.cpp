@@ -86,20 +86,21 @@ TEST(LongLogs, BatteryResidualsAreTheDischargeSteppedRowByRow) {
 }
 
 // A drive log: `still` rows standing (commands `left`/`right`, the encoders unchanged, the ToF
-// at 600 mm plus noise), then 100 rows at 5 cm/s towards the obstacle (0.5 m).
-logs::Log drive_log(int still, double left, double right, std::uint64_t seed) {
+// at the obstacle's distance plus noise), then `moving` rows at `speed` cm/s towards it.
+logs::Log drive_log(int still, double left, double right, std::uint64_t seed, double speed = 5, double obstacle_m = 0.6,
+                    int moving = 100) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, 3.0);
   std::ostringstream csv;
-  csv << "# obstacle_distance_m: 0.6\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n";
+  csv << "# obstacle_distance_m: " << obstacle_m << "\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n";
   double x = 0;
-  for (int i = 0; i < still + 100; ++i) {
+  for (int i = 0; i < still + moving; ++i) {
     const bool standing = i < still;
     const double t = 0.1 * i;
-    if (!standing && i > still) x += 0.05 * 0.1;
+    if (!standing && i > still) x += speed / 100.0 * 0.1;
     const long steps = std::lround(x * 7763.656);
-    csv << g17(t) << "," << (standing ? left : 5.0) << "," << (standing ? right : 5.0) << "," << steps << "," << steps << ","
-        << std::lround(1000.0 * (0.6 - x) + noise(rng)) << "\n";
+    csv << g17(t) << "," << (standing ? left : speed) << "," << (standing ? right : speed) << "," << steps << "," << steps << ","
+        << std::lround(1000.0 * (obstacle_m - x) + noise(rng)) << "\n";
   }
   return logs::parse_log(csv.str(), "drive.csv", logs::Kind::drive);
 }
@@ -127,6 +128,18 @@ TEST(LongLogs, DriveReplicateNoiseWhereTheCapDecidesIsTheCalibrations) {
   const std::vector<logs::Log> logs{drive_log(40, 20, -16, 3)};
   ASSERT_EQ(calibrate::fit_drive(logs).tof_noise.from, "replicates");  // the encoders say it stood: the cap is kept
   expect_same_noise(calibrate::drive_tof_replicate_noise(logs), calibrate::fit_drive(logs).tof_noise);
+}
+
+TEST(LongLogs, WhereTheWheelsRunBeyondTheCapNothingStoodStill) {
+  // Standing commanded 16 and -15.5 cm/s (capped: a mean of 0; as logged 0.25 cm/s), then moving
+  // at 30 cm/s with the encoders counting 30 cm/s: the steps fit drops the cap, so the first row
+  // already moves and the calibration's ToF noise comes from its residuals. Taking the capped
+  // commands without asking the fit would give 40 replicates.
+  const std::vector<logs::Log> logs{drive_log(40, 16, -15.5, 5, 30, 1.9, 30)};
+  const calibrate::DriveFit calibration = calibrate::fit_drive(logs);
+  ASSERT_FALSE(calibration.cap_kept);
+  ASSERT_EQ(calibration.tof_noise.from, "residuals");
+  EXPECT_FALSE(calibrate::drive_tof_replicate_noise(logs).usable());
 }
 
 TEST(LongLogs, TooFewStillReadingsGiveNoReplicateNoise) {
