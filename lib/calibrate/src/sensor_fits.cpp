@@ -832,6 +832,33 @@ struct TofModel {
     return true;
   }
 };
+
+// The rows of a run while the robot stands still before it first moves (no command yet, the
+// encoders unchanged), `commands` the run's commands as the steps fit took them: their ToF
+// readings are replicates, the body has not moved (after a move it may still be settling, see the
+// slip lag).
+std::size_t still_rows(const DriveRun& run, const std::vector<double>& commands) {
+  std::size_t k = 0;
+  while (k < run.time_s.size() && commands[k] == 0.0 && run.steps[k] == run.steps[0]) ++k;
+  return k;
+}
+
+ReadingNoise still_tof_noise(const std::vector<DriveRun>& runs, std::vector<double> DriveRun::*commands) {
+  std::vector<double> nv;
+  std::vector<int> ng, ns;
+  std::vector<bool> nr;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const DriveRun& run = runs[r];
+    const std::size_t still = still_rows(run, run.*commands);
+    for (std::size_t k = 0; k < still; ++k) {
+      nv.push_back(run.tof_mm[k]);
+      ng.push_back(static_cast<int>(r));
+      ns.push_back(0);
+      nr.push_back(run.tof_mm[k] <= s::kPluginTof.min_mm || run.tof_mm[k] >= s::kPluginTof.max_mm);
+    }
+  }
+  return noise_from_replicates("tof", "mm", kArgosNoiseScaleTof_mm, nv, ng, nr, ns, 0, kQuantisationSd);
+}
 }  // namespace
 
 DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& options) {
@@ -933,29 +960,28 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
                            " with the cap; the wheels exceed the firmware's limit and are fitted as they run.");
 
   // 3. The reading noise. ToF: the readings of each run while the robot stands still before it
-  //    first moves (no command yet, the encoders unchanged) are replicates: the body has not moved
-  //    (after a move it may still be settling, see the slip lag). With fewer than
-  //    kMinStillReadings of them, the ToF fit's residuals. Encoders: the steps fit's residuals.
-  {
-    std::vector<double> nv;
-    std::vector<int> ng, ns;
-    std::vector<bool> nr;
-    for (std::size_t r = 0; r < out.runs.size(); ++r) {
-      const DriveRun& run = out.runs[r];
-      for (std::size_t k = 0; k < run.time_s.size(); ++k) {
-        if (run.command_m_s[k] != 0.0 || run.steps[k] != run.steps[0]) break;
-        nv.push_back(run.tof_mm[k]);
-        ng.push_back(static_cast<int>(r));
-        ns.push_back(0);
-        nr.push_back(run.tof_mm[k] <= s::kPluginTof.min_mm || run.tof_mm[k] >= s::kPluginTof.max_mm);
-      }
-    }
-    out.tof_noise = noise_from_replicates("tof", "mm", kArgosNoiseScaleTof_mm, nv, ng, nr, ns, 0, kQuantisationSd);
-    if (!(out.tof_noise.n >= kMinStillReadings) || !std::isfinite(out.tof_noise.sd))
-      out.tof_noise = noise_from_residuals("tof", "mm", kArgosNoiseScaleTof_mm, out.tof);
-    out.encoder_noise = noise_from_residuals("encoder", "steps", kArgosNoiseScaleEncoder_steps, out.steps);
-  }
+  //    first moves (still_tof_noise); with fewer than kMinStillReadings of them, the ToF fit's
+  //    residuals. Encoders: the steps fit's residuals.
+  out.tof_noise = still_tof_noise(out.runs, &DriveRun::command_m_s);
+  if (!(out.tof_noise.n >= kMinStillReadings) || !std::isfinite(out.tof_noise.sd))
+    out.tof_noise = noise_from_residuals("tof", "mm", kArgosNoiseScaleTof_mm, out.tof);
+  out.encoder_noise = noise_from_residuals("encoder", "steps", kArgosNoiseScaleEncoder_steps, out.steps);
   return out;
+}
+
+ReadingNoise drive_tof_replicate_noise(const std::vector<logs::Log>& logs) {
+  std::vector<DriveRun> runs;
+  for (const logs::Log& log : logs) runs.push_back(drive_run_from_log(log));
+  // The still rows end at the first command, capped or as logged (fit_drive's steps fit decides
+  // which it keeps): where the two agree in every run, the fits cannot change the estimate.
+  for (const DriveRun& run : runs)
+    if (still_rows(run, run.command_m_s) != still_rows(run, run.command_uncapped_m_s)) {
+      ReadingNoise noise = fit_drive(logs).tof_noise;
+      return noise.from == "replicates" ? noise : ReadingNoise{};
+    }
+  ReadingNoise noise = still_tof_noise(runs, &DriveRun::command_m_s);
+  if (!(noise.n >= kMinStillReadings) || !std::isfinite(noise.sd)) return ReadingNoise{};  // fit_drive's: from residuals
+  return noise;
 }
 
 }  // namespace epuck2::calibrate

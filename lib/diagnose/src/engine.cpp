@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <set>
@@ -110,8 +111,7 @@ class Engine {
     // Folds: contiguous blocks of rows dealt round-robin.
     const std::size_t blocks = static_cast<std::size_t>(std::max(1, o_.folds * o_.blocks_per_fold));
     const std::size_t block_rows = std::max<std::size_t>(1, (p_.rows + blocks - 1) / blocks);
-    fold_.resize(n_);
-    for (std::size_t i = 0; i < n_; ++i) fold_[i] = static_cast<int>((p_.row[i] / block_rows) % static_cast<std::size_t>(o_.folds));
+    block_rows_ = block_rows;
     all_.resize(n_);
     std::iota(all_.begin(), all_.end(), 0);
   }
@@ -134,10 +134,11 @@ class Engine {
 
   /// The model's expected readings (clamp and covariate terms included) of residuals
   /// [0, needed) at least; the others may be left at 0.
+  /// `out` holds size() of them (constructed here).
   template <typename T>
-  void predict(const T* values, std::vector<T>& out, std::size_t needed = detail::kAllResiduals) const {
-    out.assign(n_, T(0.0));
-    p_.mean(values, out.data(), needed);
+  void predict(const T* values, T* out, std::size_t needed = detail::kAllResiduals) const {
+    std::uninitialized_fill_n(out, n_, T(0.0));
+    p_.mean(values, out, needed);
     const std::size_t n = std::min(n_, needed);
     for (const auto& s : slopes_)
       for (std::size_t i = 0; i < n; ++i)
@@ -148,8 +149,8 @@ class Engine {
                                           sigma_[static_cast<std::size_t>(p_.channel[i])]);
   }
   std::vector<double> predict(const std::vector<double>& values) const {
-    std::vector<double> out;
-    predict(values.data(), out);
+    std::vector<double> out(n_);
+    predict(values.data(), out.data());
     return out;
   }
   /// Weighted residuals, in channel 0's units.
@@ -190,7 +191,7 @@ class Engine {
     fit::Problem problem;
     std::vector<double*> blocks;
     for (std::size_t j = 0; j < P; ++j) blocks.push_back(&f.values[j]);
-    problem.add(Cost(*this, idx, slot).block(), blocks);
+    add_cost(problem, idx, slot, f.values);
     for (std::size_t j = 0; j < P; ++j) {
       if (slot[j] < 0) {
         problem.hold(blocks[j]);
@@ -213,6 +214,7 @@ class Engine {
     layout.sizes.assign(P, 1);
     for (const auto& q : p_.params) layout.names.push_back(q.name);
     std::vector<double> observed;
+    observed.reserve(idx.size());
     for (std::size_t i : idx) observed.push_back(p_.y[i]);
     f.result = problem.summarize(layout, observed, summary, options);
     return f;
@@ -225,19 +227,21 @@ class Engine {
     std::vector<int> slot(P, -1);
     int k = 0;
     for (int j : free) slot[static_cast<std::size_t>(j)] = k++;
-    fit::Problem problem;
-    std::vector<double*> blocks, free_blocks;
-    std::vector<Eigen::Index> param_of;
-    for (std::size_t j = 0; j < P; ++j) blocks.push_back(&values[j]);
-    problem.add(Cost(*this, all_, slot).block(), blocks);
-    for (std::size_t j = 0; j < P; ++j) {
-      if (slot[j] < 0) continue;
-      free_blocks.push_back(blocks[j]);
-      param_of.push_back(static_cast<Eigen::Index>(j));
-    }
     *out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n_), static_cast<Eigen::Index>(P));
-    if (free_blocks.empty()) return true;
-    return problem.evaluate(free_blocks, nullptr, out, param_of);
+    if (free.empty()) return true;
+    // The fits' cost evaluated directly, each free parameter's derivatives written into its
+    // column: what the engine's Problem::evaluate gives, without Ceres' evaluation scratch and its two
+    // sparse copies of the Jacobian (~100 MB on a 1M-row drive log).
+    const Cost cost(*this, all_, slot, values);
+    std::vector<const double*> parameters;
+    std::vector<double*> columns;
+    for (std::size_t j = 0; j < P; ++j)
+      if (slot[j] >= 0) {
+        parameters.push_back(&values[j]);
+        columns.push_back(out->col(static_cast<Eigen::Index>(j)).data());
+      }
+    std::vector<double> residuals(n_);
+    return cost(parameters.data(), residuals.data(), columns.data());
   }
 
   /// Held-out MSE: each fold predicted by a fit on the other folds.
@@ -253,7 +257,7 @@ class Engine {
     std::vector<std::vector<double>> fold_values;
     for (int f = 0; f < o_.folds; ++f) {
       std::vector<std::size_t> train, test;
-      for (std::size_t i = 0; i < n_; ++i) (fold_[i] == f ? test : train).push_back(i);
+      for (std::size_t i = 0; i < n_; ++i) (fold_of(i) == f ? test : train).push_back(i);
       if (test.empty() || train.empty()) continue;
       const Fitted fit_f = fit(free, start, train, false);
       if (fit_f.result.usable) fold_values.push_back(fit_f.values);
@@ -325,30 +329,49 @@ class Engine {
   }
 
  private:
+  /// The cost of the residuals `idx` with the parameters whose `slot` is >= 0 free: every
+  /// parameter of `values` is a block of the problem (in index order, as the fit's layout has
+  /// them), the residual block holds the free ones only, in index order. (Ceres sizes its
+  /// evaluation scratch, and zeroes it at every solve, by the residual block's parameters: with
+  /// all of them in the block, 2M residuals x 7 drive parameters took 112 MB a solve.)
+  void add_cost(fit::Problem& problem, const std::vector<std::size_t>& idx, const std::vector<int>& slot,
+                std::vector<double>& values) const {
+    std::vector<double*> free_blocks;
+    for (std::size_t j = 0; j < values.size(); ++j) {
+      problem.add_parameters(&values[j], 1);
+      if (slot[j] >= 0) free_blocks.push_back(&values[j]);
+    }
+    problem.add(Cost(*this, idx, slot, values).block(), free_blocks);
+  }
+
   /// All residuals y_i - E[clamp(model_i)] of the training rows in one block; one parameter block
-  /// of size 1 per parameter; derivatives by Jets over the free parameters.
+  /// of size 1 per free parameter (the others held at their values); derivatives by Jets over
+  /// the free parameters.
   class Cost {
    public:
-    Cost(const Engine& e, const std::vector<std::size_t>& idx, const std::vector<int>& slot) : e_(e), idx_(idx), slot_(slot) {
+    Cost(const Engine& e, const std::vector<std::size_t>& idx, const std::vector<int>& slot, const std::vector<double>& values)
+        : e_(e), idx_(idx), slot_(slot), held_(values) {
       for (std::size_t i : idx) limit_ = std::max(limit_, i + 1);
+      for (std::size_t j = 0; j < slot.size(); ++j)
+        if (slot[j] >= 0) block_of_.push_back(j);
     }
-    /// The engine's residual block: one value per parameter, derivatives filled by operator().
+    /// The engine's residual block: one value per free parameter, derivatives filled by operator().
     fit::ResidualBlock block() const {
       fit::ResidualBlock b;
       b.residuals = static_cast<int>(idx_.size());
-      b.sizes.assign(slot_.size(), 1);
+      b.sizes.assign(block_of_.size(), 1);
       b.evaluate = *this;
       return b;
     }
     bool operator()(double const* const* parameters, double* residuals, double** jacobians) const {
-      const std::size_t P = slot_.size();
+      const std::size_t B = block_of_.size();
       bool need = false;
       if (jacobians)
-        for (std::size_t j = 0; j < P; ++j) need = need || (jacobians[j] != nullptr);
+        for (std::size_t b = 0; b < B; ++b) need = need || (jacobians[b] != nullptr);
       if (!need) {
-        std::vector<double> v(P);
-        for (std::size_t j = 0; j < P; ++j) v[j] = parameters[j][0];
-        std::vector<double>& pred = e_.scratch<double>();
+        std::vector<double> v = held_;
+        for (std::size_t b = 0; b < B; ++b) v[block_of_[b]] = parameters[b][0];
+        double* pred = e_.scratch<double>();
         e_.predict(v.data(), pred, limit_);
         for (std::size_t k = 0; k < idx_.size(); ++k) {
           residuals[k] = e_.weight(idx_[k]) * (e_.p_.y[idx_[k]] - pred[idx_[k]]);
@@ -365,21 +388,22 @@ class Engine {
 
     template <typename J>
     bool with_jets(double const* const* parameters, double* residuals, double** jacobians) const {
-      const std::size_t P = slot_.size();
+      const std::size_t P = slot_.size(), B = block_of_.size();
       std::vector<J> v(P);
-      for (std::size_t j = 0; j < P; ++j) v[j] = slot_[j] >= 0 ? J(parameters[j][0], slot_[j]) : J(parameters[j][0]);
-      std::vector<J>& pred = e_.scratch<J>();
+      for (std::size_t j = 0; j < P; ++j) v[j] = J(held_[j]);
+      for (std::size_t b = 0; b < B; ++b) v[block_of_[b]] = J(parameters[b][0], slot_[block_of_[b]]);
+      J* pred = e_.scratch<J>();
       e_.predict(v.data(), pred, limit_);
       for (std::size_t k = 0; k < idx_.size(); ++k) {
         const J& m = pred[idx_[k]];
         const double w = e_.weight(idx_[k]);
         residuals[k] = w * (e_.p_.y[idx_[k]] - m.a);
         if (!std::isfinite(residuals[k])) return false;
-        for (std::size_t j = 0; j < P; ++j)
-          if (jacobians[j]) {
-            const double d = slot_[j] >= 0 ? -w * m.v[slot_[j]] : 0.0;
+        for (std::size_t b = 0; b < B; ++b)
+          if (jacobians[b]) {
+            const double d = -w * m.v[slot_[block_of_[b]]];
             if (!std::isfinite(d)) return false;
-            jacobians[j][k] = d;
+            jacobians[b][k] = d;
           }
       }
       return true;
@@ -389,6 +413,8 @@ class Engine {
     const Engine& e_;
     const std::vector<std::size_t>& idx_;  // outlives the problem that owns this cost (Engine::fit)
     const std::vector<int> slot_;
+    const std::vector<double> held_;    ///< every parameter's value (the free ones' are the blocks')
+    std::vector<std::size_t> block_of_;  ///< parameter block b is parameter block_of_[b]
     std::size_t limit_ = 0;  ///< one past the last residual used
   };
 
@@ -396,13 +422,23 @@ class Engine {
   /// instead of allocated in each: on a 1M-row drive log the Jets' are 48 MB or more, which glibc
   /// serves by mmap (above its largest threshold, 32 MiB) and unmaps on free, so that every
   /// evaluation faulted every page of them in afresh (3.3 million page faults, 6 s of system
-  /// time). One evaluation at a time (the engine's solves run on one thread), so one buffer per
-  /// scalar type.
+  /// time). One evaluation at a time (the engine's solves run on one thread), so one buffer for
+  /// every scalar type, sized for the largest asked: the doubles' 16 MB no longer sit beside the
+  /// Jets' (nor 2-wide Jets' beside 8-wide ones). size() of them, constructed by predict.
   template <typename T>
-  std::vector<T>& scratch() const {
-    return std::get<std::vector<T>>(scratch_);
+  T* scratch() const {
+    static_assert(alignof(T) <= alignof(ScratchBlock), "a scalar aligned beyond the scratch's blocks");
+    const std::size_t blocks = (n_ * sizeof(T) + sizeof(ScratchBlock) - 1) / sizeof(ScratchBlock);
+    if (scratch_.size() < blocks) {
+      std::vector<ScratchBlock>().swap(scratch_);  // not held beside the larger one
+      scratch_.resize(blocks);
+    }
+    return reinterpret_cast<T*>(scratch_.data());
   }
-  mutable std::tuple<std::vector<double>, std::vector<detail::PairJet>, std::vector<ShortJet>, std::vector<Jet>> scratch_;
+  struct alignas(64) ScratchBlock {
+    unsigned char bytes[64];
+  };
+  mutable std::vector<ScratchBlock> scratch_;
 
   struct Slope {
     int param;
@@ -413,8 +449,10 @@ class Engine {
   std::vector<Slope> slopes_;
   std::size_t n_ = 0;
   std::vector<double> sigma_, channel_weight_;
-  std::vector<int> fold_;
+  std::size_t block_rows_ = 1;  ///< rows per block of the folds
   std::vector<std::size_t> all_;
+  /// Residual i's fold (not stored: 8 MB on a 1M-row drive log).
+  int fold_of(std::size_t i) const { return static_cast<int>((p_.row[i] / block_rows_) % static_cast<std::size_t>(o_.folds)); }
 };
 
 /// Upper quantile of chi-square with `df` degrees of freedom at tail probability 1e-6

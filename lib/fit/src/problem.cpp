@@ -36,6 +36,8 @@ void Problem::add(ResidualBlock block, const std::vector<double*>& parameters, c
   impl_->problem.AddResidualBlock(new BlockCost(std::move(block)), make_loss(loss), parameters);
 }
 
+void Problem::add_parameters(double* block, int size) { impl_->problem.AddParameterBlock(block, size); }
+
 void Problem::set_lower_bound(double* block, int index, double value) { impl_->problem.SetParameterLowerBound(block, index, value); }
 void Problem::set_upper_bound(double* block, int index, double value) { impl_->problem.SetParameterUpperBound(block, index, value); }
 void Problem::hold(double* block) { impl_->problem.SetParameterBlockConstant(block); }

@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <sstream>
 
@@ -80,12 +83,14 @@ bool must_be_integer(Kind kind, const std::string& column) {
   return kind == Kind::drive && (column == "left_steps" || column == "right_steps");
 }
 
-std::string trim(std::string_view s) {
+std::string_view trim_view(std::string_view s) {
   std::size_t b = 0, e = s.size();
   while (b < e && (s[b] == ' ' || s[b] == '\t' || s[b] == '\r')) ++b;
   while (e > b && (s[e - 1] == ' ' || s[e - 1] == '\t' || s[e - 1] == '\r')) --e;
-  return std::string(s.substr(b, e - b));
+  return s.substr(b, e - b);
 }
+
+std::string trim(std::string_view s) { return std::string(trim_view(s)); }
 
 std::string lower(std::string s) {
   for (char& c : s)
@@ -107,29 +112,47 @@ std::vector<std::string_view> split_lines(std::string_view s) {
   return lines;
 }
 
+// A cell's trimmed text is where it stands in the file's content (begin, size), not a string of
+// its own: a 1M-row log's 6M cells as strings took ~300 MB while it was read (bench/README.md).
 struct Cell {
-  std::string text;
+  std::uint32_t begin;  // offset of the trimmed text in the content
+  std::uint32_t size;
   int column;  // 1-based character position of the field
 };
 
-std::vector<Cell> split(const std::string& line) {
-  std::vector<Cell> cells;
+/// The largest content whose cells' offsets fit a Cell.
+constexpr std::size_t kMaxContent = std::numeric_limits<std::uint32_t>::max();
+
+// Appends the cells of `line`, a view into `content`.
+void split(std::string_view content, std::string_view line, std::vector<Cell>& cells) {
+  const std::size_t base = static_cast<std::size_t>(line.data() - content.data());
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = line.find(',', start);
     const std::size_t end = comma == std::string::npos ? line.size() : comma;
-    cells.push_back({trim(std::string_view(line).substr(start, end - start)), static_cast<int>(start) + 1});
+    const std::string_view text = trim_view(line.substr(start, end - start));
+    cells.push_back({static_cast<std::uint32_t>(base + static_cast<std::size_t>(text.data() - line.data())),
+                     static_cast<std::uint32_t>(text.size()), static_cast<int>(start) + 1});
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
-  return cells;
 }
 
 // Strict number parsing: the whole cell, finite.
 enum class NumberStatus { ok, not_a_number, not_finite };
-NumberStatus parse_number(const std::string& s, double& out) {
+NumberStatus parse_number(std::string_view s, double& out) {
   if (s.empty()) return NumberStatus::not_a_number;
-  const char* begin = s.c_str();
+  // strtod reads up to a NUL: the cell is copied into one that ends there (a short cell on the stack).
+  char small[64];
+  std::string large;
+  const char* begin = small;
+  if (s.size() < sizeof small) {
+    std::memcpy(small, s.data(), s.size());
+    small[s.size()] = '\0';
+  } else {
+    large.assign(s);
+    begin = large.c_str();
+  }
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(begin, &end);
@@ -313,19 +336,25 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
                const std::vector<std::string>* table_columns, const ReadOptions& options) {
   Log log;
   log.path = name;
+  if (content.size() > kMaxContent)
+    throw InputError(name, 0, 0, "larger than 4 GiB: split the log into several files (each one run)");
   int line_no = 0;
   int header_line = 0;
   std::vector<std::string> header;       // lower case
   std::vector<std::string> header_as_written;
   std::vector<int> header_columns;       // character column of each header cell
-  std::vector<std::vector<Cell>> raw_rows;
+  // Every data row's cells, row after row: row i's are cells[row_first[i], row_first[i + 1]).
+  std::vector<Cell> cells;
+  std::vector<std::size_t> row_first{0};
   std::vector<int> raw_lines;
   std::vector<int> raw_length;           // characters in each data row's line
-  for (const std::string_view view : split_lines(content)) {
+  auto text = [&](const Cell& c) { return std::string_view(content).substr(c.begin, c.size); };
+  auto cells_in = [&](std::size_t i) { return row_first[i + 1] - row_first[i]; };
+  auto cell = [&](std::size_t i, std::size_t j) -> const Cell& { return cells[row_first[i] + j]; };
+  for (std::string_view line : split_lines(content)) {
     ++line_no;
-    std::string line(view);
-    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // UTF-8 BOM
-    const std::string t = trim(line);
+    if (line_no == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);  // UTF-8 BOM
+    const std::string_view t = trim_view(line);
     if (t.empty()) continue;
     if (t[0] == '#') {
       if (header_line == 0) {
@@ -345,34 +374,36 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
     }
     if (header_line == 0) {
       header_line = line_no;
-      std::vector<Cell> cells = split(line);
-      if (cells.size() > 1 && cells.back().text.empty()) cells.pop_back();  // a trailing delimiter
-      for (const Cell& c : cells) {
-        if (c.text.empty()) throw InputError(name, line_no, c.column, "empty column name in the header");
-        const std::string lc = lower(escape_control(c.text));
+      std::vector<Cell> names;
+      split(content, line, names);
+      if (names.size() > 1 && names.back().size == 0) names.pop_back();  // a trailing delimiter
+      for (const Cell& c : names) {
+        const std::string written(text(c));
+        if (written.empty()) throw InputError(name, line_no, c.column, "empty column name in the header");
+        const std::string lc = lower(escape_control(written));
         const auto twin = std::find(header.begin(), header.end(), lc);
         if (twin != header.end()) {
           const std::string& first = header_as_written[static_cast<std::size_t>(twin - header.begin())];
           throw InputError(name, line_no, c.column,
-                           "column '" + c.text + "' appears twice in the header" +
-                               (first == c.text ? std::string() : " (as '" + first + "' and '" + c.text + "': letter case is ignored)"));
+                           "column '" + written + "' appears twice in the header" +
+                               (first == written ? std::string() : " (as '" + first + "' and '" + written + "': letter case is ignored)"));
         }
         header.push_back(lc);
-        header_as_written.push_back(c.text);
+        header_as_written.push_back(written);
         header_columns.push_back(c.column);
       }
       continue;
     }
-    std::vector<Cell> cells = split(line);
+    split(content, line, cells);
     // A trailing delimiter: one empty cell past the header's columns.
-    if (cells.size() == header.size() + 1 && cells.back().text.empty()) cells.pop_back();
-    raw_rows.push_back(std::move(cells));
+    if (cells.size() - row_first.back() == header.size() + 1 && cells.back().size == 0) cells.pop_back();
+    row_first.push_back(cells.size());
     raw_lines.push_back(line_no);
     raw_length.push_back(static_cast<int>(line.size()));
   }
   log.header_line = header_line;
   if (header_line == 0) throw InputError(name, 1, 1, "empty file: expected a header line and data rows");
-  if (raw_rows.empty()) throw InputError(name, header_line, 1, "no data rows after the header");
+  if (raw_lines.empty()) throw InputError(name, header_line, 1, "no data rows after the header");
   log.columns = header;
 
   // Kind: given, or recognised from the required columns (the most specific match).
@@ -445,36 +476,46 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
 
   // Cells. Required (and known optional) columns must be numbers in every row; an extra column is
   // numeric if all of its cells are, else kept as text. Each row's leftmost problem is kept.
-  const std::size_t n = raw_rows.size(), m = header.size();
-  std::vector<std::optional<Problem>> problem(n);
+  const std::size_t n = raw_lines.size(), m = header.size();
+  // Each bad row's leftmost problem (few rows are bad: not one Problem per row).
+  std::vector<std::int32_t> problem_of(n, -1);  // index into problems, or -1
+  std::vector<Problem> problems;
+  auto problem = [&](std::size_t i) -> const Problem* {
+    return problem_of[i] < 0 ? nullptr : &problems[static_cast<std::size_t>(problem_of[i])];
+  };
   auto note = [&](std::size_t i, int column, std::string message) {
     Problem p{raw_lines[i], column, std::move(message)};
-    if (!problem[i] || before(p, *problem[i])) problem[i] = std::move(p);
+    if (problem_of[i] < 0) {
+      problem_of[i] = static_cast<std::int32_t>(problems.size());
+      problems.push_back(std::move(p));
+    } else if (before(p, problems[static_cast<std::size_t>(problem_of[i])])) {
+      problems[static_cast<std::size_t>(problem_of[i])] = std::move(p);
+    }
   };
   for (std::size_t i = 0; i < n; ++i) {
-    const auto& cells = raw_rows[i];
-    if (cells.size() == m) continue;
-    const int col = cells.size() > m ? cells[m].column : raw_length[i] + 1;
+    if (cells_in(i) == m) continue;
+    const int col = cells_in(i) > m ? cell(i, m).column : raw_length[i] + 1;
     note(i, col,
          "expected " + std::to_string(m) + " comma-separated cells (as in the header on line " + std::to_string(header_line) +
-             "), found " + std::to_string(cells.size()));
+             "), found " + std::to_string(cells_in(i)));
   }
   std::vector<bool> is_numeric(m, true);
   std::vector<std::vector<double>> values(m, std::vector<double>(n, 0.0));
   auto check_cell = [&](std::size_t i, std::size_t j) {
-    const Cell& cell = raw_rows[i][j];
+    const Cell& c = cell(i, j);
+    const std::string_view written = text(c);
     const std::string& cname = header[j];
     double& v = values[j][i];
-    const NumberStatus st = parse_number(cell.text, v);
+    const NumberStatus st = parse_number(written, v);
     if (st == NumberStatus::not_finite)
-      return note(i, cell.column, "column '" + cname + "': expected a finite number, got '" + cell.text + "'");
+      return note(i, c.column, "column '" + cname + "': expected a finite number, got '" + std::string(written) + "'");
     if (st == NumberStatus::not_a_number)
-      return note(i, cell.column, "column '" + cname + "': expected a number, got '" + cell.text + "'");
+      return note(i, c.column, "column '" + cname + "': expected a number, got '" + std::string(written) + "'");
     const std::optional<Range> r = range_of(*kind, cname);
     if (r && !in_range(*kind, cname, *r, v))
-      return note(i, cell.column, "column '" + cname + "': value " + cell.text + " out of range, expected " + range_text(*r));
+      return note(i, c.column, "column '" + cname + "': value " + std::string(written) + " out of range, expected " + range_text(*r));
     if (must_be_integer(*kind, cname) && v != std::floor(v))
-      return note(i, cell.column, "column '" + cname + "': expected an integer, got '" + cell.text + "'");
+      return note(i, c.column, "column '" + cname + "': expected an integer, got '" + std::string(written) + "'");
   };
   std::vector<std::size_t> extra;
   for (std::size_t j = 0; j < m; ++j) {
@@ -485,18 +526,18 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
       continue;
     }
     for (std::size_t i = 0; i < n; ++i)
-      if (raw_rows[i].size() == m) check_cell(i, j);
+      if (cells_in(i) == m) check_cell(i, j);
   }
   for (const std::size_t j : extra) {
     // Numeric when every cell of the rows that are otherwise good reads as a number (finite or not).
     for (std::size_t i = 0; i < n && is_numeric[j]; ++i) {
-      if (problem[i]) continue;
+      if (problem(i)) continue;
       double v = 0;
-      if (parse_number(raw_rows[i][j].text, v) == NumberStatus::not_a_number) is_numeric[j] = false;
+      if (parse_number(text(cell(i, j)), v) == NumberStatus::not_a_number) is_numeric[j] = false;
     }
     if (!is_numeric[j]) continue;
     for (std::size_t i = 0; i < n; ++i)
-      if (raw_rows[i].size() == m) check_cell(i, j);
+      if (cells_in(i) == m) check_cell(i, j);
   }
 
   // Time never decreases over the rows kept; this stays an error under skip_bad_rows.
@@ -506,30 +547,27 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
     const std::size_t j = static_cast<std::size_t>(time_it - header.begin());
     std::optional<std::size_t> previous;
     for (std::size_t i = 0; i < n && !time_problem; ++i) {
-      if (problem[i]) continue;
+      if (problem(i)) continue;
       if (previous && values[j][i] < values[j][*previous])
-        time_problem = Problem{raw_lines[i], raw_rows[i][j].column,
-                               "column 'time_s': time decreases from " + raw_rows[*previous][j].text + " (line " +
-                                   std::to_string(raw_lines[*previous]) + ") to " + raw_rows[i][j].text +
+        time_problem = Problem{raw_lines[i], cell(i, j).column,
+                               "column 'time_s': time decreases from " + std::string(text(cell(*previous, j))) + " (line " +
+                                   std::to_string(raw_lines[*previous]) + ") to " + std::string(text(cell(i, j))) +
                                    "; expected a non-decreasing time" +
                                    (options.skip_bad_rows ? " (--skip-bad-rows does not skip this: the order of the rows is in doubt)" : "")};
       previous = i;
     }
   }
   std::optional<Problem> first;
-  for (const auto& p : problem)
-    if (p) {
-      first = p;
-      break;
-    }
+  for (std::size_t i = 0; i < n && !first; ++i)
+    if (problem(i)) first = *problem(i);
   if (time_problem && (options.skip_bad_rows || !first || before(*time_problem, *first)))
     throw InputError(name, time_problem->line, time_problem->column, time_problem->message);
   if (first && !options.skip_bad_rows) throw InputError(name, first->line, first->column, first->message);
 
   std::vector<std::size_t> kept;
   for (std::size_t i = 0; i < n; ++i) {
-    if (problem[i])
-      log.skipped.push_back(SkippedRow{problem[i]->line, problem[i]->column, escape_control(problem[i]->message)});
+    if (const Problem* p = problem(i))
+      log.skipped.push_back(SkippedRow{p->line, p->column, escape_control(p->message)});
     else
       kept.push_back(i);
   }
@@ -539,7 +577,9 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
                          std::to_string(first->line) + ", column " + std::to_string(first->column) + ": " + first->message);
 
   for (std::size_t j = 0; j < m; ++j) {
-    if (is_numeric[j]) {
+    if (is_numeric[j] && kept.size() == n) {
+      log.numeric[header[j]] = std::move(values[j]);  // every row kept: no copy
+    } else if (is_numeric[j]) {
       std::vector<double> col;
       col.reserve(kept.size());
       for (const std::size_t i : kept) col.push_back(values[j][i]);
@@ -547,15 +587,16 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
     } else {
       std::vector<std::string> texts;
       texts.reserve(kept.size());
-      for (const std::size_t i : kept) texts.push_back(escape_control(raw_rows[i][j].text));
+      for (const std::size_t i : kept) texts.push_back(escape_control(text(cell(i, j))));
       log.text[header[j]] = std::move(texts);
     }
+    std::vector<double>().swap(values[j]);
   }
   log.line_of_row.reserve(kept.size());
   log.cell_start.reserve(kept.size() * m);
   for (const std::size_t i : kept) {
     log.line_of_row.push_back(raw_lines[i]);
-    for (const Cell& c : raw_rows[i]) log.cell_start.push_back(c.column);
+    for (std::size_t j = 0; j < m; ++j) log.cell_start.push_back(cell(i, j).column);
   }
 
   if (!table_columns && *kind == Kind::drive) {

@@ -219,6 +219,11 @@ inline constexpr double kCapBicMargin = 10.0;
 /// does; fit_drive tests it), the logged ones kept in command_uncapped_m_s.
 DriveRun drive_run_from_log(const logs::Log& log);
 DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {});
+/// fit_drive(logs).tof_noise when it comes from replicates (the readings standing still before
+/// each run's first move), without the fits where they cannot change it (the diagnosis asks for
+/// nothing else); a ReadingNoise that is not usable() when fit_drive's would come from the
+/// residuals (fewer than kMinStillReadings still readings).
+ReadingNoise drive_tof_replicate_noise(const std::vector<logs::Log>& logs);
 
 /// Ground travel (m) at each row of a run: the wheel travel from the encoders (steps / steps_per_m,
 /// constant speed between rows) followed by a first-order lag of time constant tau_s, integrated

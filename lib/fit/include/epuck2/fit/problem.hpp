@@ -104,6 +104,10 @@ class Problem {
   /// size; an array given to several blocks is one set of parameters). The loss is squares, or
   /// Huber's at options.robust_scale when options.robust.
   void add(ResidualBlock block, const std::vector<double*>& parameters, const FitOptions& loss = FitOptions{});
+  /// Adds the array `block` of `size` values as parameters of the problem before (or without) a
+  /// residual block over it: a caller whose residual block takes only the free arrays keeps the
+  /// held ones in the problem (hold() them) so that summarize() reports every array of its layout.
+  void add_parameters(double* block, int size);
   /// Bounds on value `index` of the array `block` (already added).
   void set_lower_bound(double* block, int index, double value);
   void set_upper_bound(double* block, int index, double value);

@@ -254,19 +254,32 @@ inline constexpr double kBatteryStartsFull = 0.9;
 /// speed holds from its row to the next; the robot spins in place, each wheel at that speed),
 /// from a full charge when the first reading is >= kBatteryStartsFull, else from that reading.
 /// A repeated time stamp is a step of no length. `time_s` and `speed_cm_s` have one entry a row.
-template <class Times, class Speeds>
-std::vector<double> battery_mean_charge(const BatteryModel& m, const Times& time_s, const Speeds& speed_cm_s,
-                                        double first_reading) {
+/// For N capacity scales `k` at once (m.capacity is not used): out[s][i] is row i's charge with
+/// k[s], the same numbers as N runs one after the other, stepped side by side so that the
+/// processor overlaps the N independent chains of steps (the diagnosis's central difference).
+template <std::size_t N, class Times, class Speeds>
+void battery_mean_charges(const BatteryModel& m, const std::array<double, N>& k, const Times& time_s,
+                          const Speeds& speed_cm_s, double first_reading, const std::array<double*, N>& out) {
   const std::size_t n = time_s.size();
-  std::vector<double> out(n);
-  double charge = first_reading >= kBatteryStartsFull ? 1.0 : first_reading;
+  std::array<double, N> charge;
+  charge.fill(first_reading >= kBatteryStartsFull ? 1.0 : first_reading);
   for (std::size_t i = 0; i < n; ++i) {
-    out[i] = charge;
+    for (std::size_t s = 0; s < N; ++s) out[s][i] = charge[s];
     if (i + 1 == n) break;
     const double dt = time_s[i + 1] - time_s[i];
     if (dt == 0) continue;
-    charge = battery::step(m.model, m.tables, m.capacity, charge, std::abs(speed_cm_s[i]) / 100.0 * dt, dt);
+    const double distance_m = std::abs(speed_cm_s[i]) / 100.0 * dt;
+    for (std::size_t s = 0; s < N; ++s)
+      charge[s] = battery::step(m.model, m.tables, battery::CapacityScale{k[s]}, charge[s], distance_m, dt);
   }
+}
+
+/// The same with the model's own capacity scale.
+template <class Times, class Speeds>
+std::vector<double> battery_mean_charge(const BatteryModel& m, const Times& time_s, const Speeds& speed_cm_s,
+                                        double first_reading) {
+  std::vector<double> out(time_s.size());
+  battery_mean_charges<1>(m, {m.capacity.k}, time_s, speed_cm_s, first_reading, {out.data()});
   return out;
 }
 
