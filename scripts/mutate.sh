@@ -70,6 +70,19 @@ IDENTIFY = (["test_diagnose_steps", "test_unlisted_areas"], r"^(DiagnoseBase|Dia
 CG = "lib/coefficients/src/codegen.cpp"
 # (test_model_loop also writes headers, through the CLI, which the mutants' fast build does not relink.)
 CODEGEN = (["test_coefficients", "test_unlisted_areas"], r"^(CoefficientFile|EffectRegistry|NewEffect|CodegenByHand)")
+# Round 2 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-2): each group is its area's
+# tests and tests/test_round_two_slips.cpp's suite for it. The simulate --like mutants are in apps/:
+# their group names the CLI (epuck2-fit), which the fast build then relinks.
+R2 = "test_round_two_slips"
+
+
+def round_two(group, suite):
+    return (group[0] + [R2], group[1][:-1] + "|" + suite + ")")
+
+
+SL = "apps/cmd_simulate_like.cpp"
+LIKE = (["epuck2-fit", R2], r"^RoundTwoSimulateLike")
+MF = "lib/coefficients/src/model_file.cpp"
 
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
@@ -138,6 +151,22 @@ MUTANTS = [
     ("identify_wald_dof_sensors", DK, "const double dof = static_cast<double>(m);", "const double dof = static_cast<double>(m + 1);", IDENTIFY),
     ("identify_level_first_gain", DK, "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;", "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * values[g[0]];", IDENTIFY),
     ("identify_tail_share_strict", DK, "tail <= kTailShareOfNearField * total) return std::nullopt;", "tail < kTailShareOfNearField * total) return std::nullopt;", IDENTIFY),
+    # Round 2 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
+    ('charge_above_fastest_takes_slowest', CM, '  if (s >= x.back()) return y.back();', '  if (s >= x.back()) return y.front();', round_two(CHARGE, "RoundTwoChargeMap")),
+    ('noise_screen_floor_forgotten', RN, 'reject_sd * std::max(pooled_sd, floor_sd)', 'reject_sd * pooled_sd', round_two(NOISE, "RoundTwoReadingNoise")),
+    ('noise_whole_integer_division', "lib/diagnose/src/reading_noise.cpp", 'sd * sd - 1.0 / 12.0', 'sd * sd - 1 / 12', ([R2], r"^RoundTwoReadingNoise")),
+    ('codegen_camera_cy_from_cx', CG, 'm.base.cy_px = " << cpp_number(m.base.cy_px)', 'm.base.cy_px = " << cpp_number(m.base.cx_px)', round_two(CODEGEN, "RoundTwoCodegen")),
+    ('like_camera_py_from_px', SL, 'out[i] = {p[0] + cov[i], p[1] + cov[i]};', 'out[i] = {p[0] + cov[i], p[0] + cov[i]};', LIKE),
+    ('like_proximity_angle_degrees', SL, 'std::cos(s::deg_to_rad(log.col("angle_deg")[i]))', 'std::cos(log.col("angle_deg")[i])', LIKE),
+    ('identify_level_offset_dropped', DK, 'const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;', 'const double level = values[static_cast<std::size_t>(level_)] * mean;', round_two(IDENTIFY, "RoundTwoIdentify")),
+    ('jackknife_sd_divisor', "lib/diagnose/src/engine.cpp", 'std::sqrt((G - 1) / G * ss)', 'std::sqrt(ss / (G - 1))', ([R2], r"^RoundTwoJackknife")),
+    ('ar1_factor_no_sqrt', RP, 'a.factor = std::sqrt(nn / a.n_eff);', 'a.factor = nn / a.n_eff;', round_two(CLUSTER, "RoundTwoAutocorrelation")),
+    ('q_spread_sd_n', RB, 's.spread_sd = std::sqrt(ss / static_cast<double>(x.size() - 1));', 's.spread_sd = std::sqrt(ss / static_cast<double>(x.size()));', round_two(QTEST, "RoundTwoRobotSpread")),
+    ('tobit_loglik_no_log_sigma', RB, 'loglik += -std::log(sigma) - kLogSqrt2Pi - 0.5 * z * z;', 'loglik += -kLogSqrt2Pi - 0.5 * z * z;', round_two(TOBIT, "RoundTwoTobit")),
+    ('cap_bic_margin_sign', FS, 'out.bic_uncapped <= out.bic_capped - kCapBicMargin', 'out.bic_uncapped <= out.bic_capped + kCapBicMargin', round_two(CAP, "RoundTwoFirmwareCap")),
+    ('hint_obstacle_tof_in_mm', "lib/calibrate/src/plausibility.cpp", 'likely_unit(seen ? d / (tof[0] / 1000.0) : d / ceiling_m)', 'likely_unit(seen ? d / tof[0] : d / ceiling_m)', round_two(HINTS, "RoundTwoUnitHints")),
+    ('tof_code_view_range_in_m', DK, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_m[i])', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
+    ('model_file_open_lower_ignored', MF, '(p->open_lower ? x > p->lower : x >= p->lower)', 'x >= p->lower', round_two(CODEGEN, "RoundTwoModelFile")),
 ]
 
 
@@ -175,15 +204,19 @@ def configure():
 
 def build(targets, fast=False):
     """fast: rebuild the libraries, then only the test programs (make's TARGET/fast skips their
-    dependency on the CLI, which the mutants' tests do not run)."""
+    dependency on the CLI, which the mutants' tests do not run, unless their group names it)."""
     if not fast:
         cmd = ["cmake", "--build", BUILD, "-j" + JOBS, "--target"] + sorted(set(targets))
         r = sh(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         return r.returncode == 0, r.stdout[-3000:]
     # Every library a test program links (TARGET/fast relinks the test against the archives as
     # they are: a mutant in lib/logs, lib/calibrate or lib/diagnose must be compiled into them first).
+    # A group that names the CLI (epuck2-fit: a mutant in apps/, tested through the binary) has it
+    # rebuilt here too; the test programs are still built /fast.
+    cli = ["epuck2-fit"] if "epuck2-fit" in targets else []
+    targets = [t for t in targets if t != "epuck2-fit"]
     r = sh(["cmake", "--build", BUILD, "-j" + JOBS, "--target", "epuck2_fit", "epuck2_virtual_robot", "epuck2_logs",
-            "epuck2_calibrate", "epuck2_diagnose", "epuck2_coefficients"],
+            "epuck2_calibrate", "epuck2_diagnose", "epuck2_coefficients"] + cli,
            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if r.returncode != 0:
         return False, r.stdout[-3000:]
