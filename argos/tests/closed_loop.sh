@@ -7,7 +7,8 @@
 # closed_loop_compare.py requires the diagnosis replay's MSE <= 1.5 x the reading's noise variance
 # (the generator's), < 0.5 x the plug-in's, and no worse than the calibration's.
 #   usage: closed_loop.sh KIND CAUSE HIDDEN_LOG EPUCK2_FIT ARGOS_LIBDIR WORK_DIR [SEED]
-# Kinds: drive (the kind whose effects the calibrated implementations apply in ARGoS).
+# Kinds: drive, ground, camera, battery (the kinds whose effects the calibrated implementations
+# apply in ARGoS); proximity and light with a calibration file only (their effects: not yet).
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
@@ -18,7 +19,8 @@ rm -rf "$WORK"; mkdir -p "$WORK"
 run() { echo "+ $*"; "$@"; }
 run "$GEN" "$KIND" "$CAUSE" "$SEED" "$WORK/generated.csv" "$WORK/truth.json"
 # The generator's robot has no e-puck2 firmware cap, and ARGoS has no temperature_c column: the
-# logs go without it (so that no covariate is found that ARGoS would refuse).
+# logs go without it (so that no covariate is found that ARGoS would refuse, and --like, which
+# refuses a column it cannot set, replays them).
 python3 - "$WORK" <<'PY'
 import sys
 work = sys.argv[1]
@@ -37,6 +39,9 @@ PY
 run "$FIT" diagnose "$WORK/first_half.csv" --kind "$KIND" -o "$WORK/diagnosis.json" > "$WORK/diagnosis.txt"
 run "$FIT" "$KIND" "$WORK/first_half.csv" -o "$WORK/calibration.json" > "$WORK/calibration.txt"
 export EPUCK2_ARGOS_FIRMWARE_CAP=false
+# The battery generator discharges by the corrected Cubic (tests/diagnose_generators.hpp): the
+# calibrated battery replays with that model and behaviour; `default` is the plug-in's own Cubic.
+export EPUCK2_BATTERY_MODEL=cubic EPUCK2_BATTERY_BEHAVIOUR=corrected
 run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/diagnosis.json" "$WORK/argos_diagnosis.csv" --like "$WORK/full.csv"
 run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/calibration.json" "$WORK/argos_calibration.csv" --like "$WORK/full.csv"
 run "$ROOT/scripts/argos-record.sh" "$KIND" default "$WORK/argos_default.csv" --like "$WORK/full.csv"

@@ -34,6 +34,9 @@ int main(int argc, char** argv) {
   const std::string log = gen::make_log(kind, std::stoull(argv[3]), h);
   std::ofstream(argv[4]) << log;
   nlohmann::json t = {{"kind", k}, {"cause", h.cause}, {"truth", h.truth}, {"parameters_matter", h.parameters_matter}};
+  // The reading noise's sd where the generator draws it per log (battery), else absent: the
+  // kind's constant noise is the generator's, restated in closed_loop_compare.py.
+  if (h.noise_sd > 0) t["noise_sd"] = h.noise_sd;
   std::ofstream(argv[5]) << t.dump(2) << "\n";
   return 0;
 }
