@@ -29,17 +29,19 @@ done
 run python3 "$HERE/replay_check.py" "$WORK"
 
 fail=0
-refused() {  # refused WHAT EXPECTED_MESSAGE_PART LOG: exit 2, the message, no output left behind
-  local what="$1" expect="$2" log="$3" out="$WORK/refused.csv" rc=0
+refused() {  # refused KIND WHAT EXPECTED_MESSAGE_PART LOG: exit 2, the message, no output left behind
+  local kind="$1" what="$2" expect="$3" log="$4" out="$WORK/refused.csv" rc=0
   rm -f "$out"
-  "$ROOT/scripts/argos-record.sh" ground default "$out" --like "$log" 2> "$WORK/refused.err" || rc=$?
+  "$ROOT/scripts/argos-record.sh" "$kind" default "$out" --like "$log" 2> "$WORK/refused.err" || rc=$?
   if [ "$rc" = 2 ] && grep -qF -- "$expect" "$WORK/refused.err" && [ ! -e "$out" ]; then
     echo "ok   $what: exit 2, $(head -n1 "$WORK/refused.err")"
   else
     echo "FAIL $what: exit $rc, no '$expect' in: $(cat "$WORK/refused.err"), output left: $([ -e "$out" ] && echo yes || echo no)"; fail=1
   fi
 }
-refused "a column ARGoS cannot set" "ground.generated.csv:2: column 'temperature_c': ARGoS has no way to set it" "$WORK/ground.generated.csv"
+refused ground "a column ARGoS cannot set" "ground.generated.csv:2: column 'temperature_c': ARGoS has no way to set it" "$WORK/ground.generated.csv"
 printf '# robot: r\ngrey,sensor,value\n0.5,1,500\n0.5,x,500\n' > "$WORK/bad.csv"
-refused "a bad cell" "bad.csv:4:" "$WORK/bad.csv"
+refused ground "a bad cell" "bad.csv:4:" "$WORK/bad.csv"
+printf '# robot: r\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n0,5,5,0,0,300\n' > "$WORK/no_obstacle.csv"
+refused drive "a drive log without its obstacle distance" "no_obstacle.csv:2:1: missing required metadata line '# obstacle_distance_m: D'" "$WORK/no_obstacle.csv"
 exit $fail

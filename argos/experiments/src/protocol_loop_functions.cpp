@@ -9,7 +9,10 @@
 // every file with a `# robot: ID` line. The loop functions place the robots (and lights), command
 // the wheels through the recorder controller and read the sensors it holds: which sensor
 // implementation produced the readings (the plug-in's or the calibrated one) is the .argos
-// file's business.
+// file's business. With like="LOG" like_out="OUT" (scripts/argos-record.sh --like) any kind
+// replays a measured log instead: LOG read through lib/logs (replay_log.hpp), each row's
+// conditions set up in ARGoS, ARGoS's readings written as one log in LOG's format, row for row,
+// renamed to OUT once whole.
 //
 //   <loop_functions library="libepuck2_argos_protocols" label="epuck2_protocol"
 //                   kind="proximity" output_dir="." robot="argos-epuck2" samples="20"/>
@@ -89,7 +92,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     /* like="LOG": replay a measured log row by row into like_out (scripts/argos-record.sh --like) */
     GetNodeAttributeOrDefault(t_tree, "like", m_strLike, m_strLike);
     GetNodeAttributeOrDefault(t_tree, "like_out", m_strLikeOut, m_strLikeOut);
-    if (!m_strLike.empty() && m_strKind != "drive") {
+    if (!m_strLike.empty()) {
       InitReplay();
       return;
     }
@@ -124,7 +127,6 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       std::string str = "2.5,5,7.5,10,12.5,15";
       GetNodeAttributeOrDefault(t_tree, "speeds", str, str);
       GetNodeAttributeOrDefault(t_tree, "obstacle_distance", m_fObstacle, m_fObstacle);
-      if (!m_strLike.empty()) ReadDriveLog();
       GetNodeAttributeOrDefault(t_tree, "travel", m_fTravel, m_fTravel);
       for (Real s : ParseList(str)) {
         m_vecSteps.push_back(s);
@@ -180,17 +182,6 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     if (m_strKind == "light") PlaceLight();
     if (m_strKind == "camera") PlaceLed();
     if (m_strKind == "drive") {
-      if (!m_strLike.empty()) {
-        if (!m_bRunStarted) {
-          auto& s = m_vecRobots[0]->GetComponent<CEPuck2TOFEquippedEntity>("tof_sensor").GetSensor(0);
-          Place(CurrentWall(), s.Offset, s.Direction, m_fObstacle);
-          Open(m_strLikeOut + ".part", "time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm",
-               {"obstacle_distance_m: " + Num(m_fObstacle, 10), "replayed_from: " + m_strLike,
-                "protocol: ARGoS, the commands of the log above row by row, readings at the tick nearest each row's time"});
-          m_bRunStarted = true;
-        }
-        return;
-      }
       StartRun();
     }
   }
@@ -230,8 +221,6 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
           }
         }
       }
-    } else if (m_strKind == "drive" && !m_strLike.empty()) {
-      LikeStep(c);
     } else if (m_strKind == "drive") {
       DriveStep(c, t);
     } else if (m_strKind == "battery") {
@@ -415,89 +404,8 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     }
   }
 
-  /// A measured drive log to replay: its obstacle distance (metadata) and each row's time and
-  /// commands. Errors name the file and line.
-  void ReadDriveLog() {
-    std::ifstream in(m_strLike);
-    if (!in) THROW_ARGOSEXCEPTION("epuck2_protocol: cannot read the log \"" << m_strLike << "\"");
-    std::string line;
-    int nLine = 0, nTime = -1, nLeft = -1, nRight = -1;
-    bool bObstacle = false;
-    while (std::getline(in, line)) {
-      ++nLine;
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (line.empty()) continue;
-      if (line[0] == '#') {
-        const auto p = line.find("obstacle_distance_m:");
-        if (p != std::string::npos) {
-          try {
-            m_fObstacle = std::stod(line.substr(p + 20));
-            bObstacle = true;
-          } catch (const std::exception&) {
-            THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": expected a number after obstacle_distance_m:");
-          }
-        }
-        continue;
-      }
-      std::vector<std::string> vecCells;
-      std::istringstream is(line);
-      std::string cell;
-      while (std::getline(is, cell, ',')) vecCells.push_back(cell);
-      if (nTime < 0) {
-        for (int i = 0; i < static_cast<int>(vecCells.size()); ++i) {
-          if (vecCells[i] == "time_s") nTime = i;
-          if (vecCells[i] == "left_speed_cm_s") nLeft = i;
-          if (vecCells[i] == "right_speed_cm_s") nRight = i;
-        }
-        if (nTime < 0 || nLeft < 0 || nRight < 0)
-          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine
-                                         << ":1: expected a drive log header with time_s, left_speed_cm_s and right_speed_cm_s");
-        continue;
-      }
-      SLikeRow r;
-      const int nCols[3] = {nTime, nLeft, nRight};
-      Real* pfOut[3] = {&r.Time, &r.Left, &r.Right};
-      for (int k = 0; k < 3; ++k) {
-        if (nCols[k] >= static_cast<int>(vecCells.size()))
-          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": expected at least " << nCols[k] + 1 << " cells");
-        try {
-          *pfOut[k] = std::stod(vecCells[nCols[k]]);
-        } catch (const std::exception&) {
-          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ":" << nCols[k] + 1 << ": expected a number, found \""
-                                         << vecCells[nCols[k]] << "\"");
-        }
-      }
-      if (!m_vecLike.empty() && r.Time < m_vecLike.back().Time)
-        THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": time_s goes backwards");
-      m_vecLike.push_back(r);
-    }
-    if (!bObstacle) THROW_ARGOSEXCEPTION(m_strLike << ": expected a '# obstacle_distance_m: D' line before the header");
-    if (m_vecLike.empty()) THROW_ARGOSEXCEPTION(m_strLike << ": no rows to replay");
-    if (m_strLikeOut.empty()) THROW_ARGOSEXCEPTION("epuck2_protocol: like= needs like_out= (the log to write)");
-  }
-
-  /// Replay: at the first PostStep the robot stands where the log's run starts (row 0, time 0);
-  /// each later row is read at the tick nearest its time and its commands then hold.
-  void LikeStep(CEPuck2RecorderController& c) {
-    const UInt64 unClock = GetSpace().GetSimulationClock();
-    if (m_unLikeRow == 0) {
-      m_nStartLeft = c.LeftSteps();
-      m_nStartRight = c.RightSteps();
-      m_unLikeStart = unClock;
-    }
-    const Real fNow = m_vecLike.front().Time + static_cast<Real>(unClock - m_unLikeStart) * m_fTick;
-    while (m_unLikeRow < m_vecLike.size() && m_vecLike[m_unLikeRow].Time <= fNow + m_fTick / 2) {
-      const SLikeRow& r = m_vecLike[m_unLikeRow];
-      m_cOut << Num(r.Time, 10) << ',' << Num(r.Left, 10) << ',' << Num(r.Right, 10) << ',' << Wrap16(c.LeftSteps(), m_nStartLeft)
-             << ',' << Wrap16(c.RightSteps(), m_nStartRight) << ',' << c.Tof() << '\n';
-      c.SetWheels(r.Left, r.Right);
-      ++m_unLikeRow;
-    }
-    if (m_unLikeRow == m_vecLike.size()) FinishReplay();
-  }
-
-  /// like= for proximity, light, ground, camera and battery: the log read through lib/logs
-  /// (replay_log.hpp), its rows set up one by one. Errors name the file and line.
+  /// like=: the log read through lib/logs (replay_log.hpp), its rows set up one by one. Errors
+  /// name the file and line.
   void InitReplay() {
     if (m_strLikeOut.empty()) THROW_ARGOSEXCEPTION("epuck2_protocol: like= needs like_out= (the log to write)");
     try {
@@ -512,6 +420,10 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     if (m_strKind == "ground") strProtocol += "the whole floor at grey (8-bit colour: level round(255 grey)/255)";
     if (m_strKind == "light") strProtocol += "one light on the sensor's axis at distance_m, of the row's intensity";
     if (m_strKind == "camera") strProtocol += "one LED at the row's position in the camera's frame, a settling tick, one frame";
+    if (m_strKind == "drive") {
+      strProtocol = "ARGoS, the commands of the log above row by row, readings at the tick nearest each row's time";
+      m_fObstacle = m_sReplay.obstacle_distance_m;
+    }
     if (m_strKind == "battery") strProtocol += "spinning in place at the row's speed, the charge read at the tick nearest each row's time";
     m_cOut.open(m_strLikeOut + ".part");
     if (!m_cOut) THROW_ARGOSEXCEPTION("epuck2_protocol: cannot write \"" << m_strLikeOut << ".part\"");
@@ -530,6 +442,12 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
 
   void ReplayPreStep() {
     if (m_bDone || m_unLikeRow >= m_sReplay.rows()) return;
+    if (m_strKind == "drive" && !m_bRunStarted) {
+      /* The robot stands where the log's run starts: its ToF obstacle_distance_m from the obstacle */
+      auto& s = m_vecRobots[0]->GetComponent<CEPuck2TOFEquippedEntity>("tof_sensor").GetSensor(0);
+      Place(CurrentWall(), s.Offset, s.Direction, m_fObstacle);
+      m_bRunStarted = true;
+    }
     const UInt32 unSensor = static_cast<UInt32>(ReplayCell("sensor"));
     if (m_strKind == "proximity") {
       auto& s = m_vecRobots[0]->GetComponent<CProximitySensorEquippedEntity>("proximity_sensors").GetSensor(unSensor);
@@ -571,17 +489,30 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
                                        << ReplayCell("forward_m") << ", " << ReplayCell("lateral_m") << ", " << ReplayCell("vertical_m")
                                        << " (expected one: the LED outside its image?)");
       fnWrite({{"px", std::to_string(vecBlobs[0].first)}, {"py", std::to_string(vecBlobs[0].second)}});
-    } else if (m_strKind == "battery") {
-      /* As the drive replay: the first PostStep is the log's first time; each row is read at the
-         tick nearest its time, and its speed then holds until the next row */
+    } else if (m_strKind == "drive" || m_strKind == "battery") {
+      /* The first PostStep is the log's first time (where the encoders count from); each row is
+         read at the tick nearest its time, and its commands (drive) or speed (battery) then hold
+         until the next row */
       const UInt64 unClock = GetSpace().GetSimulationClock();
-      if (m_unLikeRow == 0) m_unLikeStart = unClock;
+      if (m_unLikeRow == 0) {
+        m_unLikeStart = unClock;
+        m_nStartLeft = c.LeftSteps();
+        m_nStartRight = c.RightSteps();
+      }
       const auto& vecTime = m_sReplay.col("time_s");
       const Real fNow = vecTime.front() + static_cast<Real>(unClock - m_unLikeStart) * m_fTick;
       while (m_unLikeRow < unRows && vecTime[m_unLikeRow] <= fNow + m_fTick / 2) {
-        const Real v = std::abs(ReplayCell("speed_cm_s"));
-        fnWrite({{"charge", Num(Controller(0).Charge(), m_nChargeDigits)}});
-        Controller(0).SetWheels(-v, v);
+        if (m_strKind == "drive") {
+          const Real fLeft = ReplayCell("left_speed_cm_s"), fRight = ReplayCell("right_speed_cm_s");
+          fnWrite({{"left_steps", std::to_string(Wrap16(c.LeftSteps(), m_nStartLeft))},
+                   {"right_steps", std::to_string(Wrap16(c.RightSteps(), m_nStartRight))},
+                   {"tof_mm", std::to_string(c.Tof())}});
+          c.SetWheels(fLeft, fRight);
+        } else {
+          const Real v = std::abs(ReplayCell("speed_cm_s"));
+          fnWrite({{"charge", Num(c.Charge(), m_nChargeDigits)}});
+          c.SetWheels(-v, v);
+        }
       }
     }
     if (m_unLikeRow == unRows) FinishReplay();
@@ -650,12 +581,8 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   CLightEntity* m_pcLight = nullptr;
   Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0;
   SInt32 m_nStartLeft = 0, m_nStartRight = 0;
-  /* like= (drive): the measured log replayed */
-  struct SLikeRow {
-    Real Time = 0, Left = 0, Right = 0;
-  };
+  /* like=: the measured log replayed */
   std::string m_strLike, m_strLikeOut;
-  std::vector<SLikeRow> m_vecLike;
   std::size_t m_unLikeRow = 0;
   UInt64 m_unLikeStart = 0;
   int m_nChargeDigits = 6;

@@ -24,9 +24,9 @@ KindColumns columns_of(el::Kind kind) {
     case el::Kind::ground: return {{"grey", "sensor"}, {"value"}, {}};
     case el::Kind::camera: return {{"forward_m", "lateral_m", "vertical_m"}, {"px", "py"}, {}};
     case el::Kind::battery: return {{"speed_cm_s"}, {"charge"}, {"voltage_v"}};
-    case el::Kind::drive: break;
+    case el::Kind::drive: return {{"left_speed_cm_s", "right_speed_cm_s"}, {"left_steps", "right_steps", "tof_mm"}, {}};
   }
-  throw std::invalid_argument("argos replay: drive logs are replayed by the drive protocol itself");
+  throw std::invalid_argument("argos replay: unknown kind");
 }
 
 bool contains(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }
@@ -50,6 +50,7 @@ ReplayLog read_replay_log(const std::string& path, const std::string& kind_name)
   r.numeric = std::move(log.numeric);
   r.text = std::move(log.text);
   r.line_of_row = std::move(log.line_of_row);
+  if (*kind == el::Kind::drive) r.obstacle_distance_m = log.metadata_number("obstacle_distance_m");
   for (const std::string& c : log.columns) {
     const bool text_robot = c == "robot" && r.text.count(c);
     if (contains(k.conditions, c) || contains(k.readings, c) || c == "time_s" || text_robot) {

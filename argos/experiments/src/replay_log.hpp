@@ -19,16 +19,18 @@ struct ReplayLog {
   std::map<std::string, std::vector<std::string>> text;
   std::vector<int> line_of_row;
   std::size_t rows() const { return line_of_row.size(); }
+  double obstacle_distance_m = 0;  ///< a drive log's metadata (required by lib/logs)
   /// A numeric column (std::out_of_range when the log has none).
   const std::vector<double>& col(const std::string& c) const { return numeric.at(c); }
   /// The replay's header: the log's columns in their order, less those ARGoS does not produce
   /// (a battery log's voltage_v: ARGoS's battery has a charge, no voltage).
   std::vector<std::string> columns;
-  /// The columns ARGoS's readings fill (value; px, py; charge); the others are copied.
+  /// The columns ARGoS's readings fill (value; px, py; left_steps, right_steps, tof_mm; charge);
+  /// the others are copied.
   std::vector<std::string> readings;
 };
 
-/// Reads LOG as a log of `kind` (proximity, light, ground, camera or battery) and checks that
+/// Reads LOG as a log of `kind` (proximity, light, ground, camera, drive or battery) and checks that
 /// ARGoS can set up every row: a column that is neither a condition ARGoS sets, a reading it
 /// writes, `time_s` nor a `robot` text column is refused (epuck2::logs::InputError at the header,
 /// naming the column). Errors name the file, the line and what was expected.
