@@ -115,6 +115,7 @@ if [ -n "$LIKE" ]; then
   [ -e "$OUT/replay.csv" ] || { echo "argos-record: the replay of $LIKE was not completed" >&2; exit 1; }
   cp "$OUT/replay.csv" "$LIKE_OUT.tmp.$$" && mv -f "$LIKE_OUT.tmp.$$" "$LIKE_OUT"
   echo "argos-record: $LIKE replayed ($([ "$COEFF" = default ] && echo "plug-in defaults" || echo "$COEFF")) -> $LIKE_OUT"
+  grep -h '\[epuck2_protocol\] replay:' "$OUT/.$KIND.argos.log" | sed 's/^.*\[epuck2_protocol\] replay: /argos-record: /' || true
   exit 0
 fi
 echo "argos-record: $KIND ($([ "$COEFF" = default ] && echo "plug-in defaults" || echo "$COEFF")) -> $OUT"

@@ -16,6 +16,7 @@
 //
 //   <loop_functions library="libepuck2_argos_protocols" label="epuck2_protocol"
 //                   kind="proximity" output_dir="." robot="argos-epuck2" samples="20"/>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -467,6 +468,12 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     const UInt32 unSensor = static_cast<UInt32>(ReplayCell("sensor"));
     auto fnWrite = [&](std::map<std::string, std::string> m) {
       m_cOut << epuck2::argos_replay::replay_row(m_sReplay, m_unLikeRow, m);
+      /* ARGoS against the log, per reading column (a column the log lacks is not compared) */
+      for (const auto& [strColumn, strValue] : m) {
+        const auto it = m_sReplay.numeric.find(strColumn);
+        if (it == m_sReplay.numeric.end()) continue;
+        m_mapReplayDiff[strColumn].push_back(std::stod(strValue) - it->second[m_unLikeRow]);
+      }
       ++m_unLikeRow;
     };
     if (m_strKind == "proximity") {
@@ -524,6 +531,22 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     if (!m_cOut || std::rename((m_strLikeOut + ".part").c_str(), m_strLikeOut.c_str()) != 0)
       THROW_ARGOSEXCEPTION("epuck2_protocol: cannot write \"" << m_strLikeOut << "\"");
     m_bDone = true;
+    /* One line scripts/argos-record.sh prints: how far ARGoS's readings are from the log's */
+    LOG << "[epuck2_protocol] replay: " << m_sReplay.rows() << " rows, ARGoS - log";
+    for (auto& [strColumn, vecDiff] : m_mapReplayDiff) {
+      Real fSum = 0, fSquares = 0;
+      for (Real& f : vecDiff) {
+        fSum += f;
+        fSquares += f * f;
+        f = std::abs(f);
+      }
+      std::sort(vecDiff.begin(), vecDiff.end());  // now |differences|: the median is robust to a few wild log rows
+      const std::size_t n = vecDiff.size();
+      const Real fMedian = n % 2 ? vecDiff[n / 2] : (vecDiff[n / 2 - 1] + vecDiff[n / 2]) / 2;
+      LOG << "; " << strColumn << ": MSE " << Num(fSquares / n, 6) << ", mean " << Num(fSum / n, 4) << ", median |.| "
+          << Num(fMedian, 4);
+    }
+    LOG << std::endl;
   }
 
   void BatteryStep(Real t) {
@@ -589,6 +612,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   /* like= for the other kinds: the log, and the grey of the floor under the current row */
   epuck2::argos_replay::ReplayLog m_sReplay;
   bool m_bReplay = false;
+  std::map<std::string, std::vector<Real>> m_mapReplayDiff;  ///< per reading column: ARGoS - log, row by row
   Real m_fReplayGrey = 1.0;
   std::vector<SBatteryRun> m_vecBattery;
 };
