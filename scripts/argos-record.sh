@@ -13,7 +13,8 @@
 #                        camera: an LED at forward_m, lateral_m, vertical_m; battery: spinning in
 #                        place at speed_cm_s, the charge read at each row's time (a voltage_v
 #                        column is left out: ARGoS has no voltage). A column ARGoS cannot set
-#                        (e.g. temperature_c) stops the replay naming it (exit 2);
+#                        (e.g. temperature_c) stops the replay naming it (exit 2). Prints, per
+#                        reading column, ARGoS against the log: MSE, mean and median |difference|;
 #     KIND               proximity | ground | light | camera | drive | battery
 #     COEFFICIENT_FILE   a coefficient file written by epuck2-fit (proximity.json, ground.json,
 #                        light.json, camera.json, drive.json for drive, battery.json): the `calibrated`
