@@ -20,10 +20,12 @@ run() { echo "+ $*"; "$@"; }
 run "$GEN" "$KIND" "$CAUSE" "$SEED" "$WORK/generated.csv" "$WORK/truth.json"
 # The generator's robot has no e-puck2 firmware cap, and ARGoS has no temperature_c column: the
 # logs go without it (so that no covariate is found that ARGoS would refuse, and --like, which
-# refuses a column it cannot set, replays them).
-python3 - "$WORK" <<'PY'
+# refuses a column it cannot set, replays them). The plug-in's light sensors see a light up to
+# 0.5 m, compared in floating point: a light log's rows at 0.5 m (the generator's farthest) read
+# dark or not by rounding, a condition ARGoS does not reproduce; they are left out.
+python3 - "$WORK" "$KIND" <<'PY'
 import sys
-work = sys.argv[1]
+work, kind = sys.argv[1], sys.argv[2]
 lines = open(f"{work}/generated.csv").read().splitlines()
 meta = [l for l in lines if l.startswith("#")]
 data = [l for l in lines if not l.startswith("#")]
@@ -31,6 +33,9 @@ head = data[0].split(",")
 keep = [i for i, c in enumerate(head) if c != "temperature_c"]
 cut = lambda l: ",".join(l.split(",")[i] for i in keep)
 rows = data[1:]
+if kind == "light":
+    d = head.index("distance_m")
+    rows = [r for r in rows if float(r.split(",")[d]) < 0.5 - 1e-9]
 half = len(rows) // 2
 open(f"{work}/full.csv", "w").write("\n".join(meta + [cut(data[0])] + [cut(r) for r in rows]) + "\n")
 open(f"{work}/first_half.csv", "w").write("\n".join(meta + [cut(data[0])] + [cut(r) for r in rows[:half]]) + "\n")
