@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""closed_loop.sh's comparison, row by row on the held-out half of a generated log.
+"""closed_loop.sh's comparison, row by row on the held-out half of a generated log (the rows
+listed in held_out_rows).
 
 The reading noise is the generator's (tests/diagnose_generators.hpp), restated here per kind:
   drive      the ToF's sd is 2 mm + 3 mm per metre of range (taken from the log's own reading),
@@ -33,10 +34,10 @@ def rows(path):
 
 
 log = rows(f"{work}/full.csv")
-start = int(open(f"{work}/held_out_from").read())
+held_rows = [int(i) for i in open(f"{work}/held_out_rows").read().split()]
 truth = json.load(open(f"{work}/truth.json"))
 kind = truth["kind"]
-held = log[start:]
+held = [log[i] for i in held_rows]
 channels = {"drive": ["tof_mm"], "ground": ["value"], "light": ["value"], "proximity": ["value"], "camera": ["px", "py"],
             "battery": ["charge"]}[kind]
 unit = {"drive": "mm^2", "camera": "px^2", "battery": "charge^2"}.get(kind, "counts^2")
@@ -49,7 +50,9 @@ else:
 
 
 def mse(name, chans):
-    a = rows(f"{work}/argos_{name}.csv")[start:]
+    replay = rows(f"{work}/argos_{name}.csv")
+    assert len(replay) == len(log), f"{name}: {len(replay)} rows, the log has {len(log)}"
+    a = [replay[i] for i in held_rows]
     assert len(a) == len(held), f"{name}: {len(a)} held-out rows, the log has {len(held)}"
     return sum((x[c] - y[c]) ** 2 for x, y in zip(a, held) for c in chans) / (len(held) * len(chans))
 
