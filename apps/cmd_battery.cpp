@@ -29,6 +29,7 @@ struct BatteryOptions {
   bool skip_bad_rows = false;
   std::string charge_map;
   std::string plot_charge_map;
+  bool accept_misfit = false;
 };
 
 void print_charge_map(const BatteryInput& in) {
@@ -186,9 +187,21 @@ int run_battery(const BatteryOptions& o) {
     if (!s.piecewise.usable) unusable += std::string(" approximated (piecewise) at ") + speed + " cm/s: " + s.piecewise.message + ";";
   }
   if (!unusable.empty()) throw NoUsableFit(unusable);
+  // A cubic that misses its replicates by many sd is not a calibration (as the sensor fits).
+  std::vector<std::string> misfits;
+  for (const auto& s : f.speeds) {
+    const std::string verdict = fit::misfit_verdict(s.cubic_lack_of_fit, s.cubic.r2);
+    if (verdict.empty()) continue;
+    char speed[32];
+    std::snprintf(speed, sizeof speed, "%g", s.speed_cm_s);
+    misfits.push_back(std::string("cubic at ") + speed + " cm/s: " + verdict);
+  }
+  if (!misfits.empty() && !o.accept_misfit)
+    throw NoUsableFit("battery " + misfits.front() + ". Nothing was written; --accept-misfit writes it anyway.");
   const double reject_sd = o.least_squares ? 0.0 : calibrate::kBatteryRejectSd;
   nlohmann::json j = calibrate::battery_fit_to_json(f, o.robust, reject_sd);
   for (const auto& w : in.warnings) j["warnings"].push_back(w);
+  for (const auto& m : misfits) j["warnings"].push_back(m + " (accepted by --accept-misfit).");
   if (in.map) {
     j["charge_map"] = calibrate::charge_map_to_json(*in.map);
     if (!in.map_from_file.empty()) j["charge_map"]["from_file"] = in.map_from_file;
@@ -205,6 +218,7 @@ int run_battery(const BatteryOptions& o) {
   report_conversion("battery", in);
   for (const auto& w : in.warnings) std::cerr << "battery: warning: " << w << '\n';
   for (const auto& w : f.warnings) std::cerr << "battery: warning: " << w << '\n';
+  for (const auto& m : misfits) std::cerr << "battery: warning: " << m << " (accepted by --accept-misfit).\n";
   if (!o.output.empty()) std::cerr << "battery: wrote " << o.output << '\n';
   for (const std::string& path : {o.plot, o.plot_lifetime, o.plot_charge_map})
     if (!path.empty()) std::cerr << "battery: drew " << path << '\n';
@@ -234,6 +248,9 @@ void setup_battery(CLI::App& app, Action& action) {
       ->check(figure_file())
       ->check(output_file());
   sub->add_flag("--robust", o->robust, "Huber loss instead of least squares");
+  sub->add_flag("--accept-misfit", o->accept_misfit,
+                "Write the models even when a speed's cubic misses its replicates (the runs' readings at the same time) "
+                "by more than 10 of their sd (a warning, not exit 1)");
   sub->add_flag("--least-squares", o->least_squares,
                 "Keep every reading (by default readings more than 6 robust sd from a speed's cubic are left out and listed)");
   // Charge runs from 0 to 1: a threshold above 1 is least squares, and 0 is no loss at all (the

@@ -25,7 +25,12 @@ void print_report(const calibrate::ProximityFit& f) {
                 : p.max_censoring == fit::Censoring::at_or_below ? "-"
                                                                  : " ",
                 p.used ? "yes" : ("no: " + p.excluded_why).c_str());
-  std::printf("(+: on the 4095 rail, at least this; -: on the 0 rail, at most this)\n");
+  std::printf("(+: on the 4095 rail, at least this; -: on the 0 rail, at most this; a distance not used: its readings as measured)\n");
+  if (f.range.fitted && !f.range.lower_bound)
+    std::printf("Range (where the readings stop being detected): %.1f ± %.1f mm, %s; Eq. 1 keeps its 50 mm domain\n",
+                f.range.value_m * 1000, f.range.std_error_m * 1000, f.range.how.c_str());
+  else if (f.range.fitted)
+    std::printf("Range (where the readings stop being detected): %s; Eq. 1 keeps its 50 mm domain\n", f.range.how.c_str());
   std::size_t shown = 0;
   for (const auto& l : f.left_out)
     if (l.why.rfind("wild", 0) == 0 && shown++ < 5) std::printf("left out: %s: %s\n", l.where.c_str(), l.why.c_str());
@@ -70,11 +75,23 @@ nlohmann::json proximity_json(const std::vector<logs::Log>& logs, const app::sen
   auto rail = [](fit::Censoring c) {
     return c == fit::Censoring::at_or_above ? "at_or_above" : c == fit::Censoring::at_or_below ? "at_or_below" : "none";
   };
-  for (const auto& p : f.points)
+  for (const auto& p : f.points) {
     points.push_back({{"distance_m", p.distance_m}, {"max", p.max}, {"mean", p.mean}, {"min", p.min},
                       {"readings", p.readings}, {"kept", p.kept}, {"used", p.used}, {"max_censoring", rail(p.max_censoring)},
                       {"mean_censoring", rail(p.mean_censoring)}});
+    if (!p.used) points.back()["left_out_why"] = p.excluded_why;  // its values are the readings as measured
+  }
   j["points"] = points;
+  if (f.range.fitted) {
+    nlohmann::json r = {{"value_m", f.range.value_m}, {"lower_bound", f.range.lower_bound}, {"detected_to_m", f.range.detected_to_m},
+                        {"how", f.range.how}};
+    // A lower bound has no bracket's far end and no standard error: absent, not NaN.
+    if (!f.range.lower_bound) {
+      r["std_error_m"] = f.range.std_error_m;
+      r["undetected_from_m"] = f.range.undetected_from_m;
+    }
+    j["range_fit"] = r;
+  }
   app::sensors::add_left_out(j, f.left_out);
   app::sensors::add_noise(j, {f.noise});
   app::sensors::add_warnings(j, f.warnings);

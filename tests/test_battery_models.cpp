@@ -1,7 +1,7 @@
 // The battery models: plug-in compatible arithmetic against the plug-in's observed values
 // (as observed when the plug-in runs in ARGoS 3),
 // the quirks one by one, and the corrected behaviour's fixes.
-#include <ceres/jet.h>
+#include "epuck2/fit/jet.hpp"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -134,12 +134,12 @@ TEST(BatteryCorrected, RobustRootNeverNaN) {
   }
 }
 
-// One formula for double, float and ceres::Jet; autodiff against numeric differentiation.
+// One formula for double, float and fit::Jet; autodiff against numeric differentiation.
 TEST(BatteryFormulas, CubicAndPolylineForDoubleFloatAndJet) {
   const double pd[4] = {0.99, -9e-5, 8e-9, -3e-13};
   const float pf[4] = {0.99f, -9e-5f, 8e-9f, -3e-13f};
   EXPECT_NEAR(mb::cubic_charge(pd, 1000.0), static_cast<double>(mb::cubic_charge(pf, 1000.0)), 1e-6);
-  using Jet = ceres::Jet<double, 4>;
+  using Jet = epuck2::fit::Jet<4>;
   Jet pj[4];
   for (int i = 0; i < 4; ++i) pj[i] = Jet(pd[i], i);
   const double t = 1234.5;
@@ -149,7 +149,7 @@ TEST(BatteryFormulas, CubicAndPolylineForDoubleFloatAndJet) {
 
   // Polyline: derivative w.r.t. a knot position against central differences, at a point inside
   // the second segment and at t = 0 (an awkward point: the first knot).
-  using Jet2 = ceres::Jet<double, 2>;
+  using Jet2 = epuck2::fit::Jet<2>;
   for (double tt : {0.0, 3000.0, 9000.0}) {
     const double xs[4] = {0.0, 2000.0, 7000.0, 10000.0}, ys[4] = {1.0, 0.7, 0.45, 0.15};
     Jet2 xj[4] = {Jet2(xs[0]), Jet2(xs[1], 0), Jet2(xs[2], 1), Jet2(xs[3])};

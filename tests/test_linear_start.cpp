@@ -286,3 +286,59 @@ TEST(LinearStart, IllConditionedDesignTakesTheQrPathAndStillReachesTheMinimum) {
   const ef::FitResult g = ef::fit_curve(LinearCubic{}, shifted.u, shifted.y, ef::free_parameters(kNames, {0.0, 0.0, 0.0, 0.0}), generic);
   EXPECT_GT(g.iterations, r.iterations);
 }
+
+namespace {
+// a exp(-b u) + c: nonlinear, so fit_curve iterates, and on its default path (one residual block)
+// reuses the Jacobian of the solver's last evaluation for the covariance instead of evaluating
+// it again.
+struct Decay {
+  static constexpr int kParameters = 3;
+  template <typename T>
+  T operator()(const T* p, double u) const {
+    using std::exp;
+    return p[0] * exp(-p[1] * u) + p[2];
+  }
+};
+}  // namespace
+
+// fit_curve's second fast path (the Jacobian recorded during the solve and reused) against the
+// plain path (one block per observation: nothing recorded, the Jacobian evaluated afresh) and
+// against the covariance computed here from the analytic derivatives in long double.
+TEST(JacobianReuse, GivesTheCovarianceOfAFreshJacobianAndThePlainPathsFit) {
+  for (std::uint64_t seed : {4u, 5u, 6u}) {
+    std::mt19937_64 rng(seed);
+    std::vector<double> u, y;
+    for (int i = 0; i < 300; ++i) {
+      u.push_back(3.0 * i / 299.0);
+      y.push_back(2.0 * std::exp(-1.3 * u.back()) + 0.5 + 0.02 * gaussian(rng));
+    }
+    const std::vector<std::string> names{"a", "b", "c"};
+    const ef::FitResult fast = ef::fit_curve(Decay{}, u, y, ef::free_parameters(names, {1.0, 1.0, 0.0}));
+    ASSERT_TRUE(fast.usable) << fast.message;
+    ef::FitOptions plain;
+    plain.single_residual_block = false;
+    const ef::FitResult slow = ef::fit_curve(Decay{}, u, y, ef::free_parameters(names, {1.0, 1.0, 0.0}), plain);
+    ASSERT_TRUE(slow.usable) << slow.message;
+
+    // Independent covariance at the fast path's solution: J_i = (e, -a u e, 1), e = exp(-b u).
+    const long double a = fast.parameters[0].value, b = fast.parameters[1].value, c = fast.parameters[2].value;
+    Eigen::Matrix<long double, 3, 3> normal = Eigen::Matrix<long double, 3, 3>::Zero();
+    long double rss = 0;
+    for (std::size_t i = 0; i < u.size(); ++i) {
+      const long double e = std::exp(-b * u[i]);
+      const Eigen::Matrix<long double, 3, 1> row(e, -a * u[i] * e, 1.0L);
+      normal += row * row.transpose();
+      const long double r = y[i] - (a * e + c);
+      rss += r * r;
+    }
+    const Eigen::Matrix<long double, 3, 3> covariance = normal.inverse() * (rss / (u.size() - 3));
+    for (int j = 0; j < 3; ++j) {
+      const double se = static_cast<double>(std::sqrt(covariance(j, j)));
+      EXPECT_GE(agree(fast.parameters[static_cast<std::size_t>(j)].std_error, se), 9.0) << "seed " << seed << " " << names[static_cast<std::size_t>(j)];
+      EXPECT_GE(agree(slow.parameters[static_cast<std::size_t>(j)].value, fast.parameters[static_cast<std::size_t>(j)].value), 8.0);
+      EXPECT_GE(agree(slow.parameters[static_cast<std::size_t>(j)].std_error, fast.parameters[static_cast<std::size_t>(j)].std_error), 7.0);
+    }
+    EXPECT_GE(agree(fast.rss, static_cast<double>(rss)), 9.0);
+    EXPECT_GE(agree(slow.rss, fast.rss), 10.0);
+  }
+}

@@ -1,10 +1,10 @@
 // Every formula of lib/models that is templated on the scalar, and every effect of the diagnosis
-// catalogue that lib/models holds, evaluated in double, float and ceres::Jet (the issue: "each
+// catalogue that lib/models holds, evaluated in double, float and fit::Jet (the issue: "each
 // formula is tested in double, float and Jet"). For each formula, at ordinary and awkward points:
 //   1. double against a value computed here from the documented formula (docs/diagnose.md or the
 //      header's comment), written out with std:: functions, never by calling the function itself;
 //   2. float against double, to a float tolerance (and that the template instantiates for float);
-//   3. ceres::Jet: the value part equal to double's (bit for bit, except where the Jet divides: see
+//   3. fit::Jet: the value part equal to double's (bit for bit, except where the Jet divides: see
 //      Check::divides), and every derivative against central differences of the double function
 //      with a step chosen per parameter, to 1e-6 relative;
 //   4. the neutral (default-constructed) effect struct gives the base reading exactly.
@@ -49,7 +49,7 @@
 // source, not on the scalar; tested in test_sensor_models.cpp).
 // N*: with tau = 0 lagged_body_travel_m gives the wheels' travel through the speeds
 // (delta / dt) * dt, which equals the travel to within an ulp per interval, not bit for bit.
-#include <ceres/jet.h>
+#include "epuck2/fit/jet.hpp"
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -133,7 +133,7 @@ void check(const std::string& where, const F& f, const std::array<double, N>& p,
   for (std::size_t m = 0; m < M; ++m)
     EXPECT_NEAR(static_cast<double>(vf[m]), vd[m], c.float_rel * c.mag(vd[m])) << "float against double, output " << m;
 
-  using J = ceres::Jet<double, static_cast<int>(N)>;
+  using J = epuck2::fit::Jet<static_cast<int>(N)>;
   std::array<J, N> pj;
   for (std::size_t k = 0; k < N; ++k) pj[k] = J(p[k], static_cast<int>(k));
   const std::array<J, M> vj = f(pj.data());
@@ -323,7 +323,7 @@ TEST(ModelFormulas, ProximityLongTailWithNoHitIsZeroWithFiniteDerivatives) {
   // No hit (kinds.hpp passes +inf; proximity_response treats inf and NaN as no hit): the tail's
   // limit is 0, and so are its derivatives (d/dlength of A e^{-d/L} = A d/L^2 e^{-d/L} -> 0).
   // A Jet used to compute -inf / length with derivative 0 * inf = NaN and poison every gradient.
-  using J = ceres::Jet<double, 2>;
+  using J = epuck2::fit::Jet<2>;
   for (double d : {kInf, std::numeric_limits<double>::quiet_NaN()}) {
     EXPECT_EQ(s::proximity_tail_raw(s::ProximityLongTail<double>{150.0, 0.02}, d), 0.0);
     EXPECT_EQ(s::proximity_tail_raw(s::ProximityLongTail<float>{150.0f, 0.02f}, d), 0.0f);
@@ -364,7 +364,7 @@ TEST(ModelFormulas, ProximityIncidenceAtAndPastGrazing) {
   // neutral k = 0 must leave the plug-in's model alone (it has no angle): cos^0 = 1. The
   // diagnosis evaluates the base model with the logged angle's cos when a log has angle_deg.
   // Not differentiable in k there (0^k jumps at k = 0): only the values and finite derivatives.
-  using J = ceres::Jet<double, 1>;
+  using J = epuck2::fit::Jet<1>;
   for (double c : {0.0, -1e-12, -0.5, -1.0}) {
     EXPECT_EQ(s::proximity_incidence_factor(s::ProximityIncidence<double>{}, c), 1.0) << c;
     EXPECT_EQ(s::proximity_incidence_factor(s::ProximityIncidence<float>{}, c), 1.0f) << c;
@@ -492,7 +492,7 @@ TEST(ModelFormulas, ProximityNeutralEffectsGiveThePluginReadingExactly) {
   // Default effects: exactly 4095 clamp01(poly) for d <= range, 0 beyond or without a hit (the
   // base, proximity_response), at every angle (k = 0 ignores it), for every sensor, for double,
   // float (its own base: 4095 clamp01(poly) in float) and Jet (value).
-  using J = ceres::Jet<double, 3>;
+  using J = epuck2::fit::Jet<3>;
   const double abc[3] = {kA, kB, kC};
   const float abcf[3] = {static_cast<float>(kA), static_cast<float>(kB), static_cast<float>(kC)};
   const J abcj[3] = {J(kA, 0), J(kB, 1), J(kC, 2)};
@@ -593,7 +593,7 @@ TEST(ModelFormulas, LightNeutralEffectsGiveThePluginReadingExactly) {
   // Default effects: exactly 4095 (1 - (gamma I / d)^2) (light_response, the plug-in's Eq. 2
   // before its clamp) within range with I > 0, 4095 otherwise; double, float (against float's own
   // light_response) and Jet (value; its gamma divides, so against the Jet's light_response).
-  using J = ceres::Jet<double, 1>;
+  using J = epuck2::fit::Jet<1>;
   const s::LightEffects<double> e;
   const s::LightEffects<float> ef;
   const s::LightEffects<J> ej;
@@ -696,7 +696,7 @@ TEST(ModelFormulas, GroundCatalogueEffectsThroughOffsetAndGain) {
 TEST(ModelFormulas, GroundNeutralNonlinearGivesTheLinearReadingExactly) {
   // GroundNonlinear{} (exponent 1): exactly ground_response, offset + gain grey, in double,
   // float and Jet, and through the double wrapper.
-  using J = ceres::Jet<double, 2>;
+  using J = epuck2::fit::Jet<2>;
   for (double grey : {0.0, 1e-9, 1e-6, 0.1, 1.0 / 3.0, 0.5, 0.7, 0.999, 1.0}) {
     for (const s::GroundCoefficients& k : {s::kPluginGround, s::GroundCoefficients{950.0, 61.4}, s::GroundCoefficients{1000.3, -7.25}}) {
       const double base = s::ground_response(k.gain_raw, k.offset_raw, grey);
@@ -771,7 +771,7 @@ TEST(ModelFormulas, CameraProjection) {
 TEST(ModelFormulas, CameraNeutralDistortionGivesThePinholeExactly) {
   // CameraRadialDistortion{} (k1 = 0) and the default argument: exactly the pinhole cx - f x,
   // f = (W/2) / tan(h/2), in double; and the Jet's value equals double's with the default argument.
-  using J = ceres::Jet<double, 3>;
+  using J = epuck2::fit::Jet<3>;
   const s::CameraCoefficients c = s::plugin_camera();
   for (const std::array<double, 3>& point : {std::array<double, 3>{0.4, 0.05, -0.03}, std::array<double, 3>{0.9, -0.1, 0.07},
                                              std::array<double, 3>{0.3, 0.0, 0.0}, std::array<double, 3>{1.0, 1e-7, 2e-7}}) {
@@ -804,7 +804,7 @@ TEST(ModelFormulas, CameraNeutralDistortionGivesThePinholeExactly) {
 TEST(ModelFormulas, ScalarOf) {
   EXPECT_EQ(s::scalar_of(0.25), 0.25);
   EXPECT_EQ(s::scalar_of(0.1f), static_cast<double>(0.1f));
-  EXPECT_EQ(s::scalar_of(ceres::Jet<double, 2>(-3.5, 1)), -3.5);
+  EXPECT_EQ(s::scalar_of(epuck2::fit::Jet<2>(-3.5, 1)), -3.5);
 }
 
 namespace {
@@ -864,7 +864,7 @@ TEST(ModelFormulas, BodyLagPieceNeutralSlipFollowsTheWheelsExactly) {
   // tau = 0 (DriveWheelSlip{}): the body follows its input at once, x += u0 len + len^2 ag / 2,
   // v = u0 + ag len, exactly; its derivative in tau there is one-sided (tau >= 0 is the effect's
   // domain): only values here, and the Jet's value part.
-  using J = ceres::Jet<double, 1>;
+  using J = epuck2::fit::Jet<1>;
   for (const std::array<double, 5>& q : {std::array<double, 5>{0.05, 0.3, 0.1, 0.01, 0.02}, std::array<double, 5>{-0.03, 0.0, 0.37, 0.0, 0.0},
                                          std::array<double, 5>{0.08, -0.4, 1e-7, 0.3, 0.1}}) {
     double x = q[3], v = q[4];
@@ -1021,7 +1021,7 @@ TEST(ModelFormulas, DriveAdvanceNeutralEffectsGiveThePluginDriveExactly) {
       EXPECT_EQ(sf.vl, ulf);
       EXPECT_EQ(sf.xl, ulf * static_cast<float>(q[2]));
       EXPECT_EQ(sf.xr, urf * static_cast<float>(q[2]));
-      using J = ceres::Jet<double, 1>;
+      using J = epuck2::fit::Jet<1>;
       s::DriveState<J> sj;
       s::drive_advance(s::DriveEffects<J>{}, q[0], q[1], J(q[2], 0), sj, sym);
       EXPECT_EQ(sj.xl.a, ul * q[2]);
@@ -1075,7 +1075,7 @@ TEST(ModelFormulas, EncoderMeanSteps) {
   }
   EXPECT_EQ(s::encoder_mean_steps(7763.656, 0.0), 0.0);
   EXPECT_EQ(s::encoder_mean_steps(7763.656, 0.0f), 0.0f);
-  const auto j = s::encoder_mean_steps(7763.656, ceres::Jet<double, 1>(0.0, 0));
+  const auto j = s::encoder_mean_steps(7763.656, epuck2::fit::Jet<1>(0.0, 0));
   EXPECT_EQ(j.a, 0.0);
   EXPECT_EQ(j.v[0], 0.0);
 }

@@ -16,7 +16,7 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
-#include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/problem.hpp"
 #include "epuck2/logs/output.hpp"
 #include "epuck2/models/battery.hpp"
 #include "epuck2/models/battery_simulation.hpp"
@@ -41,33 +41,28 @@ struct IgnoresSecondParameter {
   }
 };
 
-class ZeroColumnCost : public ceres::CostFunction {
- public:
-  explicit ZeroColumnCost(std::vector<double> y, bool first_free_too) : f_{std::move(y)}, first_(first_free_too) {
-    set_num_residuals(static_cast<int>(f_.y.size()));
-    mutable_parameter_block_sizes()->push_back(1);
-    mutable_parameter_block_sizes()->push_back(1);
-  }
-  bool Evaluate(double const* const* p, double* r, double** jac) const override {
-    if (!f_(p, r, jac)) return false;
-    if (!first_ && jac && jac[0]) for (std::size_t i = 0; i < f_.y.size(); ++i) jac[0][i] = 0.0;  // a has no effect either
-    if (!first_) for (std::size_t i = 0; i < f_.y.size(); ++i) r[i] = f_.y[i];
+// The residuals of IgnoresSecondParameter as the engine's residual block (over a and b); with
+// `first_free_too` false, a has no effect either.
+epuck2::fit::ResidualBlock zero_column_block(std::vector<double> y, bool first_free_too) {
+  epuck2::fit::ResidualBlock block;
+  block.residuals = static_cast<int>(y.size());
+  block.sizes = {1, 1};
+  block.evaluate = [f = IgnoresSecondParameter{std::move(y)}, first_free_too](double const* const* p, double* r, double** jac) {
+    if (!f(p, r, jac)) return false;
+    if (!first_free_too && jac && jac[0]) for (std::size_t i = 0; i < f.y.size(); ++i) jac[0][i] = 0.0;
+    if (!first_free_too) for (std::size_t i = 0; i < f.y.size(); ++i) r[i] = f.y[i];
     return true;
-  }
-
- private:
-  IgnoresSecondParameter f_;
-  bool first_;
-};
+  };
+  return block;
+}
 
 epuck2::fit::FitResult fit_zero_column(bool a_matters) {
   double a = 1.0, b = 2.0;
-  ceres::Problem problem;
-  problem.AddResidualBlock(new ZeroColumnCost({4.0, 3.5, 3.8, 3.9}, a_matters), nullptr, &a, &b);
+  epuck2::fit::Problem problem;
+  problem.add(zero_column_block({4.0, 3.5, 3.8, 3.9}, a_matters), {&a, &b});
   epuck2::fit::FitOptions options;
-  const auto summary = epuck2::fit::solve(problem, options);
-  return epuck2::fit::summarize(problem, epuck2::fit::ParameterLayout{{&a, &b}, {1, 1}, {"a", "b"}}, {4.0, 3.5, 3.8, 3.9},
-                                summary, options);
+  const auto summary = problem.solve(options);
+  return problem.summarize(epuck2::fit::ParameterLayout{{&a, &b}, {1, 1}, {"a", "b"}}, {4.0, 3.5, 3.8, 3.9}, summary, options);
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // Sensor models (lib/models sensors.hpp): the plug-in's hand-checked values of
 // the plug-in's source, the encoder's int16 wrap and carried partial steps,
-// and every fitted formula instantiated for double, float and ceres::Jet with its autodiff checked
+// and every fitted formula instantiated for double, float and fit::Jet with its autodiff checked
 // against central differences at the awkward points (distance 0, the cut-off, saturation).
-#include <ceres/jet.h>
+#include "epuck2/fit/jet.hpp"
 #include <gtest/gtest.h>
 
 #include <array>
@@ -29,7 +29,7 @@ constexpr double kValueRelTolerance = 1e-14;
 // central differences, for every parameter.
 template <int N, class F>
 void expect_jet_matches_numeric(const F& f, std::array<double, N> p, const char* where) {
-  using Jet = ceres::Jet<double, N>;
+  using Jet = epuck2::fit::Jet<N>;
   std::array<Jet, N> pj;
   for (int k = 0; k < N; ++k) pj[k] = Jet(p[k], k);
   const Jet value = f(pj.data());

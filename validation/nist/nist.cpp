@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include "epuck2/fit/fit_curve.hpp"
+#include "epuck2/fit/problem.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace epuck2::nist {
@@ -56,7 +57,7 @@ bool starts_with(const std::string& s, const std::string& prefix) { return s.com
 // inherit both. The polish: Gauss-Newton steps on residuals computed in long double (64-bit
 // mantissa), the Jacobian by automatic differentiation in double, each step kept only when the
 // long-double RSS falls; then the RSS of the final values, in long double, is the one reported.
-// `residual(b, i)` is generic over the scalar (long double, ceres::Jet).
+// `residual(b, i)` is generic over the scalar (long double, fit::Jet).
 constexpr int kPolishSteps = 4;
 
 template <int N, class Residual>
@@ -76,7 +77,7 @@ void polish_in_extended_precision(FitResult& r, std::size_t n, Residual residual
   for (int j = 0; j < N; ++j) p(j) = r.parameters[static_cast<std::size_t>(j)].value;
   long double rss = rss_at(p);
   if (!std::isfinite(static_cast<double>(rss))) return;
-  using Jet = ceres::Jet<double, N>;
+  using Jet = fit::Jet<N>;
   for (int step = 0; step < kPolishSteps && rss > 0; ++step) {
     Eigen::MatrixXd J(static_cast<Eigen::Index>(n), N);
     Eigen::VectorXd e(static_cast<Eigen::Index>(n));
@@ -146,9 +147,8 @@ class NelsonResidual {
     residual[0] = T(log_y_) - models::Nelson{}(b, x1_, x2_);
     return true;
   }
-  static ceres::CostFunction* Create(double x1, double x2, double log_y) {
-    return new ceres::AutoDiffCostFunction<NelsonResidual, 1, models::Nelson::kParameters>(
-        new NelsonResidual(x1, x2, log_y));
+  static ResidualBlock block(double x1, double x2, double log_y) {
+    return autodiff<1, models::Nelson::kParameters>(NelsonResidual(x1, x2, log_y));
   }
 
  private:
@@ -171,11 +171,10 @@ FitResult fit_nelson(const Problem& p, const std::vector<double>& start, const s
     }
     log_y.push_back(std::log(y));
   }
-  ceres::Problem problem;
-  for (std::size_t i = 0; i < p.y.size(); ++i)
-    problem.AddResidualBlock(NelsonResidual::Create(p.x[0][i], p.x[1][i], log_y[i]), options.make_loss(), b.data());
-  const ceres::Solver::Summary summary = solve(problem, options);
-  FitResult r = summarize(problem, ParameterLayout{{b.data()}, {models::Nelson::kParameters}, names}, log_y, summary, options);
+  fit::Problem problem;
+  for (std::size_t i = 0; i < p.y.size(); ++i) problem.add(NelsonResidual::block(p.x[0][i], p.x[1][i], log_y[i]), {b.data()}, options);
+  const SolveSummary summary = problem.solve(options);
+  FitResult r = problem.summarize(ParameterLayout{{b.data()}, {models::Nelson::kParameters}, names}, log_y, summary, options);
   std::vector<long double> log_y_extended;
   for (long double y : p.y_extended) log_y_extended.push_back(std::log(y));
   polish_in_extended_precision<models::Nelson::kParameters>(r, p.y.size(), [&](const auto* c, std::size_t i) {

@@ -317,6 +317,21 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
       s.cubic = fit_curve(CubicInScaledTime{}, u, y, {{"d", 1.0}, {"c", -1.0}, {"b", 0.0}, {"a", 0.0}}, options);
     }
     s.observations = t.size();
+    // Lack of fit: the runs' readings at the same time are replicates (the calibration protocol
+    // logs every run on one clock); a time with one reading is no replicate and is not tested.
+    if (s.cubic.usable) {
+      const std::vector<double> p = s.cubic.values();
+      std::map<long long, fit::ReplicateGroup> at;
+      for (std::size_t i = 0; i < u.size(); ++i) {
+        fit::ReplicateGroup& g = at[std::llround(t[i] * 1e3)];
+        g.condition = t[i];
+        g.readings.push_back(y[i]);
+        g.predictions.push_back(CubicInScaledTime{}(p.data(), u[i]));
+      }
+      std::vector<fit::ReplicateGroup> groups;
+      for (auto& [ms, g] : at) groups.push_back(std::move(g));
+      s.cubic_lack_of_fit = fit::lack_of_fit(groups, 4, fit::MisfitWords{"times", "s", "charge", 1.0, 1.0});
+    }
     s.cubic_autocorrelation = run_autocorrelation(CubicInScaledTime{}, s.cubic, u, y, run_of);
     rescale(s.cubic, {1.0, 1.0 / L, 1.0 / (L * L), 1.0 / (L * L * L)}, {"d", "c", "b", "a"});
 

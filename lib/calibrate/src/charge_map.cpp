@@ -1,11 +1,10 @@
 #include "epuck2/calibrate/charge_map.hpp"
 
-#include <ceres/ceres.h>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
 
+#include "epuck2/fit/problem.hpp"
 #include "epuck2/logs/json_location.hpp"
 
 namespace epuck2::calibrate {
@@ -33,15 +32,20 @@ struct Data {
 
 // Residuals q - f(v + delta[speed]) of every row, with f through knots t, parametrised by its
 // value at the first knot and its non-negative increments (block 0, size K) and, with the load
-// term, the offsets of speeds 1.. (block 1, size S - 1; speed 0's is 0). Analytic Jacobian.
-class MapResidual : public ceres::CostFunction {
+// term, the offsets of speeds 1.. (block 1, size S - 1; speed 0's is 0). Analytic Jacobian
+// (the engine's ResidualBlock: the segment a row falls in is chosen on values).
+class MapResidual {
  public:
-  MapResidual(const Data& d, const std::vector<double>& knots, bool load) : d_(d), t_(knots), load_(load) {
-    set_num_residuals(static_cast<int>(d.v.size()));
-    mutable_parameter_block_sizes()->push_back(static_cast<int>(knots.size()));
-    if (load) mutable_parameter_block_sizes()->push_back(static_cast<int>(d.speeds.size()) - 1);
+  MapResidual(const Data& d, const std::vector<double>& knots, bool load) : d_(d), t_(knots), load_(load) {}
+  fit::ResidualBlock block() const {
+    fit::ResidualBlock b;
+    b.residuals = static_cast<int>(d_.v.size());
+    b.sizes.push_back(static_cast<int>(t_.size()));
+    if (load_) b.sizes.push_back(static_cast<int>(d_.speeds.size()) - 1);
+    b.evaluate = *this;
+    return b;
   }
-  bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
+  bool operator()(double const* const* p, double* residuals, double** jacobians) const {
     const std::size_t K = t_.size(), n = d_.v.size();
     const double* a = p[0];
     std::vector<double> y(K);
@@ -126,27 +130,24 @@ Candidate fit_candidate(const Data& d, const std::vector<double>& knots, bool lo
     a[0] = mq + slope * (knots[0] - mv);
     for (std::size_t k = 1; k < K; ++k) a[k] = slope * (knots[k] - knots[k - 1]);
   }
-  ceres::Problem problem;
-  auto* cost = new MapResidual(d, knots, load);
-  if (load) problem.AddResidualBlock(cost, nullptr, a.data(), delta.data());
-  else problem.AddResidualBlock(cost, nullptr, a.data());
-  for (std::size_t k = 1; k < K; ++k) problem.SetParameterLowerBound(a.data(), static_cast<int>(k), 0.0);
-  ceres::Solver::Options o;
+  const MapResidual cost(d, knots, load);
+  fit::Problem problem;
+  if (load) problem.add(cost.block(), {a.data(), delta.data()});
+  else problem.add(cost.block(), {a.data()});
+  for (std::size_t k = 1; k < K; ++k) problem.set_lower_bound(a.data(), static_cast<int>(k), 0.0);
+  fit::FitOptions o;
   // Thousands of rows, at most a few dozen parameters on well-scaled columns (knot weights in
   // [0, 1], offsets' slopes): the normal equations are cheap and lose no digits that matter.
-  o.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  o.max_num_iterations = 200;
+  o.linear_solver = fit::FitOptions::LinearSolver::dense_normal_cholesky;
+  o.max_iterations = 200;
   o.function_tolerance = 1e-14;
   o.gradient_tolerance = 1e-14;
   o.parameter_tolerance = 1e-12;
-  o.logging_type = ceres::SILENT;
-  o.num_threads = 1;
-  ceres::Solver::Summary summary;
-  ceres::Solve(o, &problem, &summary);
-  if (!summary.IsSolutionUsable()) return c;
+  o.compute_covariance = false;
+  if (!problem.solve(o).usable) return c;
   std::vector<double> r(n);
   const double* blocks[2] = {a.data(), delta.data()};
-  if (!cost->Evaluate(blocks, r.data(), nullptr)) return c;
+  if (!cost(blocks, r.data(), nullptr)) return c;
   for (double e : r) c.rss += e * e;
   c.increments = a;
   c.offsets = delta;

@@ -16,6 +16,7 @@
 #include "epuck2/calibrate/screening.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/models/effects.hpp"
+#include "epuck2/models/saturation.hpp"
 #include "epuck2/logs/json_location.hpp"
 
 namespace epuck2::calibrate {
@@ -130,6 +131,9 @@ AutocorrelationCorrection run_autocorrelation(const RobustFit& f, const std::vec
   return a;
 }
 
+// No saturation on that side (models::saturate).
+constexpr double kNoSaturation = std::numeric_limits<double>::infinity();
+
 // Quantisation noise of an integer reading: 1/sqrt(12) of a count.
 constexpr double kQuantisationSd = 0.28867513459481287;
 
@@ -195,7 +199,20 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
   std::vector<std::string> why;
   const std::vector<bool> wild =
       options.robust ? flag_wild_replicates(values, group, on_rail, 2.0, &why) : std::vector<bool>(values.size(), false);
-  std::map<double, std::vector<Reading>> kept;
+  std::map<double, std::vector<Reading>> kept, beyond;
+  // A point's min, mean and max (normalised) over `rs`.
+  auto set_measured = [](ProximityPoint& p, const std::vector<Reading>& rs, double scale) {
+    if (rs.empty()) return;
+    double sum = 0, lo = rs.front().value, hi = rs.front().value;
+    for (const Reading& r : rs) {
+      sum += r.value;
+      lo = std::min(lo, r.value);
+      hi = std::max(hi, r.value);
+    }
+    p.mean = sum / static_cast<double>(rs.size()) / scale;
+    p.min = lo / scale;
+    p.max = hi / scale;
+  };
   std::size_t k = 0;
   for (const auto& [d, rs] : by_distance) {
     ProximityPoint p;
@@ -211,10 +228,49 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
     }
     if (d > start.range_m) {
       p.excluded_why = "beyond the sensor's range (" + fmt(start.range_m * 1000) + " mm)";
-      for (const Reading& r : kept[d]) out.left_out.push_back({r.where, "beyond the range"});
+      // Left out of the fits, shown as measured (never as zeros).
+      set_measured(p, kept[d], full);
+      for (const Reading& r : kept[d])
+        out.left_out.push_back({r.where, "beyond the range: " + fmt(r.value) + " at " + fmt(d * 1000) + " mm"});
+      beyond[d] = std::move(kept[d]);
       kept[d].clear();
     }
     out.points.push_back(p);
+  }
+
+  // 1b. The range, when the logs reach beyond the model's: where the readings stop being detected
+  //     (a mean under kProximityUndetectedFraction of full scale), bracketed by the distances logged.
+  if (!out.points.empty() && out.points.back().distance_m > start.range_m) {
+    ProximityRange& R = out.range;
+    R.fitted = true;
+    auto detected = [&](double d) {
+      const auto& rs = d > start.range_m ? beyond[d] : kept[d];
+      if (rs.empty()) return false;
+      double sum = 0;
+      for (const Reading& r : rs) sum += r.value;
+      return sum / static_cast<double>(rs.size()) >= kProximityUndetectedFraction * full;
+    };
+    std::size_t last = out.points.size();  // the farthest detected distance
+    for (std::size_t i = 0; i < out.points.size(); ++i)
+      if (detected(out.points[i].distance_m)) last = i;
+    const std::string threshold = fmt(kProximityUndetectedFraction * full, 3) + " counts";
+    if (last == out.points.size()) {
+      R.fitted = false;
+      R.how = "no distance logged has readings detected (mean at least " + threshold + "): the range cannot be fitted";
+    } else if (last + 1 == out.points.size()) {
+      R.lower_bound = true;
+      R.value_m = R.detected_to_m = out.points[last].distance_m;
+      R.std_error_m = R.undetected_from_m = std::numeric_limits<double>::quiet_NaN();
+      R.how = "at least " + fmt(R.value_m * 1000) + " mm: the readings are still detected (mean " +
+              fmt(out.points[last].mean * full, 3) + " counts, at least " + threshold + ") at the farthest distance logged";
+    } else {
+      R.detected_to_m = out.points[last].distance_m;
+      R.undetected_from_m = out.points[last + 1].distance_m;
+      R.value_m = 0.5 * (R.detected_to_m + R.undetected_from_m);
+      R.std_error_m = (R.undetected_from_m - R.detected_to_m) / std::sqrt(12.0);
+      R.how = "between " + fmt(R.detected_to_m * 1000) + " mm (the farthest distance whose readings are detected, mean at least " +
+              threshold + ") and " + fmt(R.undetected_from_m * 1000) + " mm (the next distance logged, not detected)";
+    }
   }
 
   // 2. The maxima: peel a maximum the curve rejects (a wild reading that escaped step 1).
@@ -406,12 +462,17 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
 // ================================================================================================
 
 namespace {
-// Eq. 2 for one light: y = 1 - g (gamma I / d)^2 over the observations' x = I / d (per metre).
+// Eq. 2 for one light: y = 1 - g (gamma I / d)^2 over the observations' x = I / d (per metre),
+// saturated at 0 before the noise (a phototransistor in bright light reads 0 plus its noise, not
+// the -4700 counts of the unclamped curve; lib/models saturation.hpp). The register's rail at 0 is
+// the Tobit censoring of fit_robust: together, the mean of a reading is
+// E[clamp(clamp(model) + noise)].
 struct LightCurve {
   std::vector<double> intensity_per_m;
   template <typename T>
   bool operator()(const T* gamma_m, T* out) const {
-    for (std::size_t i = 0; i < intensity_per_m.size(); ++i) out[i] = s::light_response(gamma_m[0], intensity_per_m[i], 1.0);
+    for (std::size_t i = 0; i < intensity_per_m.size(); ++i)
+      out[i] = models::saturate(s::light_response(gamma_m[0], intensity_per_m[i], 1.0), 0.0, kNoSaturation);
     return true;
   }
 };

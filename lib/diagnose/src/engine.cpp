@@ -1,7 +1,5 @@
 // The diagnosis engine: recalibration, greedy forward search over the catalogue's effects with
 // BIC and held-out error, residual structure (docs/diagnose.md, steps 2 to 5).
-#include <ceres/ceres.h>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -14,6 +12,8 @@
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/calibrate/screening.hpp"
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/problem.hpp"
+#include "epuck2/models/saturation.hpp"
 
 namespace epuck2::diagnose {
 
@@ -74,32 +74,9 @@ using detail::kMaxFree;
 using detail::Problem;
 using detail::ShortJet;
 
-/// E[clamp(mu + e, lo, hi)] for e ~ N(0, sigma^2): the mean of a clamped noisy reading, smooth in
-/// mu, so that readings at a clamp are fitted without bias (for hi - lo >> sigma).
-template <typename T>
-T expected_clamp(const T& mu, double lo, double hi, double sigma) {
-  using std::erfc;
-  using std::exp;
-  constexpr double kInvSqrt2 = 0.70710678118654752440;
-  constexpr double kInvSqrt2Pi = 0.39894228040143267794;
-  // Beyond 9 sigma from both clamps the correction is below 1e-20 sigma: the mean itself.
-  constexpr double kFar = 9.0;
-  const double m = detail::value_of(mu);
-  if (!(m - lo < kFar * sigma) && !(hi - m < kFar * sigma)) return mu;
-  // Beyond 9 sigma outside one clamp (and far from the other), the reading is that clamp.
-  if (lo - m > kFar * sigma && hi - m > kFar * sigma) return T(lo);
-  if (m - hi > kFar * sigma && m - lo > kFar * sigma) return T(hi);
-  T out = mu;
-  if (std::isfinite(lo)) {
-    const T z = (lo - mu) / sigma;  // E[max(0, lo - X)] = sigma (z Phi(z) + phi(z))
-    out += sigma * (z * (0.5 * erfc(-z * kInvSqrt2)) + kInvSqrt2Pi * exp(-0.5 * z * z));
-  }
-  if (std::isfinite(hi)) {
-    const T z = (mu - hi) / sigma;
-    out -= sigma * (z * (0.5 * erfc(-z * kInvSqrt2)) + kInvSqrt2Pi * exp(-0.5 * z * z));
-  }
-  return out;
-}
+/// The mean of a reading that saturates before its noise (lib/models saturation.hpp, shared with
+/// the calibration fits).
+using models::expected_saturated_reading;
 
 class Engine {
  public:
@@ -126,6 +103,8 @@ class Engine {
     if (p_.channel.empty()) p_.channel.assign(n_, 0);
     p_.channel_lo.resize(p_.channel_names.size(), -detail::kInf);
     p_.channel_hi.resize(p_.channel_names.size(), detail::kInf);
+    p_.channel_saturation_lo.resize(p_.channel_names.size(), -detail::kInf);
+    p_.channel_saturation_hi.resize(p_.channel_names.size(), detail::kInf);
     if (p_.channel_min_sd.size() < p_.channel_names.size()) p_.channel_min_sd.resize(p_.channel_names.size(), kDefaultMinimumSd);
     set_sigma(std::vector<double>(p_.channel_names.size(), 1.0));
     // Folds: contiguous blocks of rows dealt round-robin.
@@ -164,7 +143,9 @@ class Engine {
       for (std::size_t i = 0; i < n; ++i)
         if (p_.channel[i] == 0) out[i] += values[s.param] * s.centred[i];
     for (std::size_t i = 0; i < n; ++i)
-      out[i] = expected_clamp(out[i], lo(i), hi(i), sigma_[static_cast<std::size_t>(p_.channel[i])]);
+      out[i] = expected_saturated_reading(out[i], p_.channel_saturation_lo[static_cast<std::size_t>(p_.channel[i])],
+                                          p_.channel_saturation_hi[static_cast<std::size_t>(p_.channel[i])], lo(i), hi(i),
+                                          sigma_[static_cast<std::size_t>(p_.channel[i])]);
   }
   std::vector<double> predict(const std::vector<double>& values) const {
     std::vector<double> out;
@@ -206,17 +187,17 @@ class Engine {
       for (std::size_t j = 0; j < P; ++j) f.result.parameters.push_back({p_.params[j].name, f.values[j], 0.0});
       return f;
     }
-    ceres::Problem problem;
+    fit::Problem problem;
     std::vector<double*> blocks;
     for (std::size_t j = 0; j < P; ++j) blocks.push_back(&f.values[j]);
-    problem.AddResidualBlock(new Cost(*this, idx, slot), nullptr, blocks);
+    problem.add(Cost(*this, idx, slot).block(), blocks);
     for (std::size_t j = 0; j < P; ++j) {
       if (slot[j] < 0) {
-        problem.SetParameterBlockConstant(blocks[j]);
+        problem.hold(blocks[j]);
         continue;
       }
-      if (std::isfinite(p_.params[j].lower)) problem.SetParameterLowerBound(blocks[j], 0, p_.params[j].lower);
-      if (std::isfinite(p_.params[j].upper)) problem.SetParameterUpperBound(blocks[j], 0, p_.params[j].upper);
+      if (std::isfinite(p_.params[j].lower)) problem.set_lower_bound(blocks[j], 0, p_.params[j].lower);
+      if (std::isfinite(p_.params[j].upper)) problem.set_upper_bound(blocks[j], 0, p_.params[j].upper);
     }
     FitOptions options;
     options.max_iterations = 200;
@@ -226,14 +207,14 @@ class Engine {
     options.gradient_tolerance = 1e-12;
     options.parameter_tolerance = 1e-8;
     options.compute_covariance = covariance;
-    const auto summary = solve(problem, options);
+    const SolveSummary summary = problem.solve(options);
     ParameterLayout layout;
     layout.blocks = blocks;
     layout.sizes.assign(P, 1);
     for (const auto& q : p_.params) layout.names.push_back(q.name);
     std::vector<double> observed;
     for (std::size_t i : idx) observed.push_back(p_.y[i]);
-    f.result = summarize(problem, layout, observed, summary, options);
+    f.result = problem.summarize(layout, observed, summary, options);
     return f;
   }
 
@@ -244,30 +225,19 @@ class Engine {
     std::vector<int> slot(P, -1);
     int k = 0;
     for (int j : free) slot[static_cast<std::size_t>(j)] = k++;
-    ceres::Problem problem;
+    fit::Problem problem;
     std::vector<double*> blocks, free_blocks;
-    std::vector<std::size_t> param_of;
+    std::vector<Eigen::Index> param_of;
     for (std::size_t j = 0; j < P; ++j) blocks.push_back(&values[j]);
-    problem.AddResidualBlock(new Cost(*this, all_, slot), nullptr, blocks);
+    problem.add(Cost(*this, all_, slot).block(), blocks);
     for (std::size_t j = 0; j < P; ++j) {
       if (slot[j] < 0) continue;
       free_blocks.push_back(blocks[j]);
-      param_of.push_back(j);
+      param_of.push_back(static_cast<Eigen::Index>(j));
     }
     *out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n_), static_cast<Eigen::Index>(P));
     if (free_blocks.empty()) return true;
-    ceres::Problem::EvaluateOptions eo;
-    eo.parameter_blocks = free_blocks;
-    eo.apply_loss_function = false;
-    eo.num_threads = 1;
-    double cost = 0;
-    ceres::CRSMatrix jac;
-    if (!problem.Evaluate(eo, &cost, nullptr, nullptr, &jac)) return false;
-    for (int row = 0; row < jac.num_rows; ++row)
-      for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx)
-        (*out)(row, static_cast<Eigen::Index>(param_of[static_cast<std::size_t>(jac.cols[static_cast<std::size_t>(idx)])])) =
-            jac.values[static_cast<std::size_t>(idx)];
-    return true;
+    return problem.evaluate(free_blocks, nullptr, out, param_of);
   }
 
   /// Held-out MSE: each fold predicted by a fit on the other folds.
@@ -357,14 +327,20 @@ class Engine {
  private:
   /// All residuals y_i - E[clamp(model_i)] of the training rows in one block; one parameter block
   /// of size 1 per parameter; derivatives by Jets over the free parameters.
-  class Cost : public ceres::CostFunction {
+  class Cost {
    public:
     Cost(const Engine& e, const std::vector<std::size_t>& idx, const std::vector<int>& slot) : e_(e), idx_(idx), slot_(slot) {
       for (std::size_t i : idx) limit_ = std::max(limit_, i + 1);
-      set_num_residuals(static_cast<int>(idx.size()));
-      for (std::size_t j = 0; j < slot.size(); ++j) mutable_parameter_block_sizes()->push_back(1);
     }
-    bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    /// The engine's residual block: one value per parameter, derivatives filled by operator().
+    fit::ResidualBlock block() const {
+      fit::ResidualBlock b;
+      b.residuals = static_cast<int>(idx_.size());
+      b.sizes.assign(slot_.size(), 1);
+      b.evaluate = *this;
+      return b;
+    }
+    bool operator()(double const* const* parameters, double* residuals, double** jacobians) const {
       const std::size_t P = slot_.size();
       bool need = false;
       if (jacobians)
@@ -675,8 +651,9 @@ class Diagnosis {
       fit_final();
       estimate_uncertainties();
       for (const Finding& f : report_.possible)
-        report_.warnings.push_back("possible, not determined: " + f.cause + " (" + f.undetermined +
-                                   "); left out of the final and the extended model");
+        report_.warnings.push_back((f.undetermined.find(detail::kOutsidePhysicalRange) != std::string::npos ? "not written: "
+                                                                                                    : "possible, not determined: ") +
+                                   f.cause + " (" + f.undetermined + "); left out of the final and the extended model");
     }
     score_shares();
     score_residual_structure();
@@ -1188,6 +1165,7 @@ class Diagnosis {
       std::snprintf(b, sizeof b, "%.3g", v);
       return std::string(b);
     };
+    for (std::size_t k = 0; k < F; ++k) why[k] = p.implausible(order_[k].cause, current_.values);
     for (std::size_t k = 0; k < F; ++k)
       for (std::size_t q = 0; q < order_[k].params.size() && why[k].empty(); ++q) {
         const int j = order_[k].params[q];

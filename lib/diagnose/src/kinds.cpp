@@ -13,6 +13,7 @@
 #include <variant>
 
 #include "problem.hpp"
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/calibrate/screening.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/fit/robust.hpp"
@@ -277,6 +278,11 @@ class Proximity : public ProblemOf<Proximity> {
     double top = 0;
     for (double v : y) top = std::max(top, v);
     params[static_cast<std::size_t>(ix_[fx::proximity::saturation][0][0])].value = top;
+    // A tail may carry the whole response (a sensor whose curve is an exponential, not Eq. 1's
+    // quadratic): from the registry's small start alone the fit stays in a local minimum where
+    // the quadratic keeps most of it. More starts: the tail at the highest reading, short to long.
+    params[static_cast<std::size_t>(amplitude_)].other_starts = {top, top, top};
+    params[static_cast<std::size_t>(ix_[fx::proximity::long_tail][1][0])].other_starts = {0.005, 0.01, 0.04};
     identifiable = {c[fx::proximity::long_tail].name};
     // With a, b, c free the overall gain is theirs: the first sensor seen is the reference (1).
     const auto seen = sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end()));
@@ -309,6 +315,19 @@ class Proximity : public ProblemOf<Proximity> {
     set_base(*this, a_ + 2, m.base.c);
     range_m_ = m.base.range_m;
     set_base_effects(*this, ix_, m.effects);
+  }
+
+  /// A tail whose amplitude is above the sensor's full scale (kind_facts: 4095 counts) is not a
+  /// reading's tail: the distances are in another unit, or the tail stands in for something else.
+  std::string implausible(const std::string& cause, const std::vector<double>& values) const override {
+    if (cause != fx::proximity_catalogue()[fx::proximity::long_tail].name) return "";
+    const double amplitude = values[static_cast<std::size_t>(amplitude_)];
+    const double full = models::kind_facts("proximity")->channels.front().full_scale;
+    if (!(amplitude > full)) return "";
+    char why[200];
+    std::snprintf(why, sizeof why, "amplitude = %.4g counts is above the sensor's full scale (%.0f counts): %s", amplitude, full,
+                  kOutsidePhysicalRange);
+    return why;
   }
 
   /// A long tail that carries most of the modelled reading within the base model's range
@@ -370,6 +389,9 @@ class Light : public ProblemOf<Light> {
   explicit Light(const std::vector<logs::Log>& logs) {
     channel_lo = {0.0};
     channel_hi = {s::kProximityFullScale_raw};
+    // The phototransistor saturates at 0 in bright light before its noise (docs/diagnose.md);
+    // in the dark its reading is the register's rail.
+    channel_saturation_lo = {0.0};
     for (const auto& log : logs) {
       const auto& d = log.col("distance_m");
       const auto& in = log.col("intensity");

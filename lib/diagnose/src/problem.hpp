@@ -2,8 +2,6 @@
 // kind; engine.cpp searches, fits and scores).
 #pragma once
 
-#include <ceres/jet.h>
-
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -14,6 +12,7 @@
 #include <vector>
 
 #include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/fit/jet.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/parameter.hpp"
 #include "epuck2/logs/log.hpp"
@@ -26,20 +25,16 @@ using fit::FitResult;
 
 /// At most this many parameters are free in one fit (the Jet's size).
 inline constexpr int kMaxFree = 24;
-using Jet = ceres::Jet<double, kMaxFree>;
+using Jet = fit::Jet<kMaxFree>;
 /// Most fits free few parameters: a short Jet is several times faster on long logs.
 inline constexpr int kFewFree = 8;
-using ShortJet = ceres::Jet<double, kFewFree>;
+using ShortJet = fit::Jet<kFewFree>;
 /// One effect on a base without free parameters (drive, battery, ground) frees one or two.
 inline constexpr int kTwoFree = 2;
-using PairJet = ceres::Jet<double, kTwoFree>;
+using PairJet = fit::Jet<kTwoFree>;
 
 /// The value of a scalar or a Jet (models branch on values, never on derivatives).
-inline double value_of(double x) { return x; }
-template <int N>
-double value_of(const ceres::Jet<double, N>& x) {
-  return x.a;
-}
+using fit::value_of;
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -52,6 +47,10 @@ struct Effect {
   std::string cause;
   std::vector<int> params;  ///< indices into Problem::params
 };
+
+/// The words that end Problem::implausible's reasons: such a finding is "not written", not merely
+/// "possible, not determined".
+constexpr const char* kOutsidePhysicalRange = "outside the physical range of the quantity";
 
 /// What a finding is when its fitted parameters make it another effect (Problem::identify).
 struct Identity {
@@ -87,6 +86,10 @@ class Problem {
   /// Per channel: the reading's clamp (±inf, or missing: none). A clamp is the sensor's, the same
   /// for every residual of a channel: it is not stored per residual.
   std::vector<double> channel_lo, channel_hi;
+  /// Per channel: where the sensor itself saturates before its noise is added (±inf, or missing:
+  /// nowhere); the mean is E[clamp(clamp(model, saturation) + noise, clamp)] (lib/models
+  /// saturation.hpp).
+  std::vector<double> channel_saturation_lo, channel_saturation_hi;
   /// Per channel: the smallest noise standard deviation believed (empty: 0.3, a whole count's
   /// rounding).
   std::vector<double> channel_min_sd;
@@ -128,6 +131,14 @@ class Problem {
   /// make it another effect; nothing when it is what its name says (the default).
   /// The causes identify() has a rule for (the others are not asked).
   std::vector<std::string> identifiable;
+  /// Why the finding of effect `cause` at the parameters `values` lies outside the physical range
+  /// of its quantity (kind_facts: a tail above the sensor's full scale), or "" (the default): such
+  /// a finding is never written into the extended model (Report::possible, with this reason).
+  virtual std::string implausible(const std::string& cause, const std::vector<double>& values) const {
+    (void)cause;
+    (void)values;
+    return "";
+  }
   virtual std::optional<Identity> identify(const std::string& cause, const std::vector<double>& values,
                                            const Eigen::MatrixXd& covariance) const {
     (void)cause;

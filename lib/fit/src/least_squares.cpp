@@ -1,4 +1,5 @@
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/solver.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,17 +30,18 @@ std::vector<double> FitResult::values() const {
   return v;
 }
 
-ceres::LossFunction* FitOptions::make_loss() const {
-  return robust ? new ceres::HuberLoss(robust_scale) : nullptr;
+ceres::LossFunction* make_loss(const FitOptions& options) {
+  return options.robust ? new ceres::HuberLoss(options.robust_scale) : nullptr;
 }
 
-ceres::Solver::Options FitOptions::solver_options() const {
+ceres::Solver::Options solver_options(const FitOptions& options) {
   ceres::Solver::Options o;
-  o.linear_solver_type = ceres::DENSE_QR;
-  o.max_num_iterations = max_iterations;
-  o.function_tolerance = function_tolerance;
-  o.gradient_tolerance = gradient_tolerance;
-  o.parameter_tolerance = parameter_tolerance;
+  o.linear_solver_type = options.linear_solver == FitOptions::LinearSolver::dense_normal_cholesky ? ceres::DENSE_NORMAL_CHOLESKY
+                                                                                                : ceres::DENSE_QR;
+  o.max_num_iterations = options.max_iterations;
+  o.function_tolerance = options.function_tolerance;
+  o.gradient_tolerance = options.gradient_tolerance;
+  o.parameter_tolerance = options.parameter_tolerance;
   o.minimizer_progress_to_stdout = false;
   o.logging_type = ceres::SILENT;
   o.num_threads = 1;
@@ -124,7 +126,7 @@ bool passes_own_checks(ceres::Problem& problem, const ceres::Solver::Summary& s,
 }  // namespace
 
 ceres::Solver::Summary solve(ceres::Problem& problem, const FitOptions& options) {
-  const ceres::Solver::Options primary = options.solver_options();
+  const ceres::Solver::Options primary = solver_options(options);
   ceres::Solver::Summary summary;
   if (options.restarts <= 0 && !options.try_alternatives) {
     ceres::Solve(primary, &problem, &summary);
@@ -465,9 +467,10 @@ double sum_of_squares(const std::vector<double>& v, double shift) {
 // not. Returns which scalars are free (blocks flagged constant are not).
 std::vector<bool> statistics(FitResult& r, const ParameterLayout& layout, const std::vector<bool>& constant_block,
                              const std::vector<double>& residuals, bool evaluated,
-                             const std::vector<double>& observations, const ceres::Solver::Summary& summary) {
-  r.iterations = static_cast<int>(summary.iterations.size());
-  r.message = summary.message;
+                             const std::vector<double>& observations, int iterations, const std::string& message,
+                             bool solution_usable) {
+  r.iterations = iterations;
+  r.message = message;
   const std::size_t n = residuals.size();
   r.observations = n;
   const double rss = sum_of_squares(residuals, 0.0);
@@ -508,7 +511,7 @@ std::vector<bool> statistics(FitResult& r, const ParameterLayout& layout, const 
     r.r2 = std::numeric_limits<double>::quiet_NaN();
   }
 
-  const bool converged = summary.IsSolutionUsable() && std::isfinite(rss);
+  const bool converged = solution_usable && std::isfinite(rss);
   r.usable = evaluated && converged;
   if (!evaluated) r.message = "the model could not be evaluated at the solution";
   for (auto& p : r.parameters)
@@ -520,13 +523,20 @@ std::vector<bool> statistics(FitResult& r, const ParameterLayout& layout, const 
 FitResult summarize(const ParameterLayout& layout, const std::vector<double>& residuals, bool evaluated,
                     const std::vector<double>& observations, const ceres::Solver::Summary& summary) {
   FitResult r;
-  statistics(r, layout, {}, residuals, evaluated, observations, summary);
+  statistics(r, layout, {}, residuals, evaluated, observations, static_cast<int>(summary.iterations.size()), summary.message,
+             summary.IsSolutionUsable());
   return r;
 }
 
 FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
                     const std::vector<double>& observations, const ceres::Solver::Summary& summary,
                     const FitOptions& options) {
+  return summarize(problem, layout, observations, static_cast<int>(summary.iterations.size()), summary.message,
+                   summary.IsSolutionUsable(), options);
+}
+
+FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout, const std::vector<double>& observations,
+                    int iterations, const std::string& message, bool usable, const FitOptions& options) {
   std::vector<bool> constant_block;
   std::vector<double*> free_blocks;
   std::vector<int> free_offset;  // each free block's first scalar among all parameters
@@ -554,7 +564,8 @@ FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
   const bool evaluated = problem.Evaluate(eo, &cost, &residuals, nullptr, want_jacobian ? &jac : nullptr);
 
   FitResult r;
-  const std::vector<bool> is_free = statistics(r, layout, constant_block, residuals, evaluated, observations, summary);
+  const std::vector<bool> is_free =
+      statistics(r, layout, constant_block, residuals, evaluated, observations, iterations, message, usable);
   if (!r.usable) return r;
   const auto n = static_cast<Eigen::Index>(r.observations);
   const auto total = static_cast<Eigen::Index>(is_free.size());

@@ -3,6 +3,7 @@
 // normal matrix, lack of fit against replicates, and the distributions the tests need.
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/fit/replicates.hpp"
+#include "epuck2/fit/solver.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -226,7 +227,7 @@ Solution solve_once(const ModelEvaluator& model, const std::vector<Observation>&
   fo.parameter_tolerance = 1e-12;
   fo.max_iterations = 200;
   ceres::Solver::Summary summary;
-  ceres::Solve(fo.solver_options(), &problem, &summary);
+  ceres::Solve(solver_options(fo), &problem, &summary);
   Solution s;
   s.ok = summary.IsSolutionUsable();
   s.message = summary.message;

@@ -2,6 +2,7 @@
 #include "epuck2/models/effects.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
@@ -41,7 +42,12 @@ Layout two_panels() {
 
 void proximity_figure(logs::OutputStage& stage, const std::string& path, const calibrate::ProximityFit& f) {
   std::vector<std::vector<double>> pts;
-  for (const auto& p : f.points) pts.push_back({p.distance_m * 1000, p.min, p.mean, p.max, p.used ? 1.0 : 0.0});
+  std::vector<std::vector<double>> left_out;  // distances left out of the fits, as measured
+  double far_mm = 60;
+  for (const auto& p : f.points) {
+    (p.used ? pts : left_out).push_back({p.distance_m * 1000, p.min, p.mean, p.max, p.used ? 1.0 : 0.0});
+    far_mm = std::max(far_mm, p.distance_m * 1000);
+  }
   // Eq. 1's normalised response (lib/models proximity_response) of each curve, on 0..50 mm.
   const s::ProximityCoefficients kmax{f.maxima.value("a"), f.maxima.value("b"), f.maxima.value("c"), s::kPluginProximity.range_m};
   const s::ProximityCoefficients kmean{f.means.value("a"), f.means.value("b"), f.means.value("c"), s::kPluginProximity.range_m};
@@ -54,12 +60,14 @@ void proximity_figure(logs::OutputStage& stage, const std::string& path, const c
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << datablock("pts", pts);
     gp << datablock("curves", curves);
+    if (!left_out.empty()) gp << datablock("out", left_out);
     gp << "set title 'Proximity sensor (paper Eq. 1, Fig. 4c): normalised reading against distance' font ',13'\n";
     gp << "set xlabel 'distance to the surface (mm)'\nset ylabel 'normalised reading (reading / 4095, dimensionless)'\n";
-    gp << "set xrange [-1:61]\nset yrange [-0.05:1.1]\nset grid lc rgb '#d8d8d8'\nset key top right opaque box Left reverse\n";
+    gp << "set xrange [-1:" << std::ceil(far_mm + 1) << "]\nset yrange [-0.05:1.1]\nset grid lc rgb '#d8d8d8'\nset key top right opaque box Left reverse\n";
     gp << "plot $pts using 1:3:2:4 with yerrorbars lc rgb '#999999' title 'readings: mean, min..max', "
        << "$pts using 1:4 with points pt 7 ps 1.4 lc rgb '#d62728' title 'maxima', "
        << "$pts using 1:3 with points pt 5 ps 1.2 lc rgb '#1f77b4' title 'means', "
+       << (left_out.empty() ? "" : "$out using 1:3:2:4 with yerrorbars pt 4 ps 1.2 lc rgb '#7f7f7f' title 'left out of the fits: readings as measured', ")
        << "$curves using 1:2 with lines lw 2.5 lc rgb '#d62728' title 'fit to maxima', "
        << "$curves using 1:3 with lines lw 2.5 lc rgb '#1f77b4' title 'fit to means', "
        << "$curves using 1:4 with lines lw 2 dt 2 lc rgb '#2ca02c' title 'plug-in (197.8633, -30.47182, 1.011635)', "

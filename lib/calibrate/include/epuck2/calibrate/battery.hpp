@@ -21,6 +21,7 @@
 #include "epuck2/calibrate/engine.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/report.hpp"
+#include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/battery.hpp"
 #include "epuck2/models/battery_simulation.hpp"
@@ -84,6 +85,9 @@ struct SpeedFit {
   ModelMse mse;                     ///< analytic MSE of each model's function against these logs
   std::vector<std::string> outliers;  ///< readings left out of every model at this speed (file:line)
   double noise_sd = 0;              ///< robust sd of the cubic's residuals (1.4826 MAD)
+  /// The cubic's lack of fit against the replicates: the readings of the runs at this speed taken
+  /// at the same time (fit::lack_of_fit; the CLI stops on fit::misfit_verdict, as the sensors do).
+  fit::LackOfFit cubic_lack_of_fit;
   /// A discharge run is a time series: each fit's residuals are autocorrelated within a run, and
   /// its covariance's standard errors need this correction (epuck2/fit/report.hpp).
   fit::AutocorrelationCorrection cubic_autocorrelation, free_line_autocorrelation, piecewise_autocorrelation;

@@ -42,7 +42,9 @@ struct LeftOut {
 /// Readings at one distance, normalised by 4095.
 struct ProximityPoint {
   double distance_m = 0;
-  double max = 0, mean = 0, min = 0;  ///< over the readings kept (not wild)
+  /// Over the readings kept (not wild); at a distance left out of the fits (beyond the range),
+  /// over its readings that are not wild, as measured, with `excluded_why`.
+  double max = 0, mean = 0, min = 0;
   std::size_t readings = 0;           ///< all readings at this distance
   std::size_t kept = 0;               ///< readings kept (not wild)
   bool used = false;                  ///< within range: enters both fits
@@ -53,8 +55,21 @@ struct ProximityPoint {
   std::string excluded_why;           ///< empty when used
 };
 
+/// The proximity range (where the sensor stops detecting), from logs that reach beyond the
+/// model's: bracketed by the farthest distance whose readings are detected (mean at least 1 % of
+/// full scale) and the next distance logged, where they are not.
+struct ProximityRange {
+  bool fitted = false;       ///< the logs reach beyond the model's range
+  bool lower_bound = false;  ///< still detected at the farthest distance logged: the range is at least that
+  double value_m = 0;        ///< the bracket's middle (or the lower bound)
+  double std_error_m = 0;    ///< the bracket's width / sqrt(12) (uniform within it); NaN for a lower bound
+  double detected_to_m = 0, undetected_from_m = 0;  ///< the bracket (undetected_from_m NaN for a lower bound)
+  std::string how;           ///< in words, for the report and the JSON
+};
+
 struct ProximityFit {
   std::vector<ProximityPoint> points;  ///< one per distance, ascending
+  ProximityRange range;                ///< the range fitted from the logs (reported; Eq. 1 keeps its 0.05 m domain)
   RobustFit maxima;                    ///< a, b, c of Eq. 1 fitted to the per-distance maxima
   RobustFit means;                     ///< the same fitted to the per-distance means
   double plugin_mse_maxima = 0, plugin_mse_means = 0;  ///< the plug-in's polynomial on the same points

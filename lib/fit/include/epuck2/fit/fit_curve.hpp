@@ -5,8 +5,6 @@
 // parse it.
 #pragma once
 
-#include <ceres/ceres.h>
-
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -19,6 +17,7 @@
 
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/parameter.hpp"
+#include "epuck2/fit/solver.hpp"
 
 namespace epuck2::fit {
 
@@ -252,7 +251,7 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     problem.AddResidualBlock(new CurveBlockResidual<Model>(model, x, y, &recorded), nullptr, initial.data());
   else
     for (std::size_t i = 0; i < x.size(); ++i)
-      problem.AddResidualBlock(CurveResidual<Model>::Create(model, x[i], y[i]), options.make_loss(), initial.data());
+      problem.AddResidualBlock(CurveResidual<Model>::Create(model, x[i], y[i]), make_loss(options), initial.data());
   if (!fixed.empty()) {
     std::vector<int> fixed_sorted = fixed;
     problem.SetManifold(initial.data(), new ceres::SubsetManifold(Model::kParameters, fixed_sorted));
@@ -266,7 +265,7 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
   if (linear_started && options.restarts <= 0 && !options.try_alternatives) {
     // From the least-squares minimum, Levenberg-Marquardt's first step only confirms it (a step of
     // rounding size): the normal equations suffice for it, without Jacobi scaling.
-    ceres::Solver::Options confirm = options.solver_options();
+    ceres::Solver::Options confirm = solver_options(options);
     confirm.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
     confirm.jacobi_scaling = false;
     const std::vector<double> linear_solution = initial;
@@ -311,7 +310,7 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
         polish.AddResidualBlock(new CurveBlockResidual<Model>(model, x, y), nullptr, initial.data());
       else
         for (std::size_t i = 0; i < x.size(); ++i)
-          polish.AddResidualBlock(CurveResidual<Model>::Create(model, x[i], y[i]), options.make_loss(), initial.data());
+          polish.AddResidualBlock(CurveResidual<Model>::Create(model, x[i], y[i]), make_loss(options), initial.data());
       if (static_cast<int>(fixed.size()) < P) {
         polish.SetManifold(initial.data(), new ceres::SubsetManifold(P, fixed));
         for (std::size_t j = 0; j < parameters.size(); ++j) {

@@ -1,4 +1,6 @@
 // The fitting layer's core: nonlinear least squares with Ceres, and what every fit reports.
+// This header does not include Ceres (its solver side is epuck2/fit/solver.hpp, lib/fit's own):
+// the many units that only read a FitResult do not parse it.
 //
 // A fit returns a FitResult that says whether it is usable and why (models never throw; this layer
 // never throws for numerical trouble either). Standard errors come from the covariance
@@ -8,8 +10,6 @@
 // Bennett problems) keep their digits; for a model linear in its parameters whose equilibrated
 // normal equations are well conditioned (kNormalEquationsMaxCondition), from those equations.
 #pragma once
-
-#include <ceres/ceres.h>
 
 #include "epuck2/fit/parameter.hpp"
 
@@ -62,9 +62,16 @@ struct FitResult {
   Eigen::MatrixXd correlation() const;
 };
 
+/// The engine's solver settings, in one place: every fit (fit_curve, fit_robust, a fit::Problem)
+/// is solved as these say.
 struct FitOptions {
   bool robust = false;          ///< Huber loss instead of squares
   double robust_scale = 1.0;    ///< Huber's threshold, in the residual's units
+  /// How each step's linear least-squares problem is solved: a QR of the Jacobian (keeps the
+  /// digits of badly scaled columns), or the normal equations' Cholesky (cheaper for thousands of
+  /// rows over few well-scaled parameters; loses about twice the digits).
+  enum class LinearSolver { dense_qr, dense_normal_cholesky };
+  LinearSolver linear_solver = LinearSolver::dense_qr;
   int max_iterations = 500;
   double function_tolerance = 1e-15;
   double gradient_tolerance = 1e-15;
@@ -92,22 +99,7 @@ struct FitOptions {
   /// condition number is at most kNormalEquationsMaxCondition; otherwise from a column-pivoted QR
   /// of the design matrix. False: start from `initial` as for a nonlinear model.
   bool linear_start = true;
-  /// The loss to attach to each residual block (nullptr for plain squares). Ownership passes to
-  /// the problem.
-  ceres::LossFunction* make_loss() const;
-  ceres::Solver::Options solver_options() const;
 };
-
-/// Solves `problem` as `options` say: one Levenberg-Marquardt solve by default; with `restarts`
-/// and `try_alternatives`, several solves, leaving the parameters at the lowest cost found. The
-/// other strategies run only when the first one's solution fails its own checks: Ceres did not
-/// report convergence, the restarts ran out while the cost still fell, a parameter no longer
-/// moves the residuals (relative sensitivity |b_j| |J_j| below 1e-8 of the largest: a plateau
-/// where the model saturates), the equilibrated Jacobian is rank-deficient, or the problem holds
-/// parameters through a manifold (not checked: every strategy runs). The
-/// summary returned is the winning solve's, its `iterations` holding every iteration of every
-/// solve (the total work).
-ceres::Solver::Summary solve(ceres::Problem& problem, const FitOptions& options);
 
 double akaike(std::size_t n, double rss, int k);
 double bayes(std::size_t n, double rss, int k);
@@ -118,18 +110,6 @@ struct ParameterLayout {
   std::vector<int> sizes;
   std::vector<std::string> names;
 };
-
-/// Everything after Solve: RSS, MSE, R^2 (with `observations` for the total sum of squares; empty
-/// for none), information criteria, covariance and standard errors. Blocks held constant in the
-/// problem are reported with a zero standard error and do not count as free parameters.
-FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
-                    const std::vector<double>& observations, const ceres::Solver::Summary& summary,
-                    const FitOptions& options);
-
-/// summarize from the residuals already evaluated at the solution (`evaluated` false when they
-/// could not be), with every parameter free and no covariance (see set_covariance).
-FitResult summarize(const ParameterLayout& layout, const std::vector<double>& residuals, bool evaluated,
-                    const std::vector<double>& observations, const ceres::Solver::Summary& summary);
 
 /// (J^T J)^-1 for a Jacobian of full column rank, from its columns equilibrated and a
 /// column-pivoted QR (false when rank-deficient). Covariance = this * RSS / (n - p).

@@ -27,7 +27,7 @@
 // a reason in `std_error_why`, and the caller decides.
 #pragma once
 
-#include <ceres/jet.h>
+#include "epuck2/fit/jet.hpp"
 
 #include <cmath>
 #include <cstddef>
@@ -181,7 +181,7 @@ ModelEvaluator make_evaluator(const Model& model, std::size_t observations, std:
         if (!isfinite(predictions[i])) return false;
       return true;
     }
-    using Jet = ceres::Jet<double, kMaxRobustParameters>;
+    using Jet = fit::Jet<kMaxRobustParameters>;
     std::vector<Jet> pj(parameters), out(observations);
     for (std::size_t j = 0; j < parameters; ++j) pj[j] = Jet(p[j], static_cast<int>(j));
     if (!model(pj.data(), out.data())) return false;

@@ -13,7 +13,7 @@
 //
 // Header-only, no dependency: usable from an ARGoS plug-in. The formulas that a fit needs
 // derivatives of (cubic_charge, line_charge, polyline_charge) are templated on the scalar so that
-// lib/fit uses the very same code with ceres::Jet.
+// lib/fit uses the very same code with fit::Jet.
 #pragma once
 
 #include <algorithm>

@@ -22,7 +22,7 @@
 namespace epuck2::models::sensors {
 
 /// The number a scalar carries: itself, or an automatic-differentiation scalar's value (member
-/// `a`, as ceres::Jet has it). Models branch on values, never on derivatives.
+/// `a`, as fit::Jet has it). Models branch on values, never on derivatives.
 template <typename T>
 double scalar_of(const T& x) {
   if constexpr (std::is_arithmetic_v<T>) {

@@ -5,7 +5,7 @@
 // Each model is written once:
 //  * the formula a fit needs derivatives of (proximity polynomial, light inverse square, ground
 //    gain/offset, camera projection) is a template on the scalar, with no branch on a parameter,
-//    so that the fits (lib/calibrate on lib/fit) evaluate the very same code with ceres::Jet;
+//    so that the fits (lib/calibrate on lib/fit) evaluate the very same code with fit::Jet;
 //  * the run-time reading (clamp, noise, quantisation) is plain double and reproduces the E-Puck2
 //    ARGoS plug-in's arithmetic (as in the plug-in's source, its sensor models, "plug-in
 //    compatible") when given the plug-in's coefficients, and the project's fitted ones otherwise

@@ -76,7 +76,7 @@ inline constexpr std::array<double, kOcvKnotCount> kLipoOcvPrior_v = {
     3.85, 3.87, 3.91, 3.95, 3.98, 4.02, 4.08, 4.11, 4.15, 4.20};
 
 /// Piecewise-linear interpolation of the knots at state of charge z (clamped to [0, 1]).
-/// Templated so that the calibration differentiates it with ceres::Jet; the segment is chosen
+/// Templated so that the calibration differentiates it with fit::Jet (lib/fit); the segment is chosen
 /// from the value of z (a kink at each knot, the exact one-sided derivative elsewhere).
 template <typename T>
 T ocv_at(const T* knots_v, const T& z, double z_value) {

@@ -104,7 +104,7 @@ RunReport run(const Problem& problem, int start, const FitOptions& options = def
 FitResult fit(const Problem& problem, int start, const FitOptions& options = default_options());
 
 // ---------------------------------------------------------------------------------------------
-// The models, y = f(b, x), templated on the scalar (double, float, ceres::Jet). b[0] is b1.
+// The models, y = f(b, x), templated on the scalar (double, float, fit::Jet). b[0] is b1.
 // x is a double for the fit; the extended-precision polish passes a long double x (with
 // T = long double) so that decimal data like 0.05 keep 19 digits.
 namespace models {

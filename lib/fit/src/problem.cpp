@@ -1,0 +1,86 @@
+// fit::Problem: a caller's residual blocks as a Ceres problem, solved and summarized by the
+// engine's one solver path (solve, summarize in least_squares.cpp).
+#include "epuck2/fit/problem.hpp"
+
+#include <utility>
+
+#include "epuck2/fit/solver.hpp"
+
+namespace epuck2::fit {
+
+namespace {
+// A ResidualBlock as Ceres' CostFunction.
+class BlockCost : public ceres::CostFunction {
+ public:
+  explicit BlockCost(ResidualBlock block) : block_(std::move(block)) {
+    set_num_residuals(block_.residuals);
+    *mutable_parameter_block_sizes() = block_.sizes;
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    return block_.evaluate(parameters, residuals, jacobians);
+  }
+
+ private:
+  const ResidualBlock block_;
+};
+}  // namespace
+
+struct Problem::Impl {
+  ceres::Problem problem;
+};
+
+Problem::Problem() : impl_(std::make_unique<Impl>()) {}
+Problem::~Problem() = default;
+
+void Problem::add(ResidualBlock block, const std::vector<double*>& parameters, const FitOptions& loss) {
+  impl_->problem.AddResidualBlock(new BlockCost(std::move(block)), make_loss(loss), parameters);
+}
+
+void Problem::set_lower_bound(double* block, int index, double value) { impl_->problem.SetParameterLowerBound(block, index, value); }
+void Problem::set_upper_bound(double* block, int index, double value) { impl_->problem.SetParameterUpperBound(block, index, value); }
+void Problem::hold(double* block) { impl_->problem.SetParameterBlockConstant(block); }
+bool Problem::held(double* block) const { return impl_->problem.IsParameterBlockConstant(block); }
+
+SolveSummary Problem::solve(const FitOptions& options) {
+  const ceres::Solver::Summary s = fit::solve(impl_->problem, options);
+  SolveSummary out;
+  out.usable = s.IsSolutionUsable();
+  out.converged = s.termination_type == ceres::CONVERGENCE;
+  out.message = s.message;
+  out.brief = s.BriefReport();
+  out.iterations = static_cast<int>(s.iterations.size());
+  out.initial_cost = s.initial_cost;
+  out.final_cost = s.final_cost;
+  return out;
+}
+
+FitResult Problem::summarize(const ParameterLayout& layout, const std::vector<double>& observations, const SolveSummary& summary,
+                             const FitOptions& options) {
+  return fit::summarize(impl_->problem, layout, observations, summary.iterations, summary.message, summary.usable, options);
+}
+
+bool Problem::evaluate(const std::vector<double*>& over, std::vector<double>* residuals, Eigen::MatrixXd* jacobian,
+                       const std::vector<Eigen::Index>& columns) {
+  ceres::Problem::EvaluateOptions eo;
+  eo.parameter_blocks = over;
+  eo.apply_loss_function = false;
+  eo.num_threads = 1;
+  double cost = 0;
+  ceres::CRSMatrix crs;
+  if (!impl_->problem.Evaluate(eo, &cost, residuals, nullptr, jacobian != nullptr ? &crs : nullptr))
+    return false;
+  if (jacobian == nullptr) return true;
+  if (columns.empty()) {
+    *jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  } else if (static_cast<int>(columns.size()) != crs.num_cols || jacobian->rows() != crs.num_rows) {
+    return false;
+  }
+  for (int row = 0; row < crs.num_rows; ++row)
+    for (int k = crs.rows[static_cast<std::size_t>(row)]; k < crs.rows[static_cast<std::size_t>(row) + 1]; ++k) {
+      const int c = crs.cols[static_cast<std::size_t>(k)];
+      (*jacobian)(row, columns.empty() ? c : columns[static_cast<std::size_t>(c)]) = crs.values[static_cast<std::size_t>(k)];
+    }
+  return true;
+}
+
+}  // namespace epuck2::fit
