@@ -2,11 +2,19 @@
 # Records one of the paper's protocols in ARGoS, headless, and writes its logs in the project's
 # CSV formats (the ones epuck2-fit reads); with --like, replays a measured log instead.
 #   usage: scripts/argos-record.sh KIND COEFFICIENT_FILE|default OUT_DIR
-#          scripts/argos-record.sh drive COEFFICIENT_FILE|default OUT_LOG --like LOG
-#     --like LOG         (drive) the robot placed at the log's obstacle_distance_m, the log's wheel
-#                        commands given row by row, ARGoS's readings written as one log in the
-#                        log's format, row for row, at 1000 ticks/s (each row read at the tick
-#                        nearest its time), into OUT_LOG (written whole or not at all);
+#          scripts/argos-record.sh KIND COEFFICIENT_FILE|default OUT_LOG --like LOG
+#     --like LOG         replay a measured log: ARGoS set up as each row says, its readings
+#                        written as one log in the log's format, row for row, into OUT_LOG
+#                        (written whole or not at all). drive: the robot at the log's
+#                        obstacle_distance_m, its wheel commands row by row at 1000 ticks/s (each
+#                        row read at the tick nearest its time); proximity: the row's sensor on a
+#                        wall at distance_m (angle_deg off its normal); ground: the floor at grey
+#                        (8-bit); light: a light on the sensor's axis at distance_m, of intensity;
+#                        camera: an LED at forward_m, lateral_m, vertical_m; battery: spinning in
+#                        place at speed_cm_s, the charge read at each row's time (a voltage_v
+#                        column is left out: ARGoS has no voltage). A column ARGoS cannot set
+#                        (e.g. temperature_c) stops the replay naming it (exit 2). Prints, per
+#                        reading column, ARGoS against the log: MSE, mean and median |difference|;
 #     KIND               proximity | ground | light | camera | drive | battery
 #     COEFFICIENT_FILE   a coefficient file written by epuck2-fit (proximity.json, ground.json,
 #                        light.json, camera.json, drive.json for drive, battery.json): the `calibrated`
@@ -31,7 +39,6 @@ if [ $# -ne 3 ]; then
 fi
 KIND="$1"; COEFF="$2"; OUT="$3"
 if [ -n "$LIKE" ]; then
-  [ "$KIND" = drive ] || { echo "argos-record: --like replays drive logs only (the other kinds: not yet)" >&2; exit 2; }
   [ -r "$LIKE" ] || { echo "argos-record: cannot read $LIKE" >&2; exit 2; }
   LIKE="$(cd "$(dirname "$LIKE")" && pwd)/$(basename "$LIKE")"
 fi
@@ -69,7 +76,14 @@ sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$OUT\"|" \
     "$ROOT/argos/experiments/$KIND.argos" > "$EXP"
 if [ -n "$LIKE" ]; then
   sed -i -e "s|ticks_per_second=\"[^\"]*\"|ticks_per_second=\"1000\"|" \
-         -e "s|kind=\"drive\"|kind=\"drive\" like=\"$LIKE\" like_out=\"$OUT/replay.csv\"|" "$EXP"
+         -e "s|kind=\"$KIND\"|kind=\"$KIND\" like=\"$LIKE\" like_out=\"$OUT/replay.csv\"|" "$EXP"
+  # A camera log's LEDs may sit below the floor's plane (below the camera): the arena reaches 1 m under it.
+  [ "$KIND" = camera ] && sed -i -e 's|<arena size="3, 3, 1" center="0,0,0.5">|<arena size="3, 3, 2" center="0,0,0">|' "$EXP"
+  # Only the battery's 1000 ticks/s are too many: its runs last hours; 10 ticks/s as its protocol.
+  if [ "$KIND" = battery ]; then
+    sed -i -e "s|ticks_per_second=\"[^\"]*\"|ticks_per_second=\"10\"|" -e 's|length="[^"]*"|length="0"|' \
+           -e '/<e-puck2 id="ep1">/,/<\/arena>/{/<\/arena>/!d}' "$EXP"
+  fi
 fi
 if [ "${EPUCK2_ARGOS_FIRMWARE_CAP:-true}" = false ]; then
   sed -i -e 's|<differential_steering implementation="calibrated"|<differential_steering implementation="calibrated" firmware_cap="false"|' "$EXP"
@@ -98,11 +112,11 @@ ARGOS_PLUGIN_PATH="$LIBDIR${ARGOS_PLUGIN_PATH:+:$ARGOS_PLUGIN_PATH}" argos3 -n -
   echo "argos-record: argos3 failed on $EXP:" >&2; tail -n 20 "$OUT/.$KIND.argos.log" >&2; exit 1; }
 ls "$OUT"/*.csv >/dev/null 2>&1 || { echo "argos-record: no log written in $OUT" >&2; exit 1; }
 if [ -n "$LIKE" ]; then
-  # All or nothing: the replay is renamed into place only once ARGoS has written all of it.
-  [ "$(grep -c '^[0-9-]' "$OUT/replay.csv")" = "$(grep -c '^[0-9-]' "$LIKE")" ] || {
-    echo "argos-record: the replay of $LIKE has a different number of rows" >&2; exit 1; }
+  # All or nothing: the loop functions rename the replay into place once they wrote all its rows.
+  [ -e "$OUT/replay.csv" ] || { echo "argos-record: the replay of $LIKE was not completed" >&2; exit 1; }
   cp "$OUT/replay.csv" "$LIKE_OUT.tmp.$$" && mv -f "$LIKE_OUT.tmp.$$" "$LIKE_OUT"
   echo "argos-record: $LIKE replayed ($([ "$COEFF" = default ] && echo "plug-in defaults" || echo "$COEFF")) -> $LIKE_OUT"
+  grep -h '\[epuck2_protocol\] replay:' "$OUT/.$KIND.argos.log" | sed 's/^.*\[epuck2_protocol\] replay: /argos-record: /' || true
   exit 0
 fi
 echo "argos-record: $KIND ($([ "$COEFF" = default ] && echo "plug-in defaults" || echo "$COEFF")) -> $OUT"

@@ -41,6 +41,9 @@ int main(int argc, char** argv) {
     d.integer(400, 1000);
     t["generator_gamma_m"] = d.uniform(0.07, 0.08);
   }
+  // The reading noise's sd where the generator draws it per log (battery), else absent: the
+  // kind's constant noise is the generator's, restated in closed_loop_compare.py.
+  if (h.noise_sd > 0) t["noise_sd"] = h.noise_sd;
   std::ofstream(argv[5]) << t.dump(2) << "\n";
   return 0;
 }

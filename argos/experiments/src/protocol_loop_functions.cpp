@@ -9,10 +9,14 @@
 // every file with a `# robot: ID` line. The loop functions place the robots (and lights), command
 // the wheels through the recorder controller and read the sensors it holds: which sensor
 // implementation produced the readings (the plug-in's or the calibrated one) is the .argos
-// file's business.
+// file's business. With like="LOG" like_out="OUT" (scripts/argos-record.sh --like) any kind
+// replays a measured log instead: LOG read through lib/logs (replay_log.hpp), each row's
+// conditions set up in ARGoS, ARGoS's readings written as one log in LOG's format, row for row,
+// renamed to OUT once whole.
 //
 //   <loop_functions library="libepuck2_argos_protocols" label="epuck2_protocol"
 //                   kind="proximity" output_dir="." robot="argos-epuck2" samples="20"/>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -35,6 +39,7 @@
 #include <argos3/plugins/simulator/entities/proximity_sensor_equipped_entity.h>
 
 #include "recorder_controller.hpp"
+#include "replay_log.hpp"
 
 namespace argos {
 
@@ -85,6 +90,13 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     CSpace::TMapPerType& tRobots = GetSpace().GetEntitiesByType("e-puck2");
     for (auto& t : tRobots) m_vecRobots.push_back(any_cast<CEPuck2Entity*>(t.second));
     if (m_vecRobots.empty()) THROW_ARGOSEXCEPTION("epuck2_protocol: no e-puck2 in the arena");
+    /* like="LOG": replay a measured log row by row into like_out (scripts/argos-record.sh --like) */
+    GetNodeAttributeOrDefault(t_tree, "like", m_strLike, m_strLike);
+    GetNodeAttributeOrDefault(t_tree, "like_out", m_strLikeOut, m_strLikeOut);
+    if (!m_strLike.empty()) {
+      InitReplay();
+      return;
+    }
     if (m_strKind == "proximity") {
       std::string str = "0:0.005:0.06";
       GetNodeAttributeOrDefault(t_tree, "distances", str, str);
@@ -116,10 +128,6 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       std::string str = "2.5,5,7.5,10,12.5,15";
       GetNodeAttributeOrDefault(t_tree, "speeds", str, str);
       GetNodeAttributeOrDefault(t_tree, "obstacle_distance", m_fObstacle, m_fObstacle);
-      /* like="LOG": replay a measured drive log's commands row by row (scripts/argos-record.sh --like) */
-      GetNodeAttributeOrDefault(t_tree, "like", m_strLike, m_strLike);
-      GetNodeAttributeOrDefault(t_tree, "like_out", m_strLikeOut, m_strLikeOut);
-      if (!m_strLike.empty()) ReadDriveLog();
       GetNodeAttributeOrDefault(t_tree, "travel", m_fTravel, m_fTravel);
       for (Real s : ParseList(str)) {
         m_vecSteps.push_back(s);
@@ -166,22 +174,15 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   }
 
   void PreStep() override {
+    if (m_bReplay) {
+      ReplayPreStep();
+      return;
+    }
     if (m_bDone || m_unSample != 0) return;
     if (m_strKind == "proximity") PlaceFacing(CurrentWall(), 0, m_vecSteps[m_unStep]);
     if (m_strKind == "light") PlaceLight();
     if (m_strKind == "camera") PlaceLed();
     if (m_strKind == "drive") {
-      if (!m_strLike.empty()) {
-        if (!m_bRunStarted) {
-          auto& s = m_vecRobots[0]->GetComponent<CEPuck2TOFEquippedEntity>("tof_sensor").GetSensor(0);
-          Place(CurrentWall(), s.Offset, s.Direction, m_fObstacle);
-          Open(m_strLikeOut, "time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm",
-               {"obstacle_distance_m: " + Num(m_fObstacle, 10), "replayed_from: " + m_strLike,
-                "protocol: ARGoS, the commands of the log above row by row, readings at the tick nearest each row's time"});
-          m_bRunStarted = true;
-        }
-        return;
-      }
       StartRun();
     }
   }
@@ -190,6 +191,10 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     if (m_bDone) return;
     const Real t = GetSpace().GetSimulationClock() * m_fTick;
     CEPuck2RecorderController& c = Controller(0);
+    if (m_bReplay) {
+      ReplayPostStep(c);
+      return;
+    }
     if (m_strKind == "proximity") {
       m_cOut << Num(t) << ',' << Num(m_vecSteps[m_unStep]) << ",0," << c.Proximity().at(0) << '\n';
       Advance(m_unSamples, m_vecSteps.size());
@@ -217,8 +222,6 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
           }
         }
       }
-    } else if (m_strKind == "drive" && !m_strLike.empty()) {
-      LikeStep(c);
     } else if (m_strKind == "drive") {
       DriveStep(c, t);
     } else if (m_strKind == "battery") {
@@ -231,6 +234,10 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   bool IsExperimentFinished() override { return m_bDone; }
 
   CColor GetFloorColor(const CVector2&) override {
+    if (m_bReplay && m_strKind == "ground") {
+      const UInt8 v = static_cast<UInt8>(std::lround(m_fReplayGrey * 255.0));
+      return CColor(v, v, v);
+    }
     if (m_strKind != "ground" || m_vecSteps.empty()) return CColor::WHITE;
     const UInt8 v = static_cast<UInt8>(std::lround(m_vecSteps[std::min<std::size_t>(m_unStep, m_vecSteps.size() - 1)] * 255.0));
     return CColor(v, v, v);
@@ -299,10 +306,12 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     Place(f_face_x, cOffset, cDirection, f_distance);
   }
 
-  void Place(Real f_face_x, CVector3 c_offset, const CVector3& c_direction, Real f_distance) {
-    const CRadians cYaw = -ATan2(c_direction.GetY(), c_direction.GetX());
+  /// The sensor at (offset, direction) in the robot's frame looks at the wall's face at `f_face_x`
+  /// from `f_distance` along its axis, the axis `f_angle_rad` off the wall's normal (+x).
+  void Place(Real f_face_x, CVector3 c_offset, const CVector3& c_direction, Real f_distance, Real f_angle_rad = 0.0) {
+    const CRadians cYaw = -ATan2(c_direction.GetY(), c_direction.GetX()) + CRadians(f_angle_rad);
     c_offset.RotateZ(cYaw);
-    const CVector3 cPos(f_face_x - f_distance - c_offset.GetX(), -c_offset.GetY(), 0.0);
+    const CVector3 cPos(f_face_x - f_distance * std::cos(f_angle_rad) - c_offset.GetX(), -c_offset.GetY(), 0.0);
     CQuaternion cOrient;
     cOrient.FromAngleAxis(cYaw, CVector3::Z);
     if (!m_vecRobots[0]->GetEmbodiedEntity().MoveTo(cPos, cOrient, false, true))
@@ -312,13 +321,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   /// Robot at the origin looking along +x; the light on light sensor m_unLightSensor's axis,
   /// at the current distance from it and at its height.
   void PlaceLight() {
-    CQuaternion cOrient;
-    m_vecRobots[0]->GetEmbodiedEntity().MoveTo(CVector3(0, 0, 0), cOrient, false, true);
-    auto& s = m_vecRobots[0]->GetComponent<CLightSensorEquippedEntity>("light_sensors").GetSensor(m_unLightSensor);
-    CVector3 cPos = s.Position, cDir = s.Direction;
-    cDir.Normalize();
-    m_pcLight->SetPosition(cPos + cDir * m_vecSteps[m_unStep]);
-    m_pcLight->SetIntensity(m_vecIntensities[m_unIntensity]);
+    PlaceLightAt(m_unLightSensor, m_vecSteps[m_unStep], m_vecIntensities[m_unIntensity]);
     if (m_unStep == 0 && m_unLightSensor == 0) {
       char name[64];
       std::snprintf(name, sizeof name, "/light_intensity_%.2f.csv", m_vecIntensities[m_unIntensity]);
@@ -327,13 +330,28 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     }
   }
 
+  /// Robot at the origin looking along +x; the light on light sensor `un_sensor`'s axis, at
+  /// `f_distance` from it and at its height, of intensity `f_intensity`.
+  void PlaceLightAt(UInt32 un_sensor, Real f_distance, Real f_intensity) {
+    CQuaternion cOrient;
+    m_vecRobots[0]->GetEmbodiedEntity().MoveTo(CVector3(0, 0, 0), cOrient, false, true);
+    auto& s = m_vecRobots[0]->GetComponent<CLightSensorEquippedEntity>("light_sensors").GetSensor(un_sensor);
+    CVector3 cPos = s.Position, cDir = s.Direction;
+    cDir.Normalize();
+    m_pcLight->SetPosition(cPos + cDir * f_distance);
+    m_pcLight->SetIntensity(f_intensity);
+  }
+
   /// Camera: the LED at the current grid point, in the camera's frame (X forward, Y left, Z up).
   void PlaceLed() {
     if (m_bCameraSettled) return;
+    PlaceLedAt(m_vecCameraPoints[m_unStep]);
+  }
+
+  void PlaceLedAt(CVector3 c_point) {
     auto& cCam = m_vecRobots[0]->GetComponent<CEPuck2CameraEquippedEntity>("perspective_camera");
-    CVector3 cPoint = m_vecCameraPoints[m_unStep];
-    cPoint.Rotate(cCam.GetOrientation());
-    m_pcLight->SetPosition(cCam.GetPosition() + cPoint);
+    c_point.Rotate(cCam.GetOrientation());
+    m_pcLight->SetPosition(cCam.GetPosition() + c_point);
   }
 
   /// A settling tick after each move (the LED medium's index follows the light a tick later), then
@@ -387,88 +405,148 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     }
   }
 
-  /// A measured drive log to replay: its obstacle distance (metadata) and each row's time and
-  /// commands. Errors name the file and line.
-  void ReadDriveLog() {
-    std::ifstream in(m_strLike);
-    if (!in) THROW_ARGOSEXCEPTION("epuck2_protocol: cannot read the log \"" << m_strLike << "\"");
-    std::string line;
-    int nLine = 0, nTime = -1, nLeft = -1, nRight = -1;
-    bool bObstacle = false;
-    while (std::getline(in, line)) {
-      ++nLine;
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (line.empty()) continue;
-      if (line[0] == '#') {
-        const auto p = line.find("obstacle_distance_m:");
-        if (p != std::string::npos) {
-          try {
-            m_fObstacle = std::stod(line.substr(p + 20));
-            bObstacle = true;
-          } catch (const std::exception&) {
-            THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": expected a number after obstacle_distance_m:");
-          }
-        }
-        continue;
-      }
-      std::vector<std::string> vecCells;
-      std::istringstream is(line);
-      std::string cell;
-      while (std::getline(is, cell, ',')) vecCells.push_back(cell);
-      if (nTime < 0) {
-        for (int i = 0; i < static_cast<int>(vecCells.size()); ++i) {
-          if (vecCells[i] == "time_s") nTime = i;
-          if (vecCells[i] == "left_speed_cm_s") nLeft = i;
-          if (vecCells[i] == "right_speed_cm_s") nRight = i;
-        }
-        if (nTime < 0 || nLeft < 0 || nRight < 0)
-          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine
-                                         << ":1: expected a drive log header with time_s, left_speed_cm_s and right_speed_cm_s");
-        continue;
-      }
-      SLikeRow r;
-      const int nCols[3] = {nTime, nLeft, nRight};
-      Real* pfOut[3] = {&r.Time, &r.Left, &r.Right};
-      for (int k = 0; k < 3; ++k) {
-        if (nCols[k] >= static_cast<int>(vecCells.size()))
-          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": expected at least " << nCols[k] + 1 << " cells");
-        try {
-          *pfOut[k] = std::stod(vecCells[nCols[k]]);
-        } catch (const std::exception&) {
-          THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ":" << nCols[k] + 1 << ": expected a number, found \""
-                                         << vecCells[nCols[k]] << "\"");
-        }
-      }
-      if (!m_vecLike.empty() && r.Time < m_vecLike.back().Time)
-        THROW_ARGOSEXCEPTION(m_strLike << ":" << nLine << ": time_s goes backwards");
-      m_vecLike.push_back(r);
-    }
-    if (!bObstacle) THROW_ARGOSEXCEPTION(m_strLike << ": expected a '# obstacle_distance_m: D' line before the header");
-    if (m_vecLike.empty()) THROW_ARGOSEXCEPTION(m_strLike << ": no rows to replay");
+  /// like=: the log read through lib/logs (replay_log.hpp), its rows set up one by one. Errors
+  /// name the file and line.
+  void InitReplay() {
     if (m_strLikeOut.empty()) THROW_ARGOSEXCEPTION("epuck2_protocol: like= needs like_out= (the log to write)");
+    try {
+      m_sReplay = epuck2::argos_replay::read_replay_log(m_strLike, m_strKind);
+    } catch (const std::exception& e) {
+      THROW_ARGOSEXCEPTION(e.what());
+    }
+    m_bReplay = true;
+    if (m_strKind == "light" || m_strKind == "camera") m_pcLight = &dynamic_cast<CLightEntity&>(GetSpace().GetEntity("light"));
+    std::string strProtocol = "ARGoS, the conditions of the log above row by row: ";
+    if (m_strKind == "proximity") strProtocol += "the sensor's axis on a wall at distance_m (angle_deg off its normal)";
+    if (m_strKind == "ground") strProtocol += "the whole floor at grey (8-bit colour: level round(255 grey)/255)";
+    if (m_strKind == "light") strProtocol += "one light on the sensor's axis at distance_m, of the row's intensity";
+    if (m_strKind == "camera") strProtocol += "one LED at the row's position in the camera's frame, a settling tick, one frame";
+    if (m_strKind == "drive") {
+      strProtocol = "ARGoS, the commands of the log above row by row, readings at the tick nearest each row's time";
+      m_fObstacle = m_sReplay.obstacle_distance_m;
+    }
+    if (m_strKind == "battery") strProtocol += "spinning in place at the row's speed, the charge read at the tick nearest each row's time";
+    m_cOut.open(m_strLikeOut + ".part");
+    if (!m_cOut) THROW_ARGOSEXCEPTION("epuck2_protocol: cannot write \"" << m_strLikeOut << ".part\"");
+    m_cOut << epuck2::argos_replay::replay_head(m_sReplay, m_strRobot, strProtocol);
+    if (m_strKind == "battery") {
+      const Real v = std::abs(m_sReplay.col("speed_cm_s").front());
+      Controller(0).SetWheels(-v, v);
+    }
   }
 
-  /// Replay: at the first PostStep the robot stands where the log's run starts (row 0, time 0);
-  /// each later row is read at the tick nearest its time and its commands then hold.
-  void LikeStep(CEPuck2RecorderController& c) {
-    const UInt64 unClock = GetSpace().GetSimulationClock();
-    if (m_unLikeRow == 0) {
-      m_nStartLeft = c.LeftSteps();
-      m_nStartRight = c.RightSteps();
-      m_unLikeStart = unClock;
+  Real ReplayCell(const char* pch_column) const {
+    const auto& n = m_sReplay.numeric;
+    const auto it = n.find(pch_column);
+    return it == n.end() ? 0.0 : it->second[m_unLikeRow];
+  }
+
+  void ReplayPreStep() {
+    if (m_bDone || m_unLikeRow >= m_sReplay.rows()) return;
+    if (m_strKind == "drive" && !m_bRunStarted) {
+      /* The robot stands where the log's run starts: its ToF obstacle_distance_m from the obstacle */
+      auto& s = m_vecRobots[0]->GetComponent<CEPuck2TOFEquippedEntity>("tof_sensor").GetSensor(0);
+      Place(CurrentWall(), s.Offset, s.Direction, m_fObstacle);
+      m_bRunStarted = true;
     }
-    const Real fNow = m_vecLike.front().Time + static_cast<Real>(unClock - m_unLikeStart) * m_fTick;
-    while (m_unLikeRow < m_vecLike.size() && m_vecLike[m_unLikeRow].Time <= fNow + m_fTick / 2) {
-      const SLikeRow& r = m_vecLike[m_unLikeRow];
-      m_cOut << Num(r.Time, 10) << ',' << Num(r.Left, 10) << ',' << Num(r.Right, 10) << ',' << Wrap16(c.LeftSteps(), m_nStartLeft)
-             << ',' << Wrap16(c.RightSteps(), m_nStartRight) << ',' << c.Tof() << '\n';
-      c.SetWheels(r.Left, r.Right);
+    const UInt32 unSensor = static_cast<UInt32>(ReplayCell("sensor"));
+    if (m_strKind == "proximity") {
+      auto& s = m_vecRobots[0]->GetComponent<CProximitySensorEquippedEntity>("proximity_sensors").GetSensor(unSensor);
+      Place(CurrentWall(), s.Offset, s.Direction, ReplayCell("distance_m"), ToRadians(CDegrees(ReplayCell("angle_deg"))).GetValue());
+    } else if (m_strKind == "ground") {
+      m_fReplayGrey = ReplayCell("grey");
+    } else if (m_strKind == "light") {
+      PlaceLightAt(unSensor, ReplayCell("distance_m"), ReplayCell("intensity"));
+    } else if (m_strKind == "camera" && !m_bCameraSettled) {
+      PlaceLedAt(CVector3(ReplayCell("forward_m"), ReplayCell("lateral_m"), ReplayCell("vertical_m")));
+    }
+  }
+
+  void ReplayPostStep(CEPuck2RecorderController& c) {
+    if (m_bDone) return;
+    const std::size_t unRows = m_sReplay.rows();
+    const UInt32 unSensor = static_cast<UInt32>(ReplayCell("sensor"));
+    auto fnWrite = [&](std::map<std::string, std::string> m) {
+      m_cOut << epuck2::argos_replay::replay_row(m_sReplay, m_unLikeRow, m);
+      /* ARGoS against the log, per reading column (a column the log lacks is not compared) */
+      for (const auto& [strColumn, strValue] : m) {
+        const auto it = m_sReplay.numeric.find(strColumn);
+        if (it == m_sReplay.numeric.end()) continue;
+        m_mapReplayDiff[strColumn].push_back(std::stod(strValue) - it->second[m_unLikeRow]);
+      }
       ++m_unLikeRow;
+    };
+    if (m_strKind == "proximity") {
+      fnWrite({{"value", std::to_string(c.Proximity().at(unSensor))}});
+    } else if (m_strKind == "ground") {
+      fnWrite({{"value", std::to_string(c.Ground().at(unSensor))}});
+    } else if (m_strKind == "light") {
+      fnWrite({{"value", std::to_string(c.Light().at(unSensor))}});
+    } else if (m_strKind == "camera") {
+      /* The LED medium indexes the light a tick after it moved: one settling tick, then a frame */
+      if (!m_bCameraSettled) {
+        m_bCameraSettled = true;
+        return;
+      }
+      m_bCameraSettled = false;
+      const auto vecBlobs = c.Blobs();
+      if (vecBlobs.size() != 1)
+        THROW_ARGOSEXCEPTION(m_strLike << ":" << m_sReplay.line_of_row[m_unLikeRow] << ": ARGoS's camera sees "
+                                       << vecBlobs.size() << " blobs of the LED at forward_m, lateral_m, vertical_m = "
+                                       << ReplayCell("forward_m") << ", " << ReplayCell("lateral_m") << ", " << ReplayCell("vertical_m")
+                                       << " (expected one: the LED outside its image?)");
+      fnWrite({{"px", std::to_string(vecBlobs[0].first)}, {"py", std::to_string(vecBlobs[0].second)}});
+    } else if (m_strKind == "drive" || m_strKind == "battery") {
+      /* The first PostStep is the log's first time (where the encoders count from); each row is
+         read at the tick nearest its time, and its commands (drive) or speed (battery) then hold
+         until the next row */
+      const UInt64 unClock = GetSpace().GetSimulationClock();
+      if (m_unLikeRow == 0) {
+        m_unLikeStart = unClock;
+        m_nStartLeft = c.LeftSteps();
+        m_nStartRight = c.RightSteps();
+      }
+      const auto& vecTime = m_sReplay.col("time_s");
+      const Real fNow = vecTime.front() + static_cast<Real>(unClock - m_unLikeStart) * m_fTick;
+      while (m_unLikeRow < unRows && vecTime[m_unLikeRow] <= fNow + m_fTick / 2) {
+        if (m_strKind == "drive") {
+          const Real fLeft = ReplayCell("left_speed_cm_s"), fRight = ReplayCell("right_speed_cm_s");
+          fnWrite({{"left_steps", std::to_string(Wrap16(c.LeftSteps(), m_nStartLeft))},
+                   {"right_steps", std::to_string(Wrap16(c.RightSteps(), m_nStartRight))},
+                   {"tof_mm", std::to_string(c.Tof())}});
+          c.SetWheels(fLeft, fRight);
+        } else {
+          const Real v = std::abs(ReplayCell("speed_cm_s"));
+          fnWrite({{"charge", Num(c.Charge(), m_nChargeDigits)}});
+          c.SetWheels(-v, v);
+        }
+      }
     }
-    if (m_unLikeRow == m_vecLike.size()) {
-      m_cOut.close();
-      m_bDone = true;
+    if (m_unLikeRow == unRows) FinishReplay();
+  }
+
+  /// The replay is renamed into place only when every row is written: whole or not at all.
+  void FinishReplay() {
+    m_cOut.close();
+    if (!m_cOut || std::rename((m_strLikeOut + ".part").c_str(), m_strLikeOut.c_str()) != 0)
+      THROW_ARGOSEXCEPTION("epuck2_protocol: cannot write \"" << m_strLikeOut << "\"");
+    m_bDone = true;
+    /* One line scripts/argos-record.sh prints: how far ARGoS's readings are from the log's */
+    LOG << "[epuck2_protocol] replay: " << m_sReplay.rows() << " rows, ARGoS - log";
+    for (auto& [strColumn, vecDiff] : m_mapReplayDiff) {
+      Real fSum = 0, fSquares = 0;
+      for (Real& f : vecDiff) {
+        fSum += f;
+        fSquares += f * f;
+        f = std::abs(f);
+      }
+      std::sort(vecDiff.begin(), vecDiff.end());  // now |differences|: the median is robust to a few wild log rows
+      const std::size_t n = vecDiff.size();
+      const Real fMedian = n % 2 ? vecDiff[n / 2] : (vecDiff[n / 2 - 1] + vecDiff[n / 2]) / 2;
+      LOG << "; " << strColumn << ": MSE " << Num(fSquares / n, 6) << ", mean " << Num(fSum / n, 4) << ", median |.| "
+          << Num(fMedian, 4);
     }
+    LOG << std::endl;
   }
 
   void BatteryStep(Real t) {
@@ -526,15 +604,16 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   CLightEntity* m_pcLight = nullptr;
   Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0;
   SInt32 m_nStartLeft = 0, m_nStartRight = 0;
-  /* like= (drive): the measured log replayed */
-  struct SLikeRow {
-    Real Time = 0, Left = 0, Right = 0;
-  };
+  /* like=: the measured log replayed */
   std::string m_strLike, m_strLikeOut;
-  std::vector<SLikeRow> m_vecLike;
   std::size_t m_unLikeRow = 0;
   UInt64 m_unLikeStart = 0;
   int m_nChargeDigits = 6;
+  /* like= for the other kinds: the log, and the grey of the floor under the current row */
+  epuck2::argos_replay::ReplayLog m_sReplay;
+  bool m_bReplay = false;
+  std::map<std::string, std::vector<Real>> m_mapReplayDiff;  ///< per reading column: ARGoS - log, row by row
+  Real m_fReplayGrey = 1.0;
   std::vector<SBatteryRun> m_vecBattery;
 };
 
