@@ -309,7 +309,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   for (const auto& f : r.possible) {
     nlohmann::json fj, v, e;
     fj["cause"] = f.cause;
-    fj["status"] = "possible, not determined";
+    fj["status"] = f.outside_physical_range ? "not written" : "possible, not determined";
     fj["why"] = f.undetermined;
     put_parameters(f.parameters, v, e, nullptr, nullptr);
     fj["parameters"] = v;
@@ -419,7 +419,7 @@ void print_report(const dg::Report& r, const std::string& base_name) {
     std::printf(").\n");
   }
   for (const auto& f : r.possible)
-    std::printf("Possible, not determined: %s (%s): %s; left out of the extended model.\n", f.cause.c_str(),
+    std::printf("%s: %s (%s): %s; left out of the extended model.\n", f.outside_physical_range ? "Not written" : "Possible, not determined", f.cause.c_str(),
                 meaning(r.kind, f.cause).c_str(), f.undetermined.c_str());
   for (const auto& f : r.findings)
     if (!f.alternatives.empty()) {

@@ -766,6 +766,7 @@ TEST(HonestDiagnosis, AFalloffPushedToTheEndOfItsPhysicalRangeIsNotWrittenWithTh
   ASSERT_EQ(r.possible.size(), 1u);
   const dg::Finding& f = r.possible.front();
   EXPECT_EQ(f.cause, "falloff_exponent");
+  EXPECT_TRUE(f.outside_physical_range);  // "not written", not "possible, not determined"
   ASSERT_EQ(f.parameters.size(), 1u);
   EXPECT_EQ(f.parameters[0].value, 10.0);  // the registry's upper bound
   ASSERT_TRUE(std::isfinite(f.parameters[0].std_error));

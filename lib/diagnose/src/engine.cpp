@@ -658,8 +658,7 @@ class Diagnosis {
     }
     if (left) {
       for (const Finding& f : report_.possible)
-        report_.warnings.push_back((f.undetermined.find(detail::kOutsidePhysicalRange) != std::string::npos ? "not written: "
-                                                                                                    : "possible, not determined: ") +
+        report_.warnings.push_back((f.outside_physical_range ? "not written: " : "possible, not determined: ") +
                                    f.cause + " (" + f.undetermined + "); left out of the final and the extended model");
     }
     score_shares();
@@ -1356,6 +1355,7 @@ class Diagnosis {
         continue;
       }
       f.undetermined = why[k];
+      f.outside_physical_range = why[k].find(detail::kOutsidePhysicalRange) != std::string::npos;
       for (int j : order_[k].params) start[static_cast<std::size_t>(j)] = p.params[static_cast<std::size_t>(j)].fallback;
       report_.possible.push_back(std::move(f));
     }

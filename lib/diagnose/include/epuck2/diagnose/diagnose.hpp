@@ -70,6 +70,9 @@ struct Finding {
   fit::FitStatistics fit;
   /// Why the logs cannot determine it (Report::possible); empty for a finding that is kept.
   std::string undetermined;
+  /// Report::possible: the reason is the physical-range rule's (the finding lies outside the
+  /// physical range of its quantity: "not written"), not merely "possible, not determined".
+  bool outside_physical_range = false;
   /// BIC(final model without it) - BIC(final model): what it carries of the gain in the end (the
   /// largest names the verdict; its delta_bic is what it gained at the step it joined).
   double removal_delta_bic = 0;
