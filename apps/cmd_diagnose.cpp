@@ -301,6 +301,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
     fj["removal_delta_bic"] = f.removal_delta_bic;
     fj["meaning"] = meaning(r.kind, f.cause);
     fj["alternatives"] = f.alternatives;
+    if (!f.accepted_with.empty()) fj["accepted_with"] = f.accepted_with;  // the pair search's
     j["findings"].push_back(fj);
   }
   // Kept by the search, not determined by the logs: not in the extended model (docs/diagnose.md).
@@ -308,7 +309,7 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
   for (const auto& f : r.possible) {
     nlohmann::json fj, v, e;
     fj["cause"] = f.cause;
-    fj["status"] = "possible, not determined";
+    fj["status"] = f.outside_physical_range ? "not written" : "possible, not determined";
     fj["why"] = f.undetermined;
     put_parameters(f.parameters, v, e, nullptr, nullptr);
     fj["parameters"] = v;
@@ -336,6 +337,8 @@ nlohmann::json to_json(const dg::Report& r, const std::vector<std::string>& path
     trials.push_back({{"step", t.step}, {"cause", t.cause}, {"delta_bic", t.delta_bic},
                       {"heldout_mse", t.heldout_mse > 0 ? nlohmann::json(t.heldout_mse) : nlohmann::json(nullptr)},
                       {"kept", t.kept}, {"screened_out", t.screened_out}});
+  for (std::size_t k = 0; k < r.trials.size(); ++k)
+    if (!r.trials[k].with.empty()) trials[k]["with"] = r.trials[k].with;  // a pair fitted jointly
   j["search"] = trials;
   j["notes"] = r.notes;
   // The extended model (base in the final joint fit, the findings as effects, the final noise;
@@ -406,7 +409,8 @@ void print_report(const dg::Report& r, const std::string& base_name) {
                 format_parameters(r.kind, f.parameters).c_str(), f.heldout_mse_before, f.heldout_mse_after, u.c_str());
     if (!r.channel_noise_sd.empty())
       std::printf(", all channels weighted %.4g -> %.4g", f.heldout_weighted_before, f.heldout_weighted_after);
-    std::printf(" (BIC %+.1f).\n", f.delta_bic);
+    if (f.accepted_with.empty()) std::printf(" (BIC %+.1f).\n", f.delta_bic);
+    else std::printf(" (BIC %+.1f, the pair's: accepted together with %s).\n", f.delta_bic, f.accepted_with.c_str());
     std::printf("  fit to all rows with it: %s\n", format_statistics(f.fit, ru).c_str());
   }
   if (r.findings.size() > 1) {
@@ -415,7 +419,7 @@ void print_report(const dg::Report& r, const std::string& base_name) {
     std::printf(").\n");
   }
   for (const auto& f : r.possible)
-    std::printf("Possible, not determined: %s (%s): %s; left out of the extended model.\n", f.cause.c_str(),
+    std::printf("%s: %s (%s): %s; left out of the extended model.\n", f.outside_physical_range ? "Not written" : "Possible, not determined", f.cause.c_str(),
                 meaning(r.kind, f.cause).c_str(), f.undetermined.c_str());
   for (const auto& f : r.findings)
     if (!f.alternatives.empty()) {

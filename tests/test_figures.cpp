@@ -76,7 +76,7 @@ const std::vector<Figure>& figures() {
        {"measured − simulated (fraction of full charge)", "robot-a_speed-00.csv", "robot-b_speed-15.csv", "log (file name)",
         "before:", "after:"}},
       {"diagnose_proximity", "diagnose" + logs_of("proximity"), "--plot",
-       // long_tail (length on its bound) is possible, not determined, and left out: what is left
+       // long_tail (length pushed to its 1 mm bound) is not written, and left out: what is left
        // depends on the distance, the covariate the figure is drawn against.
        {"measured − simulated (counts, 0..4095)", "distance to the surface (mm)", "before:", "after:"}},
       {"diagnose_light", "diagnose" + logs_of("light"), "--plot",

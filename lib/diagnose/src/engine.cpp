@@ -14,6 +14,7 @@
 #include "epuck2/calibrate/screening.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/problem.hpp"
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/models/saturation.hpp"
 
 namespace epuck2::diagnose {
@@ -683,14 +684,19 @@ class Diagnosis {
     fit_final();
     const std::size_t warnings_before = report_.warnings.size();
     estimate_uncertainties();
-    if (leave_out_undetermined()) {
-      // Judged again without them: the final fit, its errors and their warnings.
+    // Judged again without them: the final fit, its errors and their warnings; and again, until
+    // every finding left is determined and within its physical range (a refit without one may
+    // take another to its bound).
+    bool left = false;
+    while (!report_.findings.empty() && leave_out_undetermined()) {
+      left = true;
       report_.warnings.resize(warnings_before);
       fit_final();
       estimate_uncertainties();
+    }
+    if (left) {
       for (const Finding& f : report_.possible)
-        report_.warnings.push_back((f.undetermined.find(detail::kOutsidePhysicalRange) != std::string::npos ? "not written: "
-                                                                                                    : "possible, not determined: ") +
+        report_.warnings.push_back((f.outside_physical_range ? "not written: " : "possible, not determined: ") +
                                    f.cause + " (" + f.undetermined + "); left out of the final and the extended model");
     }
     score_shares();
@@ -834,7 +840,9 @@ class Diagnosis {
 
   /// Step 3: every effect not yet kept, fitted with the current model (from each of its starting
   /// points); those whose BIC falls by min_delta_bic or more, lowest BIC first.
-  std::vector<Candidate> fit_candidates(int step) {
+  /// `usable` (optional) receives every candidate whose fit to all residuals is usable, passing
+  /// or not (the pair search's singles).
+  std::vector<Candidate> fit_candidates(int step, std::vector<Candidate>* usable = nullptr) {
     const Problem& p = *problem_;
     const Engine& engine = *engine_;
     // Long logs: the starting points are tried on the leading residuals (a model that simulates
@@ -896,6 +904,7 @@ class Diagnosis {
       t.delta_bic = f.result.bic - current_.result.bic;
       report_.trials.push_back(t);
       if (t.delta_bic <= -o_.min_delta_bic) passing.push_back({report_.trials.size() - 1, e, cand, f});
+      else if (usable) usable->push_back({report_.trials.size() - 1, e, cand, std::move(f)});
     }
     // Of two effects that fit alike, the one with fewer parameters comes first (white_level
     // rather than three equal sensor gains).
@@ -927,28 +936,113 @@ class Diagnosis {
   }
 
   /// One step of the greedy forward search (steps 3 and 4): the best effect that passes both
-  /// tests joins the model. False when none does (the search ends).
+  /// tests joins the model; when none does, the pair search (search_pair). False when nothing
+  /// joins (the search ends).
   bool search_step(int step) {
-    const Problem& p = *problem_;
-    std::vector<Candidate> passing = fit_candidates(step);
+    std::vector<Candidate> failing;
+    std::vector<Candidate> passing = fit_candidates(step, o_.pair_search ? &failing : nullptr);
     const int best = pick_by_heldout(step, passing);
-    if (best < 0) return false;
+    if (best < 0) return o_.pair_search && search_pair(step, failing);
     const Candidate& winner = passing[static_cast<std::size_t>(best)];
-    const double best_cv = report_.trials[winner.trial].heldout_mse;
-    const double best_bic = report_.trials[winner.trial].delta_bic;
+    return accept(step, {winner.effect}, winner.fit, winner.trial);
+  }
+
+  /// The pair search (docs/diagnose.md): no single effect passed this step. Two effects whose
+  /// signatures partly cancel over the measured conditions may each gain almost nothing alone
+  /// and explain the misfit together (a greedy trap). The Options::pair_singles effects that
+  /// lowered the residuals most alone (a gain in RSS at all) are fitted in pairs, jointly with
+  /// the current model, from where each stood alone: at most pair_singles (pair_singles - 1) / 2
+  /// fits, only at a step where no single passes. The pair with the lowest BIC joins the model
+  /// when it passes the same two tests as a single (its BIC change counted for both). Not tried
+  /// on long logs (above kScreenResiduals residuals), where each joint fit would cost as much as
+  /// a step.
+  bool search_pair(int step, std::vector<Candidate>& singles) {
+    if (engine_->size() > kScreenResiduals || o_.pair_singles < 2) return false;
+    if (static_cast<int>(report_.findings.size()) + 2 > o_.max_findings) return false;
+    const double log_n = std::log(static_cast<double>(engine_->size()));
+    // Their BIC change less their parameters' penalty: below 0, the RSS fell.
+    std::vector<Candidate> gained;
+    for (Candidate& c : singles) {
+      const double penalty = log_n * static_cast<double>(searched_[c.effect].params.size());
+      if (report_.trials[c.trial].delta_bic - penalty < 0) gained.push_back(std::move(c));
+    }
+    std::sort(gained.begin(), gained.end(), [&](const Candidate& a, const Candidate& b) {
+      return report_.trials[a.trial].delta_bic < report_.trials[b.trial].delta_bic;
+    });
+    if (gained.size() > static_cast<std::size_t>(o_.pair_singles)) gained.resize(static_cast<std::size_t>(o_.pair_singles));
+    std::vector<Candidate> pairs;  // `effect` the first's; the second's in `second`
+    std::vector<std::size_t> second;
+    const int total = static_cast<int>(gained.size() * (gained.size() - (gained.empty() ? 0 : 1)) / 2);
+    int done = 0;
+    for (std::size_t a = 0; a < gained.size(); ++a)
+      for (std::size_t b = a + 1; b < gained.size(); ++b) {
+        const detail::Effect& ea = searched_[gained[a].effect];
+        const detail::Effect& eb = searched_[gained[b].effect];
+        progress("fitting pair", step, ++done, total, ea.cause + " + " + eb.cause);
+        std::vector<int> cand = gained[a].free;
+        std::vector<double> start = current_.values;
+        for (int j : ea.params) start[static_cast<std::size_t>(j)] = gained[a].fit.values[static_cast<std::size_t>(j)];
+        for (int j : eb.params) {
+          cand.push_back(j);
+          start[static_cast<std::size_t>(j)] = gained[b].fit.values[static_cast<std::size_t>(j)];
+        }
+        if (static_cast<int>(cand.size()) > kMaxFree) continue;
+        Engine::Fitted f = engine_->fit(cand, start, engine_->all(), false);
+        if (!f.result.usable) continue;
+        Trial t;
+        t.step = step;
+        t.cause = ea.cause;
+        t.with = eb.cause;
+        t.delta_bic = f.result.bic - current_.result.bic;
+        report_.trials.push_back(t);
+        if (t.delta_bic <= -o_.min_delta_bic) {
+          pairs.push_back({report_.trials.size() - 1, gained[a].effect, cand, std::move(f)});
+          second.push_back(gained[b].effect);
+        }
+      }
+    if (pairs.empty()) return false;
+    std::vector<std::size_t> order(pairs.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+      return report_.trials[pairs[x].trial].delta_bic < report_.trials[pairs[y].trial].delta_bic;
+    });
+    // The held-out test, best BIC first, until a pair gains.
+    for (std::size_t o : order) {
+      Trial& t = report_.trials[pairs[o].trial];
+      progress("held-out test", step, 0, 0, t.cause + " + " + t.with);
+      t.heldout_mse = engine_->heldout_mse(pairs[o].free, pairs[o].fit.values).all;
+      if (t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain))
+        return accept(step, {pairs[o].effect, second[o]}, pairs[o].fit, pairs[o].trial);
+    }
+    return false;
+  }
+
+  /// The effects `effects` (one, or a pair found together) join the model at the fit `fit` of
+  /// the trial `trial`; the noise is re-estimated and, with several channels, the held-out test
+  /// run again under the new weights. Then backward elimination. False when the finding is undone.
+  bool accept(int step, const std::vector<std::size_t>& effects, const Engine::Fitted& fit, std::size_t trial) {
+    const Problem& p = *problem_;
+    const double best_cv = report_.trials[trial].heldout_mse;
+    const double best_bic = report_.trials[trial].delta_bic;
     const std::vector<int> free_before = free_;
     const Engine::Fitted fit_before = current_;
     const std::vector<double> sigma_before = engine_->sigma();
-    Finding finding;
-    finding.cause = searched_[winner.effect].cause;
-    finding.effect = finding.cause;
-    finding.delta_bic = best_bic;
-    finding.heldout_mse_before = current_h_.reading;
-    finding.heldout_weighted_before = current_h_.all;
-    for (int j : searched_[winner.effect].params) free_.push_back(j);
+    std::vector<Finding> found(effects.size());
+    std::string names;
+    for (std::size_t k = 0; k < effects.size(); ++k) {
+      Finding& finding = found[k];
+      finding.cause = searched_[effects[k]].cause;
+      finding.effect = finding.cause;
+      finding.delta_bic = best_bic;
+      finding.heldout_mse_before = current_h_.reading;
+      finding.heldout_weighted_before = current_h_.all;
+      if (effects.size() == 2) finding.accepted_with = searched_[effects[1 - k]].cause;
+      names += (names.empty() ? "" : " and ") + finding.cause;
+      for (int j : searched_[effects[k]].params) free_.push_back(j);
+    }
     // Re-estimate the noise with the better model and refit (the clamp's expected value uses
     // it), until the estimate settles; then the held-out error again with that noise.
-    current_ = winner.fit;
+    current_ = fit;
     settle_noise(*engine_, free_, current_);
     const Engine::Heldout h = engine_->heldout_mse(free_, current_.values);
     if (p.channel_names.size() > 1) {
@@ -961,28 +1055,39 @@ class Diagnosis {
         free_ = free_before;
         current_ = fit_before;
         engine_->set_sigma(sigma_before);
-        report_.notes.push_back(finding.cause + " passed the search but not the held-out test once the noise was re-estimated");
+        report_.notes.push_back(names + " passed the search but not the held-out test once the noise was re-estimated");
         return false;
       }
-      finding.heldout_mse_before = h_without.reading;
-      finding.heldout_weighted_before = h_without.all;
+      for (Finding& finding : found) {
+        finding.heldout_mse_before = h_without.reading;
+        finding.heldout_weighted_before = h_without.all;
+      }
     }
-    for (const auto& t : report_.trials) {
-      if (t.step != step || t.cause == finding.cause) continue;
-      if (t.heldout_mse > 0 && t.delta_bic <= -o_.min_delta_bic && t.delta_bic - best_bic < o_.min_delta_bic &&
-          t.heldout_mse <= best_cv * (1.0 + o_.min_heldout_gain))
-        finding.alternatives.push_back(t.cause);
+    if (effects.size() == 1)
+      for (const auto& t : report_.trials) {
+        if (t.step != step || t.cause == found[0].cause || !t.with.empty()) continue;
+        if (t.heldout_mse > 0 && t.delta_bic <= -o_.min_delta_bic && t.delta_bic - best_bic < o_.min_delta_bic &&
+            t.heldout_mse <= best_cv * (1.0 + o_.min_heldout_gain))
+          found[0].alternatives.push_back(t.cause);
+      }
+    else {
+      char buf[300];
+      std::snprintf(buf, sizeof buf, "%s and %s were accepted together (pair search): neither passed alone, together BIC %+.1f",
+                    found[0].cause.c_str(), found[1].cause.c_str(), best_bic);
+      report_.notes.push_back(buf);
     }
-    for (auto& t : report_.trials)
-      if (t.step == step && t.cause == finding.cause) t.kept = true;
-    finding.fit = all_rows_statistics(*engine_, p, current_);
-    finding.heldout_mse_after = h.reading;
-    finding.heldout_weighted_after = h.all;
+    report_.trials[trial].kept = true;
+    const fit::FitStatistics stats = all_rows_statistics(*engine_, p, current_);
+    for (std::size_t k = 0; k < effects.size(); ++k) {
+      found[k].fit = stats;
+      found[k].heldout_mse_after = h.reading;
+      found[k].heldout_weighted_after = h.all;
+      kept_.insert(effects[k]);
+      order_.push_back(searched_[effects[k]]);
+      report_.findings.push_back(std::move(found[k]));
+    }
     current_h_ = h;
-    kept_.insert(winner.effect);
-    order_.push_back(searched_[winner.effect]);
-    report_.findings.push_back(std::move(finding));
-    eliminate_backwards();
+    eliminate_backwards(effects.size());
     return true;
   }
 
@@ -991,15 +1096,16 @@ class Diagnosis {
   /// (a later finding explains what it stood in for: a greedy first step that took a partial
   /// effect). It leaves the model, a note says so, and it is not tried again. The weakest first,
   /// one at a time, until every finding earns its place.
-  void eliminate_backwards() {
+  /// The `fresh` findings that just joined (two for a pair) are not candidates for removal.
+  void eliminate_backwards(std::size_t fresh) {
     const Problem& p = *problem_;
-    while (report_.findings.size() > 1) {
+    while (report_.findings.size() > fresh) {
       const Engine::Fitted with = engine_->fit(free_, current_.values, engine_->all(), false);
       int weakest = -1;
       double weakest_cost = o_.min_delta_bic;
       Engine::Fitted weakest_fit;
       std::vector<int> weakest_free;
-      for (std::size_t k = 0; k + 1 < report_.findings.size(); ++k) {
+      for (std::size_t k = 0; k + fresh < report_.findings.size(); ++k) {
         std::vector<int> free;
         Engine::Fitted without = without_finding(k, &free);
         if (!without.result.usable) continue;
@@ -1020,7 +1126,7 @@ class Diagnosis {
                     report_.findings[k].cause.c_str(), report_.findings.back().cause.c_str(), weakest_cost, o_.min_delta_bic);
       report_.notes.push_back(buf);
       for (auto& t : report_.trials)
-        if (t.cause == report_.findings[k].cause) t.kept = false;
+        if (t.cause == report_.findings[k].cause || t.with == report_.findings[k].cause) t.kept = false;
       report_.findings.erase(report_.findings.begin() + weakest);
       order_.erase(order_.begin() + weakest);
       free_ = weakest_free;
@@ -1031,6 +1137,32 @@ class Diagnosis {
       report_.findings.back().heldout_weighted_after = current_h_.all;
       report_.findings.back().fit = all_rows_statistics(*engine_, p, current_);
     }
+  }
+
+  /// The registry's physical-range rule (docs/diagnose.md): a parameter in the unit of one of the
+  /// kind's measured quantities (kind_facts: counts, px, mm) whose neutral value is 0 is an amount
+  /// added to that reading (an offset, a tail's amplitude); beyond the channel's full scale it is
+  /// not an amount the sensor can read: the logs' units are wrong, or the finding stands in for
+  /// something else. Why, or "".
+  std::string above_full_scale(const detail::Effect& effect) const {
+    const Problem& p = *problem_;
+    const models::KindFacts* facts = models::kind_facts(std::string(logs::to_string(report_.kind)));
+    if (facts == nullptr) return "";
+    for (int j : effect.params) {
+      const auto q = static_cast<std::size_t>(j);
+      if (q >= p.param_units.size() || p.param_units[q].empty() || p.params[q].fallback != 0.0) continue;
+      for (const models::Channel& c : facts->channels) {
+        if (p.param_units[q] != c.unit) continue;
+        const double v = current_.values[q];
+        if (!(std::abs(v) > c.full_scale)) break;
+        char why[240];
+        std::snprintf(why, sizeof why, "%s = %.4g %s is %s the sensor's full scale (%s%.0f %s): %s", p.params[q].name.c_str(), v,
+                      c.unit, v > 0 ? "above" : "below minus", v > 0 ? "" : "-", c.full_scale, c.unit,
+                      detail::kOutsidePhysicalRange);
+        return why;
+      }
+    }
+    return "";
   }
 
   /// A finding whose fitted parameters make it another effect is named for what it is (the
@@ -1203,7 +1335,10 @@ class Diagnosis {
       std::snprintf(b, sizeof b, "%.3g", v);
       return std::string(b);
     };
-    for (std::size_t k = 0; k < F; ++k) why[k] = p.implausible(order_[k].cause, current_.values);
+    for (std::size_t k = 0; k < F; ++k) {
+      why[k] = above_full_scale(order_[k]);
+      if (why[k].empty()) why[k] = p.implausible(order_[k].cause, current_.values);
+    }
     for (std::size_t k = 0; k < F; ++k)
       for (std::size_t q = 0; q < order_[k].params.size() && why[k].empty(); ++q) {
         const int j = order_[k].params[q];
@@ -1214,10 +1349,17 @@ class Diagnosis {
                               : std::numeric_limits<double>::quiet_NaN();
         const double size = std::max(std::abs(v), std::abs(par.fallback));
         const double tol = 1e-6 * std::max(1.0, std::abs(v));
-        if (std::isfinite(par.lower) && v - par.lower <= tol)
-          why[k] = par.name + " = " + text(v) + " is on its bound " + text(par.lower);
-        else if (std::isfinite(par.upper) && par.upper - v <= tol)
-          why[k] = par.name + " = " + text(v) + " is on its bound " + text(par.upper);
+        const bool on_lower = std::isfinite(par.lower) && v - par.lower <= tol;
+        const bool on_upper = !on_lower && std::isfinite(par.upper) && par.upper - v <= tol;
+        const bool determined = std::isfinite(se) && se <= o_.max_relative_se * size;
+        if ((on_lower || on_upper) && determined)
+          // The registry's bound is the end of the quantity's physical range: the logs, which
+          // determine the parameter, would take it beyond.
+          why[k] = par.name + " = " + text(v) + " is on its bound " + text(on_lower ? par.lower : par.upper) +
+                   ", the end of its physical range (" + text(par.lower) + " to " + text(par.upper) +
+                   "), with a standard error of " + text(se) + ": the logs take it there, " + detail::kOutsidePhysicalRange;
+        else if (on_lower || on_upper)
+          why[k] = par.name + " = " + text(v) + " is on its bound " + text(on_lower ? par.lower : par.upper);
         else if (!std::isfinite(se))
           why[k] = par.name + " = " + text(v) + " has no standard error";
         else if (se > o_.max_relative_se * size)
@@ -1251,6 +1393,7 @@ class Diagnosis {
         continue;
       }
       f.undetermined = why[k];
+      f.outside_physical_range = why[k].find(detail::kOutsidePhysicalRange) != std::string::npos;
       for (int j : order_[k].params) start[static_cast<std::size_t>(j)] = p.params[static_cast<std::size_t>(j)].fallback;
       report_.possible.push_back(std::move(f));
     }

@@ -14,7 +14,6 @@
 #include <variant>
 
 #include "problem.hpp"
-#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/calibrate/screening.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/fit/robust.hpp"
@@ -70,6 +69,8 @@ CatalogueIndex add_catalogue(Problem& p, const fx::Catalogue& catalogue) {
       for (int k = 0; k < q.count; ++k) {
         const std::string name = q.count == 1 ? std::string(q.key) : std::string(q.key) + "[" + std::to_string(k) + "]";
         ix[id].back().push_back(add_param(p, name, q.neutral, q.start, q.lower, q.upper));
+        p.param_units.resize(p.params.size());
+        p.param_units.back() = q.unit;
         effect.params.push_back(ix[id].back().back());
       }
     }
@@ -316,19 +317,6 @@ class Proximity : public ProblemOf<Proximity> {
     set_base(*this, a_ + 2, m.base.c);
     range_m_ = m.base.range_m;
     set_base_effects(*this, ix_, m.effects);
-  }
-
-  /// A tail whose amplitude is above the sensor's full scale (kind_facts: 4095 counts) is not a
-  /// reading's tail: the distances are in another unit, or the tail stands in for something else.
-  std::string implausible(const std::string& cause, const std::vector<double>& values) const override {
-    if (cause != fx::proximity_catalogue()[fx::proximity::long_tail].name) return "";
-    const double amplitude = values[static_cast<std::size_t>(amplitude_)];
-    const double full = models::kind_facts("proximity")->channels.front().full_scale;
-    if (!(amplitude > full)) return "";
-    char why[200];
-    std::snprintf(why, sizeof why, "amplitude = %.4g counts is above the sensor's full scale (%.0f counts): %s", amplitude, full,
-                  kOutsidePhysicalRange);
-    return why;
   }
 
   /// A long tail that carries most of the modelled reading within the base model's range

@@ -48,8 +48,8 @@ struct Effect {
   std::vector<int> params;  ///< indices into Problem::params
 };
 
-/// The words that end Problem::implausible's reasons: such a finding is "not written", not merely
-/// "possible, not determined".
+/// The words that end the physical-range rule's reasons (engine.cpp, and Problem::implausible's):
+/// such a finding is "not written", not merely "possible, not determined".
 constexpr const char* kOutsidePhysicalRange = "outside the physical range of the quantity";
 
 /// What a finding is when its fitted parameters make it another effect (Problem::identify).
@@ -72,6 +72,10 @@ class Problem {
   std::vector<int> base_free;  ///< the base model's free parameters (recalibrated)
   std::vector<Effect> effects;
   std::vector<double> plugin_values;  ///< every parameter at the plug-in's published values (effects off)
+  /// Per parameter: its unit in the registry (lib/models effects.hpp; missing or "": not a
+  /// catalogue parameter). The physical-range rule compares a parameter in a channel's unit with
+  /// that channel's full scale (kind_facts).
+  std::vector<std::string> param_units;
 
   // Per residual (one per row; camera: two per row, px then py).
   std::vector<double> y;       ///< the measured reading
@@ -132,8 +136,10 @@ class Problem {
   /// The causes identify() has a rule for (the others are not asked).
   std::vector<std::string> identifiable;
   /// Why the finding of effect `cause` at the parameters `values` lies outside the physical range
-  /// of its quantity (kind_facts: a tail above the sensor's full scale), or "" (the default): such
-  /// a finding is never written into the extended model (Report::possible, with this reason).
+  /// of its quantity by a rule of the kind's own, or "" (the default): such a finding is never
+  /// written into the extended model (Report::possible, with this reason). The engine applies the
+  /// registry's rule to every finding first (an amount above its channel's full scale, a bound
+  /// the logs push against).
   virtual std::string implausible(const std::string& cause, const std::vector<double>& values) const {
     (void)cause;
     (void)values;

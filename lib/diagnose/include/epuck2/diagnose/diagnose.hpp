@@ -70,9 +70,15 @@ struct Finding {
   fit::FitStatistics fit;
   /// Why the logs cannot determine it (Report::possible); empty for a finding that is kept.
   std::string undetermined;
+  /// Report::possible: the reason is the physical-range rule's (the finding lies outside the
+  /// physical range of its quantity: "not written"), not merely "possible, not determined".
+  bool outside_physical_range = false;
   /// BIC(final model without it) - BIC(final model): what it carries of the gain in the end (the
   /// largest names the verdict; its delta_bic is what it gained at the step it joined).
   double removal_delta_bic = 0;
+  /// The other effect of a pair accepted together (the pair search: neither passed alone);
+  /// empty for a finding that passed alone. delta_bic is then the pair's, counted for both.
+  std::string accepted_with;
 };
 
 struct CovariateScore {
@@ -91,6 +97,9 @@ struct Trial {
   double heldout_mse = 0;
   bool kept = false;
   bool screened_out = false;  ///< long logs: no gain on the leading residuals, not fitted to all
+  /// The pair search: the other effect fitted jointly with `cause` (delta_bic and heldout_mse are
+  /// the pair's); empty for a single effect.
+  std::string with;
 };
 
 /// The base model a diagnosis starts from in place of the plug-in's published one (a calibration's
@@ -212,6 +221,11 @@ struct Options {
   double min_heldout_gain = 0.03;      ///< held-out MSE must fall by at least this fraction
   double structure_threshold = 0.03;   ///< practical size of a residual dependence (fraction of variance)
   int max_findings = 5;
+  /// When no single effect passes a step, the pair search fits pairs of the pair_singles
+  /// effects that gained most alone (each fitted with the current model) jointly, and accepts
+  /// the best pair that passes the same two tests (docs/diagnose.md). False: greedy singles only.
+  bool pair_search = true;
+  int pair_singles = 4;
   /// A finding is not determined when a parameter's standard error exceeds this multiple of its
   /// size (its value, or its neutral value when that is larger: a scale near 1 is judged against 1)
   /// -- an order of magnitude: the logs say nothing of it.
