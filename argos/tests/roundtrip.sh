@@ -35,6 +35,35 @@ case "$KIND" in
     run "$FIT" battery "$WORK"/recorded/*.csv -o "$WORK/refit.json" > "$WORK/refit.txt"
     run python3 "$HERE/compare_coefficients.py" battery "$WORK/refit.json" "$WORK/fitted.json"
     ;;
+  camera)
+    # The camera round trip against a known truth, with the calibrated pixel noise on: the file's
+    # noise.camera.sd (0.58 px, measured) dithers ARGoS's whole-pixel rounding as a real camera's
+    # noise does, so the refit's mean is the sub-pixel projection's (noiseless, every frame of a
+    # grid position rounds the same way and that bias is not averaged out). Truth: the shipped
+    # fit's fov_deg and noise, the centre moved off whole pixels (80.37, 60.62); 20 frames at each
+    # of the grid's 190 positions, seeded. pinhole.json is recorded and refitted with `epuck2-fit
+    # camera`; distorted.json adds radial_distortion k1 = -0.3 (a diagnosis effect), recorded and
+    # refitted with `epuck2-fit diagnose --kind camera` on the pinhole refit. Each parameter must
+    # come back within 2 of the refit's own standard errors (compare_coefficients.py --own-se 2).
+    export EPUCK2_ARGOS_NOISE=true EPUCK2_ARGOS_SAMPLES=20 EPUCK2_ARGOS_SEED=124
+    python3 - "$ROOT/data/fitted/camera.json" "$WORK" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d.pop("robots", None)  # one robot: no pooled-set warning
+d["parameters"].update({"cx_px": 80.37, "cy_px": 60.62})
+d["noise"]["camera"].pop("per_sensor_sd", None)
+json.dump(d, open(sys.argv[2] + "/pinhole.json", "w"), indent=1)
+d["effects"] = {"radial_distortion": {"k1": -0.3}}
+json.dump(d, open(sys.argv[2] + "/distorted.json", "w"), indent=1)
+PY
+    run "$ROOT/scripts/argos-record.sh" camera "$WORK/pinhole.json" "$WORK/recorded"
+    run "$FIT" camera "$WORK"/recorded/*.csv -o "$WORK/refit.json" > "$WORK/refit.txt"
+    run python3 "$HERE/compare_coefficients.py" camera "$WORK/refit.json" "$WORK/pinhole.json" --own-se 2
+    run "$ROOT/scripts/argos-record.sh" camera "$WORK/distorted.json" "$WORK/recorded_distorted"
+    run "$FIT" diagnose --kind camera --coefficients "$WORK/refit.json" "$WORK"/recorded_distorted/*.csv \
+        -o "$WORK/diagnosis.json" > "$WORK/diagnosis.txt"
+    run python3 "$HERE/compare_coefficients.py" camera "$WORK/diagnosis.json" "$WORK/distorted.json" --own-se 2
+    ;;
   *)
     run "$FIT" "$KIND" "$ROOT"/data/raw/"$KIND"/*.csv -o "$WORK/fitted.json" > "$WORK/fitted.txt"
     run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/fitted.json" "$WORK/recorded"
