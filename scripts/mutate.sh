@@ -28,6 +28,13 @@ JOBS = os.environ.get("EPUCK2_JOBS", str(os.cpu_count() or 2))
 TIMEOUT = int(os.environ.get("EPUCK2_MUT_TIMEOUT", "420"))
 
 M = "lib/models/include/epuck2/models/sensors.hpp"
+ML = "lib/models/include/epuck2/models/light.hpp"
+MG = "lib/models/include/epuck2/models/ground.hpp"
+MT = "lib/models/include/epuck2/models/tof.hpp"
+MP = "lib/models/include/epuck2/models/proximity.hpp"
+MC = "lib/models/include/epuck2/models/camera.hpp"
+ME = "lib/models/include/epuck2/models/encoders.hpp"
+MD = "lib/models/include/epuck2/models/drive.hpp"
 B = "lib/models/include/epuck2/models/battery.hpp"
 FS = "lib/calibrate/src/sensor_fits.cpp"
 FH = "lib/calibrate/include/epuck2/calibrate/sensors.hpp"
@@ -60,6 +67,7 @@ TOF_CODES = (["test_diagnose_steps", "test_log_reader", "test_measured_logs", "t
 # cluster-robust errors, the robots' Cochran Q test. (The CLI's tests are not in these groups: the
 # mutants' fast build does not relink the CLI.)
 CM = "lib/calibrate/src/charge_map.cpp"
+SC = "lib/calibrate/src/screening.cpp"
 RP = "lib/fit/src/report.cpp"
 CHARGE = (["test_charge_map", "test_unlisted_areas"], r"^(ChargeMap|ChargeMapByHand)")
 CLUSTER = (["test_report", "test_report_files", "test_measured_logs", "test_unlisted_areas"],
@@ -87,33 +95,33 @@ MF = "lib/coefficients/src/model_file.cpp"
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
-    ("light_term_plus_1pct", M, "  return r * r;", "  return 1.01 * r * r;", SENSORS),
+    ("light_term_plus_1pct", ML, "  return r * r;", "  return 1.01 * r * r;", SENSORS),
     ("ground_censoring_removed", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
-    ("diagnose_bic_gate_sign", DE, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (t.delta_bic <= options.min_delta_bic) passing", DIAGNOSE),
-    ("diagnose_heldout_gate_flipped", DE, "t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain)", "t.heldout_mse <= current_cv * (1.0 + options.min_heldout_gain)", DIAGNOSE),
+    ("diagnose_bic_gate_sign", DE, "if (t.delta_bic <= -o_.min_delta_bic) passing", "if (t.delta_bic <= o_.min_delta_bic) passing", DIAGNOSE),
+    ("diagnose_heldout_gate_flipped", DE, "const bool gain = t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain);", "const bool gain = t.heldout_mse <= current_h_.all * (1.0 + o_.min_heldout_gain);", DIAGNOSE),
     ("battery_filter_tau_plus_1pct", B, "kFirmwareFilterTau_s = 2.2407;", "kFirmwareFilterTau_s = 2.2631;", BATTERY),
-    ("ground_offset_meaning", M, "  return offset_raw + gain_raw * grey;", "  return offset_raw * (1.0 - grey) + gain_raw * grey;", SENSORS),
-    ("tof_offset_inside_scale", M, "  return scale * distance_m * 1000.0 + offset_mm;", "  return scale * (distance_m * 1000.0 + offset_mm);", SENSORS),
+    ("ground_offset_meaning", MG, "  return offset_raw + gain_raw * grey;", "  return offset_raw * (1.0 - grey) + gain_raw * grey;", SENSORS),
+    ("tof_offset_inside_scale", MT, "  return scale * distance_m * 1000.0 + offset_mm;", "  return scale * (distance_m * 1000.0 + offset_mm);", SENSORS),
     # Other plausible slips in the models, the fits and the diagnosis's decision rules:
     ("light_rails_not_censored", FS, "rail_of(o.value_raw, 0, full), o.where, group});", "rail_of(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
     ("ground_low_rail_only", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], 0, 1e300);", SENSORS),
     ("ground_high_rail_only", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], -1e300, full);", SENSORS),
-    ("proximity_linear_sign", M, "return (abc[0] * distance_m + abc[1]) * distance_m + abc[2];", "return (abc[0] * distance_m - abc[1]) * distance_m + abc[2];", SENSORS),
-    ("camera_px_sign", M, "px[0] = cx_px - f_px * (lateral_m / forward_m);", "px[0] = cx_px + f_px * (lateral_m / forward_m);", SENSORS),
-    ("camera_full_angle_focal", M, "const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);", "const T f_px = T(width_px / 2.0) / tan(hfov_rad);", SENSORS),
-    ("tof_floor_censoring_removed", FS, "      if (mm <= s::kPluginTof.min_mm) {", "      if (false) {", SENSORS),
-    ("tof_ceiling_censoring_removed", FS, "      } else if (mm >= s::kPluginTof.max_mm) {", "      } else if (false) {", SENSORS),
+    ("proximity_linear_sign", MP, "return (abc[0] * distance_m + abc[1]) * distance_m + abc[2];", "return (abc[0] * distance_m - abc[1]) * distance_m + abc[2];", SENSORS),
+    ("camera_px_sign", MC, "px[0] = cx_px - f_px * x * scale;", "px[0] = cx_px + f_px * x * scale;", SENSORS),
+    ("camera_full_angle_focal", MC, "const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);", "const T f_px = T(width_px / 2.0) / tan(hfov_rad);", SENSORS),
+    ("tof_floor_censoring_removed", SC, "  if (mm <= s::kPluginTof.min_mm) r.observation", "  if (false) r.observation", SENSORS),
+    ("tof_ceiling_censoring_removed", SC, "  else if (mm >= s::kPluginTof.max_mm) r.observation", "  else if (false) r.observation", SENSORS),
     # The censored, robust engine (lib/fit/src/robust.cpp):
     ("tobit_rail_side_flipped", RB, "const double z = sign * (pred_[i] - o.value) / sigma_;", "const double z = -sign * (pred_[i] - o.value) / sigma_;", SENSORS),
     ("outliers_never_left_out", RB, "if (obs[i].censoring == Censoring::none && std::abs(dev) > opt.reject_sd) next[i] = 0;", "if (false) next[i] = 0;", SENSORS),
-    ("encoder_unwrap_off_by_one", M, "if (delta > 32767.0) delta -= 65536.0;", "if (delta > 32767.0) delta -= 65535.0;", SENSORS),
-    ("slip_lag_decay_complement", FH, "speed = wheel + (speed - wheel) * decay;", "speed = wheel + (speed - wheel) * (1.0 - decay);", SENSORS),
-    ("light_range_ignored", M, "if (l.intensity > 0 && l.distance_m <= k.range_m) sum +=", "if (l.intensity > 0) sum +=", SENSORS),
+    ("encoder_unwrap_off_by_one", ME, "if (delta > 32767.0) delta -= 65536.0;", "if (delta > 32767.0) delta -= 65535.0;", SENSORS),
+    ("slip_lag_decay_complement", MD, "vg_m_s = u0_m_s + ag_m_s2 * len_s - ag_m_s2 * tau + c * e;", "vg_m_s = u0_m_s + ag_m_s2 * len_s - ag_m_s2 * tau + c * (1.0 - e);", SENSORS),
+    ("light_range_ignored", ML, "if (l.intensity > 0 && l.distance_m <= k.range_m) sum +=", "if (l.intensity > 0) sum +=", SENSORS),
     ("battery_lerp_reversed", B, "inline double lerp(double a, double b, double w) { return a + (b - a) * w; }", "inline double lerp(double a, double b, double w) { return a + (b - a) * (1.0 - w); }", BATTERY),
     ("diagnose_bic_margin_default", DH, "double min_delta_bic = 10.0;", "double min_delta_bic = 6.0;", DIAGNOSE),
     ("diagnose_heldout_gain_default", DH, "double min_heldout_gain = 0.03;", "double min_heldout_gain = 0.01;", DIAGNOSE),
-    ("diagnose_heldout_gate_ignored", DE, "const bool gain = t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain);", "const bool gain = true;", DIAGNOSE),
-    ("diagnose_bic_gate_ignored", DE, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (true) passing", DIAGNOSE),
+    ("diagnose_heldout_gate_ignored", DE, "const bool gain = t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain);", "const bool gain = true;", DIAGNOSE),
+    ("diagnose_bic_gate_ignored", DE, "if (t.delta_bic <= -o_.min_delta_bic) passing", "if (true) passing", DIAGNOSE),
     ("diagnose_structure_or", DE, "s.significant = s.score >= threshold && chi2 > chi2_critical(df1);", "s.significant = s.score >= threshold || chi2 > chi2_critical(df1);", DIAGNOSE),
     ("battery_transient_no_slope", B, "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s) + q.c * dt_s;", "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s);", BATTERY),
     # Issue #22's fresh slips (bench/fresh-slips.md):
@@ -123,8 +131,8 @@ MUTANTS = [
     ("unit_s_before_cm_s", LR, 'for (const char* unit : {"cm_s", "mm", "deg", "s", "m", "v"}) {', 'for (const char* unit : {"s", "cm_s", "mm", "deg", "m", "v"}) {', HINTS),
     ("unit_typo_half_rule", LR, "if (d < best_distance && 2 * d < missing.size()) {", "if (d < best_distance && d < missing.size()) {", HINTS),
     ("unit_hint_column_index", LR, "    column = header_columns[best];", "    column = static_cast<int>(best) + 1;", HINTS),
-    ("tof_code_low_rail", DK, "is_tof_out_of_range(tof[i]) ? s::kPluginTof.max_mm : tof[i];", "is_tof_out_of_range(tof[i]) ? s::kPluginTof.min_mm : tof[i];", TOF_CODES),
-    ("tof_code_as_reading", DK, "const double tof_i = logs::is_tof_out_of_range(tof[i]) ? s::kPluginTof.max_mm : tof[i];", "const double tof_i = tof[i];", TOF_CODES),
+    ("tof_code_dropout_ignored", DK, "const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]));", "const bool dropout = false;", TOF_CODES),
+    ("tof_code_as_reading", DK, "{calibrate::read_tof(tof[i]).observation.value, ul[i], ur[i]}", "{tof[i], ul[i], ur[i]}", TOF_CODES),
     ("tof_code_strict", LH, "return mm >= kTofOutOfRangeCode_mm;", "return mm > kTofOutOfRangeCode_mm;", TOF_CODES),
     ("noise_dof_no_minus_one", RN, "dof += v.size() - 1;", "dof += v.size();", NOISE),
     ("noise_small_group_le", RN, "g.kept.size() < kSmallGroup ?", "g.kept.size() <= kSmallGroup ?", NOISE),
