@@ -29,7 +29,9 @@ TIMEOUT = int(os.environ.get("EPUCK2_MUT_TIMEOUT", "420"))
 
 M = "lib/models/include/epuck2/models/sensors.hpp"
 B = "lib/models/include/epuck2/models/battery.hpp"
-FS = "lib/calibrate/src/sensor_fits.cpp"
+FS_G = "lib/calibrate/src/ground_fit.cpp"
+FS_L = "lib/calibrate/src/light_fit.cpp"
+FS_D = "lib/calibrate/src/drive_fit.cpp"
 FH = "lib/calibrate/include/epuck2/calibrate/sensors.hpp"
 DE = "lib/diagnose/src/engine.cpp"
 DH = "lib/diagnose/include/epuck2/diagnose/diagnose.hpp"
@@ -88,21 +90,21 @@ MF = "lib/coefficients/src/model_file.cpp"
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
     ("light_term_plus_1pct", M, "  return r * r;", "  return 1.01 * r * r;", SENSORS),
-    ("ground_censoring_removed", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
+    ("ground_censoring_removed", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
     ("diagnose_bic_gate_sign", DE, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (t.delta_bic <= options.min_delta_bic) passing", DIAGNOSE),
     ("diagnose_heldout_gate_flipped", DE, "t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain)", "t.heldout_mse <= current_cv * (1.0 + options.min_heldout_gain)", DIAGNOSE),
     ("battery_filter_tau_plus_1pct", B, "kFirmwareFilterTau_s = 2.2407;", "kFirmwareFilterTau_s = 2.2631;", BATTERY),
     ("ground_offset_meaning", M, "  return offset_raw + gain_raw * grey;", "  return offset_raw * (1.0 - grey) + gain_raw * grey;", SENSORS),
     ("tof_offset_inside_scale", M, "  return scale * distance_m * 1000.0 + offset_mm;", "  return scale * (distance_m * 1000.0 + offset_mm);", SENSORS),
     # Other plausible slips in the models, the fits and the diagnosis's decision rules:
-    ("light_rails_not_censored", FS, "rail_of(o.value_raw, 0, full), o.where, group});", "rail_of(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
-    ("ground_low_rail_only", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], 0, 1e300);", SENSORS),
-    ("ground_high_rail_only", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], -1e300, full);", SENSORS),
+    ("light_rails_not_censored", FS_L, "rail_of(o.value_raw, 0, full), o.where, group});", "rail_of(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
+    ("ground_low_rail_only", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], 0, 1e300);", SENSORS),
+    ("ground_high_rail_only", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], -1e300, full);", SENSORS),
     ("proximity_linear_sign", M, "return (abc[0] * distance_m + abc[1]) * distance_m + abc[2];", "return (abc[0] * distance_m - abc[1]) * distance_m + abc[2];", SENSORS),
     ("camera_px_sign", M, "px[0] = cx_px - f_px * (lateral_m / forward_m);", "px[0] = cx_px + f_px * (lateral_m / forward_m);", SENSORS),
     ("camera_full_angle_focal", M, "const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);", "const T f_px = T(width_px / 2.0) / tan(hfov_rad);", SENSORS),
-    ("tof_floor_censoring_removed", FS, "      if (mm <= s::kPluginTof.min_mm) {", "      if (false) {", SENSORS),
-    ("tof_ceiling_censoring_removed", FS, "      } else if (mm >= s::kPluginTof.max_mm) {", "      } else if (false) {", SENSORS),
+    ("tof_floor_censoring_removed", FS_D, "      if (mm <= s::kPluginTof.min_mm) {", "      if (false) {", SENSORS),
+    ("tof_ceiling_censoring_removed", FS_D, "      } else if (mm >= s::kPluginTof.max_mm) {", "      } else if (false) {", SENSORS),
     # The censored, robust engine (lib/fit/src/robust.cpp):
     ("tobit_rail_side_flipped", RB, "const double z = sign * (pred_[i] - o.value) / sigma_;", "const double z = -sign * (pred_[i] - o.value) / sigma_;", SENSORS),
     ("outliers_never_left_out", RB, "if (obs[i].censoring == Censoring::none && std::abs(dev) > opt.reject_sd) next[i] = 0;", "if (false) next[i] = 0;", SENSORS),
@@ -117,9 +119,9 @@ MUTANTS = [
     ("diagnose_structure_or", DE, "s.significant = s.score >= threshold && chi2 > chi2_critical(df1);", "s.significant = s.score >= threshold || chi2 > chi2_critical(df1);", DIAGNOSE),
     ("battery_transient_no_slope", B, "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s) + q.c * dt_s;", "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s);", BATTERY),
     # Issue #22's fresh slips (bench/fresh-slips.md):
-    ("cap_right_uses_left", FS, "r = std::clamp(vr[i] / 100.0, -cap, cap);", "r = std::clamp(vl[i] / 100.0, -cap, cap);", CAP),
-    ("cap_reverse_uncapped", FS, "const double l = std::clamp(vl[i] / 100.0, -cap, cap),", "const double l = std::min(vl[i] / 100.0, cap),", CAP),
-    ("cap_count_left_only", FS, "if (l != vl[i] / 100.0 || r != vr[i] / 100.0) {", "if (l != vl[i] / 100.0) {", CAP),
+    ("cap_right_uses_left", FS_D, "r = std::clamp(vr[i] / 100.0, -cap, cap);", "r = std::clamp(vl[i] / 100.0, -cap, cap);", CAP),
+    ("cap_reverse_uncapped", FS_D, "const double l = std::clamp(vl[i] / 100.0, -cap, cap),", "const double l = std::min(vl[i] / 100.0, cap),", CAP),
+    ("cap_count_left_only", FS_D, "if (l != vl[i] / 100.0 || r != vr[i] / 100.0) {", "if (l != vl[i] / 100.0) {", CAP),
     ("unit_s_before_cm_s", LR, 'for (const char* unit : {"cm_s", "mm", "deg", "s", "m", "v"}) {', 'for (const char* unit : {"s", "cm_s", "mm", "deg", "m", "v"}) {', HINTS),
     ("unit_typo_half_rule", LR, "if (d < best_distance && 2 * d < missing.size()) {", "if (d < best_distance && d < missing.size()) {", HINTS),
     ("unit_hint_column_index", LR, "    column = header_columns[best];", "    column = static_cast<int>(best) + 1;", HINTS),
@@ -163,7 +165,7 @@ MUTANTS = [
     ('ar1_factor_no_sqrt', RP, 'a.factor = std::sqrt(nn / a.n_eff);', 'a.factor = nn / a.n_eff;', round_two(CLUSTER, "RoundTwoAutocorrelation")),
     ('q_spread_sd_n', RB, 's.spread_sd = std::sqrt(ss / static_cast<double>(x.size() - 1));', 's.spread_sd = std::sqrt(ss / static_cast<double>(x.size()));', round_two(QTEST, "RoundTwoRobotSpread")),
     ('tobit_loglik_no_log_sigma', RB, 'loglik += -std::log(sigma) - kLogSqrt2Pi - 0.5 * z * z;', 'loglik += -kLogSqrt2Pi - 0.5 * z * z;', round_two(TOBIT, "RoundTwoTobit")),
-    ('cap_bic_margin_sign', FS, 'out.bic_uncapped <= out.bic_capped - kCapBicMargin', 'out.bic_uncapped <= out.bic_capped + kCapBicMargin', round_two(CAP, "RoundTwoFirmwareCap")),
+    ('cap_bic_margin_sign', FS_D, 'out.bic_uncapped <= out.bic_capped - kCapBicMargin', 'out.bic_uncapped <= out.bic_capped + kCapBicMargin', round_two(CAP, "RoundTwoFirmwareCap")),
     ('hint_obstacle_tof_in_mm', "lib/calibrate/src/plausibility.cpp", 'likely_unit(seen ? d / (tof[0] / 1000.0) : d / ceiling_m)', 'likely_unit(seen ? d / tof[0] : d / ceiling_m)', round_two(HINTS, "RoundTwoUnitHints")),
     ('tof_code_view_range_in_m', DK, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_m[i])', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
     ('model_file_open_lower_ignored', MF, '(p->open_lower ? x > p->lower : x >= p->lower)', 'x >= p->lower', round_two(CODEGEN, "RoundTwoModelFile")),
