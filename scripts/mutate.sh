@@ -49,7 +49,12 @@ DIAGNOSE = (["test_diagnose", "test_independent_checks"],
 # firmware's speed cap, the column-unit hints, the diagnosis's ToF codes, the reading-noise estimate.
 LR = "lib/logs/src/log.cpp"
 LH = "lib/logs/include/epuck2/logs/log.hpp"
-DK = "lib/diagnose/src/kinds.cpp"
+DK_GROUND = "lib/diagnose/src/kind_ground.cpp"
+DK_PROXIMITY = "lib/diagnose/src/kind_proximity.cpp"
+DK_LIGHT = "lib/diagnose/src/kind_light.cpp"
+DK_CAMERA = "lib/diagnose/src/kind_camera.cpp"
+DK_DRIVE = "lib/diagnose/src/kind_drive.cpp"
+DK_BATTERY = "lib/diagnose/src/kind_battery.cpp"
 CAP = (["test_sensor_fits", "test_measured_logs", "test_independent_checks", "test_area_boundaries"],
        r"^(DriveFit|Measured|IndependentFit|HandComputed|FirmwareCap)")
 HINTS = (["test_log_reader", "test_cli_grammar", "test_area_boundaries"], r"^(LogReader|ReaderCli|Grammar|ColumnUnitHints)")
@@ -125,8 +130,8 @@ MUTANTS = [
     ("unit_s_before_cm_s", LR, 'for (const char* unit : {"cm_s", "mm", "deg", "s", "m", "v"}) {', 'for (const char* unit : {"s", "cm_s", "mm", "deg", "m", "v"}) {', HINTS),
     ("unit_typo_half_rule", LR, "if (d < best_distance && 2 * d < missing.size()) {", "if (d < best_distance && d < missing.size()) {", HINTS),
     ("unit_hint_column_index", LR, "    column = header_columns[best];", "    column = static_cast<int>(best) + 1;", HINTS),
-    ("tof_code_low_rail", DK, "is_tof_out_of_range(tof[i]) ? s::kPluginTof.max_mm : tof[i];", "is_tof_out_of_range(tof[i]) ? s::kPluginTof.min_mm : tof[i];", TOF_CODES),
-    ("tof_code_as_reading", DK, "const double tof_i = logs::is_tof_out_of_range(tof[i]) ? s::kPluginTof.max_mm : tof[i];", "const double tof_i = tof[i];", TOF_CODES),
+    ("tof_code_low_rail", DK_DRIVE, "is_tof_out_of_range(tof[i]) ? s::kPluginTof.max_mm : tof[i];", "is_tof_out_of_range(tof[i]) ? s::kPluginTof.min_mm : tof[i];", TOF_CODES),
+    ("tof_code_as_reading", DK_DRIVE, "const double tof_i = logs::is_tof_out_of_range(tof[i]) ? s::kPluginTof.max_mm : tof[i];", "const double tof_i = tof[i];", TOF_CODES),
     ("tof_code_strict", LH, "return mm >= kTofOutOfRangeCode_mm;", "return mm > kTofOutOfRangeCode_mm;", TOF_CODES),
     ("noise_dof_no_minus_one", RN, "dof += v.size() - 1;", "dof += v.size();", NOISE),
     ("noise_small_group_le", RN, "g.kept.size() < kSmallGroup ?", "g.kept.size() <= kSmallGroup ?", NOISE),
@@ -149,10 +154,10 @@ MUTANTS = [
     ("codegen_ground_gain_offset_swapped", CG, 'cpp_number(m.sensors[k].gain_raw) << ", " << cpp_number(m.sensors[k].offset_raw)', 'cpp_number(m.sensors[k].offset_raw) << ", " << cpp_number(m.sensors[k].gain_raw)', CODEGEN),
     ("codegen_covariate_slope_centre", CG, 'cpp_number(covariates[i].slope) + ", " +\n           cpp_number(covariates[i].centre)', 'cpp_number(covariates[i].centre) + ", " +\n           cpp_number(covariates[i].slope)', CODEGEN),
     ("codegen_parameters_home_dropped", CG, "if (e.home == fx::Home::base) continue;", "if (e.home != fx::Home::effects) continue;", CODEGEN),
-    ("identify_wald_no_cross", DK, "V(a, b) = cov(ia, ib) - cov(ia, g[0]) - cov(g[0], ib) + cov(g[0], g[0]);", "V(a, b) = cov(ia, ib) + cov(g[0], g[0]);", IDENTIFY),
-    ("identify_wald_dof_sensors", DK, "const double dof = static_cast<double>(m);", "const double dof = static_cast<double>(m + 1);", IDENTIFY),
-    ("identify_level_first_gain", DK, "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;", "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * values[g[0]];", IDENTIFY),
-    ("identify_tail_share_strict", DK, "tail <= kTailShareOfNearField * total) return std::nullopt;", "tail < kTailShareOfNearField * total) return std::nullopt;", IDENTIFY),
+    ("identify_wald_no_cross", DK_GROUND, "V(a, b) = cov(ia, ib) - cov(ia, g[0]) - cov(g[0], ib) + cov(g[0], g[0]);", "V(a, b) = cov(ia, ib) + cov(g[0], g[0]);", IDENTIFY),
+    ("identify_wald_dof_sensors", DK_GROUND, "const double dof = static_cast<double>(m);", "const double dof = static_cast<double>(m + 1);", IDENTIFY),
+    ("identify_level_first_gain", DK_GROUND, "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;", "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * values[g[0]];", IDENTIFY),
+    ("identify_tail_share_strict", DK_PROXIMITY, "tail <= kTailShareOfNearField * total) return std::nullopt;", "tail < kTailShareOfNearField * total) return std::nullopt;", IDENTIFY),
     # Round 2 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
     ('charge_above_fastest_takes_slowest', CM, '  if (s >= x.back()) return y.back();', '  if (s >= x.back()) return y.front();', round_two(CHARGE, "RoundTwoChargeMap")),
     ('noise_screen_floor_forgotten', RN, 'reject_sd * std::max(pooled_sd, floor_sd)', 'reject_sd * pooled_sd', round_two(NOISE, "RoundTwoReadingNoise")),
@@ -160,14 +165,14 @@ MUTANTS = [
     ('codegen_camera_cy_from_cx', CG, 'm.base.cy_px = " << cpp_number(m.base.cy_px)', 'm.base.cy_px = " << cpp_number(m.base.cx_px)', round_two(CODEGEN, "RoundTwoCodegen")),
     ('like_camera_py_from_px', SL, 'out[i] = {p[0] + cov[i], p[1] + cov[i]};', 'out[i] = {p[0] + cov[i], p[0] + cov[i]};', LIKE),
     ('like_proximity_angle_degrees', SL, 'std::cos(s::deg_to_rad(log.col("angle_deg")[i]))', 'std::cos(log.col("angle_deg")[i])', LIKE),
-    ('identify_level_offset_dropped', DK, 'const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;', 'const double level = values[static_cast<std::size_t>(level_)] * mean;', round_two(IDENTIFY, "RoundTwoIdentify")),
+    ('identify_level_offset_dropped', DK_GROUND, 'const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;', 'const double level = values[static_cast<std::size_t>(level_)] * mean;', round_two(IDENTIFY, "RoundTwoIdentify")),
     ('jackknife_sd_divisor', "lib/diagnose/src/engine.cpp", 'std::sqrt((G - 1) / G * ss)', 'std::sqrt(ss / (G - 1))', ([R2], r"^RoundTwoJackknife")),
     ('ar1_factor_no_sqrt', RP, 'a.factor = std::sqrt(nn / a.n_eff);', 'a.factor = nn / a.n_eff;', round_two(CLUSTER, "RoundTwoAutocorrelation")),
     ('q_spread_sd_n', RB, 's.spread_sd = std::sqrt(ss / static_cast<double>(x.size() - 1));', 's.spread_sd = std::sqrt(ss / static_cast<double>(x.size()));', round_two(QTEST, "RoundTwoRobotSpread")),
     ('tobit_loglik_no_log_sigma', RB, 'loglik += -std::log(sigma) - kLogSqrt2Pi - 0.5 * z * z;', 'loglik += -kLogSqrt2Pi - 0.5 * z * z;', round_two(TOBIT, "RoundTwoTobit")),
     ('cap_bic_margin_sign', FS_D, 'out.bic_uncapped <= out.bic_capped - kCapBicMargin', 'out.bic_uncapped <= out.bic_capped + kCapBicMargin', round_two(CAP, "RoundTwoFirmwareCap")),
     ('hint_obstacle_tof_in_mm', "lib/calibrate/src/plausibility.cpp", 'likely_unit(seen ? d / (tof[0] / 1000.0) : d / ceiling_m)', 'likely_unit(seen ? d / tof[0] : d / ceiling_m)', round_two(HINTS, "RoundTwoUnitHints")),
-    ('tof_code_view_range_in_m', DK, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_m[i])', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
+    ('tof_code_view_range_in_m', DK_DRIVE, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_m[i])', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
     ('model_file_open_lower_ignored', MF, '(p->open_lower ? x > p->lower : x >= p->lower)', 'x >= p->lower', round_two(CODEGEN, "RoundTwoModelFile")),
 ]
 

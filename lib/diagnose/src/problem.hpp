@@ -1,4 +1,4 @@
-// Internal to the diagnosis engine: what a kind hands the engine (kinds.cpp builds one per
+// Internal to the diagnosis engine: what a kind hands the engine (kind_*.cpp build one per
 // kind; engine.cpp searches, fits and scores).
 #pragma once
 
