@@ -34,6 +34,9 @@ FS_L = "lib/calibrate/src/light_fit.cpp"
 FS_D = "lib/calibrate/src/drive_fit.cpp"
 FH = "lib/calibrate/include/epuck2/calibrate/sensors.hpp"
 DE = "lib/diagnose/src/engine.cpp"
+DE_H = "lib/diagnose/src/engine_detail.hpp"
+DE_RS = "lib/diagnose/src/residual_structure.cpp"
+DE_S = "lib/diagnose/src/search.cpp"
 DH = "lib/diagnose/include/epuck2/diagnose/diagnose.hpp"
 RB = "lib/fit/src/robust.cpp"
 
@@ -96,8 +99,8 @@ MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
     ("light_term_plus_1pct", M, "  return r * r;", "  return 1.01 * r * r;", SENSORS),
     ("ground_censoring_removed", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
-    ("diagnose_bic_gate_sign", DE, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (t.delta_bic <= options.min_delta_bic) passing", DIAGNOSE),
-    ("diagnose_heldout_gate_flipped", DE, "t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain)", "t.heldout_mse <= current_cv * (1.0 + options.min_heldout_gain)", DIAGNOSE),
+    ("diagnose_bic_gate_sign", DE_S, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (t.delta_bic <= options.min_delta_bic) passing", DIAGNOSE),
+    ("diagnose_heldout_gate_flipped", DE_S, "t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain)", "t.heldout_mse <= current_cv * (1.0 + options.min_heldout_gain)", DIAGNOSE),
     ("battery_filter_tau_plus_1pct", B, "kFirmwareFilterTau_s = 2.2407;", "kFirmwareFilterTau_s = 2.2631;", BATTERY),
     ("ground_offset_meaning", M, "  return offset_raw + gain_raw * grey;", "  return offset_raw * (1.0 - grey) + gain_raw * grey;", SENSORS),
     ("tof_offset_inside_scale", M, "  return scale * distance_m * 1000.0 + offset_mm;", "  return scale * (distance_m * 1000.0 + offset_mm);", SENSORS),
@@ -119,9 +122,9 @@ MUTANTS = [
     ("battery_lerp_reversed", B, "inline double lerp(double a, double b, double w) { return a + (b - a) * w; }", "inline double lerp(double a, double b, double w) { return a + (b - a) * (1.0 - w); }", BATTERY),
     ("diagnose_bic_margin_default", DH, "double min_delta_bic = 10.0;", "double min_delta_bic = 6.0;", DIAGNOSE),
     ("diagnose_heldout_gain_default", DH, "double min_heldout_gain = 0.03;", "double min_heldout_gain = 0.01;", DIAGNOSE),
-    ("diagnose_heldout_gate_ignored", DE, "const bool gain = t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain);", "const bool gain = true;", DIAGNOSE),
-    ("diagnose_bic_gate_ignored", DE, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (true) passing", DIAGNOSE),
-    ("diagnose_structure_or", DE, "s.significant = s.score >= threshold && chi2 > chi2_critical(df1);", "s.significant = s.score >= threshold || chi2 > chi2_critical(df1);", DIAGNOSE),
+    ("diagnose_heldout_gate_ignored", DE_S, "const bool gain = t.heldout_mse <= current_cv * (1.0 - options.min_heldout_gain);", "const bool gain = true;", DIAGNOSE),
+    ("diagnose_bic_gate_ignored", DE_S, "if (t.delta_bic <= -options.min_delta_bic) passing", "if (true) passing", DIAGNOSE),
+    ("diagnose_structure_or", DE_RS, "s.significant = s.score >= threshold && chi2 > chi2_critical(df1);", "s.significant = s.score >= threshold || chi2 > chi2_critical(df1);", DIAGNOSE),
     ("battery_transient_no_slope", B, "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s) + q.c * dt_s;", "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s);", BATTERY),
     # Issue #22's fresh slips (bench/fresh-slips.md):
     ("cap_right_uses_left", FS_D, "r = std::clamp(vr[i] / 100.0, -cap, cap);", "r = std::clamp(vl[i] / 100.0, -cap, cap);", CAP),
@@ -166,7 +169,7 @@ MUTANTS = [
     ('like_camera_py_from_px', SL, 'out[i] = {p[0] + cov[i], p[1] + cov[i]};', 'out[i] = {p[0] + cov[i], p[0] + cov[i]};', LIKE),
     ('like_proximity_angle_degrees', SL, 'std::cos(s::deg_to_rad(log.col("angle_deg")[i]))', 'std::cos(log.col("angle_deg")[i])', LIKE),
     ('identify_level_offset_dropped', DK_GROUND, 'const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;', 'const double level = values[static_cast<std::size_t>(level_)] * mean;', round_two(IDENTIFY, "RoundTwoIdentify")),
-    ('jackknife_sd_divisor', "lib/diagnose/src/engine.cpp", 'std::sqrt((G - 1) / G * ss)', 'std::sqrt(ss / (G - 1))', ([R2], r"^RoundTwoJackknife")),
+    ('jackknife_sd_divisor', DE_S, 'std::sqrt((G - 1) / G * ss)', 'std::sqrt(ss / (G - 1))', ([R2], r"^RoundTwoJackknife")),
     ('ar1_factor_no_sqrt', RP, 'a.factor = std::sqrt(nn / a.n_eff);', 'a.factor = nn / a.n_eff;', round_two(CLUSTER, "RoundTwoAutocorrelation")),
     ('q_spread_sd_n', RB, 's.spread_sd = std::sqrt(ss / static_cast<double>(x.size() - 1));', 's.spread_sd = std::sqrt(ss / static_cast<double>(x.size()));', round_two(QTEST, "RoundTwoRobotSpread")),
     ('tobit_loglik_no_log_sigma', RB, 'loglik += -std::log(sigma) - kLogSqrt2Pi - 0.5 * z * z;', 'loglik += -kLogSqrt2Pi - 0.5 * z * z;', round_two(TOBIT, "RoundTwoTobit")),
