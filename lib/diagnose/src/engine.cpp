@@ -1,5 +1,6 @@
-// The diagnosis engine (docs/diagnose.md). The joint-fit engine itself (the Engine class) is in engine_detail.hpp, the residual-structure
-// scoring in residual_structure.cpp, the search in search.cpp; here, what every kind shares.
+// The diagnosis engine (docs/diagnose.md). The joint-fit engine itself (the Engine class) is in
+// engine_detail.hpp, the residual-structure scoring in residual_structure.cpp, the search in
+// search.cpp; here, what every kind shares.
 #include "engine_detail.hpp"
 
 namespace epuck2::diagnose {
