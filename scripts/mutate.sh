@@ -36,9 +36,14 @@ MC = "lib/models/include/epuck2/models/camera.hpp"
 ME = "lib/models/include/epuck2/models/encoders.hpp"
 MD = "lib/models/include/epuck2/models/drive.hpp"
 B = "lib/models/include/epuck2/models/battery.hpp"
-FS = "lib/calibrate/src/sensor_fits.cpp"
+FS_G = "lib/calibrate/src/ground_fit.cpp"
+FS_L = "lib/calibrate/src/light_fit.cpp"
+FS_D = "lib/calibrate/src/drive_fit.cpp"
 FH = "lib/calibrate/include/epuck2/calibrate/sensors.hpp"
 DE = "lib/diagnose/src/engine.cpp"
+DE_H = "lib/diagnose/src/engine_detail.hpp"
+DE_RS = "lib/diagnose/src/residual_structure.cpp"
+DE_S = "lib/diagnose/src/search.cpp"
 DH = "lib/diagnose/include/epuck2/diagnose/diagnose.hpp"
 RB = "lib/fit/src/robust.cpp"
 
@@ -54,7 +59,12 @@ DIAGNOSE = (["test_diagnose", "test_independent_checks"],
 # firmware's speed cap, the column-unit hints, the diagnosis's ToF codes, the reading-noise estimate.
 LR = "lib/logs/src/log.cpp"
 LH = "lib/logs/include/epuck2/logs/log.hpp"
-DK = "lib/diagnose/src/kinds.cpp"
+DK_GROUND = "lib/diagnose/src/kind_ground.cpp"
+DK_PROXIMITY = "lib/diagnose/src/kind_proximity.cpp"
+DK_LIGHT = "lib/diagnose/src/kind_light.cpp"
+DK_CAMERA = "lib/diagnose/src/kind_camera.cpp"
+DK_DRIVE = "lib/diagnose/src/kind_drive.cpp"
+DK_BATTERY = "lib/diagnose/src/kind_battery.cpp"
 CAP = (["test_sensor_fits", "test_measured_logs", "test_independent_checks", "test_area_boundaries"],
        r"^(DriveFit|Measured|IndependentFit|HandComputed|FirmwareCap)")
 HINTS = (["test_log_reader", "test_cli_grammar", "test_area_boundaries"], r"^(LogReader|ReaderCli|Grammar|ColumnUnitHints)")
@@ -96,16 +106,16 @@ MF = "lib/coefficients/src/model_file.cpp"
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
     ("light_term_plus_1pct", ML, "  return r * r;", "  return 1.01 * r * r;", SENSORS),
-    ("ground_censoring_removed", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
-    ("diagnose_bic_gate_sign", DE, "if (t.delta_bic <= -o_.min_delta_bic) passing", "if (t.delta_bic <= o_.min_delta_bic) passing", DIAGNOSE),
-    ("diagnose_heldout_gate_flipped", DE, "const bool gain = t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain);", "const bool gain = t.heldout_mse <= current_h_.all * (1.0 + o_.min_heldout_gain);", DIAGNOSE),
+    ("ground_censoring_removed", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
+    ("diagnose_bic_gate_sign", DE_S, "if (t.delta_bic <= -o_.min_delta_bic) passing", "if (t.delta_bic <= o_.min_delta_bic) passing", DIAGNOSE),
+    ("diagnose_heldout_gate_flipped", DE_S, "const bool gain = t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain);", "const bool gain = t.heldout_mse <= current_h_.all * (1.0 + o_.min_heldout_gain);", DIAGNOSE),
     ("battery_filter_tau_plus_1pct", B, "kFirmwareFilterTau_s = 2.2407;", "kFirmwareFilterTau_s = 2.2631;", BATTERY),
     ("ground_offset_meaning", MG, "  return offset_raw + gain_raw * grey;", "  return offset_raw * (1.0 - grey) + gain_raw * grey;", SENSORS),
     ("tof_offset_inside_scale", MT, "  return scale * distance_m * 1000.0 + offset_mm;", "  return scale * (distance_m * 1000.0 + offset_mm);", SENSORS),
     # Other plausible slips in the models, the fits and the diagnosis's decision rules:
-    ("light_rails_not_censored", FS, "rail_of(o.value_raw, 0, full), o.where, group});", "rail_of(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
-    ("ground_low_rail_only", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], 0, 1e300);", SENSORS),
-    ("ground_high_rail_only", FS, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], -1e300, full);", SENSORS),
+    ("light_rails_not_censored", FS_L, "rail_of(o.value_raw, 0, full), o.where, group});", "rail_of(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
+    ("ground_low_rail_only", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], 0, 1e300);", SENSORS),
+    ("ground_high_rail_only", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], -1e300, full);", SENSORS),
     ("proximity_linear_sign", MP, "return (abc[0] * distance_m + abc[1]) * distance_m + abc[2];", "return (abc[0] * distance_m - abc[1]) * distance_m + abc[2];", SENSORS),
     ("camera_px_sign", MC, "px[0] = cx_px - f_px * x * scale;", "px[0] = cx_px + f_px * x * scale;", SENSORS),
     ("camera_full_angle_focal", MC, "const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);", "const T f_px = T(width_px / 2.0) / tan(hfov_rad);", SENSORS),
@@ -120,19 +130,19 @@ MUTANTS = [
     ("battery_lerp_reversed", B, "inline double lerp(double a, double b, double w) { return a + (b - a) * w; }", "inline double lerp(double a, double b, double w) { return a + (b - a) * (1.0 - w); }", BATTERY),
     ("diagnose_bic_margin_default", DH, "double min_delta_bic = 10.0;", "double min_delta_bic = 6.0;", DIAGNOSE),
     ("diagnose_heldout_gain_default", DH, "double min_heldout_gain = 0.03;", "double min_heldout_gain = 0.01;", DIAGNOSE),
-    ("diagnose_heldout_gate_ignored", DE, "const bool gain = t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain);", "const bool gain = true;", DIAGNOSE),
-    ("diagnose_bic_gate_ignored", DE, "if (t.delta_bic <= -o_.min_delta_bic) passing", "if (true) passing", DIAGNOSE),
-    ("diagnose_structure_or", DE, "s.significant = s.score >= threshold && chi2 > chi2_critical(df1);", "s.significant = s.score >= threshold || chi2 > chi2_critical(df1);", DIAGNOSE),
+    ("diagnose_heldout_gate_ignored", DE_S, "const bool gain = t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain);", "const bool gain = true;", DIAGNOSE),
+    ("diagnose_bic_gate_ignored", DE_S, "if (t.delta_bic <= -o_.min_delta_bic) passing", "if (true) passing", DIAGNOSE),
+    ("diagnose_structure_or", DE_RS, "s.significant = s.score >= threshold && chi2 > chi2_critical(df1);", "s.significant = s.score >= threshold || chi2 > chi2_critical(df1);", DIAGNOSE),
     ("battery_transient_no_slope", B, "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s) + q.c * dt_s;", "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s);", BATTERY),
     # Issue #22's fresh slips (bench/fresh-slips.md):
-    ("cap_right_uses_left", FS, "r = std::clamp(vr[i] / 100.0, -cap, cap);", "r = std::clamp(vl[i] / 100.0, -cap, cap);", CAP),
-    ("cap_reverse_uncapped", FS, "const double l = std::clamp(vl[i] / 100.0, -cap, cap),", "const double l = std::min(vl[i] / 100.0, cap),", CAP),
-    ("cap_count_left_only", FS, "if (l != vl[i] / 100.0 || r != vr[i] / 100.0) {", "if (l != vl[i] / 100.0) {", CAP),
+    ("cap_right_uses_left", FS_D, "r = std::clamp(vr[i] / 100.0, -cap, cap);", "r = std::clamp(vl[i] / 100.0, -cap, cap);", CAP),
+    ("cap_reverse_uncapped", FS_D, "const double l = std::clamp(vl[i] / 100.0, -cap, cap),", "const double l = std::min(vl[i] / 100.0, cap),", CAP),
+    ("cap_count_left_only", FS_D, "if (l != vl[i] / 100.0 || r != vr[i] / 100.0) {", "if (l != vl[i] / 100.0) {", CAP),
     ("unit_s_before_cm_s", LR, 'for (const char* unit : {"cm_s", "mm", "deg", "s", "m", "v"}) {', 'for (const char* unit : {"s", "cm_s", "mm", "deg", "m", "v"}) {', HINTS),
     ("unit_typo_half_rule", LR, "if (d < best_distance && 2 * d < missing.size()) {", "if (d < best_distance && d < missing.size()) {", HINTS),
     ("unit_hint_column_index", LR, "    column = header_columns[best];", "    column = static_cast<int>(best) + 1;", HINTS),
-    ("tof_code_dropout_ignored", DK, "const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]));", "const bool dropout = false;", TOF_CODES),
-    ("tof_code_as_reading", DK, "{calibrate::read_tof(tof[i]).observation.value, ul[i], ur[i]}", "{tof[i], ul[i], ur[i]}", TOF_CODES),
+    ("tof_code_dropout_ignored", DK_DRIVE, "const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]));", "const bool dropout = false;", TOF_CODES),
+    ("tof_code_as_reading", DK_DRIVE, "{calibrate::read_tof(tof[i]).observation.value, ul[i], ur[i]}", "{tof[i], ul[i], ur[i]}", TOF_CODES),
     ("tof_code_strict", LH, "return mm >= kTofOutOfRangeCode_mm;", "return mm > kTofOutOfRangeCode_mm;", TOF_CODES),
     ("noise_dof_no_minus_one", RN, "dof += v.size() - 1;", "dof += v.size();", NOISE),
     ("noise_small_group_le", RN, "g.kept.size() < kSmallGroup ?", "g.kept.size() <= kSmallGroup ?", NOISE),
@@ -155,10 +165,10 @@ MUTANTS = [
     ("codegen_ground_gain_offset_swapped", CG, 'cpp_number(m.sensors[k].gain_raw) << ", " << cpp_number(m.sensors[k].offset_raw)', 'cpp_number(m.sensors[k].offset_raw) << ", " << cpp_number(m.sensors[k].gain_raw)', CODEGEN),
     ("codegen_covariate_slope_centre", CG, 'cpp_number(covariates[i].slope) + ", " +\n           cpp_number(covariates[i].centre)', 'cpp_number(covariates[i].centre) + ", " +\n           cpp_number(covariates[i].slope)', CODEGEN),
     ("codegen_parameters_home_dropped", CG, "if (e.home == fx::Home::base) continue;", "if (e.home != fx::Home::effects) continue;", CODEGEN),
-    ("identify_wald_no_cross", DK, "V(a, b) = cov(ia, ib) - cov(ia, g[0]) - cov(g[0], ib) + cov(g[0], g[0]);", "V(a, b) = cov(ia, ib) + cov(g[0], g[0]);", IDENTIFY),
-    ("identify_wald_dof_sensors", DK, "const double dof = static_cast<double>(m);", "const double dof = static_cast<double>(m + 1);", IDENTIFY),
-    ("identify_level_first_gain", DK, "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;", "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * values[g[0]];", IDENTIFY),
-    ("identify_tail_share_strict", DK, "tail <= kTailShareOfNearField * total) return std::nullopt;", "tail < kTailShareOfNearField * total) return std::nullopt;", IDENTIFY),
+    ("identify_wald_no_cross", DK_GROUND, "V(a, b) = cov(ia, ib) - cov(ia, g[0]) - cov(g[0], ib) + cov(g[0], g[0]);", "V(a, b) = cov(ia, ib) + cov(g[0], g[0]);", IDENTIFY),
+    ("identify_wald_dof_sensors", DK_GROUND, "const double dof = static_cast<double>(m);", "const double dof = static_cast<double>(m + 1);", IDENTIFY),
+    ("identify_level_first_gain", DK_GROUND, "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;", "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * values[g[0]];", IDENTIFY),
+    ("identify_tail_share_strict", DK_PROXIMITY, "tail <= kTailShareOfNearField * total) return std::nullopt;", "tail < kTailShareOfNearField * total) return std::nullopt;", IDENTIFY),
     # Round 2 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
     ('charge_above_fastest_takes_slowest', CM, '  if (s >= x.back()) return y.back();', '  if (s >= x.back()) return y.front();', round_two(CHARGE, "RoundTwoChargeMap")),
     ('noise_screen_floor_forgotten', RN, 'reject_sd * std::max(pooled_sd, floor_sd)', 'reject_sd * pooled_sd', round_two(NOISE, "RoundTwoReadingNoise")),
@@ -166,14 +176,14 @@ MUTANTS = [
     ('codegen_camera_cy_from_cx', CG, 'm.base.cy_px = " << cpp_number(m.base.cy_px)', 'm.base.cy_px = " << cpp_number(m.base.cx_px)', round_two(CODEGEN, "RoundTwoCodegen")),
     ('like_camera_py_from_px', SL, 'out[i] = {p[0] + cov[i], p[1] + cov[i]};', 'out[i] = {p[0] + cov[i], p[0] + cov[i]};', LIKE),
     ('like_proximity_angle_degrees', SL, 'std::cos(s::deg_to_rad(log.col("angle_deg")[i]))', 'std::cos(log.col("angle_deg")[i])', LIKE),
-    ('identify_level_offset_dropped', DK, 'const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;', 'const double level = values[static_cast<std::size_t>(level_)] * mean;', round_two(IDENTIFY, "RoundTwoIdentify")),
-    ('jackknife_sd_divisor', "lib/diagnose/src/engine.cpp", 'std::sqrt((G - 1) / G * ss)', 'std::sqrt(ss / (G - 1))', ([R2], r"^RoundTwoJackknife")),
+    ('identify_level_offset_dropped', DK_GROUND, 'const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;', 'const double level = values[static_cast<std::size_t>(level_)] * mean;', round_two(IDENTIFY, "RoundTwoIdentify")),
+    ('jackknife_sd_divisor', DE_S, 'std::sqrt((G - 1) / G * ss)', 'std::sqrt(ss / (G - 1))', ([R2], r"^RoundTwoJackknife")),
     ('ar1_factor_no_sqrt', RP, 'a.factor = std::sqrt(nn / a.n_eff);', 'a.factor = nn / a.n_eff;', round_two(CLUSTER, "RoundTwoAutocorrelation")),
     ('q_spread_sd_n', RB, 's.spread_sd = std::sqrt(ss / static_cast<double>(x.size() - 1));', 's.spread_sd = std::sqrt(ss / static_cast<double>(x.size()));', round_two(QTEST, "RoundTwoRobotSpread")),
     ('tobit_loglik_no_log_sigma', RB, 'loglik += -std::log(sigma) - kLogSqrt2Pi - 0.5 * z * z;', 'loglik += -kLogSqrt2Pi - 0.5 * z * z;', round_two(TOBIT, "RoundTwoTobit")),
-    ('cap_bic_margin_sign', FS, 'out.bic_uncapped <= out.bic_capped - kCapBicMargin', 'out.bic_uncapped <= out.bic_capped + kCapBicMargin', round_two(CAP, "RoundTwoFirmwareCap")),
+    ('cap_bic_margin_sign', FS_D, 'out.bic_uncapped <= out.bic_capped - kCapBicMargin', 'out.bic_uncapped <= out.bic_capped + kCapBicMargin', round_two(CAP, "RoundTwoFirmwareCap")),
     ('hint_obstacle_tof_in_mm', "lib/calibrate/src/plausibility.cpp", 'likely_unit(seen ? d / (tof[0] / 1000.0) : d / ceiling_m)', 'likely_unit(seen ? d / tof[0] : d / ceiling_m)', round_two(HINTS, "RoundTwoUnitHints")),
-    ('tof_code_view_range_in_m', DK, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_m[i])', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
+    ('tof_code_view_range_in_m', DK_DRIVE, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_m[i])', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
     ('model_file_open_lower_ignored', MF, '(p->open_lower ? x > p->lower : x >= p->lower)', 'x >= p->lower', round_two(CODEGEN, "RoundTwoModelFile")),
 ]
 

@@ -1,5 +1,5 @@
-// Internal to the diagnosis engine: what a kind hands the engine (kinds.cpp builds one per
-// kind; engine.cpp searches, fits and scores).
+// Internal to the diagnosis engine: what a kind hands the engine (kind_*.cpp build one per
+// kind; search.cpp searches, engine_detail.hpp fits, residual_structure.cpp scores).
 #pragma once
 
 #include <cmath>

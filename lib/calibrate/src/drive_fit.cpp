@@ -1,0 +1,263 @@
+// The drive fit (see epuck2/calibrate/sensors.hpp; the shared conventions: proximity_fit.cpp).
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+
+#include "epuck2/calibrate/screening.hpp"
+#include "epuck2/calibrate/sensors.hpp"
+#include "epuck2/models/effects.hpp"
+#include "epuck2/models/saturation.hpp"
+#include "epuck2/logs/json_location.hpp"
+#include "sensor_fit_common.hpp"
+
+namespace epuck2::calibrate {
+
+using namespace epuck2::fit;  // the engine (lib/fit)
+using namespace sensor_fit_detail;  // the sensor fits' shared helpers
+
+namespace s = models::sensors;
+
+DriveRun drive_run_from_log(const logs::Log& log) {
+  DriveRun run;
+  run.path = log.path;
+  run.robot = log.robot;
+  run.obstacle_distance_m = log.metadata_number("obstacle_distance_m");
+  const auto& t = log.col("time_s");
+  const auto& vl = log.col("left_speed_cm_s");
+  const auto& vr = log.col("right_speed_cm_s");
+  const auto& sl = log.col("left_steps");
+  const auto& sr = log.col("right_steps");
+  const auto& tof = log.col("tof_mm");
+  const std::vector<double> ul = s::unwrap_steps(sl), ur = s::unwrap_steps(sr);
+  const double cap = kFirmwareSpeedLimit_m_s;
+  for (std::size_t i = 0; i < log.rows(); ++i) {
+    run.time_s.push_back(t[i]);
+    run.line.push_back(log.line_of_row.at(i));
+    // The firmware runs a wheel commanded above its limit at the limit.
+    const double l = std::clamp(vl[i] / 100.0, -cap, cap), r = std::clamp(vr[i] / 100.0, -cap, cap);
+    if (l != vl[i] / 100.0 || r != vr[i] / 100.0) {
+      run.over_speed_limit = true;
+      ++run.capped_rows;
+    }
+    run.command_m_s.push_back(0.5 * (l + r));
+    run.command_uncapped_m_s.push_back(0.5 * (vl[i] + vr[i]) / 100.0);
+    run.steps.push_back(0.5 * (ul[i] + ur[i]));
+    run.tof_mm.push_back(tof[i]);
+  }
+  return run;
+}
+
+namespace {
+
+// The autocorrelation correction of a fit to rows of runs: the AR(1) factor from the residuals of
+// the readings inside the rails that the fit kept, in row order, NaN elsewhere (a censored or
+// left-out reading breaks the chain), each run its own series; and the cluster-robust errors
+// with each run a cluster (fit::apply_cluster_robust).
+AutocorrelationCorrection run_autocorrelation(const RobustFit& f, const std::vector<Observation>& obs,
+                                              const std::vector<int>& run_of) {
+  std::vector<double> e(obs.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<bool> left_out(obs.size(), false);
+  for (std::size_t i : f.outliers)
+    if (i < left_out.size()) left_out[i] = true;
+  for (std::size_t i = 0; i < obs.size() && i < f.predictions.size(); ++i)
+    if (obs[i].censoring == Censoring::none && !left_out[i]) e[i] = obs[i].value - f.predictions[i];
+  AutocorrelationCorrection a = autocorrelation_correction(e, run_of);
+  // Runs as clusters: every kept reading's score (censored ones too), whatever its correlation
+  // with its neighbours.
+  std::vector<double> r(obs.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < obs.size() && i < f.scaled_residuals.size(); ++i)
+    if (!left_out[i]) r[i] = f.scaled_residuals[i];
+  apply_cluster_robust(a, f, f.jacobian, r, run_of);
+  return a;
+}
+
+}  // namespace
+
+namespace {
+// Encoder steps against the commanded distance: the register's mean after that travel
+// (lib/models encoder_mean_steps: steps_per_m x - 1/2, the mean of floor(steps_per_m x)).
+struct StepsLine {
+  std::vector<double> distance_m;
+  template <typename T>
+  bool operator()(const T* p, T* out) const {
+    for (std::size_t i = 0; i < distance_m.size(); ++i) out[i] = s::encoder_mean_steps(p[0], distance_m[i]);
+    return true;
+  }
+};
+
+// The ToF of every row of every run: latent = scale 1000 (D - g) + offset, g the encoders'
+// wheel travel lagged by tau (lagged_travel_m); p = {tof_offset_mm, tof_scale, slip_time_constant_s}.
+struct TofModel {
+  const std::vector<DriveRun>* runs;
+  double steps_per_m;
+  template <typename T>
+  bool operator()(const T* p, T* out) const {
+    std::size_t i = 0;
+    for (const DriveRun& run : *runs) {
+      const std::vector<T> travel = lagged_travel_m(run, steps_per_m, p[2]);
+      for (std::size_t k = 0; k < run.time_s.size(); ++k)
+        out[i++] = s::tof_response_mm(p[1], p[0], T(run.obstacle_distance_m) - travel[k]);
+    }
+    return true;
+  }
+};
+
+// The rows of a run while the robot stands still before it first moves (no command yet, the
+// encoders unchanged), `commands` the run's commands as the steps fit took them: their ToF
+// readings are replicates, the body has not moved (after a move it may still be settling, see the
+// slip lag).
+std::size_t still_rows(const DriveRun& run, const std::vector<double>& commands) {
+  std::size_t k = 0;
+  while (k < run.time_s.size() && commands[k] == 0.0 && run.steps[k] == run.steps[0]) ++k;
+  return k;
+}
+
+ReadingNoise still_tof_noise(const std::vector<DriveRun>& runs, std::vector<double> DriveRun::*commands) {
+  std::vector<double> nv;
+  std::vector<int> ng, ns;
+  std::vector<bool> nr;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const DriveRun& run = runs[r];
+    const std::size_t still = still_rows(run, run.*commands);
+    for (std::size_t k = 0; k < still; ++k) {
+      nv.push_back(run.tof_mm[k]);
+      ng.push_back(static_cast<int>(r));
+      ns.push_back(0);
+      nr.push_back(run.tof_mm[k] <= s::kPluginTof.min_mm || run.tof_mm[k] >= s::kPluginTof.max_mm);
+    }
+  }
+  return noise_from_replicates("tof", "mm", kArgosNoiseScaleTof_mm, nv, ng, nr, ns, 0, kQuantisationSd);
+}
+}  // namespace
+
+DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& options) {
+  DriveFit out;
+  for (const logs::Log& log : logs) {
+    out.runs.push_back(drive_run_from_log(log));
+    if (out.runs.back().over_speed_limit) out.over_limit_runs.push_back(log.path);
+    out.capped_rows += out.runs.back().capped_rows;
+  }
+  const double nominal = s::kPluginStepsPerMetre;
+
+  // 1. Steps per metre: encoder steps against the commanded distance (a command holds until the
+  //    next row), commands above the firmware's limit taken as the limit -- unless the encoders
+  //    say the wheels ran faster (the cap tested by the BIC, DriveFit::cap_kept).
+  std::vector<double> x, x_uncapped;
+  std::vector<Observation> obs;
+  std::vector<int> run_of;  // per row: its run (the residuals' series)
+  for (const DriveRun& run : out.runs) {
+    double commanded_m = 0, uncapped_m = 0;
+    for (std::size_t k = 0; k < run.time_s.size(); ++k) {
+      run_of.push_back(static_cast<int>(&run - out.runs.data()));
+      x.push_back(commanded_m);
+      x_uncapped.push_back(uncapped_m);
+      obs.push_back({run.steps[k], Censoring::none, run.path + ":" + std::to_string(run.line[k]), -1});
+      if (k + 1 < run.time_s.size()) {
+        commanded_m += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
+        uncapped_m += run.command_uncapped_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
+      }
+    }
+  }
+  out.steps_rows = x.size();
+  // Within +-20 % of the nominal 41 mm wheel; steps are whole numbers.
+  const std::vector<fit::Parameter> steps_params{{"steps_per_m", nominal, nominal, 0.8 * nominal, 1.2 * nominal}};
+  out.steps = fit_robust(StepsLine{x}, obs, steps_params, robust_options(options, kQuantisationSd));
+  if (out.capped_rows > 0) {
+    RobustFit uncapped = fit_robust(StepsLine{x_uncapped}, obs, steps_params, robust_options(options, kQuantisationSd));
+    // Each model's BIC over every row (the same rows, one parameter each): n ln(RSS/n) + ln n.
+    auto bic = [&](const RobustFit& f, const std::vector<double>& d) {
+      if (!f.usable) return std::numeric_limits<double>::infinity();
+      const double k = f.value("steps_per_m");
+      double rss = 0;
+      for (std::size_t i = 0; i < d.size(); ++i) {
+        const double r = obs[i].value - s::encoder_mean_steps(k, d[i]);
+        rss += r * r;
+      }
+      const double n = static_cast<double>(d.size());
+      return n * std::log(std::max(rss, 1e-300) / n) + std::log(n);
+    };
+    out.cap_tested = true;
+    out.bic_capped = bic(out.steps, x);
+    out.bic_uncapped = bic(uncapped, x_uncapped);
+    if (out.bic_uncapped <= out.bic_capped - kCapBicMargin) {
+      out.cap_kept = false;
+      out.steps = std::move(uncapped);
+      for (DriveRun& run : out.runs) run.command_m_s = run.command_uncapped_m_s;
+    }
+  }
+  collect(out.warnings, "steps per metre: ", out.steps.warnings);
+  if (out.steps.usable) out.steps_autocorrelation = run_autocorrelation(out.steps, obs, run_of);
+  const double steps_per_m = out.steps.usable ? out.steps.value("steps_per_m") : nominal;
+
+  // 2. ToF offset and scale with the slip lag, from every row of every run: readings at the
+  //    sensor's floor (20 mm) or ceiling (2000 mm, and the out-of-range codes >= 8190) censored.
+  std::vector<Observation> tobs;
+  std::vector<double> plugin_r;
+  for (const DriveRun& run : out.runs) {
+    const std::vector<double> enc_travel = lagged_travel_m(run, nominal, 0.0);
+    for (std::size_t k = 0; k < run.time_s.size(); ++k) {
+      const double mm = run.tof_mm[k];
+      const TofReading read = read_tof(mm);  // as the diagnosis reads it
+      Observation o = read.observation;
+      o.where = run.path + ":" + std::to_string(run.line[k]);
+      if (read.no_target_code) ++out.tof_out_of_range_codes;
+      if (o.censoring == Censoring::none)
+        plugin_r.push_back(mm - s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc_travel[k]));  // the plug-in's
+      if (o.censoring != Censoring::none) ++out.tof_censored;
+      tobs.push_back(o);
+    }
+  }
+  out.tof_rows = tobs.size();
+  out.plugin_tof_mse = mse_of(plugin_r);
+  // Scale within a factor of two of a true range; the lag between none and 2 s. Declared order
+  // decides what a log that cannot tell them apart keeps: the scale and the lag before the offset.
+  out.tof = fit_robust(TofModel{&out.runs, steps_per_m}, tobs,
+                       {{"tof_offset_mm", 0.0, s::kPluginTof.offset_mm, -500.0, 500.0},
+                        {models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), 1.0, s::kPluginTof.scale, 0.5, 2.0},
+                        {"slip_time_constant_s", 0.05, 0.0, 0.0, 2.0}},
+                       robust_options(options, kQuantisationSd));
+  collect(out.warnings, "ToF: ", out.tof.warnings);
+  if (out.tof.usable) out.tof_autocorrelation = run_autocorrelation(out.tof, tobs, run_of);
+  if (!out.over_limit_runs.empty() && out.cap_kept)
+    out.warnings.push_back(std::to_string(out.capped_rows) + " rows command more than the firmware's limit (" +
+                           fmt(kFirmwareSpeedLimit_m_s * 100) + " cm/s): taken as the limit, which is what the robot does (the " +
+                           "encoders agree: BIC " + fmt(out.bic_capped) + " with the cap, " + fmt(out.bic_uncapped) + " without).");
+  if (!out.cap_kept)
+    out.warnings.push_back(std::to_string(out.capped_rows) + " rows command more than the firmware's limit (" +
+                           fmt(kFirmwareSpeedLimit_m_s * 100) + " cm/s), and the encoders say the wheels ran faster: BIC " +
+                           fmt(out.bic_uncapped) + " as commanded against " + fmt(out.bic_capped) +
+                           " with the cap; the wheels exceed the firmware's limit and are fitted as they run.");
+
+  // 3. The reading noise. ToF: the readings of each run while the robot stands still before it
+  //    first moves (still_tof_noise); with fewer than kMinStillReadings of them, the ToF fit's
+  //    residuals. Encoders: the steps fit's residuals.
+  out.tof_noise = still_tof_noise(out.runs, &DriveRun::command_m_s);
+  if (!(out.tof_noise.n >= kMinStillReadings) || !std::isfinite(out.tof_noise.sd))
+    out.tof_noise = noise_from_residuals("tof", "mm", kArgosNoiseScaleTof_mm, out.tof);
+  out.encoder_noise = noise_from_residuals("encoder", "steps", kArgosNoiseScaleEncoder_steps, out.steps);
+  return out;
+}
+
+ReadingNoise drive_tof_replicate_noise(const std::vector<logs::Log>& logs) {
+  std::vector<DriveRun> runs;
+  for (const logs::Log& log : logs) runs.push_back(drive_run_from_log(log));
+  // The still rows end at the first command, capped or as logged (fit_drive's steps fit decides
+  // which it keeps): where the two agree in every run, the fits cannot change the estimate.
+  for (const DriveRun& run : runs)
+    if (still_rows(run, run.command_m_s) != still_rows(run, run.command_uncapped_m_s)) {
+      ReadingNoise noise = fit_drive(logs).tof_noise;
+      return noise.from == "replicates" ? noise : ReadingNoise{};
+    }
+  ReadingNoise noise = still_tof_noise(runs, &DriveRun::command_m_s);
+  if (!(noise.n >= kMinStillReadings) || !std::isfinite(noise.sd)) return ReadingNoise{};  // fit_drive's: from residuals
+  return noise;
+}
+
+}  // namespace epuck2::calibrate
