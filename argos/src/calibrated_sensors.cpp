@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <typeinfo>
 
 #include <argos3/core/simulator/entity/composable_entity.h>
 #include <argos3/core/simulator/entity/controllable_entity.h>
@@ -19,6 +20,8 @@
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_camera_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_encoder_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
+#include <argos3/plugins/simulator/entities/box_entity.h>
+#include <argos3/plugins/simulator/entities/cylinder_entity.h>
 #include <argos3/plugins/simulator/entities/ground_sensor_equipped_entity.h>
 #include <argos3/plugins/simulator/entities/led_entity.h>
 #include <argos3/plugins/simulator/entities/light_entity.h>
@@ -237,10 +240,73 @@ void CEPuck2CalibratedProximitySensor::Init(TConfigurationNode& t_tree) {
   m_bAddNoise = false;
 }
 
-Real CEPuck2CalibratedProximitySensor::CosIncidence(const CRay3& c_ray, Real f_distance) {
+namespace {
+/// c_v rotated by the unit quaternion (f_w, f_x, f_y, f_z): v + w t + q × t with t = 2 q × v, inline
+/// (the per-hit cost of CVector3::Rotate's call and CQuaternion::Inverse's copy is what this saves).
+CVector3 RotateUnit(Real f_w, Real f_x, Real f_y, Real f_z, const CVector3& c_v) {
+  const Real fTx = 2 * (f_y * c_v.GetZ() - f_z * c_v.GetY());
+  const Real fTy = 2 * (f_z * c_v.GetX() - f_x * c_v.GetZ());
+  const Real fTz = 2 * (f_x * c_v.GetY() - f_y * c_v.GetX());
+  return CVector3(c_v.GetX() + f_w * fTx + (f_y * fTz - f_z * fTy),
+                  c_v.GetY() + f_w * fTy + (f_z * fTx - f_x * fTz),
+                  c_v.GetZ() + f_w * fTz + (f_x * fTy - f_y * fTx));
+}
+
+/// The outward normal, in world coordinates, of the surface of a box or cylinder entity at the
+/// point c_hit (world) on it; false for any other entity. An ARGoS box or cylinder's origin anchor
+/// is the centre of its base, its size (box) or radius and height (cylinder) in its own frame, so
+/// the face hit is the one whose plane lies nearest c_hit in that frame.
+bool AnalyticNormal(const CEmbodiedEntity& c_entity, const CVector3& c_hit, CVector3& c_normal) {
+  if (!c_entity.HasParent()) return false;
+  const CComposableEntity& cParent = c_entity.GetParent();
+  const SAnchor& sOrigin = c_entity.GetOriginAnchor();
+  const CQuaternion& cQ = sOrigin.Orientation;
+  /* the exact type (typeid, cheaper than dynamic_cast): a subclass takes the side rays */
+  const bool bBox = typeid(cParent) == typeid(CBoxEntity);
+  if (!bBox && typeid(cParent) != typeid(CCylinderEntity)) return false;
+  /* c_hit in the entity's frame (the conjugate rotation), z from its base */
+  const CVector3 cLocal = RotateUnit(cQ.GetW(), -cQ.GetX(), -cQ.GetY(), -cQ.GetZ(), c_hit - sOrigin.Position);
+  if (bBox) {
+    const auto* pcBox = static_cast<const CBoxEntity*>(&cParent);
+    const CVector3 cHalf = pcBox->GetSize() * 0.5;
+    const Real fCentred[3] = {cLocal.GetX(), cLocal.GetY(), cLocal.GetZ() - cHalf.GetZ()};
+    const Real fHalf[3] = {cHalf.GetX(), cHalf.GetY(), cHalf.GetZ()};
+    int nFace = 0;
+    Real fNearest = fHalf[0] - Abs(fCentred[0]);
+    for (int j = 1; j < 3; ++j) {
+      const Real fGap = fHalf[j] - Abs(fCentred[j]);
+      if (fGap < fNearest) { fNearest = fGap; nFace = j; }
+    }
+    Real fAxis[3] = {0, 0, 0};
+    fAxis[nFace] = fCentred[nFace] < 0 ? -1.0 : 1.0;
+    c_normal.Set(fAxis[0], fAxis[1], fAxis[2]);
+  } else {
+    const auto* pcCylinder = static_cast<const CCylinderEntity*>(&cParent);
+    const Real fHalfHeight = pcCylinder->GetHeight() * 0.5;
+    const Real fZ = cLocal.GetZ() - fHalfHeight;
+    const Real fRadial = std::hypot(cLocal.GetX(), cLocal.GetY());
+    if (fHalfHeight - Abs(fZ) < pcCylinder->GetRadius() - fRadial || !(fRadial > 0)) {
+      c_normal.Set(0, 0, fZ < 0 ? -1.0 : 1.0); /* a cap */
+    } else {
+      c_normal.Set(cLocal.GetX() / fRadial, cLocal.GetY() / fRadial, 0); /* the side: radial */
+    }
+  }
+  c_normal = RotateUnit(cQ.GetW(), cQ.GetX(), cQ.GetY(), cQ.GetZ(), c_normal);
+  return true;
+}
+}  // namespace
+
+Real CEPuck2CalibratedProximitySensor::CosIncidence(const CRay3& c_ray, Real f_distance,
+                                                     const CEmbodiedEntity* pc_hit) {
   const Real fEpsilon = 0.001;
   CVector3 cU = c_ray.GetEnd() - c_ray.GetStart();
   cU.Normalize();
+  /* a box or a cylinder: the normal of the face hit, without another ray query */
+  CVector3 cFaceNormal;
+  if (pc_hit != nullptr && AnalyticNormal(*pc_hit, c_ray.GetStart() + cU * f_distance, cFaceNormal)) {
+    return Abs(cFaceNormal.DotProduct(cU));
+  }
+  /* any other shape (robots...): two more rays 1 mm beside this one, across it */
   /* two directions across the ray */
   CVector3 cV1 = cU;
   cV1.CrossProduct(Abs(cU.GetZ()) < 0.9 ? CVector3::Z : CVector3::X);
@@ -285,7 +351,7 @@ void CEPuck2CalibratedProximitySensor::Update() {
     } else if (m_bShowRays) {
       m_pcControllableEntity->AddCheckedRay(false, cRay);
     }
-    const double fCos = m_bIncidence && fDistance ? CosIncidence(cRay, *fDistance) : 1.0;
+    const double fCos = m_bIncidence && fDistance ? CosIncidence(cRay, *fDistance, sIntersection.IntersectedEntity) : 1.0;
     /* lib/models' mean (every effect the file has), the noise in counts, the rounding and the rails */
     const double fMean = ms::mean_raw(m_sModel, static_cast<int>(i), fDistance, fCos) +
                          ms::uniform_noise(m_cNoise.unit(i), m_cNoise.level(i)) * ms::kPluginNoiseScaleProximity_counts;

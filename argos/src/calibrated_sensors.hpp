@@ -48,9 +48,11 @@ class CEPuck2CalibratedProximitySensor : public CEPuck2ProximityDefaultSensor {
 
  private:
   /// cos of the angle between `c_ray` and the normal of the surface it hit `f_distance` along it:
-  /// ARGoS's ray query gives no normal, so two more rays 1 mm beside it find the surface's plane
-  /// through the three hits (1 when a side ray misses on both sides: an edge).
-  Real CosIncidence(const CRay3& c_ray, Real f_distance);
+  /// ARGoS's ray query gives no normal, only the entity hit (`pc_hit`): for a box, the normal of
+  /// the face hit from its position, orientation and size; for a cylinder, radial (or a cap's);
+  /// for any other shape two more rays 1 mm beside it find the surface's plane through the three
+  /// hits (1 when a side ray misses on both sides: an edge).
+  Real CosIncidence(const CRay3& c_ray, Real f_distance, const CEmbodiedEntity* pc_hit);
 
   epuck2::models::sensors::ProximityModel m_sModel;
   bool m_bIncidence = false;        ///< the file's incidence_angle is not neutral: compute the angle
