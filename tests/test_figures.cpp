@@ -343,6 +343,16 @@ TEST_F(PaperFigures, LifetimeAndChargeMapFitOneColumn) {
   EXPECT_NE(slurp(life).find("Battery lifetime against wheel speed"), std::string::npos);
 }
 
+// A diagnosis of two robots' logs (the shipped ground set: virtual-epuck2-1 and -2) gives each
+// robot its marker, named in the legend.
+TEST_F(PaperFigures, ADiagnosisOfSeveralRobotsNamesEachRobotsMarker) {
+  const fs::path out = dir_ / "g.svg";
+  ASSERT_EQ(run("diagnose" + logs_of("ground") + " --plot \"" + out.string() + "\"").exit_code, 0);
+  const std::string svg = slurp(out);
+  EXPECT_NE(svg.find("robot virtual-epuck2-1"), std::string::npos);
+  EXPECT_NE(svg.find("robot virtual-epuck2-2"), std::string::npos);
+}
+
 TEST(FigureSize, ParsedInInches) {
   using epuck2::plot::parse_figure_size;
   EXPECT_NEAR(parse_figure_size("8.5x6cm").first, 8.5 / 2.54, 1e-12);
