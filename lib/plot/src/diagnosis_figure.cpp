@@ -210,7 +210,8 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
     if (name != "log" || values.size() != n) continue;
     for (const auto& robot : log_robots)
       if (std::find(robots.begin(), robots.end(), robot) == robots.end()) robots.push_back(robot);
-    if (robots.size() < 2) break;
+    // (Logs without a robot name are named by their file stem: a robot a log, no marker tells them apart.)
+    if (robots.size() < 2 || robots.size() > 6) break;
     for (std::size_t i = 0; i < n; ++i) {
       const auto k = static_cast<std::size_t>(std::lround(values[i]));
       if (k < log_robots.size())
@@ -218,7 +219,10 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
     }
     break;
   }
-  if (robots.size() < 2) robots.clear();
+  if (robots.size() < 2 || robots.size() > 6) {
+    robots.clear();
+    std::fill(marker_of.begin(), marker_of.end(), 7);
+  }
   // The covariate: the one the diagnosis chose for the figure, else the residual's index.
   std::string cov_name = "log_row";
   std::vector<double> x;
