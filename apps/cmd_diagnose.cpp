@@ -496,7 +496,11 @@ int run_diagnose(const DiagnoseOptions& o) {
     throw UsageError("diagnose does not support the kind '" + std::string(logs::to_string(logs.front().kind)) +
                      "' yet");
   std::vector<std::string> log_names;
-  for (const auto& l : logs) log_names.push_back(l.path);
+  std::vector<std::string> log_robots;  // the figure's marker per robot
+  for (const auto& l : logs) {
+    log_names.push_back(l.path);
+    log_robots.push_back(l.robot);
+  }
   dg::Options options;
   if (!models::battery::parse_model(o.battery_model, options.battery_model))
     throw UsageError("--battery-model: " + unknown_name("discharge model", o.battery_model, {"simple", "linear", "cubic", "approximated"}));
@@ -575,7 +579,7 @@ int run_diagnose(const DiagnoseOptions& o) {
   const std::string figure = figure_path(o.plot, r.kind);
   logs::OutputStage stage;
   if (!output.empty()) stage.write(output, text);
-  if (!figure.empty()) plot::diagnosis_figure(stage, figure, r, log_names);
+  if (!figure.empty()) plot::diagnosis_figure(stage, figure, r, log_names, log_robots);
   stage.commit();
   if (!output.empty()) std::cerr << "diagnose: wrote " << output << '\n';
   if (!figure.empty()) std::cerr << "diagnose: drew " << figure << '\n';

@@ -251,6 +251,20 @@ TEST_F(PaperFigures, ABatterySvgStaysSmallAndSaysItIsThinned) {
   EXPECT_NE(slurp(out).find("a line through ≤ 150 readings a run"), std::string::npos);
 }
 
+// The drive reference set (19 runs, 1839 readings, each drawn in its speed's panel and again in
+// the encoders') as an SVG: at most 25 readings a run drawn, the SVG under 300 KB (0.54 MB when
+// every reading was drawn), the thinning stated; the PNG keeps every reading (no such entry).
+TEST_F(PaperFigures, ADriveSvgStaysSmallAndSaysItIsThinned) {
+  const fs::path out = dir_ / "d.svg";
+  const CliRun r = run("drive" + logs_of("drive") + " --plot \"" + out.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_LT(fs::file_size(out), 300u * 1024u);
+  const std::string svg = slurp(out);
+  EXPECT_NE(svg.find("at most 25 readings a run drawn"), std::string::npos);
+  for (const char* text : {"ToF reading (mm)", "encoder steps", "commanded distance (mm)"})
+    EXPECT_NE(svg.find(text), std::string::npos) << text;
+}
+
 /// Every `font-size="X"` of an SVG.
 std::vector<double> svg_font_sizes(const std::string& svg) {
   std::vector<double> sizes;
@@ -288,7 +302,7 @@ TEST_F(PaperFigures, EveryPanelKeepsItsLabelsAtOneAndTwoColumns) {
   };
   const std::vector<Case> cases{
       {"drive" + logs_of("drive"), "8.5x14cm",
-       {"2.5 cm/s, x: time (s)", "15 cm/s, x: time (s)", "standing still: 1 run", "encoders, every run", "ToF (mm)",
+       {"2.5 cm/s, x: time (s)", "15 cm/s, x: time (s)", "standing still: 1 run", "encoders; ≤ 25 readings/run", "ToF (mm)",
         "obstacle (mm)", "commanded (mm)", "encoder steps", "fit, clipped at rails", "robot virtual-epuck2-1"}},
       {"drive" + logs_of("drive"), "17.6x10cm", {"10 cm/s, x: time (s)", "standing still: 1 run", "encoder steps", "fit, clipped at rails"}},
       {"diagnose" + logs_of("drive"), "8.5x16cm",
@@ -307,6 +321,36 @@ TEST_F(PaperFigures, EveryPanelKeepsItsLabelsAtOneAndTwoColumns) {
     for (const auto& text : c.texts) EXPECT_NE(svg.find(text), std::string::npos) << text;
     fs::remove(out);
   }
+}
+
+// The battery's lifetime and charge-map figures on one column (8.5 cm at 8 pt): every axis keeps
+// its label, the legend its entries (short forms), and the title is left to the caption.
+TEST_F(PaperFigures, LifetimeAndChargeMapFitOneColumn) {
+  const fs::path life = dir_ / "l.svg", map = dir_ / "m.svg";
+  const CliRun r = run("battery" + logs_of("battery") + " --plot-lifetime \"" + life.string() + "\" --plot-charge-map \"" +
+                       map.string() + "\" --figure-size 8.5x7cm --font-size 8");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string l = slurp(life), m = slurp(map);
+  for (const char* text : {"wheel speed (cm/s)", "lifetime (h)", "each run", "mean of the runs (± s.e.)", "published (Fig. 10b, plug-in)"})
+    EXPECT_NE(l.find(text), std::string::npos) << text;
+  EXPECT_EQ(l.find("Battery lifetime against wheel speed"), std::string::npos);  // the caption's
+  for (const char* text : {"voltage_v (V)", "charge (1 = full)", "logged - map (1e-5)", "logged rows", "knots"})
+    EXPECT_NE(m.find(text), std::string::npos) << text;
+  EXPECT_EQ(m.find("Voltage -&gt; charge map"), std::string::npos);
+  EXPECT_EQ(m.find("Voltage -> charge map"), std::string::npos);
+  // Without a size, the titles are drawn.
+  ASSERT_EQ(run("battery" + logs_of("battery") + " --plot-lifetime \"" + life.string() + "\"").exit_code, 0);
+  EXPECT_NE(slurp(life).find("Battery lifetime against wheel speed"), std::string::npos);
+}
+
+// A diagnosis of two robots' logs (the shipped ground set: virtual-epuck2-1 and -2) gives each
+// robot its marker, named in the legend.
+TEST_F(PaperFigures, ADiagnosisOfSeveralRobotsNamesEachRobotsMarker) {
+  const fs::path out = dir_ / "g.svg";
+  ASSERT_EQ(run("diagnose" + logs_of("ground") + " --plot \"" + out.string() + "\"").exit_code, 0);
+  const std::string svg = slurp(out);
+  EXPECT_NE(svg.find("robot virtual-epuck2-1"), std::string::npos);
+  EXPECT_NE(svg.find("robot virtual-epuck2-2"), std::string::npos);
 }
 
 TEST(FigureSize, ParsedInInches) {

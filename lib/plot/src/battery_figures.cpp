@@ -148,6 +148,10 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
 
 void battery_lifetime_figure(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::BatteryRun>& runs,
                              const calibrate::BatteryFit& f) {
+  // A paper's column (narrower than 1200 of the canvas's pixels, as the drive figure's): no title
+  // (the caption's), the legend in short entries below the panel, a tic every 3 cm/s.
+  const std::pair<int, int> canvas = canvas_px(1200, 800);
+  const bool narrow = canvas.first < 1200;
   render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
@@ -158,18 +162,20 @@ void battery_lifetime_figure(logs::OutputStage& stage, const std::string& path, 
         std::vector<std::tuple<double, double>> published;
         const mb::Tables& pt = mb::plugin_tables();
         for (int s = 0; s < mb::kSpeedCount; ++s) published.emplace_back(s, pt.lifetime_s[static_cast<std::size_t>(s)] / 3600.0);
-        gp << "set title 'Battery lifetime against wheel speed (robot spinning in place)' font ',14'\n";
+        if (!narrow) gp << "set title 'Battery lifetime against wheel speed (robot spinning in place)' font ',14'\n";
         gp << "set xlabel 'wheel speed (cm/s)'\nset ylabel 'lifetime (h)'\nset grid lc rgb '#dddddd'\n";
-        gp << "set key bottom right box opaque\n";
-        gp << "set xrange [-0.5:15.5]\nset yrange [0:*]\nset xtics 1\n";
+        gp << (narrow ? "set key below left Left reverse maxcols 1\n" : "set key bottom right box opaque\n");
+        gp << "set xrange [-0.5:15.5]\nset yrange [0:*]\nset xtics " << (narrow ? 3 : 1) << "\n";
         gp << "plot '-' with points pt 7 ps 1.2 lc rgb '#999999' title 'each run', "
-              "'-' with yerrorlines pt 5 ps 1.2 lw 2 lc rgb '#1f77b4' title 'mean of the runs (± standard error)', "
-              "'-' with linespoints dt (8,5) pt 6 ps 1.4 lw 2 lc rgb '#d62728' title 'published end times (paper Fig. 10b, plug-in tables)'\n";
+              "'-' with yerrorlines pt 5 ps 1.2 lw 2 lc rgb '#1f77b4' title "
+           << (narrow ? "'mean of the runs (± s.e.)'" : "'mean of the runs (± standard error)'")
+           << ", '-' with linespoints dt (8,5) pt 6 ps 1.4 lw 2 lc rgb '#d62728' title "
+           << (narrow ? "'published (Fig. 10b, plug-in)'" : "'published end times (paper Fig. 10b, plug-in tables)'") << "\n";
         gp.send1d(each);
         gp.send1d(mean);
         gp.send1d(published);
       },
-      canvas_px(1200, 800).first, canvas_px(1200, 800).second);
+      canvas.first, canvas.second);
 }
 
 }  // namespace epuck2::plot

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <tuple>
+#include <utility>
 
 #include "epuck2/plot/figure.hpp"
 
@@ -11,6 +12,10 @@ namespace epuck2::plot {
 
 void charge_map_figure(logs::OutputStage& stage, const std::string& path, const std::vector<calibrate::ChargeSample>& rows,
                     const calibrate::ChargeMap& map) {
+  // A paper's column (narrower than 1200 of the canvas's pixels): the panels stacked as always, no
+  // title (the caption's), the legend below the map's panel.
+  const std::pair<int, int> canvas = canvas_px(1200, 900);
+  const bool narrow = canvas.first < 1200;
   render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
@@ -43,23 +48,29 @@ void charge_map_figure(logs::OutputStage& stage, const std::string& path, const 
           resid.emplace_back(rows[i].voltage_v + calibrate::load_offset_v(map, rows[i].speed_cm_s),
                              rows[i].charge - calibrate::convert_voltage(map, rows[i].voltage_v, rows[i].speed_cm_s).charge);
         const std::string xlabel = map.has_load() ? "voltage_v + load offset (V)" : "voltage_v (V)";
-        gp << "set multiplot layout 2,1 title '" << title << "' font ',13' noenhanced\n";
-        gp << "set xlabel '" << xlabel << "' noenhanced\n";
-        gp << "set ylabel 'charge (1 = full)'\nset grid\nset key top left\n";
-        gp << "set size 1,0.62\nset origin 0,0.33\n";
+        if (narrow) gp << "set multiplot\n";
+        else gp << "set multiplot layout 2,1 title '" << title << "' font ',13' noenhanced\n";
+        gp << "set xlabel '" << (narrow ? std::string() : xlabel) << "' noenhanced\n";  // a column: once, under the residuals
+        gp << "set ylabel 'charge (1 = full)'\nset grid\n" << (narrow ? "set key below horizontal width -2\n" : "set key top left\n");
+        gp << (narrow ? "set size 1,0.6\nset origin 0,0.4\n" : "set size 1,0.62\nset origin 0,0.33\n");
         gp << "plot '-' with points pt 7 ps 0.3 lc rgb '#b0b0b0' title 'logged rows', "
               "'-' with lines lw 2 lc rgb '#e41a1c' title 'map', "
               "'-' with points pt 6 ps 1.5 lw 2 lc rgb '#377eb8' title 'knots'\n";
         gp.send1d(pts);
         gp.send1d(line);
         gp.send1d(knots);
-        gp << "set size 1,0.33\nset origin 0,0\nset ylabel 'logged - map'\nset key off\nset format y '%.1e'\n";
+        // A column's residual axis in units of 1e-5 (its tics would overlap as 2.0e-05, 4.0e-05, ...).
+        const double unit = narrow ? 1e5 : 1.0;
+        if (narrow) for (auto& r : resid) std::get<1>(r) *= unit;
+        gp << (narrow ? "set size 1,0.4\n" : "set size 1,0.33\n") << "set origin 0,0\nset key off\n"
+           << (narrow ? "set ylabel 'logged - map (1e-5)'\nset format y '%g'\nset ytics 6\nset xlabel '" + xlabel + "' noenhanced\n"
+                      : std::string("set ylabel 'logged - map'\nset format y '%.1e'\n"));
         if (resid.empty()) resid.emplace_back(map.voltage_min_v, 0.0);
         gp << "plot '-' with points pt 7 ps 0.3 lc rgb '#555555' notitle, 0 with lines lc rgb '#e41a1c' notitle\n";
         gp.send1d(resid);
         gp << "unset multiplot\n";
       },
-      canvas_px(1200, 900).first, canvas_px(1200, 900).second);
+      canvas.first, canvas.second);
 }
 
 }  // namespace epuck2::plot

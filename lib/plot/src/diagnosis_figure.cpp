@@ -200,9 +200,29 @@ std::string verdict_line(const dg::Report& r) {
 }  // namespace
 
 void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const dg::Report& r,
-                      const std::vector<std::string>& log_names) {
+                      const std::vector<std::string>& log_names, const std::vector<std::string>& log_robots) {
   const std::vector<Panel> panels = panels_of(r);
   const std::size_t n = r.residual_before.size();
+  // Logs of several robots: each residual's robot (through the `log` covariate), a marker each.
+  std::vector<std::string> robots;
+  std::vector<int> marker_of(n, 7);
+  for (const auto& [name, values] : r.covariates) {
+    if (name != "log" || values.size() != n) continue;
+    for (const auto& robot : log_robots)
+      if (std::find(robots.begin(), robots.end(), robot) == robots.end()) robots.push_back(robot);
+    // (Logs without a robot name are named by their file stem: a robot a log, no marker tells them apart.)
+    if (robots.size() < 2 || robots.size() > 6) break;
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(std::lround(values[i]));
+      if (k < log_robots.size())
+        marker_of[i] = robot_point_type(static_cast<std::size_t>(std::find(robots.begin(), robots.end(), log_robots[k]) - robots.begin()));
+    }
+    break;
+  }
+  if (robots.size() < 2 || robots.size() > 6) {
+    robots.clear();
+    std::fill(marker_of.begin(), marker_of.end(), 7);
+  }
   // The covariate: the one the diagnosis chose for the figure, else the residual's index.
   std::string cov_name = "log_row";
   std::vector<double> x;
@@ -312,7 +332,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
               const std::size_t i = p.residuals[k];
               if (res[i] < lo) clip.push_back({xpos(i), lo, 11});
               else if (res[i] > hi) clip.push_back({xpos(i), hi, 9});
-              else pts.push_back({xpos(i), res[i]});
+              else pts.push_back({xpos(i), res[i], static_cast<double>(marker_of[i])});
             }
             std::size_t beyond = 0;  // every residual beyond the scale, not only those drawn
             for (std::size_t i : p.residuals) beyond += res[i] < lo || res[i] > hi;
@@ -401,7 +421,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
               }
             }
             const std::string ps = pts.size() > 3000 ? "0.35" : "0.6";
-            gp << "plot $" << name << " using 1:2 with points pt 7 ps " << ps << " lc rgb '#99" << colour.substr(1) << "' notitle";
+            gp << "plot $" << name << " using 1:2:3 with points pt variable ps " << ps << " lc rgb '#99" << colour.substr(1) << "' notitle";
             if (axis.categorical)
               gp << ", $" << name << "m using 1:2:3 with xerrorbars pt 7 ps 0.9 lw 3 lc rgb '" << dark << "' notitle";
             else
@@ -412,15 +432,17 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
         }
         // The legend, once, under the title.
         gp << "unset label\n";
-        gp << legend_band(layout.left, layout.right, 1.0 - (column ? 60.0 : narrow ? 135.0 : 110.0) / height,
-                          1.0 - (column ? 10.0 : narrow ? 85.0 : 75.0) / height,
-                          {"NaN with points pt 7 ps 0.8 lc rgb '#d62728' title 'a residual before'",
+        std::vector<std::string> entries{"NaN with points pt 7 ps 0.8 lc rgb '#d62728' title 'a residual before'",
                            "NaN with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'a residual after'",
                            std::string("NaN with linespoints lw 2.5 pt 5 lc rgb '#404040' title ") +
                                (probe.categorical ? (column ? "'mean'" : "'mean per category'") : column ? "'mean'" : narrow ? "'mean per bin'" : "'mean per bin of the x axis'"),
                            narrow ? "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'off the scale'"
-                                  : "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'beyond the y scale, at its edge'"},
-                          10, narrow ? 2 : 1);
+                                  : "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'beyond the y scale, at its edge'"};
+        // (A page's legend band has no room for them: there the markers go unnamed.)
+        for (std::size_t k = 0; k < (narrow ? 0 : robots.size()); ++k)
+          entries.push_back("NaN with points pt " + std::to_string(robot_point_type(k)) + " ps 0.9 lc rgb '#404040' title " + quoted("robot " + robots[k]));
+        gp << legend_band(layout.left, layout.right, 1.0 - (column ? 60.0 : narrow ? 135.0 : 110.0) / height,
+                          1.0 - (column ? 10.0 : narrow ? 85.0 : 75.0) / height, entries, 10, narrow ? 2 : 1);
         gp << "unset multiplot\n";
       },
       width, height);

@@ -339,11 +339,20 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
   // Panels at least 200 canvas pixels wide (a two-column page holds 4 a row, one column 2).
   const int cols = std::max(1, std::min(default_cols, (width - 40) / 200));
   const int rows = static_cast<int>((panels + static_cast<std::size_t>(cols) - 1) / static_cast<std::size_t>(cols));
+  // Vector files stay small: every drawn reading is an element of an SVG (all 1800 of the
+  // reference set, each drawn in its speed's panel and again in the encoders', made a 0.5 MB SVG);
+  // there, at most 25 rows a run (every stride-th, and the last), and the legend says so. The
+  // curves go through the same rows: a run's fit is smooth on that scale.
+  const bool vector = format_of(path) != Format::png;
+  const std::size_t per_run = vector ? 25 : std::numeric_limits<std::size_t>::max();
+  std::size_t thinned = 0;
+  for (const auto& run : f.runs) thinned += run.time_s.size() > per_run;
+
   // The legend's entries, in as many columns as fit across.
   std::size_t codes = 0;
   for (const auto& run : f.runs)
     for (double mm : run.tof_mm) codes += mm >= kOutOfRangeCode_mm;
-  const std::size_t entry_count = 5 + (still.empty() ? 0 : 1) + (codes > 0 ? 1 : 0) + (robots.size() > 1 ? robots.size() : 0);
+  const std::size_t entry_count = 5 + (still.empty() ? 0 : 1) + (codes > 0 ? 1 : 0) + (robots.size() > 1 ? robots.size() : 0) + (thinned > 0 && !narrow ? 1 : 0);
   // (gnuplot gives every column the longest entry's width and drops a column that overflows.)
   const std::size_t legend_cols = std::max<std::size_t>(1, static_cast<std::size_t>(width) / (narrow ? 210 : 440));
   const int legend_rows = static_cast<int>((entry_count + legend_cols - 1) / legend_cols);
@@ -379,7 +388,13 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
           const std::vector<double> enc = calibrate::lagged_travel_m(run, s::kPluginStepsPerMetre, 0.0);
           std::vector<std::vector<double>> rows_of_run;
           double commanded = 0;
+          const std::size_t stride = std::max<std::size_t>(1, (run.time_s.size() + per_run - 1) / per_run);
           for (std::size_t k = 0; k < run.time_s.size(); ++k) {
+            const bool drawn = k % stride == 0 || k + 1 == run.time_s.size();  // a vector file: every stride-th row, and the last
+            if (!drawn) {
+              if (k + 1 < run.time_s.size()) commanded += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
+              continue;
+            }
             // The VL53L0X's out-of-range codes (>= 8190) are no distance: drawn apart, at the top.
             const bool code = run.tof_mm[k] >= kOutOfRangeCode_mm;
             rows_of_run.push_back({run.time_s[k], code ? kNaN : run.tof_mm[k],
@@ -450,7 +465,8 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
           gp << plot << "\n";
         }
         gp << "unset arrow 1\n";
-        gp << "set title " << quoted(narrow ? "encoders, every run" : "wheel encoders: every run") << " font ',11'\n";
+        gp << "set title " << quoted(narrow ? (thinned > 0 ? "encoders; ≤ 25 readings/run" : "encoders, every run") : "wheel encoders: every run")
+           << " font ',11'\n";
         axes_labels(narrow ? "commanded (mm)" : "commanded distance (mm)", "encoder steps");
         gp << "set xrange [*:*]\nset yrange [*:*]\nset ytics autofreq\n" << (panel_w_px < 300 ? "set xtics 2000\n" : "") << (panel_px < 200 ? "set ytics 5000\n" : "");
         {
@@ -487,6 +503,8 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
             std::string("NaN with lines lw 1.5 dt 2 lc rgb '#000000' title ") +
                 (narrow ? "'plug-in'" : "'plug-in (1000 steps/m, no slip)'"),
             "NaN with lines dt 3 lc rgb '#808080' title 'the 2000 mm rail'"};
+        if (thinned > 0 && !narrow)  // (a column's legend has no room: the encoders' panel title says it)
+          entries.push_back("NaN with dots lc rgb '#ffffff' title 'at most 25 readings a run drawn (every n-th)'");
         if (!still.empty()) entries.insert(entries.begin() + 2, std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kStill + "' title 'standing still'");
         if (codes > 0)
           entries.push_back(narrow ? "NaN with points pt 9 ps 1 lc rgb '#ff7f0e' title 'no-target code (2250)'"

@@ -17,8 +17,10 @@
 namespace epuck2::plot {
 
 /// Stages the figure in `stage` (in place once it commits). `log_names` label the logs (the
-/// `log` covariate's categories), in the order the diagnosis read them.
+/// `log` covariate's categories), in the order the diagnosis read them; `log_robots` (the same
+/// order, optional) name each log's robot: logs of several robots give each robot its marker,
+/// named in the legend.
 void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const diagnose::Report& report,
-                      const std::vector<std::string>& log_names);
+                      const std::vector<std::string>& log_names, const std::vector<std::string>& log_robots = {});
 
 }  // namespace epuck2::plot
