@@ -124,6 +124,32 @@ class Problem {
     for (std::size_t i = 0; i < row.size(); ++i) v[i] = per_row[row[i]];
     return v;
   }
+  /// A covariate a kind builds only when the residual structure is scored (after the last fit):
+  /// a long log's are not held through the fits, which never read them.
+  struct LateCovariate {
+    std::string name;
+    std::vector<double> values;
+    bool per_row = false;  ///< one value per row (else per residual)
+  };
+  /// Puts the kind's late covariates in front of the others (where a kind that builds them at once
+  /// puts them), once; the search calls it after its last fit, before scoring the structure.
+  void add_late_covariates() {
+    if (late_covariates_added_) return;
+    late_covariates_added_ = true;
+    std::vector<LateCovariate> late = late_covariates();
+    if (late.empty()) return;
+    covariate_per_row.resize(covariates.size(), false);
+    std::vector<std::pair<std::string, std::vector<double>>> all;
+    std::vector<bool> per_row;
+    for (LateCovariate& c : late) {
+      all.emplace_back(std::move(c.name), std::move(c.values));
+      per_row.push_back(c.per_row);
+    }
+    for (auto& c : covariates) all.push_back(std::move(c));
+    per_row.insert(per_row.end(), covariate_per_row.begin(), covariate_per_row.end());
+    covariates = std::move(all);
+    covariate_per_row = std::move(per_row);
+  }
   /// Extra numeric columns, per residual: candidates for `covariate:NAME`.
   std::vector<std::pair<std::string, std::vector<double>>> extra_columns;
   std::string notes;
@@ -161,6 +187,13 @@ class Problem {
   virtual void mean(const Jet* p, Jet* out, std::size_t needed) const = 0;
   virtual void mean(const ShortJet* p, ShortJet* out, std::size_t needed) const = 0;
   virtual void mean(const PairJet* p, PairJet* out, std::size_t needed) const = 0;
+
+ protected:
+  /// The kind's late covariates (add_late_covariates), in the order they are scored; none by default.
+  virtual std::vector<LateCovariate> late_covariates() const { return {}; }
+
+ private:
+  bool late_covariates_added_ = false;
 };
 
 /// Every residual: the `needed` of a call that wants them all.

@@ -154,6 +154,7 @@ class Diagnosis {
                                    f.cause + " (" + f.undetermined + "); left out of the final and the extended model");
     }
     score_shares();
+    problem_->add_late_covariates();  // after the last fit: not held beside the fits' buffers
     score_residual_structure();
     keep_figure_data();
     return std::move(report_);
