@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The calibrated proximity's incidence_angle on the shapes whose normal it takes from the entity
-# (issue #20 items 1 and 8): a cylinder hit off its axis and boxes hit at an angle. A diagnosis-style
+# (issue #20 items 1 and 8): a cylinder hit off its axis and boxes hit at an angle; and on another
+# robot, whose normal comes from two side rays. A diagnosis-style
 # file (data/fitted/reports/diagnose_proximity.json with the plug-in's published Eq. 1 as its base
 # and incidence_angle k = 1.7 as its only effect), noise off; the proximity protocol
 # (argos/experiments/proximity.argos) with one more obstacle, placed so that PROX0's ray (along +x,
 # at y = 0, starting at x = 0.49 - d for the protocol's distance d) meets it at x = 0.30, 0.19 m before
 # the wall, which is then out of the ray's reach. incidence_check.py computes every expected reading
 # from the geometry alone (the radial normal of a circle, the normal of a box's face), not from the
-# plug-in, and requires each reading within 1 count of it.
+# plug-in, and requires each reading within 1 count of it (3 % on the robot: the side rays' chord).
 #   usage: incidence.sh ARGOS_LIBDIR WORK_DIR
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
