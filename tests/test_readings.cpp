@@ -266,42 +266,60 @@ TEST(Readings, ChannelWeightsGiveTheWeightedLeastSquaresErrors) {
   EXPECT_GT(std::sqrt(s2_ols * (X.transpose() * X).inverse()(1, 1)), 2 * r.std_error("b"));
 }
 
-TEST(Readings, CalibrationAndDiagnosisRefitTheSameBaseOnACensoredLog) {
-  // A light log saturated before its noise in bright light and clipped at the register's rail 0:
-  // reading = clamp(round(max(4095 (1 - (gamma I / d)^2), 0) + N(0, 30)), 0, 4095), gamma 0.09,
-  // d on [0.05, 0.3] m, I on [1, 3]. The calibration (fit_light) and the diagnosis's recalibrated
-  // base fit gamma with the one censored likelihood: the same gamma, well within its error.
-  const double gamma = 0.09, noise = 30;
-  Normal normal(2026);
+// A light log saturated before its noise in bright light and clipped at the register's rail 0:
+// reading = clamp(round(max(4095 (1 - (gamma I / d)^2), 0) + N(0, noise)), 0, 4095), gamma 0.09,
+// I = 1, d on [0.085, 0.1] m: the curve falls to the rail across the log, a quarter of the
+// readings land on it, and they carry much of what the log says about gamma.
+epuck2::logs::Log censored_light(std::uint64_t seed, int* railed) {
+  const double gamma = 0.09, noise = 200;
+  Normal normal(seed);
   std::string text = "distance_m,intensity,sensor,value\n";
-  int railed = 0, rows = 0;
+  *railed = 0;
   for (int i = 0; i < 600; ++i) {
-    const double d = 0.05 + 0.25 * normal.uniform(), intensity = 1 + 2 * normal.uniform();
-    const double q = gamma * intensity / d;
+    const double d = 0.085 + 0.015 * normal.uniform();
+    const double q = gamma / d;
     const double latent = std::max(4095 * (1 - q * q), 0.0);
     const double v = std::min(std::max(std::round(latent + noise * normal()), 0.0), 4095.0);
-    railed += v == 0 ? 1 : 0;
-    ++rows;
+    *railed += v == 0 ? 1 : 0;
     std::ostringstream line;
     line.precision(10);
-    line << d << "," << intensity << ",0," << v << "\n";
+    line << d << ",1,0," << v << "\n";
     text += line.str();
   }
-  ASSERT_GT(railed, rows / 5);
-  ASSERT_LT(railed, 2 * rows / 5);
-  const epuck2::logs::Log log = epuck2::logs::parse_log(text, "censored_light.csv", epuck2::logs::Kind::light);
-  const auto calibration = epuck2::calibrate::fit_light({log});
-  ASSERT_TRUE(calibration.gamma.usable) << calibration.gamma.message;
-  const epuck2::diagnose::Report diagnosis = epuck2::diagnose::diagnose({log});
-  ASSERT_EQ(diagnosis.recalibrated.size(), 1u);
-  const double g_cal = calibration.gamma.value("gamma"), se_cal = calibration.gamma.std_error("gamma");
-  const double g_diag = diagnosis.recalibrated[0].value;
-  std::printf("light, %d of %d readings on the rail: calibration gamma %.6f +- %.6f, diagnosis %.6f +- %.6f\n", railed, rows,
-              g_cal, se_cal, g_diag, diagnosis.recalibrated[0].std_error);
-  // Both near the generator's truth ...
-  EXPECT_LT(std::abs(g_cal - gamma), 3 * se_cal);
-  EXPECT_LT(std::abs(g_diag - gamma), 3 * se_cal);
-  // ... and near each other: they differ only by how the noise sd is estimated.
-  EXPECT_LT(std::abs(g_cal - g_diag), 0.25 * se_cal) << "calibration " << g_cal << " diagnosis " << g_diag << " se " << se_cal;
-  EXPECT_NEAR(diagnosis.recalibrated[0].std_error, se_cal, 0.25 * se_cal);
+  return epuck2::logs::parse_log(text, "censored_light.csv", epuck2::logs::Kind::light);
+}
+
+TEST(Readings, CalibrationAndDiagnosisRefitTheSameBaseOnACensoredLog) {
+  // The calibration (fit_light) and the diagnosis's recalibrated base fit gamma with the one
+  // censored likelihood: over 30 logs their gammas differ by 0.11 of the calibration's standard
+  // error (rms), what their two noise estimates leave (the calibration's by maximum likelihood,
+  // the diagnosis's from the readings away from the rails); the diagnosis's former loss, least
+  // squares on the expected clamped reading, differed by 0.38 on these same logs (this test run
+  // against the libraries before the change) and fails the bound.
+  constexpr int kSeeds = 30;
+  double sum_d2 = 0, sum_se = 0, sum_z = 0;
+  for (int s = 0; s < kSeeds; ++s) {
+    int railed = 0;
+    const epuck2::logs::Log log = censored_light(static_cast<std::uint64_t>(s + 1), &railed);
+    ASSERT_GT(railed, 600 / 6);
+    ASSERT_LT(railed, 600 * 2 / 5);
+    const auto calibration = epuck2::calibrate::fit_light({log});
+    ASSERT_TRUE(calibration.gamma.usable) << calibration.gamma.message;
+    const epuck2::diagnose::Report diagnosis = epuck2::diagnose::diagnose({log});
+    ASSERT_EQ(diagnosis.recalibrated.size(), 1u);
+    const double g_cal = calibration.gamma.value("gamma"), se_cal = calibration.gamma.std_error("gamma");
+    const double g_diag = diagnosis.recalibrated[0].value;
+    const double d = (g_diag - g_cal) / se_cal;
+    sum_d2 += d * d;
+    sum_se += diagnosis.recalibrated[0].std_error / se_cal;
+    sum_z += (g_cal - 0.09) / se_cal;
+  }
+  const double rms_d = std::sqrt(sum_d2 / kSeeds);
+  std::printf("light over %d logs: diagnosis - calibration gamma, rms %.3f of the calibration's standard error; "
+              "standard errors' mean ratio %.3f; calibration's mean z %.3f\n",
+              kSeeds, rms_d, sum_se / kSeeds, sum_z / kSeeds);
+  EXPECT_LT(rms_d, 0.2);
+  EXPECT_NEAR(sum_se / kSeeds, 1.0, 0.15);
+  // The calibration itself is unbiased (the mean of 30 z-scores has sd 0.18).
+  EXPECT_LT(std::abs(sum_z / kSeeds), 0.55);
 }
