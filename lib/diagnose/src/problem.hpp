@@ -87,12 +87,13 @@ class Problem {
   /// reading; encoders count what the wheels turned).
   std::vector<int> channel;
   std::vector<std::string> channel_names{"reading"};
-  /// Per channel: the reading's clamp (±inf, or missing: none). A clamp is the sensor's, the same
-  /// for every residual of a channel: it is not stored per residual.
+  /// Per channel: the reading's clamp, its rails (±inf, or missing: none). A clamp is the
+  /// sensor's, the same for every residual of a channel: it is not stored per residual. A reading
+  /// at or beyond a rail is censored there by the fit engine (fit::Channels, as in calibration).
   std::vector<double> channel_lo, channel_hi;
   /// Per channel: where the sensor itself saturates before its noise is added (±inf, or missing:
-  /// nowhere); the mean is E[clamp(clamp(model, saturation) + noise, clamp)] (lib/models
-  /// saturation.hpp).
+  /// nowhere): a model term, the latent reading is clamp(model, saturation) (lib/models
+  /// saturation.hpp); the reading's expected value E[clamp(latent + noise, rails)].
   std::vector<double> channel_saturation_lo, channel_saturation_hi;
   /// Per channel: the smallest noise standard deviation believed (empty: 0.3, a whole count's
   /// rounding).
