@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "epuck2/calibrate/sensors.hpp"
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/plot/sensor_figures.hpp"
 #include "sensor_support.hpp"
 
@@ -15,7 +16,7 @@ namespace {
 nlohmann::json ground_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::GroundFit* keep) {
   calibrate::GroundFit f = calibrate::fit_ground(logs, o.fit_options());
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
-    const std::string what = std::string("ground sensor ") + calibrate::kGroundSensorNames[k];
+    const std::string what = "ground sensor " + models::kind_facts("ground")->sensor_name(k);
     app::sensors::require_usable(f.sensors[k], what);
     app::sensors::require_fitting(f.sensors[k], what, o, f.warnings);
   }

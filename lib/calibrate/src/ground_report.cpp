@@ -11,24 +11,26 @@
 #include "epuck2/calibrate/report_text.hpp"
 #include "epuck2/calibrate/sensor_reports.hpp"
 #include "epuck2/calibrate/sensors.hpp"
+#include "epuck2/models/kind_facts.hpp"
 
 namespace epuck2::calibrate {
 
 std::string report_text(const GroundFit& f) {
   Text out;
+  const models::KindFacts& ground = *models::kind_facts("ground");
   out("Ground sensors: reading = offset + gain * grey (grey 0 = black, 1 = white)\n");
   out("%zu readings, %zu on the 0/1023 rails (censored)\n\n", f.readings, f.censored);
   out("%-11s %-26s %-26s %10s %12s\n", "sensor", "gain (counts)", "offset (counts)", "MSE", "plug-in MSE");
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
     const auto& r = f.sensors[k];
-    out("%-11s %-26s %-26s %10.3f %12.1f\n", kGroundSensorNames[k],
+    out("%-11s %-26s %-26s %10.3f %12.1f\n", ground.sensor_name(k).c_str(),
         fit::format_uncertain(r.value("gain"), r.std_error("gain"), "", std_error_reason(r, "gain")).c_str(),
         fit::format_uncertain(r.value("offset"), r.std_error("offset"), "", std_error_reason(r, "offset")).c_str(),
         r.mse, f.plugin_mse[k]);
   }
   out("(MSE in counts²)\n");
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
-    out("\nSensor %s:\n", kGroundSensorNames[k]);
+    out("\nSensor %s:\n", ground.sensor_name(k).c_str());
     write_parameter(out, f.sensors[k], "gain", "counts");
     write_parameter(out, f.sensors[k], "offset", "counts");
     write_handling(out, f.sensors[k], "counts");

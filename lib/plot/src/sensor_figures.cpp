@@ -1,5 +1,6 @@
 #include "epuck2/plot/sensor_figures.hpp"
 #include "epuck2/models/effects.hpp"
+#include "epuck2/models/kind_facts.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -155,8 +156,14 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
     }
     gp << title_and_key(page, "Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance, per source intensity I (simulator units)",
                         "at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15");
+    // The register's unit and rails (kind_facts); dark is the high rail.
+    const models::Channel& light = models::kind_facts("light")->channels.front();
+    char dark[32];
+    std::snprintf(dark, sizeof dark, "%g = dark", light.high_rail);
     gp << "set xlabel 'distance to the light (cm)'\nset ylabel "
-       << quoted(page.narrow ? "raw reading (counts; 4095 = dark)" : "raw reading (counts, 0..4095; 4095 = dark)") << "\n";
+       << quoted(page.narrow ? "raw reading (" + std::string(light.unit) + "; " + dark + ")"
+                             : "raw reading (" + std::string(light.unit) + ", " + light.rails_text() + "; " + dark + ")")
+       << "\n";
     gp << "set xrange [5:52]\nset yrange [-100:4200]\nset grid lc rgb '#d8d8d8'\nset samples 400\n";
     const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
     gp << "plot ";
@@ -219,7 +226,11 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
                                        page.width - 120)
                              : "grey level (fraction: 0 = black, 1 = white; each sensor's points shifted sideways by 0.006, each robot's by 0.002)")
        << "\n";
-    gp << "set ylabel " << quoted(page.narrow ? "raw reading (counts)" : "raw reading (counts, 0..1023)") << "\n";
+    const models::KindFacts& ground = *models::kind_facts("ground");
+    const std::string unit = ground.channels.front().unit;
+    gp << "set ylabel "
+       << quoted(page.narrow ? "raw reading (" + unit + ")" : "raw reading (" + unit + ", " + ground.channels.front().rails_text() + ")")
+       << "\n";
     gp << "set xrange [-0.03:1.03]\nset yrange [-20:1060]\nset grid lc rgb '#d8d8d8'\n";
     const char* colours[] = {"#d62728", "#2ca02c", "#1f77b4"};
     gp << "plot ";
@@ -228,7 +239,7 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
       std::snprintf(buf, sizeof buf,
                     "$s%zu using 1:2:3 with points pt variable ps 0.5 lc rgb '%s' notitle, "
                     "$lines using 1:%zu with lines lw 2.5 lc rgb '%s' title 'sensor %s, fit: %.1f + %.1f grey', ",
-                    k, colours[k], k + 2, colours[k], calibrate::kGroundSensorNames[k], f.sensors[k].value("offset"),
+                    k, colours[k], k + 2, colours[k], ground.sensor_name(k).c_str(), f.sensors[k].value("offset"),
                     f.sensors[k].value("gain"));
       gp << buf;
     }
