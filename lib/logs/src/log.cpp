@@ -286,14 +286,15 @@ std::optional<Kind> parse_kind(std::string_view name) {
 }
 
 const std::vector<std::string>& required_columns(Kind kind) {
-  static const std::map<Kind, std::vector<std::string>> required{
-      {Kind::battery, {"time_s", "speed_cm_s", "charge"}},
-      {Kind::proximity, {"distance_m", "sensor", "value"}},
-      {Kind::light, {"distance_m", "intensity", "sensor", "value"}},
-      {Kind::ground, {"grey", "sensor", "value"}},
-      {Kind::camera, {"forward_m", "lateral_m", "vertical_m", "px", "py"}},
-      {Kind::drive, {"time_s", "left_speed_cm_s", "right_speed_cm_s", "left_steps", "right_steps", "tof_mm"}},
-  };
+  // The kinds' facts (lib/models kind_facts.hpp), as strings once.
+  static const std::map<Kind, std::vector<std::string>> required = [] {
+    std::map<Kind, std::vector<std::string>> m;
+    for (Kind k : {Kind::battery, Kind::proximity, Kind::light, Kind::ground, Kind::camera, Kind::drive}) {
+      const auto& columns = facts_of(k).columns;
+      m[k] = std::vector<std::string>(columns.begin(), columns.end());
+    }
+    return m;
+  }();
   return required.at(kind);
 }
 

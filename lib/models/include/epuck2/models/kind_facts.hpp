@@ -51,6 +51,8 @@ struct KindFacts {
   const char* name;
   std::vector<Channel> channels;
   std::vector<BaseParam> base;
+  std::vector<const char*> columns;   ///< the columns every log of the kind has (docs/logs.md)
+  std::vector<const char*> readings;  ///< those of them that hold the readings (a simulation replaces them)
   /// Sensor `k` of the first channel as reports name it: its name where the sensors have names
   /// ("0 (right)"), else its number.
   std::string sensor_name(std::size_t k) const {
@@ -75,26 +77,36 @@ inline const KindFacts* kind_facts(const std::string& kind) {
        {{"a", "1/m^2", -1e6, 1e6, false, false},
         {"b", "1/m", -1e5, 1e5, false, false},
         {"c", "1", -100.0, 100.0, false, false},
-        {"range_m", "m", 0.0, 1.0, true, false}}},
+        {"range_m", "m", 0.0, 1.0, true, false}},
+       {"distance_m", "sensor", "value"},
+       {"value"}},
       {"light",
        {{"light", "counts", 0.0, s::kProximityFullScale_raw, s::kProximityFullScale_raw, s::kProximityCount, "light sensor"}},
-       {{"gamma", "m", 0.0, 10.0, true, false}, {"range_m", "m", 0.0, 10.0, true, false}}},
+       {{"gamma", "m", 0.0, 10.0, true, false}, {"range_m", "m", 0.0, 10.0, true, false}},
+       {"distance_m", "intensity", "sensor", "value"},
+       {"value"}},
       {"ground",
        {{"ground", "counts", 0.0, s::kGroundFullScale_raw, s::kGroundFullScale_raw, s::kGroundCount, "ground sensor",
          {"0 (right)", "1 (centre)", "2 (left)"}}},
        {{"gain", "counts", 0.0, 4.0 * s::kGroundFullScale_raw, true, false},
-        {"offset", "counts", -s::kGroundFullScale_raw, s::kGroundFullScale_raw, false, false}}},
+        {"offset", "counts", -s::kGroundFullScale_raw, s::kGroundFullScale_raw, false, false}},
+       {"grey", "sensor", "value"},
+       {"value"}},
       {"camera",
        {{"camera", "px", -inf, inf, static_cast<double>(s::kCameraWidth_px), 1, "LED image position"}},
        {{"fov_deg", "deg", 0.0, 180.0, true, true},
         {"cx_px", "px", 0.0, static_cast<double>(s::kCameraWidth_px), false, false},
-        {"cy_px", "px", 0.0, static_cast<double>(s::kCameraHeight_px), false, false}}},
+        {"cy_px", "px", 0.0, static_cast<double>(s::kCameraHeight_px), false, false}},
+       {"forward_m", "lateral_m", "vertical_m", "px", "py"},
+       {"px", "py"}},
       {"drive",
        {{"tof", "mm", s::kPluginTof.min_mm, s::kPluginTof.max_mm, s::kPluginTof.max_mm, 1, "ToF"},
         {"encoder", "steps", -inf, inf, 65536.0, 1, "wheel encoder"}},
        // Steps per metre within 20 % of the plug-in's (docs/fitting.md: wheels are not that far off).
-       {{"steps_per_m", "steps/m", 0.8 * s::kPluginStepsPerMetre, 1.2 * s::kPluginStepsPerMetre, false, false}}},
-      {"battery", {{"charge", "charge", -1.0, 1.05, 1.0, 1, "charge"}}, {}},
+       {{"steps_per_m", "steps/m", 0.8 * s::kPluginStepsPerMetre, 1.2 * s::kPluginStepsPerMetre, false, false}},
+       {"time_s", "left_speed_cm_s", "right_speed_cm_s", "left_steps", "right_steps", "tof_mm"},
+       {"left_steps", "right_steps", "tof_mm"}},
+      {"battery", {{"charge", "charge", -1.0, 1.05, 1.0, 1, "charge"}}, {}, {"time_s", "speed_cm_s", "charge"}, {"charge"}},
   };
   for (const KindFacts& k : all)
     if (kind == k.name) return &k;
