@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/models/effects.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/sensor_figures.hpp"
@@ -32,7 +33,8 @@ void setup_drive(CLI::App& app, Action& action) {
   app::sensors::add_sensor_command<calibrate::DriveFit>(
       app, action,
       {"drive", logs::Kind::drive, "Calibrate encoders and ToF from straight runs towards/away from an obstacle", "Drive",
-       "Required metadata: '# obstacle_distance_m: D' (m, at time 0). tof_mm 20..2000."},
+       "Required metadata: '# obstacle_distance_m: D' (m, at time 0). tof_mm " +
+           models::kind_facts("drive")->channels.front().rails_text() + "."},
       drive_json, plot::drive_figure);
 }
 

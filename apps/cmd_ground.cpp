@@ -31,7 +31,8 @@ void setup_ground(CLI::App& app, Action& action) {
   app::sensors::add_sensor_command<calibrate::GroundFit>(
       app, action,
       {"ground", logs::Kind::ground, "Calibrate the ground sensors: gain and offset per sensor", "Ground",
-       "grey: 0 = black, 1 = white; sensor 0 right, 1 centre, 2 left; value 0..1023."},
+       "grey: 0 = black, 1 = white; sensor 0 right, 1 centre, 2 left; value " +
+           models::kind_facts("ground")->channels.front().rails_text() + "."},
       ground_json, plot::ground_figure);
 }
 

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/sensor_figures.hpp"
 #include "sensor_support.hpp"
@@ -27,7 +28,8 @@ void setup_light(CLI::App& app, Action& action) {
   app::sensors::add_sensor_command<calibrate::LightFit>(
       app, action,
       {"light", logs::Kind::light, "Calibrate the ambient light sensors: gamma of Eq. 2", "Light",
-       "value: 4095 = dark, 0 = saturated; both are left out of the fit."},
+       "value: " + sensors::rail(models::kind_facts("light")->channels.front().high_rail) + " = dark, " +
+           sensors::rail(models::kind_facts("light")->channels.front().low_rail) + " = saturated; both are left out of the fit."},
       light_json, plot::light_figure);
 }
 

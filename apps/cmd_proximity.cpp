@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/sensor_figures.hpp"
 #include "sensor_support.hpp"
@@ -30,7 +31,8 @@ void setup_proximity(CLI::App& app, Action& action) {
   app::sensors::add_sensor_command<calibrate::ProximityFit>(
       app, action,
       {"proximity", logs::Kind::proximity, "Calibrate the proximity sensors: Eq. 1 fitted to the maxima and to the means", "Proximity",
-       "Optional: angle_deg (incidence angle). value: 0 = nothing detected, 4095 = touching."},
+       "Optional: angle_deg (incidence angle). value: " + sensors::rail(models::kind_facts("proximity")->channels.front().low_rail) +
+           " = nothing detected, " + sensors::rail(models::kind_facts("proximity")->channels.front().high_rail) + " = touching."},
       proximity_json, plot::proximity_figure);
 }
 

@@ -104,13 +104,20 @@ int run_sensor(const std::string& kind, logs::Kind log_kind, const SensorOptions
   return finish(kind, o, j, [&] { std::fputs(calibrate::report_text(f).c_str(), stdout); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
+/// A rail as --help prints it ("4095").
+inline std::string rail(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
 /// What a sensor subcommand is called and says in --help.
 struct SensorCommand {
   const char* name;         ///< the subcommand, also the kind in messages ("camera")
   logs::Kind kind;          ///< the logs it reads
   const char* description;  ///< --help's line
   const char* logs_what;    ///< "Camera" in "Camera logs (CSV, docs/logs.md)"
-  const char* footer_note;  ///< after the log format in --help
+  std::string footer_note;  ///< after the log format in --help (rails and ranges from kind_facts)
 };
 
 /// Adds the subcommand: the common options, the log format in --help, and run_sensor<Fit> with

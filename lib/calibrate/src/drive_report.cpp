@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/calibrate/report_json.hpp"
 #include "epuck2/calibrate/report_text.hpp"
 #include "epuck2/calibrate/sensor_reports.hpp"
@@ -28,9 +29,10 @@ std::string report_text(const DriveFit& f) {
   write_parameter(out, f.steps, "steps_per_m", "steps/m", "  ", "plug-in 7763.656", &f.steps_autocorrelation);
   write_handling(out, f.steps, "steps", "  ", &f.steps_autocorrelation, /*has_rails=*/false);
   for (const auto& p : f.over_limit_runs) out("  commands above the limit (capped): %s\n", p.c_str());
+  const models::Channel& tof = models::kind_facts("drive")->channels.front();
   out("\nToF: tof_mm = scale * 1000 (D - travel) + offset, travel = encoder travel lagged by tau (%zu rows; %zu at the "
-      "20/2000 mm rails or out-of-range codes, censored; %zu codes >= 8190)\n",
-      f.tof_rows, f.tof_censored, f.tof_out_of_range_codes);
+      "%g/%g %s rails or out-of-range codes, censored; %zu codes >= %g)\n",
+      f.tof_rows, f.tof_censored, tof.low_rail, tof.high_rail, tof.unit, f.tof_out_of_range_codes, logs::kTofOutOfRangeCode_mm);
   const auto& t = f.tof;
   write_parameter(out, t, models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), "", "  ", "", &f.tof_autocorrelation);
   write_parameter(out, t, "tof_offset_mm", "mm", "  ", "", &f.tof_autocorrelation);

@@ -19,7 +19,8 @@ std::string report_text(const GroundFit& f) {
   Text out;
   const models::KindFacts& ground = *models::kind_facts("ground");
   out("Ground sensors: reading = offset + gain * grey (grey 0 = black, 1 = white)\n");
-  out("%zu readings, %zu on the 0/1023 rails (censored)\n\n", f.readings, f.censored);
+  out("%zu readings, %zu on the %g/%g rails (censored)\n\n", f.readings, f.censored, ground.channels.front().low_rail,
+      ground.channels.front().high_rail);
   out("%-11s %-26s %-26s %10s %12s\n", "sensor", "gain (counts)", "offset (counts)", "MSE", "plug-in MSE");
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
     const auto& r = f.sensors[k];

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/calibrate/report_json.hpp"
 #include "epuck2/calibrate/report_text.hpp"
 #include "epuck2/calibrate/sensor_reports.hpp"
@@ -19,9 +20,10 @@ namespace s = models::sensors;
 std::string report_text(const LightFit& f) {
   Text out;
   out("Ambient light sensor, paper Eq. 2: reading/4095 = 1 - (gamma I / d)^2\n");
-  out("%zu readings: %zu enter the fits (%zu of them on a rail, 0 = saturated or 4095 = dark: censored), %zu left out "
+  const models::Channel& light = models::kind_facts("light")->channels.front();
+  out("%zu readings: %zu enter the fits (%zu of them on a rail, %g = saturated or %g = dark: censored), %zu left out "
       "(no light in range)\n\n",
-      f.readings, f.observations.size(), f.censored, f.left_out.size());
+      f.readings, f.observations.size(), f.censored, light.low_rail, light.high_rail, f.left_out.size());
   out("All sensors together:\n");
   write_parameter(out, f.gamma, "gamma", "m");
   write_handling(out, f.gamma, "(reading/4095)");

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/calibrate/report_json.hpp"
 #include "epuck2/calibrate/report_text.hpp"
 #include "epuck2/calibrate/sensor_reports.hpp"
@@ -21,8 +22,9 @@ std::string report_text(const ProximityFit& f) {
   Text out;
   out("Proximity sensor, paper Eq. 1: v(d) = a d^2 + b d + c (normalised 0..1), d <= 0.05 m,\n"
       "held non-increasing with distance over [0, 0.05 m] (slopes at 0 and at 0.05 m bounded at 0)\n");
-  out("%zu readings at %zu distances; %zu on a rail (0 or 4095, censored); %zu left out\n\n", f.readings,
-      f.points.size(), f.censored_readings, f.left_out.size());
+  const models::Channel& proximity = models::kind_facts("proximity")->channels.front();
+  out("%zu readings at %zu distances; %zu on a rail (%g or %g, censored); %zu left out\n\n", f.readings,
+      f.points.size(), f.censored_readings, proximity.low_rail, proximity.high_rail, f.left_out.size());
   out("%10s %8s %6s %8s %8s %8s  %s\n", "distance_m", "readings", "kept", "min", "mean", "max", "used");
   for (const auto& p : f.points)
     out("%10.4f %8zu %6zu %8.4f %8.4f %8.4f%s  %s\n", p.distance_m, p.readings, p.kept, p.min, p.mean, p.max,
@@ -30,7 +32,8 @@ std::string report_text(const ProximityFit& f) {
         : p.max_censoring == fit::Censoring::at_or_below ? "-"
                                                          : " ",
         p.used ? "yes" : ("no: " + p.excluded_why).c_str());
-  out("(+: on the 4095 rail, at least this; -: on the 0 rail, at most this; a distance not used: its readings as measured)\n");
+  out("(+: on the %g rail, at least this; -: on the %g rail, at most this; a distance not used: its readings as measured)\n",
+      proximity.high_rail, proximity.low_rail);
   if (f.range.fitted && !f.range.lower_bound)
     out("Range (where the readings stop being detected): %.1f ± %.1f mm, %s; Eq. 1 keeps its 50 mm domain\n",
         f.range.value_m * 1000, f.range.std_error_m * 1000, f.range.how.c_str());
