@@ -69,7 +69,7 @@ void put_parameters(const std::vector<NamedValue>& values, nlohmann::json& value
   value_out = nlohmann::json::object();
   error_out = nlohmann::json::object();
   nlohmann::json corrected = nlohmann::json::object(), jackknife = nlohmann::json::object();
-  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  const auto number = calibrate::json_number;  // null for NaN and infinity
   for (const auto& v : values) {
     const auto open = v.name.find('[');
     if (open == std::string::npos) {
