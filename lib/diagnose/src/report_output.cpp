@@ -50,8 +50,8 @@ std::string parameter_unit(logs::Kind kind, const std::string& name) {
 
 /// How the diagnosis fits, in words (the loss and the censoring).
 const char* kDiagnosisLoss =
-    "least squares on the expected reading E[clamp(model + noise)] (readings on a rail enter through the clamp's "
-    "expected value), each channel's residuals weighted by the reading's noise sd over its own";
+    "the calibration's censored (Tobit) likelihood (a reading on a rail enters by its probability of lying at or "
+    "beyond it), each channel's residuals weighted by the reading's noise sd over its own";
 
 /// What a cause means, in plain words: the registry's meaning (lib/models effects.hpp), or a
 /// covariate's column, or a renamed finding's.
@@ -359,7 +359,7 @@ std::string report_text(const Report& r, const std::string& base_name) {
       out("Note: these logs cannot tell %s from %s (they fit almost as well).\n", f.cause.c_str(), alts.c_str());
     }
   for (const auto& n : r.notes) out("Note: %s.\n", n.c_str());
-  if (r.censored > 0) out("Readings on a sensor's rails: %zu (modelled through the clamp).\n", r.censored);
+  if (r.censored > 0) out("Readings on a sensor's rails: %zu (censored: the Tobit likelihood).\n", r.censored);
   if (!r.outliers.empty()) {
     out("Wild readings left out before the diagnosis: %zu\n", r.outliers.size());
     for (std::size_t k = 0; k < r.outliers.size() && k < 5; ++k) out("  %s\n", r.outliers[k].c_str());
