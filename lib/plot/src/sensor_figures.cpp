@@ -367,7 +367,7 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
   layout.right = 1.0 - 15.0 / width;
   layout.bottom = 60.0 / height;
   layout.top = 1.0 - top_px / height;
-  layout.hspace = (narrow ? 95.0 : 105.0) / width;
+  layout.hspace = (narrow ? 110.0 : 105.0) / width;  // the encoders' 6-digit tics and their label
   layout.vspace = (narrow ? 75.0 : 100.0) / height;
   const double panel_px = (height * (layout.top - layout.bottom) - (rows - 1) * height * layout.vspace) / rows;
   const std::string tof_label = narrow ? "ToF (mm)" : "ToF reading (mm)";
@@ -428,7 +428,12 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
           if (narrow) std::snprintf(t, sizeof t, "%g cm/s, x: time (s)", static_cast<double>(mm_s) / 10.0);
           gp << "set title " << quoted(t) << " font ',11'\n";
           axes_labels(narrow ? "" : "time (s)", tof_label);
-          gp << rail << "set yrange [0:2400]\nset xrange [0:*]\nset ytics " << (panel_px < 150 ? 1000 : 500) << "\n";
+          // Tics as many as the panel's width holds (gnuplot's own crowded "0 2 4 6 8 101214").
+          double t_end = 0;
+          for (std::size_t r : runs)
+            if (!f.runs[r].time_s.empty()) t_end = std::max(t_end, f.runs[r].time_s.back());
+          gp << rail << "set yrange [0:2400]\nset xrange [0:" << 1.02 * std::max(1.0, t_end) << "]\nset ytics " << (panel_px < 150 ? 1000 : 500) << "\nset xtics "
+             << tic_step(0, std::max(1.0, t_end), std::min(6, tics_that_fit(panel_w_px, 45))) << "\n";
           std::string plot = "plot ";
           for (std::size_t r : runs) {
             const std::string d = "$r" + std::to_string(r);
@@ -454,7 +459,20 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
           for (double mm : samples(lo - pad, hi + pad, 100))
             line.push_back({mm, on_rails(s::tof_response_mm(scale, offset, mm / 1000)), on_rails(s::tof_response_mm(1.0, 0.0, mm / 1000))});
           gp << datablock("still", line);
-          gp << "unset arrow 1\nset xrange [" << lo - pad << ":" << hi + pad << "]\nset yrange [*:*]\nset ytics autofreq\nset xtics autofreq\n";
+          double ylo = 1e300, yhi = -1e300;  // the readings' range: as many tics as the panel holds
+          for (std::size_t r : still)
+            for (double mm : f.runs[r].tof_mm)
+              if (mm < kOutOfRangeCode_mm) {
+                ylo = std::min(ylo, mm);
+                yhi = std::max(yhi, mm);
+              }
+          for (const auto& row : line) {
+            ylo = std::min({ylo, row[1], row[2]});
+            yhi = std::max({yhi, row[1], row[2]});
+          }
+          gp << "unset arrow 1\nset xrange [" << lo - pad << ":" << hi + pad << "]\nset yrange [*:*]\nset ytics "
+             << tic_step(ylo, yhi, tics_that_fit(panel_px, 35)) << "\nset xtics " << tic_step(lo - pad, hi + pad, tics_that_fit(panel_w_px, 60))
+             << "\n";
           std::string plot = "plot $still using 1:2 with lines lw 2 lc rgb '#d62728' notitle, $still using 1:3 with lines lw 1.5 dt 2 lc rgb '#000000' notitle";
           for (std::size_t r : still) {
             const double span = std::max(1e-9, f.runs[r].time_s.empty() ? 1.0 : f.runs[r].time_s.back());
@@ -468,7 +486,7 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
         gp << "set title " << quoted(narrow ? (thinned > 0 ? "encoders; ≤ 25 readings/run" : "encoders, every run") : "wheel encoders: every run")
            << " font ',11'\n";
         axes_labels(narrow ? "commanded (mm)" : "commanded distance (mm)", "encoder steps");
-        gp << "set xrange [*:*]\nset yrange [*:*]\nset ytics autofreq\n" << (panel_w_px < 300 ? "set xtics 2000\n" : "") << (panel_px < 200 ? "set ytics 5000\n" : "");
+        gp << "set xrange [*:*]\nset yrange [*:*]\n";
         {
           std::string plot = "plot $steps using 1:2 with lines lw 2 lc rgb '#d62728' notitle, $steps using 1:3 with lines lw 1.5 dt 2 lc rgb '#000000' notitle";
           for (std::size_t r = 0; r < f.runs.size(); ++r)
@@ -493,6 +511,7 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
             }
           const double xpad = std::max(1.0, 0.03 * (hi - lo)), ypad = std::max(1.0, 0.03 * (yhi - ylo));
           gp << "set xrange [" << lo - xpad << ":" << hi + xpad << "]\nset yrange [" << ylo - ypad << ":" << yhi + ypad << "]\n";
+          gp << "set xtics " << tic_step(lo, hi, tics_that_fit(panel_w_px, 70)) << "\nset ytics " << tic_step(ylo, yhi, tics_that_fit(panel_px, 35)) << "\n";
           gp << plot << "\n";
         }
         std::vector<std::string> entries{
