@@ -47,7 +47,7 @@ void charge_map_figure(logs::OutputStage& stage, const std::string& path, const 
         for (std::size_t i = 0; i < rows.size(); i += stride)
           resid.emplace_back(rows[i].voltage_v + calibrate::load_offset_v(map, rows[i].speed_cm_s),
                              rows[i].charge - calibrate::convert_voltage(map, rows[i].voltage_v, rows[i].speed_cm_s).charge);
-        const std::string xlabel = map.has_load() ? "voltage_v + load offset (V)" : "voltage_v (V)";
+        const std::string xlabel = map.has_load() ? "logged voltage + load offset (V)" : "logged voltage (V)";
         if (narrow) gp << "set multiplot\n";
         else gp << "set multiplot layout 2,1 title '" << title << "' font ',13' noenhanced\n";
         gp << "set xlabel '" << (narrow ? std::string() : xlabel) << "' noenhanced\n";  // a column: once, under the residuals

@@ -59,6 +59,18 @@ Layout two_panels() {
   Layout layout;
   const std::pair<int, int> canvas = canvas_px(1400, 900);
   const double width = canvas.first, height = canvas.second;
+  // Stacked on a column tall enough for panels of 110 canvas pixels; else (8.5x6cm: 23 pixels
+  // each, their tics overlapping) side by side.
+  if (width < kNarrowCanvas_px && (height - 265.0) / 2 < 110) {
+    layout.rows = 1;
+    layout.cols = 2;
+    layout.left = 110.0 / width;
+    layout.right = 1.0 - 15.0 / width;
+    layout.top = 1.0 - 40.0 / height;
+    layout.bottom = 150.0 / height;  // the x label (two lines), then the legend band (two rows)
+    layout.hspace = 110.0 / width;
+    return layout;
+  }
   if (width < kNarrowCanvas_px) {
     layout.rows = 2;
     layout.cols = 1;
@@ -111,7 +123,7 @@ void proximity_figure(logs::OutputStage& stage, const std::string& path, const c
     if (!per_robot.empty()) gp << datablock("robots", per_robot);
     gp << title_and_key(page, "Proximity sensor (paper Eq. 1, Fig. 4c): normalised reading against distance", "top right opaque box Left reverse");
     gp << "set xlabel 'distance to the surface (mm)'\nset ylabel "
-       << quoted(page.narrow ? "reading / 4095 (dimensionless)" : "normalised reading (reading / 4095, dimensionless)") << "\n";
+       << quoted(page.narrow ? "reading / 4095" : "normalised reading (reading / 4095, dimensionless)") << "\n";
     gp << "set xrange [-1:" << std::ceil(far_mm + 1) << "]\nset yrange [-0.05:1.1]\nset grid lc rgb '#d8d8d8'\n";
     gp << "plot $pts using 1:3:2:4 with yerrorbars lc rgb '#999999' title " << quoted(page.narrow ? "min..max" : "readings: mean, min..max") << ", "
        << "$pts using 1:4 with points pt 7 ps 1.4 lc rgb '#d62728' title 'maxima', "
@@ -156,7 +168,7 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
     gp << title_and_key(page, "Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance, per source intensity I (simulator units)",
                         "at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15");
     gp << "set xlabel 'distance to the light (cm)'\nset ylabel "
-       << quoted(page.narrow ? "raw reading (counts; 4095 = dark)" : "raw reading (counts, 0..4095; 4095 = dark)") << "\n";
+       << quoted(page.narrow ? "raw reading (counts)" : "raw reading (counts, 0..4095; 4095 = dark)") << "\n";
     gp << "set xrange [5:52]\nset yrange [-100:4200]\nset grid lc rgb '#d8d8d8'\nset samples 400\n";
     const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
     gp << "plot ";
@@ -263,20 +275,45 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << datablock("obs", rows);
     const std::string title = "Camera (paper section 4.1.6): where the LED appears in the image against its direction";
-    gp << multiplot(two_panels(), page.narrow ? "" : title);
+    const Layout layout = two_panels();
+    gp << multiplot(layout, page.narrow ? "" : title);
+    // Each panel's size in canvas pixels: its tics, and whether its x label needs two lines.
+    const std::pair<int, int> canvas = canvas_px(1400, 900);
+    const double panel_w = canvas.first * (layout.right - layout.left - (layout.cols - 1) * layout.hspace) / layout.cols;
+    const double panel_h = canvas.second * (layout.top - layout.bottom - (layout.rows - 1) * layout.vspace) / layout.rows;
+    // Side by side on a column: the labels' short forms in lines of the panel's width.
+    const bool small = page.narrow && layout.cols == 2;
+    auto xlabel = [&](const std::string& text) {
+      if (!small) return quoted(text);
+      return quoted(wrapped(text.substr(0, text.find(" (tangent")) + (text.find("left") != std::string::npos ? " (left > 0)" : " (up > 0)"), panel_w + 40));
+    };
+    // The x tics: as many as the panel's width holds, over the directions observed.
+    auto xtics = [&](std::size_t column) {
+      double lo = 0, hi = 0;
+      for (const auto& row : rows) {
+        lo = std::min(lo, row[column]);
+        hi = std::max(hi, row[column]);
+      }
+      char buf[160];
+      // (the range not widened to the next tic: it was, to ±0.4, for directions within ±0.25)
+      std::snprintf(buf, sizeof buf, "set autoscale xfix\nset offsets graph 0.05, graph 0.05, 0, 0\nset xtics %g\n",
+                    tic_step(lo, hi, small ? 2 : tics_that_fit(panel_w, 55)));
+      return std::string(buf);
+    };
+    const std::string yticks = "set ytics " + std::to_string(static_cast<int>(tic_step(0, 160, tics_that_fit(panel_h, 35)))) + "\n";
     gp << "set grid lc rgb '#d8d8d8'\n";
     // A paper's column: the legend in a band under the panels.
     gp << (page.narrow ? "unset key\n" : "set key top right opaque box Left reverse\n");
     gp << "set title 'columns' font ',12'\n";
-    gp << "set xlabel " << quoted(page.narrow ? "lateral / forward (tangent, left > 0)" : "lateral / forward (tangent of the horizontal angle, dimensionless; left > 0)") << "\n";
-    gp << "set ylabel " << quoted(page.narrow ? "column px (pixels)" : "column px (pixels, 0..159)") << "\nset yrange [-5:165]\n";
+    gp << "set xlabel " << xlabel(page.narrow ? "lateral / forward (tangent, left > 0)" : "lateral / forward (tangent of the horizontal angle, dimensionless; left > 0)") << "\n";
+    gp << "set ylabel " << quoted(page.narrow ? "column px (pixels)" : "column px (pixels, 0..159)") << "\nset yrange [-5:165]\n" << yticks << xtics(0);
     gp << "plot $obs using 1:2" << (robots_legend.empty() ? "" : ":9:10") << " with points" << observed << ", "
        << "$obs using 1:3 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
        << "$obs using 1:4 with lines lw 2 dt (8,5) lc rgb '#000000' title "
        << quoted(page.narrow ? "plug-in" : "plug-in (29.97° field of view, centre 80)") << robots_legend << "\n";
     gp << "set title 'rows' font ',12'\n";
-    gp << "set xlabel " << quoted(page.narrow ? "vertical / forward (tangent, up > 0)" : "vertical / forward (tangent of the vertical angle, dimensionless; up > 0)") << "\n";
-    gp << "set ylabel " << quoted(page.narrow ? "row py (pixels)" : "row py (pixels, 0..119)") << "\nset yrange [-5:125]\n";
+    gp << "set xlabel " << xlabel(page.narrow ? "vertical / forward (tangent, up > 0)" : "vertical / forward (tangent of the vertical angle, dimensionless; up > 0)") << "\n";
+    gp << "set ylabel " << quoted(page.narrow ? "row py (pixels)" : "row py (pixels, 0..119)") << "\nset yrange [-5:125]\n" << yticks << xtics(4);
     gp << "plot $obs using 5:6" << (robots_legend.empty() ? "" : ":9:10") << " with points" << observed << ", "
        << "$obs using 5:7 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
        << "$obs using 5:8 with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in (centre 60)'" << robots_legend << "\n";
