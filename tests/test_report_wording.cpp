@@ -41,6 +41,12 @@ TEST_F(OutputsFailFast, EveryOutputOptionIsCheckedBeforeTheLogsAreRead) {
       {"ground " + bad + " -o \"" + missing + "/g.json\"", missing + "/g.json"},
       {"ground " + bad + " --plot \"" + missing + "/g.png\"", missing + "/g.png"},
       {"proximity " + bad + " -o \"" + missing + "/p.json\"", missing + "/p.json"},
+      {"proximity " + bad + " --plot \"" + missing + "/p.png\"", missing + "/p.png"},
+      {"light " + bad + " -o \"" + missing + "/l.json\"", missing + "/l.json"},
+      {"light " + bad + " --plot \"" + missing + "/l.pdf\"", missing + "/l.pdf"},
+      {"camera " + bad + " -o \"" + missing + "/c.json\"", missing + "/c.json"},
+      {"drive " + bad + " -o \"" + missing + "/d.json\"", missing + "/d.json"},
+      {"drive " + bad + " --plot \"" + missing + "/d.svg\"", missing + "/d.svg"},
       {"camera " + bad + " --plot \"" + missing + "/c.svg\"", missing + "/c.svg"},
       {"battery " + battery_bad + " -o \"" + missing + "/b.json\"", missing + "/b.json"},
       {"battery " + battery_bad + " --plot \"" + missing + "/b.pdf\"", missing + "/b.pdf"},
@@ -66,6 +72,22 @@ TEST_F(OutputsFailFast, EveryOutputOptionIsCheckedBeforeTheLogsAreRead) {
     EXPECT_EQ(r.out, "");  // no report: nothing ran
     EXPECT_FALSE(fs::exists(missing));
   }
+}
+
+// generate creates its --out-dir, but a file where the path needs a folder is exit 2 at once,
+// naming the path, with nothing recorded (it was a bare "filesystem error" from the middle of the
+// run).
+TEST_F(OutputsFailFast, GenerateChecksItsFolderBeforeRecording) {
+  const std::string file = write("plain.txt", "x\n");
+  const CliRun r = run("generate ground --out-dir \"" + file + "/logs\"");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(contains(r.err, "--out-dir: '" + file + "/logs': '" + file + "' is not a folder")) << r.err;
+  EXPECT_FALSE(contains(r.err, "filesystem error")) << r.err;
+  EXPECT_EQ(slurp(file), "x\n");
+  // A folder that does not exist yet is created, as documented.
+  const CliRun ok = run("generate ground --out-dir \"" + (dir_ / "new" / "logs").string() + "\"");
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_TRUE(fs::exists(dir_ / "new" / "logs" / "ground_virtual-epuck2-1.csv"));
 }
 
 TEST_F(OutputsFailFast, AFolderOrAFileInThePathIsRefusedByName) {
