@@ -42,7 +42,7 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
   // two columns.
   const bool narrow = width < 1700;
   const bool one_column = width < kNarrowCanvas_px;
-  const bool paged = canvas_px(1300, 600).first != std::max(450 * cols + 100, 1300);
+  const bool paged = page().width_in > 0 || page().font_pt > 0;  // --figure-size or --font-size
   std::size_t robot_count = 0;
   {
     std::vector<std::string> seen;
