@@ -583,6 +583,7 @@ int run_diagnose(const DiagnoseOptions& o) {
   stage.commit();
   if (!output.empty()) std::cerr << "diagnose: wrote " << output << '\n';
   if (!figure.empty()) std::cerr << "diagnose: drew " << figure << '\n';
+  print_figure_warnings("diagnose");
   if (o.json) std::cout << text;
   else print_report(r, base_model_name(o.coefficients));
   return 0;

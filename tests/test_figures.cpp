@@ -457,6 +457,24 @@ TEST_F(PaperFigures, AOneColumnDiagnosisNamesItsRobotsAndKeepsItsPanelsReadable)
   EXPECT_NE(find_in("robot virtual-epuck2-2"), stacked.end());
 }
 
+// A page too short for a figure's panels says so, with the height to add: the battery's 16 speeds
+// in 8.5x6cm (panels of a few millimetres) warn; in 8.5x12cm (about 12 mm each) they do not.
+// The figure is drawn all the same (exit 0).
+TEST_F(PaperFigures, APageTooShortForThePanelsSaysHowMuchHeightToAdd) {
+  const fs::path out = dir_ / "b.png";
+  CliRun r = run("battery" + logs_of("battery") + " --plot \"" + out.string() + "\" --figure-size 8.5x6cm --font-size 8");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("battery: warning: " + out.string() + ": the page leaves its"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("more height (--figure-size)"), std::string::npos) << r.err;
+  r = run("battery" + logs_of("battery") + " --plot \"" + out.string() + "\" --figure-size 8.5x12cm --font-size 8");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("the page leaves"), std::string::npos) << r.err;
+  // The figure's own size (no page) never warns.
+  r = run("drive" + logs_of("drive") + " --plot \"" + out.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("the page leaves"), std::string::npos) << r.err;
+}
+
 // Tic steps, worked by hand: [0, 22] in 3 tics: 22 / 3 = 7.3 -> 10; [-15, 17] in 3: 10.7 -> 20,
 // which leaves one tic (0) inside, so 10 (-10, 0, 10); [200, 450] in 5: 50 -> 50; [0, 1] in 4:
 // 0.25 -> 0.5; a degenerate range -> 1.

@@ -107,6 +107,7 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
         gp << multiplot(layout, one_column ? "" : narrow ? "Battery discharge per wheel speed" : "Battery discharge per wheel speed: the logs and the four fitted models");
         const double panel_w_px = width * (layout.right - layout.left - (cols - 1) * layout.hspace) / cols;
         const double panel_h_px = height * (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
+        check_panel_height(path, panel_h_px, rows);
         char xrange[64];
         std::snprintf(xrange, sizeof xrange, "set xrange [0:%.4g]\n", t_max_h > 0 ? 1.02 * t_max_h : 1.0);
         // Tics as many as a panel holds (gnuplot's own crowded on a page's small panels).

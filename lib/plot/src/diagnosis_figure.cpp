@@ -293,6 +293,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   // Each panel's size in canvas pixels: how many tics its axes hold.
   const double panel_h_px = height * (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
   const double panel_w_px = width * (layout.right - layout.left - (layout.cols - 1) * layout.hspace) / layout.cols;
+  check_panel_height(path, panel_h_px, rows);
   // Vector files stay small: at most this many points of one series (the means use every residual).
   const std::size_t max_points = format_of(path) == Format::png ? kMaxPoints : kMaxVectorPoints;
 

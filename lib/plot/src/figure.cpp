@@ -244,6 +244,31 @@ int tics_that_fit(double length_px, double px_per_tic) {
   return std::max(3, static_cast<int>(length_px / px_per_tic));
 }
 
+namespace {
+std::vector<std::string> g_warnings;
+}
+
+void check_panel_height(const std::string& figure, double panel_h_px, int rows) {
+  if (!paged() || panel_h_px >= kMinPanel_px || rows < 1) return;
+  // Canvas pixels to printed millimetres: the layouts' text is 11 pt at kDesignPixelsPerInch.
+  const double per_in = kDesignPixelsPerInch * kDesignFont_pt / printed_font_pt();
+  const double mm_per_px = 25.4 / per_in;
+  const double need_mm = (kMinPanel_px - panel_h_px) * rows * mm_per_px;
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "%s: the page leaves its %d row%s of panels %.0f mm high each (%s): give the figure about %.0f mm more "
+                "height (--figure-size)",
+                figure.c_str(), rows, rows == 1 ? "" : "s", std::max(0.0, panel_h_px * mm_per_px),
+                panel_h_px > 0 ? "too small to read" : "no room at all", std::ceil(need_mm));
+  g_warnings.emplace_back(buf);
+}
+
+std::vector<std::string> take_figure_warnings() {
+  std::vector<std::string> out;
+  out.swap(g_warnings);
+  return out;
+}
+
 int robot_point_type(std::size_t robot) {
   static const int kMarkers[] = {7, 4, 8, 6, 12, 10};
   return kMarkers[robot % 6];

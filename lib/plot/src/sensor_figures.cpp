@@ -300,6 +300,7 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
                     tic_step(lo, hi, small ? 2 : tics_that_fit(panel_w, 55)));
       return std::string(buf);
     };
+    check_panel_height(path, panel_h, layout.rows);
     const std::string yticks = "set ytics " + std::to_string(static_cast<int>(tic_step(0, 160, tics_that_fit(panel_h, 35)))) + "\n";
     gp << "set grid lc rgb '#d8d8d8'\n";
     // A paper's column: the legend in a band under the panels.
@@ -409,6 +410,7 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
   const double panel_px = (height * (layout.top - layout.bottom) - (rows - 1) * height * layout.vspace) / rows;
   const std::string tof_label = narrow ? "ToF (mm)" : "ToF reading (mm)";
   const double panel_w_px = (width * (layout.right - layout.left) - (cols - 1) * width * layout.hspace) / cols;
+  check_panel_height(path, panel_px, rows);
 
   const char* kToward = "#1f77b4";  // forward, toward the obstacle
   const char* kAway = "#2ca02c";    // backwards

@@ -121,6 +121,16 @@ double tic_step(double lo, double hi, int count);
 /// width). gnuplot's automatic tics ignore the text's size: on a short panel they overlapped.
 int tics_that_fit(double length_px, double px_per_tic);
 
+/// On a page (--figure-size, --font-size) whose height leaves a figure's `rows` rows of panels
+/// under kMinPanel_px canvas pixels each (`panel_h_px`), a warning saying how high the panels
+/// print and how much height the figure needs, kept for take_figure_warnings(): a figure cannot
+/// draw 16 panels legibly in 6 cm, and says so instead of drawing them silently a few pixels high.
+/// (60 canvas pixels: 11 mm printed at 8 pt; the drive's panels at 8.5x14cm are 74 and read well.)
+constexpr double kMinPanel_px = 60;
+void check_panel_height(const std::string& figure, double panel_h_px, int rows);
+/// The warnings check_panel_height() kept since the last call, oldest first (each "FIGURE: ...").
+std::vector<std::string> take_figure_warnings();
+
 /// The point type (gnuplot's pt) of robot number `robot` in the figures that tell robots apart:
 /// filled circle, open square, open triangle, open circle, open diamond, open inverted triangle.
 int robot_point_type(std::size_t robot);
