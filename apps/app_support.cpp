@@ -223,6 +223,10 @@ CLI::Validator figure_file() {
       [](std::string& input) -> std::string { return plot::why_not_a_figure(input); }, "{.png,.svg,.pdf}");
 }
 
+void print_figure_warnings(const std::string& command) {
+  for (const std::string& w : plot::take_figure_warnings()) std::cerr << command << ": warning: " << w << '\n';
+}
+
 std::string why_not_writable(const std::string& path, bool folder_allowed) {
   namespace fs = std::filesystem;
   if (path.empty() || path == "-") return std::string();

@@ -78,6 +78,10 @@ CLI::Validator figure_file();
 /// not itself a folder (unless `folder_allowed`: diagnose's old `--plot DIR`). Otherwise exit 2 at
 /// once, naming the path and what is wrong. "-" (standard output) passes; a symlink is followed.
 CLI::Validator output_file(bool folder_allowed = false);
+/// Each warning the run's figures left (a page too short for their panels: plot::check_panel_height),
+/// on standard error as "COMMAND: warning: FIGURE: ...".
+void print_figure_warnings(const std::string& command);
+
 /// Why `path` cannot be written as an output ("" when it can): output_file()'s check.
 std::string why_not_writable(const std::string& path, bool folder_allowed = false);
 

@@ -85,6 +85,7 @@ int run_battery(const BatteryOptions& o) {
   if (!o.output.empty()) std::cerr << "battery: wrote " << o.output << '\n';
   for (const std::string& path : {o.plot, o.plot_lifetime, o.plot_charge_map})
     if (!path.empty()) std::cerr << "battery: drew " << path << '\n';
+  print_figure_warnings("battery");
   if (o.json) {
     std::cout << text;
   } else {

@@ -189,6 +189,7 @@ int run_diagnose(const DiagnoseOptions& o) {
   stage.commit();
   if (!output.empty()) std::cerr << "diagnose: wrote " << output << '\n';
   if (!figure.empty()) std::cerr << "diagnose: drew " << figure << '\n';
+  print_figure_warnings("diagnose");
   if (o.json) std::cout << text;
   else std::fputs(diagnose::report_text(r, base_model_name(o.coefficients)).c_str(), stdout);
   return 0;

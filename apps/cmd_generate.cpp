@@ -38,6 +38,20 @@ int run_generate(const GenerateOptions& o) {
     throw UsageError("--out-dir " + o.out_dir + " and --out " + o.old_out + ": both name the folder (--out is the old spelling); give one");
   const std::string out_dir = o.out_dir.empty() ? o.old_out : o.out_dir;
   if (out_dir.empty()) throw UsageError("--out-dir DIR is required: the folder to write the logs into");
+  // Checked before anything is recorded (issue #24, item 2): the folder, or the nearest of its
+  // parents that exists, must be a folder that can be written to.
+  {
+    const std::string shown = "'" + logs::escape_control(out_dir) + "'";
+    std::error_code ec;
+    fs::path existing = fs::path(out_dir);
+    while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.parent_path();
+    if (existing.empty()) existing = ".";
+    const std::string existing_shown = "'" + logs::escape_control(existing.string()) + "'";
+    if (!fs::is_directory(existing, ec))
+      throw UsageError("--out-dir: " + shown + ": " + existing_shown + " is not a folder (nothing was recorded)");
+    if (::access(existing.c_str(), W_OK | X_OK) != 0)
+      throw UsageError("--out-dir: " + shown + ": the folder " + existing_shown + " cannot be written to (nothing was recorded)");
+  }
   // All or nothing: every log of every kind is staged, then renamed into place together.
   logs::OutputStage stage;
   std::vector<std::string> done;

@@ -84,6 +84,7 @@ int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json
   stage.commit();
   if (!o.output.empty()) std::cerr << kind << ": wrote " << o.output << '\n';
   if (!o.plot.empty()) std::cerr << kind << ": drew " << o.plot << '\n';
+  print_figure_warnings(kind);
   if (o.json) {
     std::cout << text;
   } else {

@@ -293,8 +293,8 @@ TEST_F(PaperFigures, TheFontSizeAskedIsTheSizePrinted) {
 }
 
 // At a paper's sizes every panel keeps its axes' labels and titles (read from the SVG gnuplot
-// drew): the drive's small multiples and the diagnosis on one column (8.5 cm: 2 panels a row,
-// before stacked over after) and on two (17.6 cm).
+// drew): the drive's small multiples and the diagnosis on one column (8.5 cm: 2 panels a row;
+// before stacked over after where the page is tall enough, else side by side) and on two (17.6 cm).
 TEST_F(PaperFigures, EveryPanelKeepsItsLabelsAtOneAndTwoColumns) {
   struct Case {
     std::string command, size;
@@ -306,11 +306,11 @@ TEST_F(PaperFigures, EveryPanelKeepsItsLabelsAtOneAndTwoColumns) {
         "obstacle (mm)", "commanded (mm)", "encoder steps", "fit, clipped at rails", "robot virtual-epuck2-1"}},
       {"drive" + logs_of("drive"), "17.6x10cm", {"10 cm/s, x: time (s)", "standing still: 1 run", "encoder steps", "fit, clipped at rails"}},
       {"diagnose" + logs_of("drive"), "8.5x16cm",
-       {"before the findings, 1640 residuals", "after: 4 findings, 1640 residuals", "residual (mm)", "residual (steps)",
-        "simulated by the base model (steps)"}},
+       // (four panels do not stack in 16 cm: before and after side by side, the x label on two lines)
+       {"before the", "after: 4 findings", "residual (mm)", "residual (steps)", "base model (steps)"}},
       {"diagnose" + logs_of("drive"), "17.6x12cm", {"Diagnosis of the drive logs", "residual (mm)", "before the findings"}},
       {"camera" + logs_of("camera"), "8.5x9cm", {"columns", "rows", "column px (pixels)", "row py (pixels)", "virtual-epuck2-2"}},
-      {"battery" + logs_of("battery"), "17.6x14cm", {"0 cm/s: 5.48 h, 2 runs", "15 cm/s", "time (h)", "charge (of full)"}},
+      {"battery" + logs_of("battery"), "17.6x14cm", {"0 cm/s, 5.48 h", "15 cm/s", "time (h)", "charge (fraction of full)"}},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.command.substr(0, 12) + " " + c.size);
@@ -334,7 +334,7 @@ TEST_F(PaperFigures, LifetimeAndChargeMapFitOneColumn) {
   for (const char* text : {"wheel speed (cm/s)", "lifetime (h)", "each run", "mean of the runs (± s.e.)", "published (Fig. 10b, plug-in)"})
     EXPECT_NE(l.find(text), std::string::npos) << text;
   EXPECT_EQ(l.find("Battery lifetime against wheel speed"), std::string::npos);  // the caption's
-  for (const char* text : {"voltage_v (V)", "charge (1 = full)", "logged - map (1e-5)", "logged rows", "knots"})
+  for (const char* text : {"logged voltage (V)", "charge (1 = full)", "logged - map (1e-5)", "logged rows", "knots"})
     EXPECT_NE(m.find(text), std::string::npos) << text;
   EXPECT_EQ(m.find("Voltage -&gt; charge map"), std::string::npos);
   EXPECT_EQ(m.find("Voltage -> charge map"), std::string::npos);
@@ -351,6 +351,142 @@ TEST_F(PaperFigures, ADiagnosisOfSeveralRobotsNamesEachRobotsMarker) {
   const std::string svg = slurp(out);
   EXPECT_NE(svg.find("robot virtual-epuck2-1"), std::string::npos);
   EXPECT_NE(svg.find("robot virtual-epuck2-2"), std::string::npos);
+}
+
+/// Every text of an SVG (gnuplot writes each as `<g transform="translate(X,Y)" ...><text>T</text>`),
+/// with where it starts.
+struct SvgText {
+  double x, y;
+  std::string anchor, text;
+};
+std::vector<SvgText> svg_texts(const std::string& svg) {
+  std::vector<SvgText> out;
+  for (std::size_t at = svg.find("<g transform=\"translate("); at != std::string::npos;
+       at = svg.find("<g transform=\"translate(", at + 1)) {
+    const std::size_t end = svg.find('>', at), text = svg.find("<text>", at), close = svg.find("</text>", text);
+    if (text == std::string::npos || close == std::string::npos || svg.find("<g", at + 1) < text) continue;
+    SvgText t{};
+    std::sscanf(svg.c_str() + at + 24, "%lf,%lf", &t.x, &t.y);
+    const std::size_t a = svg.find("text-anchor=\"", at);
+    if (a != std::string::npos && a < end) t.anchor = svg.substr(a + 13, svg.find('"', a + 13) - a - 13);
+    t.text = svg.substr(text + 6, close - text - 6);
+    out.push_back(t);
+  }
+  return out;
+}
+
+/// The SVG's canvas: its width and height attributes.
+std::pair<double, double> svg_size(const std::string& svg) {
+  const std::size_t w = svg.find("width=\""), h = svg.find("height=\"");
+  return {std::atof(svg.c_str() + w + 7), std::atof(svg.c_str() + h + 8)};
+}
+
+// Issue #24: at 8.5x14cm the drive SVG's legend lost its first column ("forward", "backwards",
+// "standing still"): gnuplot sized the key's columns by the svg terminal's estimate of the text,
+// wider than the canvas, and centred it, so that the first column fell off the page. Every entry
+// a reader needs must be drawn, and start inside the canvas (legend texts are left-aligned: a
+// start at x < 0 or at x >= width is off the page).
+TEST_F(PaperFigures, EveryLegendEntryIsDrawnInsideTheCanvasAtOneColumn) {
+  struct Case {
+    std::string name, args;
+    std::vector<std::string> entries;
+  };
+  const std::vector<Case> cases{
+      {"drive", "drive" + logs_of("drive") + " --figure-size 8.5x14cm --font-size 8",
+       {"forward", "backwards", "standing still", "fit, clipped at rails", "plug-in", "the 2000 mm rail", "no-target code (2250)",
+        "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
+      {"battery", "battery" + logs_of("battery") + " --figure-size 8.5x12cm --font-size 8",
+       {"robot virtual-e-puck2-a", "robot virtual-e-puck2-b", "simple", "linear", "cubic", "approximated"}},
+      {"diagnose", "diagnose" + logs_of("ground") + " --figure-size 8.5x9cm --font-size 8",
+       {"a residual before", "a residual after", "mean", "off the scale", "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const fs::path out = dir_ / (c.name + ".svg");
+    const CliRun r = run(c.args + " --plot \"" + out.string() + "\"");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string svg = slurp(out);
+    const auto [width, height] = svg_size(svg);
+    ASSERT_GT(width, 200);
+    const std::vector<SvgText> texts = svg_texts(svg);
+    for (const std::string& entry : c.entries) {
+      const auto it = std::find_if(texts.begin(), texts.end(), [&](const SvgText& t) { return t.text == entry; });
+      ASSERT_NE(it, texts.end()) << "legend entry '" << entry << "' not drawn";
+      EXPECT_EQ(it->anchor, "start") << entry;
+      EXPECT_GE(it->x, 0.0) << entry;
+      EXPECT_LT(it->x, width) << entry;
+      EXPECT_GE(it->y, 0.0) << entry;
+      EXPECT_LE(it->y, height) << entry;
+    }
+  }
+}
+
+// A diagnosis on one column names each robot's marker (the legend used to drop them there), and
+// at 8.5x6cm, where a stack of before over after left panels a few pixels high, puts the two
+// side by side: both panels' titles are drawn, at the same height.
+TEST_F(PaperFigures, AOneColumnDiagnosisNamesItsRobotsAndKeepsItsPanelsReadable) {
+  const fs::path out = dir_ / "g.svg";
+  const CliRun r = run("diagnose" + logs_of("ground") + " --figure-size 8.5x6cm --font-size 8 --plot \"" + out.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<SvgText> texts = svg_texts(slurp(out));
+  auto find = [&](const std::string& text) {
+    return std::find_if(texts.begin(), texts.end(), [&](const SvgText& t) { return t.text == text; });
+  };
+  EXPECT_NE(find("robot virtual-epuck2-1"), texts.end());
+  EXPECT_NE(find("robot virtual-epuck2-2"), texts.end());
+  auto starting = [&](const std::string& prefix) {  // (a small panel's title takes two lines)
+    return std::find_if(texts.begin(), texts.end(), [&](const SvgText& t) { return t.text.rfind(prefix, 0) == 0; });
+  };
+  const auto before = starting("before the"), after = starting("after: 3 findings");
+  ASSERT_NE(before, texts.end());
+  ASSERT_NE(after, texts.end());
+  EXPECT_LT(before->x, after->x);  // side by side: before on the left
+  EXPECT_NEAR(before->y, after->y, 1.0);
+  // 12 cm high: room to stack them, before over after, both named, the robots too.
+  const CliRun tall = run("diagnose" + logs_of("ground") + " --figure-size 8.5x12cm --font-size 8 --plot \"" + out.string() + "\"");
+  ASSERT_EQ(tall.exit_code, 0) << tall.err;
+  const std::vector<SvgText> stacked = svg_texts(slurp(out));
+  auto find_in = [&](const std::string& prefix) {
+    return std::find_if(stacked.begin(), stacked.end(), [&](const SvgText& t) { return t.text.rfind(prefix, 0) == 0; });
+  };
+  const auto b = find_in("before the"), a = find_in("after: 3 findings");
+  ASSERT_NE(b, stacked.end());
+  ASSERT_NE(a, stacked.end());
+  EXPECT_NEAR(b->x, a->x, 1.0);
+  EXPECT_LT(b->y, a->y);
+  EXPECT_NE(find_in("robot virtual-epuck2-2"), stacked.end());
+}
+
+// A page too short for a figure's panels says so, with the height to add: the battery's 16 speeds
+// in 8.5x6cm (panels of a few millimetres) warn; in 8.5x12cm (about 12 mm each) they do not.
+// The figure is drawn all the same (exit 0).
+TEST_F(PaperFigures, APageTooShortForThePanelsSaysHowMuchHeightToAdd) {
+  const fs::path out = dir_ / "b.png";
+  CliRun r = run("battery" + logs_of("battery") + " --plot \"" + out.string() + "\" --figure-size 8.5x6cm --font-size 8");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("battery: warning: " + out.string() + ": the page leaves its"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("more height (--figure-size)"), std::string::npos) << r.err;
+  r = run("battery" + logs_of("battery") + " --plot \"" + out.string() + "\" --figure-size 8.5x12cm --font-size 8");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("the page leaves"), std::string::npos) << r.err;
+  // The figure's own size (no page) never warns.
+  r = run("drive" + logs_of("drive") + " --plot \"" + out.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("the page leaves"), std::string::npos) << r.err;
+}
+
+// Tic steps, worked by hand: [0, 22] in 3 tics: 22 / 3 = 7.3 -> 10; [-15, 17] in 3: 10.7 -> 20,
+// which leaves one tic (0) inside, so 10 (-10, 0, 10); [200, 450] in 5: 50 -> 50; [0, 1] in 4:
+// 0.25 -> 0.5; a degenerate range -> 1.
+TEST(FigureTics, StepsAreOneTwoOrFiveTimesAPowerOfTenWithTwoTicsInside) {
+  using epuck2::plot::tic_step;
+  EXPECT_DOUBLE_EQ(tic_step(0, 22, 3), 10);
+  EXPECT_DOUBLE_EQ(tic_step(-15, 17, 3), 10);
+  EXPECT_DOUBLE_EQ(tic_step(200, 450, 5), 50);
+  EXPECT_DOUBLE_EQ(tic_step(0, 1, 4), 0.5);
+  EXPECT_DOUBLE_EQ(tic_step(3, 3, 4), 1);
+  EXPECT_EQ(epuck2::plot::tics_that_fit(100, 40), 3);  // at least 3
+  EXPECT_EQ(epuck2::plot::tics_that_fit(400, 40), 10);
 }
 
 TEST(FigureSize, ParsedInInches) {

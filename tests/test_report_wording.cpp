@@ -4,6 +4,8 @@
 // writing command saying what it wrote, a simulated log's own metadata, a generated header naming
 // the logs it came from. The real binary on the shipped logs and on small files written here.
 #include <cmath>
+#include <functional>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
@@ -41,6 +43,12 @@ TEST_F(OutputsFailFast, EveryOutputOptionIsCheckedBeforeTheLogsAreRead) {
       {"ground " + bad + " -o \"" + missing + "/g.json\"", missing + "/g.json"},
       {"ground " + bad + " --plot \"" + missing + "/g.png\"", missing + "/g.png"},
       {"proximity " + bad + " -o \"" + missing + "/p.json\"", missing + "/p.json"},
+      {"proximity " + bad + " --plot \"" + missing + "/p.png\"", missing + "/p.png"},
+      {"light " + bad + " -o \"" + missing + "/l.json\"", missing + "/l.json"},
+      {"light " + bad + " --plot \"" + missing + "/l.pdf\"", missing + "/l.pdf"},
+      {"camera " + bad + " -o \"" + missing + "/c.json\"", missing + "/c.json"},
+      {"drive " + bad + " -o \"" + missing + "/d.json\"", missing + "/d.json"},
+      {"drive " + bad + " --plot \"" + missing + "/d.svg\"", missing + "/d.svg"},
       {"camera " + bad + " --plot \"" + missing + "/c.svg\"", missing + "/c.svg"},
       {"battery " + battery_bad + " -o \"" + missing + "/b.json\"", missing + "/b.json"},
       {"battery " + battery_bad + " --plot \"" + missing + "/b.pdf\"", missing + "/b.pdf"},
@@ -66,6 +74,22 @@ TEST_F(OutputsFailFast, EveryOutputOptionIsCheckedBeforeTheLogsAreRead) {
     EXPECT_EQ(r.out, "");  // no report: nothing ran
     EXPECT_FALSE(fs::exists(missing));
   }
+}
+
+// generate creates its --out-dir, but a file where the path needs a folder is exit 2 at once,
+// naming the path, with nothing recorded (it was a bare "filesystem error" from the middle of the
+// run).
+TEST_F(OutputsFailFast, GenerateChecksItsFolderBeforeRecording) {
+  const std::string file = write("plain.txt", "x\n");
+  const CliRun r = run("generate ground --out-dir \"" + file + "/logs\"");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(contains(r.err, "--out-dir: '" + file + "/logs': '" + file + "' is not a folder")) << r.err;
+  EXPECT_FALSE(contains(r.err, "filesystem error")) << r.err;
+  EXPECT_EQ(slurp(file), "x\n");
+  // A folder that does not exist yet is created, as documented.
+  const CliRun ok = run("generate ground --out-dir \"" + (dir_ / "new" / "logs").string() + "\"");
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_TRUE(fs::exists(dir_ / "new" / "logs" / "ground_virtual-epuck2-1.csv"));
 }
 
 TEST_F(OutputsFailFast, AFolderOrAFileInThePathIsRefusedByName) {
@@ -133,6 +157,21 @@ TEST_F(ReportWording, TheLogsRowNumberIsCalledLogRow) {
   EXPECT_TRUE(contains(human.out, " log_row ")) << human.out;
 }
 
+// In a camera diagnosis both rows exist: the log's row number (log_row) and the LED's row in the
+// image (image_row), each under its own name, neither as a bare "row".
+TEST_F(ReportWording, TheCameraKeepsLogRowAndImageRowApart) {
+  const CliRun r = run("diagnose --json" + shipped("camera"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  std::set<std::string> names;
+  for (const char* key : {"residual_structure", "residual_structure_before"})
+    if (j.contains(key))
+      for (const auto& s : j.at(key)) names.insert(s.at("covariate").get<std::string>());
+  EXPECT_EQ(names.count("log_row"), 1u) << j.dump().substr(0, 1500);
+  EXPECT_EQ(names.count("image_row"), 1u) << j.dump().substr(0, 1500);
+  EXPECT_EQ(names.count("row"), 0u);
+}
+
 // The camera's pixels and the encoders' steps have no rails: no rail counts, no Tobit line. The
 // ground sensors and the ToF have rails: both stay.
 TEST_F(ReportWording, RailAndTobitLinesOnlyForReadingsWithRails) {
@@ -176,6 +215,40 @@ TEST(InformationCriteria, UndefinedAtZeroRssAndSaidWhy) {
   EXPECT_TRUE(j.at("bic").is_null());
   EXPECT_TRUE(contains(j.at("aic_why").get<std::string>(), "RSS is 0")) << j.dump();
   EXPECT_TRUE(contains(j.at("bic_why").get<std::string>(), "RSS is 0")) << j.dump();
+}
+
+// Through the real binary: readings lying exactly on a line (grey 0.1..0.9, reading 1000 x grey,
+// 5 repeats, 3 sensors; none at a rail) leave an RSS of rounding alone (about 1e-19, not 0): the
+// report printed "AIC -2086.65". Now the statistics say why they are not given, in the human
+// report and the JSON alike; the RSS itself is still printed.
+TEST_F(ReportWording, AFitThroughEveryReadingPrintsNoAic) {
+  std::string csv = "# robot: exact\ngrey,sensor,value\n";
+  for (int s = 0; s < 3; ++s)
+    for (int k = 1; k <= 9; ++k)
+      for (int rep = 0; rep < 5; ++rep) csv += "0." + std::to_string(k) + "," + std::to_string(s) + "," + std::to_string(100 * k) + "\n";
+  const std::string log = "\"" + write("exact_ground.csv", csv) + "\"";
+  CliRun r = run("ground " + log);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "AIC and BIC undefined (RSS is 0 to rounding")) << r.out;
+  EXPECT_FALSE(contains(r.out, "\n  AIC -")) << r.out;  // (the Tobit likelihood's line keeps its own AIC: defined there)
+  r = run("ground " + log + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  bool found = false;
+  std::function<void(const nlohmann::json&)> walk = [&](const nlohmann::json& v) {
+    if (v.is_object()) {
+      if (v.contains("aic_why")) {
+        found = true;
+        EXPECT_TRUE(v.at("aic").is_null()) << v.dump();
+        EXPECT_TRUE(contains(v.at("aic_why").get<std::string>(), "RSS is 0")) << v.dump();
+      }
+      for (const auto& [key, item] : v.items()) walk(item);
+    } else if (v.is_array()) {
+      for (const auto& item : v) walk(item);
+    }
+  };
+  walk(j);
+  EXPECT_TRUE(found) << j.dump().substr(0, 1500);
 }
 
 TEST_F(ReportWording, EveryWritingCommandSaysWhatItWrote) {

@@ -152,9 +152,13 @@ FitStatistics fit_statistics(std::size_t n, int k, double rss, double r2) {
   s.mse = n > 0 ? rss / nn : kNaN;
   s.reduced_chi2 = nn > k ? rss / (nn - k) : kNaN;
   // RSS 0 (every residual exactly 0): n ln(0) has no value; akaike() would floor it at the
-  // smallest double and print a meaningless -1e5.
-  s.aic = n > 0 && rss > 0 ? akaike(n, rss, k) : kNaN;
-  s.bic = n > 0 && rss > 0 ? bayes(n, rss, k) : kNaN;
+  // smallest double and print a meaningless -1e5. RSS 0 to the arithmetic's rounding alike: R² 1
+  // to double precision (RSS below 1e-15 of the total sum of squares: readings lying exactly on
+  // the model leave an RSS of about 1e-19, whose ln gave an AIC of -2087 for 45 readings, a
+  // number that says only how the solver rounded).
+  const bool zero = !(rss > 0) || (std::isfinite(r2) && 1.0 - r2 < 1e-15);
+  s.aic = n > 0 && !zero ? akaike(n, rss, k) : kNaN;
+  s.bic = n > 0 && !zero ? bayes(n, rss, k) : kNaN;
   return s;
 }
 

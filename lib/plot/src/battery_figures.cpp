@@ -37,13 +37,44 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
   // At least 1300 x 600: the title and the one-row legend fit over one or two speeds' panels.
   const std::pair<int, int> canvas = canvas_px(std::max(450 * cols + 100, 1300), std::max(330 * rows + 170, 600));
   const int width = canvas.first, height = canvas.second;
-  // A page narrower than the figure's own size (--figure-size, --font-size): fewer columns, so
-  // that each panel keeps room for its title (about 150 of the canvas's pixels) and its tics.
-  cols = std::max(1, std::min(cols, (width - 115) / 180));
-  rows = (n + cols - 1) / cols;
-  // Narrower than 1700 pixels, the legend takes three rows and the title its short form.
+  // Narrower than 1700 pixels, the legend takes three rows and the title its short form; on a
+  // paper's column (narrower than kNarrowCanvas_px) no title (the caption's) and the legend in
+  // two columns.
   const bool narrow = width < 1700;
-  const double top_px = narrow && rows * cols == n ? 160.0 : narrow ? 115.0 : 135.0;  // narrow: the legend may stack
+  const bool one_column = width < kNarrowCanvas_px;
+  const bool paged = page().width_in > 0 || page().font_pt > 0;  // --figure-size or --font-size
+  std::size_t robot_count = 0;
+  {
+    std::vector<std::string> seen;
+    for (const auto& r : runs)
+      if (std::find(seen.begin(), seen.end(), r.robot) == seen.end()) seen.push_back(r.robot);
+    robot_count = seen.size() > 1 ? seen.size() : 0;
+  }
+  const int one_column_legend_rows = static_cast<int>((5 + robot_count + 1) / 2);
+  // A page (--figure-size, --font-size): the columns that give the panels the most room (the
+  // smaller of their width and 1.6 times their height), so that 16 speeds on a short page are
+  // not one column of panels a few pixels high; each panel keeps room for its tics.
+  if (paged) {
+    double best = -1;
+    for (int c = 1; c <= std::min(n, 6); ++c) {
+      const int r = (n + c - 1) / c;
+      const double top = one_column ? 10.0 + 25.0 * one_column_legend_rows + 35.0 : 160.0;
+      // Panels touching (tics and labels on the outer ones alone, the speed inside each panel).
+      const double w = (width - 135.0 - (c - 1) * 12.0) / c, h = (height - top - 75.0 - (r - 1) * 12.0) / r;
+      if (std::min(w, 1.6 * h) > best) {
+        best = std::min(w, 1.6 * h);
+        cols = c;
+      }
+    }
+  }
+  rows = (n + cols - 1) / cols;
+  // On a page, several rows of panels share their axes (small multiples): the time's tics under
+  // the lowest panel of each column, the charge's left of the first, the speed and lifetime
+  // written inside each panel; 16 speeds' titles and tics took all of a 10 cm page's height.
+  const bool shared_axes = paged && rows > 1;
+  const double top_px = one_column ? 10.0 + 25.0 * one_column_legend_rows + (shared_axes ? 10.0 : 35.0)
+                        : shared_axes ? 115.0
+                        : narrow && rows * cols == n ? 160.0 : narrow ? 115.0 : 135.0;  // narrow: the legend may stack
   Layout layout;
   layout.rows = rows;
   layout.cols = cols;
@@ -51,8 +82,8 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
   layout.right = 1.0 - 20.0 / width;
   layout.bottom = (narrow ? 75.0 : 50.0) / height;
   layout.top = 1.0 - top_px / height;  // the title, then the legend (two rows at most), then the first row's titles
-  layout.hspace = 95.0 / width;
-  layout.vspace = (narrow ? 85.0 : 85.0) / height;
+  layout.hspace = (shared_axes ? 12.0 : 95.0) / width;
+  layout.vspace = (shared_axes ? 12.0 : 85.0) / height;
   // Every panel on one time axis: to the longest run or lifetime, so that speeds compare at a glance.
   double t_max_h = 0;
   for (const auto& r : runs)
@@ -73,15 +104,26 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
   render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
-        gp << multiplot(layout, narrow ? "Battery discharge per wheel speed" : "Battery discharge per wheel speed: the logs and the four fitted models");
+        gp << multiplot(layout, one_column ? "" : narrow ? "Battery discharge per wheel speed" : "Battery discharge per wheel speed: the logs and the four fitted models");
+        const double panel_w_px = width * (layout.right - layout.left - (cols - 1) * layout.hspace) / cols;
+        const double panel_h_px = height * (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
+        check_panel_height(path, panel_h_px, rows);
         char xrange[64];
         std::snprintf(xrange, sizeof xrange, "set xrange [0:%.4g]\n", t_max_h > 0 ? 1.02 * t_max_h : 1.0);
-        gp << "set grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset ytics " << (narrow ? "0.5" : "0.25") << "\n" << xrange << "set key off\n";
+        // Tics as many as a panel holds (gnuplot's own crowded on a page's small panels).
+        gp << "set grid lc rgb '#dddddd'\nset yrange [0:1.05]\nset ytics " << (narrow ? tic_step(0, 1, tics_that_fit(panel_h_px, 35)) : 0.25)
+           << "\n" << xrange << "set xtics " << tic_step(0, t_max_h > 0 ? t_max_h : 1.0, std::min(6, tics_that_fit(panel_w_px, 45)))
+           << "\nset key off\n";
         for (int i = 0; i < n; ++i) {
           // Axis labels once: the charge on the first column, the time under each column's last panel.
+          if (shared_axes)  // one charge label, on the middle row, for all the rows
+            gp << (i == (rows / 2) * cols ? "set ylabel 'charge (fraction of full)' offset 1.5,0\n" : "unset ylabel\n");
+          else
           gp << (i % cols == 0 ? (narrow && rows > 2 ? "set ylabel 'charge (of full)' offset 1.5,0\n" : "set ylabel 'charge (fraction of full)' offset 1.5,0\n")
                                : "unset ylabel\n");
           gp << (i + cols >= n ? "set xlabel 'time (h)' offset 0,0.5\n" : "unset xlabel\n");
+          if (shared_axes)
+            gp << (i + cols >= n ? "set format x '% g'\n" : "set format x ''\n") << (i % cols == 0 ? "set format y '% g'\n" : "set format y ''\n");
           const calibrate::SpeedFit& s = f.speeds[static_cast<std::size_t>(i)];
           std::vector<std::tuple<double, double, double, double>> pts;  // time, charge, marker, colour
           for (const auto& r : runs) {
@@ -103,10 +145,17 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
           char title[128];
           std::snprintf(title, sizeof title, "%g cm/s: lifetime %.2f h, %zu run%s", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs,
                         s.runs == 1 ? "" : "s");
-          if (narrow && n > 1)  // a page: the short form
+          if (panel_w_px < 200)  // a small panel: speed and lifetime
+            std::snprintf(title, sizeof title, "%g cm/s, %.2f h", s.speed_cm_s, s.lifetime_s / 3600.0);
+          else if (narrow && n > 1)  // a page: the short form
             std::snprintf(title, sizeof title, "%g cm/s: %.2f h, %zu run%s", s.speed_cm_s, s.lifetime_s / 3600.0, s.runs,
                           s.runs == 1 ? "" : "s");
-          gp << "set title " << quoted(title) << " font ',11' offset 0,-0.3\n";
+          if (shared_axes) {  // the speed and lifetime inside the panel, top right
+            std::snprintf(title, sizeof title, "%g cm/s, %.2f h", s.speed_cm_s, s.lifetime_s / 3600.0);
+            gp << "unset title\nset label 1 " << quoted(title) << " at graph 0.97,0.9 right front font ',9'\n";
+          } else {
+            gp << "set title " << quoted(title) << " font ',11' offset 0,-0.3\n";
+          }
           // The models first, the logs over them: the readings stay visible where the curves lie.
           gp << "plot ";
           for (const auto& st : kStyles) gp << (&st == kStyles ? "" : ", ") << "'-' with linespoints " << st.style << " notitle";
@@ -133,11 +182,15 @@ void battery_fits_figure(logs::OutputStage& stage, const std::string& path, cons
         }
         // A narrow page with empty panel slots at the end: the legend fills them.
         const int empty = rows * cols - n;
-        if (narrow && empty > 0) {
+        if (narrow && !one_column && !shared_axes && empty > 0) {
           const double panel_w = (layout.right - layout.left - (cols - 1) * layout.hspace) / cols;
           const double panel_h = (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
           gp << legend_band(layout.left + (cols - empty) * (panel_w + layout.hspace), layout.right, layout.bottom,
                             layout.bottom + panel_h, entries, 11, static_cast<int>(entries.size()));
+        } else if (one_column) {
+          gp << legend_band(0.01, 0.99, 0.0, 1.0 - 10.0 / height, entries, 10, one_column_legend_rows);
+        } else if (shared_axes) {
+          gp << legend_band(0.02, 0.98, 0.0, 1.0 - 45.0 / height, entries, 10, 2);
         } else {
           gp << legend_band(0.02, 0.98, 1.0 - (top_px - 40.0) / height, 1.0 - 42.0 / height, entries, 11, 2);
         }

@@ -47,7 +47,7 @@ void charge_map_figure(logs::OutputStage& stage, const std::string& path, const 
         for (std::size_t i = 0; i < rows.size(); i += stride)
           resid.emplace_back(rows[i].voltage_v + calibrate::load_offset_v(map, rows[i].speed_cm_s),
                              rows[i].charge - calibrate::convert_voltage(map, rows[i].voltage_v, rows[i].speed_cm_s).charge);
-        const std::string xlabel = map.has_load() ? "voltage_v + load offset (V)" : "voltage_v (V)";
+        const std::string xlabel = map.has_load() ? "logged voltage + load offset (V)" : "logged voltage (V)";
         if (narrow) gp << "set multiplot\n";
         else gp << "set multiplot layout 2,1 title '" << title << "' font ',13' noenhanced\n";
         gp << "set xlabel '" << (narrow ? std::string() : xlabel) << "' noenhanced\n";  // a column: once, under the residuals
@@ -64,7 +64,7 @@ void charge_map_figure(logs::OutputStage& stage, const std::string& path, const 
         if (narrow) for (auto& r : resid) std::get<1>(r) *= unit;
         gp << (narrow ? "set size 1,0.4\n" : "set size 1,0.33\n") << "set origin 0,0\nset key off\n"
            << (narrow ? "set ylabel 'logged - map (1e-5)'\nset format y '%g'\nset ytics 6\nset xlabel '" + xlabel + "' noenhanced\n"
-                      : std::string("set ylabel 'logged - map'\nset format y '%.1e'\n"));
+                      : std::string("set ylabel 'logged - map (charge, 1 = full)'\nset format y '%.1e'\n"));
         if (resid.empty()) resid.emplace_back(map.voltage_min_v, 0.0);
         gp << "plot '-' with points pt 7 ps 0.3 lc rgb '#555555' notitle, 0 with lines lc rgb '#e41a1c' notitle\n";
         gp.send1d(resid);

@@ -156,16 +156,6 @@ void shorten_log_names(Axis& a) {
   a.label = "log (" + prefix + "*" + suffix + ")";
 }
 
-/// A tic step giving about `count` tics over [lo, hi]: 1, 2 or 5 times a power of ten.
-double tic_step(double lo, double hi, int count) {
-  const double raw = (hi - lo) / count;
-  if (!(raw > 0)) return 1;
-  const double p = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0})
-    if (m * p >= raw) return m * p;
-  return 10 * p;
-}
-
 /// The q-quantile of `v` (sorted copy).
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
@@ -251,20 +241,42 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   // From the top: the two-line title (to 65 px), the legend (75-110 px), each panel's title of up
   // to two lines (just above the panel).
   // A page narrower than the figure's own 1500 canvas pixels: short titles, the verdict and the
-  // findings on lines of their own, the legend in two rows.
+  // findings on lines of their own, the legend in two columns.
   const bool narrow = canvas_px(1500, 100).first < 1500;
-  // A paper's column: before and after one above the other (each quantity's pair in turn), no
-  // title (the caption's), the legend at the top.
-  const bool column = canvas_px(1500, 100).first < kNarrowCanvas_px;
-  const int plot_h = 380, top_px = column ? 110 : narrow ? 190 : 180, column_gap_px = 120;
+  // A paper's column: no title (the caption's), the legend at the top; before and after one
+  // above the other (each quantity's pair in turn) when the page is tall enough for panels of
+  // 110 canvas pixels, else side by side (at 8.5x6cm a stack left panels 7 pixels high).
+  const bool one_column = canvas_px(1500, 100).first < kNarrowCanvas_px;
+  // The legend: four entries and each robot's marker (named on every page: a reader must tell
+  // which marker is which robot), in one row on the figure's own canvas, two columns on a page.
+  const std::size_t legend_entries = 4 + robots.size();
+  const int legend_rows = narrow ? static_cast<int>((legend_entries + 1) / 2) : 1;
+  const int legend_top_px = one_column ? 10 : narrow ? 85 : 75;  // below the title's lines
+  const int plot_h = 380, column_gap_px = 120;
+  // The first panels' titles (two lines) under the legend.
+  int top_px = narrow ? legend_top_px + 25 * legend_rows + 55 : 180;
   const int quantities = std::max<int>(1, static_cast<int>(panels.size()));
-  const int rows = column ? 2 * quantities : quantities;
   // Long tic labels stand upright (about 6.5 px a character at 9 pt, in every format). gnuplot
   // would put the x label below the room it reckons they take at the default font's width, which
   // differs from terminal to terminal: the label is placed by hand just below them instead.
   const int tics_px = rotate ? static_cast<int>(7.0 * static_cast<double>(longest)) + 14 : 22;
-  const int below_px = tics_px + 32;  // tic labels and the x label
-  const int gap_px = below_px + 70;   // ... and the next panel's title (two lines)
+  int below_px = tics_px + 32;  // tic labels and the x label
+  int gap_px = below_px + 70;   // ... and the next panel's title (two lines)
+  bool column = false;
+  if (one_column) {
+    const int stacked = 2 * quantities;
+    const int page_h = canvas_px(1500, top_px + stacked * plot_h + (stacked - 1) * gap_px + below_px + 10).second;
+    column = (page_h - top_px - below_px - 10 - (stacked - 1) * gap_px) / stacked >= 110;
+  }
+  // A column's panels side by side are small: their x labels take two lines of smaller text,
+  // their titles three.
+  const bool small_panels = one_column && !column;
+  if (small_panels) {
+    below_px += 20;
+    gap_px += 40;
+    top_px += 20;
+  }
+  const int rows = column ? 2 * quantities : quantities;
   // The canvas: the figure's own size, or a page's (--figure-size), whose panels share what
   // the fixed margins leave.
   const std::pair<int, int> canvas = canvas_px(1500, top_px + rows * plot_h + (rows - 1) * gap_px + below_px + 10);
@@ -276,8 +288,12 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   layout.right = 1.0 - 25.0 / width;
   layout.bottom = (below_px + 10.0) / height;
   layout.top = 1.0 - static_cast<double>(top_px) / height;
-  layout.hspace = static_cast<double>(column_gap_px) / width;
+  layout.hspace = static_cast<double>(one_column ? 100 : column_gap_px) / width;
   layout.vspace = static_cast<double>(gap_px) / height;
+  // Each panel's size in canvas pixels: how many tics its axes hold.
+  const double panel_h_px = height * (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
+  const double panel_w_px = width * (layout.right - layout.left - (layout.cols - 1) * layout.hspace) / layout.cols;
+  check_panel_height(path, panel_h_px, rows);
   // Vector files stay small: at most this many points of one series (the means use every residual).
   const std::size_t max_points = format_of(path) == Format::png ? kMaxPoints : kMaxVectorPoints;
 
@@ -289,7 +305,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
     const std::size_t semi = title.rfind("; ");
     if (semi != std::string::npos) title.replace(semi, 2, "\n");
   }
-  if (column) title.clear();
+  if (one_column) title.clear();
   const std::string after_name = r.findings.empty() ? "after: no finding (the same model)"
                                                     : "after: with the " + std::to_string(r.findings.size()) + " finding" +
                                                           (r.findings.size() == 1 ? "" : "s");
@@ -373,13 +389,22 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
               panel_title = (side == 0 ? std::string("before the findings") : r.findings.empty() ? std::string("after: no finding")
                                                                                                    : "after: " + std::to_string(r.findings.size()) + " finding" + (r.findings.size() == 1 ? "" : "s")) +
                             ", " + std::to_string(p.residuals.size()) + " residuals";
-            if (stride > 1) panel_title += "\n1 in " + std::to_string(stride) + " drawn, means from all";
-            if (beyond > 0)
+            // A panel under 300 canvas pixels wide (a column's side by side): what it is, then the
+            // counts on lines of their own.
+            const bool small_panel = small_panels;
+            if (small_panel)
+              panel_title = side == 0 ? std::string("before the findings")
+                                      : r.findings.empty() ? std::string("after: no finding")
+                                                           : "after: " + std::to_string(r.findings.size()) + " finding" + (r.findings.size() == 1 ? "" : "s");
+            if (small_panel && stride > 1) panel_title += "\n1 in " + std::to_string(stride) + " drawn";
+            else if (stride > 1) panel_title += "\n1 in " + std::to_string(stride) + " drawn, means from all";
+            if (small_panel && beyond > 0) panel_title += "\n" + std::to_string(beyond) + " off the scale";
+            else if (beyond > 0)
               panel_title += (stride > 1 ? (narrow ? "\n" : "; ") : "\n") + std::to_string(beyond) +
                              (narrow ? " off the scale, at its edge" : " beyond the y scale, drawn at its edge");
             // Qualified: for a non-const std::string, ADL would pick std::quoted (a better match),
             // which leaves the title's line break raw and breaks gnuplot's command line.
-            gp << "set title " << plot::quoted(panel_title) << " font ',11'\n";
+            gp << "set title " << plot::quoted(narrow ? wrapped(panel_title, panel_w_px + 40) : panel_title) << " font ',11'\n";
             // On a page, the short forms: the panel's title says what is measured.
             const std::string unit_short = p.unit.substr(0, p.unit.find(','));
             gp << "set ylabel " << quoted(narrow ? "residual (" + unit_short + ")" : "measured − simulated (" + p.unit + ")") << "\n";
@@ -395,10 +420,12 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
               gp << "unset xlabel\nunset label\nset label 90 " << quoted(axis.label) << " at screen " << num(xc) << "," << num(y)
                  << " center front\n";
             } else {
-              gp << "set xlabel " << quoted(narrow && cov_name == "predicted" ? "simulated by the base model (" + unit_short + ")" : axis.label)
-                 << "\n";
+              const std::string xlabel = narrow && cov_name == "predicted" ? "simulated by the base model (" + unit_short + ")" : axis.label;
+              // A small panel: the label in lines of its width, a size smaller.
+              gp << "set xlabel " << quoted(small_panel ? wrapped(xlabel, panel_w_px + 20, 9) : xlabel) << (small_panel ? " font ',9'" : "") << "\n";
             }
-            gp << "set yrange [" << num(lo) << ":" << num(hi) << "]\n";
+            gp << "set yrange [" << num(lo) << ":" << num(hi) << "]\nset ytics " << num(tic_step(lo, hi, tics_that_fit(panel_h_px, 40)))
+               << "\n";
             if (axis.categorical) {
               gp << "set xrange [-0.6:" << static_cast<double>(axis.categories.size()) - 0.4 << "]\n";
               std::string tics = "set xtics (";
@@ -415,7 +442,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
                 }
                 const double pad = 0.02 * (xmax - xmin) + (xmax > xmin ? 0.0 : 1.0);
                 gp << "set xrange [" << num(xmin - pad) << ":" << num(xmax + pad) << "]\nset xtics "
-                   << num(tic_step(xmin, xmax, column ? 4 : 3)) << " norotate\n";
+                   << num(tic_step(xmin, xmax, std::min(5, tics_that_fit(panel_w_px, 85)))) << " norotate\n";
               } else {
                 gp << "set xtics autofreq norotate\n";
               }
@@ -435,14 +462,13 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
         std::vector<std::string> entries{"NaN with points pt 7 ps 0.8 lc rgb '#d62728' title 'a residual before'",
                            "NaN with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'a residual after'",
                            std::string("NaN with linespoints lw 2.5 pt 5 lc rgb '#404040' title ") +
-                               (probe.categorical ? (column ? "'mean'" : "'mean per category'") : column ? "'mean'" : narrow ? "'mean per bin'" : "'mean per bin of the x axis'"),
+                               (probe.categorical ? (one_column ? "'mean'" : "'mean per category'") : one_column ? "'mean'" : narrow ? "'mean per bin'" : "'mean per bin of the x axis'"),
                            narrow ? "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'off the scale'"
                                   : "NaN with points pt 9 ps 1.1 lc rgb 'black' title 'beyond the y scale, at its edge'"};
-        // (A page's legend band has no room for them: there the markers go unnamed.)
-        for (std::size_t k = 0; k < (narrow ? 0 : robots.size()); ++k)
+        for (std::size_t k = 0; k < robots.size(); ++k)
           entries.push_back("NaN with points pt " + std::to_string(robot_point_type(k)) + " ps 0.9 lc rgb '#404040' title " + quoted("robot " + robots[k]));
-        gp << legend_band(layout.left, layout.right, 1.0 - (column ? 60.0 : narrow ? 135.0 : 110.0) / height,
-                          1.0 - (column ? 10.0 : narrow ? 85.0 : 75.0) / height, entries, 10, narrow ? 2 : 1);
+        gp << legend_band(one_column ? 0.01 : layout.left, one_column ? 0.99 : layout.right, 1.0 - (legend_top_px + 25.0 * legend_rows) / height,
+                          1.0 - static_cast<double>(legend_top_px) / height, entries, 10, legend_rows);
         gp << "unset multiplot\n";
       },
       width, height);

@@ -223,25 +223,115 @@ std::string wrapped(const std::string& text, double width_px, double font_pt) {
   return out + line;
 }
 
+double tic_step(double lo, double hi, int count) {
+  const double raw = (hi - lo) / std::max(1, count);
+  if (!(raw > 0) || !std::isfinite(raw)) return 1;
+  const double p = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = 10 * p;
+  for (double m : {5.0, 2.0, 1.0})
+    if (m * p >= raw) step = m * p;
+  // At least two tics inside [lo, hi] (a scale with one labelled tic cannot be read): a finer
+  // step of the same series (…, 10, 5, 2, 1, 0.5, …) until there are.
+  auto inside = [&](double d) { return std::floor(hi / d) - std::ceil(lo / d) + 1; };
+  for (int k = 0; k < 6 && inside(step) < 2; ++k) {
+    const double mantissa = step / std::pow(10.0, std::floor(std::log10(step) + 1e-9));
+    step *= mantissa > 4.5 ? 0.4 : 0.5;  // 5 -> 2, 2 -> 1, 1 -> 0.5
+  }
+  return step;
+}
+
+int tics_that_fit(double length_px, double px_per_tic) {
+  return std::max(3, static_cast<int>(length_px / px_per_tic));
+}
+
+namespace {
+std::vector<std::string> g_warnings;
+}
+
+void check_panel_height(const std::string& figure, double panel_h_px, int rows) {
+  if (!paged() || panel_h_px >= kMinPanel_px || rows < 1) return;
+  // Canvas pixels to printed millimetres: the layouts' text is 11 pt at kDesignPixelsPerInch.
+  const double per_in = kDesignPixelsPerInch * kDesignFont_pt / printed_font_pt();
+  const double mm_per_px = 25.4 / per_in;
+  const double need_mm = (kMinPanel_px - panel_h_px) * rows * mm_per_px;
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "%s: the page leaves its %d row%s of panels %.0f mm high each (%s): give the figure about %.0f mm more "
+                "height (--figure-size)",
+                figure.c_str(), rows, rows == 1 ? "" : "s", std::max(0.0, panel_h_px * mm_per_px),
+                panel_h_px > 0 ? "too small to read" : "no room at all", std::ceil(need_mm));
+  g_warnings.emplace_back(buf);
+}
+
+std::vector<std::string> take_figure_warnings() {
+  std::vector<std::string> out;
+  out.swap(g_warnings);
+  return out;
+}
+
 int robot_point_type(std::size_t robot) {
   static const int kMarkers[] = {7, 4, 8, 6, 12, 10};
   return kMarkers[robot % 6];
 }
 
-std::string legend_band(double left, double right, double bottom, double top, const std::vector<std::string>& entries,
+namespace {
+
+/// The title an entry of legend_band() shows: what follows its last " title ", unquoted.
+std::string entry_title(const std::string& entry) {
+  const std::size_t at = entry.rfind(" title ");
+  if (at == std::string::npos) return "";
+  std::string t = entry.substr(at + 7);
+  if (t.size() >= 2 && (t.front() == '\'' || t.front() == '"')) t = t.substr(1, t.size() - 2);
+  return t;
+}
+
+/// Characters of `text` as printed (a UTF-8 sequence is one).
+std::size_t printed_length(const std::string& text) {
+  std::size_t n = 0;
+  for (unsigned char c : text) n += (c & 0xC0) != 0x80;
+  return n;
+}
+
+}  // namespace
+
+std::string legend_band(double left, double right, double /*bottom*/, double top, const std::vector<std::string>& entries,
                         int font_pt, int max_rows) {
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "set multiplot next\nset lmargin at screen %.4f\nset rmargin at screen %.4f\nset bmargin at screen %.4f\n"
-                "set tmargin at screen %.4f\nunset border\nunset xtics\nunset ytics\nunset x2tics\nunset y2tics\n"
-                "unset title\nunset xlabel\nunset ylabel\nunset grid\nunset xzeroaxis\nunset label\nunset arrow\n"
-                "set xrange [0:1]\nset yrange [0:1]\n"
-                "set key center center %s Left reverse maxrows %d samplen 5 spacing 1.2 width 2 font ',%d'\n",
-                left, right, bottom, top, max_rows > 1 ? "vertical" : "horizontal", max_rows, font_pt);
-  std::string out = buf;
-  out += "plot ";
-  for (std::size_t i = 0; i < entries.size(); ++i) out += (i ? ", " : "") + entries[i];
-  return out + "\n";
+  // The columns are laid out here, not by gnuplot: gnuplot sizes a key's columns by its own
+  // estimate of the text's width, which differs between terminals (the svg terminal's is about
+  // 1.4x the drawn text), and centres a key wider than the band on the band, so that its first
+  // column fell off the canvas (the drive SVG at 8.5x14cm lost "forward", "backwards" and
+  // "standing still"). Each column is a plot of its own with a one-column key at the column's
+  // left edge; a column's share of the band is its longest title's share (plus the sample's).
+  // The plot behind a column reaches the canvas's foot (it draws nothing): gnuplot wraps a key
+  // taller than its plot into a second column.
+  const std::size_t n = entries.size();
+  if (n == 0) return "";
+  const std::size_t rows = std::max<std::size_t>(1, std::min<std::size_t>(n, static_cast<std::size_t>(std::max(1, max_rows))));
+  const std::size_t cols = (n + rows - 1) / rows;
+  std::vector<double> weight(cols, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    weight[i / rows] = std::max(weight[i / rows], 7.0 + static_cast<double>(printed_length(entry_title(entries[i]))));
+  double total = 0;
+  for (double w : weight) total += w;
+  std::string out;
+  double x = left;
+  for (std::size_t c = 0; c < cols; ++c) {
+    const double w = (right - left) * weight[c] / total;
+    char buf[640];
+    std::snprintf(buf, sizeof buf,
+                  "set multiplot next\nset lmargin at screen %.4f\nset rmargin at screen %.4f\nset bmargin at screen %.4f\n"
+                  "set tmargin at screen %.4f\nunset border\nunset xtics\nunset ytics\nunset x2tics\nunset y2tics\n"
+                  "unset title\nunset xlabel\nunset ylabel\nunset grid\nunset xzeroaxis\nunset label\nunset arrow\n"
+                  "set xrange [0:1]\nset yrange [0:1]\n"
+                  "set key at screen %.4f,%.4f left top vertical maxcols 1 Left reverse samplen 4 spacing 1.2 width 0 font ',%d'\n",
+                  x, std::min(right, x + w), 0.0, top, x, top, font_pt);
+    out += buf;
+    out += "plot ";
+    for (std::size_t i = c * rows; i < std::min(n, (c + 1) * rows); ++i) out += (i == c * rows ? "" : ", ") + entries[i];
+    out += "\n";
+    x += w;
+  }
+  return out;
 }
 
 void render(logs::OutputStage& stage, const std::string& path, const Draw& draw, int width_px, int height_px) {

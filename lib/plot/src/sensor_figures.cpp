@@ -60,6 +60,18 @@ Layout two_panels() {
   Layout layout;
   const std::pair<int, int> canvas = canvas_px(1400, 900);
   const double width = canvas.first, height = canvas.second;
+  // Stacked on a column tall enough for panels of 110 canvas pixels; else (8.5x6cm: 23 pixels
+  // each, their tics overlapping) side by side.
+  if (width < kNarrowCanvas_px && (height - 265.0) / 2 < 110) {
+    layout.rows = 1;
+    layout.cols = 2;
+    layout.left = 110.0 / width;
+    layout.right = 1.0 - 15.0 / width;
+    layout.top = 1.0 - 40.0 / height;
+    layout.bottom = 150.0 / height;  // the x label (two lines), then the legend band (two rows)
+    layout.hspace = 110.0 / width;
+    return layout;
+  }
   if (width < kNarrowCanvas_px) {
     layout.rows = 2;
     layout.cols = 1;
@@ -112,7 +124,7 @@ void proximity_figure(logs::OutputStage& stage, const std::string& path, const c
     if (!per_robot.empty()) gp << datablock("robots", per_robot);
     gp << title_and_key(page, "Proximity sensor (paper Eq. 1, Fig. 4c): normalised reading against distance", "top right opaque box Left reverse");
     gp << "set xlabel 'distance to the surface (mm)'\nset ylabel "
-       << quoted(page.narrow ? "reading / 4095 (dimensionless)" : "normalised reading (reading / 4095, dimensionless)") << "\n";
+       << quoted(page.narrow ? "reading / 4095" : "normalised reading (reading / 4095, dimensionless)") << "\n";
     gp << "set xrange [-1:" << std::ceil(far_mm + 1) << "]\nset yrange [-0.05:1.1]\nset grid lc rgb '#d8d8d8'\n";
     gp << "plot $pts using 1:3:2:4 with yerrorbars lc rgb '#999999' title " << quoted(page.narrow ? "min..max" : "readings: mean, min..max") << ", "
        << "$pts using 1:4 with points pt 7 ps 1.4 lc rgb '#d62728' title 'maxima', "
@@ -161,9 +173,10 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
     char dark[32];
     std::snprintf(dark, sizeof dark, "%g = dark", light.high_rail);
     gp << "set xlabel 'distance to the light (cm)'\nset ylabel "
-       << quoted(page.narrow ? "raw reading (" + std::string(light.unit) + "; " + dark + ")"
+       << quoted(page.narrow ? "raw reading (" + std::string(light.unit) + ")"
                              : "raw reading (" + std::string(light.unit) + ", " + light.rails_text() + "; " + dark + ")")
-       << "\n";
+       << "
+";
     gp << "set xrange [5:52]\nset yrange [-100:4200]\nset grid lc rgb '#d8d8d8'\nset samples 400\n";
     const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
     gp << "plot ";
@@ -274,20 +287,46 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << datablock("obs", rows);
     const std::string title = "Camera (paper section 4.1.6): where the LED appears in the image against its direction";
-    gp << multiplot(two_panels(), page.narrow ? "" : title);
+    const Layout layout = two_panels();
+    gp << multiplot(layout, page.narrow ? "" : title);
+    // Each panel's size in canvas pixels: its tics, and whether its x label needs two lines.
+    const std::pair<int, int> canvas = canvas_px(1400, 900);
+    const double panel_w = canvas.first * (layout.right - layout.left - (layout.cols - 1) * layout.hspace) / layout.cols;
+    const double panel_h = canvas.second * (layout.top - layout.bottom - (layout.rows - 1) * layout.vspace) / layout.rows;
+    // Side by side on a column: the labels' short forms in lines of the panel's width.
+    const bool small = page.narrow && layout.cols == 2;
+    auto xlabel = [&](const std::string& text) {
+      if (!small) return quoted(text);
+      return quoted(wrapped(text.substr(0, text.find(" (tangent")) + (text.find("left") != std::string::npos ? " (left > 0)" : " (up > 0)"), panel_w + 40));
+    };
+    // The x tics: as many as the panel's width holds, over the directions observed.
+    auto xtics = [&](std::size_t column) {
+      double lo = 0, hi = 0;
+      for (const auto& row : rows) {
+        lo = std::min(lo, row[column]);
+        hi = std::max(hi, row[column]);
+      }
+      char buf[160];
+      // (the range not widened to the next tic: it was, to ±0.4, for directions within ±0.25)
+      std::snprintf(buf, sizeof buf, "set autoscale xfix\nset offsets graph 0.05, graph 0.05, 0, 0\nset xtics %g\n",
+                    tic_step(lo, hi, small ? 2 : tics_that_fit(panel_w, 55)));
+      return std::string(buf);
+    };
+    check_panel_height(path, panel_h, layout.rows);
+    const std::string yticks = "set ytics " + std::to_string(static_cast<int>(tic_step(0, 160, tics_that_fit(panel_h, 35)))) + "\n";
     gp << "set grid lc rgb '#d8d8d8'\n";
     // A paper's column: the legend in a band under the panels.
     gp << (page.narrow ? "unset key\n" : "set key top right opaque box Left reverse\n");
     gp << "set title 'columns' font ',12'\n";
-    gp << "set xlabel " << quoted(page.narrow ? "lateral / forward (tangent, left > 0)" : "lateral / forward (tangent of the horizontal angle, dimensionless; left > 0)") << "\n";
-    gp << "set ylabel " << quoted(page.narrow ? "column px (pixels)" : "column px (pixels, 0..159)") << "\nset yrange [-5:165]\n";
+    gp << "set xlabel " << xlabel(page.narrow ? "lateral / forward (tangent, left > 0)" : "lateral / forward (tangent of the horizontal angle, dimensionless; left > 0)") << "\n";
+    gp << "set ylabel " << quoted(page.narrow ? "column px (pixels)" : "column px (pixels, 0..159)") << "\nset yrange [-5:165]\n" << yticks << xtics(0);
     gp << "plot $obs using 1:2" << (robots_legend.empty() ? "" : ":9:10") << " with points" << observed << ", "
        << "$obs using 1:3 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
        << "$obs using 1:4 with lines lw 2 dt (8,5) lc rgb '#000000' title "
        << quoted(page.narrow ? "plug-in" : "plug-in (29.97° field of view, centre 80)") << robots_legend << "\n";
     gp << "set title 'rows' font ',12'\n";
-    gp << "set xlabel " << quoted(page.narrow ? "vertical / forward (tangent, up > 0)" : "vertical / forward (tangent of the vertical angle, dimensionless; up > 0)") << "\n";
-    gp << "set ylabel " << quoted(page.narrow ? "row py (pixels)" : "row py (pixels, 0..119)") << "\nset yrange [-5:125]\n";
+    gp << "set xlabel " << xlabel(page.narrow ? "vertical / forward (tangent, up > 0)" : "vertical / forward (tangent of the vertical angle, dimensionless; up > 0)") << "\n";
+    gp << "set ylabel " << quoted(page.narrow ? "row py (pixels)" : "row py (pixels, 0..119)") << "\nset yrange [-5:125]\n" << yticks << xtics(4);
     gp << "plot $obs using 5:6" << (robots_legend.empty() ? "" : ":9:10") << " with points" << observed << ", "
        << "$obs using 5:7 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
        << "$obs using 5:8 with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in (centre 60)'" << robots_legend << "\n";
@@ -381,11 +420,12 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
   layout.right = 1.0 - 15.0 / width;
   layout.bottom = 60.0 / height;
   layout.top = 1.0 - top_px / height;
-  layout.hspace = (narrow ? 95.0 : 105.0) / width;
+  layout.hspace = (narrow ? 110.0 : 105.0) / width;  // the encoders' 6-digit tics and their label
   layout.vspace = (narrow ? 75.0 : 100.0) / height;
   const double panel_px = (height * (layout.top - layout.bottom) - (rows - 1) * height * layout.vspace) / rows;
   const std::string tof_label = narrow ? "ToF (mm)" : "ToF reading (mm)";
   const double panel_w_px = (width * (layout.right - layout.left) - (cols - 1) * width * layout.hspace) / cols;
+  check_panel_height(path, panel_px, rows);
 
   const char* kToward = "#1f77b4";  // forward, toward the obstacle
   const char* kAway = "#2ca02c";    // backwards
@@ -443,7 +483,12 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
           if (narrow) std::snprintf(t, sizeof t, "%g cm/s, x: time (s)", static_cast<double>(mm_s) / 10.0);
           gp << "set title " << quoted(t) << " font ',11'\n";
           axes_labels(narrow ? "" : "time (s)", tof_label);
-          gp << rail << "set yrange [0:2400]\nset xrange [0:*]\nset ytics " << (panel_px < 150 ? 1000 : 500) << "\n";
+          // Tics as many as the panel's width holds (gnuplot's own crowded "0 2 4 6 8 101214").
+          double t_end = 0;
+          for (std::size_t r : runs)
+            if (!f.runs[r].time_s.empty()) t_end = std::max(t_end, f.runs[r].time_s.back());
+          gp << rail << "set yrange [0:2400]\nset xrange [0:" << 1.02 * std::max(1.0, t_end) << "]\nset ytics " << (panel_px < 150 ? 1000 : 500) << "\nset xtics "
+             << tic_step(0, std::max(1.0, t_end), std::min(6, tics_that_fit(panel_w_px, 45))) << "\n";
           std::string plot = "plot ";
           for (std::size_t r : runs) {
             const std::string d = "$r" + std::to_string(r);
@@ -469,7 +514,20 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
           for (double mm : samples(lo - pad, hi + pad, 100))
             line.push_back({mm, on_rails(s::tof_response_mm(scale, offset, mm / 1000)), on_rails(s::tof_response_mm(1.0, 0.0, mm / 1000))});
           gp << datablock("still", line);
-          gp << "unset arrow 1\nset xrange [" << lo - pad << ":" << hi + pad << "]\nset yrange [*:*]\nset ytics autofreq\nset xtics autofreq\n";
+          double ylo = 1e300, yhi = -1e300;  // the readings' range: as many tics as the panel holds
+          for (std::size_t r : still)
+            for (double mm : f.runs[r].tof_mm)
+              if (mm < kOutOfRangeCode_mm) {
+                ylo = std::min(ylo, mm);
+                yhi = std::max(yhi, mm);
+              }
+          for (const auto& row : line) {
+            ylo = std::min({ylo, row[1], row[2]});
+            yhi = std::max({yhi, row[1], row[2]});
+          }
+          gp << "unset arrow 1\nset xrange [" << lo - pad << ":" << hi + pad << "]\nset yrange [*:*]\nset ytics "
+             << tic_step(ylo, yhi, tics_that_fit(panel_px, 35)) << "\nset xtics " << tic_step(lo - pad, hi + pad, tics_that_fit(panel_w_px, 60))
+             << "\n";
           std::string plot = "plot $still using 1:2 with lines lw 2 lc rgb '#d62728' notitle, $still using 1:3 with lines lw 1.5 dt 2 lc rgb '#000000' notitle";
           for (std::size_t r : still) {
             const double span = std::max(1e-9, f.runs[r].time_s.empty() ? 1.0 : f.runs[r].time_s.back());
@@ -483,7 +541,7 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
         gp << "set title " << quoted(narrow ? (thinned > 0 ? "encoders; ≤ 25 readings/run" : "encoders, every run") : "wheel encoders: every run")
            << " font ',11'\n";
         axes_labels(narrow ? "commanded (mm)" : "commanded distance (mm)", "encoder steps");
-        gp << "set xrange [*:*]\nset yrange [*:*]\nset ytics autofreq\n" << (panel_w_px < 300 ? "set xtics 2000\n" : "") << (panel_px < 200 ? "set ytics 5000\n" : "");
+        gp << "set xrange [*:*]\nset yrange [*:*]\n";
         {
           std::string plot = "plot $steps using 1:2 with lines lw 2 lc rgb '#d62728' notitle, $steps using 1:3 with lines lw 1.5 dt 2 lc rgb '#000000' notitle";
           for (std::size_t r = 0; r < f.runs.size(); ++r)
@@ -508,6 +566,7 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
             }
           const double xpad = std::max(1.0, 0.03 * (hi - lo)), ypad = std::max(1.0, 0.03 * (yhi - ylo));
           gp << "set xrange [" << lo - xpad << ":" << hi + xpad << "]\nset yrange [" << ylo - ypad << ":" << yhi + ypad << "]\n";
+          gp << "set xtics " << tic_step(lo, hi, tics_that_fit(panel_w_px, 70)) << "\nset ytics " << tic_step(ylo, yhi, tics_that_fit(panel_px, 35)) << "\n";
           gp << plot << "\n";
         }
         std::vector<std::string> entries{

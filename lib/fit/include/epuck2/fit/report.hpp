@@ -64,9 +64,10 @@ inline constexpr const char* kAicConvention = "n ln(RSS/n) + 2k (lmfit)";
 inline constexpr const char* kBicConvention = "n ln(RSS/n) + k ln(n) (lmfit)";
 /// Why AIC and BIC are not given when the RSS is 0: their ln(RSS/n) has no finite value.
 inline constexpr const char* kInformationCriteriaUndefined =
-    "RSS is 0 (the fit passes through every reading): ln(RSS/n) is minus infinity, so AIC and BIC are undefined";
+    "RSS is 0 to rounding: R² is 1 to double precision, the fit passes through every reading, and ln(RSS/n) has "
+    "no value, or one that says only how the arithmetic rounded";
 /// From n, k, RSS and R^2 (NaN reduced chi^2 when n <= k; NaN AIC and BIC when n = 0 or RSS = 0,
-/// kInformationCriteriaUndefined says why).
+/// or R^2 within 1e-15 of 1 (RSS 0 to rounding): kInformationCriteriaUndefined says why).
 FitStatistics fit_statistics(std::size_t n, int k, double rss, double r2);
 /// "AIC 12.3, BIC 15.6" with `decimals` decimals, or "AIC and BIC undefined (why)" when they are NaN.
 std::string format_information_criteria(const FitStatistics& s, int decimals);

@@ -90,10 +90,14 @@ struct Layout {
 };
 std::string multiplot(const Layout& layout, const std::string& title, int title_font_pt = 15);
 
-/// The last plot of a multiplot: a legend alone, in one row across [left, right] x [bottom, top]
-/// (screen fractions), for panels that share it. `entries` are plot elements without data, e.g.
-/// "NaN with lines lw 2 lc rgb 'red' title 'cubic'". Leaves the multiplot's settings changed
-/// (border, tics, labels): issue it after the last panel.
+/// The last plots of a multiplot: a legend alone across [left, right] x [bottom, top] (screen
+/// fractions), for panels that share it, in columns of at most `max_rows` entries (filled column
+/// by column) that this function lays out itself (each column a plot with a one-column key at its
+/// left edge, its share of the band its longest title's share): gnuplot's own key layout drops
+/// a column that its width estimate says overflows, which differs from terminal to terminal.
+/// `entries` are plot elements without data, e.g. "NaN with lines lw 2 lc rgb 'red' title 'cubic'"
+/// (the title last). Leaves the multiplot's settings changed (border, tics, labels): issue it
+/// after the last panel.
 std::string legend_band(double left, double right, double bottom, double top, const std::vector<std::string>& entries,
                         int font_pt = 11, int max_rows = 1);
 
@@ -107,6 +111,25 @@ std::string wrapped(const std::string& text, double width_px, double font_pt = 1
 /// of them; two columns, 17.6 cm, 915 at 8 pt and 730 at 10 pt): its figures stack their panels,
 /// leave their titles to the caption and put their legends below the plot.
 constexpr int kNarrowCanvas_px = 700;
+
+/// A tic step giving at most about `count` tics over [lo, hi]: 1, 2 or 5 times a power of ten
+/// (at least (hi - lo) / count), finer when fewer than two tics would fall inside [lo, hi].
+double tic_step(double lo, double hi, int count);
+
+/// How many tics an axis `length_px` canvas pixels long holds with `px_per_tic` between them (at
+/// least 3): about 40 on a y axis (a line of text and a gap), 60 to 90 on an x axis (a label's
+/// width). gnuplot's automatic tics ignore the text's size: on a short panel they overlapped.
+int tics_that_fit(double length_px, double px_per_tic);
+
+/// On a page (--figure-size, --font-size) whose height leaves a figure's `rows` rows of panels
+/// under kMinPanel_px canvas pixels each (`panel_h_px`), a warning saying how high the panels
+/// print and how much height the figure needs, kept for take_figure_warnings(): a figure cannot
+/// draw 16 panels legibly in 6 cm, and says so instead of drawing them silently a few pixels high.
+/// (60 canvas pixels: 11 mm printed at 8 pt; the drive's panels at 8.5x14cm are 74 and read well.)
+constexpr double kMinPanel_px = 60;
+void check_panel_height(const std::string& figure, double panel_h_px, int rows);
+/// The warnings check_panel_height() kept since the last call, oldest first (each "FIGURE: ...").
+std::vector<std::string> take_figure_warnings();
 
 /// The point type (gnuplot's pt) of robot number `robot` in the figures that tell robots apart:
 /// filled circle, open square, open triangle, open circle, open diamond, open inverted triangle.
