@@ -21,7 +21,7 @@ double aperture_std_error(double fov_deg, double fov_std_error) {
   return std::abs(slope) * fov_std_error;
 }
 
-void print_report(const calibrate::CameraFit& f) {
+void print_camera_report(const calibrate::CameraFit& f) {
   const auto& r = f.result;
   std::printf("Camera: px = cx - f y/x, py = cy - f z/x, f = 80 / tan(fov/2) (160x120 image)\n");
   std::printf("%zu LED observations\n\n", f.observations.size());
@@ -84,7 +84,7 @@ void setup_camera(CLI::App& app, Action& action) {
       app, action,
       {"camera", logs::Kind::camera, "Calibrate the camera: horizontal field of view and image centre", "Camera",
        "px 0..159 from the left, py 0..119 from the top; lateral_m > 0 to the left."},
-      camera_json, print_report, plot::camera_figure);
+      camera_json, print_camera_report, plot::camera_figure);
 }
 
 }  // namespace epuck2::app

@@ -13,7 +13,7 @@ namespace epuck2::app {
 
 namespace {
 
-void print_report(const calibrate::DriveFit& f) {
+void print_drive_report(const calibrate::DriveFit& f) {
   std::printf("Drive runs: %zu\n\n", f.runs.size());
   std::printf("Encoders: steps = steps_per_m * commanded distance (%zu rows; commands above the firmware's 1100 steps/s = "
               "14.17 cm/s %s: %zu rows)\n",
@@ -72,7 +72,7 @@ void setup_drive(CLI::App& app, Action& action) {
       app, action,
       {"drive", logs::Kind::drive, "Calibrate encoders and ToF from straight runs towards/away from an obstacle", "Drive",
        "Required metadata: '# obstacle_distance_m: D' (m, at time 0). tof_mm 20..2000."},
-      drive_json, print_report, plot::drive_figure);
+      drive_json, print_drive_report, plot::drive_figure);
 }
 
 }  // namespace epuck2::app

@@ -10,7 +10,7 @@ namespace epuck2::app {
 
 namespace {
 
-void print_report(const calibrate::GroundFit& f) {
+void print_ground_report(const calibrate::GroundFit& f) {
   std::printf("Ground sensors: reading = offset + gain * grey (grey 0 = black, 1 = white)\n");
   std::printf("%zu readings, %zu on the 0/1023 rails (censored)\n\n", f.readings, f.censored);
   std::printf("%-11s %-26s %-26s %10s %12s\n", "sensor", "gain (counts)", "offset (counts)", "MSE", "plug-in MSE");
@@ -87,7 +87,7 @@ void setup_ground(CLI::App& app, Action& action) {
       app, action,
       {"ground", logs::Kind::ground, "Calibrate the ground sensors: gain and offset per sensor", "Ground",
        "grey: 0 = black, 1 = white; sensor 0 right, 1 centre, 2 left; value 0..1023."},
-      ground_json, print_report, plot::ground_figure);
+      ground_json, print_ground_report, plot::ground_figure);
 }
 
 }  // namespace epuck2::app

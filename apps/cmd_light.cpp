@@ -12,7 +12,7 @@ namespace {
 
 namespace s = models::sensors;
 
-void print_report(const calibrate::LightFit& f) {
+void print_light_report(const calibrate::LightFit& f) {
   std::printf("Ambient light sensor, paper Eq. 2: reading/4095 = 1 - (gamma I / d)^2\n");
   std::printf("%zu readings: %zu enter the fits (%zu of them on a rail, 0 = saturated or 4095 = dark: censored), %zu left out "
               "(no light in range)\n\n",
@@ -80,7 +80,7 @@ void setup_light(CLI::App& app, Action& action) {
       app, action,
       {"light", logs::Kind::light, "Calibrate the ambient light sensors: gamma of Eq. 2", "Light",
        "value: 4095 = dark, 0 = saturated; both are left out of the fit."},
-      light_json, print_report, plot::light_figure);
+      light_json, print_light_report, plot::light_figure);
 }
 
 }  // namespace epuck2::app

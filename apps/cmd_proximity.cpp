@@ -13,7 +13,7 @@ namespace {
 
 namespace s = models::sensors;
 
-void print_report(const calibrate::ProximityFit& f) {
+void print_proximity_report(const calibrate::ProximityFit& f) {
   std::printf("Proximity sensor, paper Eq. 1: v(d) = a d^2 + b d + c (normalised 0..1), d <= 0.05 m,\n"
               "held non-increasing with distance over [0, 0.05 m] (slopes at 0 and at 0.05 m bounded at 0)\n");
   std::printf("%zu readings at %zu distances; %zu on a rail (0 or 4095, censored); %zu left out\n\n", f.readings,
@@ -106,7 +106,7 @@ void setup_proximity(CLI::App& app, Action& action) {
       app, action,
       {"proximity", logs::Kind::proximity, "Calibrate the proximity sensors: Eq. 1 fitted to the maxima and to the means", "Proximity",
        "Optional: angle_deg (incidence angle). value: 0 = nothing detected, 4095 = touching."},
-      proximity_json, print_report, plot::proximity_figure);
+      proximity_json, print_proximity_report, plot::proximity_figure);
 }
 
 }  // namespace epuck2::app
