@@ -12,8 +12,21 @@
 #   proximity-effects and light-effects: every effect of the kind ARGoS applies, from
 #   bench/argos_effects.json; the proximity's long tail of 300 counts over 20 mm makes its rays
 #   0.13 m long);
+#   so do the other calibrated parts with every effect of their kind ARGoS applies on (issue #20
+#   item 8; bench/argos_effects.json over the shipped diagnoses): ground-effects (nonlinear_response),
+#   tof-effects (tof_offset, tof_scale, latency), actuator-effects (the wheels with speed_limit,
+#   accel_limit, speed_scale, wheel_slip), drive-effects (those wheels, and the calibrated encoders
+#   and ToF reading them, against the plug-in's three), camera and camera-effects (the calibrated
+#   camera with camera.json, then with radial distortion k1, k2, k3; the robots' cameras enabled),
+#   battery-effects (a battery diagnosis's Cubic with its capacity_scale, corrected arithmetic);
 #   the calibrated corrected Cubic battery (behaviour="corrected") costs no more than the
 #   plug-in's Cubic (ratio <= 1.00).
+# EPUCK2_BENCH_ARENA=walls puts every robot in a pen where its sensors see something all the time:
+# its circle (radius 0.2385 m at 5 and 4 cm/s) runs between a cylinder of radius 0.17 m at the
+# circle's centre and four walls 0.29 m from it, with four lights (LED medium) inside the pen's
+# corners; the proximity rays hit the cylinder and the walls (incidence_angle's normal: radial and
+# the face's), the ToF the walls, the light sensors and the camera see the lights. Default: open
+# (robots 2 m apart in an empty arena, which mostly measures a sensor seeing nothing).
 # Noise is off on both sides (the plug-in's noise_level 0, the calibrated noise="false"): the
 # rows compare the models, not the random number draws.
 # EPUCK2_BENCH_MEASURE=instructions counts the instructions argos3 executes instead (valgrind
@@ -22,14 +35,18 @@
 # are the instructions of the sensor's Update or the discharge model alone (inclusive), default
 # and calibrated, in millions.
 #   usage: bench/argos_cost.sh [SIM_SECONDS (default 7200)] [REPEATS (default 3)] [ROBOTS (default "1 10 50")] [ROWS]
-#     ROWS: a space-separated subset of: proximity proximity-effects ground tof encoder light light-effects actuator battery-simple
-#           battery-linear battery-cubic battery-approximated battery-cubic-corrected (default: all)
-# Environment: EPUCK2_BUILD_DIR (default build), EPUCK2_BENCH_MEASURE (cpu, default, or instructions).
+#     ROWS: a space-separated subset of: proximity proximity-effects ground ground-effects tof tof-effects encoder light
+#           light-effects camera camera-effects actuator actuator-effects drive-effects battery-simple battery-linear
+#           battery-cubic battery-approximated battery-cubic-corrected battery-effects (default: all)
+# Environment: EPUCK2_BUILD_DIR (default build), EPUCK2_BENCH_MEASURE (cpu, default, or instructions),
+# EPUCK2_BENCH_ARENA (open, default, or walls).
 # Needs ARGoS, the E-Puck2 plug-in and the project built with them (build/lib/argos3), python3.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SECONDS_SIM="${1:-7200}"; REPEATS="${2:-3}"; ROBOTS="${3:-1 10 50}"
-ROWS="${4:-proximity proximity-effects ground tof encoder light light-effects actuator battery-simple battery-linear battery-cubic battery-approximated battery-cubic-corrected}"
+ROWS="${4:-proximity proximity-effects ground ground-effects tof tof-effects encoder light light-effects camera camera-effects actuator actuator-effects drive-effects battery-simple battery-linear battery-cubic battery-approximated battery-cubic-corrected battery-effects}"
+ARENA="${EPUCK2_BENCH_ARENA:-open}"
+case "$ARENA" in open|walls) ;; *) echo "argos_cost: EPUCK2_BENCH_ARENA must be open or walls" >&2; exit 2;; esac
 LIBDIR="${EPUCK2_BUILD_DIR:-$ROOT/build}/lib/argos3"
 command -v argos3 >/dev/null || { echo "argos_cost: argos3 not found (docs/argos.md)" >&2; exit 3; }
 command -v python3 >/dev/null || { echo "argos_cost: python3 not found" >&2; exit 3; }
@@ -41,9 +58,10 @@ F="$ROOT/data/fitted"
 python3 - "$F" "$WORK" "$ROOT/bench/argos_effects.json" <<'PY'
 import json, sys
 f, work, effects = sys.argv[1], sys.argv[2], json.load(open(sys.argv[3]))
-for kind in ("proximity", "light"):
+for kind in ("proximity", "light", "ground", "drive", "camera", "battery"):
     d = json.load(open(f"{f}/reports/diagnose_{kind}.json"))
     d["effects"] = effects[kind]
+    d.setdefault("parameters", {}).update(effects.get(f"{kind}_parameters", {}))
     json.dump(d, open(f"{work}/{kind}_effects.json", "w"))
 PY
 
@@ -59,14 +77,26 @@ sensor_xml() {
     tof) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/drive.json\""; echo "<epuck2_tof implementation=\"$impl\"$c/>";;
     encoder) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/drive.json\""; echo "<epuck2_encoder implementation=\"$impl\"$c/>";;
     light) [ "$impl" = calibrated ] && c+=" coefficients=\"$F/light.json\""; echo "<epuck2_light implementation=\"$impl\"$c/>";;
-    battery-*|actuator) echo "<epuck2_battery implementation=\"default\"/>";;
+    ground-effects) [ "$impl" = calibrated ] && c+=" coefficients=\"$WORK/ground_effects.json\"" || impl=rot_z_only; echo "<epuck2_ground implementation=\"$impl\"$c/>";;
+    tof-effects) [ "$impl" = calibrated ] && c+=" coefficients=\"$WORK/drive_effects.json\""; echo "<epuck2_tof implementation=\"$impl\"$c/>";;
+    drive-effects) [ "$impl" = calibrated ] && c+=" coefficients=\"$WORK/drive_effects.json\""
+                   echo "<epuck2_encoder implementation=\"$impl\"$c/><epuck2_tof implementation=\"$impl\"$c/>";;
+    camera|camera-effects)
+      if [ "$impl" = calibrated ]; then
+        [ "$what" = camera ] && c+=" coefficients=\"$F/camera.json\"" || c+=" coefficients=\"$WORK/camera_effects.json\""
+      fi
+      echo "<epuck2_colored_blob_perspective_camera implementation=\"$impl\" medium=\"leds\"$c/>";;
+    battery-*|actuator|actuator-effects) echo "<epuck2_battery implementation=\"default\"/>";;
   esac
 }
 # actuator XML for (what, impl): the actuator row compares the calibrated wheels, with the shipped
 # drive diagnosis's effects on (its speed_limit and slip), with the default differential steering.
+# Rows actuator-effects and drive-effects: the diagnosis with every drive effect ARGoS applies on.
 actuator_xml() {
   if [ "$1" = actuator ] && [ "$2" = calibrated ]; then
     echo "<differential_steering implementation=\"calibrated\" coefficients=\"$F/reports/diagnose_drive.json\"/>"
+  elif { [ "$1" = actuator-effects ] || [ "$1" = drive-effects ]; } && [ "$2" = calibrated ]; then
+    echo "<differential_steering implementation=\"calibrated\" coefficients=\"$WORK/drive_effects.json\"/>"
   else
     echo "<differential_steering implementation=\"default\"/>"
   fi
@@ -78,12 +108,34 @@ battery_xml() {
   local what="$1" impl="$2" m="${1#battery-}" behaviour=argos
   case "$what" in battery-*) ;; *) return;; esac
   [ "$m" = cubic-corrected ] && { m=cubic; behaviour=corrected; }
+  if [ "$m" = effects ]; then  # a battery diagnosis: its model (Cubic) and capacity_scale, corrected
+    [ "$impl" = calibrated ] && echo "<epuck2_battery discharge_model=\"calibrated\" coefficients=\"$WORK/battery_effects.json\" behaviour=\"corrected\"/>" ||
+      echo "<epuck2_battery discharge_model=\"cubic\"/>"
+    return
+  fi
   if [ "$impl" = calibrated ]; then
     echo "<epuck2_battery discharge_model=\"calibrated\" coefficients=\"$F/battery.json\" model=\"$m\" behaviour=\"$behaviour\"/>"
   else
     [ "$m" = approximated ] && m=approx
     echo "<epuck2_battery discharge_model=\"$m\"/>"
   fi
+}
+# EPUCK2_BENCH_ARENA=walls: robot i's pen, around the centre of its circle (x, y - 0.2385): the
+# e-puck2 at 5 and 4 cm/s turns right on a circle of radius 0.053 / 2 * 9 = 0.2385 m (its
+# interwheel distance 0.053 m); its body (radius 0.035 m) stays 0.029 m inside the walls and 0.034 m
+# outside the cylinder, so it never touches them, and its rays reach both.
+pen() {  # i x y
+  awk -v i="$1" -v x="$2" -v y="$3" 'BEGIN {
+    cy = y - 0.2385
+    printf "    <cylinder id=\"c%d\" radius=\"0.17\" height=\"0.1\" movable=\"false\"><body position=\"%.4f,%.4f,0\" orientation=\"0,0,0\"/></cylinder>\n", i, x, cy
+    split("1 0 -1 0", dx); split("0 1 0 -1", dy)
+    for (k = 1; k <= 4; ++k)
+      printf "    <box id=\"w%d_%d\" size=\"%s\" movable=\"false\"><body position=\"%.4f,%.4f,0\" orientation=\"0,0,0\"/></box>\n",
+             i, k, (dx[k] != 0 ? "0.02,0.62,0.1" : "0.62,0.02,0.1"), x + 0.30 * dx[k], cy + 0.30 * dy[k]
+    for (k = 0; k < 4; ++k)
+      printf "    <light id=\"l%d_%d\" position=\"%.4f,%.4f,0.043\" orientation=\"0,0,0\" color=\"yellow\" intensity=\"1.0\" medium=\"leds\"/>\n",
+             i, k, x + (k % 2 ? 0.25 : -0.25), cy + (k < 2 ? 0.25 : -0.25)
+  }'
 }
 write_exp() {  # what impl n file
   local what="$1" impl="$2" n="$3"
@@ -106,6 +158,7 @@ XML
     for i in $(seq 0 $((n - 1))); do
       x=$(awk -v i="$i" 'BEGIN{printf "%.2f", -8 + 2*(i%8)}'); y=$(awk -v i="$i" 'BEGIN{printf "%.2f", -8 + 2*int(i/8)}')
       echo "    <e-puck2 id=\"ep$i\"><body position=\"$x,$y,0\" orientation=\"0,0,0\"/><controller config=\"c\"/>$(battery_xml "$what" "$impl")</e-puck2>"
+      [ "$ARENA" = walls ] && pen "$i" "$x" "$y"
     done
     cat <<XML
   </arena>
@@ -159,7 +212,7 @@ echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')"
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) logical cores"
 echo "load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "argos3: $(argos3 -n --version 2>&1 | grep -m1 VERSION | sed 's/\x1b\[[0-9;]*m//g')"
-echo "simulated ${SECONDS_SIM} s at 10 ticks/s; $UNIT, median of $REPEATS runs each,"
+echo "arena: $ARENA; simulated ${SECONDS_SIM} s at 10 ticks/s; $UNIT, median of $REPEATS runs each,"
 echo "default and calibrated interleaved (ABBA); ratio = calibrated / default medians; pairs = range of the"
 echo "per-repeat ratios; target: sensors <= 1.05, battery-cubic-corrected <= 1.00"
 printf "%-24s %6s %10s %12s %7s %13s %6s %7s %s\n" what robots default calibrated ratio pairs target result load
@@ -181,7 +234,8 @@ for n in $ROBOTS; do
     ma=$(median < "$WORK/a.times"); mb=$(median < "$WORK/b.times")
     lo=$(sort -g "$WORK/ratios" | head -n1); hi=$(sort -g "$WORK/ratios" | tail -n1)
     case "$what" in
-      proximity|proximity-effects|ground|tof|encoder|light|light-effects|actuator) target=1.05;;
+      proximity|proximity-effects|ground|ground-effects|tof|tof-effects|encoder|light|light-effects|camera|camera-effects|\
+      actuator|actuator-effects|drive-effects|battery-effects) target=1.05;;
       battery-cubic-corrected) target=1.00;;
       *) target=-;;
     esac

@@ -7,7 +7,9 @@
 //    fit_drive(logs).tof_noise (from replicates), also where the firmware's cap decides which
 //    rows stand still;
 //  - the log reader keeps a cell as a place in the file's text: a mid-size log reads back the
-//    values written, and a bad cell far down is still located.
+//    values written, and a bad cell far down is still located;
+//  - the drive diagnosis builds its residual-structure covariates after the last fit, from the
+//    registers its residuals kept: they are the ones this file computes from the logs' columns.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,6 +24,8 @@
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/battery.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
+// The drive's problem (make_problem, its covariates) is the library's own, not in its public headers.
+#include "../lib/diagnose/src/problem.hpp"
 
 namespace {
 
@@ -193,3 +197,131 @@ TEST(LongLogs, AMidSizeLogReadsBackTheValuesWrittenAndLocatesABadCell) {
 }
 
 }  // namespace
+
+namespace {
+
+// A drive log's CSV: per row the commands and the two registers as given.
+struct DriveRow {
+  double t, left_cmd, right_cmd;
+  long left_steps, right_steps, tof;
+};
+logs::Log drive_rows(const std::vector<DriveRow>& rows, const std::string& name) {
+  std::ostringstream csv;
+  csv << "# obstacle_distance_m: 0.6\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n";
+  for (const DriveRow& r : rows)
+    csv << g17(r.t) << "," << g17(r.left_cmd) << "," << g17(r.right_cmd) << "," << r.left_steps << "," << r.right_steps << "," << r.tof << "\n";
+  return logs::parse_log(csv.str(), name, logs::Kind::drive);
+}
+
+// A 16-bit register's readings unwrapped from the first (the step between two readings is the
+// one within half the register's range).
+std::vector<double> unwrapped(const std::vector<long>& reading) {
+  std::vector<double> out(reading.size());
+  for (std::size_t i = 0; i < reading.size(); ++i) {
+    if (i == 0) {
+      out[i] = static_cast<double>(reading[i]);
+      continue;
+    }
+    long d = (reading[i] - reading[i - 1]) % 65536;
+    if (d > 32767) d -= 65536;
+    if (d < -32768) d += 65536;
+    out[i] = out[i - 1] + static_cast<double>(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(LongLogs, DriveCovariatesBuiltAfterTheFitsAreTheLogsOwn) {
+  constexpr double kStepsPerMetre = 7763.656;  // the plug-in's encoder (docs/diagnose.md, drive)
+  // Log 1, commands unlike on the two wheels: its registers start at 32700 and wrap past 32767
+  // (int16), then one wheel at a time (the other register unchanged), then standing; two ToF
+  // "no target" codes (dropouts: the obstacle is in view). Log 2, both wheels commanded alike at 0.1 cm/s (under a
+  // step a row): the registers often unchanged, the right one the left one's or one above it.
+  std::vector<DriveRow> one, two;
+  double xl = 0, xr = 0;
+  for (int i = 0; i < 120; ++i) {
+    const double vl = i < 30 ? 4 : i < 60 ? 3 : 0, vr = i < 30 ? 4 : i < 60 ? 0 : i < 90 ? 5 : 0;
+    auto int16 = [](long v) { return (v + 32768) % 65536 - 32768; };
+    const long sl = 32700 + static_cast<long>(std::floor(xl * kStepsPerMetre)), sr = 32700 + static_cast<long>(std::floor(xr * kStepsPerMetre));
+    const long tof = i == 40 || i == 95 ? 8191 : std::lround(1000.0 * (0.6 - 0.5 * (xl + xr)));
+    one.push_back({0.1 * i, vl, vr, int16(sl), int16(sr), tof});
+    xl += vl / 100.0 * 0.1;
+    xr += vr / 100.0 * 0.1;
+  }
+  double x = 0;
+  for (int i = 0; i < 100; ++i) {
+    const double v = i < 80 ? 0.1 : 0;
+    two.push_back({5.0 + 0.1 * i, v, v, static_cast<long>(std::floor(x * kStepsPerMetre)),
+                   static_cast<long>(std::floor(x * kStepsPerMetre + 0.5)), std::lround(1000.0 * (0.6 - x))});
+    x += v / 100.0 * 0.1;
+  }
+  const std::vector<logs::Log> logs{drive_rows(one, "one.csv"), drive_rows(two, "two.csv")};
+  std::string why;
+  const auto p = diagnose::detail::make_problem(logs, diagnose::Options{}, why);
+  ASSERT_NE(p, nullptr) << why;
+  // Before: only the covariates every kind shares.
+  std::vector<std::string> names;
+  for (const auto& c : p->covariates) names.push_back(c.first);
+  EXPECT_EQ(names, (std::vector<std::string>{"log_row", "log"}));
+  p->add_late_covariates();
+  p->add_late_covariates();  // once only
+  names.clear();
+  for (const auto& c : p->covariates) names.push_back(c.first);
+  ASSERT_EQ(names, (std::vector<std::string>{"time_s", "commanded_cm_s", "speed_cm_s", "acceleration_cm_s2", "distance_m", "range_m",
+                                             "time_since_command_s", "channel", "log_row", "log"}));
+
+  // Expected, from the logs' columns: per row, and each residual's channel (0 ToF, 1 left
+  // register, 2 right register: a register only where it changed since the previous row, the
+  // right one not where the commands are alike throughout and it equals the left one).
+  std::vector<std::vector<double>> per_row(7);
+  std::vector<double> channel;
+  std::size_t right_kept_as_previous = 0, right_kept_as_left = 0;
+  for (const auto& rows : {one, two}) {
+    const std::size_t n = rows.size();
+    std::vector<long> sl, sr;
+    bool alike = true;
+    for (const DriveRow& r : rows) {
+      sl.push_back(r.left_steps);
+      sr.push_back(r.right_steps);
+      alike = alike && r.left_cmd == r.right_cmd;
+    }
+    const std::vector<double> ul = unwrapped(sl), ur = unwrapped(sr);
+    std::vector<double> m(n);
+    for (std::size_t i = 0; i < n; ++i) m[i] = 0.5 * (ul[i] + ur[i]) / kStepsPerMetre;
+    auto t = [&](std::size_t i) { return rows[i].t; };
+    auto slope = [&](std::size_t a, std::size_t b) { return b > a && t(b) > t(a) ? (m[b] - m[a]) / (t(b) - t(a)) : 0.0; };
+    double since = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t a = i > 0 ? i - 1 : 0, b = std::min(i + 1, n - 1), a2 = i > 1 ? i - 2 : 0, b2 = std::min(i + 2, n - 1);
+      const double dist = a == i || b == i ? m[i] : m[a] + (m[b] - m[a]) * (t(i) - t(a)) / (t(b) - t(a));
+      const double span = 0.5 * (t(b) + t(b2)) - 0.5 * (t(a2) + t(a));
+      if (i > 0 && (rows[i].left_cmd != rows[i - 1].left_cmd || rows[i].right_cmd != rows[i - 1].right_cmd)) since = t(i);
+      const double row_values[7] = {t(i), 0.5 * (rows[i].left_cmd + rows[i].right_cmd), 100.0 * slope(a, b),
+                                    span > 0 ? 100.0 * (slope(b, b2) - slope(a2, a)) / span : 0.0, dist, 0.6 - dist, t(i) - since};
+      for (int k = 0; k < 7; ++k) per_row[static_cast<std::size_t>(k)].push_back(row_values[k]);
+      if (rows[i].tof != 8191) channel.push_back(0);
+      if (i == 0 || ul[i] != ul[i - 1]) channel.push_back(1);
+      const bool as_left = alike && ur[i] == ul[i], as_previous = i > 0 && ur[i] == ur[i - 1];
+      if (!as_left && !as_previous) channel.push_back(2);
+      right_kept_as_left += as_left && i > 0 && ur[i] != ur[i - 1] ? 1 : 0;
+      right_kept_as_previous += !as_left && as_previous ? 1 : 0;
+    }
+  }
+  // Both ways a right register leaves the residuals occur, and a wrap: the test reaches them.
+  EXPECT_GT(right_kept_as_left, 3u);
+  EXPECT_GT(right_kept_as_previous, 3u);
+  EXPECT_LT(one[20].left_steps, -30000);
+
+  ASSERT_EQ(p->rows, one.size() + two.size());
+  for (std::size_t k = 0; k < 7; ++k) {
+    ASSERT_TRUE(p->is_per_row(k)) << names[k];
+    ASSERT_EQ(p->covariates[k].second.size(), p->rows) << names[k];
+    for (std::size_t i = 0; i < p->rows; ++i)
+      EXPECT_NEAR(p->covariates[k].second[i], per_row[k][i], 1e-12 * (1.0 + std::abs(per_row[k][i]))) << names[k] << " row " << i;
+  }
+  EXPECT_FALSE(p->is_per_row(7));
+  EXPECT_EQ(p->covariates[7].second, channel);
+  EXPECT_TRUE(p->is_per_row(8));
+  EXPECT_TRUE(p->is_per_row(9));
+}

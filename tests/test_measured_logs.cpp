@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli_harness.hpp"
+#include "seeded_normal.hpp"
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/logs/log.hpp"
@@ -24,25 +25,7 @@ using epuck2::testing::CliTest;
 
 namespace {
 
-// splitmix64 and Box-Muller: a portable seeded Gaussian, independent of lib/virtual_robot.
-class Normal {
- public:
-  explicit Normal(std::uint64_t seed) : state_(seed) {}
-  double uniform() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
-    return (static_cast<double>(z >> 11) + 0.5) / 9007199254740992.0;
-  }
-  double operator()() {
-    const double u1 = uniform(), u2 = uniform();
-    return std::sqrt(-2 * std::log(u1)) * std::cos(6.283185307179586 * u2);
-  }
-
- private:
-  std::uint64_t state_;
-};
+using epuck2::testing::Normal;  // seeded_normal.hpp
 
 double clamp(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); }
 

@@ -4,7 +4,9 @@
 #   partial   a file with tables at 5 and 10 cm/s only (at 5, the file's 15 cm/s table): ep5 lasts
 #             the file's lifetime_s at 5 cm/s, ep6 the plug-in's published lifetime at 6 cm/s (each within 1 %);
 #   capacity  tables="plugin" with a diagnosis's capacity_scale k = 0.8: both lifetimes x 0.8
-#             against the same run with k = 1 (within 0.2 %: 10 s rows over ~10^4 s).
+#             against the same run with k = 1 (within 0.2 %: 10 s rows over ~10^4 s);
+#   model     a file naming battery_model (a diagnosis's) and no model= in the XML: the same charges as
+#             model="simple" in the XML, unlike the Cubic's.
 # Expected values: the files' own numbers and lib/models' copy of the plug-in's published tables.
 #   usage: battery_options.sh ARGOS_LIBDIR WORK_DIR
 set -euo pipefail
@@ -25,6 +27,11 @@ d["speeds"] = [fast, d["speeds"][10]]
 json.dump(d, open(sys.argv[2] + "/partial.json", "w"))
 d["effects"] = {"capacity_scale": {"k": 0.8}}
 json.dump(d, open(sys.argv[2] + "/k08.json", "w"))
+# A diagnosis's discharge model (docs/coefficient-files.md: `battery_model`): Simple, far from the
+# Cubic that ARGoS takes when neither the XML nor the file names one.
+d.pop("effects")
+d["battery_model"] = "simple"
+json.dump(d, open(sys.argv[2] + "/simple.json", "w"))
 PY
 experiment() {  # dir battery_attributes
   mkdir -p "$1"
@@ -48,6 +55,17 @@ echo "ok   Init: $(grep -o 'fitted tables at [^;]*' "$WORK/partial/log" | head -
 experiment "$WORK/k1" "coefficients=\"$WORK/partial.json\" tables=\"plugin\" model=\"cubic\""
 experiment "$WORK/k08" "coefficients=\"$WORK/k08.json\" tables=\"plugin\" model=\"cubic\""
 grep -q "capacity scale 0.8" "$WORK/k08/log" || { cat "$WORK/k08/log"; fail "Init does not say the capacity scale"; }
+# The file's battery_model is the model when the XML names none: the same charges, row for row, as
+# the XML naming it, and not those of the Cubic (the model without either).
+experiment "$WORK/file_model" "coefficients=\"$WORK/simple.json\""
+experiment "$WORK/xml_simple" "coefficients=\"$WORK/partial.json\" model=\"simple\""
+experiment "$WORK/xml_cubic" "coefficients=\"$WORK/partial.json\" model=\"cubic\""
+grep -q "; model simple" "$WORK/file_model/log" || { cat "$WORK/file_model/log"; fail "Init does not say the file's model"; }
+for f in "$WORK"/xml_simple/*.csv; do
+  cmp -s "$f" "$WORK/file_model/$(basename "$f")" || fail "the file's battery_model does not run as model=\"simple\": $(basename "$f")"
+  ! cmp -s "$f" "$WORK/xml_cubic/$(basename "$f")" || fail "model=\"simple\" and model=\"cubic\" give the same charges: the test cannot tell them apart"
+done
+echo "ok   a diagnosis's battery_model (simple) runs as the XML's model=\"simple\", row for row, and not as the Cubic"
 EPUCK2_ROOT="$ROOT" python3 - "$WORK" "$WORK/partial.json" <<'PY' || fail "lifetimes"
 import glob, json, os, sys
 work, partial = sys.argv[1], json.load(open(sys.argv[2]))

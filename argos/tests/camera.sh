@@ -12,7 +12,7 @@
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
-LIBDIR="$1"; WORK="$2/camera"
+LIBDIR="$1"; WORK="$2/calibrated_camera"
 if ! command -v argos3 >/dev/null 2>&1; then echo "SKIPPED: argos3 is not installed"; exit 77; fi
 rm -rf "$WORK"; mkdir -p "$WORK"
 export ARGOS_PLUGIN_PATH="$LIBDIR"

@@ -10,7 +10,7 @@
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
-KIND="$1"; CAUSE="$2"; GEN="$3"; FIT="$4"; LIBDIR="$5"; WORK="$6/closed_loop_${1}_${2}"; SEED="${7:-20}"
+KIND="$1"; CAUSE="$2"; GEN="$3"; FIT="$4"; LIBDIR="$5"; WORK="$6/closed_loop_protocol_${1}_${2}"; SEED="${7:-20}"
 if ! command -v argos3 >/dev/null 2>&1; then echo "SKIPPED: argos3 is not installed"; exit 77; fi
 export EPUCK2_BUILD_DIR="$(dirname "$(dirname "$LIBDIR")")"
 rm -rf "$WORK"; mkdir -p "$WORK"

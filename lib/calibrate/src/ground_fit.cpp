@@ -47,7 +47,7 @@ GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions&
     const int robot = robot_index(out.robot_names, log.robot);
     for (std::size_t i = 0; i < log.rows(); ++i) {
       const auto k = static_cast<std::size_t>(sen[i]);
-      const Censoring c = rail_of(v[i], 0, full);
+      const Censoring c = fit::censoring_at(v[i], 0, full);
       if (c != Censoring::none) ++out.censored;
       out.grey[k].push_back(g[i]);
       out.value_raw[k].push_back(v[i]);

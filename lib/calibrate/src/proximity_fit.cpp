@@ -213,7 +213,7 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
       const auto top = std::max_element(rs.begin(), rs.end(), [](const Reading& a, const Reading& b) { return a.value < b.value; });
       p.max = top->value / full;
       p.max_where = top->where;
-      p.max_censoring = rail_of(top->value, 0, full);
+      p.max_censoring = fit::censoring_at(top->value, 0, full);
       // Nothing detected (mean under 1 % of full scale): readings of noise around 0 say only that
       // the curve is at most this high there.
       double sum = 0;

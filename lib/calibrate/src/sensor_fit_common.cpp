@@ -25,13 +25,6 @@ std::string fmt(double v, int digits) {
   return os.str();
 }
 
-/// A reading's censoring against a sensor's two rails.
-Censoring rail_of(double value, double low, double high) {
-  if (value <= low) return Censoring::at_or_below;
-  if (value >= high) return Censoring::at_or_above;
-  return Censoring::none;
-}
-
 void collect(std::vector<std::string>& into, const std::string& prefix, const std::vector<std::string>& from) {
   for (const std::string& w : from) into.push_back(prefix + w);
 }

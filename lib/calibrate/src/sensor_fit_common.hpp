@@ -18,9 +18,6 @@ std::string where(const logs::Log& log, std::size_t row);
 
 std::string fmt(double v, int digits = 4);
 
-/// A reading's censoring against a sensor's two rails.
-fit::Censoring rail_of(double value, double low, double high);
-
 void collect(std::vector<std::string>& into, const std::string& prefix, const std::vector<std::string>& from);
 
 fit::RobustOptions robust_options(const SensorFitOptions& o, double noise_floor);

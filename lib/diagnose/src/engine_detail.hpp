@@ -16,6 +16,7 @@
 #include "epuck2/calibrate/screening.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/problem.hpp"
+#include "epuck2/fit/readings.hpp"
 #include "epuck2/models/kind_facts.hpp"
 #include "epuck2/models/saturation.hpp"
 
@@ -42,9 +43,9 @@ using detail::kMaxFree;
 using detail::Problem;
 using detail::ShortJet;
 
-/// The mean of a reading that saturates before its noise (lib/models saturation.hpp, shared with
-/// the calibration fits).
-using models::expected_saturated_reading;
+/// The mean of a reading clipped at its rails after its noise (lib/models saturation.hpp): what a
+/// reading is predicted to be, for the held-out errors, the residual structure and the noise.
+using models::expected_clamp;
 
 class Engine {
  public:
@@ -74,7 +75,14 @@ class Engine {
     p_.channel_saturation_lo.resize(p_.channel_names.size(), -detail::kInf);
     p_.channel_saturation_hi.resize(p_.channel_names.size(), detail::kInf);
     if (p_.channel_min_sd.size() < p_.channel_names.size()) p_.channel_min_sd.resize(p_.channel_names.size(), kDefaultMinimumSd);
-    set_sigma(std::vector<double>(p_.channel_names.size(), 1.0));
+    // The readings' rails and channel weights are the fit engine's (lib/fit readings.hpp): the
+    // same censoring as the calibration's fits.
+    std::vector<fit::Channel> channels(p_.channel_names.size());
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+      channels[c].rail_lo = p_.channel_lo[c];
+      channels[c].rail_hi = p_.channel_hi[c];
+    }
+    channels_ = fit::Channels(std::move(channels));
     // Folds: contiguous blocks of rows dealt round-robin.
     const std::size_t blocks = static_cast<std::size_t>(std::max(1, o_.folds * o_.blocks_per_fold));
     const std::size_t block_rows = std::max<std::size_t>(1, (p_.rows + blocks - 1) / blocks);
@@ -84,26 +92,21 @@ class Engine {
   }
 
   std::size_t size() const { return n_; }
-  /// Residual i's weight, sigma[0] / sigma[its channel].
-  double weight(std::size_t i) const { return channel_weight_[static_cast<std::size_t>(p_.channel[i])]; }
+  /// Residual i's weight, sigma[0] / sigma[its channel] (fit::Channels).
+  double weight(std::size_t i) const { return channels_.weight(channel_of(i)); }
   /// Residual i's clamp (its channel's).
   double lo(std::size_t i) const { return p_.channel_lo[static_cast<std::size_t>(p_.channel[i])]; }
   double hi(std::size_t i) const { return p_.channel_hi[static_cast<std::size_t>(p_.channel[i])]; }
 
   /// Noise standard deviation per channel; residuals are weighted by sigma[0] / sigma[channel].
-  const std::vector<double>& sigma() const { return sigma_; }
-  void set_sigma(const std::vector<double>& sigma) {
-    sigma_ = sigma;
-    // Per channel, not per residual: every residual of a channel has the same weight.
-    channel_weight_.resize(sigma_.size());
-    for (std::size_t c = 0; c < sigma_.size(); ++c) channel_weight_[c] = sigma_[0] / sigma_[c];
-  }
+  const std::vector<double>& sigma() const { return channels_.noise_sd(); }
+  void set_sigma(const std::vector<double>& sigma) { channels_.set_noise_sd(sigma); }
 
-  /// The model's expected readings (clamp and covariate terms included) of residuals
-  /// [0, needed) at least; the others may be left at 0.
-  /// `out` holds size() of them (constructed here).
+  /// The model's latent readings (before the register's rails: covariate terms and the sensor's
+  /// saturation before its noise included) of residuals [0, needed) at least; the others may be
+  /// left at 0. `out` holds size() of them (constructed here).
   template <typename T>
-  void predict(const T* values, T* out, std::size_t needed = detail::kAllResiduals) const {
+  void latent(const T* values, T* out, std::size_t needed = detail::kAllResiduals) const {
     std::uninitialized_fill_n(out, n_, T(0.0));
     p_.mean(values, out, needed);
     const std::size_t n = std::min(n_, needed);
@@ -111,19 +114,30 @@ class Engine {
       for (std::size_t i = 0; i < n; ++i)
         if (p_.channel[i] == 0) out[i] += values[s.param] * s.centred[i];
     for (std::size_t i = 0; i < n; ++i)
-      out[i] = expected_saturated_reading(out[i], p_.channel_saturation_lo[static_cast<std::size_t>(p_.channel[i])],
-                                          p_.channel_saturation_hi[static_cast<std::size_t>(p_.channel[i])], lo(i), hi(i),
-                                          sigma_[static_cast<std::size_t>(p_.channel[i])]);
+      out[i] = models::saturate(out[i], p_.channel_saturation_lo[channel_of(i)], p_.channel_saturation_hi[channel_of(i)]);
   }
+  /// The model's expected readings E[clamp(latent + noise)] of every residual.
   std::vector<double> predict(const std::vector<double>& values) const {
     std::vector<double> out(n_);
-    predict(values.data(), out.data());
+    latent(values.data(), out.data());
+    for (std::size_t i = 0; i < n_; ++i) out[i] = expected_clamp(out[i], lo(i), hi(i), sigma()[channel_of(i)]);
     return out;
   }
-  /// Weighted residuals, in channel 0's units.
+  /// The readings' errors against their expected values, weighted, in channel 0's units: what
+  /// the held-out test, the residual structure and the autocorrelation judge.
   std::vector<double> residuals(const std::vector<double>& values) const {
     std::vector<double> r = predict(values);
-    for (std::size_t i = 0; i < n_; ++i) r[i] = weight(i) * (p_.y[i] - r[i]);
+    for (std::size_t i = 0; i < n_; ++i) r[i] = error(i, r[i]);
+    return r;
+  }
+  /// Reading i's error against a prediction of the reading itself, weighted (channel 0's units).
+  double error(std::size_t i, double predicted) const { return channels_.weighted_error(predicted, p_.y[i], channel_of(i)); }
+  /// The fit's residuals (the engine's censored likelihood, fit::Channels), in channel 0's units:
+  /// 1/2 their sum of squares over sigma[0]^2 is the negative log-likelihood.
+  std::vector<double> loss_residuals(const std::vector<double>& values) const {
+    std::vector<double> r(n_);
+    latent(values.data(), r.data());
+    for (std::size_t i = 0; i < n_; ++i) r[i] = channels_.residual(r[i], p_.y[i], channel_of(i)).value;
     return r;
   }
 
@@ -142,7 +156,7 @@ class Engine {
     int k = 0;
     for (int j : free) slot[static_cast<std::size_t>(j)] = k++;
     if (free.empty()) {
-      const auto r = residuals(f.values);
+      const auto r = loss_residuals(f.values);
       double rss = 0;
       for (std::size_t i : idx) rss += r[i] * r[i];
       f.result.usable = true;
@@ -250,7 +264,7 @@ class Engine {
   /// Noise standard deviation per channel from the residuals of readings away from the clamps.
   std::vector<double> noise_sd(const std::vector<double>& values) const {
     const auto pred = predict(values);
-    const std::size_t C = sigma_.size();
+    const std::size_t C = sigma().size();
     std::vector<double> s(C, 0.0), c(C, 0.0);
     if (p_.noise_from_differences) {
       // Time series: half the mean square of successive residuals of a channel, which a model
@@ -277,7 +291,7 @@ class Engine {
           const double r2 = (p_.y[i] - pred[i]) * (p_.y[i] - pred[i]);
           s[ch] += r2;
           c[ch] += 1;
-          const double margin = 3.0 * sigma_[ch];
+          const double margin = 3.0 * sigma()[ch];
           if (pred[i] - lo(i) > margin && hi(i) - pred[i] > margin) {
             s_far[ch] += r2;
             c_far[ch] += 1;
@@ -311,9 +325,9 @@ class Engine {
     problem.add(Cost(*this, idx, slot, values).block(), free_blocks);
   }
 
-  /// All residuals y_i - E[clamp(model_i)] of the training rows in one block; one parameter block
-  /// of size 1 per free parameter (the others held at their values); derivatives by Jets over
-  /// the free parameters.
+  /// All residuals of the training rows in one block, the engine's censored likelihood of each
+  /// reading against its latent model (fit::Channels); one parameter block of size 1 per free
+  /// parameter (the others held at their values); derivatives by Jets over the free parameters.
   class Cost {
    public:
     Cost(const Engine& e, const std::vector<std::size_t>& idx, const std::vector<int>& slot, const std::vector<double>& values)
@@ -339,9 +353,10 @@ class Engine {
         std::vector<double> v = held_;
         for (std::size_t b = 0; b < B; ++b) v[block_of_[b]] = parameters[b][0];
         double* pred = e_.scratch<double>();
-        e_.predict(v.data(), pred, limit_);
+        e_.latent(v.data(), pred, limit_);
         for (std::size_t k = 0; k < idx_.size(); ++k) {
-          residuals[k] = e_.weight(idx_[k]) * (e_.p_.y[idx_[k]] - pred[idx_[k]]);
+          const std::size_t i = idx_[k];
+          residuals[k] = e_.channels_.residual(pred[i], e_.p_.y[i], e_.channel_of(i)).value;
           if (!std::isfinite(residuals[k])) return false;
         }
         return true;
@@ -360,15 +375,15 @@ class Engine {
       for (std::size_t j = 0; j < P; ++j) v[j] = J(held_[j]);
       for (std::size_t b = 0; b < B; ++b) v[block_of_[b]] = J(parameters[b][0], slot_[block_of_[b]]);
       J* pred = e_.scratch<J>();
-      e_.predict(v.data(), pred, limit_);
+      e_.latent(v.data(), pred, limit_);
       for (std::size_t k = 0; k < idx_.size(); ++k) {
         const J& m = pred[idx_[k]];
-        const double w = e_.weight(idx_[k]);
-        residuals[k] = w * (e_.p_.y[idx_[k]] - m.a);
+        const fit::Residual r = e_.channels_.residual(m.a, e_.p_.y[idx_[k]], e_.channel_of(idx_[k]));
+        residuals[k] = r.value;
         if (!std::isfinite(residuals[k])) return false;
         for (std::size_t b = 0; b < B; ++b)
           if (jacobians[b]) {
-            const double d = -w * m.v[slot_[block_of_[b]]];
+            const double d = r.d_prediction * m.v[slot_[block_of_[b]]];
             if (!std::isfinite(d)) return false;
             jacobians[b][k] = d;
           }
@@ -415,9 +430,10 @@ class Engine {
   const Options& o_;
   std::vector<Slope> slopes_;
   std::size_t n_ = 0;
-  std::vector<double> sigma_, channel_weight_;
+  fit::Channels channels_;  ///< rails, noise sd and weights per channel
   std::size_t block_rows_ = 1;  ///< rows per block of the folds
   std::vector<std::size_t> all_;
+  std::size_t channel_of(std::size_t i) const { return static_cast<std::size_t>(p_.channel[i]); }
   /// Residual i's fold (not stored: 8 MB on a 1M-row drive log).
   int fold_of(std::size_t i) const { return static_cast<int>((p_.row[i] / block_rows_) % static_cast<std::size_t>(o_.folds)); }
 };

@@ -39,7 +39,6 @@ class Drive : public ProblemOf<Drive> {
     channel_min_structure = {0.0, 0.5};
     noise_from_differences = true;
     time_series = true;
-    std::vector<double> cov_time, cov_cmd, cov_speed, cov_acc, cov_dist, cov_range, cov_since, cov_channel;
     double max_command = 0;
     std::vector<std::string> dropouts;  // "no target" codes where the encoders put the target in view
     for (const auto& log : logs) {
@@ -55,27 +54,7 @@ class Drive : public ProblemOf<Drive> {
       const std::size_t n = log.rows();
       r.symmetric = std::equal(cl.begin(), cl.end(), cr.begin());
       const std::vector<double> ul = s::unwrap_steps(sl), ur = s::unwrap_steps(sr);
-      // Measured motion from the encoders, for the residual structure. Each row's values come
-      // from its neighbours' registers only: a row's own register carries its rounding, which
-      // would correlate with its own residual.
-      std::vector<double> steps_m(n), dist(n), speed(n), acc(n);
-      for (std::size_t i = 0; i < n; ++i) steps_m[i] = 0.5 * (ul[i] + ur[i]) / s::kPluginStepsPerMetre;
-      auto at = [&](std::ptrdiff_t j) { return static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(j, 0, static_cast<std::ptrdiff_t>(n) - 1)); };
-      auto slope = [&](std::size_t a, std::size_t b) { return b > a && t[b] > t[a] ? (steps_m[b] - steps_m[a]) / (t[b] - t[a]) : 0.0; };
       for (std::size_t i = 0; i < n; ++i) {
-        const auto j = static_cast<std::ptrdiff_t>(i);
-        const std::size_t a = at(j - 1), b = at(j + 1);
-        dist[i] = a == i || b == i ? steps_m[i] : steps_m[a] + (steps_m[b] - steps_m[a]) * (t[i] - t[a]) / (t[b] - t[a]);
-        speed[i] = 100.0 * slope(a, b);
-        // Speeds over (i-2, i-1) and (i+1, i+2).
-        const std::size_t a2 = at(j - 2), b2 = at(j + 2);
-        const double before = slope(a2, a), after = slope(b, b2);
-        const double span = 0.5 * (t[b] + t[b2]) - 0.5 * (t[a2] + t[a]);
-        acc[i] = span > 0 ? 100.0 * (after - before) / span : 0.0;
-      }
-      double since = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (i && (cl[i] != cl[i - 1] || cr[i] != cr[i - 1])) since = t[i];
         time_.push_back(t[i]);
         left_.push_back(cl[i]);
         right_.push_back(cr[i]);
@@ -86,12 +65,13 @@ class Drive : public ProblemOf<Drive> {
         // A ToF reading as the calibration reads it (calibrate::read_tof): a "no target" code
         // (>= 8190) is censored at the 2000 mm rail, where the clamped model's reading is the
         // rail itself; one where the encoders put the target in view is a dropout, left out.
-        const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]));
+        const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])));
         if (dropout) dropouts.push_back(log.path + ":" + std::to_string(log.line_of_row[i]));
         const double values[3] = {calibrate::read_tof(tof[i]).observation.value, ul[i], ur[i]};
         // In a straight run with both wheels commanded alike, a right register equal to the left
         // one is the same count (and the same rounding) twice: it is left out too.
         const bool same = r.symmetric && ur[i] == ul[i];
+        right_is_left_.push_back(same);
         const bool fresh[3] = {!dropout, i == 0 || ul[i] != ul[i - 1], !same && (i == 0 || ur[i] != ur[i - 1])};
         first_.push_back(static_cast<std::uint32_t>(y.size()));
         for (int c = 0; c < 3; ++c) {
@@ -100,16 +80,7 @@ class Drive : public ProblemOf<Drive> {
           y.push_back(values[c]);
           channel.push_back(c == 0 ? 0 : 1);
           row.push_back(static_cast<std::uint32_t>(rows));
-          cov_channel.push_back(c);
         }
-        // Once per row, not per residual (up to three a row): spread through `row` when scored.
-        cov_time.push_back(t[i]);
-        cov_cmd.push_back(0.5 * (cl[i] + cr[i]));
-        cov_speed.push_back(speed[i]);
-        cov_acc.push_back(acc[i]);
-        cov_dist.push_back(dist[i]);
-        cov_range.push_back(r.obstacle_m - dist[i]);
-        cov_since.push_back(t[i] - since);
         ++rows;
       }
       r.last = time_.size();
@@ -131,17 +102,73 @@ class Drive : public ProblemOf<Drive> {
     params[max].value = std::max(0.5, 0.9 * max_command);
     params[max].other_starts = {std::max(0.5, 0.65 * max_command), std::max(0.5, 0.4 * max_command)};
     params[accel].other_starts = {10.0};
-    add_row_covariate("time_s", std::move(cov_time));
-    add_row_covariate("commanded_cm_s", std::move(cov_cmd));
-    add_row_covariate("speed_cm_s", std::move(cov_speed));
-    add_row_covariate("acceleration_cm_s2", std::move(cov_acc));
-    add_row_covariate("distance_m", std::move(cov_dist));
-    add_row_covariate("range_m", std::move(cov_range));
-    add_row_covariate("time_since_command_s", std::move(cov_since));
-    covariates.emplace_back("channel", std::move(cov_channel));
+    // The residual structure's covariates are built when it is scored (late_covariates).
     for (auto* v : {&time_, &left_, &right_}) v->shrink_to_fit();
     for (auto& v : slot_) v.shrink_to_fit();
     first_.shrink_to_fit();
+    right_is_left_.shrink_to_fit();
+  }
+
+  /// The covariates of the residual structure, built after the last fit from what the model keeps
+  /// (not held through the fits, which never read them: 72 MB on a 1M-row log): per row the
+  /// time, the command, and the measured motion from the encoders; per residual its channel.
+  /// The encoder registers are the channel-1 residuals' readings: a register left out of them
+  /// is the previous row's again, or the left one's (right_is_left_).
+  std::vector<LateCovariate> late_covariates() const override {
+    std::vector<double> cov_time, cov_cmd, cov_speed, cov_acc, cov_dist, cov_range, cov_since;
+    for (auto* v : {&cov_time, &cov_cmd, &cov_speed, &cov_acc, &cov_dist, &cov_range, &cov_since}) v->reserve(rows);
+    std::vector<double> cov_channel(y.size());
+    for (const Run& r : runs_) {
+      const std::size_t n = r.last - r.first;
+      const double* t = time_.data() + r.first;
+      const double* cl = left_.data() + r.first;
+      const double* cr = right_.data() + r.first;
+      std::vector<double> ul(n), ur(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t row_i = r.first + i;
+        for (std::size_t c = 0; c < 3; ++c)
+          if (slot_[c][row_i] >= 0) cov_channel[static_cast<std::size_t>(slot_[c][row_i])] = static_cast<double>(c);
+        const std::int32_t left = slot_[1][row_i], right = slot_[2][row_i];
+        ul[i] = left >= 0 ? y[static_cast<std::size_t>(left)] : ul[i - 1];
+        ur[i] = right >= 0 ? y[static_cast<std::size_t>(right)] : right_is_left_[row_i] ? ul[i] : ur[i - 1];
+      }
+      // Measured motion from the encoders. Each row's values come from its neighbours' registers
+      // only: a row's own register carries its rounding, which would correlate with its own
+      // residual.
+      std::vector<double> steps_m(n);
+      for (std::size_t i = 0; i < n; ++i) steps_m[i] = steps_metres(ul[i], ur[i]);
+      auto at = [&](std::ptrdiff_t j) { return static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(j, 0, static_cast<std::ptrdiff_t>(n) - 1)); };
+      auto slope = [&](std::size_t a, std::size_t b) { return b > a && t[b] > t[a] ? (steps_m[b] - steps_m[a]) / (t[b] - t[a]) : 0.0; };
+      double since = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto j = static_cast<std::ptrdiff_t>(i);
+        const std::size_t a = at(j - 1), b = at(j + 1);
+        const double dist = a == i || b == i ? steps_m[i] : steps_m[a] + (steps_m[b] - steps_m[a]) * (t[i] - t[a]) / (t[b] - t[a]);
+        // Speeds over (i-2, i-1) and (i+1, i+2).
+        const std::size_t a2 = at(j - 2), b2 = at(j + 2);
+        const double before = slope(a2, a), after = slope(b, b2);
+        const double span = 0.5 * (t[b] + t[b2]) - 0.5 * (t[a2] + t[a]);
+        if (i && (cl[i] != cl[i - 1] || cr[i] != cr[i - 1])) since = t[i];
+        // Once per row, not per residual (up to three a row): spread through `row` when scored.
+        cov_time.push_back(t[i]);
+        cov_cmd.push_back(0.5 * (cl[i] + cr[i]));
+        cov_speed.push_back(100.0 * slope(a, b));
+        cov_acc.push_back(span > 0 ? 100.0 * (after - before) / span : 0.0);
+        cov_dist.push_back(dist);
+        cov_range.push_back(r.obstacle_m - dist);
+        cov_since.push_back(t[i] - since);
+      }
+    }
+    std::vector<LateCovariate> out;
+    out.push_back({"time_s", std::move(cov_time), true});
+    out.push_back({"commanded_cm_s", std::move(cov_cmd), true});
+    out.push_back({"speed_cm_s", std::move(cov_speed), true});
+    out.push_back({"acceleration_cm_s2", std::move(cov_acc), true});
+    out.push_back({"distance_m", std::move(cov_dist), true});
+    out.push_back({"range_m", std::move(cov_range), true});
+    out.push_back({"time_since_command_s", std::move(cov_since), true});
+    out.push_back({"channel", std::move(cov_channel), false});
+    return out;
   }
 
   /// A calibrated base: its encoders' steps per metre and the effects it already carries.
@@ -208,7 +235,13 @@ class Drive : public ProblemOf<Drive> {
     bool symmetric = false;  ///< both wheels commanded alike on every row: one wheel simulated
   };
 
+  /// The distance driven by the robot's centre from the two encoder registers (steps), in metres.
+  static double steps_metres(double left, double right) { return 0.5 * (left + right) / s::kPluginStepsPerMetre; }
+
   std::vector<double> time_, left_, right_;
+  /// Per row: its right register was left out of the residuals as the left one's again (a
+  /// straight run with both registers equal), not as the previous row's.
+  std::vector<bool> right_is_left_;
   /// Per row: the residual index of the ToF reading and of each encoder register (-1: left out).
   std::array<std::vector<std::int32_t>, 3> slot_;
   std::vector<std::uint32_t> first_;  ///< per row: the index its residuals start at (the next row's when it has none)

@@ -87,12 +87,13 @@ class Problem {
   /// reading; encoders count what the wheels turned).
   std::vector<int> channel;
   std::vector<std::string> channel_names{"reading"};
-  /// Per channel: the reading's clamp (±inf, or missing: none). A clamp is the sensor's, the same
-  /// for every residual of a channel: it is not stored per residual.
+  /// Per channel: the reading's clamp, its rails (±inf, or missing: none). A clamp is the
+  /// sensor's, the same for every residual of a channel: it is not stored per residual. A reading
+  /// at or beyond a rail is censored there by the fit engine (fit::Channels, as in calibration).
   std::vector<double> channel_lo, channel_hi;
   /// Per channel: where the sensor itself saturates before its noise is added (±inf, or missing:
-  /// nowhere); the mean is E[clamp(clamp(model, saturation) + noise, clamp)] (lib/models
-  /// saturation.hpp).
+  /// nowhere): a model term, the latent reading is clamp(model, saturation) (lib/models
+  /// saturation.hpp); the reading's expected value E[clamp(latent + noise, rails)].
   std::vector<double> channel_saturation_lo, channel_saturation_hi;
   /// Per channel: the smallest noise standard deviation believed (empty: 0.3, a whole count's
   /// rounding).
@@ -123,6 +124,32 @@ class Problem {
     std::vector<double> v(row.size());
     for (std::size_t i = 0; i < row.size(); ++i) v[i] = per_row[row[i]];
     return v;
+  }
+  /// A covariate a kind builds only when the residual structure is scored (after the last fit):
+  /// a long log's are not held through the fits, which never read them.
+  struct LateCovariate {
+    std::string name;
+    std::vector<double> values;
+    bool per_row = false;  ///< one value per row (else per residual)
+  };
+  /// Puts the kind's late covariates in front of the others (where a kind that builds them at once
+  /// puts them), once; the search calls it after its last fit, before scoring the structure.
+  void add_late_covariates() {
+    if (late_covariates_added_) return;
+    late_covariates_added_ = true;
+    std::vector<LateCovariate> late = late_covariates();
+    if (late.empty()) return;
+    covariate_per_row.resize(covariates.size(), false);
+    std::vector<std::pair<std::string, std::vector<double>>> all;
+    std::vector<bool> per_row;
+    for (LateCovariate& c : late) {
+      all.emplace_back(std::move(c.name), std::move(c.values));
+      per_row.push_back(c.per_row);
+    }
+    for (auto& c : covariates) all.push_back(std::move(c));
+    per_row.insert(per_row.end(), covariate_per_row.begin(), covariate_per_row.end());
+    covariates = std::move(all);
+    covariate_per_row = std::move(per_row);
   }
   /// Extra numeric columns, per residual: candidates for `covariate:NAME`.
   std::vector<std::pair<std::string, std::vector<double>>> extra_columns;
@@ -161,6 +188,13 @@ class Problem {
   virtual void mean(const Jet* p, Jet* out, std::size_t needed) const = 0;
   virtual void mean(const ShortJet* p, ShortJet* out, std::size_t needed) const = 0;
   virtual void mean(const PairJet* p, PairJet* out, std::size_t needed) const = 0;
+
+ protected:
+  /// The kind's late covariates (add_late_covariates), in the order they are scored; none by default.
+  virtual std::vector<LateCovariate> late_covariates() const { return {}; }
+
+ private:
+  bool late_covariates_added_ = false;
 };
 
 /// Every residual: the `needed` of a call that wants them all.

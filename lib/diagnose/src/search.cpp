@@ -33,7 +33,7 @@ fit::FitStatistics all_rows_statistics(const Engine& engine, const Problem& p, c
   double tss = 0;
   for (std::size_t i = 0; i < engine.size(); ++i) {
     const std::size_t c = static_cast<std::size_t>(p.channel[i]);
-    const double d = engine.weight(i) * (p.y[i] - sum[c] / count[c]);
+    const double d = engine.error(i, sum[c] / count[c]);
     tss += d * d;
   }
   const double r2 = tss > 0 ? 1.0 - f.result.rss / tss : std::numeric_limits<double>::quiet_NaN();
@@ -88,8 +88,9 @@ fit::AutocorrelationCorrection residual_autocorrelation(const Engine& engine, co
   return best;
 }
 
-/// The noise estimate and the fit depend on each other through the clamp's expected value:
-/// alternate until the estimate moves by less than 2 %.
+/// The noise estimate and the fit depend on each other through the censored likelihood (a reading
+/// on a rail weighs by how many noise sd the model lies from it): alternate until the estimate
+/// moves by less than 2 %.
 void settle_noise(Engine& engine, const std::vector<int>& free, Engine::Fitted& current) {
   constexpr int kMaxRounds = 8;
   constexpr double kSettled = 0.02;
@@ -154,6 +155,7 @@ class Diagnosis {
                                    f.cause + " (" + f.undetermined + "); left out of the final and the extended model");
     }
     score_shares();
+    problem_->add_late_covariates();  // after the last fit: not held beside the fits' buffers
     score_residual_structure();
     keep_figure_data();
     return std::move(report_);
@@ -307,7 +309,7 @@ class Diagnosis {
     const std::vector<std::size_t>& screen = screening ? screen_idx : engine.all();
     double screen_rss = 0;  // the current model's on the leading residuals
     if (screening) {
-      const auto r = engine.residuals(current_.values);
+      const auto r = engine.loss_residuals(current_.values);
       for (std::size_t i : screen_idx) screen_rss += r[i] * r[i];
     }
     std::vector<Candidate> passing;
@@ -879,7 +881,7 @@ class Diagnosis {
       const std::vector<double> log_of_row = log_of_rows(p);
       std::vector<int> log_of(engine_->size());
       for (std::size_t i = 0; i < engine_->size(); ++i) log_of[i] = static_cast<int>(log_of_row[p.row[i]]);
-      fit::apply_cluster_robust(a, current_.result, *jacobian, engine_->residuals(current_.values), log_of);
+      fit::apply_cluster_robust(a, current_.result, *jacobian, engine_->loss_residuals(current_.values), log_of);
     } else {
       fit::apply_ar1(a, current_.result);
       a.cluster_why_not = "the Jacobian could not be evaluated";

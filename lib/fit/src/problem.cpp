@@ -2,6 +2,8 @@
 // engine's one solver path (solve, summarize in least_squares.cpp).
 #include "epuck2/fit/problem.hpp"
 
+#include <cmath>
+#include <stdexcept>
 #include <utility>
 
 #include "epuck2/fit/solver.hpp"
@@ -24,6 +26,31 @@ class BlockCost : public ceres::CostFunction {
   const ResidualBlock block_;
 };
 }  // namespace
+
+ResidualBlock readings_block(ResidualBlock latent, std::vector<double> readings, std::vector<int> channel, Channels channels) {
+  if (static_cast<std::size_t>(latent.residuals) != readings.size() || (!channel.empty() && channel.size() != readings.size()))
+    throw std::invalid_argument("fit::readings_block: one latent prediction (and channel) per reading");
+  ResidualBlock out;
+  out.residuals = latent.residuals;
+  out.sizes = latent.sizes;
+  out.evaluate = [latent = std::move(latent), y = std::move(readings), channel = std::move(channel),
+                  channels = std::move(channels)](double const* const* parameters, double* residuals, double** jacobians) {
+    // The latent predictions land in `residuals` and their derivatives in `jacobians`, then each
+    // row becomes its reading's residual (chain rule: the row's derivatives times d r / d f).
+    if (!latent.evaluate(parameters, residuals, jacobians)) return false;
+    for (std::size_t i = 0; i < y.size(); ++i) {
+      const Residual r = channels.residual(residuals[i], y[i], channel.empty() ? 0 : static_cast<std::size_t>(channel[i]));
+      residuals[i] = r.value;
+      if (!std::isfinite(r.value)) return false;
+      if (jacobians == nullptr) continue;
+      for (std::size_t b = 0; b < latent.sizes.size(); ++b)
+        if (jacobians[b] != nullptr)
+          for (int j = 0; j < latent.sizes[b]; ++j) jacobians[b][i * static_cast<std::size_t>(latent.sizes[b]) + static_cast<std::size_t>(j)] *= r.d_prediction;
+    }
+    return true;
+  };
+  return out;
+}
 
 struct Problem::Impl {
   ceres::Problem problem;

@@ -19,11 +19,7 @@ namespace epuck2::fit {
 // ================================================================================================
 
 namespace {
-constexpr double kSqrt2 = 1.41421356237309504880;
 constexpr double kLogSqrt2Pi = 0.91893853320467274178;  // log(sqrt(2 pi))
-// Below this z the asymptotic series replaces erfc (erfc(21) ~ 1e-193 is still exact; the series
-// is accurate to 1e-10 there).
-constexpr double kTailZ = -30.0;
 
 double gamma_series(double a, double x) {  // P(a, x), x < a + 1
   double sum = 1.0 / a, term = sum, ap = a;
@@ -107,32 +103,15 @@ double f_upper_tail(double f, double d1, double d2) {
   return incomplete_beta(0.5 * d2, 0.5 * d1, d2 / (d2 + d1 * f));
 }
 
-double log_normal_cdf(double z) {
-  if (z > kTailZ) return std::log(0.5 * std::erfc(-z / kSqrt2));
-  const double z2 = z * z;
-  return -0.5 * z2 - std::log(-z) - kLogSqrt2Pi + std::log1p(-1 / z2 + 3 / (z2 * z2) - 15 / (z2 * z2 * z2));
-}
-
-double normal_hazard_lower(double z) {
-  if (z > kTailZ) {
-    const double phi = std::exp(-0.5 * z * z - kLogSqrt2Pi);
-    return phi / (0.5 * std::erfc(-z / kSqrt2));
-  }
-  const double z2 = z * z;
-  return -z / (1 - 1 / z2 + 3 / (z2 * z2) - 15 / (z2 * z2 * z2));
-}
-
 // ================================================================================================
 // The Tobit problem for Ceres
 // ================================================================================================
 
 namespace {
 
-// Residuals, for observation i with latent prediction f_i and weight w_i (0 leaves it out):
-//   exact:        r_i = sqrt(w_i) (y_i - f_i) / sigma
-//   at_or_above:  r_i = sqrt(-2 log Phi((f_i - rail) / sigma))   (w_i = 0: 0)
-//   at_or_below:  r_i = sqrt(-2 log Phi((rail - f_i) / sigma))
-// so that 1/2 sum r_i^2 is the negative log-likelihood up to constants.
+// Residuals, for observation i with latent prediction f_i and weight w_i (0 leaves it out): the
+// engine's one treatment of readings (readings.hpp), reading_residual(f_i, y_i, censoring, sigma,
+// sqrt(w_i)), so that 1/2 sum r_i^2 is the negative log-likelihood up to constants.
 class TobitCost : public ceres::CostFunction {
  public:
   TobitCost(const ModelEvaluator& model, const std::vector<Observation>& obs, const std::vector<double>& weights,
@@ -153,19 +132,10 @@ class TobitCost : public ceres::CostFunction {
       const Observation& o = obs_[i];
       if (weights_[i] <= 0 || (o.censoring != Censoring::none && !use_censored_)) {
         residuals[i] = 0;
-      } else if (o.censoring == Censoring::none) {
-        const double sw = std::sqrt(weights_[i]) / sigma_;
-        residuals[i] = sw * (o.value - pred_[i]);
-        dr_df = -sw;
       } else {
-        const double sign = o.censoring == Censoring::at_or_above ? 1.0 : -1.0;
-        const double z = sign * (pred_[i] - o.value) / sigma_;
-        const double g = -2 * log_normal_cdf(z);
-        const double sw = std::sqrt(weights_[i]);
-        const double r = std::sqrt(std::max(g, 0.0));
-        residuals[i] = sw * r;
-        // d r / d z = -(phi/Phi) / r; negligible where the observation carries no information.
-        dr_df = r > 1e-150 ? -sw * normal_hazard_lower(z) / r * sign / sigma_ : 0.0;
+        const Residual r = reading_residual(pred_[i], o.value, o.censoring, sigma_, std::sqrt(weights_[i]));
+        residuals[i] = r.value;
+        dr_df = r.d_prediction;
       }
       if (!std::isfinite(residuals[i])) return false;
       if (want_jacobian)

@@ -19,6 +19,7 @@
 
 #include "epuck2/fit/jet.hpp"
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/readings.hpp"
 
 namespace epuck2::fit {
 
@@ -82,6 +83,12 @@ ResidualBlock autodiff(Functor functor) {
   };
   return block;
 }
+
+/// The engine's treatment of readings (epuck2/fit/readings.hpp) as a residual block: `latent`
+/// computes the latent predictions of readings.size() observations (as its "residuals", with their
+/// derivatives); each becomes its reading's residual, censored at its channel's rails and weighted
+/// by its channel's noise sd (`channel` empty: every reading in channel 0).
+ResidualBlock readings_block(ResidualBlock latent, std::vector<double> readings, std::vector<int> channel, Channels channels);
 
 /// What a solve did (the engine's summary of its solver's).
 struct SolveSummary {

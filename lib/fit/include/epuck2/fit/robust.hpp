@@ -9,7 +9,8 @@
 //   at_or_above: -log L_i = -log Phi((f_i - rail) / sigma)
 //   at_or_below: -log L_i = -log Phi((rail - f_i) / sigma)
 //
-// written for Ceres as residuals r_i = (y_i - f_i) / sigma and r_i = sqrt(-2 log Phi(z_i)). The
+// written for Ceres as the engine's one treatment of readings (epuck2/fit/readings.hpp,
+// reading_residual), the diagnosis's joint fit's too. The
 // noise sigma is estimated with the parameters (EM: the expected squared deviation of a censored
 // reading, sigma^2 (1 + z lambda(z)), stands in for its unknown square), unless it is given.
 //
@@ -40,10 +41,9 @@
 
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/parameter.hpp"
+#include "epuck2/fit/readings.hpp"
 
 namespace epuck2::fit {
-
-enum class Censoring { none, at_or_below, at_or_above };
 
 struct Observation {
   double value = 0;                       ///< the reading (the rail itself when censored)
@@ -236,9 +236,6 @@ double gamma_q(double a, double x);
 double chi2_upper_tail(double chi2, double dof);
 /// P(F(d1, d2) > f).
 double f_upper_tail(double f, double d1, double d2);
-/// log Phi(z), accurate far into the lower tail.
-double log_normal_cdf(double z);
-/// phi(z) / Phi(z), accurate far into the lower tail.
-double normal_hazard_lower(double z);
+// log_normal_cdf and normal_hazard_lower: epuck2/fit/readings.hpp.
 
 }  // namespace epuck2::fit
