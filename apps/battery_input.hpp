@@ -84,16 +84,4 @@ inline void report_conversion(const std::string& command, const BatteryInput& in
             << (in.map_from_file.empty() ? "fitted to the logs with both columns" : "of " + in.map_from_file) << '\n';
 }
 
-/// `charge_conversion` for a JSON report (null when no log was converted).
-inline nlohmann::json conversion_json(const BatteryInput& in) {
-  if (in.conversion.logs == 0) return nullptr;
-  const auto& c = in.conversion;
-  return {{"logs", c.logs},
-          {"rows", c.rows},
-          {"clamped_below_range", c.below_range},
-          {"clamped_above_range", c.above_range},
-          {"clamped_rows", c.clamped},
-          {"map", in.map_from_file.empty() ? "fitted to the logs with both columns" : in.map_from_file}};
-}
-
 }  // namespace epuck2::app

@@ -1,7 +1,8 @@
 // epuck2-fit camera LOGS...: the camera's horizontal field of view and image centre from where LEDs
 // of known position appear in the 160x120 image (pinhole with square pixels, as the plug-in's
 // projection), and the paper's Table 4 method (alpha from a pixel offset at a known geometry).
-#include <cstdio>
+#include <string>
+#include <vector>
 
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/plot/sensor_figures.hpp"
@@ -11,68 +12,12 @@ namespace epuck2::app {
 
 namespace {
 
-namespace s = models::sensors;
-
-/// The ARGoS aperture's standard error, from the field of view's through the derivative.
-double aperture_std_error(double fov_deg, double fov_std_error) {
-  const double h = 1e-6;
-  const double slope = (s::aperture_from_horizontal_fov_rad(s::deg_to_rad(fov_deg + h)) -
-                        s::aperture_from_horizontal_fov_rad(s::deg_to_rad(fov_deg - h))) / (2 * s::deg_to_rad(h));
-  return std::abs(slope) * fov_std_error;
-}
-
-void print_camera_report(const calibrate::CameraFit& f) {
-  const auto& r = f.result;
-  std::printf("Camera: px = cx - f y/x, py = cy - f z/x, f = 80 / tan(fov/2) (160x120 image)\n");
-  std::printf("%zu LED observations\n\n", f.observations.size());
-  app::sensors::print_parameter(r, "fov_deg", "deg", "", "horizontal field of view");
-  std::printf("  (ARGoS aperture, the half-angle on the diagonal: %s)\n",
-              fit::format_uncertain(s::rad_to_deg(s::aperture_from_horizontal_fov_rad(s::deg_to_rad(r.value("fov_deg")))),
-                                    aperture_std_error(r.value("fov_deg"), r.std_error("fov_deg")), "deg",
-                                    "follows fov_deg, which has none")
-                  .c_str());
-  app::sensors::print_parameter(r, "cx_px", "px", "", "image centre column");
-  app::sensors::print_parameter(r, "cy_px", "px", "", "image centre row");
-  app::sensors::print_handling(r, "px", "  ", nullptr, /*has_rails=*/false);
-  std::printf("MSE %.3f px^2 (plug-in, 29.97 deg centred at (80, 60): %.3f px^2)\n", r.mse, f.plugin_mse);
-  std::printf("Table 4 method (alpha from the pixel offset, centre taken as column 80), %zu points: mean %s (± the points' sd, "
-              "not a standard error)\n",
-              f.table4_points,
-              fit::format_uncertain(f.table4_alpha_mean_deg, f.table4_alpha_sd_deg, "deg", "one point: no spread").c_str());
-  app::sensors::print_noise_and_warnings({f.noise}, f.warnings);
-}
-
+/// The fit, its checks (exit 1, or a warning under --accept-misfit), then its coefficient file.
 nlohmann::json camera_json(const std::vector<logs::Log>& logs, const app::sensors::SensorOptions& o, calibrate::CameraFit* keep) {
   calibrate::CameraFit f = calibrate::fit_camera(logs, o.fit_options());
   app::sensors::require_usable(f.result, "camera fit");
   app::sensors::require_fitting(f.result, "camera fit", o, f.warnings);
-  nlohmann::json j = app::sensors::skeleton("camera", logs);
-  j["units"] = {{"fov_deg", "deg"}, {"cx_px", "px"}, {"cy_px", "px"}, {"aperture_deg", "deg"}, {"width_px", "px"},
-                {"height_px", "px"}, {"range_m", "m"}, {"mse", "px^2"}, {"rss", "px^2"}};
-  j["unit_notes"] = {{"fov_deg", "horizontal field of view"}, {"aperture_deg", "ARGoS half-angle on the diagonal"},
-                     {"width_px", "the image's size, held"}, {"height_px", "the image's size, held"},
-                     {"range_m", "the camera's range, held"}};
-  app::sensors::add_parameters(j, f.result, "", "projection", "px");
-  j["parameters"]["aperture_deg"] = s::rad_to_deg(s::aperture_from_horizontal_fov_rad(s::deg_to_rad(f.result.value("fov_deg"))));
-  j["parameters"]["width_px"] = s::kCameraWidth_px;
-  j["parameters"]["height_px"] = s::kCameraHeight_px;
-  j["parameters"]["range_m"] = s::kCameraRange_m;
-  for (const char* held : {"width_px", "height_px", "range_m"}) j["std_errors"][held] = 0.0;
-  // The aperture is a function of the field of view: its error follows through the derivative.
-  const double aperture_se = aperture_std_error(f.result.value("fov_deg"), f.result.std_error("fov_deg"));
-  j["std_errors"]["aperture_deg"] = app::sensors::number(aperture_se);
-  if (!std::isfinite(f.result.std_error("fov_deg"))) j["std_error_why"]["aperture_deg"] = "follows fov_deg";
-  app::sensors::add_rounded(j, "aperture_deg", j["parameters"]["aperture_deg"].get<double>(), aperture_se,
-                            "follows fov_deg, which has none");
-  app::sensors::add_rounded(j, "width_px", s::kCameraWidth_px, 0.0, "the image's width, held");
-  app::sensors::add_rounded(j, "height_px", s::kCameraHeight_px, 0.0, "the image's height, held");
-  app::sensors::add_rounded(j, "range_m", s::kCameraRange_m, 0.0, "the camera's range, held");
-  j["mse"] = f.result.mse;
-  j["observations"] = f.observations.size();
-  j["reference_mse"] = {{"plugin", f.plugin_mse}};
-  j["table4"] = {{"alpha_mean_deg", f.table4_alpha_mean_deg}, {"alpha_sd_deg", f.table4_alpha_sd_deg}, {"points", f.table4_points}};
-  app::sensors::add_noise(j, {f.noise});
-  app::sensors::add_warnings(j, f.warnings);
+  nlohmann::json j = calibrate::coefficient_json(f, logs);
   if (keep != nullptr) *keep = std::move(f);
   return j;
 }
@@ -84,7 +29,7 @@ void setup_camera(CLI::App& app, Action& action) {
       app, action,
       {"camera", logs::Kind::camera, "Calibrate the camera: horizontal field of view and image centre", "Camera",
        "px 0..159 from the left, py 0..119 from the top; lateral_m > 0 to the left."},
-      camera_json, print_camera_report, plot::camera_figure);
+      camera_json, plot::camera_figure);
 }
 
 }  // namespace epuck2::app

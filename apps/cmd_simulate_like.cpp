@@ -16,6 +16,7 @@
 
 #include "app_support.hpp"
 #include "commands.hpp"
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/logs/output.hpp"
@@ -29,14 +30,10 @@ namespace {
 
 namespace s = models::sensors;
 
-/// The columns the kind's readings are in (replaced by the simulation).
+/// The columns the kind's readings are in (replaced by the simulation): its facts' (kind_facts).
 std::vector<std::string> reading_columns(logs::Kind kind) {
-  switch (kind) {
-    case logs::Kind::camera: return {"px", "py"};
-    case logs::Kind::drive: return {"left_steps", "right_steps", "tof_mm"};
-    case logs::Kind::battery: return {"charge"};
-    default: return {"value"};
-  }
+  const auto& readings = models::kind_facts(std::string(logs::to_string(kind)))->readings;
+  return {readings.begin(), readings.end()};
 }
 
 /// The model's covariate effects' sum on each row, from the log's columns (a usage error naming

@@ -8,16 +8,14 @@
 
 #include "app_support.hpp"
 #include "battery_input.hpp"
+#include "epuck2/calibrate/battery_report.hpp"
 #include "commands.hpp"
 #include "log_help.hpp"
 #include "epuck2/calibrate/battery.hpp"
-#include "epuck2/calibrate/published.hpp"
-#include "epuck2/models/plugin_battery_tables.hpp"
 
 namespace epuck2::app {
 
 namespace {
-namespace mb = models::battery;
 
 struct Table5Options {
   std::vector<std::string> logs;
@@ -27,12 +25,6 @@ struct Table5Options {
   bool skip_bad_rows = false;
   std::string charge_map;
 };
-
-nlohmann::json as_json(const calibrate::ModelMse& m) {
-  nlohmann::json j = nlohmann::json::object();
-  for (mb::Model model : mb::kAllModels) j[std::string(mb::to_string(model))] = m.get(model);
-  return j;
-}
 
 int run_table5(const Table5Options& o) {
   const BatteryInput in = read_battery_input("table5", o.logs, o.skip_bad_rows, o.charge_map, false);
@@ -55,34 +47,9 @@ int run_table5(const Table5Options& o) {
                               {"speeds_other_cm_s", c.other}});
     throw NoUsableFit(why);
   }
-  const calibrate::ModelMse simulated = calibrate::simulated_mse(runs, *f.tables, mb::Behaviour::argos_compatible, o.dt_s);
-  const calibrate::ModelMse corrected = calibrate::simulated_mse(runs, *f.tables, mb::Behaviour::corrected, o.dt_s);
-  const calibrate::ModelMse plugin = calibrate::simulated_mse(runs, mb::plugin_tables(), mb::Behaviour::argos_compatible, o.dt_s);
-  const calibrate::ModelMse pa = calibrate::paper_table5_analytic();
-  const calibrate::ModelMse pg = calibrate::paper_table5_argos();
-
-  nlohmann::json ratio_a = nlohmann::json::object(), ratio_s = nlohmann::json::object();
-  for (mb::Model m : mb::kAllModels) {
-    ratio_a[std::string(mb::to_string(m))] = f.mse.get(m) / pa.get(m);
-    ratio_s[std::string(mb::to_string(m))] = simulated.get(m) / pg.get(m);
-  }
-  const calibrate::SpeedCoverage coverage = calibrate::speed_coverage(f);
-  nlohmann::json j{
-      {"complete", true},
-      {"speeds_covered_cm_s", coverage.covered},
-      {"speeds_missing_cm_s", coverage.missing},
-      {"speeds_other_cm_s", coverage.other},
-      {"logs", o.logs.size()},
-      {"speeds", f.speeds.size()},
-      {"tick_s", o.dt_s},
-      {"analytic", as_json(f.mse)},
-      {"simulated", as_json(simulated)},
-      {"simulated_corrected", as_json(corrected)},
-      {"plugin_tables_simulated", as_json(plugin)},
-      {"published", {{"analytic", as_json(pa)}, {"argos", as_json(pg)}}},
-      {"ratio_to_published", {{"analytic", ratio_a}, {"simulated", ratio_s}}},
-  };
-  if (const nlohmann::json c = conversion_json(in); !c.is_null()) j["charge_conversion"] = c;
+  const calibrate::Table5 t = calibrate::table5(runs, f, o.logs.size(), o.dt_s);
+  nlohmann::json j = calibrate::table5_json(t);
+  if (const nlohmann::json c = calibrate::charge_conversion_json(in.conversion, in.map_from_file); !c.is_null()) j["charge_conversion"] = c;
   if (in.map && in.conversion.logs > 0) {  // the map that gave the charge of voltage-only logs
     j["charge_map"] = calibrate::charge_map_to_json(*in.map);
     if (!in.map_from_file.empty()) j["charge_map"]["from_file"] = in.map_from_file;
@@ -96,28 +63,8 @@ int run_table5(const Table5Options& o) {
     std::cout << text;
     return 0;
   }
-  std::printf("Table 5: average MSE (charge units^2) over %zu speeds, %zu logs\n\n", f.speeds.size(), o.logs.size());
-  std::printf("%-34s %9s %9s %9s %13s\n", "source", "Simple", "Linear", "Cubic", "Approximated");
-  auto row = [](const char* name, const calibrate::ModelMse& m) {
-    std::printf("%-34s %9.4f %9.4f %9.4f %13.4f\n", name, m.simple, m.linear, m.cubic, m.approximated);
-  };
-  row("analytic (fitted to these logs)", f.mse);
-  row("paper, analytic", pa);
-  row("simulated, fitted tables (ARGoS)", simulated);
-  row("paper, ARGoS", pg);
-  row("simulated, fitted, corrected", corrected);
-  row("simulated, plug-in's tables", plugin);
-  std::printf("\nratio analytic/paper:  simple %.2f  linear %.2f  cubic %.2f  approximated %.2f\n",
-              f.mse.simple / pa.simple, f.mse.linear / pa.linear, f.mse.cubic / pa.cubic,
-              f.mse.approximated / pa.approximated);
-  std::printf("ratio simulated/paper: simple %.2f  linear %.2f  cubic %.2f  approximated %.2f\n",
-              simulated.simple / pg.simple, simulated.linear / pg.linear, simulated.cubic / pg.cubic,
-              simulated.approximated / pg.approximated);
-  if (in.conversion.logs > 0)
-    std::printf("\nCharge of %zu voltage-only logs from voltage_v through the voltage->charge map %s (residual sd %.3g); "
-                "clamped to its range: %zu below, %zu above.\n",
-                in.conversion.logs, in.map_from_file.empty() ? "fitted to the logs with both columns" : ("of " + in.map_from_file).c_str(),
-                in.map->residual_sd, in.conversion.below_range, in.conversion.above_range);
+  std::fputs(calibrate::table5_text(t).c_str(), stdout);
+  if (in.map) std::fputs(calibrate::charge_conversion_text(in.conversion, in.map_from_file, in.map->residual_sd).c_str(), stdout);
   return 0;
 }
 }  // namespace

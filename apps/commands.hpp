@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "epuck2/calibrate/no_usable_fit.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace epuck2::app {
@@ -19,10 +20,9 @@ using Action = std::function<int()>;
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
-/// The data were read but no usable fit came out (exit 1).
-struct NoUsableFit : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+/// The data were read but no usable fit came out (exit 1): the libraries' own, so that a
+/// calibration's writers (lib/calibrate) and the subcommands throw the same.
+using NoUsableFit = calibrate::NoUsableFit;
 
 void setup_battery(CLI::App& app, Action& action);
 void setup_table5(CLI::App& app, Action& action);

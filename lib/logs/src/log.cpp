@@ -11,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "epuck2/models/kind_facts.hpp"
+
 namespace epuck2::logs {
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
@@ -28,8 +30,23 @@ namespace {
 
 struct Range {
   double lo, hi;
-  const char* what;
+  std::string what;
 };
+
+/// A kind's facts (lib/models kind_facts.hpp): its channels' rails and sensors.
+const models::KindFacts& facts_of(Kind kind) { return *models::kind_facts(std::string(to_string(kind))); }
+
+/// A sensor index column: 0 .. the kind's sensors - 1.
+Range sensor_index(Kind kind) {
+  const models::Channel& c = facts_of(kind).channels.front();
+  return Range{0, c.sensors - 1.0, "a " + std::string(to_string(kind)) + " sensor index 0.." + std::to_string(c.sensors - 1)};
+}
+
+/// A raw register reading between the channel's rails.
+Range raw_reading(Kind kind) {
+  const models::Channel& c = facts_of(kind).channels.front();
+  return Range{c.low_rail, c.high_rail, "a raw reading " + c.rails_text()};
+}
 
 // Physical ranges of the columns (docs/logs.md). A value outside is rejected (tof_mm also takes the
 // out-of-range code, see kTofOutOfRangeCode_mm).
@@ -43,20 +60,20 @@ std::optional<Range> range_of(Kind kind, const std::string& column) {
       if (column == "voltage_v") return Range{0.0, 10.0, "a voltage in [0, 10] V"};
       break;
     case Kind::proximity:
-      if (column == "sensor") return Range{0, 7, "a proximity sensor index 0..7"};
-      if (column == "value") return Range{0, 4095, "a raw reading 0..4095"};
+      if (column == "sensor") return sensor_index(kind);
+      if (column == "value") return raw_reading(kind);
       if (column == "angle_deg") return Range{-90, 90, "an incidence angle in [-90, 90] degrees"};
       break;
     case Kind::light:
       // The model divides by the distance (gamma intensity / d): 0 or a subnormal overflows it.
       if (column == "distance_m") return Range{1e-3, 1e3, "a distance from the light source in [0.001, 1000] m"};
-      if (column == "sensor") return Range{0, 7, "a light sensor index 0..7"};
-      if (column == "value") return Range{0, 4095, "a raw reading 0..4095"};
+      if (column == "sensor") return sensor_index(kind);
+      if (column == "value") return raw_reading(kind);
       if (column == "intensity") return Range{0, 1e6, "an intensity >= 0"};
       break;
     case Kind::ground:
-      if (column == "sensor") return Range{0, 2, "a ground sensor index 0..2"};
-      if (column == "value") return Range{0, 1023, "a raw reading 0..1023"};
+      if (column == "sensor") return sensor_index(kind);
+      if (column == "value") return raw_reading(kind);
       if (column == "grey") return Range{0, 1, "a grey level in [0, 1]"};
       break;
     case Kind::camera:
@@ -70,7 +87,12 @@ std::optional<Range> range_of(Kind kind, const std::string& column) {
     case Kind::drive:
       if (column == "left_steps" || column == "right_steps")
         return Range{-32768, 32767, "a 16-bit encoder count -32768..32767"};
-      if (column == "tof_mm") return Range{20, 2000, "a ToF reading 20..2000 mm, or >= 8190 (no target in range)"};
+      if (column == "tof_mm") {
+        const models::Channel& tof = facts_of(kind).channels.front();
+        return Range{tof.low_rail, tof.high_rail,
+                     "a " + std::string(tof.label) + " reading " + tof.rails_text() + " " + tof.unit + ", or >= " +
+                         std::to_string(static_cast<int>(kTofOutOfRangeCode_mm)) + " (no target in range)"};
+      }
       if (column == "left_speed_cm_s" || column == "right_speed_cm_s")
         return Range{-1e3, 1e3, "a speed in cm/s"};
       break;
@@ -264,14 +286,15 @@ std::optional<Kind> parse_kind(std::string_view name) {
 }
 
 const std::vector<std::string>& required_columns(Kind kind) {
-  static const std::map<Kind, std::vector<std::string>> required{
-      {Kind::battery, {"time_s", "speed_cm_s", "charge"}},
-      {Kind::proximity, {"distance_m", "sensor", "value"}},
-      {Kind::light, {"distance_m", "intensity", "sensor", "value"}},
-      {Kind::ground, {"grey", "sensor", "value"}},
-      {Kind::camera, {"forward_m", "lateral_m", "vertical_m", "px", "py"}},
-      {Kind::drive, {"time_s", "left_speed_cm_s", "right_speed_cm_s", "left_steps", "right_steps", "tof_mm"}},
-  };
+  // The kinds' facts (lib/models kind_facts.hpp), as strings once.
+  static const std::map<Kind, std::vector<std::string>> required = [] {
+    std::map<Kind, std::vector<std::string>> m;
+    for (Kind k : {Kind::battery, Kind::proximity, Kind::light, Kind::ground, Kind::camera, Kind::drive}) {
+      const auto& columns = facts_of(k).columns;
+      m[k] = std::vector<std::string>(columns.begin(), columns.end());
+    }
+    return m;
+  }();
   return required.at(kind);
 }
 

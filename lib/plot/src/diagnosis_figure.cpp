@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "epuck2/calibrate/sensors.hpp"
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/plot/figure.hpp"
 
 namespace epuck2::plot {
@@ -27,11 +28,12 @@ struct Panel {
 std::vector<Panel> panels_of(const dg::Report& r) {
   const std::size_t n = r.residual_before.size();
   std::vector<Panel> out;
+  const models::KindFacts& facts = *models::kind_facts(std::string(logs::to_string(r.kind)));
   if (!r.residual_channel.empty()) {
     for (std::size_t c = 0; c < r.channel_noise_sd.size(); ++c) {
       const std::string& name = r.channel_noise_sd[c].name;
-      if (name == "tof_mm") out.push_back({"ToF reading", "mm", {}});
-      else if (name == "steps") out.push_back({"wheel encoder registers (left and right)", "steps", {}});
+      if (name == "tof_mm") out.push_back({std::string(facts.channels.front().label) + " reading", facts.channels.front().unit, {}});
+      else if (name == "steps") out.push_back({std::string(facts.channels.back().label) + " registers (left and right)", facts.channels.back().unit, {}});
       else out.push_back({name, "as logged", {}});
     }
     for (std::size_t i = 0; i < n && i < r.residual_channel.size(); ++i)
@@ -41,13 +43,11 @@ std::vector<Panel> panels_of(const dg::Report& r) {
     out = {{"LED image column px", "px", {}}, {"LED image row py", "px", {}}};
     for (std::size_t i = 0; i < n; ++i) out[i % 2].residuals.push_back(i);
   } else {
-    switch (r.kind) {
-      case logs::Kind::battery: out.push_back({"charge", "fraction of full charge", {}}); break;
-      case logs::Kind::ground: out.push_back({"ground sensor reading", "counts, 0..1023", {}}); break;
-      case logs::Kind::proximity: out.push_back({"proximity reading", "counts, 0..4095", {}}); break;
-      case logs::Kind::light: out.push_back({"light sensor reading", "counts, 0..4095", {}}); break;
-      default: out.push_back({"reading", "as logged", {}}); break;
-    }
+    // One channel: its quantity, unit and rails from the kind's facts (a charge is a fraction of
+    // the full charge, with no register behind it).
+    const models::Channel& c = facts.channels.front();
+    if (r.kind == logs::Kind::battery) out.push_back({c.label, "fraction of full charge", {}});
+    else out.push_back({std::string(c.label) + " reading", std::string(c.unit) + ", " + c.rails_text(), {}});
     for (std::size_t i = 0; i < n; ++i) out[0].residuals.push_back(i);
   }
   out.erase(std::remove_if(out.begin(), out.end(), [](const Panel& p) { return p.residuals.empty(); }), out.end());
@@ -94,8 +94,8 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
                     ? std::filesystem::path(log_names[static_cast<std::size_t>(k)]).filename().string()
                     : "log " + std::to_string(k);
       } else if (name == "sensor") {
-        label = r.kind == logs::Kind::ground && k >= 0 && k < 3 ? calibrate::kGroundSensorNames[static_cast<std::size_t>(k)]
-                                                                : std::to_string(k);
+        label = k >= 0 ? models::kind_facts(std::string(logs::to_string(r.kind)))->sensor_name(static_cast<std::size_t>(k))
+                       : std::to_string(k);
       } else if (name == "axis") {
         label = k == 0 ? "px (column)" : k == 1 ? "py (row)" : std::to_string(k);
       } else {

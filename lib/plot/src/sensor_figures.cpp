@@ -1,5 +1,6 @@
 #include "epuck2/plot/sensor_figures.hpp"
 #include "epuck2/models/effects.hpp"
+#include "epuck2/models/kind_facts.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -155,8 +156,14 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
     }
     gp << title_and_key(page, "Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance, per source intensity I (simulator units)",
                         "at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15");
+    // The register's unit and rails (kind_facts); dark is the high rail.
+    const models::Channel& light = models::kind_facts("light")->channels.front();
+    char dark[32];
+    std::snprintf(dark, sizeof dark, "%g = dark", light.high_rail);
     gp << "set xlabel 'distance to the light (cm)'\nset ylabel "
-       << quoted(page.narrow ? "raw reading (counts; 4095 = dark)" : "raw reading (counts, 0..4095; 4095 = dark)") << "\n";
+       << quoted(page.narrow ? "raw reading (" + std::string(light.unit) + "; " + dark + ")"
+                             : "raw reading (" + std::string(light.unit) + ", " + light.rails_text() + "; " + dark + ")")
+       << "\n";
     gp << "set xrange [5:52]\nset yrange [-100:4200]\nset grid lc rgb '#d8d8d8'\nset samples 400\n";
     const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
     gp << "plot ";
@@ -219,7 +226,11 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
                                        page.width - 120)
                              : "grey level (fraction: 0 = black, 1 = white; each sensor's points shifted sideways by 0.006, each robot's by 0.002)")
        << "\n";
-    gp << "set ylabel " << quoted(page.narrow ? "raw reading (counts)" : "raw reading (counts, 0..1023)") << "\n";
+    const models::KindFacts& ground = *models::kind_facts("ground");
+    const std::string unit = ground.channels.front().unit;
+    gp << "set ylabel "
+       << quoted(page.narrow ? "raw reading (" + unit + ")" : "raw reading (" + unit + ", " + ground.channels.front().rails_text() + ")")
+       << "\n";
     gp << "set xrange [-0.03:1.03]\nset yrange [-20:1060]\nset grid lc rgb '#d8d8d8'\n";
     const char* colours[] = {"#d62728", "#2ca02c", "#1f77b4"};
     gp << "plot ";
@@ -228,7 +239,7 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
       std::snprintf(buf, sizeof buf,
                     "$s%zu using 1:2:3 with points pt variable ps 0.5 lc rgb '%s' notitle, "
                     "$lines using 1:%zu with lines lw 2.5 lc rgb '%s' title 'sensor %s, fit: %.1f + %.1f grey', ",
-                    k, colours[k], k + 2, colours[k], calibrate::kGroundSensorNames[k], f.sensors[k].value("offset"),
+                    k, colours[k], k + 2, colours[k], ground.sensor_name(k).c_str(), f.sensors[k].value("offset"),
                     f.sensors[k].value("gain"));
       gp << buf;
     }
@@ -300,7 +311,10 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
 void drive_figure(logs::OutputStage& stage, const std::string& path, const calibrate::DriveFit& f) {
   const double spm = f.steps.value("steps_per_m");
   const double scale = f.tof.value(models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale)), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
-  constexpr double kOutOfRangeCode_mm = 8190, kCodeRow_mm = 2250;
+  constexpr double kOutOfRangeCode_mm = logs::kTofOutOfRangeCode_mm, kCodeRow_mm = 2250;
+  const models::Channel& tof = models::kind_facts("drive")->channels.front();  // its rails
+  char rail_mm[16];
+  std::snprintf(rail_mm, sizeof rail_mm, "%g", tof.high_rail);
   const double kNaN = std::numeric_limits<double>::quiet_NaN();
   // The curves as the sensor reports them: clamped to its rails (20 and 2000 mm), never drawn
   // above the 2000 mm a reading cannot exceed.
@@ -411,7 +425,8 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
         gp << multiplot(layout, narrow ? "" : title, 14);
         gp << "set grid lc rgb '#e0e0e0'\nunset key\n";
         // The 2000 mm rail, dotted: no reading (and no curve) lies above it.
-        const std::string rail = "set arrow 1 from graph 0, first 2000 to graph 1, first 2000 nohead dt 3 lc rgb '#808080'\n";
+        const std::string rail = std::string("set arrow 1 from graph 0, first ") + rail_mm + " to graph 1, first " + rail_mm +
+                                 " nohead dt 3 lc rgb '#808080'\n";
         int index = 0;
         auto axes_labels = [&](const std::string& x, const std::string& y) {
           // The ToF's y label on each row's first panel, the encoders' on theirs; the x label on
@@ -502,13 +517,14 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
                 (narrow ? "'fit, clipped at rails'" : "'fit, clipped at the rails'"),
             std::string("NaN with lines lw 1.5 dt 2 lc rgb '#000000' title ") +
                 (narrow ? "'plug-in'" : "'plug-in (1000 steps/m, no slip)'"),
-            "NaN with lines dt 3 lc rgb '#808080' title 'the 2000 mm rail'"};
+            std::string("NaN with lines dt 3 lc rgb '#808080' title 'the ") + rail_mm + " " + tof.unit + " rail'"};
         if (thinned > 0 && !narrow)  // (a column's legend has no room: the encoders' panel title says it)
           entries.push_back("NaN with dots lc rgb '#ffffff' title 'at most 25 readings a run drawn (every n-th)'");
         if (!still.empty()) entries.insert(entries.begin() + 2, std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kStill + "' title 'standing still'");
         if (codes > 0)
           entries.push_back(narrow ? "NaN with points pt 9 ps 1 lc rgb '#ff7f0e' title 'no-target code (2250)'"
-                                   : "NaN with points pt 9 ps 1 lc rgb '#ff7f0e' title 'out-of-range codes (≥ 8190), drawn at 2250 mm'");
+                                   : "NaN with points pt 9 ps 1 lc rgb '#ff7f0e' title 'out-of-range codes (≥ " +
+                                         std::to_string(static_cast<int>(kOutOfRangeCode_mm)) + "), drawn at 2250 mm'");
         for (std::size_t r = 0; r < robots.size() && robots.size() > 1; ++r)
           entries.push_back("NaN with points pt " + std::to_string(robot_point_type(r)) + " ps 0.9 lc rgb '#000000' title " + quoted("robot " + robots[r]));
         const double band_top = 1.0 - (narrow ? 10.0 : 55.0) / height;

@@ -121,8 +121,7 @@ LightFit fit_light(const std::vector<logs::Log>& logs, const SensorFitOptions& o
 
 // ----- Ground ----------------------------------------------------------------------------------
 
-/// The ground sensors as the reports and the figures name them.
-inline constexpr std::array<const char*, models::sensors::kGroundCount> kGroundSensorNames{"0 (right)", "1 (centre)", "2 (left)"};
+/// (The ground sensors' names, as the reports and the figures give them: kind_facts("ground").)
 
 struct GroundFit {
   std::array<RobustFit, models::sensors::kGroundCount> sensors;  ///< gain_raw, offset_raw per sensor

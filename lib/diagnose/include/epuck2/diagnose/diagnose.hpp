@@ -188,7 +188,7 @@ struct Report {
   std::vector<std::string> notes;  ///< decisions worth telling (e.g. a finding undone)
   /// Wild readings left out before anything was fitted (file:line and why; static kinds only).
   std::vector<std::string> outliers;
-  std::size_t censored = 0;          ///< readings on a sensor's rails (modelled through the clamp)
+  std::size_t censored = 0;          ///< readings on a sensor's rails (censored: the Tobit likelihood)
   std::vector<std::string> warnings;  ///< sentences: what the report should not be read without
   /// For the figure (lib/plot): per residual, measured minus model before (recalibrated base) and
   /// after (final model), each in its own channel's units (drive: ToF in mm, encoders in steps;

@@ -1,11 +1,14 @@
 // The facts of each kind of log that every part of the project needs alike: its name, the
-// channels it measures (name, unit, the register's rails, full scale, sensors), and where its
-// base model's coefficients may physically lie. The coefficient files' noise sections, the
-// validation of a model, the screening and the figures read them here.
+// channels it measures (name, unit, the register's rails, full scale, sensors, their names, the
+// quantity in words), and where its base model's coefficients may physically lie (with their
+// units). The coefficient files' noise sections, the validation of a model, the log reader's
+// ranges, the screening, the reports and the figures read them here.
 //
 // Header-only, standard library only (epuck2::models).
 #pragma once
 
+#include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -22,6 +25,17 @@ struct Channel {
   double high_rail;     ///< the register's highest value (+inf: none)
   double full_scale;    ///< a noise sd at or above this is not a reading's noise
   int sensors;          ///< how many sensors share the channel (a noise sd per sensor)
+  const char* label;    ///< the quantity in words, for reports and figures ("ground sensor", "ToF")
+  std::vector<const char*> sensor_names = {};  ///< each sensor's name where they have one (else numbered)
+  /// Whether the register has rails (a reading there is censored).
+  bool has_rails() const { return std::isfinite(low_rail) && std::isfinite(high_rail); }
+  /// "0..1023": the register's range as reports and figures print it ("" without rails).
+  std::string rails_text() const {
+    if (!has_rails()) return "";
+    char text[64];
+    std::snprintf(text, sizeof text, "%g..%g", low_rail, high_rail);
+    return text;
+  }
 };
 
 /// One base coefficient of a kind's model: its key in a coefficient file's "parameters", unit and
@@ -37,6 +51,14 @@ struct KindFacts {
   const char* name;
   std::vector<Channel> channels;
   std::vector<BaseParam> base;
+  std::vector<const char*> columns;   ///< the columns every log of the kind has (docs/logs.md)
+  std::vector<const char*> readings;  ///< those of them that hold the readings (a simulation replaces them)
+  /// Sensor `k` of the first channel as reports name it: its name where the sensors have names
+  /// ("0 (right)"), else its number.
+  std::string sensor_name(std::size_t k) const {
+    const Channel& c = channels.front();
+    return k < c.sensor_names.size() ? std::string(c.sensor_names[k]) : std::to_string(k);
+  }
   /// The base coefficient `key`, or nullptr.
   const BaseParam* base_param(const std::string& key) const {
     for (const BaseParam& p : base)
@@ -51,29 +73,40 @@ inline const KindFacts* kind_facts(const std::string& kind) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   static const std::vector<KindFacts> all{
       {"proximity",
-       {{"proximity", "counts", 0.0, s::kProximityFullScale_raw, s::kProximityFullScale_raw, s::kProximityCount}},
+       {{"proximity", "counts", 0.0, s::kProximityFullScale_raw, s::kProximityFullScale_raw, s::kProximityCount, "proximity"}},
        {{"a", "1/m^2", -1e6, 1e6, false, false},
         {"b", "1/m", -1e5, 1e5, false, false},
         {"c", "1", -100.0, 100.0, false, false},
-        {"range_m", "m", 0.0, 1.0, true, false}}},
+        {"range_m", "m", 0.0, 1.0, true, false}},
+       {"distance_m", "sensor", "value"},
+       {"value"}},
       {"light",
-       {{"light", "counts", 0.0, s::kProximityFullScale_raw, s::kProximityFullScale_raw, s::kProximityCount}},
-       {{"gamma", "m", 0.0, 10.0, true, false}, {"range_m", "m", 0.0, 10.0, true, false}}},
+       {{"light", "counts", 0.0, s::kProximityFullScale_raw, s::kProximityFullScale_raw, s::kProximityCount, "light sensor"}},
+       {{"gamma", "m", 0.0, 10.0, true, false}, {"range_m", "m", 0.0, 10.0, true, false}},
+       {"distance_m", "intensity", "sensor", "value"},
+       {"value"}},
       {"ground",
-       {{"ground", "counts", 0.0, s::kGroundFullScale_raw, s::kGroundFullScale_raw, s::kGroundCount}},
+       {{"ground", "counts", 0.0, s::kGroundFullScale_raw, s::kGroundFullScale_raw, s::kGroundCount, "ground sensor",
+         {"0 (right)", "1 (centre)", "2 (left)"}}},
        {{"gain", "counts", 0.0, 4.0 * s::kGroundFullScale_raw, true, false},
-        {"offset", "counts", -s::kGroundFullScale_raw, s::kGroundFullScale_raw, false, false}}},
+        {"offset", "counts", -s::kGroundFullScale_raw, s::kGroundFullScale_raw, false, false}},
+       {"grey", "sensor", "value"},
+       {"value"}},
       {"camera",
-       {{"camera", "px", -inf, inf, static_cast<double>(s::kCameraWidth_px), 1}},
+       {{"camera", "px", -inf, inf, static_cast<double>(s::kCameraWidth_px), 1, "LED image position"}},
        {{"fov_deg", "deg", 0.0, 180.0, true, true},
         {"cx_px", "px", 0.0, static_cast<double>(s::kCameraWidth_px), false, false},
-        {"cy_px", "px", 0.0, static_cast<double>(s::kCameraHeight_px), false, false}}},
+        {"cy_px", "px", 0.0, static_cast<double>(s::kCameraHeight_px), false, false}},
+       {"forward_m", "lateral_m", "vertical_m", "px", "py"},
+       {"px", "py"}},
       {"drive",
-       {{"tof", "mm", s::kPluginTof.min_mm, s::kPluginTof.max_mm, s::kPluginTof.max_mm, 1},
-        {"encoder", "steps", -inf, inf, 65536.0, 1}},
+       {{"tof", "mm", s::kPluginTof.min_mm, s::kPluginTof.max_mm, s::kPluginTof.max_mm, 1, "ToF"},
+        {"encoder", "steps", -inf, inf, 65536.0, 1, "wheel encoder"}},
        // Steps per metre within 20 % of the plug-in's (docs/fitting.md: wheels are not that far off).
-       {{"steps_per_m", "steps/m", 0.8 * s::kPluginStepsPerMetre, 1.2 * s::kPluginStepsPerMetre, false, false}}},
-      {"battery", {{"charge", "charge", -1.0, 1.05, 1.0, 1}}, {}},
+       {{"steps_per_m", "steps/m", 0.8 * s::kPluginStepsPerMetre, 1.2 * s::kPluginStepsPerMetre, false, false}},
+       {"time_s", "left_speed_cm_s", "right_speed_cm_s", "left_steps", "right_steps", "tof_mm"},
+       {"left_steps", "right_steps", "tof_mm"}},
+      {"battery", {{"charge", "charge", -1.0, 1.05, 1.0, 1, "charge"}}, {}, {"time_s", "speed_cm_s", "charge"}, {"charge"}},
   };
   for (const KindFacts& k : all)
     if (kind == k.name) return &k;

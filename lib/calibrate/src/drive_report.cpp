@@ -1,0 +1,67 @@
+// The drive calibration (encoders, ToF, slip) as its two outputs: the human report and the
+// coefficient file (docs/coefficient-files.md), from the fit's result (calibrate::fit_drive).
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "epuck2/models/kind_facts.hpp"
+#include "epuck2/calibrate/report_json.hpp"
+#include "epuck2/calibrate/report_text.hpp"
+#include "epuck2/calibrate/sensor_reports.hpp"
+#include "epuck2/calibrate/sensors.hpp"
+#include "epuck2/models/effects.hpp"
+
+namespace epuck2::calibrate {
+
+std::string report_text(const DriveFit& f) {
+  Text out;
+  out("Drive runs: %zu\n\n", f.runs.size());
+  out("Encoders: steps = steps_per_m * commanded distance (%zu rows; commands above the firmware's 1100 steps/s = "
+      "14.17 cm/s %s: %zu rows)\n",
+      f.steps_rows, f.cap_kept ? "taken as that limit" : "taken as commanded (the encoders beat the limit on the BIC)",
+      f.capped_rows);
+  if (f.cap_tested)
+    out("  firmware cap tested: BIC %.1f with the cap, %.1f without: %s\n", f.bic_capped, f.bic_uncapped,
+        f.cap_kept ? "kept" : "the wheels run faster, fitted as they run");
+  write_parameter(out, f.steps, "steps_per_m", "steps/m", "  ", "plug-in 7763.656", &f.steps_autocorrelation);
+  write_handling(out, f.steps, "steps", "  ", &f.steps_autocorrelation, /*has_rails=*/false);
+  for (const auto& p : f.over_limit_runs) out("  commands above the limit (capped): %s\n", p.c_str());
+  const models::Channel& tof = models::kind_facts("drive")->channels.front();
+  out("\nToF: tof_mm = scale * 1000 (D - travel) + offset, travel = encoder travel lagged by tau (%zu rows; %zu at the "
+      "%g/%g %s rails or out-of-range codes, censored; %zu codes >= %g)\n",
+      f.tof_rows, f.tof_censored, tof.low_rail, tof.high_rail, tof.unit, f.tof_out_of_range_codes, logs::kTofOutOfRangeCode_mm);
+  const auto& t = f.tof;
+  write_parameter(out, t, models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), "", "  ", "", &f.tof_autocorrelation);
+  write_parameter(out, t, "tof_offset_mm", "mm", "  ", "", &f.tof_autocorrelation);
+  write_parameter(out, t, "slip_time_constant_s", "s", "  ", "", &f.tof_autocorrelation);
+  write_handling(out, t, "mm", "  ", &f.tof_autocorrelation);
+  out("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
+  write_noise_and_warnings(out, {f.tof_noise, f.encoder_noise}, f.warnings);
+  return out.str();
+}
+
+nlohmann::json coefficient_json(const DriveFit& f, const std::vector<logs::Log>& logs) {
+  nlohmann::json j = skeleton("drive", logs);
+  j["units"] = {{"steps_per_m", "steps/m"}, {"tof_offset_mm", "mm"}, {models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), "1"}, {"slip_time_constant_s", "s"},
+                {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}, {"rss", "mm^2 (ToF)"}, {"steps_rss", "steps^2"}};
+  // Rows of a run are a time series: both fits' errors get the autocorrelation correction.
+  add_parameters(j, f.steps, "", "steps", "steps", &f.steps_autocorrelation);
+  add_parameters(j, f.tof, "", "tof", "mm", &f.tof_autocorrelation);
+  j["mse"] = f.tof.mse;
+  j["steps_mse"] = f.steps.mse;
+  j["observations"] = f.tof.observations;
+  j["steps_observations"] = f.steps.observations;
+  j["tof_out_of_range_codes"] = f.tof_out_of_range_codes;
+  j["capped_rows"] = f.capped_rows;
+  j["over_limit_runs"] = f.over_limit_runs;
+  if (f.cap_tested)
+    j["firmware_cap"] = {{"kept", f.cap_kept}, {"bic_capped", f.bic_capped}, {"bic_uncapped", f.bic_uncapped}};
+  j["reference_mse"] = {{"plugin_tof", f.plugin_tof_mse}};
+  add_noise(j, {f.tof_noise, f.encoder_noise});
+  add_warnings(j, f.warnings);
+  return j;
+}
+}  // namespace epuck2::calibrate
