@@ -214,9 +214,8 @@ def copy_source():
 
 
 def configure():
-    # One file per unit (no unity build): a mutant then recompiles its own file, not its batch.
     cmd = ["cmake", "-S", SRC, "-B", BUILD, "-DCMAKE_BUILD_TYPE=Release", "-DEPUCK2_BUILD_APPS=ON",
-           "-DEPUCK2_BUILD_BENCH=OFF", "-DEPUCK2_UNITY_BUILD=OFF"]
+           "-DEPUCK2_BUILD_BENCH=OFF"]
     if shutil.which("ccache"):
         cmd.append("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
     sh(cmd, check=True, stdout=subprocess.DEVNULL)
