@@ -2,7 +2,9 @@
 # What each translation unit costs to compile: CPU seconds (user + system of the compiler, which
 # other builds on the machine do not inflate as they do wall time) and peak memory, the total,
 # and the subtotal of what scripts/build.sh builds (lib/, validation/, apps/: the target
-# `product`) against the tests, benchmarks and examples. Prints the machine and its load.
+# `product`) against the ARGoS plug-in and the tests, benchmarks and examples. Prints the machine
+# and its load. A unity build's combined units are the sources .../Unity/unity_N_cxx.cxx of the
+# build folder (--only 'Unity' picks them); -DEPUCK2_UNITY_BUILD=OFF times one file at a time.
 #   bench/build_time.sh [--build-dir DIR] [--only REGEX] [--jobs N] [--top N] [-- CMAKE_ARGS...]
 #     --build-dir DIR  configure here (default build-time/; never ccache: every unit is compiled)
 #     --only REGEX     time only the sources whose path matches (e.g. 'apps/|lib/fit/')
@@ -24,7 +26,7 @@ while [ $# -gt 0 ]; do
     --jobs) JOBS="$2"; shift 2 ;;
     --top) TOP="$2"; shift 2 ;;
     --) shift; CMAKE_ARGS=("$@"); break ;;
-    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
     *) echo "build_time: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -83,10 +85,13 @@ load_after = os.getloadavg()
 
 def group(where):
     # What scripts/build.sh builds (the target `product`): the libraries and the CLI, whose objects
-    # land under lib/, validation/ and apps/ of the build tree (argos/ holds the plug-in and its tests).
+    # land under lib/, validation/ and apps/ of the build tree (a unity build's combined units too);
+    # argos/ holds the plug-in (scripts/build.sh --argos) and its tests.
     head = where.split("/", 1)[0]
-    if head in ("lib", "validation", "apps") or (head == "argos" and "/test" not in where):
+    if head in ("lib", "validation", "apps"):
         return "product (scripts/build.sh)"
+    if head == "argos" and "/test" not in where:
+        return "ARGoS plug-in (scripts/build.sh --argos)"
     return "tests, benchmarks, examples (the test command adds them)"
 
 compiler = subprocess.run([rest[0]["command"].split()[0] if rest and "command" in rest[0] else "c++", "--version"],

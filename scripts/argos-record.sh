@@ -28,7 +28,7 @@
 # condition for proximity, ground and light; default: the experiment's), EPUCK2_ARGOS_FIRMWARE_CAP
 # (true|false, default true: the calibrated wheels capped at the e-puck2 firmware's 1100 steps/s;
 # false for logs of a robot without it, e.g. the project's generated logs).
-# Needs ARGoS 3, the E-Puck2 ARGoS plug-in and the project built with them (build/lib/argos3).
+# Needs ARGoS 3, the E-Puck2 ARGoS plug-in and the project's plug-in built (scripts/build.sh --argos: build/lib/argos3).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 LIKE=""
@@ -47,7 +47,7 @@ BUILD="${EPUCK2_BUILD_DIR:-$ROOT/build}"
 LIBDIR="$(cd "$BUILD" 2>/dev/null && pwd)/lib/argos3"
 command -v argos3 >/dev/null 2>&1 || { echo "argos-record: argos3 not found (see docs/argos.md)" >&2; exit 3; }
 [ -e "$LIBDIR/libepuck2_argos_protocols.so" ] || {
-  echo "argos-record: $LIBDIR/libepuck2_argos_protocols.so missing: build the project with ARGoS installed" >&2; exit 3; }
+  echo "argos-record: $LIBDIR/libepuck2_argos_protocols.so missing: build the plug-in (scripts/build.sh --argos) with ARGoS installed" >&2; exit 3; }
 if [ "$COEFF" != default ]; then
   [ -r "$COEFF" ] || { echo "argos-record: cannot read $COEFF" >&2; exit 2; }
   COEFF="$(cd "$(dirname "$COEFF")" && pwd)/$(basename "$COEFF")"

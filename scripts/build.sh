@@ -1,17 +1,19 @@
 #!/usr/bin/env bash
-# Configures (Release) and builds into build/ what a user runs: the libraries, the CLI
-# (build/bin/epuck2-fit, all that scripts/regenerate.sh needs) and, when ARGoS is installed, the
-# ARGoS plug-in (build/lib/argos3). The tests and benchmarks are left for the test command.
+# Configures (Release) and builds into build/ what a user runs: the libraries and the CLI
+# (build/bin/epuck2-fit, all that scripts/regenerate.sh needs). The tests and benchmarks are left
+# for the test command.
 #   scripts/build.sh          the CMake target `product`
-#   scripts/build.sh --all    everything: the tests, the benchmarks and the examples too
+#   scripts/build.sh --argos  that and, when ARGoS is installed, the ARGoS plug-in (build/lib/argos3)
+#   scripts/build.sh --all    everything: the plug-in, the tests, the benchmarks and the examples too
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TARGET=(--target product)
 for arg in "$@"; do
   case "$arg" in
     --all) TARGET=() ;;
-    -h|--help) sed -n '2,6p' "$0"; exit 0 ;;
-    *) echo "build: unknown option '$arg' (expected --all)" >&2; exit 2 ;;
+    --argos) TARGET=(--target product argos_plugin) ;;
+    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    *) echo "build: unknown option '$arg' (expected --argos or --all)" >&2; exit 2 ;;
   esac
 done
 JOBS="${EPUCK2_JOBS:-$(nproc 2>/dev/null || echo 2)}"

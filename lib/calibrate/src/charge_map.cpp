@@ -6,6 +6,7 @@
 
 #include "epuck2/fit/problem.hpp"
 #include "epuck2/logs/json_location.hpp"
+#include "epuck2/logs/output.hpp"
 
 namespace epuck2::calibrate {
 
@@ -185,12 +186,6 @@ ChargeMap map_of(const Data& d, const Candidate& c, bool load) {
   return m;
 }
 
-std::string fmt(double v, int digits = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
-
 }  // namespace
 
 std::vector<ChargeSample> charge_samples(const std::vector<logs::Log>& logs, std::vector<std::string>* sources) {
@@ -230,7 +225,8 @@ ChargeMapFit fit_charge_map(const std::vector<ChargeSample>& rows, const std::ve
   std::vector<double> sorted_v = d.v;
   std::sort(sorted_v.begin(), sorted_v.end());
   if (!(sorted_v.back() > sorted_v.front() + 1e-9)) {
-    out.message = "voltage_v does not vary in the rows with both columns (all " + fmt(sorted_v.front()) +
+    out.message = "voltage_v does not vary in the rows with both columns (all " +
+                  logs::format_number(sorted_v.front(), 4) +
                   " V): no voltage->charge map can be fitted";
     return out;
   }
@@ -272,7 +268,7 @@ ChargeMapFit fit_charge_map(const std::vector<ChargeSample>& rows, const std::ve
   if (!options.try_load) {
     m.load_why = "not tried (switched off)";
   } else if (S < 2) {
-    m.load_why = "not tried: the rows cover one speed (" + fmt(d.speeds.front()) + " cm/s)";
+    m.load_why = "not tried: the rows cover one speed (" + logs::format_number(d.speeds.front(), 4) + " cm/s)";
   } else {
     const Candidate* best_load = nullptr;
     std::vector<Candidate> loaded;
@@ -307,15 +303,17 @@ ChargeMapFit fit_charge_map(const std::vector<ChargeSample>& rows, const std::ve
         m.residual_sd_without_load = plain_map.residual_sd_without_load;
         m.residual_sd_with_load = with.residual_sd;
         m.delta_bic_load = best_load->bic - best_plain->bic;
-        m.load_why = "kept: one voltage offset per speed lowers the BIC by " + fmt(-m.delta_bic_load, 3) +
-                     " (residual sd " + fmt(m.residual_sd_without_load, 3) + " -> " + fmt(with.residual_sd, 3) + ")";
+        m.load_why = "kept: one voltage offset per speed lowers the BIC by " + logs::format_number(-m.delta_bic_load, 3) +
+                     " (residual sd " + logs::format_number(m.residual_sd_without_load, 3) + " -> " +
+                     logs::format_number(with.residual_sd, 3) + ")";
       } else {
         m.load_why = std::string("dropped: one voltage offset per speed ") +
-                     (m.delta_bic_load > 0 ? "raises the BIC by " + fmt(m.delta_bic_load, 3)
-                                           : "lowers the BIC by only " + fmt(-m.delta_bic_load, 3)) +
-                     " (it must lower it by " + fmt(options.min_delta_bic, 3) +
+                     (m.delta_bic_load > 0 ? "raises the BIC by " + logs::format_number(m.delta_bic_load, 3)
+                                           : "lowers the BIC by only " + logs::format_number(-m.delta_bic_load, 3)) +
+                     " (it must lower it by " + logs::format_number(options.min_delta_bic, 3) +
                      " or more): charge does not depend on the speed beyond the voltage (residual sd " +
-                     fmt(m.residual_sd_without_load, 3) + " without, " + fmt(with.residual_sd, 3) + " with)";
+                     logs::format_number(m.residual_sd_without_load, 3) + " without, " +
+                     logs::format_number(with.residual_sd, 3) + " with)";
       }
     }
   }

@@ -8,16 +8,6 @@
 
 namespace epuck2::calibrate {
 
-namespace {
-
-double median_of(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-}  // namespace
-
 PooledSd pooled_replicate_sd(const std::vector<double>& values, const std::vector<int>& group,
                              const std::vector<bool>& on_rail, double floor_sd, double reject_sd) {
   PooledSd out;
@@ -54,7 +44,7 @@ PooledSd pooled_replicate_sd(const std::vector<double>& values, const std::vecto
       }
       std::vector<double> v;
       if (std::isfinite(pooled_sd)) {
-        const double med = median_of(g.kept);
+        const double med = fit::median(g.kept);
         const double limit = g.kept.size() < kSmallGroup ? reject_sd * std::max(pooled_sd, floor_sd)
                                                           : std::numeric_limits<double>::infinity();
         for (double x : g.kept) {

@@ -5,8 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <sstream>
 
+#include "epuck2/fit/replicates.hpp"
+#include "epuck2/logs/output.hpp"
 #include "epuck2/models/tof.hpp"
 
 namespace epuck2::calibrate {
@@ -14,13 +15,6 @@ namespace epuck2::calibrate {
 using namespace epuck2::fit;  // the engine (lib/fit)
 
 namespace {
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Rule {
   std::vector<std::string> conditions;  ///< columns that define "the same conditions"
@@ -48,13 +42,6 @@ bool rule_for(logs::Kind kind, Rule* r) {
     case logs::Kind::camera: *r = rails({{"forward_m", "lateral_m", "vertical_m"}, {"px", "py"}, -1e300, 1e300, 1.0}); return true;
     default: return false;
   }
-}
-
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
 }
 
 }  // namespace
@@ -114,7 +101,7 @@ std::vector<std::vector<bool>> tof_spikes(const std::vector<logs::Log>& all, std
           d[i] = tof[i] - 0.5 * (tof[i - 1] + tof[i + 1]);
           dev.push_back(std::abs(d[i]));
         }
-      const double sd = 1.482602218505602 * median_of(dev);
+      const double sd = 1.482602218505602 * fit::median(dev);
       const double limit = std::max(kWildReadingSd * sd, kSpikeFloor_mm);
       for (std::size_t i = 1; i + 1 < n; ++i) {
         // A spike pushes its neighbours' d the other way by half as much: judge the largest first.
@@ -123,8 +110,10 @@ std::vector<std::vector<bool>> tof_spikes(const std::vector<logs::Log>& all, std
         drop[i] = true;
         if (dropped != nullptr)
           dropped->push_back({log.path + ":" + std::to_string(log.line_of_row[i]),
-                              "tof_mm " + fmt(tof[i]) + " where its neighbours read " + fmt(tof[i - 1]) + " and " +
-                                  fmt(tof[i + 1]) + " (a spike of " + fmt(d[i]) + " mm; the run's typical " + fmt(sd) + ")"});
+                              "tof_mm " + logs::format_number(tof[i], 6) + " where its neighbours read " +
+                                  logs::format_number(tof[i - 1], 6) + " and " + logs::format_number(tof[i + 1], 6) +
+                                  " (a spike of " + logs::format_number(d[i], 6) + " mm; the run's typical " +
+                                  logs::format_number(sd, 6) + ")"});
       }
     }
     out.push_back(std::move(drop));

@@ -8,16 +8,20 @@
 
 namespace epuck2::fit {
 
-namespace {
-
-double median_of(std::vector<double> v) {
+double median(std::vector<double> v) {
   if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  // The middle element in linear time; for an even count the largest of those below it is the
+  // other middle one.
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  double m = v[mid];
+  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+  return m;
 }
 
-std::string fmt(double v) {
+namespace {
+
+std::string six_digits(double v) {
   std::ostringstream os;
   os.precision(6);
   os << v;
@@ -41,12 +45,12 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
     for (std::size_t i : members)
       if (!on_rail[i]) v.push_back(values[i]);
     if (v.size() < kMinReplicates) continue;
-    const double med = median_of(v);
+    const double med = median(v);
     for (double& x : v) x = std::abs(x - med);
-    sd_of[g] = 1.482602218505602 * median_of(v);
+    sd_of[g] = 1.482602218505602 * median(v);
     sds.push_back(sd_of[g]);
   }
-  const double typical = median_of(sds);
+  const double typical = median(sds);
   for (const auto& [g, members] : groups) {
     if (members.size() < kMinReplicates) continue;  // too few readings to call one of them wild
     std::vector<double> v;
@@ -55,14 +59,14 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
       v.push_back(values[i]);
       railed += on_rail[i] ? 1 : 0;
     }
-    const double med = median_of(v);
+    const double med = median(v);
     const double sd = std::max({sd_of.count(g) ? sd_of.at(g) : typical, 0.5 * typical, floor_sd});
     for (std::size_t i : members) {
       const double dev = std::abs(values[i] - med);
       wild[i] = on_rail[i] ? railed == 1 && dev > 0.5 * kWildReadingSd * sd : dev > kWildReadingSd * sd;
       if (wild[i] && why != nullptr)
-        (*why)[i] = fmt(values[i]) + " where the readings under the same conditions centre on " + fmt(med) + " (robust sd " +
-                    fmt(sd) + ")";
+        (*why)[i] = six_digits(values[i]) + " where the readings under the same conditions centre on " + six_digits(med) + " (robust sd " +
+                    six_digits(sd) + ")";
     }
   }
   return wild;

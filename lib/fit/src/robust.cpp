@@ -154,15 +154,6 @@ class TobitCost : public ceres::CostFunction {
   mutable std::vector<double> pred_, jac_;
 };
 
-double median_of(std::vector<double> v) {
-  if (v.empty()) return 0;
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
-  double m = v[mid];
-  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
-  return m;
-}
-
 struct Solution {
   bool ok = false;
   std::string message;
@@ -290,7 +281,7 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
   auto robust_sigma = [&](const std::vector<double>& f, const std::vector<double>& weights) {
     std::vector<double> r = exact_residuals(f, weights);
     for (double& x : r) x = std::abs(x);
-    double s = 1.482602218505602 * median_of(r);
+    double s = 1.482602218505602 * median(r);
     if (!(s > 0)) {  // more than half exact: fall back on the root mean square
       double ss = 0;
       for (double x : r) ss += x * x;

@@ -24,6 +24,9 @@ inline constexpr std::size_t kMinReplicates = 3;
 /// group's and at least `floor_sd`); a railed value when it is its group's only railed one and
 /// farther than half that (a stray glitch, not a sensor near its clamp). `why`, when given,
 /// receives a sentence per wild value (empty for the others).
+/// The median of `values` (the mean of the two middle ones for an even count); 0 for none.
+double median(std::vector<double> values);
+
 std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const std::vector<int>& group,
                                        const std::vector<bool>& on_rail, double floor_sd,
                                        std::vector<std::string>* why = nullptr);
