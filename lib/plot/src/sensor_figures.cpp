@@ -175,8 +175,7 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
     gp << "set xlabel 'distance to the light (cm)'\nset ylabel "
        << quoted(page.narrow ? "raw reading (" + std::string(light.unit) + ")"
                              : "raw reading (" + std::string(light.unit) + ", " + light.rails_text() + "; " + dark + ")")
-       << "
-";
+       << "\n";
     gp << "set xrange [5:52]\nset yrange [-100:4200]\nset grid lc rgb '#d8d8d8'\nset samples 400\n";
     const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
     gp << "plot ";
