@@ -132,7 +132,7 @@ R3_CHARGE = whole(R3_ALWAYS + ["test_charge_map", "test_voltage_logs_cli", "test
 R3_NOISE = whole(R3_ALWAYS + ["test_reading_noise", "test_diagnose_noise", "test_sensor_fits", "test_sensor_cli",
                               "test_measured_logs", "test_model_loop", "test_diagnose_steps", "test_honest_fits"], ["docs_commands"])
 R3_CODEGEN = whole(R3_ALWAYS + ["test_coefficients", "test_model_loop", "test_battery_cli", "test_model_sets",
-                                "test_checked_outputs"], ["docs_commands", "example_plugin_models"])
+                                "test_checked_outputs"], ["docs_commands"])
 R3_LIKE = whole(R3_ALWAYS + ["test_model_loop", "test_coefficients", "test_checked_outputs", "test_voltage_logs_cli",
                              "test_small_data_cli"], ["docs_commands"])
 R3_DIAGNOSE = whole(R3_ALWAYS + ["test_diagnose", "test_diagnose_steps", "test_diagnose_noise", "test_honest_fits",
@@ -147,7 +147,7 @@ R3_HINTS = whole(R3_ALWAYS + ["test_log_reader", "test_cli_grammar", "test_hones
 R3_MODEL = whole(R3_ALWAYS + ["test_coefficients", "test_model_sets", "test_model_loop", "test_log_reader",
                               "test_checked_outputs"], ["docs_commands"])
 # The ARGoS plug-in and its tests (every one but the battery's, which the sensors' noise does not touch).
-R3_ARGOS = (["epuck2-fit", "epuck2_argos_calibrated", "epuck2_argos_protocols"],
+R3_ARGOS = (["epuck2-fit", "epuck2_argos_calibrated", "epuck2_argos_protocols", "argos_hidden_log"],
             ("whole", (), ("argos_noise_.*", "argos_roundtrip_(proximity|ground|light|drive|camera|default_.*)",
                            "argos_calibrated_.*", "argos_hostile_files", "argos_closed_loop_(proximity|ground|light|camera)_.*",
                            "argos_closed_loop_protocol_.*", "argos_replay_like")))
