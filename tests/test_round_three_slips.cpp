@@ -13,7 +13,13 @@
 #include <vector>
 
 #include "epuck2/calibrate/charge_map.hpp"
+#include "epuck2/calibrate/reading_noise.hpp"
+#include "epuck2/coefficients/codegen.hpp"
+#include "epuck2/coefficients/model_file.hpp"
+#include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/diagnose/reading_noise.hpp"
 #include "epuck2/logs/log.hpp"
+#include "epuck2/models/noise.hpp"
 
 namespace {
 
@@ -76,6 +82,157 @@ TEST(RoundThreeChargeMap, KnotsSitAtQuantilesWithTheExtremesFirstAndLast) {
   EXPECT_NEAR(b.map.knots_v[0], 3.0, 1e-12);
   EXPECT_NEAR(b.map.knots_v[1], 3.5, 1e-12);
   EXPECT_NEAR(b.map.knots_v[2], 4.0, 1e-12);
+}
+
+// ----- the reading-noise estimate of an extended model: each sensor its own replicates -----
+
+TEST(RoundThreeReadingNoise, EachSensorKeepsItsOwnReplicateSdSensorZeroIncluded) {
+  // docs: the replicates' sd of the sensor (its own where it has readings), at most the residual
+  // sd. Sensors 0, 1, 2 scatter 1, 3 and 2 counts (pooled 2); residual sd 10, readings not whole.
+  calibrate::ReadingNoise n;
+  n.channel = "ground";
+  n.unit = "counts";
+  n.from = "replicates";
+  n.sd = 2.0;
+  n.per_sensor_sd = {1.0, 3.0, 2.0};
+  n.per_sensor_n = {40, 40, 40};
+  const std::map<std::string, calibrate::ReadingNoise> rep{{"ground", n}};
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 10.0, 0, false), 1.0);
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 10.0, 1, false), 3.0);
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 10.0, 2, false), 2.0);
+  // No sensor named: the pooled 2; a residual sd below the replicates' caps it (2.5 < 3).
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 10.0, -1, false), 2.0);
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 2.5, 1, false), 2.5);
+  // Whole readings: sensor 0's 1 count less the rounding's 1/12: sqrt(11/12).
+  EXPECT_NEAR(diagnose::model_noise_sd(rep, "ground", 10.0, 0, true), std::sqrt(11.0 / 12.0), 1e-12);
+}
+
+// ----- codegen: every sensor's noise, each channel its own -----
+
+TEST(RoundThreeCodegen, EverySensorsNoiseIsWrittenLastOneIncluded) {
+  models::sensors::ProximityModel p;
+  p.noise_sd_raw = {1.5, 2.5, 3.5, 4.5, 5.5, 6.5, 7.5, 8.5};
+  const std::string cpp = coefficients::model_to_cpp(p, "a hand-made model");
+  EXPECT_NE(cpp.find("m.noise_sd_raw = {1.5, 2.5, 3.5, 4.5, 5.5, 6.5, 7.5, 8.5};"), std::string::npos) << cpp;
+  models::sensors::GroundModel g;
+  g.noise_sd_raw = {0.25, 0.5, 0.75};
+  const std::string gcpp = coefficients::model_to_cpp(g, "a hand-made model");
+  EXPECT_NE(gcpp.find("m.noise_sd_raw = {0.25, 0.5, 0.75};"), std::string::npos) << gcpp;
+}
+
+TEST(RoundThreeCodegen, DriveToFAndEncoderNoiseKeepTheirOwnValues) {
+  models::sensors::DriveModel m;
+  m.tof_noise_sd_mm = 3.25;
+  m.encoder_noise_sd_steps = 0.75;
+  const std::string cpp = coefficients::model_to_cpp(m, "a hand-made model");
+  EXPECT_NE(cpp.find("m.tof_noise_sd_mm = 3.25;"), std::string::npos) << cpp;
+  EXPECT_NE(cpp.find("m.encoder_noise_sd_steps = 0.75;"), std::string::npos) << cpp;
+}
+
+// ----- the model-file validator -----
+
+TEST(RoundThreeModelFile, DriveEncoderNoiseIsReadFromItsOwnChannel) {
+  const json drive = {{"kind", "drive"},
+                      {"parameters", {{"steps_per_m", 7700.0}}},
+                      {"noise", {{"tof", {{"sd", 3.0}, {"unit", "mm"}}}, {"encoder", {{"sd", 0.5}, {"unit", "steps"}}}}}};
+  const models::sensors::DriveModel m = coefficients::drive_model_from_json(drive, "drive.json");
+  EXPECT_DOUBLE_EQ(m.tof_noise_sd_mm, 3.0);
+  EXPECT_DOUBLE_EQ(m.encoder_noise_sd_steps, 0.5);
+}
+
+TEST(RoundThreeModelFile, ANoiseSdAtTheFullScaleIsRefusedJustBelowIsRead) {
+  // docs/coefficient-files.md: a reading's noise sd lies in [0, full scale): 4095 counts for the
+  // proximity sensors, 2000 mm for the ToF.
+  json prox = {{"kind", "proximity"},
+               {"parameters", {{"a", 1.0}, {"b", 0.0}, {"c", 0.0}, {"range_m", 0.1}}},
+               {"noise", {{"proximity", {{"sd", 4095.0}, {"unit", "counts"}}}}}};
+  EXPECT_THROW(coefficients::proximity_model_from_json(prox, "p.json"), logs::InputError);
+  prox["noise"]["proximity"]["sd"] = 4094.5;
+  EXPECT_DOUBLE_EQ(coefficients::proximity_model_from_json(prox, "p.json").noise_sd_raw[7], 4094.5);
+  json drive = {{"kind", "drive"},
+                {"parameters", {{"steps_per_m", 7700.0}}},
+                {"noise", {{"tof", {{"sd", 2000.0}, {"unit", "mm"}}}, {"encoder", {{"sd", 0.5}, {"unit", "steps"}}}}}};
+  EXPECT_THROW(coefficients::drive_model_from_json(drive, "d.json"), logs::InputError);
+  drive["noise"]["tof"]["sd"] = 1999.0;
+  EXPECT_DOUBLE_EQ(coefficients::drive_model_from_json(drive, "d.json").tof_noise_sd_mm, 1999.0);
+}
+
+// ----- the jackknife: 3 folds are enough -----
+
+TEST(RoundThreeJackknife, ThreeFoldsGiveAJackknifeError) {
+  // diagnose.hpp: the jackknife over the held-out folds, NaN with fewer than 3 folds: with exactly
+  // 3 it is a number. Proximity logs on the plug-in's curve with white noise of 20 counts (seeded).
+  models::sensors::StandardNormal normal(7);
+  std::ostringstream csv;
+  csv << "distance_m,sensor,value\n";
+  for (int r = 0; r < 6; ++r)
+    for (int j = 1; j <= 8; ++j)
+      for (int k = 0; k < 8; ++k) {
+        const double d = 0.005 * j;
+        csv << d << "," << k << "," << 4095 * (197.8633 * d * d - 30.47182 * d + 1.011635) + 20 * normal() << "\n";
+      }
+  diagnose::Options o;
+  o.effects = {"ambient_offset"};
+  o.folds = 3;
+  const diagnose::Report rep = diagnose::diagnose({logs::parse_log(csv.str(), "proximity.csv", logs::Kind::proximity)}, o);
+  ASSERT_TRUE(rep.supported) << rep.message;
+  EXPECT_EQ(rep.jackknife_folds, 3u);
+  int finite = 0;
+  for (const diagnose::NamedValue& v : rep.recalibrated)
+    if (std::isfinite(v.std_error_jackknife) && v.std_error_jackknife > 0) ++finite;
+  EXPECT_GE(finite, 3) << "the recalibrated a, b, c each have a jackknife error with 3 folds";
+}
+
+// ----- simulate --like, through the real binary -----
+
+std::string temp_dir() {
+  static const std::string dir = [] {
+    char tmpl[] = "/tmp/round_three_slips_XXXXXX";
+    const char* d = mkdtemp(tmpl);
+    return std::string(d ? d : "/tmp");
+  }();
+  return dir;
+}
+
+std::string write_file(const std::string& name, const std::string& text) {
+  const std::string path = temp_dir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+/// Runs `epuck2-fit simulate KIND --like LOG [--coefficients FILE] -o OUT` and reads OUT back.
+logs::Log simulate_like(const std::string& kind, const std::string& log, const std::string& coefficients) {
+  const std::string out = temp_dir() + "/" + kind + "_sim.csv";
+  const std::string cmd = std::string(EPUCK2_FIT_EXE) + " simulate " + kind + " --like " + log +
+                          (coefficients.empty() ? std::string() : " --coefficients " + coefficients) + " -o " + out + " 2>/dev/null";
+  const int rc = std::system(cmd.c_str());
+  EXPECT_EQ(rc, 0) << cmd;
+  return logs::read_log(out);
+}
+
+TEST(RoundThreeSimulateLike, LightReadingByHandIntensityAndDistanceApart) {
+  // docs/coefficient-files.md (light): the paper's Eq. 2, reading / 4095 = 1 - (gamma I / d)^2
+  // within range_m. gamma 0.1 m, range 1 m: I = 0.5 at d = 0.2 m: ratio 0.25, 4095 x (1 - 1/16) =
+  // 3839.0625; I = 0.2 at d = 0.5 m: ratio 0.04, 4095 x (1 - 0.0016) = 4088.448.
+  const std::string model = write_file("light.json", R"({"kind": "light", "parameters": {"gamma": 0.1, "range_m": 1.0}})");
+  const std::string log = write_file("light.csv", "distance_m,intensity,sensor,value\n0.2,0.5,0,0\n0.5,0.2,3,0\n");
+  const logs::Log sim = simulate_like("light", log, model);
+  ASSERT_EQ(sim.rows(), 2u);
+  EXPECT_NEAR(sim.col("value")[0], 3839.0625, 1e-9);
+  EXPECT_NEAR(sim.col("value")[1], 4088.448, 1e-9);
+}
+
+TEST(RoundThreeSimulateLike, BatteryRunStartsFromTheFirstReading) {
+  // docs/cli.md (simulate battery --like): from a full charge when the first reading is >= 0.9,
+  // else from the first reading. A log from 0.6 down to 0.3: the simulated charge at the first
+  // row (no time elapsed) is 0.6, and a discharge never rises.
+  const std::string log = write_file("battery.csv",
+                                     "time_s,speed_cm_s,charge\n0,0,0.6\n600,0,0.5\n1200,0,0.4\n1800,0,0.3\n");
+  const logs::Log sim = simulate_like("battery", log, "");
+  ASSERT_EQ(sim.rows(), 4u);
+  EXPECT_NEAR(sim.col("charge")[0], 0.6, 1e-9);
+  for (std::size_t i = 1; i < sim.rows(); ++i) EXPECT_LE(sim.col("charge")[i], sim.col("charge")[i - 1]);
+  EXPECT_LT(sim.col("charge")[3], 0.6);
 }
 
 }  // namespace
