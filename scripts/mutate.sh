@@ -127,7 +127,7 @@ def whole(programs, extra=()):
     return (sorted(set(programs)) + ["epuck2-fit"], ("whole", tuple(sorted(set(programs))), tuple(extra)))
 
 
-R3_ALWAYS = ["test_safe_cli", "test_round_two_slips", "test_unlisted_areas", "test_area_boundaries"]
+R3_ALWAYS = ["test_safe_cli", "test_round_two_slips", "test_unlisted_areas", "test_area_boundaries", "test_round_three_slips"]
 R3_CHARGE = whole(R3_ALWAYS + ["test_charge_map", "test_voltage_logs_cli", "test_battery_cli", "test_battery_fit",
                                "test_small_data_cli"])
 R3_NOISE = whole(R3_ALWAYS + ["test_reading_noise", "test_diagnose_noise", "test_sensor_fits", "test_sensor_cli",

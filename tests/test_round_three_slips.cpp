@@ -4,6 +4,7 @@
 // apart from the code under test -- never a number printed by that code.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -13,11 +14,14 @@
 #include <vector>
 
 #include "epuck2/calibrate/charge_map.hpp"
+#include "epuck2/calibrate/plausibility.hpp"
 #include "epuck2/calibrate/reading_noise.hpp"
 #include "epuck2/coefficients/codegen.hpp"
 #include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/diagnose/reading_noise.hpp"
+#include "epuck2/fit/report.hpp"
+#include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/noise.hpp"
 
@@ -233,6 +237,79 @@ TEST(RoundThreeSimulateLike, BatteryRunStartsFromTheFirstReading) {
   EXPECT_NEAR(sim.col("charge")[0], 0.6, 1e-9);
   for (std::size_t i = 1; i < sim.rows(); ++i) EXPECT_LE(sim.col("charge")[i], sim.col("charge")[i - 1]);
   EXPECT_LT(sim.col("charge")[3], 0.6);
+}
+
+// ----- the cluster-robust errors: every run counts, the first (run 0) included -----
+
+TEST(RoundThreeClusterRobust, FiveRunsNumberedFromZeroByHand) {
+  // One parameter, a constant (Jacobian a column of ones), 10 residuals in 5 runs numbered 0..4
+  // (as the drive fit numbers its runs): run sums 3 + 1 = 4, -1 - 1 = -2, 2 + 0 = 2, -2 - 1 = -3,
+  // 0 - 1 = -1. Sandwich (J'J)^-1 (sum S_g^2) (J'J)^-1 G/(G - 1) = (16 + 4 + 4 + 9 + 1)/100 x 5/4
+  // = 0.425: the error sqrt(0.425) = 0.65192, above the covariance's 0.1.
+  const std::vector<double> r = {3, 1, -1, -1, 2, 0, -2, -1, 0, -1};
+  const std::vector<int> run = {0, 0, 1, 1, 2, 2, 3, 3, 4, 4};
+  const Eigen::MatrixXd J = Eigen::MatrixXd::Ones(10, 1);
+  fit::FitResult f;
+  f.usable = true;
+  f.parameters = {{"mu", 0.0, 0.1}};
+  ASSERT_EQ(fit::kMinClusters, 5u);  // exactly at the limit: the sandwich is used
+  fit::AutocorrelationCorrection a;
+  fit::apply_cluster_robust(a, f, J, r, run);
+  EXPECT_TRUE(a.cluster_robust) << a.cluster_why_not;
+  EXPECT_EQ(a.series, 5u);
+  ASSERT_EQ(a.std_errors.size(), 1u);
+  EXPECT_NEAR(a.std_errors[0], std::sqrt(0.425), 1e-12);
+  // The same runs numbered 1..5: the same error.
+  std::vector<int> shifted = run;
+  for (int& k : shifted) ++k;
+  fit::AutocorrelationCorrection b;
+  fit::apply_cluster_robust(b, f, J, r, shifted);
+  ASSERT_EQ(b.std_errors.size(), 1u);
+  EXPECT_NEAR(b.std_errors[0], std::sqrt(0.425), 1e-12);
+}
+
+// ----- the Tobit passes: a floor reading far below the curve is as wild as an exact one -----
+
+struct Constant {
+  std::size_t n;
+  template <typename T>
+  bool operator()(const T* p, T* out) const {
+    for (std::size_t i = 0; i < n; ++i) out[i] = p[0];
+    return true;
+  }
+};
+
+TEST(RoundThreeTobit, AFloorReadingFarBelowTheCurveIsLeftOut) {
+  // 20 exact readings 99, 101, 99, 101, ... (mean 100, sd 1) and one reading at the floor rail,
+  // 0 ("at or below 0"): the curve, 100, is 100 sd above that rail -- the rail reading says the
+  // truth is at most 0, which no reading near 100 allows: a wild reading (fit::fit_robust: "a rail
+  // reading the curve puts far on the other side of the rail is just as wild"), left out. The
+  // constant is then the exact readings' mean, 100.
+  std::vector<fit::Observation> obs;
+  for (int i = 0; i < 20; ++i) obs.push_back({i % 2 ? 101.0 : 99.0, fit::Censoring::none, "", -1});
+  obs.push_back({0.0, fit::Censoring::at_or_below, "", -1});
+  fit::RobustOptions o;
+  o.robust = true;
+  const fit::RobustFit f = fit::fit_robust(Constant{obs.size()}, obs, {{"mu", 50.0}}, o);
+  ASSERT_TRUE(f.usable) << f.message;
+  EXPECT_NEAR(f.value("mu"), 100.0, 1e-6);
+  EXPECT_NE(std::find(f.outliers.begin(), f.outliers.end(), 20u), f.outliers.end()) << "the floor reading was kept";
+}
+
+// ----- the column-unit hints: the largest distance is judged -----
+
+TEST(RoundThreeUnitHints, TheLargestDistanceIsTheOneJudged) {
+  // The plug-in's proximity sensor sees to 0.05 m; a distance beyond 10 x that, 0.5 m, is not in
+  // metres. Rows 0.01, 0.03 and 5 (line 4): the 5 is named, 5 / (2 x 0.05) = 50 times too large
+  // (a largest distance of about twice the range assumed): centimetres.
+  const logs::Log log = logs::parse_log("distance_m,sensor,value\n0.01,0,3000\n0.03,0,1000\n5,0,100\n", "cm.csv", logs::Kind::proximity);
+  try {
+    calibrate::check_plausible_units({log});
+    FAIL() << "accepted a distance of 5 m";
+  } catch (const logs::InputError& e) {
+    EXPECT_EQ(e.line(), 4) << e.what();
+    EXPECT_NE(std::string(e.what()).find("centimetres?"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
