@@ -61,6 +61,7 @@ DE_RS = "lib/diagnose/src/residual_structure.cpp"
 DE_S = "lib/diagnose/src/search.cpp"
 DH = "lib/diagnose/include/epuck2/diagnose/diagnose.hpp"
 RB = "lib/fit/src/robust.cpp"
+RD = "lib/fit/src/readings.cpp"  # the one censored (Tobit) residual
 
 # Test groups: the test programs to build and the ctest -R pattern of the tests to run.
 SENSORS = (["test_sensor_models", "test_sensor_fits", "test_independent_checks", "test_measured_logs"],
@@ -163,23 +164,23 @@ AS = "argos/src/calibrated_sensors.cpp"
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
     ("light_term_plus_1pct", ML, "  return r * r;", "  return 1.01 * r * r;", SENSORS),
-    ("ground_censoring_removed", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
+    ("ground_censoring_removed", FS_G, "      const Censoring c = fit::censoring_at(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
     ("diagnose_bic_gate_sign", DE_S, "if (t.delta_bic <= -o_.min_delta_bic) passing", "if (t.delta_bic <= o_.min_delta_bic) passing", DIAGNOSE),
     ("diagnose_heldout_gate_flipped", DE_S, "const bool gain = t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain);", "const bool gain = t.heldout_mse <= current_h_.all * (1.0 + o_.min_heldout_gain);", DIAGNOSE),
     ("battery_filter_tau_plus_1pct", B, "kFirmwareFilterTau_s = 2.2407;", "kFirmwareFilterTau_s = 2.2631;", BATTERY),
     ("ground_offset_meaning", MG, "  return offset_raw + gain_raw * grey;", "  return offset_raw * (1.0 - grey) + gain_raw * grey;", SENSORS),
     ("tof_offset_inside_scale", MT, "  return scale * distance_m * 1000.0 + offset_mm;", "  return scale * (distance_m * 1000.0 + offset_mm);", SENSORS),
     # Other plausible slips in the models, the fits and the diagnosis's decision rules:
-    ("light_rails_not_censored", FS_L, "rail_of(o.value_raw, 0, full), o.where, group});", "rail_of(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
-    ("ground_low_rail_only", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], 0, 1e300);", SENSORS),
-    ("ground_high_rail_only", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], -1e300, full);", SENSORS),
+    ("light_rails_not_censored", FS_L, "fit::censoring_at(o.value_raw, 0, full), o.where, group});", "fit::censoring_at(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
+    ("ground_low_rail_only", FS_G, "      const Censoring c = fit::censoring_at(v[i], 0, full);", "      const Censoring c = fit::censoring_at(v[i], 0, 1e300);", SENSORS),
+    ("ground_high_rail_only", FS_G, "      const Censoring c = fit::censoring_at(v[i], 0, full);", "      const Censoring c = fit::censoring_at(v[i], -1e300, full);", SENSORS),
     ("proximity_linear_sign", MP, "return (abc[0] * distance_m + abc[1]) * distance_m + abc[2];", "return (abc[0] * distance_m - abc[1]) * distance_m + abc[2];", SENSORS),
     ("camera_px_sign", MC, "px[0] = cx_px - f_px * x * scale;", "px[0] = cx_px + f_px * x * scale;", SENSORS),
     ("camera_full_angle_focal", MC, "const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);", "const T f_px = T(width_px / 2.0) / tan(hfov_rad);", SENSORS),
     ("tof_floor_censoring_removed", SC, "  if (mm <= s::kPluginTof.min_mm) r.observation", "  if (false) r.observation", SENSORS),
     ("tof_ceiling_censoring_removed", SC, "  else if (mm >= s::kPluginTof.max_mm) r.observation", "  else if (false) r.observation", SENSORS),
     # The censored, robust engine (lib/fit/src/robust.cpp):
-    ("tobit_rail_side_flipped", RB, "const double z = sign * (pred_[i] - o.value) / sigma_;", "const double z = -sign * (pred_[i] - o.value) / sigma_;", SENSORS),
+    ("tobit_rail_side_flipped", RD, "const double z = sign * (prediction - reading) / sd;", "const double z = -sign * (prediction - reading) / sd;", SENSORS),
     ("outliers_never_left_out", RB, "if (obs[i].censoring == Censoring::none && std::abs(dev) > opt.reject_sd) next[i] = 0;", "if (false) next[i] = 0;", SENSORS),
     ("encoder_unwrap_off_by_one", ME, "if (delta > 32767.0) delta -= 65536.0;", "if (delta > 32767.0) delta -= 65535.0;", SENSORS),
     ("slip_lag_decay_complement", MD, "vg_m_s = u0_m_s + ag_m_s2 * len_s - ag_m_s2 * tau + c * e;", "vg_m_s = u0_m_s + ag_m_s2 * len_s - ag_m_s2 * tau + c * (1.0 - e);", SENSORS),
@@ -198,7 +199,7 @@ MUTANTS = [
     ("unit_s_before_cm_s", LR, 'for (const char* unit : {"cm_s", "mm", "deg", "s", "m", "v"}) {', 'for (const char* unit : {"s", "cm_s", "mm", "deg", "m", "v"}) {', HINTS),
     ("unit_typo_half_rule", LR, "if (d < best_distance && 2 * d < missing.size()) {", "if (d < best_distance && d < missing.size()) {", HINTS),
     ("unit_hint_column_index", LR, "    column = header_columns[best];", "    column = static_cast<int>(best) + 1;", HINTS),
-    ("tof_code_dropout_ignored", DK_DRIVE, "const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]));", "const bool dropout = false;", TOF_CODES),
+    ("tof_code_dropout_ignored", DK_DRIVE, "const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])));", "const bool dropout = false;", TOF_CODES),
     ("tof_code_as_reading", DK_DRIVE, "{calibrate::read_tof(tof[i]).observation.value, ul[i], ur[i]}", "{tof[i], ul[i], ur[i]}", TOF_CODES),
     ("tof_code_strict", LH, "return mm >= kTofOutOfRangeCode_mm;", "return mm > kTofOutOfRangeCode_mm;", TOF_CODES),
     ("noise_dof_no_minus_one", RN, "dof += v.size() - 1;", "dof += v.size();", NOISE),
@@ -218,7 +219,7 @@ MUTANTS = [
     ("q_se_not_squared", RB, "s.q += (x[i] - xw) * (x[i] - xw) / (se[i] * se[i]);", "s.q += (x[i] - xw) * (x[i] - xw) / se[i];", QTEST),
     ("tobit_em_hazard_side", RB, "ss += sigma * sigma * (1 + c * normal_hazard_lower(-c));", "ss += sigma * sigma * (1 + c * normal_hazard_lower(c));", TOBIT),
     ("tobit_loglik_side", RB, "loglik += log_normal_cdf(sign * (predictions[i] - obs[i].value) / sigma);", "loglik += log_normal_cdf(sign * (obs[i].value - predictions[i]) / sigma);", TOBIT),
-    ("tobit_gradient_unsigned", RB, "-sw * normal_hazard_lower(z) / r * sign / sigma_", "-sw * normal_hazard_lower(z) / r / sigma_", TOBIT),
+    ("tobit_gradient_unsigned", RD, "? -scale * normal_hazard_lower(z) / r / sd : 0.0;", "? scale * normal_hazard_lower(z) / r / sd : 0.0;", TOBIT),
     ("codegen_array_first", CG, 'for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + cpp_number(v[i]);', 'for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + cpp_number(v[0]);', CODEGEN),
     ("codegen_ground_gain_offset_swapped", CG, 'cpp_number(m.sensors[k].gain_raw) << ", " << cpp_number(m.sensors[k].offset_raw)', 'cpp_number(m.sensors[k].offset_raw) << ", " << cpp_number(m.sensors[k].gain_raw)', CODEGEN),
     ("codegen_covariate_slope_centre", CG, 'cpp_number(covariates[i].slope) + ", " +\n           cpp_number(covariates[i].centre)', 'cpp_number(covariates[i].centre) + ", " +\n           cpp_number(covariates[i].slope)', CODEGEN),
@@ -241,7 +242,7 @@ MUTANTS = [
     ('tobit_loglik_no_log_sigma', RB, 'loglik += -std::log(sigma) - kLogSqrt2Pi - 0.5 * z * z;', 'loglik += -kLogSqrt2Pi - 0.5 * z * z;', round_two(TOBIT, "RoundTwoTobit")),
     ('cap_bic_margin_sign', FS_D, 'out.bic_uncapped <= out.bic_capped - kCapBicMargin', 'out.bic_uncapped <= out.bic_capped + kCapBicMargin', round_two(CAP, "RoundTwoFirmwareCap")),
     ('hint_obstacle_tof_in_mm', "lib/calibrate/src/plausibility.cpp", 'likely_unit(seen ? d / (tof[0] / 1000.0) : d / ceiling_m)', 'likely_unit(seen ? d / tof[0] : d / ceiling_m)', round_two(HINTS, "RoundTwoUnitHints")),
-    ('tof_code_view_range_in_m', DK_DRIVE, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_m[i])', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
+    ('tof_code_view_range_in_m', DK_DRIVE, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_metres(ul[i], ur[i]))', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
     ('model_file_open_lower_ignored', MF, '(p->open_lower ? x > p->lower : x >= p->lower)', 'x >= p->lower', round_two(CODEGEN, "RoundTwoModelFile")),
     # Round 3 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
     ("r3_charge_flat_knots_refused", CM, "if (m.knot_charge[k] < m.knot_charge[k - 1])", "if (m.knot_charge[k] <= m.knot_charge[k - 1])", R3_CHARGE),
