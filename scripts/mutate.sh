@@ -11,6 +11,16 @@
 #   scripts/mutate.sh                 every mutant
 #   scripts/mutate.sh light tof       only the mutants whose name contains one of these words
 #   EPUCK2_MUT_TIMEOUT=600 scripts/mutate.sh   per-mutant test timeout in seconds (default 420)
+#   scripts/mutate.sh --check         checks the list only (builds and runs nothing): exit 1 naming
+#                                     every mutant whose file is missing or whose original text
+#                                     does not occur exactly once in it (a stale mutant)
+#
+# A test group is either (test programs, ctest -R pattern) or whole(programs, extra tests): every
+# test those programs define (their names read from `ctest --show-only=json-v1`) and the extra
+# tests (prefixes of ctest names, without "|"). A whole group's tests all run (no --stop-on-failure):
+# every failing test is printed, and a mutant that only the comparisons of regenerated output fail
+# (STABILITY below: they check that output is stable, not that it is right) is marked so.
+# EPUCK2_JOBS sets the build's parallelism, EPUCK2_MUT_TEST_JOBS ctest's (default EPUCK2_JOBS).
 #
 # Prints killed/survived per mutant and the score; exit 0 when the score is >= 90 %.
 set -euo pipefail
@@ -18,7 +28,7 @@ cd "$(dirname "$0")/.."
 ROOT="$PWD"
 export EPUCK2_MUT_ROOT="$ROOT"
 exec /usr/bin/python3 - "$@" <<'PY'
-import os, shutil, subprocess, sys, time
+import json, os, shutil, subprocess, sys, time
 
 ROOT = os.environ["EPUCK2_MUT_ROOT"]
 MUT = os.path.join(ROOT, "build-mut")
@@ -26,6 +36,11 @@ SRC = os.path.join(MUT, "src")
 BUILD = os.path.join(SRC, "build")
 JOBS = os.environ.get("EPUCK2_JOBS", str(os.cpu_count() or 2))
 TIMEOUT = int(os.environ.get("EPUCK2_MUT_TIMEOUT", "420"))
+TEST_JOBS = os.environ.get("EPUCK2_MUT_TEST_JOBS", JOBS)
+# The comparisons of regenerated output with committed files: a mutant only these fail is caught
+# by a stability check, not by a correctness test.
+STABILITY = {"SafeCli.TheShippedCoefficientFilesAndReportsRegenerateByteForByte",
+             "BatteryCli.CommittedHeaderIsWhatCodegenWritesToday", "docs_commands"}
 
 M = "lib/models/include/epuck2/models/sensors.hpp"
 ML = "lib/models/include/epuck2/models/light.hpp"
@@ -46,6 +61,7 @@ DE_RS = "lib/diagnose/src/residual_structure.cpp"
 DE_S = "lib/diagnose/src/search.cpp"
 DH = "lib/diagnose/include/epuck2/diagnose/diagnose.hpp"
 RB = "lib/fit/src/robust.cpp"
+RD = "lib/fit/src/readings.cpp"  # the one censored (Tobit) residual
 
 # Test groups: the test programs to build and the ctest -R pattern of the tests to run.
 SENSORS = (["test_sensor_models", "test_sensor_fits", "test_independent_checks", "test_measured_logs"],
@@ -102,27 +118,69 @@ SL = "apps/cmd_simulate_like.cpp"
 LIKE = (["epuck2-fit", R2], r"^RoundTwoSimulateLike")
 MF = "lib/coefficients/src/model_file.cpp"
 
+
+# Round 3 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-3): each group is every test
+# of the test programs that touch the area (and the CLI, relinked, for the programs that run it),
+# the comparisons of regenerated output included, so that "killed by the suite" is the suite's
+# verdict, not one chosen suite's. (docs_commands is not in them: it copies the checkout with git,
+# which the script's copy is not.)
+def whole(programs, extra=()):
+    return (sorted(set(programs)) + ["epuck2-fit"], ("whole", tuple(sorted(set(programs))), tuple(extra)))
+
+
+R3_ALWAYS = ["test_safe_cli", "test_round_two_slips", "test_unlisted_areas", "test_area_boundaries", "test_round_three_slips"]
+R3_CHARGE = whole(R3_ALWAYS + ["test_charge_map", "test_voltage_logs_cli", "test_battery_cli", "test_battery_fit",
+                               "test_small_data_cli"])
+R3_NOISE = whole(R3_ALWAYS + ["test_reading_noise", "test_diagnose_noise", "test_sensor_fits", "test_sensor_cli",
+                              "test_measured_logs", "test_model_loop", "test_diagnose_steps", "test_honest_fits"])
+R3_CODEGEN = whole(R3_ALWAYS + ["test_coefficients", "test_model_loop", "test_battery_cli", "test_model_sets",
+                                "test_checked_outputs"])
+R3_LIKE = whole(R3_ALWAYS + ["test_model_loop", "test_coefficients", "test_checked_outputs", "test_voltage_logs_cli",
+                             "test_small_data_cli"])
+R3_DIAGNOSE = whole(R3_ALWAYS + ["test_diagnose", "test_diagnose_steps", "test_diagnose_noise", "test_honest_fits",
+                                 "test_independent_checks", "test_model_loop", "test_long_logs"])
+R3_FIT = whole(R3_ALWAYS + ["test_report", "test_report_files", "test_measured_logs", "test_sensor_fits",
+                            "test_independent_checks", "test_honest_fits", "test_nist", "test_linear_start", "test_sensor_cli",
+                            "test_diagnose_steps", "test_sensor_models"])
+R3_CAP = whole(R3_ALWAYS + ["test_sensor_fits", "test_measured_logs", "test_independent_checks", "test_honest_fits",
+                            "test_sensor_cli", "test_diagnose_steps", "test_model_loop"])
+R3_HINTS = whole(R3_ALWAYS + ["test_log_reader", "test_cli_grammar", "test_honest_fits", "test_sensor_cli",
+                              "test_diagnose_steps"])
+R3_MODEL = whole(R3_ALWAYS + ["test_coefficients", "test_model_sets", "test_model_loop", "test_log_reader",
+                              "test_checked_outputs"])
+# The ARGoS plug-in and its tests (every one but the battery's, which the sensors' noise does not touch).
+R3_ARGOS = (["epuck2-fit", "epuck2_argos_calibrated", "epuck2_argos_protocols", "argos_hidden_log", "test_argos_calibrated_drive"],
+            ("whole", (), ("argos_noise_", "argos_roundtrip_proximity", "argos_roundtrip_ground", "argos_roundtrip_light",
+                           "argos_roundtrip_drive", "argos_roundtrip_camera", "argos_roundtrip_default_", "argos_calibrated_",
+                           "argos_hostile_files", "argos_closed_loop_proximity_", "argos_closed_loop_ground_",
+                           "argos_closed_loop_light_", "argos_closed_loop_camera_", "argos_closed_loop_protocol_",
+                           "argos_replay_like")))
+DR = "lib/diagnose/src/reading_noise.cpp"
+KG = "lib/diagnose/src/kind_ground.cpp"
+PL = "lib/calibrate/src/plausibility.cpp"
+AS = "argos/src/calibrated_sensors.cpp"
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
     ("light_term_plus_1pct", ML, "  return r * r;", "  return 1.01 * r * r;", SENSORS),
-    ("ground_censoring_removed", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
+    ("ground_censoring_removed", FS_G, "      const Censoring c = fit::censoring_at(v[i], 0, full);", "      const Censoring c = Censoring::none;", SENSORS),
     ("diagnose_bic_gate_sign", DE_S, "if (t.delta_bic <= -o_.min_delta_bic) passing", "if (t.delta_bic <= o_.min_delta_bic) passing", DIAGNOSE),
     ("diagnose_heldout_gate_flipped", DE_S, "const bool gain = t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain);", "const bool gain = t.heldout_mse <= current_h_.all * (1.0 + o_.min_heldout_gain);", DIAGNOSE),
     ("battery_filter_tau_plus_1pct", B, "kFirmwareFilterTau_s = 2.2407;", "kFirmwareFilterTau_s = 2.2631;", BATTERY),
     ("ground_offset_meaning", MG, "  return offset_raw + gain_raw * grey;", "  return offset_raw * (1.0 - grey) + gain_raw * grey;", SENSORS),
     ("tof_offset_inside_scale", MT, "  return scale * distance_m * 1000.0 + offset_mm;", "  return scale * (distance_m * 1000.0 + offset_mm);", SENSORS),
     # Other plausible slips in the models, the fits and the diagnosis's decision rules:
-    ("light_rails_not_censored", FS_L, "rail_of(o.value_raw, 0, full), o.where, group});", "rail_of(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
-    ("ground_low_rail_only", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], 0, 1e300);", SENSORS),
-    ("ground_high_rail_only", FS_G, "      const Censoring c = rail_of(v[i], 0, full);", "      const Censoring c = rail_of(v[i], -1e300, full);", SENSORS),
+    ("light_rails_not_censored", FS_L, "fit::censoring_at(o.value_raw, 0, full), o.where, group});", "fit::censoring_at(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
+    ("ground_low_rail_only", FS_G, "      const Censoring c = fit::censoring_at(v[i], 0, full);", "      const Censoring c = fit::censoring_at(v[i], 0, 1e300);", SENSORS),
+    ("ground_high_rail_only", FS_G, "      const Censoring c = fit::censoring_at(v[i], 0, full);", "      const Censoring c = fit::censoring_at(v[i], -1e300, full);", SENSORS),
     ("proximity_linear_sign", MP, "return (abc[0] * distance_m + abc[1]) * distance_m + abc[2];", "return (abc[0] * distance_m - abc[1]) * distance_m + abc[2];", SENSORS),
     ("camera_px_sign", MC, "px[0] = cx_px - f_px * x * scale;", "px[0] = cx_px + f_px * x * scale;", SENSORS),
     ("camera_full_angle_focal", MC, "const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);", "const T f_px = T(width_px / 2.0) / tan(hfov_rad);", SENSORS),
     ("tof_floor_censoring_removed", SC, "  if (mm <= s::kPluginTof.min_mm) r.observation", "  if (false) r.observation", SENSORS),
     ("tof_ceiling_censoring_removed", SC, "  else if (mm >= s::kPluginTof.max_mm) r.observation", "  else if (false) r.observation", SENSORS),
     # The censored, robust engine (lib/fit/src/robust.cpp):
-    ("tobit_rail_side_flipped", RB, "const double z = sign * (pred_[i] - o.value) / sigma_;", "const double z = -sign * (pred_[i] - o.value) / sigma_;", SENSORS),
+    ("tobit_rail_side_flipped", RD, "const double z = sign * (prediction - reading) / sd;", "const double z = -sign * (prediction - reading) / sd;", SENSORS),
     ("outliers_never_left_out", RB, "if (obs[i].censoring == Censoring::none && std::abs(dev) > opt.reject_sd) next[i] = 0;", "if (false) next[i] = 0;", SENSORS),
     ("encoder_unwrap_off_by_one", ME, "if (delta > 32767.0) delta -= 65536.0;", "if (delta > 32767.0) delta -= 65535.0;", SENSORS),
     ("slip_lag_decay_complement", MD, "vg_m_s = u0_m_s + ag_m_s2 * len_s - ag_m_s2 * tau + c * e;", "vg_m_s = u0_m_s + ag_m_s2 * len_s - ag_m_s2 * tau + c * (1.0 - e);", SENSORS),
@@ -141,7 +199,7 @@ MUTANTS = [
     ("unit_s_before_cm_s", LR, 'for (const char* unit : {"cm_s", "mm", "deg", "s", "m", "v"}) {', 'for (const char* unit : {"s", "cm_s", "mm", "deg", "m", "v"}) {', HINTS),
     ("unit_typo_half_rule", LR, "if (d < best_distance && 2 * d < missing.size()) {", "if (d < best_distance && d < missing.size()) {", HINTS),
     ("unit_hint_column_index", LR, "    column = header_columns[best];", "    column = static_cast<int>(best) + 1;", HINTS),
-    ("tof_code_dropout_ignored", DK_DRIVE, "const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]));", "const bool dropout = false;", TOF_CODES),
+    ("tof_code_dropout_ignored", DK_DRIVE, "const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])));", "const bool dropout = false;", TOF_CODES),
     ("tof_code_as_reading", DK_DRIVE, "{calibrate::read_tof(tof[i]).observation.value, ul[i], ur[i]}", "{tof[i], ul[i], ur[i]}", TOF_CODES),
     ("tof_code_strict", LH, "return mm >= kTofOutOfRangeCode_mm;", "return mm > kTofOutOfRangeCode_mm;", TOF_CODES),
     ("noise_dof_no_minus_one", RN, "dof += v.size() - 1;", "dof += v.size();", NOISE),
@@ -161,7 +219,7 @@ MUTANTS = [
     ("q_se_not_squared", RB, "s.q += (x[i] - xw) * (x[i] - xw) / (se[i] * se[i]);", "s.q += (x[i] - xw) * (x[i] - xw) / se[i];", QTEST),
     ("tobit_em_hazard_side", RB, "ss += sigma * sigma * (1 + c * normal_hazard_lower(-c));", "ss += sigma * sigma * (1 + c * normal_hazard_lower(c));", TOBIT),
     ("tobit_loglik_side", RB, "loglik += log_normal_cdf(sign * (predictions[i] - obs[i].value) / sigma);", "loglik += log_normal_cdf(sign * (obs[i].value - predictions[i]) / sigma);", TOBIT),
-    ("tobit_gradient_unsigned", RB, "-sw * normal_hazard_lower(z) / r * sign / sigma_", "-sw * normal_hazard_lower(z) / r / sigma_", TOBIT),
+    ("tobit_gradient_unsigned", RD, "? -scale * normal_hazard_lower(z) / r / sd : 0.0;", "? scale * normal_hazard_lower(z) / r / sd : 0.0;", TOBIT),
     ("codegen_array_first", CG, 'for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + cpp_number(v[i]);', 'for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + cpp_number(v[0]);', CODEGEN),
     ("codegen_ground_gain_offset_swapped", CG, 'cpp_number(m.sensors[k].gain_raw) << ", " << cpp_number(m.sensors[k].offset_raw)', 'cpp_number(m.sensors[k].offset_raw) << ", " << cpp_number(m.sensors[k].gain_raw)', CODEGEN),
     ("codegen_covariate_slope_centre", CG, 'cpp_number(covariates[i].slope) + ", " +\n           cpp_number(covariates[i].centre)', 'cpp_number(covariates[i].centre) + ", " +\n           cpp_number(covariates[i].slope)', CODEGEN),
@@ -184,8 +242,35 @@ MUTANTS = [
     ('tobit_loglik_no_log_sigma', RB, 'loglik += -std::log(sigma) - kLogSqrt2Pi - 0.5 * z * z;', 'loglik += -kLogSqrt2Pi - 0.5 * z * z;', round_two(TOBIT, "RoundTwoTobit")),
     ('cap_bic_margin_sign', FS_D, 'out.bic_uncapped <= out.bic_capped - kCapBicMargin', 'out.bic_uncapped <= out.bic_capped + kCapBicMargin', round_two(CAP, "RoundTwoFirmwareCap")),
     ('hint_obstacle_tof_in_mm', "lib/calibrate/src/plausibility.cpp", 'likely_unit(seen ? d / (tof[0] / 1000.0) : d / ceiling_m)', 'likely_unit(seen ? d / tof[0] : d / ceiling_m)', round_two(HINTS, "RoundTwoUnitHints")),
-    ('tof_code_view_range_in_m', DK_DRIVE, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_m[i]))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_m[i])', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
+    ('tof_code_view_range_in_m', DK_DRIVE, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_metres(ul[i], ur[i]))', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
     ('model_file_open_lower_ignored', MF, '(p->open_lower ? x > p->lower : x >= p->lower)', 'x >= p->lower', round_two(CODEGEN, "RoundTwoModelFile")),
+    # Round 3 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
+    ("r3_charge_flat_knots_refused", CM, "if (m.knot_charge[k] < m.knot_charge[k - 1])", "if (m.knot_charge[k] <= m.knot_charge[k - 1])", R3_CHARGE),
+    ("r3_charge_quantile_knots_k", CM, "static_cast<double>(n - 1) / (K - 1)", "static_cast<double>(n - 1) / K", R3_CHARGE),
+    ("r3_noise_model_sd_max", DR, "sd = std::min(rep, residual_sd);", "sd = std::max(rep, residual_sd);", R3_NOISE),
+    ("r3_noise_sensor_zero_pooled", DR, "if (sensor >= 0 && k < n.per_sensor_sd.size()", "if (sensor > 0 && k < n.per_sensor_sd.size()", R3_NOISE),
+    ("r3_codegen_array_last_dropped", CG, 'for (std::size_t i = 0; i < N; ++i) s += (i ? ", " : "") + cpp_number(a[i]);',
+     'for (std::size_t i = 0; i + 1 < N; ++i) s += (i ? ", " : "") + cpp_number(a[i]);', R3_CODEGEN),
+    ("r3_codegen_drive_encoder_from_tof", CG, '"  m.encoder_noise_sd_steps = " << cpp_number(m.encoder_noise_sd_steps)',
+     '"  m.encoder_noise_sd_steps = " << cpp_number(m.tof_noise_sd_mm)', R3_CODEGEN),
+    ("r3_like_light_args_swapped", SL, "s::mean_raw(m, static_cast<int>(sn[i]), in[i], d[i])", "s::mean_raw(m, static_cast<int>(sn[i]), d[i], in[i])", R3_LIKE),
+    ("r3_like_battery_start_last", SL, 'n ? log.col("charge").front() : 1.0', 'n ? log.col("charge").back() : 1.0', R3_LIKE),
+    ("r3_identify_equal_gains_inverted", KG, "if (!(p_value >= kEqualGainsP)) return std::nullopt;", "if (p_value >= kEqualGainsP) return std::nullopt;", R3_DIAGNOSE),
+    ("r3_jackknife_three_folds_strict", DE_S, "if (current_h_.fold_values.size() >= 3) {", "if (current_h_.fold_values.size() > 3) {", R3_DIAGNOSE),
+    ("r3_cluster_run_zero_dropped", RP, "if (std::isfinite(residuals[i]) && run[i] >= 0) {", "if (std::isfinite(residuals[i]) && run[i] > 0) {", R3_FIT),
+    ("r3_q_exceeds_inverted", RB, "s.exceeds = s.p_value < kRobotSpreadP;", "s.exceeds = s.p_value > kRobotSpreadP;", R3_FIT),
+    ("r3_tobit_below_reject_sign", RB, "if (obs[i].censoring == Censoring::at_or_below && dev < -opt.reject_sd) next[i] = 0;",
+     "if (obs[i].censoring == Censoring::at_or_below && dev > opt.reject_sd) next[i] = 0;", R3_FIT),
+    ("r3_cap_commanded_uses_uncapped", FS_D, "commanded_m += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);",
+     "commanded_m += run.command_uncapped_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);", R3_CAP),
+    ("r3_argos_ground_noise_scale", AS, 'ConfigureNoise(s, "ground", Sd(m_sModel.noise_sd_raw), ms::kPluginNoiseScaleGround_counts, m_cNoise);',
+     'ConfigureNoise(s, "ground", Sd(m_sModel.noise_sd_raw), ms::kPluginNoiseScaleProximity_counts, m_cNoise);', R3_ARGOS),
+    ("r3_hint_worst_distance_min", PL, "if (d[i] > d[worst]) worst = i;", "if (d[i] < d[worst]) worst = i;", R3_HINTS),
+    ("r3_hint_typo_distance_two", LR, "std::size_t best = 0, best_distance = 3;", "std::size_t best = 0, best_distance = 2;", R3_HINTS),
+    ("r3_tof_code_dropout_kept", DK_DRIVE, "const bool fresh[3] = {!dropout,", "const bool fresh[3] = {true,", R3_DIAGNOSE),
+    ("r3_model_noise_full_scale_le", MF, "if (!(out[i] >= 0 && out[i] < c.full_scale))", "if (!(out[i] >= 0 && out[i] <= c.full_scale))", R3_MODEL),
+    ("r3_model_encoder_noise_from_tof", MF, "m.encoder_noise_sd_steps = d.noise(d.facts().channels[1])[0];",
+     "m.encoder_noise_sd_steps = d.noise(d.facts().channels[0])[0];", R3_MODEL),
 ]
 
 
@@ -230,12 +315,13 @@ def build(targets, fast=False):
         return r.returncode == 0, r.stdout[-3000:]
     # Every library a test program links (TARGET/fast relinks the test against the archives as
     # they are: a mutant in lib/logs, lib/calibrate or lib/diagnose must be compiled into them first).
-    # A group that names the CLI (epuck2-fit: a mutant in apps/, tested through the binary) has it
-    # rebuilt here too; the test programs are still built /fast.
-    cli = ["epuck2-fit"] if "epuck2-fit" in targets else []
-    targets = [t for t in targets if t != "epuck2-fit"]
+    # A group that names a target outside tests/ (the CLI epuck2-fit for a mutant in apps/ or a
+    # test run through the binary, the ARGoS plug-in) has it rebuilt here with its dependencies;
+    # the test programs are still built /fast.
+    direct = [t for t in targets if not os.path.isdir(os.path.join(BUILD, "tests", "CMakeFiles", t + ".dir"))]
+    targets = [t for t in targets if t not in direct]
     r = sh(["cmake", "--build", BUILD, "-j" + JOBS, "--target", "epuck2_fit", "epuck2_virtual_robot", "epuck2_logs",
-            "epuck2_calibrate", "epuck2_diagnose", "epuck2_coefficients"] + cli,
+            "epuck2_calibrate", "epuck2_diagnose", "epuck2_coefficients"] + direct,
            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if r.returncode != 0:
         return False, r.stdout[-3000:]
@@ -246,25 +332,89 @@ def build(targets, fast=False):
                cwd=BUILD, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         if r.returncode != 0:
             return False, r.stdout[-3000:]
+    if not targets:
+        return True, ""
     r = sh(["make", "-C", BUILD, "-j" + JOBS] + [t + "/fast" for t in sorted(set(targets))],
            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     return r.returncode == 0, r.stdout[-3000:]
 
 
-def run_tests(pattern):
+def is_whole(pattern):
+    return isinstance(pattern, tuple) and pattern[0] == "whole"
+
+
+def resolve(pattern):
+    """A whole group's ctest -R pattern: the name of every test its programs define (as ctest lists
+    them in the configured build) and its extra tests."""
+    if not is_whole(pattern):
+        return pattern
+    _, programs, extra = pattern
+    r = sh(["ctest", "--test-dir", BUILD, "--show-only=json-v1"], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    names = []
+    for t in json.loads(r.stdout).get("tests", []):
+        command = t.get("command") or [""]
+        if os.path.basename(command[0]) in programs:
+            # By suite ("Suite.", "Prefix/Suite."): ctest's regular expressions have a size limit
+            # that a list of every test name exceeds. Outside letters, digits, _ and /, a character
+            # is matched as any character.
+            suite = "".join(ch if ch.isalnum() or ch in "_/" else "." for ch in t["name"].split(".")[0])
+            if suite + "[.]" not in names:
+                names.append(suite + "[.]")
+    missing = [p for p in programs if not any(
+        os.path.basename((t.get("command") or [""])[0]) == p for t in json.loads(r.stdout).get("tests", []))]
+    if missing:
+        sys.exit("mutate: no test of %s is known to ctest in %s" % (", ".join(missing), BUILD))
+    return "^(" + "|".join(names + list(extra)) + ")"
+
+
+def run_tests(pattern, stop=True):
     start = time.monotonic()
+    cmd = ["ctest", "--test-dir", BUILD, "-R", pattern, "--timeout", str(TIMEOUT), "-j" + TEST_JOBS]
+    if stop:
+        cmd.insert(5, "--stop-on-failure")
     try:
-        r = sh(["ctest", "--test-dir", BUILD, "-R", pattern, "--stop-on-failure", "--timeout", str(TIMEOUT),
-                "-j" + JOBS], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=TIMEOUT + 60)
+        r = sh(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=(TIMEOUT + 60) * (1 if stop else 4))
     except subprocess.TimeoutExpired:
-        return False, "timeout", time.monotonic() - start
+        return False, "timeout", time.monotonic() - start, ["timeout"]
     failed = [l.strip() for l in r.stdout.splitlines() if "***Failed" in l or "***Timeout" in l or "***Exception" in l]
+    names = []
+    for l in failed:
+        # "12/80 Test #12: Suite.Name ....***Failed  1.2 sec"
+        part = l.split(":", 1)[1] if ":" in l else l
+        names.append(part.split("...")[0].strip().rstrip("."))
     if "No tests were found" in r.stdout:
-        return False, "no tests matched " + pattern, time.monotonic() - start
-    return r.returncode == 0, "; ".join(failed[:3]), time.monotonic() - start
+        return False, "no tests matched " + pattern, time.monotonic() - start, ["none matched"]
+    why = "; ".join(failed[:3]) if stop else "%d failed: %s" % (len(names), ", ".join(names[:6]) + (", ..." if len(names) > 6 else ""))
+    return r.returncode == 0, why, time.monotonic() - start, names
+
+
+def check_list():
+    """--check: every mutant's file exists and holds its original text exactly once."""
+    bad = []
+    for name, path, old, new, _ in MUTANTS:
+        file = os.path.join(ROOT, path)
+        if not os.path.isfile(file):
+            bad.append("%s: %s is missing" % (name, path))
+            continue
+        n = open(file).read().count(old)
+        if n != 1:
+            bad.append("%s: its original text occurs %d times in %s (it must occur once)" % (name, n, path))
+        elif old == new:
+            bad.append("%s: the mutated text is the original" % name)
+    names = [m[0] for m in MUTANTS]
+    for n in sorted({n for n in names if names.count(n) > 1}):
+        bad.append("%s: the name is used by %d mutants" % (n, names.count(n)))
+    for b in bad:
+        print("mutate --check: " + b)
+    if bad:
+        sys.exit("mutate --check: %d of %d mutants do not apply" % (len(bad), len(MUTANTS)))
+    print("mutate --check: all %d mutants apply (each original text occurs once in its file)" % len(MUTANTS))
 
 
 def main():
+    if sys.argv[1:2] == ["--check"]:
+        check_list()
+        return
     words = sys.argv[1:]
     mutants = [m for m in MUTANTS if not words or any(w in m[0] for w in words)]
     copy_source()
@@ -279,20 +429,31 @@ def main():
     if not ok:
         print(log)
         sys.exit("mutate: the unmutated copy does not build")
-    for g in groups.values():
-        passed, why, took = run_tests(g[1])
+    patterns = {g[1]: resolve(g[1]) for g in groups.values()}
+    plain = [g for g in groups.values() if not is_whole(g[1])]
+    for g in plain:
+        passed, why, took, _ = run_tests(patterns[g[1]])
         if not passed:
             sys.exit("mutate: the unmutated tests fail (%s): %s" % (g[1], why))
         print("mutate: baseline %s passes (%.0f s)" % (g[1], took), flush=True)
+    wholes = sorted({part for g in groups.values() if is_whole(g[1]) for part in patterns[g[1]][2:-1].split("|")})
+    if wholes:
+        # The whole groups' tests overlap: their union runs once.
+        union = "^(" + "|".join(wholes) + ")"
+        passed, why, took, _ = run_tests(union, stop=False)
+        if not passed:
+            sys.exit("mutate: the unmutated tests of the whole groups fail: %s" % why)
+        print("mutate: baseline of the whole groups passes (%.0f s)" % took, flush=True)
     results = []
     for name, path, old, new, (targets, pattern) in mutants:
         file = os.path.join(SRC, path)
         pristine = open(file).read()
         if pristine.count(old) != 1:
-            results.append((name, "invalid", "the original text occurs %d times in %s" % (pristine.count(old), path)))
+            results.append((name, "invalid", "the original text occurs %d times in %s" % (pristine.count(old), path), False))
             print("%-32s INVALID (%s)" % (name, results[-1][2]), flush=True)
             continue
         start = time.monotonic()
+        stability_only = False
         try:
             with open(file, "w") as f:
                 f.write(pristine.replace(old, new))
@@ -301,24 +462,29 @@ def main():
                 # A mutant that does not compile says nothing about the tests: not counted.
                 verdict, why = "invalid", "does not compile"
             else:
-                passed, why, _ = run_tests(pattern)
+                passed, why, _, failed = run_tests(patterns[pattern], stop=not is_whole(pattern))
                 verdict = "survived" if passed else "killed"
+                stability_only = not passed and is_whole(pattern) and set(failed) <= STABILITY
         finally:
             with open(file, "w") as f:
                 f.write(pristine)
-        results.append((name, verdict, why))
-        print("%-32s %-8s %5.0f s  %s" % (name, verdict.upper(), time.monotonic() - start, why), flush=True)
+        results.append((name, verdict, why, stability_only))
+        print("%-32s %-8s %5.0f s  %s%s" % (name, verdict.upper(), time.monotonic() - start,
+                                             "(stability only) " if stability_only else "", why), flush=True)
     # Leave the build matching the source again (cheap: ccache).
     build(all_targets, fast=True)
     judged = [r for r in results if r[1] in ("killed", "survived")]
     killed = sum(1 for r in judged if r[1] == "killed")
     score = 100.0 * killed / len(judged) if judged else 0.0
     print("\nmutate: %d of %d mutants killed: score %.0f %%" % (killed, len(judged), score))
+    only = [r[0] for r in judged if r[3]]
+    if only:
+        print("mutate: killed only by a comparison of regenerated output (%d; by correctness tests %d of %d): %s"
+              % (len(only), killed - len(only), len(judged), ", ".join(only)))
     survivors = [r[0] for r in judged if r[1] == "survived"]
     if survivors:
         print("mutate: survived: " + ", ".join(survivors))
     sys.exit(0 if score >= 90.0 else 1)
-
 
 main()
 PY
