@@ -80,15 +80,6 @@ json mse_json(const ModelMse& m) {
   return j;
 }
 
-// `pointer` is where `j` is in the file (a JSON pointer): errors name the line of the offending
-// key (logs::json_file_error reads the file again to find it).
-double number_at(const json& j, const std::string& key, const std::string& path, const std::string& where,
-                 const std::string& pointer) {
-  if (!j.is_object() || !j.contains(key) || !j.at(key).is_number())
-    throw logs::json_file_error(path, pointer + "/" + key, where + ": expected a number '" + key + "'");
-  return j.at(key).get<double>();
-}
-
 }  // namespace
 
 std::string lifetime_text(const SpeedFit& s) {
