@@ -93,7 +93,7 @@ TOF_CODES = (["test_diagnose_steps", "test_log_reader", "test_measured_logs", "t
 # cluster-robust errors, the robots' Cochran Q test. (The CLI's tests are not in these groups: the
 # mutants' fast build does not relink the CLI.)
 CM = "lib/calibrate/src/charge_map.cpp"
-SC = "lib/calibrate/src/screening.cpp"
+SC = "lib/diagnose/src/screening.cpp"
 RP = "lib/fit/src/report.cpp"
 CHARGE = (["test_charge_map", "test_unlisted_areas"], r"^(ChargeMap|ChargeMapByHand)")
 CLUSTER = (["test_report", "test_report_files", "test_measured_logs", "test_unlisted_areas"],
@@ -177,8 +177,8 @@ MUTANTS = [
     ("proximity_linear_sign", MP, "return (abc[0] * distance_m + abc[1]) * distance_m + abc[2];", "return (abc[0] * distance_m - abc[1]) * distance_m + abc[2];", SENSORS),
     ("camera_px_sign", MC, "px[0] = cx_px - f_px * x * scale;", "px[0] = cx_px + f_px * x * scale;", SENSORS),
     ("camera_full_angle_focal", MC, "const T f_px = T(width_px / 2.0) / tan(hfov_rad / 2.0);", "const T f_px = T(width_px / 2.0) / tan(hfov_rad);", SENSORS),
-    ("tof_floor_censoring_removed", SC, "  if (mm <= s::kPluginTof.min_mm) r.observation", "  if (false) r.observation", SENSORS),
-    ("tof_ceiling_censoring_removed", SC, "  else if (mm >= s::kPluginTof.max_mm) r.observation", "  else if (false) r.observation", SENSORS),
+    ("tof_floor_censoring_removed", FS_D, "o{tof_channel.on_rails(mm), censoring_at(mm, tof_channel.low_rail,", "o{mm <= tof_channel.low_rail ? mm : tof_channel.on_rails(mm), censoring_at(mm, -HUGE_VAL,", SENSORS),
+    ("tof_ceiling_censoring_removed", FS_D, "o{tof_channel.on_rails(mm), censoring_at(mm, tof_channel.low_rail, tof_channel.high_rail)", "o{mm >= tof_channel.high_rail ? mm : tof_channel.on_rails(mm), censoring_at(mm, tof_channel.low_rail, HUGE_VAL)", SENSORS),
     # The censored, robust engine (lib/fit/src/robust.cpp):
     ("tobit_rail_side_flipped", RD, "const double z = sign * (prediction - reading) / sd;", "const double z = -sign * (prediction - reading) / sd;", SENSORS),
     ("outliers_never_left_out", RB, "if (obs[i].censoring == Censoring::none && std::abs(dev) > opt.reject_sd) next[i] = 0;", "if (false) next[i] = 0;", SENSORS),
@@ -199,8 +199,8 @@ MUTANTS = [
     ("unit_s_before_cm_s", LR, 'for (const char* unit : {"cm_s", "mm", "deg", "s", "m", "v"}) {', 'for (const char* unit : {"s", "cm_s", "mm", "deg", "m", "v"}) {', HINTS),
     ("unit_typo_half_rule", LR, "if (d < best_distance && 2 * d < missing.size()) {", "if (d < best_distance && d < missing.size()) {", HINTS),
     ("unit_hint_column_index", LR, "    column = header_columns[best];", "    column = static_cast<int>(best) + 1;", HINTS),
-    ("tof_code_dropout_ignored", DK_DRIVE, "const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])));", "const bool dropout = false;", TOF_CODES),
-    ("tof_code_as_reading", DK_DRIVE, "{calibrate::read_tof(tof[i]).observation.value, ul[i], ur[i]}", "{tof[i], ul[i], ur[i]}", TOF_CODES),
+    ("tof_code_dropout_ignored", DK_DRIVE, "const bool dropout = tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])));", "const bool dropout = false;", TOF_CODES),
+    ("tof_code_as_reading", DK_DRIVE, "{tof_channel.on_rails(tof[i]), ul[i], ur[i]}", "{tof[i], ul[i], ur[i]}", TOF_CODES),
     ("tof_code_strict", LH, "return mm >= kTofOutOfRangeCode_mm;", "return mm > kTofOutOfRangeCode_mm;", TOF_CODES),
     ("noise_dof_no_minus_one", RN, "dof += v.size() - 1;", "dof += v.size();", NOISE),
     ("noise_small_group_le", RN, "g.kept.size() < kSmallGroup ?", "g.kept.size() <= kSmallGroup ?", NOISE),
@@ -242,7 +242,7 @@ MUTANTS = [
     ('tobit_loglik_no_log_sigma', RB, 'loglik += -std::log(sigma) - kLogSqrt2Pi - 0.5 * z * z;', 'loglik += -kLogSqrt2Pi - 0.5 * z * z;', round_two(TOBIT, "RoundTwoTobit")),
     ('cap_bic_margin_sign', FS_D, 'out.bic_uncapped <= out.bic_capped - kCapBicMargin', 'out.bic_uncapped <= out.bic_capped + kCapBicMargin', round_two(CAP, "RoundTwoFirmwareCap")),
     ('hint_obstacle_tof_in_mm', "lib/calibrate/src/plausibility.cpp", 'likely_unit(seen ? d / (tof[0] / 1000.0) : d / ceiling_m)', 'likely_unit(seen ? d / tof[0] : d / ceiling_m)', round_two(HINTS, "RoundTwoUnitHints")),
-    ('tof_code_view_range_in_m', DK_DRIVE, 'calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])))', 'calibrate::tof_code_in_view(tof[i], r.obstacle_m - steps_metres(ul[i], ur[i]))', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
+    ('tof_code_view_range_in_m', DK_DRIVE, 'tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])))', 'tof_code_in_view(tof[i], r.obstacle_m - steps_metres(ul[i], ur[i]))', round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
     ('model_file_open_lower_ignored', MF, '(p->open_lower ? x > p->lower : x >= p->lower)', 'x >= p->lower', round_two(CODEGEN, "RoundTwoModelFile")),
     # Round 3 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
     ("r3_charge_flat_knots_refused", CM, "if (m.knot_charge[k] < m.knot_charge[k - 1])", "if (m.knot_charge[k] <= m.knot_charge[k - 1])", R3_CHARGE),

@@ -10,7 +10,8 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "epuck2/calibrate/screening.hpp"
+#include "epuck2/fit/replicates.hpp"
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/models/effects.hpp"
 #include "epuck2/models/saturation.hpp"
@@ -200,14 +201,15 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
   //    sensor's floor (20 mm) or ceiling (2000 mm, and the out-of-range codes >= 8190) censored.
   std::vector<Observation> tobs;
   std::vector<double> plugin_r;
+  const models::Channel& tof_channel = models::kind_facts("drive")->channels.front();
   for (const DriveRun& run : out.runs) {
     const std::vector<double> enc_travel = lagged_travel_m(run, nominal, 0.0);
     for (std::size_t k = 0; k < run.time_s.size(); ++k) {
       const double mm = run.tof_mm[k];
-      const TofReading read = read_tof(mm);  // as the diagnosis reads it
-      Observation o = read.observation;
-      o.where = run.path + ":" + std::to_string(run.line[k]);
-      if (read.no_target_code) ++out.tof_out_of_range_codes;
+      // As the diagnosis reads it (lib/models kind_facts.hpp: the ToF channel's rails).
+      const Observation o{tof_channel.on_rails(mm), censoring_at(mm, tof_channel.low_rail, tof_channel.high_rail),
+                          run.path + ":" + std::to_string(run.line[k]), -1};
+      if (logs::is_tof_out_of_range(mm)) ++out.tof_out_of_range_codes;
       if (o.censoring == Censoring::none)
         plugin_r.push_back(mm - s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc_travel[k]));  // the plug-in's
       if (o.censoring != Censoring::none) ++out.tof_censored;

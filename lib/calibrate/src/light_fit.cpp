@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "epuck2/calibrate/screening.hpp"
+#include "epuck2/fit/replicates.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/models/effects.hpp"
 #include "epuck2/models/saturation.hpp"

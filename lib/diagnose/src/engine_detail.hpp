@@ -12,8 +12,8 @@
 #include <tuple>
 
 #include "problem.hpp"
+#include "screening.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
-#include "epuck2/calibrate/screening.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/problem.hpp"
 #include "epuck2/fit/readings.hpp"
@@ -23,10 +23,6 @@
 namespace epuck2::diagnose {
 
 using namespace epuck2::fit;  // the engine (lib/fit)
-using calibrate::WildReading;
-using calibrate::drop_wild_readings;
-using calibrate::drop_wild_readings_in_place;
-using calibrate::readings_on_rails;
 
 namespace engine_detail {
 

@@ -14,13 +14,13 @@
 #include <type_traits>
 #include <variant>
 
-#include "epuck2/calibrate/screening.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/models/effects.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 #include "epuck2/models/sensors.hpp"
 #include "problem.hpp"
+#include "screening.hpp"
 
 namespace epuck2::diagnose::detail {
 

@@ -1,5 +1,6 @@
 // The diagnosis's drive kind: its base model and catalogue effects (see kinds.cpp).
 #include "kind_common.hpp"
+#include "epuck2/models/kind_facts.hpp"
 
 namespace epuck2::diagnose {
 
@@ -41,6 +42,7 @@ class Drive : public ProblemOf<Drive> {
     time_series = true;
     double max_command = 0;
     std::vector<std::string> dropouts;  // "no target" codes where the encoders put the target in view
+    const models::Channel& tof_channel = models::kind_facts("drive")->channels.front();
     for (const auto& log : logs) {
       Run r;
       r.obstacle_m = log.metadata_number("obstacle_distance_m");
@@ -62,12 +64,13 @@ class Drive : public ProblemOf<Drive> {
         // An encoder register that has not changed since the previous row adds no observation:
         // its rounding error is the previous row's again (a standing robot would otherwise count
         // one error many times). It is left out.
-        // A ToF reading as the calibration reads it (calibrate::read_tof): a "no target" code
-        // (>= 8190) is censored at the 2000 mm rail, where the clamped model's reading is the
-        // rail itself; one where the encoders put the target in view is a dropout, left out.
-        const bool dropout = calibrate::tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])));
+        // A ToF reading as the calibration reads it (the ToF channel's on_rails, lib/models
+        // kind_facts.hpp): a "no target" code (>= 8190) is censored at the 2000 mm rail, where the
+        // clamped model's reading is the rail itself; one where the encoders put the target in
+        // view is a dropout, left out (screening.hpp).
+        const bool dropout = tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])));
         if (dropout) dropouts.push_back(log.path + ":" + std::to_string(log.line_of_row[i]));
-        const double values[3] = {calibrate::read_tof(tof[i]).observation.value, ul[i], ur[i]};
+        const double values[3] = {tof_channel.on_rails(tof[i]), ul[i], ur[i]};
         // In a straight run with both wheels commanded alike, a right register equal to the left
         // one is the same count (and the same rounding) twice: it is left out too.
         const bool same = r.symmetric && ur[i] == ul[i];
@@ -90,7 +93,7 @@ class Drive : public ProblemOf<Drive> {
       std::string at;
       for (std::size_t k = 0; k < dropouts.size() && k < 5; ++k) at += (k ? ", " : "") + dropouts[k];
       warnings.push_back(std::to_string(dropouts.size()) + " ToF \"no target\" codes (>= 8190) where the encoders put the obstacle within " +
-                         std::to_string(static_cast<int>((1.0 - calibrate::kTofInViewMargin) * s::kPluginTof.max_mm)) +
+                         std::to_string(static_cast<int>((1.0 - kTofInViewMargin) * s::kPluginTof.max_mm)) +
                          " mm: dropouts, left out of the ToF residuals as the drive calibration leaves them out (" + at +
                          (dropouts.size() > 5 ? ", ..." : "") + ")");
     }

@@ -1,6 +1,6 @@
 // Wild values among replicates: a value far from the other values taken under the same
 // conditions is a glitch, not a measurement. Used by the robust engine (robust.hpp) and by the
-// log screening of lib/calibrate (screening.hpp).
+// log screening of lib/diagnose (src/screening.hpp).
 #pragma once
 
 #include <cstddef>

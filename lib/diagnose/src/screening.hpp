@@ -1,17 +1,20 @@
+// Internal to the diagnosis: the screening of logs before anything is fitted (docs/fitting.md,
+// "Wild readings"). Its only user is the diagnosis (search.cpp, kind_drive.cpp); what the kinds
+// differ in (which columns set the conditions, which are screened, the rails, the floor) is their
+// facts' (lib/models kind_facts.hpp: KindFacts::conditions, KindFacts::screening, the channels).
+//
 // Wild readings in static logs (proximity, light, ground, camera): a reading far from the other
 // readings taken under the same conditions (same distance, intensity, sensor, grey level or LED
 // position) is a glitch, not a measurement of the sensor's response. The diagnosis leaves such
-// readings out before it fits anything, and lists them (docs/fitting.md).
+// readings out before it fits anything, and lists them.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "epuck2/fit/replicates.hpp"
-#include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
 
-namespace epuck2::calibrate {
+namespace epuck2::diagnose {
 
 struct WildReading {
   std::string where;  ///< file:line
@@ -27,24 +30,14 @@ std::vector<logs::Log> drop_wild_readings(const std::vector<logs::Log>& logs, st
 void drop_wild_readings_in_place(std::vector<logs::Log>& logs, std::vector<WildReading>* dropped);
 
 /// Readings on a sensor's rails (proximity and light 0/4095, ground 0/1023, ToF <= 20 or >= 2000
-/// mm including the out-of-range codes): the censored ones.
+/// mm including the out-of-range codes): the censored ones, among the screened readings.
 std::size_t readings_on_rails(const std::vector<logs::Log>& logs);
 
-/// A ToF reading as every fit reads it (the drive calibration and the diagnosis, docs/fitting.md):
-/// inside the VL53L0X's rails the reading itself; at or below 20 mm censored at the floor; at or
-/// above 2000 mm censored at the ceiling, the "no target" codes (>= 8190) included: they say
-/// "nothing within 2000 mm", not a distance.
-struct TofReading {
-  fit::Observation observation;  ///< value (the rail when censored) and censoring; `where` empty
-  bool no_target_code = false;   ///< an out-of-range code (>= 8190)
-};
-TofReading read_tof(double mm);
-
-/// A "no target" code where the target is in view: the range the encoders give (obstacle distance
-/// minus the travel at the nominal steps per metre) is inside the ToF's ceiling by more than
-/// kTofInViewMargin of it. Such a code is a dropout, not a reading beyond the ceiling: the
-/// calibration's robust fit leaves it out (the curve puts it far on the wrong side of its rail)
-/// and the diagnosis leaves it out before anything is fitted.
+/// A "no target" code (logs::is_tof_out_of_range) where the target is in view: the range the
+/// encoders give (obstacle distance minus the travel at the nominal steps per metre) is inside the
+/// ToF's ceiling by more than kTofInViewMargin of it. Such a code is a dropout, not a reading
+/// beyond the ceiling: the diagnosis leaves it out before anything is fitted (the calibration's
+/// robust fit leaves it out too: its curve puts it far on the wrong side of its rail).
 inline constexpr double kTofInViewMargin = 0.1;
 bool tof_code_in_view(double mm, double encoder_range_mm);
 
@@ -53,4 +46,4 @@ logs::Log without_rows(const logs::Log& log, const std::vector<bool>& drop);
 /// `log` without the rows flagged in `drop`, in place.
 void remove_rows(logs::Log& log, const std::vector<bool>& drop);
 
-}  // namespace epuck2::calibrate
+}  // namespace epuck2::diagnose
