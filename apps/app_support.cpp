@@ -23,6 +23,9 @@
 #include "commands.hpp"
 #include "epuck2/logs/output.hpp"
 #include "epuck2/plot/figure.hpp"
+#if __has_include("epuck2/fitted/coefficients.hpp")
+#include "epuck2/fitted/coefficients.hpp"  // --coefficients fitted (epuck2::fitted)
+#endif
 
 namespace epuck2::app {
 
@@ -216,6 +219,35 @@ const std::string& coefficient_file(const std::string& source) {
                        "'? (fitted, plugin or a battery coefficient FILE)");
   }
   return source;
+}
+
+std::optional<coefficients::AnyModel> coefficients_model(const std::string& kind, const std::string& source,
+                                                         nlohmann::json* file) {
+  if (source.empty() || source == "plugin") return std::nullopt;
+  if (source == "fitted") {
+    // The models this build compiles in (data/fitted/include): the battery's tables.
+    std::vector<coefficients::AnyModel> compiled_in;
+#ifdef EPUCK2_FITTED_HAS_BATTERY
+    models::sensors::BatteryModel battery;
+    battery.tables = fitted::battery_tables();
+    compiled_in.push_back(battery);
+#endif
+    for (const coefficients::AnyModel& m : compiled_in)
+      if (coefficients::kind_of(m) == kind) return m;
+    if (compiled_in.empty()) throw UsageError("this build has no compiled-in fitted battery tables; give --coefficients FILE");
+    throw UsageError("--coefficients fitted names the battery tables compiled in; for " + kind +
+                     " logs give the coefficient FILE (data/fitted/" + kind + ".json in this repository)");
+  }
+  const std::string& path = coefficient_file(source);
+  const nlohmann::json j = read_json(path);
+  if (file != nullptr) *file = j;
+  try {
+    return coefficients::model_from_json(kind, j, path);
+  } catch (const logs::InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw UsageError(std::string("--coefficients: ") + e.what());
+  }
 }
 
 CLI::Validator figure_file() {

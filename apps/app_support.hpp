@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/logs/log.hpp"
 
 #include "epuck2/logs/output.hpp"
@@ -68,6 +69,14 @@ std::vector<std::string> kind_names();
 /// `source` of --coefficients when it is not `fitted` or `plugin`: a file. A name that is no file
 /// but close to one of the two words (plugn) is a usage error that says so.
 const std::string& coefficient_file(const std::string& source);
+
+/// The model of the kind `kind` that --coefficients `source` names: `fitted` the model compiled
+/// in from data/fitted (the battery's tables, where this build has them), a FILE its model
+/// (coefficients::model_from_json; a reader's error that is not at a file position is a usage
+/// error); empty and `plugin` none (the plug-in's published model). `file`, when given, receives
+/// the FILE's JSON.
+std::optional<coefficients::AnyModel> coefficients_model(const std::string& kind, const std::string& source,
+                                                         nlohmann::json* file = nullptr);
 
 /// A CLI11 check for a figure file: its extension names the format (.png, .svg or .pdf), else
 /// exit 2 saying which are accepted.

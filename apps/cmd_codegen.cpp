@@ -18,6 +18,7 @@
 #include "commands.hpp"
 #include "epuck2/coefficients/codegen.hpp"
 #include "epuck2/logs/output.hpp"
+#include "epuck2/models/kind_facts.hpp"
 
 namespace epuck2::app {
 
@@ -148,15 +149,11 @@ void emit_parameters(std::ostringstream& os, const nlohmann::json& j, const std:
 /// The kind's model (lib/models kinds.hpp) as a function returning a constant instance, in the
 /// units the model takes (radians for the camera's field of view), read and written by the
 /// coefficient file's owner (lib/coefficients), the same reader `simulate --like` uses.
+/// A kind that has no model (not one of kind_facts'): its parameters alone.
 void emit_model(std::ostringstream& os, const nlohmann::json& j, const std::string& path, const std::string& kind) {
-  namespace s = models::sensors;
+  if (models::kind_facts(kind) == nullptr) return;
   try {
-    if (kind == "proximity") os << coefficients::model_to_cpp(coefficients::proximity_model_from_json(j, path), path);
-    else if (kind == "light") os << coefficients::model_to_cpp(coefficients::light_model_from_json(j, path), path);
-    else if (kind == "ground") os << coefficients::model_to_cpp(coefficients::ground_model_from_json(j, path), path);
-    else if (kind == "camera") os << coefficients::model_to_cpp(coefficients::camera_model_from_json(j, path), path);
-    else if (kind == "drive") os << coefficients::model_to_cpp(coefficients::drive_model_from_json(j, path), path);
-    else if (kind == "battery") os << coefficients::model_to_cpp(coefficients::battery_model_from_json(j, path), path);
+    os << coefficients::model_to_cpp(coefficients::model_from_json(kind, j, path), path);
   } catch (const std::domain_error& e) {
     throw logs::json_file_error(path, "", e.what());
   }
@@ -204,7 +201,9 @@ int run_codegen(const CodegenOptions& o) {
                                                    "): give one file per kind");
     body << "\n// ---- " << kind << " (" << in << ") ----\n";
     try {
-      if (kind != "battery") emit_parameters(body, j, in, kind);
+      // A kind whose base model has named coefficients (not the battery's tables): them too.
+      const models::KindFacts* facts = models::kind_facts(kind);
+      if (facts == nullptr || !facts->base.empty()) emit_parameters(body, j, in, kind);
       emit_model(body, j, in, kind);
     } catch (const logs::InputError&) {
       throw;

@@ -25,9 +25,6 @@
 #include "epuck2/diagnose/extended_model.hpp"
 #include "epuck2/diagnose/report_output.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
-#if __has_include("epuck2/fitted/coefficients.hpp")
-#include "epuck2/fitted/coefficients.hpp"  // the CLI's `--coefficients fitted` (epuck2::fitted)
-#endif
 #include "epuck2/logs/log.hpp"
 #include "epuck2/plot/diagnosis_figure.hpp"
 #include "epuck2/plot/figure.hpp"
@@ -110,52 +107,12 @@ int run_diagnose(const DiagnoseOptions& o) {
   dg::Options options;
   if (!models::battery::parse_model(o.battery_model, options.battery_model))
     throw UsageError("--battery-model: " + unknown_name("discharge model", o.battery_model, {"simple", "linear", "cubic", "approximated"}));
-  const logs::Kind logs_kind = logs.front().kind;
-  if (logs_kind != logs::Kind::battery && !o.coefficients.empty() && o.coefficients != "plugin") {
-    // The other kinds: the base model from a coefficient file (a calibration's or a diagnosis's).
-    if (o.coefficients == "fitted")
-      throw UsageError("--coefficients fitted names the battery tables compiled in; for " +
-                       std::string(logs::to_string(logs_kind)) + " logs give the coefficient FILE (data/fitted/" +
-                       std::string(logs::to_string(logs_kind)) + ".json in this repository)");
-    const std::string& file = coefficient_file(o.coefficients);
-    const nlohmann::json j = read_json(file);
-    try {
-      switch (logs_kind) {
-        case logs::Kind::proximity: options.base_model = coefficients::proximity_model_from_json(j, file); break;
-        case logs::Kind::light: options.base_model = coefficients::light_model_from_json(j, file); break;
-        case logs::Kind::ground: options.base_model = coefficients::ground_model_from_json(j, file); break;
-        case logs::Kind::camera: options.base_model = coefficients::camera_model_from_json(j, file); break;
-        case logs::Kind::drive: options.base_model = coefficients::drive_model_from_json(j, file); break;
-        default: break;
-      }
-    } catch (const logs::InputError&) {
-      throw;
-    } catch (const std::runtime_error& e) {
-      throw UsageError(std::string("--coefficients: ") + e.what());
-    }
-  } else if (o.coefficients.empty() || o.coefficients == "plugin") options.battery_tables = models::battery::plugin_tables();
-  else if (o.coefficients == "fitted") {
-#ifdef EPUCK2_FITTED_HAS_BATTERY
-    options.battery_tables = fitted::battery_tables();
-#else
-    throw UsageError("this build has no compiled-in fitted battery tables; give --coefficients FILE");
-#endif
-  } else {
-    // A battery file: its tables; a diagnosis's (an extended model) also its discharge model,
-    // unless --battery-model names one, and its capacity scale, from which effects are changes.
-    const std::string& file = coefficient_file(o.coefficients);
-    const nlohmann::json j = read_json(file);
-    try {
-      const models::sensors::BatteryModel m = coefficients::battery_model_from_json(j, file);
-      options.battery_tables = m.tables;
-      options.battery_capacity_k = m.capacity.k;
-      if (j.contains("battery_model") && o.battery_model_given == 0) options.battery_model = m.model;
-    } catch (const logs::InputError&) {
-      throw;
-    } catch (const std::runtime_error& e) {
-      throw UsageError(std::string("--coefficients: ") + e.what());
-    }
-  }
+  // The base model from --coefficients (a calibration's or a diagnosis's file, or the fitted
+  // battery tables): a diagnosis's battery file also gives its discharge model, unless
+  // --battery-model names one, and its capacity scale, from which effects are changes.
+  nlohmann::json file;
+  if (const auto base = coefficients_model(std::string(logs::to_string(logs.front().kind)), o.coefficients, &file))
+    dg::set_base_model(options, *base, file.contains("battery_model") && o.battery_model_given == 0);
   options.effects = effect_list(o.effects);
   // Progress on standard error (never on standard output, which may hold the JSON report): on a
   // terminal one line rewritten in place, with --progress elsewhere one line per stage.

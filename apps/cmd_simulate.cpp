@@ -13,9 +13,6 @@
 #include "epuck2/logs/output.hpp"
 #include "epuck2/models/battery_simulation.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
-#if __has_include("epuck2/fitted/coefficients.hpp")
-#include "epuck2/fitted/coefficients.hpp"
-#endif
 
 namespace epuck2::app {
 
@@ -44,13 +41,7 @@ mb::Tables choose_tables(const SimulateOptions& o, bool argos) {
   std::string source = o.coefficients;
   if (source.empty()) source = argos ? "plugin" : "fitted";
   if (source == "plugin") return mb::plugin_tables();
-  if (source == "fitted") {
-#ifdef EPUCK2_FITTED_HAS_BATTERY
-    return fitted::battery_tables();
-#else
-    throw UsageError("this build has no compiled-in fitted battery tables; give --coefficients FILE");
-#endif
-  }
+  if (source == "fitted") return std::get<models::sensors::BatteryModel>(*coefficients_model("battery", source)).tables;
   return coefficients::battery_tables_from_json(read_json(coefficient_file(source)), source);
 }
 

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include <epuck2/logs/log.hpp>
+#include <epuck2/models/kind_facts.hpp>
 
 namespace epuck2::argos_replay {
 
@@ -12,21 +13,16 @@ namespace {
 
 namespace el = epuck2::logs;
 
-/// Per kind: the columns ARGoS sets up from (conditions) and the ones it writes (readings).
+/// Per kind: the columns ARGoS sets up from (conditions), the ones it writes (readings) and the
+/// measured ones its model does not simulate (dropped): the kind's facts (lib/models
+/// kind_facts.hpp), which `simulate --like` reads too.
 struct KindColumns {
   std::vector<std::string> conditions, readings, dropped;
 };
 
 KindColumns columns_of(el::Kind kind) {
-  switch (kind) {
-    case el::Kind::proximity: return {{"distance_m", "sensor", "angle_deg"}, {"value"}, {}};
-    case el::Kind::light: return {{"distance_m", "intensity", "sensor"}, {"value"}, {}};
-    case el::Kind::ground: return {{"grey", "sensor"}, {"value"}, {}};
-    case el::Kind::camera: return {{"forward_m", "lateral_m", "vertical_m"}, {"px", "py"}, {}};
-    case el::Kind::battery: return {{"speed_cm_s"}, {"charge"}, {"voltage_v"}};
-    case el::Kind::drive: return {{"left_speed_cm_s", "right_speed_cm_s"}, {"left_steps", "right_steps", "tof_mm"}, {}};
-  }
-  throw std::invalid_argument("argos replay: unknown kind");
+  const epuck2::models::KindFacts& f = *epuck2::models::kind_facts(std::string(el::to_string(kind)));
+  return {{f.conditions.begin(), f.conditions.end()}, {f.readings.begin(), f.readings.end()}, {f.not_simulated.begin(), f.not_simulated.end()}};
 }
 
 bool contains(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }

@@ -81,6 +81,10 @@ std::string close(const std::string& covariates) { return covariates + "  return
 
 }  // namespace
 
+std::string model_to_cpp(const AnyModel& m, const std::string& source) {
+  return std::visit([&](const auto& model) { return model_to_cpp(model, source); }, m);
+}
+
 std::string model_to_cpp(const s::ProximityModel& m, const std::string& source) {
   std::ostringstream os;
   os << "/// The proximity model of " << source << ": base, effects, reading noise (counts).\n"

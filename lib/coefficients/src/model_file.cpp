@@ -8,6 +8,8 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
+#include <utility>
 
 #include "epuck2/coefficients/battery_tables.hpp"
 #include "epuck2/logs/json_location.hpp"
@@ -598,7 +600,43 @@ s::BatteryModel from_json(const json& j, const std::string& path, const std::str
   return battery_model_from_json(j, path, robot);
 }
 
+// The kind of each model type: the one table from a kind's name to its model type.
+const char* model_kind(s::ProximityModel*) { return "proximity"; }
+const char* model_kind(s::LightModel*) { return "light"; }
+const char* model_kind(s::GroundModel*) { return "ground"; }
+const char* model_kind(s::CameraModel*) { return "camera"; }
+const char* model_kind(s::DriveModel*) { return "drive"; }
+const char* model_kind(s::BatteryModel*) { return "battery"; }
+
+/// out = make(static_cast<Model*>(nullptr)) for the model type of the kind `kind`; false when no
+/// model type is of that kind.
+template <class Make, std::size_t... I>
+bool make_of_kind(const std::string& kind, AnyModel& out, const Make& make, std::index_sequence<I...>) {
+  return ((kind == model_kind(static_cast<std::variant_alternative_t<I, AnyModel>*>(nullptr)) &&
+           (out = make(static_cast<std::variant_alternative_t<I, AnyModel>*>(nullptr)), true)) ||
+          ...);
+}
+template <class Make>
+AnyModel make_of_kind(const std::string& kind, const Make& make) {
+  AnyModel out;
+  if (!make_of_kind(kind, out, make, std::make_index_sequence<std::variant_size_v<AnyModel>>{}))
+    throw std::invalid_argument("no model of the kind '" + kind + "'");
+  return out;
+}
+
 }  // namespace
+
+std::string kind_of(const AnyModel& m) {
+  return std::visit([](const auto& model) { return std::string(model_kind(static_cast<std::decay_t<decltype(model)>*>(nullptr))); }, m);
+}
+
+AnyModel model_from_json(const std::string& kind, const json& j, const std::string& path, const std::string& robot) {
+  return make_of_kind(kind, [&](auto* type) -> AnyModel { return from_json(j, path, robot, type); });
+}
+
+AnyModel plugin_model(const std::string& kind) {
+  return make_of_kind(kind, [](auto* type) -> AnyModel { return std::remove_pointer_t<decltype(type)>{}; });
+}
 
 template <class Model>
 Model read_model_file(const std::string& path, const std::string& robot) {

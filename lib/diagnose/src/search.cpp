@@ -965,14 +965,29 @@ class Diagnosis {
 }  // namespace
 
 logs::Kind base_model_kind(const BaseModel& m) {
-  switch (m.index()) {
-    case 1: return logs::Kind::proximity;
-    case 2: return logs::Kind::light;
-    case 3: return logs::Kind::ground;
-    case 4: return logs::Kind::camera;
-    case 5: return logs::Kind::drive;
-    default: throw std::invalid_argument("no base model");
-  }
+  if (std::holds_alternative<std::monostate>(m)) throw std::invalid_argument("no base model");
+  const std::string kind = std::visit(
+      [](const auto& model) -> std::string {
+        if constexpr (std::is_same_v<std::decay_t<decltype(model)>, std::monostate>) return "";
+        else return coefficients::kind_of(model);
+      },
+      m);
+  return *logs::parse_kind(kind);
+}
+
+void set_base_model(Options& o, const coefficients::AnyModel& m, bool discharge_model) {
+  std::visit(
+      [&](const auto& model) {
+        using Model = std::decay_t<decltype(model)>;
+        if constexpr (std::is_same_v<Model, models::sensors::BatteryModel>) {
+          o.battery_tables = model.tables;
+          o.battery_capacity_k = model.capacity.k;
+          if (discharge_model) o.battery_model = model.model;
+        } else {
+          o.base_model = model;
+        }
+      },
+      m);
 }
 
 const Finding* Report::dominant() const {

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/models/kinds.hpp"
 
 namespace epuck2::coefficients {
@@ -19,6 +20,9 @@ std::string model_to_cpp(const models::sensors::DriveModel& m, const std::string
 /// battery_tables() and battery_model() (the tables, the discharge model, the capacity scale, the
 /// noise), with EPUCK2_FITTED_HAS_BATTERY.
 std::string model_to_cpp(const models::sensors::BatteryModel& m, const std::string& source);
+
+/// The same for a model of any kind (the overload of its type).
+std::string model_to_cpp(const AnyModel& m, const std::string& source);
 
 /// A double as C++ source that reads back to the same value (shortest round trip).
 std::string cpp_number(double v);

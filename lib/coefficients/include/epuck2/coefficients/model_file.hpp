@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "epuck2/coefficients/battery_tables.hpp"
@@ -64,6 +65,21 @@ nlohmann::json read_json_file(const std::string& path);
 /// The same, reading the file `path` (errors located in it).
 template <class Model>
 Model read_model_file(const std::string& path, const std::string& robot = "");
+
+/// A model of any kind (lib/models kinds.hpp): what a caller that serves every kind holds, so that
+/// it chooses the kind's model once, here, and runs it through overloads (std::visit) rather than
+/// switching on the kind itself.
+using AnyModel = std::variant<s::ProximityModel, s::LightModel, s::GroundModel, s::CameraModel, s::DriveModel, s::BatteryModel>;
+/// The kind of a model ("proximity", ...: lib/models kind_facts.hpp's names).
+std::string kind_of(const AnyModel& m);
+/// The model of the coefficient file `j` read from `path`, of the kind `kind`: the reader above of
+/// that kind (errors as theirs; a file of another kind is one). Throws std::invalid_argument for
+/// a name that is no kind.
+AnyModel model_from_json(const std::string& kind, const nlohmann::json& j, const std::string& path,
+                         const std::string& robot = "");
+/// The kind's model as the plug-in publishes it (every effect neutral, no noise). Throws
+/// std::invalid_argument for a name that is no kind.
+AnyModel plugin_model(const std::string& kind);
 
 /// The robots a file has a set for (`robots`' keys), in the file's order.
 std::vector<std::string> robot_ids(const nlohmann::json& j);

@@ -21,6 +21,7 @@
 #include <variant>
 #include <vector>
 
+#include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/fit/report.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/battery.hpp"
@@ -252,6 +253,12 @@ struct Options {
   /// show progress. Empty: not called.
   std::function<void(const Progress&)> progress;
 };
+
+/// The base model a diagnosis starts from, from a coefficient file's model of any kind
+/// (coefficients::model_from_json): a battery model's tables and capacity scale into
+/// Options::battery_tables and battery_capacity_k, and with `discharge_model` its discharge model
+/// into battery_model; another kind's model into Options::base_model.
+void set_base_model(Options& o, const coefficients::AnyModel& m, bool discharge_model);
 
 /// Diagnoses logs of one kind (all of `logs` must be of that kind). Never throws for numerical
 /// trouble; an unsupported kind gives `supported = false`.

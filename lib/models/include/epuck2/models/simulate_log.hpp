@@ -1,0 +1,149 @@
+// A kind's model run on a measured log's conditions (`epuck2-fit simulate KIND --like LOG`,
+// docs/cli.md): per row, the readings the model gives where the log's conditions are (distances
+// and sensors, intensities, grey levels, LED positions, commands and the obstacle's distance, a
+// discharge run's speeds and times), in the order of the kind's reading columns
+// (kind_facts.hpp: KindFacts::readings). One overload per model type (kinds.hpp): a caller that
+// serves every kind holds the model in a variant and visits it, never switching on the kind.
+//
+// `log` is any table with has(column), col(column) (the column's values, one a row), rows() and
+// metadata_number(key) (a logs::Log); the columns the kind's conditions need are there (the log
+// reader's checks). `covariate[i]`: the model's covariate effects' sum on row i
+// (covariate_offset), added to the mean as the diagnosis fits it. Without noise the expected
+// reading: the mean clamped to the sensor's rails and not rounded (comparable with a measured
+// reading to within that reading's own noise); with it the register, noisy (drawn from `normal`),
+// rounded and clamped, as the sensor reports it.
+//
+// Header-only, standard library only (epuck2::models).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "epuck2/models/geometry.hpp"
+#include "epuck2/models/kinds.hpp"
+
+namespace epuck2::models::sensors {
+
+namespace simulate_detail {
+/// The mean when there is no noise, else the noisy register.
+template <class Normal, class Noisy, class Mean>
+double draw(bool noise, Normal& normal, const Noisy& noisy, const Mean& mean) {
+  return noise ? static_cast<double>(noisy(normal)) : mean();
+}
+}  // namespace simulate_detail
+
+/// proximity: the row's sensor at distance_m, at the incidence angle_deg where the log has one.
+template <class Log, class Normal>
+std::vector<std::vector<double>> simulated_readings(const ProximityModel& m, const Log& log, const std::vector<double>& covariate,
+                                                    bool noise, Normal& normal) {
+  const std::size_t n = log.rows();
+  std::vector<std::vector<double>> out(n);
+  const auto& d = log.col("distance_m");
+  const auto& sn = log.col("sensor");
+  const bool angle = log.has("angle_deg");
+  for (std::size_t i = 0; i < n; ++i) {
+    const double c = angle ? std::cos(deg_to_rad(log.col("angle_deg")[i])) : 1.0;
+    const int sensor = static_cast<int>(sn[i]);
+    out[i] = {simulate_detail::draw(
+        noise, normal, [&](Normal& g) { return reading(m, sensor, d[i], c, g, covariate[i]); },
+        [&] { return std::clamp(mean_raw(m, sensor, d[i], c) + covariate[i], 0.0, kProximityFullScale_raw); })};
+  }
+  return out;
+}
+
+/// light: the row's sensor, one light of the row's intensity at distance_m.
+template <class Log, class Normal>
+std::vector<std::vector<double>> simulated_readings(const LightModel& m, const Log& log, const std::vector<double>& covariate,
+                                                    bool noise, Normal& normal) {
+  const std::size_t n = log.rows();
+  std::vector<std::vector<double>> out(n);
+  const auto& d = log.col("distance_m");
+  const auto& in = log.col("intensity");
+  const auto& sn = log.col("sensor");
+  for (std::size_t i = 0; i < n; ++i) {
+    const int sensor = static_cast<int>(sn[i]);
+    out[i] = {simulate_detail::draw(
+        noise, normal, [&](Normal& g) { return reading(m, sensor, in[i], d[i], g, covariate[i]); },
+        [&] { return std::clamp(mean_raw(m, sensor, in[i], d[i]) + covariate[i], 0.0, kProximityFullScale_raw); })};
+  }
+  return out;
+}
+
+/// ground: the row's sensor over the row's grey level.
+template <class Log, class Normal>
+std::vector<std::vector<double>> simulated_readings(const GroundModel& m, const Log& log, const std::vector<double>& covariate,
+                                                    bool noise, Normal& normal) {
+  const std::size_t n = log.rows();
+  std::vector<std::vector<double>> out(n);
+  const auto& grey = log.col("grey");
+  const auto& sn = log.col("sensor");
+  for (std::size_t i = 0; i < n; ++i) {
+    const int sensor = static_cast<int>(sn[i]);
+    out[i] = {simulate_detail::draw(
+        noise, normal, [&](Normal& g) { return reading(m, sensor, grey[i], g, covariate[i]); },
+        [&] { return std::clamp(mean_raw(m, sensor, grey[i]) + covariate[i], 0.0, kGroundFullScale_raw); })};
+  }
+  return out;
+}
+
+/// camera: the image position (px, py) of the LED at the row's position in the camera frame; the
+/// covariate effects move both axes.
+template <class Log, class Normal>
+std::vector<std::vector<double>> simulated_readings(const CameraModel& m, const Log& log, const std::vector<double>& covariate,
+                                                    bool noise, Normal& normal) {
+  const std::size_t n = log.rows();
+  std::vector<std::vector<double>> out(n);
+  const auto& f = log.col("forward_m");
+  const auto& l = log.col("lateral_m");
+  const auto& v = log.col("vertical_m");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (noise) {
+      const auto p = reading(m, f[i], l[i], v[i], normal, covariate[i]);
+      out[i] = {static_cast<double>(p[0]), static_cast<double>(p[1])};
+    } else {
+      const auto p = mean_px(m, f[i], l[i], v[i]);
+      out[i] = {p[0] + covariate[i], p[1] + covariate[i]};
+    }
+  }
+  return out;
+}
+
+/// drive: the run's commands row by row towards the obstacle at obstacle_distance_m (metadata):
+/// the encoders and the ToF. Its registers are integers either way (the encoders' floor is the
+/// model's); without noise none is drawn.
+template <class Log, class Normal>
+std::vector<std::vector<double>> simulated_readings(const DriveModel& m, const Log& log, const std::vector<double>& covariate,
+                                                    bool noise, Normal& normal) {
+  const std::size_t n = log.rows();
+  std::vector<std::vector<double>> out(n);
+  DriveSimulation sim(m, log.metadata_number("obstacle_distance_m"));
+  const auto& t = log.col("time_s");
+  const auto& cl = log.col("left_speed_cm_s");
+  const auto& cr = log.col("right_speed_cm_s");
+  struct Silent {
+    double operator()() const { return 0.0; }
+  } silent;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto r = noise ? sim.sample(t[i], cl[i], cr[i], normal, covariate[i]) : sim.sample(t[i], cl[i], cr[i], silent, covariate[i]);
+    out[i] = {static_cast<double>(r.left_steps), static_cast<double>(r.right_steps), static_cast<double>(r.tof_mm)};
+  }
+  return out;
+}
+
+/// battery: the discharge at the run's speeds and times, from its first charge reading (the log
+/// needs its charge column). Without noise the mean charge, bounded as the log format bounds a
+/// charge; with it the reading's Gaussian noise added (not rounded: a charge is no register).
+template <class Log, class Normal>
+std::vector<std::vector<double>> simulated_readings(const BatteryModel& m, const Log& log, const std::vector<double>& covariate,
+                                                    bool noise, Normal& normal) {
+  const std::size_t n = log.rows();
+  std::vector<std::vector<double>> out(n);
+  const auto mean = battery_mean_charge(m, log.col("time_s"), log.col("speed_cm_s"), n ? log.col("charge").front() : 1.0);
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] = {noise ? charge_reading(m, mean[i], normal, covariate[i]) : std::clamp(mean[i] + covariate[i], -1.0, 1.05)};
+  return out;
+}
+
+}  // namespace epuck2::models::sensors
