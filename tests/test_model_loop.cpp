@@ -503,6 +503,32 @@ TEST_F(SimulateLike, BatteryLikeRunsTheLogsSpeedsAndTimesAndLeavesItsVoltageOut)
   EXPECT_NE(bad_model.err.find("did you mean 'cubic'?"), std::string::npos) << bad_model.err;
 }
 
+/// `--coefficients fitted` is the compiled-in header's battery tables, which codegen wrote from
+/// data/fitted/battery.json: the same charges as that file (the Cubic, no effect; without noise),
+/// and not the plug-in's. Another kind has no compiled-in model: exit 2 naming its file. A battery
+/// log without a charge column (voltage_v only) cannot be simulated: exit 2 naming the column.
+TEST_F(SimulateLike, FittedIsTheCompiledInBatteryTablesOnly) {
+  const std::string log = write("b.csv", "time_s,speed_cm_s,charge\n0,5,0.99\n1000,5,0.8\n3000,5,0.5\n");
+  const CliRun fitted = run("simulate battery --like \"" + log + "\" --coefficients fitted");
+  ASSERT_EQ(fitted.exit_code, 0) << fitted.err;
+  const CliRun file = run("simulate battery --like \"" + log + "\" --coefficients \"" + std::string(EPUCK2_SOURCE_DIR) +
+                          "/data/fitted/battery.json\"");
+  ASSERT_EQ(file.exit_code, 0) << file.err;
+  const CliRun plugin = run("simulate battery --like \"" + log + "\" --coefficients plugin");
+  ASSERT_EQ(plugin.exit_code, 0) << plugin.err;
+  const auto f = values(parse(fitted.out), {"charge"}), j = values(parse(file.out), {"charge"}), p = values(parse(plugin.out), {"charge"});
+  ASSERT_EQ(f.size(), 3u);
+  EXPECT_EQ(f, j);
+  EXPECT_NE(f[2], p[2]);
+  const CliRun ground = run("diagnose" + shipped("ground", "ground_virtual-epuck2-1") + " --coefficients fitted");
+  EXPECT_EQ(ground.exit_code, 2);
+  EXPECT_NE(ground.err.find("data/fitted/ground.json"), std::string::npos) << ground.err;
+  const std::string volts = write("v.csv", "time_s,speed_cm_s,voltage_v\n0,5,4.2\n100,5,4.1\n");
+  const CliRun no_charge = run("simulate battery --like \"" + volts + "\"");
+  EXPECT_EQ(no_charge.exit_code, 2);
+  EXPECT_NE(no_charge.err.find("'charge'"), std::string::npos) << no_charge.err;
+}
+
 /// codegen keeps a model's covariate effects (a diagnose -o report is a coefficient file for it).
 TEST_F(SimulateLike, CodegenEmitsTheCovariates) {
   s::GroundModel g;

@@ -27,10 +27,21 @@
 namespace epuck2::models::sensors {
 
 namespace simulate_detail {
-/// The mean when there is no noise, else the noisy register.
-template <class Normal, class Noisy, class Mean>
-double draw(bool noise, Normal& normal, const Noisy& noisy, const Mean& mean) {
-  return noise ? static_cast<double>(noisy(normal)) : mean();
+/// One reading a row from the row's sensor (the column `sensor`): without noise the mean
+/// `mean(i, sensor)` plus the row's covariate offset, clamped to the register [0, full_scale];
+/// with it the register `noisy(i, sensor, normal)`.
+template <class Log, class Normal, class Noisy, class Mean>
+std::vector<std::vector<double>> per_sensor_rows(const Log& log, const std::vector<double>& covariate, double full_scale,
+                                                 bool noise, Normal& normal, const Noisy& noisy, const Mean& mean) {
+  const std::size_t n = log.rows();
+  std::vector<std::vector<double>> out(n);
+  const auto& sn = log.col("sensor");
+  for (std::size_t i = 0; i < n; ++i) {
+    const int sensor = static_cast<int>(sn[i]);
+    out[i] = {noise ? static_cast<double>(noisy(i, sensor, normal))
+                    : std::clamp(mean(i, sensor) + covariate[i], 0.0, full_scale)};
+  }
+  return out;
 }
 }  // namespace simulate_detail
 
@@ -38,54 +49,36 @@ double draw(bool noise, Normal& normal, const Noisy& noisy, const Mean& mean) {
 template <class Log, class Normal>
 std::vector<std::vector<double>> simulated_readings(const ProximityModel& m, const Log& log, const std::vector<double>& covariate,
                                                     bool noise, Normal& normal) {
-  const std::size_t n = log.rows();
-  std::vector<std::vector<double>> out(n);
   const auto& d = log.col("distance_m");
-  const auto& sn = log.col("sensor");
   const bool angle = log.has("angle_deg");
-  for (std::size_t i = 0; i < n; ++i) {
-    const double c = angle ? std::cos(deg_to_rad(log.col("angle_deg")[i])) : 1.0;
-    const int sensor = static_cast<int>(sn[i]);
-    out[i] = {simulate_detail::draw(
-        noise, normal, [&](Normal& g) { return reading(m, sensor, d[i], c, g, covariate[i]); },
-        [&] { return std::clamp(mean_raw(m, sensor, d[i], c) + covariate[i], 0.0, kProximityFullScale_raw); })};
-  }
-  return out;
+  const auto cos_incidence = [&](std::size_t i) { return angle ? std::cos(deg_to_rad(log.col("angle_deg")[i])) : 1.0; };
+  return simulate_detail::per_sensor_rows(
+      log, covariate, kProximityFullScale_raw, noise, normal,
+      [&](std::size_t i, int sensor, Normal& g) { return reading(m, sensor, d[i], cos_incidence(i), g, covariate[i]); },
+      [&](std::size_t i, int sensor) { return mean_raw(m, sensor, d[i], cos_incidence(i)); });
 }
 
 /// light: the row's sensor, one light of the row's intensity at distance_m.
 template <class Log, class Normal>
 std::vector<std::vector<double>> simulated_readings(const LightModel& m, const Log& log, const std::vector<double>& covariate,
                                                     bool noise, Normal& normal) {
-  const std::size_t n = log.rows();
-  std::vector<std::vector<double>> out(n);
   const auto& d = log.col("distance_m");
   const auto& in = log.col("intensity");
-  const auto& sn = log.col("sensor");
-  for (std::size_t i = 0; i < n; ++i) {
-    const int sensor = static_cast<int>(sn[i]);
-    out[i] = {simulate_detail::draw(
-        noise, normal, [&](Normal& g) { return reading(m, sensor, in[i], d[i], g, covariate[i]); },
-        [&] { return std::clamp(mean_raw(m, sensor, in[i], d[i]) + covariate[i], 0.0, kProximityFullScale_raw); })};
-  }
-  return out;
+  return simulate_detail::per_sensor_rows(
+      log, covariate, kProximityFullScale_raw, noise, normal,
+      [&](std::size_t i, int sensor, Normal& g) { return reading(m, sensor, in[i], d[i], g, covariate[i]); },
+      [&](std::size_t i, int sensor) { return mean_raw(m, sensor, in[i], d[i]); });
 }
 
 /// ground: the row's sensor over the row's grey level.
 template <class Log, class Normal>
 std::vector<std::vector<double>> simulated_readings(const GroundModel& m, const Log& log, const std::vector<double>& covariate,
                                                     bool noise, Normal& normal) {
-  const std::size_t n = log.rows();
-  std::vector<std::vector<double>> out(n);
   const auto& grey = log.col("grey");
-  const auto& sn = log.col("sensor");
-  for (std::size_t i = 0; i < n; ++i) {
-    const int sensor = static_cast<int>(sn[i]);
-    out[i] = {simulate_detail::draw(
-        noise, normal, [&](Normal& g) { return reading(m, sensor, grey[i], g, covariate[i]); },
-        [&] { return std::clamp(mean_raw(m, sensor, grey[i]) + covariate[i], 0.0, kGroundFullScale_raw); })};
-  }
-  return out;
+  return simulate_detail::per_sensor_rows(
+      log, covariate, kGroundFullScale_raw, noise, normal,
+      [&](std::size_t i, int sensor, Normal& g) { return reading(m, sensor, grey[i], g, covariate[i]); },
+      [&](std::size_t i, int sensor) { return mean_raw(m, sensor, grey[i]); });
 }
 
 /// camera: the image position (px, py) of the LED at the row's position in the camera frame; the
