@@ -114,7 +114,7 @@ def round_two(group, suite):
     return (group[0] + [R2], group[1][:-1] + "|" + suite + ")")
 
 
-SL = "apps/cmd_simulate_like.cpp"
+SLM = "lib/models/include/epuck2/models/simulate_log.hpp"  # simulate --like: each model type on a log's rows
 LIKE = (["epuck2-fit", R2], r"^RoundTwoSimulateLike")
 MF = "lib/coefficients/src/model_file.cpp"
 
@@ -233,8 +233,8 @@ MUTANTS = [
     ('noise_screen_floor_forgotten', RN, 'reject_sd * std::max(pooled_sd, floor_sd)', 'reject_sd * pooled_sd', round_two(NOISE, "RoundTwoReadingNoise")),
     ('noise_whole_integer_division', "lib/diagnose/src/reading_noise.cpp", 'sd * sd - 1.0 / 12.0', 'sd * sd - 1 / 12', ([R2], r"^RoundTwoReadingNoise")),
     ('codegen_camera_cy_from_cx', CG, 'm.base.cy_px = " << cpp_number(m.base.cy_px)', 'm.base.cy_px = " << cpp_number(m.base.cx_px)', round_two(CODEGEN, "RoundTwoCodegen")),
-    ('like_camera_py_from_px', SL, 'out[i] = {p[0] + cov[i], p[1] + cov[i]};', 'out[i] = {p[0] + cov[i], p[0] + cov[i]};', LIKE),
-    ('like_proximity_angle_degrees', SL, 'std::cos(s::deg_to_rad(log.col("angle_deg")[i]))', 'std::cos(log.col("angle_deg")[i])', LIKE),
+    ('like_camera_py_from_px', SLM, 'out[i] = {p[0] + covariate[i], p[1] + covariate[i]};', 'out[i] = {p[0] + covariate[i], p[0] + covariate[i]};', LIKE),
+    ('like_proximity_angle_degrees', SLM, 'std::cos(deg_to_rad(log.col("angle_deg")[i]))', 'std::cos(log.col("angle_deg")[i])', LIKE),
     ('identify_level_offset_dropped', DK_GROUND, 'const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;', 'const double level = values[static_cast<std::size_t>(level_)] * mean;', round_two(IDENTIFY, "RoundTwoIdentify")),
     ('jackknife_sd_divisor', DE_S, 'std::sqrt((G - 1) / G * ss)', 'std::sqrt(ss / (G - 1))', ([R2], r"^RoundTwoJackknife")),
     ('ar1_factor_no_sqrt', RP, 'a.factor = std::sqrt(nn / a.n_eff);', 'a.factor = nn / a.n_eff;', round_two(CLUSTER, "RoundTwoAutocorrelation")),
@@ -253,8 +253,8 @@ MUTANTS = [
      'for (std::size_t i = 0; i + 1 < N; ++i) s += (i ? ", " : "") + cpp_number(a[i]);', R3_CODEGEN),
     ("r3_codegen_drive_encoder_from_tof", CG, '"  m.encoder_noise_sd_steps = " << cpp_number(m.encoder_noise_sd_steps)',
      '"  m.encoder_noise_sd_steps = " << cpp_number(m.tof_noise_sd_mm)', R3_CODEGEN),
-    ("r3_like_light_args_swapped", SL, "s::mean_raw(m, static_cast<int>(sn[i]), in[i], d[i])", "s::mean_raw(m, static_cast<int>(sn[i]), d[i], in[i])", R3_LIKE),
-    ("r3_like_battery_start_last", SL, 'n ? log.col("charge").front() : 1.0', 'n ? log.col("charge").back() : 1.0', R3_LIKE),
+    ("r3_like_light_args_swapped", SLM, "return mean_raw(m, sensor, in[i], d[i]);", "return mean_raw(m, sensor, d[i], in[i]);", R3_LIKE),
+    ("r3_like_battery_start_last", SLM, 'n ? log.col("charge").front() : 1.0', 'n ? log.col("charge").back() : 1.0', R3_LIKE),
     ("r3_identify_equal_gains_inverted", KG, "if (!(p_value >= kEqualGainsP)) return std::nullopt;", "if (p_value >= kEqualGainsP) return std::nullopt;", R3_DIAGNOSE),
     ("r3_jackknife_three_folds_strict", DE_S, "if (current_h_.fold_values.size() >= 3) {", "if (current_h_.fold_values.size() > 3) {", R3_DIAGNOSE),
     ("r3_cluster_run_zero_dropped", RP, "if (std::isfinite(residuals[i]) && run[i] >= 0) {", "if (std::isfinite(residuals[i]) && run[i] > 0) {", R3_FIT),
