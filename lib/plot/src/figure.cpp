@@ -197,11 +197,10 @@ std::string multiplot(const Layout& l, const std::string& title, int title_font_
 }
 
 std::string wrapped(const std::string& text, double width_px, double font_pt) {
-  const std::size_t per_line = static_cast<std::size_t>(std::max(8.0, width_px / (0.73 * font_pt)));
   std::string out, line, word;
   auto flush_word = [&]() {
     if (word.empty()) return;
-    if (!line.empty() && line.size() + 1 + word.size() > per_line) {
+    if (!line.empty() && text_px(line + " " + word, font_pt) > width_px) {
       out += line + "\n";
       line.clear();
     }
@@ -221,6 +220,24 @@ std::string wrapped(const std::string& text, double width_px, double font_pt) {
   }
   flush_word();
   return out + line;
+}
+
+double text_px(const std::string& text, double font_pt) {
+  // DejaVu Sans' advance widths (units of 1/2048 em) for ' ' (32) to '~' (126), read from the
+  // hmtx table of /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf (fonts-dejavu-core 2.37).
+  static constexpr unsigned short kAscii[95] = {
+      651,  821,  942,  1716, 1303, 1946, 1597, 563,  799,  799,  1024, 1716, 651,  739,  651,  690,  1303, 1303, 1303,
+      1303, 1303, 1303, 1303, 1303, 1303, 1303, 690,  690,  1716, 1716, 1716, 1087, 2048, 1401, 1405, 1430, 1577, 1294,
+      1178, 1587, 1540, 604,  604,  1343, 1141, 1767, 1532, 1612, 1235, 1612, 1423, 1300, 1251, 1499, 1401, 2025, 1403,
+      1251, 1403, 799,  690,  799,  1716, 1024, 1024, 1255, 1300, 1126, 1300, 1260, 721,  1300, 1298, 569,  569,  1186,
+      569,  1995, 1298, 1253, 1300, 1300, 842,  1067, 803,  1298, 1212, 1675, 1212, 1212, 1075, 1303, 690,  1303, 1716};
+  double units = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c >= 32 && c < 127) units += kAscii[c - 32];
+    else if ((c & 0xC0) != 0x80) units += 2048;  // the first byte of any other character: an em
+  }
+  return units / 2048.0 * font_pt * 4.0 / 3.0;
 }
 
 double tic_step(double lo, double hi, int count) {

@@ -404,23 +404,27 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
   std::size_t codes = 0;
   for (const auto& run : f.runs)
     for (double mm : run.tof_mm) codes += mm >= kOutOfRangeCode_mm;
-  const std::size_t entry_count = 5 + (still.empty() ? 0 : 1) + (codes > 0 ? 1 : 0) + (robots.size() > 1 ? robots.size() : 0) + (thinned > 0 && !narrow ? 1 : 0);
+  const std::size_t entry_count = 5 + (still.empty() ? 0 : 1) + (codes > 0 ? 1 : 0) + (robots.size() > 1 ? robots.size() : 0) + (thinned > 0 ? 1 : 0);
   // (gnuplot gives every column the longest entry's width and drops a column that overflows.)
   const std::size_t legend_cols = std::max<std::size_t>(1, static_cast<std::size_t>(width) / (narrow ? 210 : 440));
   const int legend_rows = static_cast<int>((entry_count + legend_cols - 1) / legend_cols);
   // From the top: the title (none on a paper's column: the caption's), the legend, the first
   // panels' titles. Between rows: the tics, the x label (none on a column's time panels: their
   // titles say "time (s)"), the next titles.
-  const double top_px = (narrow ? 10.0 : 60.0) + legend_rows * 22.0 + 35.0;
+  // (a column's titles 48 pixels: the svg terminal sets a title's line 33 pixels above its panel)
+  const double top_px = (narrow ? 10.0 : 60.0) + legend_rows * 22.0 + (narrow ? 48.0 : 35.0);
   Layout layout;
   layout.rows = rows;
   layout.cols = cols;
-  layout.left = (narrow ? 70.0 : 85.0) / width;
-  layout.right = 1.0 - 15.0 / width;
+  // (the svg terminal reckons the tics' "2000" wider than it draws, and leaves out a y label that
+  // its reckoning puts left of the canvas: at 70 pixels the SVG lost the ToF panels' labels)
+  layout.left = 85.0 / width;
+  // (a column's: 30 pixels, which its right panels' titles, wider than the panels, reach into)
+  layout.right = 1.0 - (narrow ? 30.0 : 15.0) / width;
   layout.bottom = 60.0 / height;
   layout.top = 1.0 - top_px / height;
   layout.hspace = (narrow ? 110.0 : 105.0) / width;  // the encoders' 6-digit tics and their label
-  layout.vspace = (narrow ? 75.0 : 100.0) / height;
+  layout.vspace = (narrow ? 85.0 : 100.0) / height;  // (the svg terminal's titles stand 33 pixels above their panel)
   const double panel_px = (height * (layout.top - layout.bottom) - (rows - 1) * height * layout.vspace) / rows;
   const std::string tof_label = narrow ? "ToF (mm)" : "ToF reading (mm)";
   const double panel_w_px = (width * (layout.right - layout.left) - (cols - 1) * width * layout.hspace) / cols;
@@ -537,8 +541,8 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
           gp << plot << "\n";
         }
         gp << "unset arrow 1\n";
-        gp << "set title " << quoted(narrow ? (thinned > 0 ? "encoders; ≤ 25 readings/run" : "encoders, every run") : "wheel encoders: every run")
-           << " font ',11'\n";
+        // (a column's panel is about 120 canvas pixels wide: its title one word, the thinning in the legend)
+        gp << "set title " << quoted(narrow ? "encoders" : "wheel encoders: every run") << " font ',11'\n";
         axes_labels(narrow ? "commanded (mm)" : "commanded distance (mm)", "encoder steps");
         gp << "set xrange [*:*]\nset yrange [*:*]\n";
         {
@@ -565,7 +569,9 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
             }
           const double xpad = std::max(1.0, 0.03 * (hi - lo)), ypad = std::max(1.0, 0.03 * (yhi - ylo));
           gp << "set xrange [" << lo - xpad << ":" << hi + xpad << "]\nset yrange [" << ylo - ypad << ":" << yhi + ypad << "]\n";
-          gp << "set xtics " << tic_step(lo, hi, tics_that_fit(panel_w_px, 70)) << "\nset ytics " << tic_step(ylo, yhi, tics_that_fit(panel_px, 35)) << "\n";
+          // (a tic every 50 canvas pixels at most, two at least: on a column's panel, 110 pixels
+          // wide, "-2000" and "-1000" touched at three)
+          gp << "set xtics " << tic_step(lo, hi, std::max(2, static_cast<int>(panel_w_px / 50))) << "\nset ytics " << tic_step(ylo, yhi, tics_that_fit(panel_px, 35)) << "\n";
           gp << plot << "\n";
         }
         std::vector<std::string> entries{
@@ -576,8 +582,9 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
             std::string("NaN with lines lw 1.5 dt 2 lc rgb '#000000' title ") +
                 (narrow ? "'plug-in'" : "'plug-in (1000 steps/m, no slip)'"),
             std::string("NaN with lines dt 3 lc rgb '#808080' title 'the ") + rail_mm + " " + tof.unit + " rail'"};
-        if (thinned > 0 && !narrow)  // (a column's legend has no room: the encoders' panel title says it)
-          entries.push_back("NaN with dots lc rgb '#ffffff' title 'at most 25 readings a run drawn (every n-th)'");
+        if (thinned > 0)
+          entries.push_back(std::string("NaN with dots lc rgb '#ffffff' title ") +
+                            (narrow ? "'≤ 25 readings/run drawn'" : "'at most 25 readings a run drawn (every n-th)'"));
         if (!still.empty()) entries.insert(entries.begin() + 2, std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kStill + "' title 'standing still'");
         if (codes > 0)
           entries.push_back(narrow ? "NaN with points pt 9 ps 1 lc rgb '#ff7f0e' title 'no-target code (2250)'"
