@@ -246,15 +246,17 @@ CategoryAxis category_axis(const Axis& full, const std::string& name, double pan
   }
   const std::string what = name == "log" ? "log" : name == "sensor" ? "sensor" : name == "axis" ? "image axis" : "measured quantity";
   out.label = what + " (key below)";
-  // Numbers: all, or every step-th (1, 2 or 5 times a power of ten) and the first.
+  // Numbers: all, or every step-th (1, 2 or 5 times a power of ten; from 5 on the first too:
+  // 1, 5, 10, …), labelled tics at least the widest number and 10 pixels apart.
   const std::size_t n = full.categories.size();
   const double per_label = text_px(std::to_string(n)) + 10;
-  auto fits = [&](std::size_t st) { return static_cast<double>(n / st + (st > 1 ? 1 : 0)) * per_label <= panel_w_px; };
+  auto fits = [&](std::size_t st) { return static_cast<double>(st) * panel_w_px / static_cast<double>(n) >= per_label; };
   std::size_t step = 1;
   for (std::size_t p = 1; !fits(step) && p <= n; p *= 10)
     for (std::size_t m : {1, 2, 5})
       if (!fits(step)) step = m * p;
-  for (std::size_t i = 0; i < n; ++i) out.tics.push_back(i == 0 || (i + 1) % step == 0 ? std::to_string(i + 1) : "");
+  for (std::size_t i = 0; i < n; ++i)
+    out.tics.push_back((i == 0 && step >= 5) || (i + 1) % step == 0 ? std::to_string(i + 1) : "");
   // The key: every name whole, or (shorter) the logs' shared part once and what tells them apart.
   std::vector<std::string> names, parts;
   for (const auto& [v, label] : full.categories) names.push_back(label);
@@ -411,7 +413,8 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
     // would put the x label below the room it reckons they take at the default font's width, which
     // differs from terminal to terminal: the label is placed by hand just below them instead.
     const int tics_px = rotate ? static_cast<int>(7.0 * static_cast<double>(longest)) + 14 : 22;
-    pl.below_px = tics_px + 32 + (pl.small ? 20 : 0);  // tic labels and the x label
+    // tic labels and the x label (on a page 8 pixels more: the svg terminal sets it lower)
+    pl.below_px = tics_px + 32 + (pl.small ? 20 : 0) + (narrow ? 8 : 0);
     if (!narrow) {
       pl.top_px = 180;
       pl.gap_px = pl.below_px + 70;  // ... and the next panel's title (two lines)
@@ -547,7 +550,8 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
             // which leaves the title's line break raw and breaks gnuplot's command line.
             gp << "set title " << plot::quoted(panel_title(side, p, stride, beyond, small_panel, panel_w_px)) << " font ',11'\n";
             // On a page, the short forms: the panel's title says what is measured.
-            const std::string unit_short = p.unit.substr(0, p.unit.find(','));
+            // (a charge's "fraction of full charge" in short: "of full charge")
+            const std::string unit_short = p.unit.rfind("fraction of ", 0) == 0 ? p.unit.substr(9) : p.unit.substr(0, p.unit.find(','));
             // Several quantities (drive, camera): each named in its y label ("ToF residual (mm)").
             const std::string residual = panels.size() > 1 && !p.brief.empty() ? p.brief + " residual" : "residual";
             gp << "set ylabel " << quoted(narrow ? residual + " (" + unit_short + ")" : "measured − simulated (" + p.unit + ")") << "\n";
