@@ -571,9 +571,9 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
             }
           const double xpad = std::max(1.0, 0.03 * (hi - lo)), ypad = std::max(1.0, 0.03 * (yhi - ylo));
           gp << "set xrange [" << lo - xpad << ":" << hi + xpad << "]\nset yrange [" << ylo - ypad << ":" << yhi + ypad << "]\n";
-          // (a tic every 50 canvas pixels at most, two at least: on a column's panel, 110 pixels
-          // wide, "-2000" and "-1000" touched at three)
-          gp << "set xtics " << tic_step(lo, hi, std::max(2, static_cast<int>(panel_w_px / 50))) << "\nset ytics " << tic_step(ylo, yhi, tics_that_fit(panel_px, 35)) << "\n";
+          // (on a column's panel, 110 pixels wide, "-2000" and "-1000" touched at three tics: there
+          // a tic every 50 canvas pixels at most, two at least)
+          gp << "set xtics " << tic_step(lo, hi, narrow ? std::max(2, static_cast<int>(panel_w_px / 50)) : tics_that_fit(panel_w_px, 70)) << "\nset ytics " << tic_step(ylo, yhi, tics_that_fit(panel_px, 35)) << "\n";
           gp << plot << "\n";
         }
         std::vector<std::string> entries{
