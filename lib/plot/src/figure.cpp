@@ -102,6 +102,35 @@ std::string terminal(Format format, int width_px, int height_px) {
   return buf;
 }
 
+/// The svg terminal draws a marker `ps` times 4.5 SVG pixels whatever the page (it has no
+/// pointscale): on an 8.5 cm page at 8 pt the markers printed twice the PDF's, as large as the
+/// text's capitals. On a page every marker of the SVG at `path` (a `<use xlink:href='#gpPt…'`
+/// with its `scale(S)`) is scaled by `factor`, as pdfcairo's pointscale scales the PDF's.
+void scale_svg_markers(const std::string& path, double factor) {
+  std::string svg;
+  {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream all;
+    all << in.rdbuf();
+    svg = all.str();
+  }
+  std::string out;
+  out.reserve(svg.size());
+  const std::string use = "<use xlink:href='#gpPt", scale = "scale(";
+  std::size_t from = 0;
+  for (std::size_t at = svg.find(use); at != std::string::npos; at = svg.find(use, at + 1)) {
+    const std::size_t end = svg.find('>', at), s = svg.find(scale, at);
+    if (s == std::string::npos || s > end) continue;
+    const std::size_t number = s + scale.size(), close = svg.find(')', number);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", std::atof(svg.c_str() + number) * factor);
+    out.append(svg, from, number - from).append(buf);
+    from = close;
+  }
+  out.append(svg, from, std::string::npos);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << out;
+}
+
 }  // namespace
 
 void set_page(const Page& page) { g_page = page; }
@@ -385,6 +414,7 @@ void render(logs::OutputStage& stage, const std::string& path, const Draw& draw,
   }
   if (!fs::exists(tmp, ec) || fs::file_size(tmp, ec) == 0)
     throw std::runtime_error(path + ": gnuplot did not draw the figure (is gnuplot-nox installed?)");
+  if (*format == Format::svg && paged()) scale_svg_markers(tmp, printed_font_pt() / kDesignFont_pt);
 }
 
 void render(const std::string& path, const Draw& draw, int width_px, int height_px) {

@@ -30,21 +30,28 @@ std::vector<double> samples(double from, double to, int n) {
 struct Sheet {
   int width = 1400;
   bool narrow = false;
+  bool svg = false;  ///< drawn by the svg terminal, whose reckoning of a key's text is wider than it draws
 };
-Sheet page_of(int default_width_px = 1400, int default_height_px = 900) {
+Sheet page_of(const std::string& path, int default_width_px = 1400, int default_height_px = 900) {
   const int w = canvas_px(default_width_px, default_height_px).first;
-  return {w, w < kNarrowCanvas_px};
+  return {w, w < kNarrowCanvas_px, format_of(path) == Format::svg};
 }
 
 /// The title and the legend's place for `page`: on a narrow page no title (the caption's) and the
-/// legend below the plot, `key` otherwise.
-std::string title_and_key(const Sheet& page, const std::string& title, const std::string& key) {
-  // (on a page in lines of its width: at 17.8 cm the light figure's title ran 30 pixels off the SVG)
+/// legend below the plot; on another page narrower than the figure's own canvas (two columns) the
+/// title in lines of the page, and with `below_on_page` the legend below the plot too (at 17.8 cm
+/// the light figure's legend, inside the plot, hid readings, and in the SVG ran over the x tics);
+/// `key` otherwise.
+std::string title_and_key(const Sheet& page, const std::string& title, const std::string& key, bool below_on_page = false) {
+  // (the svg terminal reckons the entries 1.4 times as wide as it draws them, and set them in one
+  // column of twelve rows at 8.5 cm: its columns narrowed by 6 characters to match)
+  const std::string below = std::string("set key below center horizontal Left reverse samplen 2 spacing 1.0 width ") +
+                            (page.svg ? "-6" : "-1") + " maxrows " + (page.narrow ? "4" : "3") + " font ',9'\n";
+  if (page.width >= 1400) return "set title " + quoted(title) + " font ',13'\nset key " + key + "\n";
   if (!page.narrow)
-    return "set title " + quoted(page.width < 1400 ? wrapped(title, page.width - 60.0, 13) : title) + " font ',13'\nset key " + key + "\n";
+    return "set title " + quoted(wrapped(title, page.width - 60.0, 13)) + " font ',13'\n" + (below_on_page ? below : "set key " + key + "\n");
   // A paper's column leaves the title to the figure's caption: the plot keeps the room.
-  return std::string("unset title\n") +
-         "set key below center horizontal Left reverse samplen 2 spacing 1.0 width -1 maxrows 4 font ',9'\n";
+  return "unset title\n" + below;
 }
 
 /// A legend entry for each robot (black, its marker) when the logs come from more than one.
@@ -118,7 +125,7 @@ void proximity_figure(logs::OutputStage& stage, const std::string& path, const c
     curves.push_back({mm, s::proximity_response(kmax, d), s::proximity_response(kmean, d),
                       s::proximity_response(s::kPluginProximity, d), s::proximity_response(s::kEpuck1Proximity, d)});
   }
-  const Sheet page = page_of();
+  const Sheet page = page_of(path);
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << datablock("pts", pts);
     gp << datablock("curves", curves);
@@ -151,7 +158,7 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
   for (const auto& o : f.observations)
     by_intensity[o.intensity].push_back(
         {o.distance_m * 100, o.value_raw, double(o.sensor), static_cast<double>(robot_point_type(static_cast<std::size_t>(o.robot)))});
-  const Sheet page = page_of();
+  const Sheet page = page_of(path);
   const double g = f.gamma.value("gamma");
   // Eq. 2's raw reading (lib/models light_mean_raw, no effects) for the fit's and the plug-in's
   // gamma at each intensity, on 5..52 cm.
@@ -169,7 +176,8 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
       ++k;
     }
     gp << title_and_key(page, "Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance, per source intensity I (simulator units)",
-                        "at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15");
+                        "at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15", true);
+    const bool short_entries = page.width < 1400;  // a page's legend, below the plot: the short forms
     // The register's unit and rails (kind_facts); dark is the high rail.
     const models::Channel& light = models::kind_facts("light")->channels.front();
     char dark[32];
@@ -190,13 +198,13 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
                     "%s$i%d using 1:2:4 with points pt variable ps 0.6 lc rgb '%s' notitle, NaN with points pt 7 ps 1 lc rgb '%s' title '%s%.2f', "
                     "$c%d using 1:2 with lines lw 2.5 lc rgb '%s' notitle, "
                     "$c%d using 1:3 with lines lw 1.5 dt (8,5) lc rgb '%s' notitle",
-                    k ? ", " : "", k, c, c, page.narrow ? "I = " : "readings at I = ", intensity, k, c, k, c);
+                    k ? ", " : "", k, c, c, short_entries ? "I = " : "readings at I = ", intensity, k, c, k, c);
       gp << buf;
       ++k;
     }
     char buf[300];
     std::snprintf(buf, sizeof buf,
-                  page.narrow ? ", NaN with lines lw 2.5 lc rgb 'black' title 'fit: γ = %.4f m', "
+                  short_entries ? ", NaN with lines lw 2.5 lc rgb 'black' title 'fit: γ = %.4f m', "
                                 "NaN with lines lw 1.5 dt (8,5) lc rgb 'black' title 'plug-in: γ = 0.075 m'"
                               : ", NaN with lines lw 2.5 lc rgb 'black' title 'fit: γ = %.4f m (solid, colour of its I)', "
                                 "NaN with lines lw 1.5 dt (8,5) lc rgb 'black' title 'plug-in: γ = 0.075 m (dashed)'",
@@ -207,7 +215,7 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
 }
 
 void ground_figure(logs::OutputStage& stage, const std::string& path, const calibrate::GroundFit& f) {
-  const Sheet page = page_of();
+  const Sheet page = page_of(path);
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     // Each sensor's fitted line and the plug-in's (lib/models ground_response), on grey 0..1.
     std::vector<std::vector<double>> lines;
@@ -265,7 +273,7 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
 void camera_figure(logs::OutputStage& stage, const std::string& path, const calibrate::CameraFit& f) {
   const double fov = s::deg_to_rad(f.result.value("fov_deg")), cx = f.result.value("cx_px"), cy = f.result.value("cy_px");
   const auto plugin = s::plugin_camera();
-  const Sheet page = page_of();
+  const Sheet page = page_of(path);
   std::vector<std::vector<double>> rows;
   for (const auto& o : f.observations) {
     double mx, my, qx, qy;
