@@ -540,6 +540,9 @@ TEST_F(PaperFigures, EveryTextOfAPageFigureIsOnTheCanvasAndClearOfTheOthers) {
       // light legend, inside the plot at 17.8 cm, over the x tics)
       {"proximity" + logs_of("proximity"), "8.5x7cm"}, {"light" + logs_of("light"), "8.5x7cm"},
       {"light" + logs_of("light"), "17.8x9cm"},
+      // (at 17.8x8cm the camera's panel titles stood on the overall title, its legends over the
+      // readings and off the canvas, its x labels below the foot)
+      {"camera" + logs_of("camera"), "17.8x8cm"},
   };
   for (const auto& [command, size] : cases) {
     SCOPED_TRACE(command.substr(0, 30) + " " + size);

@@ -51,10 +51,12 @@ void charge_map_figure(logs::OutputStage& stage, const std::string& path, const 
         if (narrow) gp << "set multiplot\n";
         else gp << "set multiplot layout 2,1 title '" << title << "' font ',13' noenhanced\n";
         gp << "set xlabel '" << (narrow ? std::string() : xlabel) << "' noenhanced\n";  // a column: once, under the residuals
-        gp << "set ylabel 'charge (1 = full)'\nset grid\n" << (narrow ? "set key below horizontal width -2\n" : "set key top left\n");
+        gp << "set ylabel 'charge (1 = full)'\nset grid\n" << (narrow ? "set key below horizontal Left reverse width -2\n" : "set key top left\n");
         gp << (narrow ? "set size 1,0.6\nset origin 0,0.4\n" : "set size 1,0.62\nset origin 0,0.33\n");
-        gp << "plot '-' with points pt 7 ps 0.3 lc rgb '#b0b0b0' title 'logged rows', "
-              "'-' with lines lw 2 lc rgb '#e41a1c' title 'map', "
+        // (a column's legend shows the rows' marker at a size it can be seen: 0.3 was a dot)
+        gp << "plot '-' with points pt 7 ps 0.3 lc rgb '#b0b0b0' "
+           << (narrow ? "notitle, NaN with points pt 7 ps 0.8 lc rgb '#b0b0b0' title 'logged rows', " : "title 'logged rows', ")
+           << "'-' with lines lw 2 lc rgb '#e41a1c' title 'map', "
               "'-' with points pt 6 ps 1.5 lw 2 lc rgb '#377eb8' title 'knots'\n";
         gp.send1d(pts);
         gp.send1d(line);

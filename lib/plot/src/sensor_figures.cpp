@@ -64,8 +64,10 @@ std::string robot_entries(const std::vector<std::string>& names) {
   return out;
 }
 
-/// The camera's two panels side by side, or one above the other on a paper's column.
-Layout two_panels() {
+/// The camera's two panels side by side, or one above the other on a paper's column. On a page of
+/// two columns (narrower than the figure's own 1400 canvas pixels), under an overall title of
+/// `title_lines` lines, with the legend in a band below.
+Layout two_panels(int title_lines) {
   Layout layout;
   const std::pair<int, int> canvas = canvas_px(1400, 900);
   const double width = canvas.first, height = canvas.second;
@@ -93,6 +95,15 @@ Layout two_panels() {
   }
   layout.rows = 1;
   layout.cols = 2;
+  if (width < 1400) {  // (at 17.8x8cm the fractions below put the panels' titles on the overall
+                       // title, their legends over the readings and off the canvas, the x labels below it)
+    layout.left = 110.0 / width;
+    layout.right = 1.0 - 15.0 / width;
+    layout.top = 1.0 - (10.0 + 31.0 * title_lines + 55.0) / height;  // a 15 pt title's line: 31 pixels in the SVG
+    layout.bottom = 150.0 / height;  // the x label (two lines), then the legend band (two rows)
+    layout.hspace = 130.0 / width;
+    return layout;
+  }
   layout.top = 0.9;
   layout.bottom = 0.1;
   // Room for the tics and the y label in canvas pixels (text-sized), whatever the page's size.
@@ -295,8 +306,11 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
   const std::string observed = robots_legend.empty() ? " pt 7 ps 0.8 lc rgb '#1f77b4' title 'observed'" : " pt variable ps 0.8 lc rgb variable notitle";
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << datablock("obs", rows);
-    const std::string title = "Camera (paper section 4.1.6): where the LED appears in the image against its direction";
-    const Layout layout = two_panels();
+    // A page narrower than the figure's canvas: the title in lines of the page, the legend in a band below.
+    const bool banded = page.width < 1400;
+    const std::string title = wrapped("Camera (paper section 4.1.6): where the LED appears in the image against its direction",
+                                      banded ? page.width - 40.0 : 1e9, 15);
+    const Layout layout = two_panels(1 + static_cast<int>(std::count(title.begin(), title.end(), '\n')));
     gp << multiplot(layout, page.narrow ? "" : title);
     // Each panel's size in canvas pixels: its tics, and whether its x label needs two lines.
     const std::pair<int, int> canvas = canvas_px(1400, 900);
@@ -305,6 +319,7 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
     // Side by side on a column: the labels' short forms in lines of the panel's width.
     const bool small = page.narrow && layout.cols == 2;
     auto xlabel = [&](const std::string& text) {
+      if (banded && !small) return quoted(wrapped(text, panel_w + 40));
       if (!small) return quoted(text);
       return quoted(wrapped(text.substr(0, text.find(" (tangent")) + (text.find("left") != std::string::npos ? " (left > 0)" : " (up > 0)"), panel_w + 40));
     };
@@ -325,7 +340,7 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
     const std::string yticks = "set ytics " + std::to_string(static_cast<int>(tic_step(0, 160, tics_that_fit(panel_h, 35)))) + "\n";
     gp << "set grid lc rgb '#d8d8d8'\n";
     // A paper's column: the legend in a band under the panels.
-    gp << (page.narrow ? "unset key\n" : "set key top right opaque box Left reverse\n");
+    gp << (banded ? "unset key\n" : "set key top right opaque box Left reverse\n");
     gp << "set title 'columns' font ',12'\n";
     gp << "set xlabel " << xlabel(page.narrow ? "lateral / forward (tangent, left > 0)" : "lateral / forward (tangent of the horizontal angle, dimensionless; left > 0)") << "\n";
     gp << "set ylabel " << quoted(page.narrow ? "column px (pixels)" : "column px (pixels, 0..159)") << "\nset yrange [-5:165]\n" << yticks << xtics(0);
@@ -339,7 +354,7 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
     gp << "plot $obs using 5:6" << (robots_legend.empty() ? "" : ":9:10") << " with points" << observed << ", "
        << "$obs using 5:7 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
        << "$obs using 5:8 with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in (centre 60)'" << robots_legend << "\n";
-    if (page.narrow) {
+    if (banded) {
       std::vector<std::string> entries{"NaN with lines lw 2.5 lc rgb '#d62728' title 'fit'",
                                        "NaN with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in'"};
       if (robots_legend.empty()) entries.insert(entries.begin(), "NaN with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'observed'");
