@@ -251,6 +251,17 @@ TEST_F(PaperFigures, ABatterySvgStaysSmallAndSaysItIsThinned) {
   EXPECT_NE(slurp(out).find("a line through ≤ 150 readings a run"), std::string::npos);
 }
 
+// The charge map of the battery reference set as an SVG: about 800 of its 38 439 logged rows
+// (every 38 439 / 800 = 48th) in each panel, the SVG under 300 KB (0.9 MB with 4000 a panel),
+// the thinning stated in the legend.
+TEST_F(PaperFigures, AChargeMapSvgStaysSmallAndSaysItIsThinned) {
+  const fs::path out = dir_ / "m.svg";
+  const CliRun r = run("battery" + logs_of("battery") + " --plot-charge-map \"" + out.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_LT(fs::file_size(out), 300u * 1024u);
+  EXPECT_NE(slurp(out).find("logged rows, 1 in 48"), std::string::npos);
+}
+
 // The drive reference set (19 runs, 1839 readings, each drawn in its speed's panel and again in
 // the encoders') as an SVG: at most 25 readings a run drawn, the SVG under 300 KB (0.54 MB when
 // every reading was drawn), the thinning stated; the PNG keeps every reading (no such entry).
