@@ -69,11 +69,13 @@ std::string terminal(Format format, int width_px, int height_px) {
   char buf[320];
   switch (format) {
     case Format::png:
+      // On a page the markers scale with the text, as the PDF's (at 300 dpi they were drawn at the
+      // screen's size: a third of a millimetre, the robots' markers not told apart).
       if (paged())
         std::snprintf(buf, sizeof buf,
-                      "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' fontscale %.4f background rgb 'white'\n",
+                      "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' fontscale %.4f pointscale %.4f background rgb 'white'\n",
                       static_cast<int>(std::lround(w_in * kPagePngDpi)), static_cast<int>(std::lround(h_in * kPagePngDpi)),
-                      kPagePngDpi / per_in);
+                      kPagePngDpi / per_in, kPagePngDpi / per_in);
       else
         std::snprintf(buf, sizeof buf,
                       "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' background rgb 'white'\n", width_px,
