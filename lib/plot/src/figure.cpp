@@ -70,12 +70,13 @@ std::string terminal(Format format, int width_px, int height_px) {
   switch (format) {
     case Format::png:
       // On a page the markers scale with the text, as the PDF's (at 300 dpi they were drawn at the
-      // screen's size: a third of a millimetre, the robots' markers not told apart).
+      // screen's size: a third of a millimetre, the robots' markers not told apart), and a line of
+      // width 1 is pdfcairo's half point (0.5 x 300 / 72 pixels), not one pixel (0.08 mm).
       if (paged())
         std::snprintf(buf, sizeof buf,
-                      "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' fontscale %.4f pointscale %.4f background rgb 'white'\n",
+                      "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' fontscale %.4f pointscale %.4f linewidth %.4f background rgb 'white'\n",
                       static_cast<int>(std::lround(w_in * kPagePngDpi)), static_cast<int>(std::lround(h_in * kPagePngDpi)),
-                      kPagePngDpi / per_in, kPagePngDpi / per_in);
+                      kPagePngDpi / per_in, kPagePngDpi / per_in, 0.5 * kPagePngDpi / 72.0);
       else
         std::snprintf(buf, sizeof buf,
                       "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' background rgb 'white'\n", width_px,
