@@ -23,6 +23,7 @@ struct Panel {
   std::string quantity;  ///< "ToF reading"
   std::string unit;      ///< "mm"
   std::vector<std::size_t> residuals;
+  std::string brief = {};  ///< "ToF": the quantity in a page's y label, where a figure has several
 };
 
 std::vector<Panel> panels_of(const dg::Report& r) {
@@ -32,15 +33,15 @@ std::vector<Panel> panels_of(const dg::Report& r) {
   if (!r.residual_channel.empty()) {
     for (std::size_t c = 0; c < r.channel_noise_sd.size(); ++c) {
       const std::string& name = r.channel_noise_sd[c].name;
-      if (name == "tof_mm") out.push_back({std::string(facts.channels.front().label) + " reading", facts.channels.front().unit, {}});
-      else if (name == "steps") out.push_back({std::string(facts.channels.back().label) + " registers (left and right)", facts.channels.back().unit, {}});
-      else out.push_back({name, "as logged", {}});
+      if (name == "tof_mm") out.push_back({std::string(facts.channels.front().label) + " reading", facts.channels.front().unit, {}, "ToF"});
+      else if (name == "steps") out.push_back({std::string(facts.channels.back().label) + " registers (left and right)", facts.channels.back().unit, {}, "encoder"});
+      else out.push_back({name, "as logged", {}, name});
     }
     for (std::size_t i = 0; i < n && i < r.residual_channel.size(); ++i)
       if (r.residual_channel[i] < out.size()) out[r.residual_channel[i]].residuals.push_back(i);
   } else if (r.kind == logs::Kind::camera) {
     // Two residuals a row: the LED's column, then its row in the image.
-    out = {{"LED image column px", "px", {}}, {"LED image row py", "px", {}}};
+    out = {{"LED image column px", "px", {}, "column"}, {"LED image row py", "px", {}, "row"}};
     for (std::size_t i = 0; i < n; ++i) out[i % 2].residuals.push_back(i);
   } else {
     // One channel: its quantity, unit and rails from the kind's facts (a charge is a fraction of
@@ -156,6 +157,119 @@ void shorten_log_names(Axis& a) {
   a.label = "log (" + prefix + "*" + suffix + ")";
 }
 
+/// The key's entries for `names` (category k+1 is names[k]): "3 = 1.00", or for a run of names
+/// that differ only by a number counting up at the same place, "1–16 = a_speed-00…15".
+std::vector<std::string> key_entries(const std::vector<std::string>& names) {
+  struct Split {
+    std::string head, digits, tail;
+  };
+  std::vector<Split> split;
+  for (const std::string& n : names) {
+    const std::size_t end = n.find_last_of("0123456789");
+    if (end == std::string::npos) {
+      split.push_back({n, "", ""});
+      continue;
+    }
+    const std::size_t begin = n.find_last_not_of("0123456789", end);
+    const std::size_t at = begin == std::string::npos ? 0 : begin + 1;
+    split.push_back({n.substr(0, at), n.substr(at, end + 1 - at), n.substr(end + 1)});
+  }
+  // names[i + 1] continues names[i]'s run: the same head, tail and number width, the number one up.
+  auto follows = [&](std::size_t i) {
+    const Split &a = split[i], &b = split[i + 1];
+    return !a.digits.empty() && a.head == b.head && a.tail == b.tail && a.digits.size() == b.digits.size() &&
+           a.digits.size() < 10 && std::stol(b.digits) == std::stol(a.digits) + 1;
+  };
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < names.size();) {
+    std::size_t j = i;
+    while (j + 1 < names.size() && follows(j)) ++j;
+    if (j >= i + 2) {
+      out.push_back(std::to_string(i + 1) + "–" + std::to_string(j + 1) + " = " + split[i].head + split[i].digits + "…" +
+                    split[j].digits + split[i].tail);
+      i = j + 1;
+    } else {
+      out.push_back(std::to_string(i + 1) + " = " + names[i]);
+      ++i;
+    }
+  }
+  return out;
+}
+
+/// `head` and `entries` in lines of at most `width_px` canvas pixels at `font_pt`, broken
+/// between entries only (an entry wider than a line has a line of its own).
+std::vector<std::string> key_lines(const std::string& head, const std::vector<std::string>& entries, double width_px, double font_pt) {
+  std::vector<std::string> lines{head};
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const std::string piece = entries[k] + (k + 1 < entries.size() ? "," : "");
+    std::string& line = lines.back();
+    if (line.empty() || text_px(line + " " + piece, font_pt) <= width_px) line += (line.empty() ? "" : " ") + piece;
+    else lines.push_back(piece);
+  }
+  return lines;
+}
+
+/// A category axis on a page: level tic labels where every name fits its slot under the panel and
+/// the axis label fits under it; otherwise numbers (1, 2, …; every step-th labelled where they do
+/// not all fit) and a key under the figure naming each: long log names are never cut, never
+/// overlap and never stand upright in a paper's column.
+struct CategoryAxis {
+  std::vector<std::string> tics;  ///< the label at each position 0..K-1 ("": a tic without a label)
+  std::string label;              ///< the x label
+  std::vector<std::string> key;   ///< the key's lines under the figure (none: the tics say it all)
+};
+
+/// The key's text size (the layouts' points) and line height (canvas pixels: 1.53 lines of text
+/// a line, the svg terminal's spacing, wider than cairo's 1.16).
+constexpr double kKeyFont_pt = 9, kKeyLine_px = 19;
+/// A line of a panel's title (11 pt: 14.7 canvas pixels to the em) in canvas pixels, at the same spacing.
+constexpr int kTitleLine_px = 23;
+
+CategoryAxis category_axis(const Axis& full, const std::string& name, double panel_w_px, double label_font_pt, double key_w_px) {
+  CategoryAxis out;
+  Axis brief = full;
+  if (name == "log") shorten_log_names(brief);
+  const double k = static_cast<double>(std::max<std::size_t>(1, full.categories.size()));
+  bool level = true;
+  for (const auto& [v, label] : brief.categories) level = level && text_px(label) + 8 <= panel_w_px / k;
+  // The x label: in lines of the panel's width, none of its words wider.
+  std::string word;
+  for (char c : brief.label + " ") {
+    if (c != ' ') word += c;
+    else level = level && text_px(word, label_font_pt) <= panel_w_px + 20, word.clear();
+  }
+  level = level && text_px(brief.label, label_font_pt) <= 2 * (panel_w_px + 20);
+  if (level) {
+    for (const auto& [v, label] : brief.categories) out.tics.push_back(label);
+    out.label = brief.label;
+    return out;
+  }
+  const std::string what = name == "log" ? "log" : name == "sensor" ? "sensor" : name == "axis" ? "image axis" : "measured quantity";
+  out.label = what + " (key below)";
+  // Numbers: all, or every step-th (1, 2 or 5 times a power of ten; from 5 on the first too:
+  // 1, 5, 10, …), labelled tics at least the widest number and 10 pixels apart.
+  const std::size_t n = full.categories.size();
+  const double per_label = text_px(std::to_string(n)) + 10;
+  auto fits = [&](std::size_t st) { return static_cast<double>(st) * panel_w_px / static_cast<double>(n) >= per_label; };
+  std::size_t step = 1;
+  for (std::size_t p = 1; !fits(step) && p <= n; p *= 10)
+    for (std::size_t m : {1, 2, 5})
+      if (!fits(step)) step = m * p;
+  for (std::size_t i = 0; i < n; ++i)
+    out.tics.push_back((i == 0 && step >= 5) || (i + 1) % step == 0 ? std::to_string(i + 1) : "");
+  // The key: every name whole, or (shorter) the logs' shared part once and what tells them apart.
+  std::vector<std::string> names, parts;
+  for (const auto& [v, label] : full.categories) names.push_back(label);
+  for (const auto& [v, label] : brief.categories) parts.push_back(label);
+  out.key = key_lines(what + ":", key_entries(names), key_w_px, kKeyFont_pt);
+  if (brief.label != full.label) {  // "log (ground_virtual-epuck2-*.csv)": the shared part in the label
+    const std::string shared = brief.label.substr(brief.label.find('(') + 1, brief.label.size() - brief.label.find('(') - 2);
+    std::vector<std::string> shorter = key_lines(what + " " + shared + ", *:", key_entries(parts), key_w_px, kKeyFont_pt);
+    if (shorter.size() < out.key.size() && out.key.size() > 2) out.key = shorter;
+  }
+  return out;
+}
+
 /// The q-quantile of `v` (sorted copy).
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
@@ -228,18 +342,6 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   const bool metres = !cov_name.empty() && cov_name.size() > 2 && cov_name.compare(cov_name.size() - 2, 2, "_m") == 0;
   if (metres)
     for (double& v : x) v *= 1000.0;
-  // Tic labels of a category: the longest decides the room under each panel.
-  const bool on_page = canvas_px(1500, 100).first < 1500;
-  Axis probe = axis_of(cov_name, r, x, log_names, panels.empty() ? "" : panels.front().unit);
-  if (on_page && cov_name == "log") shorten_log_names(probe);
-  std::size_t longest = 0;
-  for (const auto& [v, label] : probe.categories) longest = std::max(longest, label.size());
-  const bool rotate = probe.categorical && (longest > 6 || probe.categories.size() > 12);
-  // Two columns: before the findings on the left, after them on the right, each on a y scale of
-  // its own (an `unexplained` verdict's structure is often 20x smaller than what the findings
-  // removed). The legend is one band under the title.
-  // From the top: the two-line title (to 65 px), the legend (75-110 px), each panel's title of up
-  // to two lines (just above the panel).
   // A page narrower than the figure's own 1500 canvas pixels: short titles, the verdict and the
   // findings on lines of their own, the legend in two columns.
   const bool narrow = canvas_px(1500, 100).first < 1500;
@@ -247,55 +349,119 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
   // above the other (each quantity's pair in turn) when the page is tall enough for panels of
   // 110 canvas pixels, else side by side (at 8.5x6cm a stack left panels 7 pixels high).
   const bool one_column = canvas_px(1500, 100).first < kNarrowCanvas_px;
+  // Tic labels of a category on the figure's own canvas: the longest decides the room under each
+  // panel (on a page, category_axis() numbers them instead, with a key under the figure).
+  const Axis probe = axis_of(cov_name, r, x, log_names, panels.empty() ? "" : panels.front().unit);
+  std::size_t longest = 0;
+  for (const auto& [v, label] : probe.categories) longest = std::max(longest, label.size());
+  const bool rotate = !narrow && probe.categorical && (longest > 6 || probe.categories.size() > 12);
+  // Two columns: before the findings on the left, after them on the right, each on a y scale of
+  // its own (an `unexplained` verdict's structure is often 20x smaller than what the findings
+  // removed). The legend is one band under the title.
+  // From the top: the two-line title (to 65 px), the legend (75-110 px), each panel's title of up
+  // to two lines (just above the panel).
   // The legend: four entries and each robot's marker (named on every page: a reader must tell
   // which marker is which robot), in one row on the figure's own canvas, two columns on a page.
   const std::size_t legend_entries = 4 + robots.size();
   const int legend_rows = narrow ? static_cast<int>((legend_entries + 1) / 2) : 1;
   const int legend_top_px = one_column ? 10 : narrow ? 85 : 75;  // below the title's lines
   const int plot_h = 380, column_gap_px = 120;
-  // The first panels' titles (two lines) under the legend.
-  int top_px = narrow ? legend_top_px + 25 * legend_rows + 55 : 180;
   const int quantities = std::max<int>(1, static_cast<int>(panels.size()));
-  // Long tic labels stand upright (about 6.5 px a character at 9 pt, in every format). gnuplot
-  // would put the x label below the room it reckons they take at the default font's width, which
-  // differs from terminal to terminal: the label is placed by hand just below them instead.
-  const int tics_px = rotate ? static_cast<int>(7.0 * static_cast<double>(longest)) + 14 : 22;
-  int below_px = tics_px + 32;  // tic labels and the x label
-  int gap_px = below_px + 70;   // ... and the next panel's title (two lines)
+  // Vector files stay small: at most this many points of one series (the means use every residual).
+  const std::size_t max_points = format_of(path) == Format::png ? kMaxPoints : kMaxVectorPoints;
+  auto stride_of = [&](const Panel& p) { return std::max<std::size_t>(1, (p.residuals.size() + max_points - 1) / max_points); };
+  // A panel's title: before or after, the quantity (on a page: in the y label), how many of its
+  // residuals are drawn and how many lie beyond its scale; on a page in lines of the panel's
+  // width. A column's panels side by side (`small`): what it is, then the counts on lines of their own.
+  auto panel_title = [&](int side, const Panel& p, std::size_t stride, std::size_t beyond, bool small, double panel_w_px) {
+    const std::string after_short = r.findings.empty() ? std::string("after: no finding")
+                                                       : "after: " + std::to_string(r.findings.size()) + " finding" + (r.findings.size() == 1 ? "" : "s");
+    const std::string after_name = r.findings.empty() ? "after: no finding (the same model)"
+                                                      : "after: with the " + std::to_string(r.findings.size()) + " finding" +
+                                                            (r.findings.size() == 1 ? "" : "s");
+    std::string t = (side == 0 ? std::string("before: base model, recalibrated") : after_name) + " — " + p.quantity + " (" + p.unit +
+                    "), " + std::to_string(p.residuals.size()) + " residuals";
+    if (narrow) t = (side == 0 ? std::string("before the findings") : after_short) + ", " + std::to_string(p.residuals.size()) + " residuals";
+    if (small) t = side == 0 ? std::string("before the findings") : after_short;
+    if (small && stride > 1) t += "\n1 in " + std::to_string(stride) + " drawn";
+    else if (stride > 1) t += "\n1 in " + std::to_string(stride) + " drawn, means from all";
+    if (small && beyond > 0) t += "\n" + std::to_string(beyond) + " off the scale";
+    else if (beyond > 0)
+      t += (stride > 1 ? (narrow ? "\n" : "; ") : "\n") + std::to_string(beyond) +
+           (narrow ? " off the scale, at its edge" : " beyond the y scale, drawn at its edge");
+    return narrow ? wrapped(t, panel_w_px + 40) : t;
+  };
+  // The canvas's width (a page's, whatever its height) and the panels' margins: on a page 35
+  // pixels right of the last panel, where its last x tic label ("2000", centred on the border) ends.
+  const int width_px = canvas_px(1500, 100).first;
+  const double right_px = narrow ? 35 : 25, hspace_px = one_column ? 100 : column_gap_px;
+  // The room around the panels for panels stacked (one column) or side by side (two).
+  struct Plan {
+    bool small = false;       ///< a column's panels side by side: x labels in two lines of smaller text
+    double panel_w_px = 0;
+    CategoryAxis categories;  ///< a page's category axis: its tics and key
+    int below_px = 0, gap_px = 0, top_px = 0, key_px = 0;
+  };
+  auto plan = [&](bool stacked) {
+    Plan pl;
+    pl.small = one_column && !stacked;
+    const int cols = stacked ? 1 : 2;
+    pl.panel_w_px = (width_px - 95.0 - right_px - (cols - 1) * hspace_px) / cols;
+    if (narrow && probe.categorical) pl.categories = category_axis(probe, cov_name, pl.panel_w_px, pl.small ? 9 : 11, width_px - 20.0);
+    pl.key_px = pl.categories.key.empty() ? 0 : static_cast<int>(std::lround(static_cast<double>(pl.categories.key.size()) * kKeyLine_px + 8));
+    // Long tic labels stand upright (about 6.5 px a character at 9 pt, in every format). gnuplot
+    // would put the x label below the room it reckons they take at the default font's width, which
+    // differs from terminal to terminal: the label is placed by hand just below them instead.
+    const int tics_px = rotate ? static_cast<int>(7.0 * static_cast<double>(longest)) + 14 : 22;
+    // tic labels and the x label (on a page 8 pixels more: the svg terminal sets it lower)
+    pl.below_px = tics_px + 32 + (pl.small ? 20 : 0) + (narrow ? 8 : 0);
+    if (!narrow) {
+      pl.top_px = 180;
+      pl.gap_px = pl.below_px + 70;  // ... and the next panel's title (two lines)
+      return pl;
+    }
+    // On a page, the titles' lines: the most any panel's title takes, its count off the scale
+    // taken at five digits; a line of title text a line and a half high (the svg terminal's, wider
+    // than cairo's 1.16).
+    int lines = 1;
+    for (const Panel& p : panels)
+      for (int side = 0; side < 2; ++side) {
+        const std::string t = panel_title(side, p, stride_of(p), 99999, pl.small, pl.panel_w_px);
+        lines = std::max(lines, 1 + static_cast<int>(std::count(t.begin(), t.end(), '\n')));
+      }
+    const int title_px = lines * kTitleLine_px + 24;  // (the svg terminal sets the last line 33 pixels above the panel)
+    pl.top_px = legend_top_px + 25 * legend_rows + title_px;
+    pl.gap_px = pl.below_px + title_px + 14;
+    return pl;
+  };
   bool column = false;
   if (one_column) {
-    const int stacked = 2 * quantities;
-    const int page_h = canvas_px(1500, top_px + stacked * plot_h + (stacked - 1) * gap_px + below_px + 10).second;
-    column = (page_h - top_px - below_px - 10 - (stacked - 1) * gap_px) / stacked >= 110;
+    const Plan st = plan(true);
+    const int stacked = 2 * quantities, room = st.top_px + st.below_px + 10 + st.key_px + (stacked - 1) * st.gap_px;
+    const int page_h = canvas_px(1500, room + stacked * plot_h).second;
+    column = (page_h - room) / stacked >= 110;
   }
-  // A column's panels side by side are small: their x labels take two lines of smaller text,
-  // their titles three.
-  const bool small_panels = one_column && !column;
-  if (small_panels) {
-    below_px += 20;
-    gap_px += 40;
-    top_px += 20;
-  }
+  const Plan pl = plan(column);
+  const bool small_panels = pl.small;
   const int rows = column ? 2 * quantities : quantities;
   // The canvas: the figure's own size, or a page's (--figure-size), whose panels share what
   // the fixed margins leave.
-  const std::pair<int, int> canvas = canvas_px(1500, top_px + rows * plot_h + (rows - 1) * gap_px + below_px + 10);
+  const std::pair<int, int> canvas = canvas_px(1500, pl.top_px + rows * plot_h + (rows - 1) * pl.gap_px + pl.below_px + 10 + pl.key_px);
   const int width = canvas.first, height = canvas.second;
   Layout layout;
   layout.rows = rows;
   layout.cols = column ? 1 : 2;
   layout.left = 95.0 / width;
-  layout.right = 1.0 - 25.0 / width;
-  layout.bottom = (below_px + 10.0) / height;
-  layout.top = 1.0 - static_cast<double>(top_px) / height;
-  layout.hspace = static_cast<double>(one_column ? 100 : column_gap_px) / width;
-  layout.vspace = static_cast<double>(gap_px) / height;
+  layout.right = 1.0 - right_px / width;
+  layout.bottom = (pl.below_px + 10.0 + pl.key_px) / height;
+  layout.top = 1.0 - static_cast<double>(pl.top_px) / height;
+  layout.hspace = hspace_px / width;
+  layout.vspace = static_cast<double>(pl.gap_px) / height;
   // Each panel's size in canvas pixels: how many tics its axes hold.
   const double panel_h_px = height * (layout.top - layout.bottom - (rows - 1) * layout.vspace) / rows;
   const double panel_w_px = width * (layout.right - layout.left - (layout.cols - 1) * layout.hspace) / layout.cols;
   check_panel_height(path, panel_h_px, rows);
-  // Vector files stay small: at most this many points of one series (the means use every residual).
-  const std::size_t max_points = format_of(path) == Format::png ? kMaxPoints : kMaxVectorPoints;
+  const int tics_px = rotate ? static_cast<int>(7.0 * static_cast<double>(longest)) + 14 : 22;
 
   std::string title = "Diagnosis of the " + std::string(logs::to_string(r.kind)) +
                       " logs: residuals (measured − simulated), before and after the findings, each on its own scale\n" +
@@ -306,9 +472,6 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
     if (semi != std::string::npos) title.replace(semi, 2, "\n");
   }
   if (one_column) title.clear();
-  const std::string after_name = r.findings.empty() ? "after: no finding (the same model)"
-                                                    : "after: with the " + std::to_string(r.findings.size()) + " finding" +
-                                                          (r.findings.size() == 1 ? "" : "s");
   render(
       stage, path,
       [&](gnuplotio::Gnuplot& gp) {
@@ -317,8 +480,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
         int p_index = 0;
         for (const Panel& p : panels) {
           ++p_index;
-          Axis axis = axis_of(cov_name, r, x, log_names, p.unit);
-          if (narrow && cov_name == "log") shorten_log_names(axis);
+          const Axis axis = axis_of(cov_name, r, x, log_names, p.unit);
           // Category positions 0..K-1.
           std::map<double, int> position;
           for (const auto& [v, label] : axis.categories) position.emplace(v, static_cast<int>(position.size()));
@@ -327,7 +489,7 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
             const double u = std::fmod(static_cast<double>(i) * 0.6180339887498949, 1.0);  // deterministic jitter
             return position[x[i]] + 0.5 * (u - 0.5);
           };
-          const std::size_t stride = (p.residuals.size() + max_points - 1) / max_points;
+          const std::size_t stride = stride_of(p);
           std::vector<std::size_t> order = p.residuals;
           std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return x[i] < x[j]; });
           for (int side = 0; side < 2; ++side) {
@@ -383,31 +545,16 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
             gp << datablock(name, pts) << datablock(name + "m", mean);
             if (!clip.empty()) gp << datablock(name + "c", clip);
 
-            std::string panel_title = (side == 0 ? std::string("before: base model, recalibrated") : after_name) + " — " +
-                                      p.quantity + " (" + p.unit + "), " + std::to_string(p.residuals.size()) + " residuals";
-            if (narrow)  // the quantity is in the y label
-              panel_title = (side == 0 ? std::string("before the findings") : r.findings.empty() ? std::string("after: no finding")
-                                                                                                   : "after: " + std::to_string(r.findings.size()) + " finding" + (r.findings.size() == 1 ? "" : "s")) +
-                            ", " + std::to_string(p.residuals.size()) + " residuals";
-            // A panel under 300 canvas pixels wide (a column's side by side): what it is, then the
-            // counts on lines of their own.
             const bool small_panel = small_panels;
-            if (small_panel)
-              panel_title = side == 0 ? std::string("before the findings")
-                                      : r.findings.empty() ? std::string("after: no finding")
-                                                           : "after: " + std::to_string(r.findings.size()) + " finding" + (r.findings.size() == 1 ? "" : "s");
-            if (small_panel && stride > 1) panel_title += "\n1 in " + std::to_string(stride) + " drawn";
-            else if (stride > 1) panel_title += "\n1 in " + std::to_string(stride) + " drawn, means from all";
-            if (small_panel && beyond > 0) panel_title += "\n" + std::to_string(beyond) + " off the scale";
-            else if (beyond > 0)
-              panel_title += (stride > 1 ? (narrow ? "\n" : "; ") : "\n") + std::to_string(beyond) +
-                             (narrow ? " off the scale, at its edge" : " beyond the y scale, drawn at its edge");
             // Qualified: for a non-const std::string, ADL would pick std::quoted (a better match),
             // which leaves the title's line break raw and breaks gnuplot's command line.
-            gp << "set title " << plot::quoted(narrow ? wrapped(panel_title, panel_w_px + 40) : panel_title) << " font ',11'\n";
+            gp << "set title " << plot::quoted(panel_title(side, p, stride, beyond, small_panel, panel_w_px)) << " font ',11'\n";
             // On a page, the short forms: the panel's title says what is measured.
-            const std::string unit_short = p.unit.substr(0, p.unit.find(','));
-            gp << "set ylabel " << quoted(narrow ? "residual (" + unit_short + ")" : "measured − simulated (" + p.unit + ")") << "\n";
+            // (a charge's "fraction of full charge" in short: "of full charge")
+            const std::string unit_short = p.unit.rfind("fraction of ", 0) == 0 ? p.unit.substr(9) : p.unit.substr(0, p.unit.find(','));
+            // Several quantities (drive, camera): each named in its y label ("ToF residual (mm)").
+            const std::string residual = panels.size() > 1 && !p.brief.empty() ? p.brief + " residual" : "residual";
+            gp << "set ylabel " << quoted(narrow ? residual + " (" + unit_short + ")" : "measured − simulated (" + p.unit + ")") << "\n";
             if (rotate) {
               // This panel's lower border, then the tic labels' length below it.
               const int row = column ? 2 * (p_index - 1) + side + 1 : p_index;
@@ -420,7 +567,9 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
               gp << "unset xlabel\nunset label\nset label 90 " << quoted(axis.label) << " at screen " << num(xc) << "," << num(y)
                  << " center front\n";
             } else {
-              const std::string xlabel = narrow && cov_name == "predicted" ? "simulated by the base model (" + unit_short + ")" : axis.label;
+              const std::string xlabel = narrow && cov_name == "predicted" ? "simulated by the base model (" + unit_short + ")"
+                                         : narrow && axis.categorical ? pl.categories.label
+                                                                      : axis.label;
               // A small panel: the label in lines of its width, a size smaller.
               gp << "set xlabel " << quoted(small_panel ? wrapped(xlabel, panel_w_px + 20, 9) : xlabel) << (small_panel ? " font ',9'" : "") << "\n";
             }
@@ -429,8 +578,12 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
             if (axis.categorical) {
               gp << "set xrange [-0.6:" << static_cast<double>(axis.categories.size()) - 0.4 << "]\n";
               std::string tics = "set xtics (";
-              for (const auto& [v, label] : axis.categories)
-                tics += (tics.back() == '(' ? "" : ", ") + quoted(label) + " " + std::to_string(position[v]);
+              for (const auto& [v, label] : axis.categories) {
+                // A page's: the numbers (an unlabelled tic where they skip) or the short names.
+                const int at = position[v];
+                const std::string shown = narrow ? pl.categories.tics[static_cast<std::size_t>(at)] : label;
+                tics += (tics.back() == '(' ? "" : ", ") + quoted(shown) + " " + std::to_string(at) + (narrow && shown.empty() ? " 1" : "");
+              }
               gp << tics << ")" << (rotate ? " rotate by 90 right font ',9'" : "") << "\nset grid noxtics\n";
             } else {
               gp << "set xrange [*:*]\nset grid xtics\n";
@@ -469,6 +622,16 @@ void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const d
           entries.push_back("NaN with points pt " + std::to_string(robot_point_type(k)) + " ps 0.9 lc rgb '#404040' title " + quoted("robot " + robots[k]));
         gp << legend_band(one_column ? 0.01 : layout.left, one_column ? 0.99 : layout.right, 1.0 - (legend_top_px + 25.0 * legend_rows) / height,
                           1.0 - static_cast<double>(legend_top_px) / height, entries, 10, legend_rows);
+        // A page's category key, under the panels' x labels: a line each, left-aligned (gnuplot
+        // centres a label's line on its point), drawn by one more empty plot.
+        if (!pl.categories.key.empty()) {
+          gp << "unset key\n";
+          const std::size_t n = pl.categories.key.size();
+          for (std::size_t k = 0; k < n; ++k)
+            gp << "set label " << 100 + k << " " << quoted(pl.categories.key[k]) << " at screen " << num(10.0 / width) << ","
+               << num((8.0 + (static_cast<double>(n - 1 - k) + 0.5) * kKeyLine_px) / height) << " left front font '," << kKeyFont_pt << "'\n";
+          gp << "plot NaN notitle\nunset label\n";
+        }
         gp << "unset multiplot\n";
       },
       width, height);

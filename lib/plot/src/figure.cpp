@@ -69,11 +69,14 @@ std::string terminal(Format format, int width_px, int height_px) {
   char buf[320];
   switch (format) {
     case Format::png:
+      // On a page the markers scale with the text, as the PDF's (at 300 dpi they were drawn at the
+      // screen's size: a third of a millimetre, the robots' markers not told apart), and a line of
+      // width 1 is pdfcairo's half point (0.5 x 300 / 72 pixels), not one pixel (0.08 mm).
       if (paged())
         std::snprintf(buf, sizeof buf,
-                      "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' fontscale %.4f background rgb 'white'\n",
+                      "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' fontscale %.4f pointscale %.4f linewidth %.4f background rgb 'white'\n",
                       static_cast<int>(std::lround(w_in * kPagePngDpi)), static_cast<int>(std::lround(h_in * kPagePngDpi)),
-                      kPagePngDpi / per_in);
+                      kPagePngDpi / per_in, kPagePngDpi / per_in, 0.5 * kPagePngDpi / 72.0);
       else
         std::snprintf(buf, sizeof buf,
                       "set terminal pngcairo size %d,%d noenhanced font 'DejaVu Sans,11' background rgb 'white'\n", width_px,
@@ -100,6 +103,35 @@ std::string terminal(Format format, int width_px, int height_px) {
       break;
   }
   return buf;
+}
+
+/// The svg terminal draws a marker `ps` times 4.5 SVG pixels whatever the page (it has no
+/// pointscale): on an 8.5 cm page at 8 pt the markers printed twice the PDF's, as large as the
+/// text's capitals. On a page every marker of the SVG at `path` (a `<use xlink:href='#gpPt…'`
+/// with its `scale(S)`) is scaled by `factor`, as pdfcairo's pointscale scales the PDF's.
+void scale_svg_markers(const std::string& path, double factor) {
+  std::string svg;
+  {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream all;
+    all << in.rdbuf();
+    svg = all.str();
+  }
+  std::string out;
+  out.reserve(svg.size());
+  const std::string use = "<use xlink:href='#gpPt", scale = "scale(";
+  std::size_t from = 0;
+  for (std::size_t at = svg.find(use); at != std::string::npos; at = svg.find(use, at + 1)) {
+    const std::size_t end = svg.find('>', at), s = svg.find(scale, at);
+    if (s == std::string::npos || s > end) continue;
+    const std::size_t number = s + scale.size(), close = svg.find(')', number);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", std::atof(svg.c_str() + number) * factor);
+    out.append(svg, from, number - from).append(buf);
+    from = close;
+  }
+  out.append(svg, from, std::string::npos);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << out;
 }
 
 }  // namespace
@@ -197,11 +229,10 @@ std::string multiplot(const Layout& l, const std::string& title, int title_font_
 }
 
 std::string wrapped(const std::string& text, double width_px, double font_pt) {
-  const std::size_t per_line = static_cast<std::size_t>(std::max(8.0, width_px / (0.73 * font_pt)));
   std::string out, line, word;
   auto flush_word = [&]() {
     if (word.empty()) return;
-    if (!line.empty() && line.size() + 1 + word.size() > per_line) {
+    if (!line.empty() && text_px(line + " " + word, font_pt) > width_px) {
       out += line + "\n";
       line.clear();
     }
@@ -221,6 +252,24 @@ std::string wrapped(const std::string& text, double width_px, double font_pt) {
   }
   flush_word();
   return out + line;
+}
+
+double text_px(const std::string& text, double font_pt) {
+  // DejaVu Sans' advance widths (units of 1/2048 em) for ' ' (32) to '~' (126), read from the
+  // hmtx table of /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf (fonts-dejavu-core 2.37).
+  static constexpr unsigned short kAscii[95] = {
+      651,  821,  942,  1716, 1303, 1946, 1597, 563,  799,  799,  1024, 1716, 651,  739,  651,  690,  1303, 1303, 1303,
+      1303, 1303, 1303, 1303, 1303, 1303, 1303, 690,  690,  1716, 1716, 1716, 1087, 2048, 1401, 1405, 1430, 1577, 1294,
+      1178, 1587, 1540, 604,  604,  1343, 1141, 1767, 1532, 1612, 1235, 1612, 1423, 1300, 1251, 1499, 1401, 2025, 1403,
+      1251, 1403, 799,  690,  799,  1716, 1024, 1024, 1255, 1300, 1126, 1300, 1260, 721,  1300, 1298, 569,  569,  1186,
+      569,  1995, 1298, 1253, 1300, 1300, 842,  1067, 803,  1298, 1212, 1675, 1212, 1212, 1075, 1303, 690,  1303, 1716};
+  double units = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c >= 32 && c < 127) units += kAscii[c - 32];
+    else if ((c & 0xC0) != 0x80) units += 2048;  // the first byte of any other character: an em
+  }
+  return units / 2048.0 * font_pt * 4.0 / 3.0;
 }
 
 double tic_step(double lo, double hi, int count) {
@@ -368,6 +417,7 @@ void render(logs::OutputStage& stage, const std::string& path, const Draw& draw,
   }
   if (!fs::exists(tmp, ec) || fs::file_size(tmp, ec) == 0)
     throw std::runtime_error(path + ": gnuplot did not draw the figure (is gnuplot-nox installed?)");
+  if (*format == Format::svg && paged()) scale_svg_markers(tmp, printed_font_pt() / kDesignFont_pt);
 }
 
 void render(const std::string& path, const Draw& draw, int width_px, int height_px) {

@@ -30,19 +30,28 @@ std::vector<double> samples(double from, double to, int n) {
 struct Sheet {
   int width = 1400;
   bool narrow = false;
+  bool svg = false;  ///< drawn by the svg terminal, whose reckoning of a key's text is wider than it draws
 };
-Sheet page_of(int default_width_px = 1400, int default_height_px = 900) {
+Sheet page_of(const std::string& path, int default_width_px = 1400, int default_height_px = 900) {
   const int w = canvas_px(default_width_px, default_height_px).first;
-  return {w, w < kNarrowCanvas_px};
+  return {w, w < kNarrowCanvas_px, format_of(path) == Format::svg};
 }
 
 /// The title and the legend's place for `page`: on a narrow page no title (the caption's) and the
-/// legend below the plot, `key` otherwise.
-std::string title_and_key(const Sheet& page, const std::string& title, const std::string& key) {
-  if (!page.narrow) return "set title " + quoted(title) + " font ',13'\nset key " + key + "\n";
+/// legend below the plot; on another page narrower than the figure's own canvas (two columns) the
+/// title in lines of the page, and with `below_on_page` the legend below the plot too (at 17.8 cm
+/// the light figure's legend, inside the plot, hid readings, and in the SVG ran over the x tics);
+/// `key` otherwise.
+std::string title_and_key(const Sheet& page, const std::string& title, const std::string& key, bool below_on_page = false) {
+  // (the svg terminal reckons the entries 1.4 times as wide as it draws them, and set them in one
+  // column of twelve rows at 8.5 cm: its columns narrowed by 6 characters to match)
+  const std::string below = std::string("set key below center horizontal Left reverse samplen 2 spacing 1.0 width ") +
+                            (page.svg ? "-6" : "-1") + " maxrows " + (page.narrow ? "4" : "3") + " font ',9'\n";
+  if (page.width >= 1400) return "set title " + quoted(title) + " font ',13'\nset key " + key + "\n";
+  if (!page.narrow)
+    return "set title " + quoted(wrapped(title, page.width - 60.0, 13)) + " font ',13'\n" + (below_on_page ? below : "set key " + key + "\n");
   // A paper's column leaves the title to the figure's caption: the plot keeps the room.
-  return std::string("unset title\n") +
-         "set key below center horizontal Left reverse samplen 2 spacing 1.0 width -1 maxrows 4 font ',9'\n";
+  return "unset title\n" + below;
 }
 
 /// A legend entry for each robot (black, its marker) when the logs come from more than one.
@@ -55,8 +64,10 @@ std::string robot_entries(const std::vector<std::string>& names) {
   return out;
 }
 
-/// The camera's two panels side by side, or one above the other on a paper's column.
-Layout two_panels() {
+/// The camera's two panels side by side, or one above the other on a paper's column. On a page of
+/// two columns (narrower than the figure's own 1400 canvas pixels), under an overall title of
+/// `title_lines` lines, with the legend in a band below.
+Layout two_panels(int title_lines) {
   Layout layout;
   const std::pair<int, int> canvas = canvas_px(1400, 900);
   const double width = canvas.first, height = canvas.second;
@@ -67,7 +78,7 @@ Layout two_panels() {
     layout.cols = 2;
     layout.left = 110.0 / width;
     layout.right = 1.0 - 15.0 / width;
-    layout.top = 1.0 - 40.0 / height;
+    layout.top = 1.0 - 55.0 / height;  // (the svg terminal sets a title 33 pixels above its panel)
     layout.bottom = 150.0 / height;  // the x label (two lines), then the legend band (two rows)
     layout.hspace = 110.0 / width;
     return layout;
@@ -77,13 +88,22 @@ Layout two_panels() {
     layout.cols = 1;
     layout.left = 110.0 / width;
     layout.right = 1.0 - 15.0 / width;
-    layout.top = 1.0 - 40.0 / height;  // no overall title (the caption's): the first panel's
+    layout.top = 1.0 - 55.0 / height;  // no overall title (the caption's): the first panel's
     layout.bottom = 125.0 / height;     // the x label, then the legend band (two rows)
     layout.vspace = 100.0 / height;     // the upper panel's x label, the lower panel's title
     return layout;
   }
   layout.rows = 1;
   layout.cols = 2;
+  if (width < 1400) {  // (at 17.8x8cm the fractions below put the panels' titles on the overall
+                       // title, their legends over the readings and off the canvas, the x labels below it)
+    layout.left = 110.0 / width;
+    layout.right = 1.0 - 15.0 / width;
+    layout.top = 1.0 - (10.0 + 31.0 * title_lines + 55.0) / height;  // a 15 pt title's line: 31 pixels in the SVG
+    layout.bottom = 150.0 / height;  // the x label (two lines), then the legend band (two rows)
+    layout.hspace = 130.0 / width;
+    return layout;
+  }
   layout.top = 0.9;
   layout.bottom = 0.1;
   // Room for the tics and the y label in canvas pixels (text-sized), whatever the page's size.
@@ -116,7 +136,7 @@ void proximity_figure(logs::OutputStage& stage, const std::string& path, const c
     curves.push_back({mm, s::proximity_response(kmax, d), s::proximity_response(kmean, d),
                       s::proximity_response(s::kPluginProximity, d), s::proximity_response(s::kEpuck1Proximity, d)});
   }
-  const Sheet page = page_of();
+  const Sheet page = page_of(path);
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << datablock("pts", pts);
     gp << datablock("curves", curves);
@@ -149,7 +169,7 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
   for (const auto& o : f.observations)
     by_intensity[o.intensity].push_back(
         {o.distance_m * 100, o.value_raw, double(o.sensor), static_cast<double>(robot_point_type(static_cast<std::size_t>(o.robot)))});
-  const Sheet page = page_of();
+  const Sheet page = page_of(path);
   const double g = f.gamma.value("gamma");
   // Eq. 2's raw reading (lib/models light_mean_raw, no effects) for the fit's and the plug-in's
   // gamma at each intensity, on 5..52 cm.
@@ -167,7 +187,8 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
       ++k;
     }
     gp << title_and_key(page, "Ambient light sensor (paper Eq. 2, Fig. 5): reading against distance, per source intensity I (simulator units)",
-                        "at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15");
+                        "at graph 0.98,0.62 right top opaque box Left reverse samplen 3 spacing 1.15", true);
+    const bool short_entries = page.width < 1400;  // a page's legend, below the plot: the short forms
     // The register's unit and rails (kind_facts); dark is the high rail.
     const models::Channel& light = models::kind_facts("light")->channels.front();
     char dark[32];
@@ -188,13 +209,13 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
                     "%s$i%d using 1:2:4 with points pt variable ps 0.6 lc rgb '%s' notitle, NaN with points pt 7 ps 1 lc rgb '%s' title '%s%.2f', "
                     "$c%d using 1:2 with lines lw 2.5 lc rgb '%s' notitle, "
                     "$c%d using 1:3 with lines lw 1.5 dt (8,5) lc rgb '%s' notitle",
-                    k ? ", " : "", k, c, c, page.narrow ? "I = " : "readings at I = ", intensity, k, c, k, c);
+                    k ? ", " : "", k, c, c, short_entries ? "I = " : "readings at I = ", intensity, k, c, k, c);
       gp << buf;
       ++k;
     }
     char buf[300];
     std::snprintf(buf, sizeof buf,
-                  page.narrow ? ", NaN with lines lw 2.5 lc rgb 'black' title 'fit: γ = %.4f m', "
+                  short_entries ? ", NaN with lines lw 2.5 lc rgb 'black' title 'fit: γ = %.4f m', "
                                 "NaN with lines lw 1.5 dt (8,5) lc rgb 'black' title 'plug-in: γ = 0.075 m'"
                               : ", NaN with lines lw 2.5 lc rgb 'black' title 'fit: γ = %.4f m (solid, colour of its I)', "
                                 "NaN with lines lw 1.5 dt (8,5) lc rgb 'black' title 'plug-in: γ = 0.075 m (dashed)'",
@@ -205,7 +226,7 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
 }
 
 void ground_figure(logs::OutputStage& stage, const std::string& path, const calibrate::GroundFit& f) {
-  const Sheet page = page_of();
+  const Sheet page = page_of(path);
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     // Each sensor's fitted line and the plug-in's (lib/models ground_response), on grey 0..1.
     std::vector<std::vector<double>> lines;
@@ -263,7 +284,7 @@ void ground_figure(logs::OutputStage& stage, const std::string& path, const cali
 void camera_figure(logs::OutputStage& stage, const std::string& path, const calibrate::CameraFit& f) {
   const double fov = s::deg_to_rad(f.result.value("fov_deg")), cx = f.result.value("cx_px"), cy = f.result.value("cy_px");
   const auto plugin = s::plugin_camera();
-  const Sheet page = page_of();
+  const Sheet page = page_of(path);
   std::vector<std::vector<double>> rows;
   for (const auto& o : f.observations) {
     double mx, my, qx, qy;
@@ -285,8 +306,11 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
   const std::string observed = robots_legend.empty() ? " pt 7 ps 0.8 lc rgb '#1f77b4' title 'observed'" : " pt variable ps 0.8 lc rgb variable notitle";
   render(stage, path, [&](gnuplotio::Gnuplot& gp) {
     gp << datablock("obs", rows);
-    const std::string title = "Camera (paper section 4.1.6): where the LED appears in the image against its direction";
-    const Layout layout = two_panels();
+    // A page narrower than the figure's canvas: the title in lines of the page, the legend in a band below.
+    const bool banded = page.width < 1400;
+    const std::string title = wrapped("Camera (paper section 4.1.6): where the LED appears in the image against its direction",
+                                      banded ? page.width - 40.0 : 1e9, 15);
+    const Layout layout = two_panels(1 + static_cast<int>(std::count(title.begin(), title.end(), '\n')));
     gp << multiplot(layout, page.narrow ? "" : title);
     // Each panel's size in canvas pixels: its tics, and whether its x label needs two lines.
     const std::pair<int, int> canvas = canvas_px(1400, 900);
@@ -295,6 +319,7 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
     // Side by side on a column: the labels' short forms in lines of the panel's width.
     const bool small = page.narrow && layout.cols == 2;
     auto xlabel = [&](const std::string& text) {
+      if (banded && !small) return quoted(wrapped(text, panel_w + 40));
       if (!small) return quoted(text);
       return quoted(wrapped(text.substr(0, text.find(" (tangent")) + (text.find("left") != std::string::npos ? " (left > 0)" : " (up > 0)"), panel_w + 40));
     };
@@ -315,7 +340,7 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
     const std::string yticks = "set ytics " + std::to_string(static_cast<int>(tic_step(0, 160, tics_that_fit(panel_h, 35)))) + "\n";
     gp << "set grid lc rgb '#d8d8d8'\n";
     // A paper's column: the legend in a band under the panels.
-    gp << (page.narrow ? "unset key\n" : "set key top right opaque box Left reverse\n");
+    gp << (banded ? "unset key\n" : "set key top right opaque box Left reverse\n");
     gp << "set title 'columns' font ',12'\n";
     gp << "set xlabel " << xlabel(page.narrow ? "lateral / forward (tangent, left > 0)" : "lateral / forward (tangent of the horizontal angle, dimensionless; left > 0)") << "\n";
     gp << "set ylabel " << quoted(page.narrow ? "column px (pixels)" : "column px (pixels, 0..159)") << "\nset yrange [-5:165]\n" << yticks << xtics(0);
@@ -329,7 +354,7 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
     gp << "plot $obs using 5:6" << (robots_legend.empty() ? "" : ":9:10") << " with points" << observed << ", "
        << "$obs using 5:7 with lines lw 2.5 lc rgb '#d62728' title 'fit', "
        << "$obs using 5:8 with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in (centre 60)'" << robots_legend << "\n";
-    if (page.narrow) {
+    if (banded) {
       std::vector<std::string> entries{"NaN with lines lw 2.5 lc rgb '#d62728' title 'fit'",
                                        "NaN with lines lw 2 dt (8,5) lc rgb '#000000' title 'plug-in'"};
       if (robots_legend.empty()) entries.insert(entries.begin(), "NaN with points pt 7 ps 0.8 lc rgb '#1f77b4' title 'observed'");
@@ -404,23 +429,27 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
   std::size_t codes = 0;
   for (const auto& run : f.runs)
     for (double mm : run.tof_mm) codes += mm >= kOutOfRangeCode_mm;
-  const std::size_t entry_count = 5 + (still.empty() ? 0 : 1) + (codes > 0 ? 1 : 0) + (robots.size() > 1 ? robots.size() : 0) + (thinned > 0 && !narrow ? 1 : 0);
+  const std::size_t entry_count = 5 + (still.empty() ? 0 : 1) + (codes > 0 ? 1 : 0) + (robots.size() > 1 ? robots.size() : 0) + (thinned > 0 ? 1 : 0);
   // (gnuplot gives every column the longest entry's width and drops a column that overflows.)
   const std::size_t legend_cols = std::max<std::size_t>(1, static_cast<std::size_t>(width) / (narrow ? 210 : 440));
   const int legend_rows = static_cast<int>((entry_count + legend_cols - 1) / legend_cols);
   // From the top: the title (none on a paper's column: the caption's), the legend, the first
   // panels' titles. Between rows: the tics, the x label (none on a column's time panels: their
   // titles say "time (s)"), the next titles.
-  const double top_px = (narrow ? 10.0 : 60.0) + legend_rows * 22.0 + 35.0;
+  // (a column's titles 48 pixels: the svg terminal sets a title's line 33 pixels above its panel)
+  const double top_px = (narrow ? 10.0 : 60.0) + legend_rows * 22.0 + (narrow ? 48.0 : 35.0);
   Layout layout;
   layout.rows = rows;
   layout.cols = cols;
-  layout.left = (narrow ? 70.0 : 85.0) / width;
-  layout.right = 1.0 - 15.0 / width;
+  // (the svg terminal reckons the tics' "2000" wider than it draws, and leaves out a y label that
+  // its reckoning puts left of the canvas: at 70 pixels the SVG lost the ToF panels' labels)
+  layout.left = 85.0 / width;
+  // (a column's: 30 pixels, which its right panels' titles, wider than the panels, reach into)
+  layout.right = 1.0 - (narrow ? 30.0 : 15.0) / width;
   layout.bottom = 60.0 / height;
   layout.top = 1.0 - top_px / height;
   layout.hspace = (narrow ? 110.0 : 105.0) / width;  // the encoders' 6-digit tics and their label
-  layout.vspace = (narrow ? 75.0 : 100.0) / height;
+  layout.vspace = (narrow ? 85.0 : 100.0) / height;  // (the svg terminal's titles stand 33 pixels above their panel)
   const double panel_px = (height * (layout.top - layout.bottom) - (rows - 1) * height * layout.vspace) / rows;
   const std::string tof_label = narrow ? "ToF (mm)" : "ToF reading (mm)";
   const double panel_w_px = (width * (layout.right - layout.left) - (cols - 1) * width * layout.hspace) / cols;
@@ -537,8 +566,8 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
           gp << plot << "\n";
         }
         gp << "unset arrow 1\n";
-        gp << "set title " << quoted(narrow ? (thinned > 0 ? "encoders; ≤ 25 readings/run" : "encoders, every run") : "wheel encoders: every run")
-           << " font ',11'\n";
+        // (a column's panel is about 120 canvas pixels wide: its title one word, the thinning in the legend)
+        gp << "set title " << quoted(narrow ? "encoders" : "wheel encoders: every run") << " font ',11'\n";
         axes_labels(narrow ? "commanded (mm)" : "commanded distance (mm)", "encoder steps");
         gp << "set xrange [*:*]\nset yrange [*:*]\n";
         {
@@ -565,7 +594,9 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
             }
           const double xpad = std::max(1.0, 0.03 * (hi - lo)), ypad = std::max(1.0, 0.03 * (yhi - ylo));
           gp << "set xrange [" << lo - xpad << ":" << hi + xpad << "]\nset yrange [" << ylo - ypad << ":" << yhi + ypad << "]\n";
-          gp << "set xtics " << tic_step(lo, hi, tics_that_fit(panel_w_px, 70)) << "\nset ytics " << tic_step(ylo, yhi, tics_that_fit(panel_px, 35)) << "\n";
+          // (on a column's panel, 110 pixels wide, "-2000" and "-1000" touched at three tics: there
+          // a tic every 50 canvas pixels at most, two at least)
+          gp << "set xtics " << tic_step(lo, hi, narrow ? std::max(2, static_cast<int>(panel_w_px / 50)) : tics_that_fit(panel_w_px, 70)) << "\nset ytics " << tic_step(ylo, yhi, tics_that_fit(panel_px, 35)) << "\n";
           gp << plot << "\n";
         }
         std::vector<std::string> entries{
@@ -576,8 +607,9 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
             std::string("NaN with lines lw 1.5 dt 2 lc rgb '#000000' title ") +
                 (narrow ? "'plug-in'" : "'plug-in (1000 steps/m, no slip)'"),
             std::string("NaN with lines dt 3 lc rgb '#808080' title 'the ") + rail_mm + " " + tof.unit + " rail'"};
-        if (thinned > 0 && !narrow)  // (a column's legend has no room: the encoders' panel title says it)
-          entries.push_back("NaN with dots lc rgb '#ffffff' title 'at most 25 readings a run drawn (every n-th)'");
+        if (thinned > 0)
+          entries.push_back(std::string("NaN with dots lc rgb '#ffffff' title ") +
+                            (narrow ? "'≤ 25 readings/run drawn'" : "'at most 25 readings a run drawn (every n-th)'"));
         if (!still.empty()) entries.insert(entries.begin() + 2, std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kStill + "' title 'standing still'");
         if (codes > 0)
           entries.push_back(narrow ? "NaN with points pt 9 ps 1 lc rgb '#ff7f0e' title 'no-target code (2250)'"

@@ -102,10 +102,18 @@ std::string legend_band(double left, double right, double bottom, double top, co
                         int font_pt = 11, int max_rows = 1);
 
 /// `text` broken into lines (at spaces) that fit `width_px` canvas pixels in text of `font_pt`
-/// (the layouts' 11 pt body, a title's 13 or 14; about 0.73 pixel a point per character in
-/// DejaVu Sans), for a page narrower than the figure's own canvas. Line breaks already in `text`
-/// are kept.
+/// (the layouts' 11 pt body, a title's 13 or 14; measured by text_px()), for a page narrower than
+/// the figure's own canvas. Line breaks already in `text` are kept; a word wider than a line has
+/// a line of its own.
 std::string wrapped(const std::string& text, double width_px, double font_pt = 11);
+
+/// The canvas pixels `text` (UTF-8, one line) takes in DejaVu Sans, the figures' font, at
+/// `font_pt` (the layouts' points: the body's 11, a key's 9): each character's advance from the
+/// font's metrics (DejaVuSans.ttf, hmtx table, 2048 units to the em) times the em, which the cairo
+/// terminals draw at 4/3 of the points named (kDesignFont_pt). A character outside printable ASCII
+/// and the few symbols the figures write counts a whole em (no narrower than it prints). For
+/// deciding whether a label fits before gnuplot draws it, and for wrapped().
+double text_px(const std::string& text, double font_pt = 11);
 
 /// A page narrower than this many canvas pixels is a paper's column (8.5 cm at 8 pt is about 440
 /// of them; two columns, 17.6 cm, 915 at 8 pt and 730 at 10 pt): its figures stack their panels,
