@@ -29,6 +29,8 @@
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/noise.hpp"
 #include "epuck2/plot/figure.hpp"
+// The diagnosis's residual-structure scoring is internal to lib/diagnose (engine_detail.hpp).
+#include "../lib/diagnose/src/engine_detail.hpp"
 
 namespace {
 
@@ -250,6 +252,53 @@ TEST(RoundFourSimulateLike, GroundReadingsClampAtTheGroundsFullScale) {
   ASSERT_EQ(values.size(), 2u) << out;
   EXPECT_DOUBLE_EQ(values[0], 1023.0) << out;
   EXPECT_DOUBLE_EQ(values[1], 500.0) << out;
+}
+
+// ----- the residual structure: a channel's floor in its own units, weighted like its residuals -----
+
+/// Two channels of residuals (the drive's ToF in mm and encoders in steps) with no model: only
+/// what structure() reads (channel, names, floors, covariates).
+struct TwoChannels : epuck2::diagnose::detail::Problem {
+  void mean(const double*, double*, std::size_t) const override {}
+  void mean(const epuck2::diagnose::detail::Jet*, epuck2::diagnose::detail::Jet*, std::size_t) const override {}
+  void mean(const epuck2::diagnose::detail::ShortJet*, epuck2::diagnose::detail::ShortJet*, std::size_t) const override {}
+  void mean(const epuck2::diagnose::detail::PairJet*, epuck2::diagnose::detail::PairJet*, std::size_t) const override {}
+};
+
+TEST(RoundFourResidualStructure, AChannelsFloorIsInItsOwnUnits) {
+  // Noise sd 3 mm (ToF, channel 0) and 0.3 steps (encoders, channel 1): a step residual is
+  // reported in channel 0's units times 3 / 0.3 = 10. The encoders' floor is 0.5 steps
+  // (kind_drive.cpp), 5 in channel 0's units. 40 encoder residuals of +-0.3 steps (+-3 weighted)
+  // that follow a covariate exactly explain all their variance (binned means +-3, RMS size 3):
+  // 0.3 steps is below the half-step floor, not significant. At +-0.8 steps (+-8 weighted) it is.
+  auto score = [](double steps) {
+    TwoChannels p;
+    p.channel_names = {"tof_mm", "steps"};
+    p.channel_min_structure = {0.0, 0.5};
+    std::vector<double> x, r;
+    for (int i = 0; i < 40; ++i) {
+      p.channel.push_back(1);
+      x.push_back(i % 2);
+      r.push_back((i % 2 ? 1.0 : -1.0) * steps * 10.0);
+      // ToF residuals without structure: alternating in a pattern the covariate does not follow.
+      p.channel.push_back(0);
+      x.push_back(i % 2);
+      r.push_back((i / 2) % 2 ? 1.0 : -1.0);
+    }
+    p.covariates.emplace_back("u", x);
+    const auto out = epuck2::diagnose::engine_detail::structure(p, r, std::vector<double>(r.size(), 0.0), 0.05, {3.0, 0.3});
+    for (const auto& c : out)
+      if (c.covariate == "u") return c;
+    return epuck2::diagnose::CovariateScore{};
+  };
+  const auto small = score(0.3);
+  EXPECT_EQ(small.channel, "steps");
+  EXPECT_NEAR(small.size, 3.0, 1e-9);
+  EXPECT_FALSE(small.significant);
+  const auto large = score(0.8);
+  EXPECT_EQ(large.channel, "steps");
+  EXPECT_NEAR(large.size, 8.0, 1e-9);
+  EXPECT_TRUE(large.significant);
 }
 
 // ----- the firmware cap's uncapped command: the wheels' mean -----
