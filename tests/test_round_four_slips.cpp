@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -299,6 +301,39 @@ TEST(RoundFourResidualStructure, AChannelsFloorIsInItsOwnUnits) {
   EXPECT_EQ(large.channel, "steps");
   EXPECT_NEAR(large.size, 8.0, 1e-9);
   EXPECT_TRUE(large.significant);
+}
+
+// ----- the naming step: a long tail's share of the reading as the sensor reports it -----
+
+/// Whether the proximity kind names a long tail of `amplitude` counts and length 1 m the
+/// near-field curve on rows at `distances` (every other parameter at its neutral or plug-in value).
+std::optional<std::string> tail_named(const std::string& distances_csv) {
+  namespace dd = epuck2::diagnose::detail;
+  const std::vector<l::Log> logs{l::parse_log("distance_m,sensor,value\n" + distances_csv, "p.csv", l::Kind::proximity)};
+  std::string why;
+  const std::unique_ptr<dd::Problem> p = dd::make_problem(logs, epuck2::diagnose::Options{}, why);
+  std::vector<double> values;
+  for (const auto& q : p->params) values.push_back(q.fallback);
+  for (const auto& e : p->effects)
+    if (e.cause == "long_tail") {
+      values[static_cast<std::size_t>(e.params.at(0))] = 8000.0;  // amplitude, counts
+      values[static_cast<std::size_t>(e.params.at(1))] = 1.0;     // length, m
+    }
+  const auto id = p->identify("long_tail", values, Eigen::MatrixXd());
+  if (!id) return std::nullopt;
+  return id->cause;
+}
+
+TEST(RoundFourIdentify, ALongTailsShareIsCountedUpToTheFullScale) {
+  // The plug-in's curve 4095 (197.8633 d^2 - 30.47182 d + 1.011635): 3539.0 counts at 5 mm and
+  // 2975.9 at 10 mm. A tail of 8000 exp(-d / 1 m) lifts both past the full scale 4095: as the
+  // sensor reports them it adds 4095 - 3539.0 = 556.0 and 4095 - 2975.9 = 1119.1 counts, a share
+  // (556.0 + 1119.1) / (2 x 4095) = 0.20 of the reading, not more than half: it extends the curve
+  // (not renamed). Unclipped it would be 7960 + 7920 counts, a share of 1.94.
+  EXPECT_EQ(tail_named("0.005,0,3500\n0.01,0,3000\n"), std::nullopt);
+  // At 30 and 40 mm the curve gives 1128.4 and 447.7 counts: the tail adds 2966.6 and 3647.3 as
+  // reported, a share 0.81 > 0.5: it replaces the near-field curve.
+  EXPECT_EQ(tail_named("0.03,0,3500\n0.04,0,3000\n"), std::optional<std::string>("near_field_curve"));
 }
 
 // ----- the firmware cap's uncapped command: the wheels' mean -----
