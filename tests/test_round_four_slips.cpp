@@ -109,7 +109,8 @@ json camera_file(double cx, double cy) {
 }
 
 TEST(RoundFourModelFile, TheImageCentreRowLiesInsideTheImagesHeight) {
-  // The camera image is 160 x 120 px (the plug-in's): a row centre of 120 is on the edge, 130 is
+  // The camera image is 160 x 120 px (the plug-in's source, lib/models camera.hpp): a row centre of
+  // 120 is on the edge, 130 is
   // below the image, while both are inside its width.
   EXPECT_EQ(error_of([] { co::camera_model_from_json(camera_file(80, 119.5), "cam.json"); }), "");
   EXPECT_EQ(error_of([] { co::camera_model_from_json(camera_file(80, 120), "cam.json"); }), "");
@@ -325,7 +326,8 @@ std::optional<std::string> tail_named(const std::string& distances_csv) {
 }
 
 TEST(RoundFourIdentify, ALongTailsShareIsCountedUpToTheFullScale) {
-  // The plug-in's curve 4095 (197.8633 d^2 - 30.47182 d + 1.011635): 3539.0 counts at 5 mm and
+  // The plug-in's curve (lib/models proximity.hpp kPluginProximity, the paper's Eq. 1)
+  // 4095 (197.8633 d^2 - 30.47182 d + 1.011635): 3539.0 counts at 5 mm and
   // 2975.9 at 10 mm. A tail of 8000 exp(-d / 1 m) lifts both past the full scale 4095: as the
   // sensor reports them it adds 4095 - 3539.0 = 556.0 and 4095 - 2975.9 = 1119.1 counts, a share
   // (556.0 + 1119.1) / (2 x 4095) = 0.20 of the reading, not more than half: it extends the curve
