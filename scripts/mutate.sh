@@ -160,6 +160,38 @@ KG = "lib/diagnose/src/kind_ground.cpp"
 PL = "lib/calibrate/src/plausibility.cpp"
 AS = "argos/src/calibrated_sensors.cpp"
 
+# Round 4 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-4), planted without reading
+# the tests; each group is every test of the programs that touch the area, as in round 3.
+R4_ALWAYS = R3_ALWAYS + ["test_round_four_slips"]
+
+
+def with_round_four(group):
+    """A round-3 whole group with tests/test_round_four_slips.cpp's tests too."""
+    return whole(list(group[1][1]) + ["test_round_four_slips"], group[1][2])
+
+
+R4_FIT = whole(R4_ALWAYS + ["test_readings", "test_sensor_fits", "test_sensor_models", "test_independent_checks",
+                            "test_honest_fits", "test_measured_logs", "test_report", "test_report_files", "test_sensor_cli",
+                            "test_diagnose_steps", "test_model_loop"])
+R4_REPORT = whole(R4_ALWAYS + ["test_report", "test_report_files", "test_report_rooms", "test_report_wording", "test_sensor_cli",
+                               "test_honest_fits", "test_measured_logs", "test_sensor_fits", "test_coefficients", "test_docs"])
+R4_DREPORT = whole(R4_ALWAYS + ["test_diagnose", "test_diagnose_steps", "test_diagnose_noise", "test_report_wording",
+                                "test_report_rooms", "test_model_loop", "test_honest_fits", "test_long_logs"])
+R4_FACTS = whole(R4_ALWAYS + ["test_coefficients", "test_model_sets", "test_model_loop", "test_log_reader", "test_checked_outputs",
+                              "test_report_wording", "test_sensor_cli", "test_honest_fits", "test_diagnose_steps"])
+R4_NOISE = whole(R4_ALWAYS + ["test_reading_noise", "test_diagnose_noise", "test_sensor_fits", "test_sensor_cli",
+                              "test_measured_logs", "test_model_loop", "test_diagnose_steps", "test_honest_fits", "test_report",
+                              "test_report_files", "test_coefficients", "test_model_formulas"])
+R4_TOF_CODES = whole(R4_ALWAYS + ["test_diagnose", "test_diagnose_steps", "test_diagnose_noise", "test_honest_fits",
+                                  "test_independent_checks", "test_model_loop", "test_long_logs", "test_sensor_fits",
+                                  "test_measured_logs"])
+R4_LOGS = whole(R4_ALWAYS + ["test_log_reader", "test_cli_grammar", "test_honest_fits", "test_sensor_cli", "test_diagnose_steps",
+                             "test_safe_runs", "test_checked_outputs", "test_small_data_cli"])
+R4_LIKE = whole(R4_ALWAYS + ["test_model_loop", "test_coefficients", "test_checked_outputs", "test_voltage_logs_cli",
+                             "test_small_data_cli", "test_safe_runs"])
+R4_PLOT = whole(R4_ALWAYS + ["test_figures", "test_sensor_cli", "test_battery_cli", "test_docs"])
+R4_ARGOS = (R3_ARGOS[0], ("whole", (), R3_ARGOS[1][2] + ("argos_incidence_shapes",)))
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -271,6 +303,42 @@ MUTANTS = [
     ("r3_model_noise_full_scale_le", MF, "if (!(out[i] >= 0 && out[i] < c.full_scale))", "if (!(out[i] >= 0 && out[i] <= c.full_scale))", R3_MODEL),
     ("r3_model_encoder_noise_from_tof", MF, "m.encoder_noise_sd_steps = d.noise(d.facts().channels[1])[0];",
      "m.encoder_noise_sd_steps = d.noise(d.facts().channels[0])[0];", R3_MODEL),
+    # Round 4 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
+    ("r4_readings_low_rail_strict", RD, "  if (value <= low) return Censoring::at_or_below;", "  if (value < low) return Censoring::at_or_below;", R4_FIT),
+    ("r4_report_censored_sides_swapped", "lib/calibrate/src/report_json.cpp",
+     'd["censored"] = {{"at_or_below", r.censored_below}, {"at_or_above", r.censored_above}};',
+     'd["censored"] = {{"at_or_below", r.censored_above}, {"at_or_above", r.censored_below}};', R4_REPORT),
+    ("r4_ground_report_offset_se_from_gain", "lib/calibrate/src/ground_report.cpp", 'offset_se.push_back(json_number(r.std_error("offset")));',
+     'offset_se.push_back(json_number(r.std_error("gain")));', R4_REPORT),
+    ("r4_diagnose_report_smallest_error", "lib/diagnose/src/report_output.cpp", "[](const Error& a, const Error& b) { return a.se < b.se; }",
+     "[](const Error& a, const Error& b) { return a.se > b.se; }", R4_DREPORT),
+    ("r4_facts_camera_cy_width", "lib/models/include/epuck2/models/kind_facts.hpp",
+     '{"cy_px", "px", 0.0, static_cast<double>(s::kCameraHeight_px), false, false}',
+     '{"cy_px", "px", 0.0, static_cast<double>(s::kCameraWidth_px), false, false}', R4_FACTS),
+    ("r4_model_light_sensor_gamma_zero", MF, "if (!(g > range.lower && g <= range.upper))", "if (!(g >= range.lower && g <= range.upper))", with_round_four(R3_MODEL)),
+    ("r4_codegen_battery_moving_from_static", CG, "cpp_number(t.simple_moving_slope_per_s)", "cpp_number(t.simple_static_slope_per_s)", with_round_four(R3_CODEGEN)),
+    ("r4_charge_default_range_max_front", CM, "    m.voltage_max_v = m.knots_v.back();", "    m.voltage_max_v = m.knots_v.front();", with_round_four(R3_CHARGE)),
+    ("r4_noise_railed_last_reading_only", RN, "g.railed = g.railed || on_rail[i];", "g.railed = on_rail[i];", R4_NOISE),
+    ("r4_noise_uniform_level_sqrt12", "lib/models/include/epuck2/models/noise.hpp", "return std::sqrt(3.0) * sd / scale;",
+     "return std::sqrt(12.0) * sd / scale;", R4_NOISE),
+    ("r4_structure_channel_weight_inverted", DE_RS, "p.channel_min_structure[c] * sigma[0] / sigma[c]",
+     "p.channel_min_structure[c] * sigma[c] / sigma[0]", with_round_four(R3_DIAGNOSE)),
+    ("r4_identify_tail_unclipped", DK_PROXIMITY,
+     "const double t = std::max(0.0, std::min(with[i], s::kProximityFullScale_raw) - std::min(without[i], s::kProximityFullScale_raw));",
+     "const double t = std::max(0.0, with[i] - without[i]);", with_round_four(R3_DIAGNOSE)),
+    ("r4_like_ground_clamp_proximity_scale", SL, "+ cov[i], 0.0, s::kGroundFullScale_raw);", "+ cov[i], 0.0, s::kProximityFullScale_raw);", R4_LIKE),
+    ("r4_cap_uncapped_no_half", FS_D, "run.command_uncapped_m_s.push_back(0.5 * (vl[i] + vr[i]) / 100.0);",
+     "run.command_uncapped_m_s.push_back((vl[i] + vr[i]) / 100.0);", with_round_four(R3_CAP)),
+    ("r4_tof_code_view_margin_sign", SC, "encoder_range_mm < (1.0 - kTofInViewMargin) * ceiling",
+     "encoder_range_mm < (1.0 + kTofInViewMargin) * ceiling", R4_TOF_CODES),
+    ("r4_log_sensor_index_one_more", LR, "return Range{0, c.sensors - 1.0,", "return Range{0, c.sensors + 0.0,", R4_LOGS),
+    ("r4_log_cell_column_zero_based", LR, "static_cast<int>(start) + 1});", "static_cast<int>(start)});", R4_LOGS),
+    ("r4_plot_legend_keys_at_left", "lib/plot/src/figure.cpp", "x, std::min(right, x + w), 0.0, top, x, top, font_pt);",
+     "x, std::min(right, x + w), 0.0, top, left, top, font_pt);", R4_PLOT),
+    ("r4_argos_incidence_frame_not_conjugate", AS, "RotateUnit(cQ.GetW(), -cQ.GetX(), -cQ.GetY(), -cQ.GetZ(), c_hit - sOrigin.Position)",
+     "RotateUnit(cQ.GetW(), cQ.GetX(), cQ.GetY(), cQ.GetZ(), c_hit - sOrigin.Position)", R4_ARGOS),
+    ("r4_argos_tof_noise_scale_metres", AS, 'ConfigureNoise(s, "tof", {sModel.tof_noise_sd_mm}, m_sCoefficients.range_m * 1000.0, m_cNoise);',
+     'ConfigureNoise(s, "tof", {sModel.tof_noise_sd_mm}, m_sCoefficients.range_m, m_cNoise);', R4_ARGOS),
 ]
 
 
