@@ -326,7 +326,7 @@ MUTANTS = [
     ("r4_identify_tail_unclipped", DK_PROXIMITY,
      "const double t = std::max(0.0, std::min(with[i], s::kProximityFullScale_raw) - std::min(without[i], s::kProximityFullScale_raw));",
      "const double t = std::max(0.0, with[i] - without[i]);", with_round_four(R3_DIAGNOSE)),
-    ("r4_like_ground_clamp_proximity_scale", SL, "+ cov[i], 0.0, s::kGroundFullScale_raw);", "+ cov[i], 0.0, s::kProximityFullScale_raw);", R4_LIKE),
+    ("r4_like_ground_clamp_proximity_scale", SLM, "log, covariate, kGroundFullScale_raw, noise, normal,", "log, covariate, kProximityFullScale_raw, noise, normal,", R4_LIKE),
     ("r4_cap_uncapped_no_half", FS_D, "run.command_uncapped_m_s.push_back(0.5 * (vl[i] + vr[i]) / 100.0);",
      "run.command_uncapped_m_s.push_back((vl[i] + vr[i]) / 100.0);", with_round_four(R3_CAP)),
     ("r4_tof_code_view_margin_sign", SC, "encoder_range_mm < (1.0 - kTofInViewMargin) * ceiling",
