@@ -20,7 +20,7 @@
 #include "epuck2/calibrate/charge_map.hpp"
 #include "epuck2/calibrate/reading_noise.hpp"
 #include "epuck2/calibrate/report_json.hpp"
-#include "epuck2/calibrate/screening.hpp"
+#include "../lib/diagnose/src/screening.hpp"
 #include "epuck2/calibrate/sensor_reports.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/coefficients/codegen.hpp"
@@ -363,10 +363,10 @@ TEST(RoundFourTofCodes, ACodeIsADropoutOnlyInsideTheRangeLessItsMargin) {
   // Ceiling 2000 mm, margin 10 % (screening.hpp kTofInViewMargin): a code while the encoders put
   // the obstacle at 1700 mm is a dropout; at 1900 mm, and at 2100 mm, it is not (the target may
   // lie beyond what the sensor sees).
-  EXPECT_TRUE(c::tof_code_in_view(8190, 1700));
-  EXPECT_FALSE(c::tof_code_in_view(8190, 1900));
-  EXPECT_FALSE(c::tof_code_in_view(8190, 2100));
-  EXPECT_FALSE(c::tof_code_in_view(1500, 1700));  // a reading, not a code
+  EXPECT_TRUE(epuck2::diagnose::tof_code_in_view(8190, 1700));
+  EXPECT_FALSE(epuck2::diagnose::tof_code_in_view(8190, 1900));
+  EXPECT_FALSE(epuck2::diagnose::tof_code_in_view(8190, 2100));
+  EXPECT_FALSE(epuck2::diagnose::tof_code_in_view(1500, 1700));  // a reading, not a code
 }
 
 // ----- the log reader: the sensor ranges and the columns of errors -----
