@@ -231,7 +231,7 @@ MUTANTS = [
     ("unit_s_before_cm_s", LR, 'for (const char* unit : {"cm_s", "mm", "deg", "s", "m", "v"}) {', 'for (const char* unit : {"s", "cm_s", "mm", "deg", "m", "v"}) {', HINTS),
     ("unit_typo_half_rule", LR, "if (d < best_distance && 2 * d < missing.size()) {", "if (d < best_distance && d < missing.size()) {", HINTS),
     ("unit_hint_column_index", LR, "    column = header_columns[best];", "    column = static_cast<int>(best) + 1;", HINTS),
-    ("tof_code_dropout_ignored", DK_DRIVE, "const bool dropout = tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])));", "const bool dropout = false;", TOF_CODES),
+    ("tof_code_dropout_ignored", DK_DRIVE, "const bool dropout = tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])));", "const bool dropout = false;", round_two(TOF_CODES, "RoundTwoDiagnosisTofCodes")),
     ("tof_code_as_reading", DK_DRIVE, "{tof_channel.on_rails(tof[i]), ul[i], ur[i]}", "{tof[i], ul[i], ur[i]}", TOF_CODES),
     ("tof_code_strict", LH, "return mm >= kTofOutOfRangeCode_mm;", "return mm > kTofOutOfRangeCode_mm;", TOF_CODES),
     ("noise_dof_no_minus_one", RN, "dof += v.size() - 1;", "dof += v.size();", NOISE),

@@ -57,9 +57,12 @@ const std::vector<Figure>& figures() {
         "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
       {"light", "light" + logs_of("light"), "--plot",
        {"distance to the light (cm)", "raw reading (counts", "plug-in", "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
-      // Two robots' logs: each robot named in the legend (its own marker), not one cloud.
+      // Two robots' logs: each robot named in the legend (its own marker), not one cloud, and its
+      // points a group of their own at each grey level: robots 0.02 apart, each one's three
+      // sensors within +-0.005 of its group, so that two groups (+-0.01 +- 0.005) never touch.
       {"ground", "ground" + logs_of("ground"), "--plot",
-       {"grey level (fraction", "raw reading (counts, 0..1023)", "plug-in", "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
+       {"grey level (fraction", "raw reading (counts, 0..1023)", "plug-in", "robot virtual-epuck2-1", "robot virtual-epuck2-2",
+        "each robot's points 0.02 apart, its sensors' 0.005"}},
       {"camera", "camera" + logs_of("camera"), "--plot",
        {"column px (pixels", "row py (pixels", "dimensionless", "plug-in", "observed, robot virtual-epuck2-1",
         "observed, robot virtual-epuck2-2"}},
