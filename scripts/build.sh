@@ -20,5 +20,11 @@ JOBS="${EPUCK2_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 LAUNCHER=()
 # ccache, when installed, makes rebuilds in several checkouts cheap; the build does not need it.
 if command -v ccache >/dev/null 2>&1; then LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DEPUCK2_BUILD_APPS=ON "${LAUNCHER[@]}" >/dev/null
+# Ninja, when installed (scripts/install-deps.sh installs it): it starts a unit as soon as the
+# headers it needs exist, where make waits for every library a target links to be built first; on
+# two cores that keeps both busy through the chain fit -> calibrate -> diagnose -> plot -> CLI
+# (bench/README.md, "The README's two commands"). A build/ configured before keeps its generator.
+GENERATOR=()
+if [ ! -f build/CMakeCache.txt ] && command -v ninja >/dev/null 2>&1; then GENERATOR=(-G Ninja); fi
+cmake -S . -B build "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release -DEPUCK2_BUILD_APPS=ON "${LAUNCHER[@]}" >/dev/null
 cmake --build build -j"$JOBS" "${TARGET[@]}"

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Installs everything the project needs on Debian 12 (bookworm): compiler and CMake, Ceres, Eigen,
+# Installs everything the project needs on Debian 12 (bookworm): compiler, CMake and Ninja, Ceres, Eigen,
 # CLI11, nlohmann-json, gnuplot-iostream with gnuplot-nox, GoogleTest, Google Benchmark; and for the
 # side-by-side benchmark (bench/side_by_side.py) python3-scipy and python3-lmfit.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 PACKAGES=(
-  build-essential cmake
+  build-essential cmake ninja-build
   libceres-dev libeigen3-dev libcli11-dev nlohmann-json3-dev
   libgnuplot-iostream-dev gnuplot-nox libboost-iostreams-dev libboost-filesystem-dev libboost-system-dev
   libgtest-dev libbenchmark-dev

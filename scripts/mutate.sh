@@ -368,7 +368,10 @@ def copy_source():
 
 def configure():
     cmd = ["cmake", "-S", SRC, "-B", BUILD, "-DCMAKE_BUILD_TYPE=Release", "-DEPUCK2_BUILD_APPS=ON",
-           "-DEPUCK2_BUILD_BENCH=OFF"]
+           "-DEPUCK2_BUILD_BENCH=OFF",
+           # One program per test file (the test command builds them all as one): a mutant then
+           # rebuilds only the programs of the tests it runs.
+           "-DEPUCK2_SPLIT_TESTS=ON"]
     if shutil.which("ccache"):
         cmd.append("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
     sh(cmd, check=True, stdout=subprocess.DEVNULL)

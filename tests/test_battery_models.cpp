@@ -18,22 +18,22 @@ constexpr double kBitExact = 0.0;
 // The reference quotes the cubic's later ticks to 5 significant digits.
 constexpr double kFiveDigits = 5e-6;
 
-std::vector<mb::ChargeSample> run(mb::Model m, mb::Behaviour b, std::vector<mb::ProfilePoint> profile) {
+std::vector<mb::ChargeSample> run_battery_models(mb::Model m, mb::Behaviour b, std::vector<mb::ProfilePoint> profile) {
   return mb::simulate_discharge(m, b, mb::plugin_tables(), profile, 0.1, 1.0);
 }
 }  // namespace
 
 TEST(BatteryCompat, FirstTickMatchesThePluginBitForBit) {
   const std::vector<mb::ProfilePoint> spin7{{0.0, 7.0}, {2.0, 7.0}};
-  EXPECT_NEAR(run(mb::Model::simple, mb::Behaviour::argos_compatible, spin7)[1].charge, 0.99999493503695103, kBitExact);
-  EXPECT_NEAR(run(mb::Model::linear, mb::Behaviour::argos_compatible, spin7)[1].charge, 0.99999493503710257, kBitExact);
-  EXPECT_NEAR(run(mb::Model::approximated, mb::Behaviour::argos_compatible, spin7)[1].charge, 0.99999406068869212, kBitExact);
-  EXPECT_NEAR(run(mb::Model::cubic, mb::Behaviour::argos_compatible, spin7)[1].charge, 0.98983534873817192, kBitExact);
+  EXPECT_NEAR(run_battery_models(mb::Model::simple, mb::Behaviour::argos_compatible, spin7)[1].charge, 0.99999493503695103, kBitExact);
+  EXPECT_NEAR(run_battery_models(mb::Model::linear, mb::Behaviour::argos_compatible, spin7)[1].charge, 0.99999493503710257, kBitExact);
+  EXPECT_NEAR(run_battery_models(mb::Model::approximated, mb::Behaviour::argos_compatible, spin7)[1].charge, 0.99999406068869212, kBitExact);
+  EXPECT_NEAR(run_battery_models(mb::Model::cubic, mb::Behaviour::argos_compatible, spin7)[1].charge, 0.98983534873817192, kBitExact);
 }
 
 TEST(BatteryCompat, CubicJumpsOnTheFirstMovingTicks) {
   // Reference: 0.98984 -> 0.93657 -> 0.93634 at 7 cm/s.
-  const auto s = run(mb::Model::cubic, mb::Behaviour::argos_compatible, {{0.0, 7.0}, {2.0, 7.0}});
+  const auto s = run_battery_models(mb::Model::cubic, mb::Behaviour::argos_compatible, {{0.0, 7.0}, {2.0, 7.0}});
   EXPECT_NEAR(s[1].charge, 0.98984, kFiveDigits);
   EXPECT_NEAR(s[2].charge, 0.93657, kFiveDigits);
   EXPECT_NEAR(s[3].charge, 0.93634, kFiveDigits);
@@ -43,7 +43,7 @@ TEST(BatteryCompat, FirstTickAfterAChangeSeesNinetyPercent) {
   // Tick 2 turns 0.9 * 7 + 0.1 * 0 = 6.30 cm/s: the Linear model interpolates L[6] and L[7]
   // with d = 0.3, in float, starting from the smaller value.
   const mb::Tables& t = mb::plugin_tables();
-  const auto s = run(mb::Model::linear, mb::Behaviour::argos_compatible, {{0.0, 7.0}, {1.0, 7.0}});
+  const auto s = run_battery_models(mb::Model::linear, mb::Behaviour::argos_compatible, {{0.0, 7.0}, {1.0, 7.0}});
   const double c1 = s[1].charge;
   const float mL = static_cast<float>(t.linear_slope_per_s[6]), mH = static_cast<float>(t.linear_slope_per_s[7]);
   const float yL = static_cast<float>(c1 + mL * 0.1), yH = static_cast<float>(c1 + mH * 0.1);
@@ -99,7 +99,7 @@ TEST(BatteryCorrected, StartsContinuouslyFromFullCharge) {
   // The plug-in's cubic drops to the intercept (0.936 at 7 cm/s) within two ticks; the corrected
   // one falls towards it with the firmware filter's 2.24 s lag: a tick takes 1 - exp(-0.1/2.24)
   // = 4.4 % of the gap, and after 30 s the charge is on the curve.
-  const auto s = run(mb::Model::cubic, mb::Behaviour::corrected, {{0.0, 7.0}, {40.0, 7.0}});
+  const auto s = run_battery_models(mb::Model::cubic, mb::Behaviour::corrected, {{0.0, 7.0}, {40.0, 7.0}});
   const mb::CubicRow& q = mb::plugin_tables().cubic[7];
   const double first_drop = 1.0 - s[1].charge;
   EXPECT_NEAR(first_drop, (1.0 - q.d) * (1.0 - std::exp(-0.1 / mb::corrected::kFirmwareFilterTau_s)) - q.c * 0.1, 1e-12);
@@ -169,9 +169,9 @@ TEST(BatteryFormulas, CubicAndPolylineForDoubleFloatAndJet) {
 }
 
 TEST(BatterySimulation, StopsAtAnEmptyBatteryAndAtTheProfileEnd) {
-  const auto s = run(mb::Model::linear, mb::Behaviour::corrected, {{0.0, 4.0}, {1e6, 4.0}});
+  const auto s = run_battery_models(mb::Model::linear, mb::Behaviour::corrected, {{0.0, 4.0}, {1e6, 4.0}});
   EXPECT_EQ(s.back().charge, 0.0);
   EXPECT_NEAR(s.back().time_s, mb::plugin_tables().lifetime_s[4], 0.2);
-  const auto short_run = run(mb::Model::cubic, mb::Behaviour::argos_compatible, {{0.0, 3.0}, {12.34, 3.0}});
+  const auto short_run = run_battery_models(mb::Model::cubic, mb::Behaviour::argos_compatible, {{0.0, 3.0}, {12.34, 3.0}});
   EXPECT_EQ(short_run.size(), 124u);  // t = 0 and 123 ticks
 }

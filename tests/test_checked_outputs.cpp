@@ -17,15 +17,15 @@ using epuck2::testing::CliTest;
 using epuck2::testing::slurp;
 namespace fs = std::filesystem;
 
-std::string q(const std::string& s) { return "\"" + s + "\""; }
-std::string src(const std::string& rel) { return q(std::string(EPUCK2_SOURCE_DIR) + "/" + rel); }
+std::string q_checked(const std::string& s) { return "\"" + s + "\""; }
+std::string src(const std::string& rel) { return q_checked(std::string(EPUCK2_SOURCE_DIR) + "/" + rel); }
 
 class CheckedOutputs : public CliTest {
  protected:
   /// Runs `epuck2-fit ARGS > STDOUT_TARGET` (e.g. /dev/full), standard error captured.
   CliRun run_to(const std::string& args, const std::string& stdout_target) {
     const fs::path err = dir_ / "stderr.txt";
-    const std::string cmd = "\"" + std::string(EPUCK2_FIT_EXE) + "\" " + args + " >" + stdout_target + " 2>" + q(err.string());
+    const std::string cmd = "\"" + std::string(EPUCK2_FIT_EXE) + "\" " + args + " >" + stdout_target + " 2>" + q_checked(err.string());
     const int status = std::system(cmd.c_str());
     CliRun r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -60,10 +60,10 @@ TEST_F(CheckedOutputs, EveryCommandThatPrintsFailsOnAFullStandardOutput) {
       "light" + shipped("light", "light_intensity_0.50.csv"),
       "camera" + shipped("camera", "camera_virtual-epuck2-1"),
       "battery" + shipped("battery", "robot-a_speed-07") + " --json",
-      "simulate battery --model cubic --profile " + q(profile),
+      "simulate battery --model cubic --profile " + q_checked(profile),
       "simulate light --like " + src("data/raw/light/light_intensity_0.50.csv"),
       "table5" + shipped("battery", "robot-a_"),
-      "diagnose --json " + q(ground_head),
+      "diagnose --json " + q_checked(ground_head),
   };
   for (const std::string& c : commands) {
     SCOPED_TRACE(c);
@@ -84,7 +84,7 @@ TEST_F(CheckedOutputs, TheCheckedStreamWritesTheSameBytesInOrder) {
   const CliRun file = run(args);
   ASSERT_EQ(file.exit_code, 0) << file.err;
   const fs::path piped = dir_ / "piped.txt";
-  const int status = std::system(("\"" + std::string(EPUCK2_FIT_EXE) + "\" " + args + " 2>/dev/null | cat > " + q(piped.string())).c_str());
+  const int status = std::system(("\"" + std::string(EPUCK2_FIT_EXE) + "\" " + args + " 2>/dev/null | cat > " + q_checked(piped.string())).c_str());
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
   EXPECT_EQ(slurp(piped), file.out);
   EXPECT_EQ(file.out.rfind("Battery discharge fits", 0), 0u) << file.out.substr(0, 200);
@@ -94,7 +94,7 @@ TEST_F(CheckedOutputs, TheCheckedStreamWritesTheSameBytesInOrder) {
 TEST_F(CheckedOutputs, ABadInputIsReportedBeforeTheLostOutput) {
   if (!has_dev_full()) GTEST_SKIP() << "no /dev/full";
   const std::string bad = write("bad.csv", "distance_m,sensor,value\n0.01,0,abc\n");
-  const CliRun r = run_to("proximity " + q(bad), "/dev/full");
+  const CliRun r = run_to("proximity " + q_checked(bad), "/dev/full");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("bad.csv:2:"), std::string::npos) << r.err;
 }
@@ -124,7 +124,7 @@ TEST_F(CheckedOutputs, SimulateLikeRefusesConditionsTheModelCannotTake) {
     const std::string name = "cond" + std::to_string(i++) + ".csv";
     const std::string log = write(name, c.log);
     const fs::path out = dir_ / ("sim_" + name);
-    const CliRun r = run(std::string("simulate ") + c.kind + " --like " + q(log) + " -o " + q(out.string()));
+    const CliRun r = run(std::string("simulate ") + c.kind + " --like " + q_checked(log) + " -o " + q_checked(out.string()));
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_NE(r.err.find(name + c.where), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("column '" + c.column + "'"), std::string::npos) << r.err;
@@ -137,14 +137,14 @@ TEST_F(CheckedOutputs, SimulateLikeRefusesConditionsTheModelCannotTake) {
 // plausibility check, docs/fitting.md: the far point is 4.5 m, beyond the 0.5 m range.)
 TEST_F(CheckedOutputs, TheEdgesOfTheRangesAreAcceptedAndSimulateFinite) {
   const std::string light = write("light.csv", "distance_m,intensity,sensor,value\n0.001,1,0,3000\n4.5,1e6,7,3000\n");
-  CliRun r = run("simulate light --like " + q(light));
+  CliRun r = run("simulate light --like " + q_checked(light));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // 0.001 m from an intensity-1 source saturates the sensor: the plug-in's model reads 0 there;
   // 4.5 m is beyond its 0.5 m range: dark, 4095.
   EXPECT_NE(r.out.find("\n0.001,1,0,0\n"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\n4.5,1e+06,7,4095\n"), std::string::npos) << r.out;
   const std::string camera = write("camera.csv", "forward_m,lateral_m,vertical_m,px,py\n0.2,-1000,1000,70,60\n");
-  r = run("simulate camera --like " + q(camera));
+  r = run("simulate camera --like " + q_checked(camera));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("inf"), std::string::npos) << r.out;
@@ -155,12 +155,12 @@ TEST_F(CheckedOutputs, TheEdgesOfTheRangesAreAcceptedAndSimulateFinite) {
 TEST_F(CheckedOutputs, ObstacleDistanceHasThePhysicalRangeOfADistance) {
   const std::string rows = "time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n0,0,0,0,0,20\n0.1,5,5,0,0,20\n";
   const std::string far = write("far.csv", "# obstacle_distance_m: 1e300\n" + rows);
-  CliRun r = run("simulate drive --like " + q(far));
+  CliRun r = run("simulate drive --like " + q_checked(far));
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("far.csv:1:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("<= 1000 m"), std::string::npos) << r.err;
   const std::string zero = write("zero.csv", "# obstacle_distance_m: 0\n" + rows);
-  r = run("simulate drive --like " + q(zero));
+  r = run("simulate drive --like " + q_checked(zero));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   // At the obstacle the ToF reads its lower rail, 20 mm.
   EXPECT_NE(r.out.find("\n0,0,0,0,0,20\n"), std::string::npos) << r.out;
@@ -180,7 +180,7 @@ TEST_F(CheckedOutputs, SimulateLikeNeverWritesANonFiniteReading) {
   const std::string coefficients = write("camera_tiny_fov.json", model);
   const std::string log = write("axis.csv", "forward_m,lateral_m,vertical_m,px,py\n0.2,0,0,80,60\n");
   const fs::path out = dir_ / "sim.csv";
-  const CliRun r = run("simulate camera --like " + q(log) + " --coefficients " + q(coefficients) + " -o " + q(out.string()));
+  const CliRun r = run("simulate camera --like " + q_checked(log) + " --coefficients " + q_checked(coefficients) + " -o " + q_checked(out.string()));
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(r.err.find("axis.csv:2") != std::string::npos || r.err.find("camera_tiny_fov.json") != std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
@@ -212,18 +212,18 @@ TEST(LogWriterChecks, ANonFiniteValueIsNeverWritten) {
 // `--effects ,` swallowed the following `-o FILE` as effect names; an empty list or an empty name
 // is now a usage error naming the option, and -o is still -o.
 TEST_F(CheckedOutputs, EffectsTakesExactlyOneList) {
-  const std::string log = q(write("ground.csv", head_of("data/raw/ground/ground_virtual-epuck2-1.csv", 200)));
+  const std::string log = q_checked(write("ground.csv", head_of("data/raw/ground/ground_virtual-epuck2-1.csv", 200)));
   const fs::path out = dir_ / "d.json";
   for (const std::string list : {",", "\"\"", "black_offset,", ",black_offset", "black_offset,,white_level"}) {
     SCOPED_TRACE(list);
-    const CliRun r = run("diagnose --effects " + list + " -o " + q(out.string()) + " " + log);
+    const CliRun r = run("diagnose --effects " + list + " -o " + q_checked(out.string()) + " " + log);
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_NE(r.err.find("--effects"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find("-o"), std::string::npos) << "-o was taken as an effect: " << r.err;
     EXPECT_FALSE(fs::exists(out));
   }
   // One list is one value: the next word is a log, not another effect.
-  const CliRun two = run("diagnose --effects black_offset " + log + " -o " + q(out.string()));
+  const CliRun two = run("diagnose --effects black_offset " + log + " -o " + q_checked(out.string()));
   EXPECT_EQ(two.exit_code, 0) << two.err;
   EXPECT_TRUE(fs::exists(out));
 }

@@ -199,7 +199,7 @@ TEST(CoefficientFile, ARobotsSetIsReadOverThePooledOne) {
 // ----- one validation, located --------------------------------------------------------------------
 
 /// The message of the error reading `j` as a model of `kind` throws ("" when it reads).
-std::string error_of(const std::string& kind, const json& j, const std::string& path = "x.json") {
+std::string error_of_coeff(const std::string& kind, const json& j, const std::string& path = "x.json") {
   try {
     if (kind == "proximity") (void)co::proximity_model_from_json(j, path);
     else if (kind == "light") (void)co::light_model_from_json(j, path);
@@ -243,7 +243,7 @@ TEST(CoefficientFile, EveryEffectParameterOutsideItsRangeIsRefusedWithItsPath) {
             j["effects"][e.name] = o;
             pointer = std::string("/effects/") + e.name + "/" + q.key;
           }
-          const std::string msg = error_of(kind, j);
+          const std::string msg = error_of_coeff(kind, j);
           EXPECT_NE(msg.find("physical range"), std::string::npos) << kind << " " << e.name << "." << q.key << " = " << bad << ": " << msg;
           EXPECT_NE(msg.find(pointer), std::string::npos) << msg;
         }
@@ -254,19 +254,19 @@ TEST(CoefficientFile, EveryEffectParameterOutsideItsRangeIsRefusedWithItsPath) {
 TEST(CoefficientFile, UnknownAndMisspeltEffectsAreRefused) {
   json g = neutral_file("ground");
   g["effects"]["nonlinear_respones"] = {{"exponent", 1.2}};
-  const std::string msg = error_of("ground", g);
+  const std::string msg = error_of_coeff("ground", g);
   EXPECT_NE(msg.find("unknown effect 'nonlinear_respones'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("did you mean 'nonlinear_response'"), std::string::npos) << msg;
   json p = neutral_file("proximity");
   p["effects"]["warp_drive"] = {{"k", 1.0}};
-  EXPECT_NE(error_of("proximity", p).find("unknown effect 'warp_drive'"), std::string::npos);
+  EXPECT_NE(error_of_coeff("proximity", p).find("unknown effect 'warp_drive'"), std::string::npos);
   json t = neutral_file("proximity");
   t["effects"]["long_tail"] = {{"amplitude", 10.0}, {"lenght_m", 0.02}};
-  EXPECT_NE(error_of("proximity", t).find("has no parameter 'lenght_m'"), std::string::npos) << error_of("proximity", t);
+  EXPECT_NE(error_of_coeff("proximity", t).find("has no parameter 'lenght_m'"), std::string::npos) << error_of_coeff("proximity", t);
   // A finding folded into the base is no effect a model file holds.
   json b = neutral_file("ground");
   b["effects"]["black_offset"] = {{"offset", 5.0}};
-  EXPECT_NE(error_of("ground", b).find("folds it into the base"), std::string::npos) << error_of("ground", b);
+  EXPECT_NE(error_of_coeff("ground", b).find("folds it into the base"), std::string::npos) << error_of_coeff("ground", b);
 }
 
 TEST(CoefficientFile, HostileValuesAreRefused) {
@@ -296,7 +296,7 @@ TEST(CoefficientFile, HostileValuesAreRefused) {
   for (const Case& c : cases) {
     json j = neutral_file(c.kind);
     j[json::json_pointer(c.pointer)] = c.value;
-    const std::string msg = error_of(c.kind, j);
+    const std::string msg = error_of_coeff(c.kind, j);
     EXPECT_NE(msg.find(c.says), std::string::npos) << c.kind << " " << c.pointer << " = " << c.value.dump() << ": " << msg;
   }
 }

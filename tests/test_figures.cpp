@@ -45,7 +45,7 @@ const std::string kFittedBattery = "\"" + std::string(EPUCK2_SOURCE_DIR) + "/dat
 
 // What each figure must say (written here from the figures' purpose, not read from the code):
 // the quantity and unit of every axis, the legend entries a reader needs.
-const std::vector<Figure>& figures() {
+const std::vector<Figure>& figures_listed() {
   static const std::vector<Figure> f{
       {"battery_fits", "battery" + logs_of("battery"), "--plot",
        {"time (h)", "charge (fraction of full)", "simple", "linear", "cubic", "approximated", "15 cm/s", "robot virtual-e-puck2-a",
@@ -111,7 +111,7 @@ class StrictFigures : public epuck2::testing::CliTest {
 class Figures : public StrictFigures, public ::testing::WithParamInterface<std::tuple<std::size_t, std::string>> {};
 
 TEST_P(Figures, AreDrawnInTheFormatTheExtensionNames) {
-  const Figure& f = figures()[std::get<0>(GetParam())];
+  const Figure& f = figures_listed()[std::get<0>(GetParam())];
   const std::string format = std::get<1>(GetParam());
   const fs::path out = dir_ / (f.name + "." + format);
   const CliRun r = run(f.command + " " + f.option + " \"" + out.string() + "\"");
@@ -138,14 +138,14 @@ TEST_P(Figures, AreDrawnInTheFormatTheExtensionNames) {
 
 std::vector<std::tuple<std::size_t, std::string>> all_cases() {
   std::vector<std::tuple<std::size_t, std::string>> cases;
-  for (std::size_t i = 0; i < figures().size(); ++i)
+  for (std::size_t i = 0; i < figures_listed().size(); ++i)
     for (const char* format : {"png", "svg", "pdf"}) cases.emplace_back(i, format);
   return cases;
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryFigure, Figures, ::testing::ValuesIn(all_cases()),
                          [](const ::testing::TestParamInfo<std::tuple<std::size_t, std::string>>& info) {
-                           return figures()[std::get<0>(info.param)].name + "_" + std::get<1>(info.param);
+                           return figures_listed()[std::get<0>(info.param)].name + "_" + std::get<1>(info.param);
                          });
 
 // ---- a paper's figure: --figure-size and --font-size ----

@@ -138,7 +138,7 @@ const GroundTruthHere kGround[3] = {
 constexpr std::size_t kGroundLowRail = 4, kGroundHighRail = 12;
 constexpr double kExactFitTolerance_raw = 1e-3;
 
-std::string ground_log(const std::vector<int>& sensors) {
+std::string ground_log_indep(const std::vector<int>& sensors) {
   std::string csv = "grey,sensor,value\n";
   for (int k : sensors)
     for (int i = 0; i <= 100; ++i) {
@@ -150,7 +150,7 @@ std::string ground_log(const std::vector<int>& sensors) {
 }
 
 TEST(IndependentFit, GroundLowRailIsCensored) {
-  const auto f = calibrate::fit_ground({parse_log(ground_log({0}), "low.csv", Kind::ground)});
+  const auto f = calibrate::fit_ground({parse_log(ground_log_indep({0}), "low.csv", Kind::ground)});
   EXPECT_EQ(f.censored, kGroundLowRail);
   ASSERT_TRUE(f.sensors[0].usable) << f.sensors[0].message;
   EXPECT_NEAR(f.sensors[0].value("gain"), 900.0, kExactFitTolerance_raw);
@@ -158,7 +158,7 @@ TEST(IndependentFit, GroundLowRailIsCensored) {
 }
 
 TEST(IndependentFit, GroundHighRailIsCensored) {
-  const auto f = calibrate::fit_ground({parse_log(ground_log({1}), "high.csv", Kind::ground)});
+  const auto f = calibrate::fit_ground({parse_log(ground_log_indep({1}), "high.csv", Kind::ground)});
   EXPECT_EQ(f.censored, kGroundHighRail);
   ASSERT_TRUE(f.sensors[1].usable) << f.sensors[1].message;
   EXPECT_NEAR(f.sensors[1].value("gain"), 1100.0, kExactFitTolerance_raw);
@@ -166,7 +166,7 @@ TEST(IndependentFit, GroundHighRailIsCensored) {
 }
 
 TEST(IndependentFit, GroundThreeSensorsAtNonDefaultCoefficients) {
-  const auto f = calibrate::fit_ground({parse_log(ground_log({0, 1, 2}), "all.csv", Kind::ground)});
+  const auto f = calibrate::fit_ground({parse_log(ground_log_indep({0, 1, 2}), "all.csv", Kind::ground)});
   EXPECT_EQ(f.censored, kGroundLowRail + kGroundHighRail);
   EXPECT_EQ(f.readings, 303u);
   for (int k = 0; k < 3; ++k) {
@@ -349,7 +349,7 @@ TEST(IndependentBattery, DiagnosisLeavesTheNominalPhysicalRobotNearOne) {
 class IndependentCli : public epuck2::testing::CliTest {};
 
 TEST_F(IndependentCli, GroundJsonCarriesTheTruth) {
-  const std::string log = write("ground.csv", ground_log({0, 1, 2}));
+  const std::string log = write("ground.csv", ground_log_indep({0, 1, 2}));
   const std::string out = (dir_ / "ground.json").string();
   const auto r = run("ground --json -o \"" + out + "\" \"" + log + "\"");
   ASSERT_EQ(r.exit_code, 0) << r.err;

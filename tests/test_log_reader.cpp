@@ -27,7 +27,7 @@ using logs::Kind;
 namespace {
 
 /// The InputError parse_log throws (fails the test when it throws none).
-InputError error_of(const std::string& csv, std::optional<Kind> kind, const logs::ReadOptions& options = {}) {
+InputError error_of_reader(const std::string& csv, std::optional<Kind> kind, const logs::ReadOptions& options = {}) {
   try {
     logs::parse_log(csv, "t.csv", kind, options);
   } catch (const InputError& e) {
@@ -59,12 +59,12 @@ TEST(LogReader, TrailingDelimiterOnEveryLineIsAccepted) {
 }
 
 TEST(LogReader, AnEmptyColumnNameInsideTheHeaderIsStillRefused) {
-  const InputError e = error_of("distance_m,,sensor,value\n0.02,,0,1971\n", Kind::proximity);
+  const InputError e = error_of_reader("distance_m,,sensor,value\n0.02,,0,1971\n", Kind::proximity);
   EXPECT_EQ(e.line(), 1);
   EXPECT_EQ(e.column(), 12);
   EXPECT_TRUE(contains(e.message(), "empty column name")) << e.what();
   // Two trailing delimiters are one empty column too many.
-  const InputError two = error_of("grey,sensor,value,,\n0.5,1,512,,\n", Kind::ground);
+  const InputError two = error_of_reader("grey,sensor,value,,\n0.5,1,512,,\n", Kind::ground);
   EXPECT_EQ(two.line(), 1);
   EXPECT_EQ(two.column(), 19);
 }
@@ -84,7 +84,7 @@ TEST(LogReader, HeaderNamesInAnyLetterCase) {
 }
 
 TEST(LogReader, ANameTwiceInDifferentCaseIsRefused) {
-  const InputError e = error_of("distance_m,Distance_M,sensor,value\n0.02,0.02,0,1971\n", Kind::proximity);
+  const InputError e = error_of_reader("distance_m,Distance_M,sensor,value\n0.02,0.02,0,1971\n", Kind::proximity);
   EXPECT_EQ(e.line(), 1);
   EXPECT_EQ(e.column(), 12);
   EXPECT_TRUE(contains(e.message(), "appears twice")) << e.what();
@@ -107,12 +107,12 @@ TEST(LogReader, TofOutOfRangeCodesAreKeptAsRead) {
 
 TEST(LogReader, TofBetweenTheRangeAndTheCodeIsStillRefused) {
   // Line 3 is "0.1,5,5,38,38,2500": tof_mm starts at character 15.
-  const InputError e = error_of("# obstacle_distance_m: 0.3\n" + kDriveHeader + "0,5,5,0,0,300\n0.1,5,5,38,38,2500\n",
+  const InputError e = error_of_reader("# obstacle_distance_m: 0.3\n" + kDriveHeader + "0,5,5,0,0,300\n0.1,5,5,38,38,2500\n",
                                 Kind::drive);
   EXPECT_EQ(e.line(), 4);
   EXPECT_EQ(e.column(), 15);
   EXPECT_TRUE(contains(e.message(), "8190")) << e.what();
-  const InputError low = error_of("# obstacle_distance_m: 0.3\n" + kDriveHeader + "0,5,5,0,0,19\n", Kind::drive);
+  const InputError low = error_of_reader("# obstacle_distance_m: 0.3\n" + kDriveHeader + "0,5,5,0,0,19\n", Kind::drive);
   EXPECT_EQ(low.line(), 3);
   EXPECT_EQ(low.column(), 11);
 }
@@ -129,7 +129,7 @@ TEST(LogReader, ObstacleDistanceZeroIsAccepted) {
 
 TEST(LogReader, NegativeObstacleDistanceIsRefusedAtItsLine) {
   // "# obstacle_distance_m: -0.1": the value starts at character 24 of line 2.
-  const InputError e = error_of("# robot: r1\n# obstacle_distance_m: -0.1\n" + kDriveHeader + "0,5,5,0,0,300\n", Kind::drive);
+  const InputError e = error_of_reader("# robot: r1\n# obstacle_distance_m: -0.1\n" + kDriveHeader + "0,5,5,0,0,300\n", Kind::drive);
   EXPECT_EQ(e.line(), 2);
   EXPECT_EQ(e.column(), 24);
   EXPECT_TRUE(contains(e.message(), ">= 0")) << e.what();
@@ -138,44 +138,44 @@ TEST(LogReader, NegativeObstacleDistanceIsRefusedAtItsLine) {
 // ---- 5. A missing column with a close name -------------------------------------------------------
 
 TEST(LogReader, MissingColumnWithAnotherUnitSaysSo) {
-  const InputError e = error_of("sensor,distance_mm,value\n0,20,1971\n", Kind::proximity);
+  const InputError e = error_of_reader("sensor,distance_mm,value\n0,20,1971\n", Kind::proximity);
   EXPECT_EQ(e.line(), 1);
   EXPECT_EQ(e.column(), 8);  // where distance_mm is
   EXPECT_TRUE(contains(e.message(), "missing required column 'distance_m'")) << e.what();
   EXPECT_TRUE(contains(e.message(), "column 'distance_mm' has the unit mm; this column must be in m")) << e.what();
-  const InputError ms = error_of("# robot: r\ntime_ms,speed_cm_s,charge\n0,5,1\n", Kind::battery);
+  const InputError ms = error_of_reader("# robot: r\ntime_ms,speed_cm_s,charge\n0,5,1\n", Kind::battery);
   EXPECT_EQ(ms.line(), 2);
   EXPECT_EQ(ms.column(), 1);
   EXPECT_TRUE(contains(ms.message(), "column 'time_ms' has the unit ms; this column must be in s")) << ms.what();
-  const InputError none = error_of("distance,sensor,value\n0.02,0,1971\n", Kind::proximity);
+  const InputError none = error_of_reader("distance,sensor,value\n0.02,0,1971\n", Kind::proximity);
   EXPECT_TRUE(contains(none.message(), "column 'distance' has no unit; this column must be in m")) << none.what();
 }
 
 TEST(LogReader, MissingColumnWithATypoGetsDidYouMean) {
-  const InputError e = error_of("sensor,value,distnace_m\n0,1971,0.02\n", Kind::proximity);
+  const InputError e = error_of_reader("sensor,value,distnace_m\n0,1971,0.02\n", Kind::proximity);
   EXPECT_EQ(e.line(), 1);
   EXPECT_EQ(e.column(), 14);
   EXPECT_TRUE(contains(e.message(), "did you mean 'distance_m'?")) << e.what();
-  const InputError plural = error_of("grey,sensors,value\n0.5,1,512\n", Kind::ground);
+  const InputError plural = error_of_reader("grey,sensors,value\n0.5,1,512\n", Kind::ground);
   EXPECT_EQ(plural.column(), 6);
   EXPECT_TRUE(contains(plural.message(), "the header has 'sensors': did you mean 'sensor'?")) << plural.what();
   // Nothing close: no suggestion, the header's first column.
-  const InputError far = error_of("grey,colour,value\n0.5,1,512\n", Kind::ground);
+  const InputError far = error_of_reader("grey,colour,value\n0.5,1,512\n", Kind::ground);
   EXPECT_EQ(far.column(), 1);
   EXPECT_FALSE(contains(far.message(), "did you mean")) << far.what();
 }
 
 TEST(LogReader, UnrecognisedKindSaysWhichColumnIsClose) {
   // No kind given: the kind whose missing columns are all explained by close names is named.
-  const InputError e = error_of("# robot: r\nsensor,value,Distnace_m\n0,1971,0.02\n", std::nullopt);
+  const InputError e = error_of_reader("# robot: r\nsensor,value,Distnace_m\n0,1971,0.02\n", std::nullopt);
   EXPECT_EQ(e.line(), 2);
   EXPECT_EQ(e.column(), 14);
   EXPECT_TRUE(contains(e.message(), "cannot recognise the kind")) << e.what();
   EXPECT_TRUE(contains(e.message(), "as a proximity log it lacks 'distance_m': the header has 'distnace_m': did you mean")) << e.what();
   // The most specific kind: light has four columns, proximity three.
-  const InputError light = error_of("distance_mm,intensity,sensor,value\n20,1,0,3519\n", std::nullopt);
+  const InputError light = error_of_reader("distance_mm,intensity,sensor,value\n20,1,0,3519\n", std::nullopt);
   EXPECT_TRUE(contains(light.message(), "as a light log it lacks 'distance_m': column 'distance_mm' has the unit mm")) << light.what();
-  const InputError none = error_of("a,b\n1,2\n", std::nullopt);
+  const InputError none = error_of_reader("a,b\n1,2\n", std::nullopt);
   EXPECT_EQ(none.column(), 1);
   EXPECT_FALSE(contains(none.message(), "lacks")) << none.what();
 }
@@ -184,13 +184,13 @@ TEST(LogReader, UnrecognisedKindSaysWhichColumnIsClose) {
 
 TEST(LogReader, MetadataErrorsNameTheirLine) {
   // "# obstacle_distance_m: abc" on line 3: the value starts at character 24.
-  const InputError bad = error_of("# robot: r1\n# seed: 1\n# obstacle_distance_m: abc\n" + kDriveHeader + "0,5,5,0,0,300\n",
+  const InputError bad = error_of_reader("# robot: r1\n# seed: 1\n# obstacle_distance_m: abc\n" + kDriveHeader + "0,5,5,0,0,300\n",
                                   Kind::drive);
   EXPECT_EQ(bad.line(), 3);
   EXPECT_EQ(bad.column(), 24);
   EXPECT_TRUE(contains(bad.message(), "expected a finite number, got 'abc'")) << bad.what();
   // Missing: at the header, before which the line belongs.
-  const InputError missing = error_of("# robot: r1\n" + kDriveHeader + "0,5,5,0,0,300\n", Kind::drive);
+  const InputError missing = error_of_reader("# robot: r1\n" + kDriveHeader + "0,5,5,0,0,300\n", Kind::drive);
   EXPECT_EQ(missing.line(), 2);
   EXPECT_EQ(missing.column(), 1);
   // Log::metadata_number on a log read fine.
@@ -214,15 +214,15 @@ const std::string kBadRows = "distance_m,sensor,value\n0.02,0,1971\n0.03,x,1500\
 }  // namespace
 
 TEST(LogReader, ABadCellIsAnErrorAtItsLineAndColumn) {
-  const InputError e = error_of(kBadRows, Kind::proximity);
+  const InputError e = error_of_reader(kBadRows, Kind::proximity);
   EXPECT_EQ(e.line(), 3);
   EXPECT_EQ(e.column(), 6);
   EXPECT_TRUE(contains(e.message(), "column 'sensor': expected a number, got 'x'")) << e.what();
   // The first problem in file order, the leftmost in its row, whatever the column's order.
-  const InputError order = error_of("distance_m,sensor,value\n0.02,0,1971\n0.03,1,abc\n-1,zz,1\n", Kind::proximity);
+  const InputError order = error_of_reader("distance_m,sensor,value\n0.02,0,1971\n0.03,1,abc\n-1,zz,1\n", Kind::proximity);
   EXPECT_EQ(order.line(), 3);
   EXPECT_EQ(order.column(), 8);
-  const InputError leftmost = error_of("distance_m,sensor,value\nabc,zz,1\n", Kind::proximity);
+  const InputError leftmost = error_of_reader("distance_m,sensor,value\nabc,zz,1\n", Kind::proximity);
   EXPECT_EQ(leftmost.column(), 1);
 }
 
@@ -248,11 +248,11 @@ TEST(LogReader, SkipBadRowsLeavesThemOutAndRecordsEach) {
 TEST(LogReader, SkipBadRowsStillRefusesTimeGoingBackAndAFileOfBadRows) {
   logs::ReadOptions skip;
   skip.skip_bad_rows = true;
-  const InputError back = error_of("time_s,speed_cm_s,charge\n5,5,1\n10,5,abc\n2,5,0.9\n", Kind::battery, skip);
+  const InputError back = error_of_reader("time_s,speed_cm_s,charge\n5,5,1\n10,5,abc\n2,5,0.9\n", Kind::battery, skip);
   EXPECT_EQ(back.line(), 4);  // compared with line 2: line 3 is skipped
   EXPECT_EQ(back.column(), 1);
   EXPECT_TRUE(contains(back.message(), "time decreases from 5 (line 2) to 2")) << back.what();
-  const InputError all = error_of("# a comment\ngrey,sensor,value\n0.5,7,512\n2,1,512\n", Kind::ground, skip);
+  const InputError all = error_of_reader("# a comment\ngrey,sensor,value\n0.5,7,512\n2,1,512\n", Kind::ground, skip);
   EXPECT_EQ(all.line(), 2);
   EXPECT_EQ(all.column(), 1);
   EXPECT_TRUE(contains(all.message(), "no data rows left")) << all.what();
@@ -262,12 +262,12 @@ TEST(LogReader, SkipBadRowsStillRefusesTimeGoingBackAndAFileOfBadRows) {
 
 TEST(LogReader, EmptyFileAndNoDataRowsHaveALineAndColumn) {
   for (const std::string text : {"", "\n\n", "# only a comment\n"}) {
-    const InputError e = error_of(text, Kind::ground);
+    const InputError e = error_of_reader(text, Kind::ground);
     EXPECT_EQ(e.line(), 1) << text;
     EXPECT_EQ(e.column(), 1) << text;
     EXPECT_TRUE(contains(e.message(), "empty file")) << e.what();
   }
-  const InputError rows = error_of("# robot: r\n\ngrey,sensor,value\n# nothing\n", Kind::ground);
+  const InputError rows = error_of_reader("# robot: r\n\ngrey,sensor,value\n# nothing\n", Kind::ground);
   EXPECT_EQ(rows.line(), 3);
   EXPECT_EQ(rows.column(), 1);
   EXPECT_TRUE(contains(rows.message(), "no data rows")) << rows.what();
@@ -278,7 +278,7 @@ TEST(LogReader, LoneCarriageReturnsEndLines) {
   EXPECT_EQ(log.robot, "mac");
   EXPECT_EQ(log.col("grey"), (std::vector<double>{0.5, 1}));
   EXPECT_EQ(log.line_of_row, (std::vector<int>{3, 4}));
-  const InputError e = error_of("grey,sensor,value\r0.5,1,512\r0.5,1,abc\r", Kind::ground);
+  const InputError e = error_of_reader("grey,sensor,value\r0.5,1,512\r0.5,1,abc\r", Kind::ground);
   EXPECT_EQ(e.line(), 3);
   EXPECT_EQ(e.column(), 7);
 }
@@ -382,13 +382,13 @@ TEST_F(CoefficientFiles, BatteryTableErrorsNameTheLineOfTheKey) {
 TEST(LogReader, ControlCharactersAreEscapedInMessages) {
   EXPECT_EQ(logs::escape_control("a\tb\x1b[2J\x7f\n"), "a\tb\\x1b[2J\\x7f\\x0a");
   EXPECT_EQ(logs::escape_control(std::string("x\0y", 3)), "x\\x00y");
-  const InputError esc = error_of("grey,sensor,value\n0.5,\x1b[31m,512\n", Kind::ground);
+  const InputError esc = error_of_reader("grey,sensor,value\n0.5,\x1b[31m,512\n", Kind::ground);
   const std::string what = esc.what();
   EXPECT_EQ(what.find('\x1b'), std::string::npos) << what;
   EXPECT_TRUE(contains(what, "got '\\x1b[31m'")) << what;
   // A NUL inside a cell no longer cuts the message short.
   const char with_nul[] = "grey,sensor,value\n0.5,1,5\0" "12\n";
-  const InputError nul = error_of(std::string(with_nul, sizeof with_nul - 1), Kind::ground);
+  const InputError nul = error_of_reader(std::string(with_nul, sizeof with_nul - 1), Kind::ground);
   EXPECT_TRUE(contains(nul.what(), "got '5\\x0012'")) << nul.what();
   EXPECT_EQ(nul.line(), 2);
   EXPECT_EQ(nul.column(), 7);
@@ -446,11 +446,11 @@ TEST(LogReader, AVoltageOnlyBatteryLogIsReadAndRecognisedAsBattery) {
 }
 
 TEST(LogReader, ABatteryLogWithNeitherChargeNorVoltageSaysBoth) {
-  const InputError e = error_of("time_s,speed_cm_s\n0,4\n", Kind::battery);
+  const InputError e = error_of_reader("time_s,speed_cm_s\n0,4\n", Kind::battery);
   EXPECT_EQ(e.line(), 1);
   EXPECT_TRUE(contains(e.message(), "missing required column 'charge' (or 'voltage_v') for a battery log")) << e.what();
   // A voltage column that is not a number is refused where it is, as a charge column would be.
-  const InputError v = error_of("time_s,speed_cm_s,voltage_v\n0,4,4.2\n10,4,high\n", Kind::battery);
+  const InputError v = error_of_reader("time_s,speed_cm_s,voltage_v\n0,4,4.2\n10,4,high\n", Kind::battery);
   EXPECT_EQ(v.line(), 3);
   EXPECT_EQ(v.column(), 6);
   EXPECT_TRUE(contains(v.message(), "column 'voltage_v': expected a number, got 'high'")) << v.what();
@@ -471,7 +471,7 @@ const std::vector<std::string> kGroundRows{
     "0,2,40",   "0.25,2,277.5", "0.5,2,515", "0.75,2,752.5", "1,2,990",
 };
 
-std::string ground_log(const std::string& header, const std::string& end, const std::string& trailing) {
+std::string ground_log_reader(const std::string& header, const std::string& end, const std::string& trailing) {
   std::string text = "# robot: hand" + end + header + trailing + end;
   for (const auto& r : kGroundRows) text += r + trailing + end;
   return text;
@@ -492,12 +492,12 @@ void expect_hand_ground_fit(const CliRun& r, const std::string& what) {
 
 TEST_F(ReaderCli, WhatLoggersWriteFitsToTheSameNumbers) {
   // Items 1, 2 and 8: plain, trailing delimiters (LF and CRLF), upper-case header, old-Mac CR.
-  expect_hand_ground_fit(run("ground --json \"" + write("plain.csv", ground_log("grey,sensor,value", "\n", "")) + "\""), "plain");
-  expect_hand_ground_fit(run("ground --json \"" + write("trail.csv", ground_log("grey,sensor,value", "\n", ",")) + "\""), "trailing");
-  expect_hand_ground_fit(run("ground --json \"" + write("crlf.csv", ground_log("grey,sensor,value", "\r\n", ",")) + "\""),
+  expect_hand_ground_fit(run("ground --json \"" + write("plain.csv", ground_log_reader("grey,sensor,value", "\n", "")) + "\""), "plain");
+  expect_hand_ground_fit(run("ground --json \"" + write("trail.csv", ground_log_reader("grey,sensor,value", "\n", ",")) + "\""), "trailing");
+  expect_hand_ground_fit(run("ground --json \"" + write("crlf.csv", ground_log_reader("grey,sensor,value", "\r\n", ",")) + "\""),
                          "CRLF and trailing");
-  expect_hand_ground_fit(run("ground --json \"" + write("case.csv", ground_log("Grey,SENSOR,Value", "\n", "")) + "\""), "case");
-  expect_hand_ground_fit(run("ground --json \"" + write("mac.csv", ground_log("grey,sensor,value", "\r", "")) + "\""), "CR only");
+  expect_hand_ground_fit(run("ground --json \"" + write("case.csv", ground_log_reader("Grey,SENSOR,Value", "\n", "")) + "\""), "case");
+  expect_hand_ground_fit(run("ground --json \"" + write("mac.csv", ground_log_reader("grey,sensor,value", "\r", "")) + "\""), "CR only");
 }
 
 TEST_F(ReaderCli, RefusalsExitTwoWithFileLineColumn) {
@@ -609,7 +609,7 @@ TEST_F(ReaderCli, SkipBadRowsReportsEveryRowItLeavesOut) {
 
   // Nothing to skip: nothing said about skipping (the hand log's 5 readings a sensor for 2
   // parameters and the noise are still worth a warning each).
-  const CliRun clean = run("ground --json --skip-bad-rows \"" + write("clean.csv", ground_log("grey,sensor,value", "\n", "")) + "\"");
+  const CliRun clean = run("ground --json --skip-bad-rows \"" + write("clean.csv", ground_log_reader("grey,sensor,value", "\n", "")) + "\"");
   EXPECT_EQ(clean.exit_code, 0);
   EXPECT_FALSE(contains(clean.err, "skipped")) << clean.err;
   std::istringstream lines(clean.err);
@@ -666,7 +666,7 @@ TEST_F(ReaderCli, ControlCharactersNeverReachTheTerminal) {
 }
 
 TEST_F(ReaderCli, TheSameFileTwiceIsRefused) {
-  const std::string a = write("a.csv", ground_log("grey,sensor,value", "\n", ""));
+  const std::string a = write("a.csv", ground_log_reader("grey,sensor,value", "\n", ""));
   const CliRun r = run("ground \"" + a + "\" \"" + a + "\"");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "error: " + a + ": given twice")) << r.err;

@@ -91,7 +91,7 @@ TEST(LongLogs, BatteryResidualsAreTheDischargeSteppedRowByRow) {
 
 // A drive log: `still` rows standing (commands `left`/`right`, the encoders unchanged, the ToF
 // at the obstacle's distance plus noise), then `moving` rows at `speed` cm/s towards it.
-logs::Log drive_log(int still, double left, double right, std::uint64_t seed, double speed = 5, double obstacle_m = 0.6,
+logs::Log drive_log_long(int still, double left, double right, std::uint64_t seed, double speed = 5, double obstacle_m = 0.6,
                     int moving = 100) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, 3.0);
@@ -118,7 +118,7 @@ void expect_same_noise(const calibrate::ReadingNoise& got, const calibrate::Read
 
 TEST(LongLogs, DriveReplicateNoiseWithoutTheFitsIsTheCalibrations) {
   // Two runs standing 40 and 50 rows before they move.
-  const std::vector<logs::Log> logs{drive_log(40, 0, 0, 1), drive_log(50, 0, 0, 2)};
+  const std::vector<logs::Log> logs{drive_log_long(40, 0, 0, 1), drive_log_long(50, 0, 0, 2)};
   const calibrate::ReadingNoise calibration = calibrate::fit_drive(logs).tof_noise;
   ASSERT_EQ(calibration.from, "replicates");
   ASSERT_EQ(calibration.n, 90u);  // (minus wild readings: none in N(0, 3 mm) noise)
@@ -129,7 +129,7 @@ TEST(LongLogs, DriveReplicateNoiseWhereTheCapDecidesIsTheCalibrations) {
   // Standing with the wheels commanded 20 and -16 cm/s: both beyond the firmware's 15.5 cm/s,
   // so capped their mean is 0 (standing), as logged it is 2 cm/s (moving): which one holds is
   // fit_drive's steps fit's to say, and the shortcut asks it.
-  const std::vector<logs::Log> logs{drive_log(40, 20, -16, 3)};
+  const std::vector<logs::Log> logs{drive_log_long(40, 20, -16, 3)};
   ASSERT_EQ(calibrate::fit_drive(logs).tof_noise.from, "replicates");  // the encoders say it stood: the cap is kept
   expect_same_noise(calibrate::drive_tof_replicate_noise(logs), calibrate::fit_drive(logs).tof_noise);
 }
@@ -139,7 +139,7 @@ TEST(LongLogs, WhereTheWheelsRunBeyondTheCapNothingStoodStill) {
   // at 30 cm/s with the encoders counting 30 cm/s: the steps fit drops the cap, so the first row
   // already moves and the calibration's ToF noise comes from its residuals. Taking the capped
   // commands without asking the fit would give 40 replicates.
-  const std::vector<logs::Log> logs{drive_log(40, 16, -15.5, 5, 30, 1.9, 30)};
+  const std::vector<logs::Log> logs{drive_log_long(40, 16, -15.5, 5, 30, 1.9, 30)};
   const calibrate::DriveFit calibration = calibrate::fit_drive(logs);
   ASSERT_FALSE(calibration.cap_kept);
   ASSERT_EQ(calibration.tof_noise.from, "residuals");
@@ -148,7 +148,7 @@ TEST(LongLogs, WhereTheWheelsRunBeyondTheCapNothingStoodStill) {
 
 TEST(LongLogs, TooFewStillReadingsGiveNoReplicateNoise) {
   // 10 still rows (fewer than kMinStillReadings): the calibration's noise is the fit's residuals'.
-  const std::vector<logs::Log> logs{drive_log(10, 0, 0, 4)};
+  const std::vector<logs::Log> logs{drive_log_long(10, 0, 0, 4)};
   ASSERT_EQ(calibrate::fit_drive(logs).tof_noise.from, "residuals");
   EXPECT_FALSE(calibrate::drive_tof_replicate_noise(logs).usable());
 }

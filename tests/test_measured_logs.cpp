@@ -27,9 +27,9 @@ namespace {
 
 using epuck2::testing::Normal;  // seeded_normal.hpp
 
-double clamp(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); }
+double clamp_measured(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
-std::string num(double v) {
+std::string num_measured(double v) {
   std::ostringstream os;
   os.precision(10);
   os << v;
@@ -52,8 +52,8 @@ struct ProximityLog {
     for (int mm = 5; mm <= 45; mm += 5) {
       const double d = mm / 1000.0;
       for (int i = 0; i < per_distance; ++i) {
-        const double v = clamp(std::round(4095 * (a * d * d + b * d + c) + noise_raw * g()), 0, 4095);
-        t += num(d) + ",0," + num(v) + "\n";
+        const double v = clamp_measured(std::round(4095 * (a * d * d + b * d + c) + noise_raw * g()), 0, 4095);
+        t += num_measured(d) + ",0," + num_measured(v) + "\n";
       }
     }
     return t;
@@ -82,7 +82,7 @@ TEST(Distributions, MatchTabulatedValues) {
 // ----- The engine on its own: a straight line y = 2 x + 1, sd 1, censored at y >= 10 ------------
 
 namespace {
-struct Line {
+struct MeasuredLine {
   std::vector<double> x;
   template <typename T>
   bool operator()(const T* p, T* out) const {
@@ -113,8 +113,8 @@ TEST(RobustEngine, TobitRecoversALineCensoredAtARailWhereDroppingBiasesIt) {
       }
     }
     const std::vector<fit::Parameter> p{{"slope", 1.0, 1.0}, {"intercept", 0.0, 0.0}};
-    const fit::RobustFit tobit = fit::fit_robust(Line{x}, obs, p);
-    const fit::RobustFit drop = fit::fit_robust(Line{xd}, kept, p);
+    const fit::RobustFit tobit = fit::fit_robust(MeasuredLine{x}, obs, p);
+    const fit::RobustFit drop = fit::fit_robust(MeasuredLine{xd}, kept, p);
     ASSERT_TRUE(tobit.usable) << tobit.message;
     ASSERT_TRUE(drop.usable);
     EXPECT_GT(tobit.censored_above, 5u);
@@ -136,18 +136,18 @@ TEST(RobustEngine, AWildReadingIsLeftOutAndListed) {
     obs.push_back({0.5 * i + 3 + 0.2 * g(), fit::Censoring::none, "log.csv:" + std::to_string(i + 2), -1});
   }
   const std::vector<fit::Parameter> p{{"slope", 0.0, 0.0}, {"intercept", 0.0, 0.0}};
-  const fit::RobustFit clean = fit::fit_robust(Line{x}, obs, p);
+  const fit::RobustFit clean = fit::fit_robust(MeasuredLine{x}, obs, p);
   // The same readings without the 31st: what the robust fit must give once it leaves that one out.
   std::vector<double> x29 = x;
   std::vector<fit::Observation> obs29 = obs;
   x29.erase(x29.begin() + 30);
   obs29.erase(obs29.begin() + 30);
-  const fit::RobustFit without = fit::fit_robust(Line{x29}, obs29, p);
+  const fit::RobustFit without = fit::fit_robust(MeasuredLine{x29}, obs29, p);
   obs[30].value += 40;  // 200 noise sd
-  const fit::RobustFit robust = fit::fit_robust(Line{x}, obs, p);
+  const fit::RobustFit robust = fit::fit_robust(MeasuredLine{x}, obs, p);
   fit::RobustOptions plain;
   plain.robust = false;
-  const fit::RobustFit ls = fit::fit_robust(Line{x}, obs, p, plain);
+  const fit::RobustFit ls = fit::fit_robust(MeasuredLine{x}, obs, p, plain);
   ASSERT_TRUE(robust.usable);
   ASSERT_EQ(robust.outlier_where, std::vector<std::string>{"log.csv:32"});
   for (const char* n : {"slope", "intercept"}) {
@@ -165,7 +165,7 @@ TEST(RobustEngine, AParameterTheDataDoNotDetermineKeepsItsDefault) {
   std::vector<fit::Observation> obs;
   Normal g(3);
   for (int i = 0; i < 20; ++i) obs.push_back({7 + 0.1 * g(), fit::Censoring::none, "", -1});
-  const fit::RobustFit r = fit::fit_robust(Line{x}, obs, {{"slope", 1.0, 3.0}, {"intercept", 0.0, 0.5}});
+  const fit::RobustFit r = fit::fit_robust(MeasuredLine{x}, obs, {{"slope", 1.0, 3.0}, {"intercept", 0.0, 0.5}});
   ASSERT_TRUE(r.usable) << r.message;
   ASSERT_EQ(r.not_identifiable, std::vector<std::string>{"intercept"});
   EXPECT_EQ(r.value("intercept"), 0.5);
@@ -174,7 +174,7 @@ TEST(RobustEngine, AParameterTheDataDoNotDetermineKeepsItsDefault) {
   EXPECT_NEAR(r.value("slope"), (7 - 0.5) / 2, 0.05);
   EXPECT_TRUE(std::isfinite(r.std_error("slope")));
   // Without a documented default, the fit says so instead of reporting its start.
-  const fit::RobustFit none = fit::fit_robust(Line{x}, obs, {{"slope", 1.0, 3.0}, {"intercept", 0.0}});
+  const fit::RobustFit none = fit::fit_robust(MeasuredLine{x}, obs, {{"slope", 1.0, 3.0}, {"intercept", 0.0}});
   EXPECT_FALSE(none.usable);
   EXPECT_NE(none.message.find("not identifiable"), std::string::npos);
 }
@@ -190,7 +190,7 @@ TEST(RobustEngine, LackOfFitIsFlaggedOnlyWhenTheModelMisses) {
         x.push_back(k);
         obs.push_back({1 + 0.5 * k + (curved ? 0.08 * k * k : 0.0) + 0.1 * g(), fit::Censoring::none, "", k});
       }
-    const fit::RobustFit f = fit::fit_robust(Line{x}, obs, {{"slope", 0.0, 0.0}, {"intercept", 0.0, 0.0}});
+    const fit::RobustFit f = fit::fit_robust(MeasuredLine{x}, obs, {{"slope", 0.0, 0.0}, {"intercept", 0.0, 0.0}});
     ASSERT_TRUE(f.lack_of_fit.tested);
     EXPECT_NEAR(f.lack_of_fit.replicate_sd, 0.1, 0.03);
     if (curved) {
@@ -280,9 +280,9 @@ TEST(MeasuredLight, GammaWithinTwoPercentOnALogClippedAtTheRail) {
   for (double d : {0.08, 0.0805, 0.081, 0.082, 0.084, 0.09, 0.1, 0.12, 0.15, 0.2, 0.3})
     for (int r = 0; r < 30; ++r) {
       const double q = gamma * 1.0 / d;
-      const double v = clamp(std::round(4095 * (1 - q * q) + 60 * g()), 0, 4095);
+      const double v = clamp_measured(std::round(4095 * (1 - q * q) + 60 * g()), 0, 4095);
       railed += v == 0;
-      t += num(d) + ",1,0," + num(v) + "\n";
+      t += num_measured(d) + ",1,0," + num_measured(v) + "\n";
     }
   ASSERT_GT(railed, 20);
   const auto f = calibrate::fit_light({parse(t, "clip.csv", Kind::light)});
@@ -303,9 +303,9 @@ TEST(MeasuredGround, GainAndOffsetThroughBothRails) {
   for (int k = 0; k <= 10; ++k)
     for (int r = 0; r < 30; ++r) {
       const double grey = k / 10.0;
-      t += num(grey) + ",0," + num(clamp(std::round(-20 + 1080 * grey + 15 * g()), 0, 1023)) + "\n";
-      t += num(grey) + ",1," + num(clamp(std::round(60 + 900 * grey + 15 * g()), 0, 1023)) + "\n";
-      t += num(grey) + ",2," + num(clamp(std::round(70 + 880 * grey + 15 * g()), 0, 1023)) + "\n";
+      t += num_measured(grey) + ",0," + num_measured(clamp_measured(std::round(-20 + 1080 * grey + 15 * g()), 0, 1023)) + "\n";
+      t += num_measured(grey) + ",1," + num_measured(clamp_measured(std::round(60 + 900 * grey + 15 * g()), 0, 1023)) + "\n";
+      t += num_measured(grey) + ",2," + num_measured(clamp_measured(std::round(70 + 880 * grey + 15 * g()), 0, 1023)) + "\n";
     }
   const auto f = calibrate::fit_ground({parse(t, "g.csv", Kind::ground)});
   ASSERT_TRUE(f.sensors[0].usable);
@@ -324,16 +324,16 @@ namespace {
 // A straight run towards an obstacle at D: the wheels turn at the command (capped at 14.17 cm/s,
 // the firmware's 1100 steps/s), steps = floor(7763.656 x), ToF = round(1000 (D - x) + N(0, 2)),
 // clamped to [20, 2000], rows every 0.1 s; `speeds` holds the command of each second.
-std::string drive_log(const std::vector<double>& speeds_cm_s, double obstacle_m, std::uint64_t seed, double tof_scale = 1.0) {
+std::string drive_log_measured(const std::vector<double>& speeds_cm_s, double obstacle_m, std::uint64_t seed, double tof_scale = 1.0) {
   Normal g(seed);
-  std::string t = "# obstacle_distance_m: " + num(obstacle_m) + "\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n";
+  std::string t = "# obstacle_distance_m: " + num_measured(obstacle_m) + "\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n";
   double x = 0;
   for (std::size_t s = 0; s < speeds_cm_s.size(); ++s)
     for (int k = 0; k < 10; ++k) {
       const double time = static_cast<double>(s) + k / 10.0;
       const double steps = std::floor(7763.656 * x);
-      const double tof = clamp(std::round(tof_scale * 1000 * (obstacle_m - x) + 2 * g()), 20, 2000);
-      t += num(time) + "," + num(speeds_cm_s[s]) + "," + num(speeds_cm_s[s]) + "," + num(steps) + "," + num(steps) + "," + num(tof) + "\n";
+      const double tof = clamp_measured(std::round(tof_scale * 1000 * (obstacle_m - x) + 2 * g()), 20, 2000);
+      t += num_measured(time) + "," + num_measured(speeds_cm_s[s]) + "," + num_measured(speeds_cm_s[s]) + "," + num_measured(steps) + "," + num_measured(steps) + "," + num_measured(tof) + "\n";
       x += std::min(speeds_cm_s[s], 14.17) / 100.0 * 0.1;
     }
   return t;
@@ -341,7 +341,7 @@ std::string drive_log(const std::vector<double>& speeds_cm_s, double obstacle_m,
 }  // namespace
 
 TEST(MeasuredDrive, ACommandAboveTheCapIsTakenAsTheCap) {
-  const std::string t = drive_log({5, 15, 10, 0}, 0.6, 1);
+  const std::string t = drive_log_measured({5, 15, 10, 0}, 0.6, 1);
   const auto f = calibrate::fit_drive({parse(t, "cap.csv", Kind::drive)});
   ASSERT_TRUE(f.steps.usable) << f.steps.message;
   ASSERT_TRUE(f.tof.usable) << f.tof.message;
@@ -351,7 +351,7 @@ TEST(MeasuredDrive, ACommandAboveTheCapIsTakenAsTheCap) {
 }
 
 TEST(MeasuredDrive, StaticRunsReportWhatTheyCannotDetermine) {
-  const std::string t = drive_log({0, 0, 0, 0}, 0.3, 2);
+  const std::string t = drive_log_measured({0, 0, 0, 0}, 0.3, 2);
   const auto f = calibrate::fit_drive({parse(t, "still.csv", Kind::drive)});
   ASSERT_TRUE(f.steps.usable) << f.steps.message;
   ASSERT_TRUE(f.tof.usable) << f.tof.message;
@@ -367,7 +367,7 @@ TEST(MeasuredDrive, StaticRunsReportWhatTheyCannotDetermine) {
 
 TEST(MeasuredDrive, OutOfRangeCodesAreReadingsBeyondTheCeiling) {
   // Driving away from an obstacle 1.9 m off: beyond 2 m the sensor reports 8190.
-  std::string t = drive_log({-10, -10, -10, -10}, 1.9, 3);
+  std::string t = drive_log_measured({-10, -10, -10, -10}, 1.9, 3);
   std::string out;
   std::istringstream in(t);
   int codes = 0;
@@ -405,7 +405,7 @@ TEST_F(MeasuredCli, TwoRobotsAreFittedApartAndTheirDifferenceIsSaid) {
     for (int k = 0; k <= 10; ++k)
       for (int r = 0; r < 10; ++r)
         for (int s = 0; s < 3; ++s)
-          t += num(k / 10.0) + "," + num(s) + "," + num(clamp(std::round(black + 450 * k / 10.0 + 5 * g()), 0, 1023)) + "\n";
+          t += num_measured(k / 10.0) + "," + num_measured(s) + "," + num_measured(clamp_measured(std::round(black + 450 * k / 10.0 + 5 * g()), 0, 1023)) + "\n";
     files += " " + write("g" + std::to_string(robot) + ".csv", t);
   }
   const CliRun r = run("ground" + files + " --json");
@@ -428,7 +428,7 @@ TEST_F(MeasuredCli, TwoRobotsAreFittedApartAndTheirDifferenceIsSaid) {
 }
 
 TEST_F(MeasuredCli, StaticDriveRunsWriteDefaultsWithReasonsAndNoNaN) {
-  const std::string log = write("still.csv", drive_log({0, 0, 0}, 0.3, 5));
+  const std::string log = write("still.csv", drive_log_measured({0, 0, 0}, 0.3, 5));
   const std::string out = (dir_ / "drive.json").string();
   const CliRun r = run("drive " + log + " -o " + out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -474,14 +474,14 @@ TEST_F(MeasuredCli, DiagnoseLeavesAWildReadingOutInsteadOfExplainingIt) {
   for (int mm = 0; mm <= 60; mm += 5) {
     const double d = mm / 1000.0;
     for (int i = 0; i < 25; ++i) {
-      const double poly = d <= 0.05 ? clamp(197.8633 * d * d - 30.47182 * d + 1.011635, 0, 1) : 0.0;
-      double v = clamp(std::round(4095 * poly + 12 * g()), 0, 4095);
+      const double poly = d <= 0.05 ? clamp_measured(197.8633 * d * d - 30.47182 * d + 1.011635, 0, 1) : 0.0;
+      double v = clamp_measured(std::round(4095 * poly + 12 * g()), 0, 4095);
       ++line;
       if (mm == 20 && i == 10) {
         v = 3000;
         wild_line = line;
       }
-      t += num(d) + ",0," + num(v) + "\n";
+      t += num_measured(d) + ",0," + num_measured(v) + "\n";
     }
   }
   const std::string log = write("p.csv", t);
@@ -503,13 +503,13 @@ TEST_F(MeasuredCli, BatteryLeavesAWildChargeReadingOutAndListsIt) {
     int line = 2;
     for (int k = 0; k <= 900; ++k) {
       const double time = 10.0 * k;
-      double c = clamp(0.97 - 9e-5 * time + 2e-9 * time * time - 1e-13 * time * time * time + 0.004 * g(), 0, 1);
+      double c = clamp_measured(0.97 - 9e-5 * time + 2e-9 * time * time - 1e-13 * time * time * time + 0.004 * g(), 0, 1);
       ++line;
       if (glitch && k == 400) {
         c = 0.1;
         *glitch_line = line;
       }
-      t += num(time) + ",5," + num(c) + "\n";
+      t += num_measured(time) + ",5," + num_measured(c) + "\n";
     }
     return t;
   };
@@ -538,7 +538,7 @@ TEST_F(MeasuredCli, BatteryLeavesAWildChargeReadingOutAndListsIt) {
 
 TEST_F(MeasuredCli, ADriveRunCommandingAboveTheCapIsFittedNotRefused) {
   // One run that once commands 15 cm/s (the firmware runs 14.17): before, "too few observations (0)".
-  const std::string log = write("cap.csv", drive_log({5, 10, 15, 10, 0}, 0.8, 9));
+  const std::string log = write("cap.csv", drive_log_measured({5, 10, 15, 10, 0}, 0.8, 9));
   const CliRun r = run("drive " + log + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
@@ -552,7 +552,7 @@ TEST(MeasuredDrive, ReadingsAtTheToFFloorAreCensoredNotTakenAsDistances) {
   // travel goes past it): the last readings sit on the sensor's 20 mm floor while the true
   // distance is below 20 mm, or 0. Taken as exact, those readings pull the scale and offset even
   // in plain least squares; censored, they only say "at most 20 mm".
-  const std::string t = drive_log({5, 5, 5, 5, 5, 1.0, 0}, 0.25, 13);
+  const std::string t = drive_log_measured({5, 5, 5, 5, 5, 1.0, 0}, 0.25, 13);
   calibrate::SensorFitOptions plain;
   plain.robust = false;
   const auto f = calibrate::fit_drive({parse(t, "floor.csv", Kind::drive)}, plain);

@@ -108,7 +108,7 @@ struct Check {
 /// when the parameter is near 0 (its natural unit). h^2 truncation ~1e-12 relative, rounding
 /// ~eps f / h (the tolerance adds it).
 template <std::size_t N>
-std::array<double, N> steps(const std::array<double, N>& p, const std::array<double, N>& floor) {
+std::array<double, N> steps_formulas(const std::array<double, N>& p, const std::array<double, N>& floor) {
   std::array<double, N> h{};
   for (std::size_t k = 0; k < N; ++k) h[k] = 1e-6 * std::max(std::abs(p[k]), floor[k]);
   return h;
@@ -120,7 +120,7 @@ std::array<double, N> steps(const std::array<double, N>& p, const std::array<dou
 /// point where the function is deliberately not differentiable in it, whose Jet derivative must
 /// still be finite).
 template <std::size_t N, std::size_t M, class F>
-void check(const std::string& where, const F& f, const std::array<double, N>& p, const std::array<double, M>& expected,
+void check_formulas(const std::string& where, const F& f, const std::array<double, N>& p, const std::array<double, M>& expected,
            const std::array<double, N>& h, const Check& c = Check{}) {
   SCOPED_TRACE(where);
   const std::array<double, M> vd = f(p.data());
@@ -158,12 +158,12 @@ void check(const std::string& where, const F& f, const std::array<double, N>& p,
   }
 }
 
-std::string at(const char* name, double v) {
+std::string at_formulas(const char* name, double v) {
   char b[64];
   std::snprintf(b, sizeof b, "%s = %.9g", name, v);
   return b;
 }
-std::string at(const std::string& what, const char* name, double v) { return what + ", " + at(name, v); }
+std::string at_formulas(const std::string& what, const char* name, double v) { return what + ", " + at_formulas(name, v); }
 
 // ----- the documented formulas, written out ---------------------------------------------------
 
@@ -295,7 +295,7 @@ TEST(ModelFormulas, ProximityPolynomial) {
       return std::array<T, 1>{s::proximity_polynomial(q, d)};
     };
     const double terms = std::abs(p[0] * d * d) + std::abs(p[1] * d) + std::abs(p[2]);
-    check<3, 1>(at("proximity_polynomial", "d", d), f, p, {p[0] * d * d + p[1] * d + p[2]}, steps(p, {1.0, 1.0, 1.0}),
+    check_formulas<3, 1>(at_formulas("proximity_polynomial", "d", d), f, p, {p[0] * d * d + p[1] * d + p[2]}, steps_formulas(p, {1.0, 1.0, 1.0}),
                 Check().with_scale(terms));
   }
 }
@@ -314,8 +314,8 @@ TEST(ModelFormulas, ProximityLongTail) {
       return std::array<T, 1>{s::proximity_tail_raw(s::ProximityLongTail<T>{p[0], p[1]}, d)};
     };
     const std::array<double, 2> p{q.amplitude, q.length};
-    check<2, 1>(at(at("proximity_tail_raw", "d", q.d), "length", q.length), f, p, {q.amplitude * std::exp(-q.d / q.length)},
-                steps(p, {1.0, 1e-3}), Check().with_scale(kTiny));
+    check_formulas<2, 1>(at_formulas(at_formulas("proximity_tail_raw", "d", q.d), "length", q.length), f, p, {q.amplitude * std::exp(-q.d / q.length)},
+                steps_formulas(p, {1.0, 1e-3}), Check().with_scale(kTiny));
   }
 }
 
@@ -353,7 +353,7 @@ TEST(ModelFormulas, ProximityIncidenceFactor) {
         return std::array<T, 1>{s::proximity_incidence_factor(s::ProximityIncidence<T>{p[0]}, c)};
       };
       const std::array<double, 1> p{k};
-      check<1, 1>(at(at("proximity_incidence_factor", "k", k), "cos", c), f, p, {std::pow(c, k)}, steps(p, {1e-2}),
+      check_formulas<1, 1>(at_formulas(at_formulas("proximity_incidence_factor", "k", k), "cos", c), f, p, {std::pow(c, k)}, steps_formulas(p, {1e-2}),
                   Check().with_scale(kTiny));
     }
   }
@@ -400,9 +400,9 @@ auto proximity_formula(int sensor, double range, double d, double cos_incidence)
 
 void check_proximity(const std::string& where, std::array<double, 9> p, double d, double cos_incidence = 1.0,
                      double range = 0.05, std::array<double, 9> h = {}) {
-  if (h == std::array<double, 9>{}) h = steps(p, {1.0, 1.0, 1.0, 1e3, 1.0, 1e3, 1e-2, 1e-2, 1e3});
+  if (h == std::array<double, 9>{}) h = steps_formulas(p, {1.0, 1.0, 1.0, 1e3, 1.0, 1e3, 1e-2, 1e-2, 1e3});
   const double terms = std::abs(p[3]) + std::abs(p[4]) * kFull + std::abs(p[5]);
-  check<9, 1>(where, proximity_formula(5, range, d, cos_incidence), p, {proximity_by_hand(p, range, d, cos_incidence)}, h,
+  check_formulas<9, 1>(where, proximity_formula(5, range, d, cos_incidence), p, {proximity_by_hand(p, range, d, cos_incidence)}, h,
               Check().with_scale(terms));
 }
 
@@ -454,7 +454,7 @@ TEST(ModelFormulas, ProximityMeanRawAtTheClampsAndTheCutOff) {
   // polynomial is inside (0, 1) there: 100 d^2 - 25 d + 1.8 = 0.8 at 0.05. At the cut-off (included),
   // and 1e-9 either side. The steps are in a, b, c and the effects, not in d: the jump is in d.
   const std::array<double, 9> cut{100.0, -25.0, 1.8, 20.0, 1.1, 100.0, 0.02, 0.0, no_level};
-  for (double d : {0.05 - 1e-9, 0.05, 0.05 + 1e-9}) check_proximity(at("cut-off", "d", d), cut, d);
+  for (double d : {0.05 - 1e-9, 0.05, 0.05 + 1e-9}) check_proximity(at_formulas("cut-off", "d", d), cut, d);
   // A tiny distance inside the clamps: 100 d^2 - 25 d + 0.9 at d = 1e-7.
   check_proximity("tiny distance", {100.0, -25.0, 0.9, 20.0, 1.1, 100.0, 0.02, 0.5, no_level}, 1e-7, 0.8);
   // Far beyond the range: offset and tail only.
@@ -537,9 +537,9 @@ TEST(ModelFormulas, LightContributionAndResponse) {
       using T = std::decay_t<decltype(g[0])>;
       return std::array<T, 1>{s::light_response(g[0], q.intensity, q.d)};
     };
-    const std::string where = at(at("light", "I", q.intensity), "d", q.d);
-    check<1, 1>(where + " contribution", contribution, p, {r * r}, steps(p, {1e-2}), Check().divides());
-    check<1, 1>(where + " response", response, p, {1.0 - r * r}, steps(p, {1e-2}), Check().divides().with_scale(1.0 + r * r));
+    const std::string where = at_formulas(at_formulas("light", "I", q.intensity), "d", q.d);
+    check_formulas<1, 1>(where + " contribution", contribution, p, {r * r}, steps_formulas(p, {1e-2}), Check().divides());
+    check_formulas<1, 1>(where + " response", response, p, {1.0 - r * r}, steps_formulas(p, {1e-2}), Check().divides().with_scale(1.0 + r * r));
   }
 }
 
@@ -561,8 +561,8 @@ auto light_formula(double range, double intensity, double d) {
 void check_light(const std::string& where, const std::array<double, 4>& p, double intensity, double d, double range = 0.5) {
   const double ratio_term = d <= range && intensity > 0 ? std::abs(p[2]) * std::pow(p[0] * intensity / d, p[3]) : 0.0;
   const double terms = kFull * (1.0 + ratio_term) + std::abs(p[1]);
-  check<4, 1>(where, light_formula(range, intensity, d), p, {light_by_hand(p, range, intensity, d)},
-              steps(p, {1e-2, 1e3, 1.0, 1.0}), Check().divides().with_scale(terms));
+  check_formulas<4, 1>(where, light_formula(range, intensity, d), p, {light_by_hand(p, range, intensity, d)},
+              steps_formulas(p, {1e-2, 1e3, 1.0, 1.0}), Check().divides().with_scale(terms));
 }
 
 }  // namespace
@@ -575,7 +575,7 @@ TEST(ModelFormulas, LightMeanRawEveryEffect) {
   check_light("falloff_exponent alone", {g, 0.0, 1.0, 1.7}, 1.0, 0.2);
   // The exponent near 2 (its neutral value) and near 1, and exactly 2.
   for (double e : {2.0 - 1e-3, 2.0 - 1e-6, 2.0, 2.0 + 1e-6, 1.0, 1.0 + 1e-6})
-    check_light(at("falloff near 1 or 2", "exponent", e), {g, 10.0, 1.05, e}, 1.0, 0.15);
+    check_light(at_formulas("falloff near 1 or 2", "exponent", e), {g, 10.0, 1.05, e}, 1.0, 0.15);
   // gamma I / d = 1 exactly: ln 1 = 0 in the exponent's derivative.
   check_light("ratio 1", {g, 10.0, 1.05, 2.4}, 1.0, g);
   // Near the rails: a reading of about 1 count (ratio^2 = 1 - 1/4095) and of about 4094.
@@ -585,7 +585,7 @@ TEST(ModelFormulas, LightMeanRawEveryEffect) {
   // A tiny distance (a reading far below 0: the mean is not clamped).
   check_light("tiny distance", {g, 5.0, 1.0, 2.2}, 0.001, 1e-4);
   // The cut-off d <= 0.5 (included) and just beyond it (a jump: 4095 - offset), and I = 0.
-  for (double d : {0.5 - 1e-9, 0.5, 0.5 + 1e-9}) check_light(at("cut-off", "d", d), {g, 15.0, 1.1, 2.3}, 1.0, d);
+  for (double d : {0.5 - 1e-9, 0.5, 0.5 + 1e-9}) check_light(at_formulas("cut-off", "d", d), {g, 15.0, 1.1, 2.3}, 1.0, d);
   check_light("no intensity", {g, 15.0, 1.1, 2.3}, 0.0, 0.2);
 }
 
@@ -629,8 +629,8 @@ TEST(ModelFormulas, GroundResponse) {
         using T = std::decay_t<decltype(q[0])>;
         return std::array<T, 1>{s::ground_response(q[0], q[1], grey)};
       };
-      check<2, 1>(at(at("ground_response", "grey", grey), "offset", p[1]), f, p, {p[1] + p[0] * grey},
-                  steps(p, {1e3, 1e3}), Check());
+      check_formulas<2, 1>(at_formulas(at_formulas("ground_response", "grey", grey), "offset", p[1]), f, p, {p[1] + p[0] * grey},
+                  steps_formulas(p, {1e3, 1e3}), Check());
     }
   }
 }
@@ -647,8 +647,8 @@ TEST(ModelFormulas, GroundMeanRawNonlinearResponse) {
           using T = std::decay_t<decltype(q[0])>;
           return std::array<T, 1>{s::ground_mean_raw(q[0], q[1], s::GroundNonlinear<T>{q[2]}, grey)};
         };
-        check<3, 1>(at(at(at("ground_mean_raw", "grey", grey), "exponent", exponent), "offset", p[0]), f, p,
-                    {ground_by_hand(p[0], p[1], p[2], grey)}, steps(p, {1e3, 1e3, 1.0}),
+        check_formulas<3, 1>(at_formulas(at_formulas(at_formulas("ground_mean_raw", "grey", grey), "exponent", exponent), "offset", p[0]), f, p,
+                    {ground_by_hand(p[0], p[1], p[2], grey)}, steps_formulas(p, {1e3, 1e3, 1.0}),
                     Check());
       }
     }
@@ -663,32 +663,32 @@ TEST(ModelFormulas, GroundCatalogueEffectsThroughOffsetAndGain) {
   //   sensor_gain   v = g_s 1023 grey                        p = {g_s}
   //   nonlinear     v = 1023 grey^p                          p = {p}
   for (double grey : {0.0, 1e-6, 0.3, 0.999, 1.0}) {
-    const std::string g = at("grey", grey);
+    const std::string g = at_formulas("grey", grey);
     auto black = [grey](const auto* q) {
       using T = std::decay_t<decltype(q[0])>;
       return std::array<T, 1>{s::ground_mean_raw(q[0], T(1023.0) - q[0], s::GroundNonlinear<T>{}, grey)};
     };
-    check<1, 1>("black_offset " + g, black, std::array<double, 1>{61.4}, {61.4 + (1023.0 - 61.4) * grey},
+    check_formulas<1, 1>("black_offset " + g, black, std::array<double, 1>{61.4}, {61.4 + (1023.0 - 61.4) * grey},
                 std::array<double, 1>{1e-3}, Check().with_scale(1023.0));
-    check<1, 1>("black_offset 0 " + g, black, std::array<double, 1>{0.0}, {1023.0 * grey}, std::array<double, 1>{1e-3},
+    check_formulas<1, 1>("black_offset 0 " + g, black, std::array<double, 1>{0.0}, {1023.0 * grey}, std::array<double, 1>{1e-3},
                 Check().with_scale(1023.0));
     auto white = [grey](const auto* q) {
       using T = std::decay_t<decltype(q[0])>;
       return std::array<T, 1>{s::ground_mean_raw(T(0.0), q[0], s::GroundNonlinear<T>{}, grey)};
     };
-    check<1, 1>("white_level " + g, white, std::array<double, 1>{880.0}, {880.0 * grey}, std::array<double, 1>{1e-3},
+    check_formulas<1, 1>("white_level " + g, white, std::array<double, 1>{880.0}, {880.0 * grey}, std::array<double, 1>{1e-3},
                 Check());
     auto gain = [grey](const auto* q) {
       using T = std::decay_t<decltype(q[0])>;
       return std::array<T, 1>{s::ground_mean_raw(T(0.0), T(1023.0) * q[0], s::GroundNonlinear<T>{}, grey)};
     };
-    check<1, 1>("sensor_gain " + g, gain, std::array<double, 1>{0.9512}, {0.9512 * 1023.0 * grey},
+    check_formulas<1, 1>("sensor_gain " + g, gain, std::array<double, 1>{0.9512}, {0.9512 * 1023.0 * grey},
                 std::array<double, 1>{1e-6}, Check());
     auto nonlinear = [grey](const auto* q) {
       using T = std::decay_t<decltype(q[0])>;
       return std::array<T, 1>{s::ground_mean_raw(T(0.0), T(1023.0), s::GroundNonlinear<T>{q[0]}, grey)};
     };
-    check<1, 1>("nonlinear_response " + g, nonlinear, std::array<double, 1>{1.25},
+    check_formulas<1, 1>("nonlinear_response " + g, nonlinear, std::array<double, 1>{1.25},
                 {grey > 0 ? 1023.0 * std::pow(grey, 1.25) : 0.0}, std::array<double, 1>{1e-6}, Check());
   }
 }
@@ -727,8 +727,8 @@ TEST(ModelFormulas, TofResponse) {
       return std::array<T, 1>{s::tof_response_mm(p[0], p[1], p[2])};
     };
     const std::array<double, 3> p{q.scale, q.offset, q.d};
-    check<3, 1>(at(at("tof_response_mm", "d", q.d), "offset", q.offset), f, p, {q.scale * 1000.0 * q.d + q.offset},
-                steps(p, {1.0, 1e3, 1.0}), Check().with_scale(std::abs(q.scale * 1000.0 * q.d) + std::abs(q.offset)));
+    check_formulas<3, 1>(at_formulas(at_formulas("tof_response_mm", "d", q.d), "offset", q.offset), f, p, {q.scale * 1000.0 * q.d + q.offset},
+                steps_formulas(p, {1.0, 1e3, 1.0}), Check().with_scale(std::abs(q.scale * 1000.0 * q.d) + std::abs(q.offset)));
   }
   // The plug-in's scale 1 and offset 0: exactly 1000 d.
   for (double d : {0.0, 0.0205, 0.1, 0.123, 0.777, 1.999}) EXPECT_EQ(s::tof_response_mm(1.0, 0.0, d), 1000.0 * d);
@@ -763,8 +763,8 @@ TEST(ModelFormulas, CameraProjection) {
     const std::array<double, 4> p{s::deg_to_rad(q.hfov_deg), q.cx, q.cy, q.k1};
     const auto expected = camera_by_hand(p[0], p[1], p[2], p[3], q.forward, q.lateral, q.vertical);
     const double size = 80.0 / std::tan(p[0] / 2.0) * (std::abs(q.lateral) + std::abs(q.vertical)) / q.forward + 160.0;
-    check<4, 2>(at(at("camera_projection", "hfov_deg", q.hfov_deg), "lateral", q.lateral), f, p, expected,
-                steps(p, {1.0, 1e2, 1e2, 1e-1}), Check().divides().with_scale(size));
+    check_formulas<4, 2>(at_formulas(at_formulas("camera_projection", "hfov_deg", q.hfov_deg), "lateral", q.lateral), f, p, expected,
+                steps_formulas(p, {1.0, 1e2, 1e2, 1e-1}), Check().divides().with_scale(size));
   }
 }
 
@@ -854,8 +854,8 @@ TEST(ModelFormulas, BodyLagPiece) {
     const double C = std::abs(q.v0 - q.u0 + q.ag * q.tau), ramp = -std::expm1(-q.len / std::max(q.tau, 1e-300));
     const double size = std::max(std::abs(q.x0) + std::abs(q.u0 * q.len) + std::abs(q.ag) * (q.len * q.len + q.tau * q.len) + C * q.tau * ramp,
                                  std::abs(q.u0) + std::abs(q.ag) * (q.len + q.tau) + C);
-    check<6, 2>(std::string("body_lag_piece, ") + q.what, body_lag_formula(), p, expected,
-                steps(p, {1e-3, 1e-2, 1e-2, 1e-3, 1e-2, 1e-2}),
+    check_formulas<6, 2>(std::string("body_lag_piece, ") + q.what, body_lag_formula(), p, expected,
+                steps_formulas(p, {1e-3, 1e-2, 1e-2, 1e-3, 1e-2, 1e-2}),
                 Check().divides().with_scale(size).with_float_rel(q.float_rel).with_expected_rel(1e-12));
   }
 }
@@ -903,12 +903,12 @@ auto drive_formula(double left, double right, bool symmetric, const DriveStart& 
 
 void check_drive(const std::string& where, const std::array<double, 5>& p, double left, double right, bool symmetric,
                  const DriveStart& st0, std::array<double, 5> h = {}, double scale = 0) {
-  if (h == std::array<double, 5>{}) h = steps(p, {1.0, 1.0, 1e-3, 1.0, 1e-3});
+  if (h == std::array<double, 5>{}) h = steps_formulas(p, {1.0, 1.0, 1e-3, 1.0, 1e-3});
   // At tau = 0 the lag is off (a switch on tau's value, its domain's edge): no derivative in tau.
   if (p[2] == 0) h[2] = 0;
   const auto expected = drive_by_hand(p[0], p[1], p[2], p[3], p[4], left, symmetric ? left : right, st0);
   // The body against RK4 to 1e-9 of each output; the wheels are exact piecewise formulas.
-  check<5, 6>(where, drive_formula(left, right, symmetric, st0), p, expected, h,
+  check_formulas<5, 6>(where, drive_formula(left, right, symmetric, st0), p, expected, h,
               Check().divides().with_expected_rel(1e-9).with_scale(scale));
 }
 
@@ -1053,8 +1053,8 @@ TEST(ModelFormulas, DriveTofMean) {
     };
     const std::array<double, 3> p{q.k, q.offset, q.travel};
     const double expected = q.k * 1000.0 * (q.obstacle - q.travel) + q.offset;
-    check<3, 1>(at(at("drive_tof_mean_mm", "travel", q.travel), "offset", q.offset), f, p, {expected},
-                steps(p, {1.0, 1e3, 1.0}), Check().with_scale(1000.0 * q.k * (q.obstacle + q.travel) + std::abs(q.offset)));
+    check_formulas<3, 1>(at_formulas(at_formulas("drive_tof_mean_mm", "travel", q.travel), "offset", q.offset), f, p, {expected},
+                steps_formulas(p, {1.0, 1e3, 1.0}), Check().with_scale(1000.0 * q.k * (q.obstacle + q.travel) + std::abs(q.offset)));
   }
   // Neutral tof_scale and tof_offset (and every other effect): exactly 1000 (D - x).
   for (double x : {0.0, 0.1005, 0.3, 0.4795})
@@ -1070,7 +1070,7 @@ TEST(ModelFormulas, EncoderMeanSteps) {
       return std::array<T, 1>{s::encoder_mean_steps(7763.656, p[0])};
     };
     const std::array<double, 1> p{x};
-    check<1, 1>(at("encoder_mean_steps", "x", x), f, p, {7763.656 * x - 0.5}, std::array<double, 1>{std::abs(x) * 1e-6},
+    check_formulas<1, 1>(at_formulas("encoder_mean_steps", "x", x), f, p, {7763.656 * x - 0.5}, std::array<double, 1>{std::abs(x) * 1e-6},
                 Check().with_scale(7763.656 * std::abs(x) + 0.5));
   }
   EXPECT_EQ(s::encoder_mean_steps(7763.656, 0.0), 0.0);
@@ -1104,7 +1104,7 @@ TEST(ModelFormulas, LaggedBodyTravel) {
     }
     expected.back() = x;
     const std::array<double, 1> p{tau};
-    check<1, 7>(at("lagged_body_travel_m", "tau", tau), f, p, expected, std::array<double, 1>{tau * 1e-6},
+    check_formulas<1, 7>(at_formulas("lagged_body_travel_m", "tau", tau), f, p, expected, std::array<double, 1>{tau * 1e-6},
                 Check().divides().with_scale(0.03).with_expected_rel(1e-9));
   }
   // tau = 0 (DriveWheelSlip{}): the wheels' travel, through (delta / dt) dt per interval: equal to
@@ -1129,15 +1129,15 @@ TEST(ModelFormulas, BatteryCubicAndLineCharge) {
       return std::array<T, 1>{mb::cubic_charge(p, t)};
     };
     const double terms = std::abs(cubic[0]) + std::abs(cubic[1] * t) + std::abs(cubic[2] * t * t) + std::abs(cubic[3] * t * t * t);
-    check<4, 1>(at("cubic_charge", "t", t), f, cubic,
-                {cubic[3] * t * t * t + cubic[2] * t * t + cubic[1] * t + cubic[0]}, steps(cubic, {1.0, 1e-4, 1e-8, 1e-12}),
+    check_formulas<4, 1>(at_formulas("cubic_charge", "t", t), f, cubic,
+                {cubic[3] * t * t * t + cubic[2] * t * t + cubic[1] * t + cubic[0]}, steps_formulas(cubic, {1.0, 1e-4, 1e-8, 1e-12}),
                 Check().with_scale(terms));
     auto g = [t](const auto* p) {
       using T = std::decay_t<decltype(p[0])>;
       return std::array<T, 1>{mb::line_charge(p[0], p[1], t)};
     };
     const std::array<double, 2> line{0.93, -1.1e-4};
-    check<2, 1>(at("line_charge", "t", t), g, line, {line[0] + line[1] * t}, steps(line, {1.0, 1e-4}),
+    check_formulas<2, 1>(at_formulas("line_charge", "t", t), g, line, {line[0] + line[1] * t}, steps_formulas(line, {1.0, 1e-4}),
                 Check().with_scale(std::abs(line[0]) + std::abs(line[1] * t)));
   }
 }
@@ -1161,7 +1161,7 @@ TEST(ModelFormulas, BatteryPolylineCharge) {
     return y0 + (y1 - y0) * (t - x0) / (x1 - x0);
   };
   for (double t : {-100.0, 0.1, 1000.0, 1999.9, 2000.1, 4000.0, 5999.9, 6000.1, 8999.9, 9000.1, 9500.0}) {
-    check<8, 1>(at("polyline_charge", "t", t), f(t), p, {by_hand(t)}, steps(p, {1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0}),
+    check_formulas<8, 1>(at_formulas("polyline_charge", "t", t), f(t), p, {by_hand(t)}, steps_formulas(p, {1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0}),
                 Check().divides().with_scale(1.0).with_expected_rel(1e-12));
   }
 }

@@ -38,7 +38,7 @@ std::vector<std::string> split(const std::string& line) {
   return out;
 }
 
-Csv parse(const std::string& text) {
+Csv parse_loop(const std::string& text) {
   Csv c;
   std::stringstream ss(text);
   std::string line;
@@ -154,7 +154,7 @@ constexpr double kNoiseTolerance = 0.10;
 TEST_P(ModelLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinItsNoise) {
   const Case c = GetParam();
   gen::Hidden h = gen::hidden(c.cause);
-  const Csv log = parse(gen::make_log(c.kind, c.seed, h));
+  const Csv log = parse_loop(gen::make_log(c.kind, c.seed, h));
   ASSERT_GT(log.rows.size(), 100u);
   const std::string fit_half = write("fit.csv", join(log, 0));
   const std::string check_half = write("check.csv", join(log, 1));
@@ -180,7 +180,7 @@ TEST_P(ModelLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinItsNoise) {
 
   const std::vector<std::string> reading = c.kind == logs::Kind::camera ? std::vector<std::string>{"px", "py"}
                                                                         : std::vector<std::string>{"value"};
-  const Csv check = parse(join(log, 1));
+  const Csv check = parse_loop(join(log, 1));
   const std::vector<double> measured = values(check, reading);
   const std::string sim_ext = (dir_ / "sim_ext.csv").string(), sim_plugin = (dir_ / "sim_plugin.csv").string(),
                     sim_noisy = (dir_ / "sim_noisy.csv").string();
@@ -188,9 +188,9 @@ TEST_P(ModelLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinItsNoise) {
   ASSERT_EQ(run("simulate " + kind + " --like \"" + check_half + "\" -o \"" + sim_plugin + "\"").exit_code, 0);
   ASSERT_EQ(run("simulate " + kind + " --like \"" + check_half + "\" --coefficients \"" + ext + "\" --noise --seed 11 -o \"" +
                 sim_noisy + "\"").exit_code, 0);
-  const std::vector<double> plugin = values(parse(slurp(sim_plugin)), reading);
-  const std::vector<double> ext_values = values(parse(slurp(sim_ext)), reading);
-  const std::vector<double> noisy = values(parse(slurp(sim_noisy)), reading);
+  const std::vector<double> plugin = values(parse_loop(slurp(sim_plugin)), reading);
+  const std::vector<double> ext_values = values(parse_loop(slurp(sim_ext)), reading);
+  const std::vector<double> noisy = values(parse_loop(slurp(sim_noisy)), reading);
   ASSERT_EQ(ext_values.size(), measured.size());
   // A generated reading is rounded to a whole count (pixel): its noise variance is the drawn
   // noise's plus the rounding's 1/12.
@@ -270,7 +270,7 @@ constexpr double kEncoderBound = 1.2 / 6.0;
 TEST_P(DriveLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinEachChannelsNoise) {
   const DriveCase c = GetParam();
   gen::Hidden h = gen::hidden(c.cause);
-  const Csv log = parse(gen::drive_log(c.seed, h, kDriveRows));
+  const Csv log = parse_loop(gen::drive_log(c.seed, h, kDriveRows));
   const Halves halves = split_run(log, {"left_speed_cm_s", "right_speed_cm_s"});
   const std::string fit_half = write("fit.csv", join_rows(log, halves.fit));
   const std::string check_text = join_rows(log, halves.check);
@@ -289,8 +289,8 @@ TEST_P(DriveLoop, DiagnoseOnHalfSimulatesTheOtherHalfWithinEachChannelsNoise) {
   ASSERT_EQ(run("simulate drive --like \"" + check_half + "\" -o \"" + sim_plugin + "\"").exit_code, 0);
   ASSERT_EQ(run("simulate drive --like \"" + check_half + "\" --coefficients \"" + ext + "\" --noise --seed 11 -o \"" + sim_noisy +
                 "\"").exit_code, 0);
-  const Csv check = parse(check_text), ext_log = parse(slurp(sim_ext)), plugin_log = parse(slurp(sim_plugin)),
-            noisy_log = parse(slurp(sim_noisy));
+  const Csv check = parse_loop(check_text), ext_log = parse_loop(slurp(sim_ext)), plugin_log = parse_loop(slurp(sim_plugin)),
+            noisy_log = parse_loop(slurp(sim_noisy));
   auto channel = [&](const Csv& l, const std::vector<std::string>& columns) { return values(l, columns); };
   // Only the rows the fit half did not see.
   auto compared = [&](const std::vector<double>& v, std::size_t per_row) {
@@ -357,7 +357,7 @@ class BatteryLoop : public CliTest, public ::testing::WithParamInterface<std::ui
 /// the diagnosis, it is simulated, not compared.
 TEST_P(BatteryLoop, CapacityScaleOnHalfSimulatesTheOtherHalfWithinItsNoise) {
   gen::Hidden h = gen::hidden("capacity_scale");
-  const Csv log = parse(gen::battery_log(GetParam(), h));
+  const Csv log = parse_loop(gen::battery_log(GetParam(), h));
   ASSERT_GT(h.noise_sd, 0.0);
   const Halves halves = split_run(log, {"speed_cm_s"});
   const std::string fit_half = write("fit.csv", join_rows(log, halves.fit));
@@ -381,10 +381,10 @@ TEST_P(BatteryLoop, CapacityScaleOnHalfSimulatesTheOtherHalfWithinItsNoise) {
                 "\"").exit_code, 0);
   std::vector<std::size_t> rows = halves.compared;
   if (!rows.empty() && halves.check.at(rows.back()) + 1 == log.rows.size()) rows.pop_back();  // the stop
-  const auto charge = pick(values(parse(check_text), {"charge"}), rows);
-  const auto ext_values = pick(values(parse(slurp(sim_ext)), {"charge"}), rows);
-  const auto plugin = pick(values(parse(slurp(sim_plugin)), {"charge"}), rows);
-  const auto noisy = pick(values(parse(slurp(sim_noisy)), {"charge"}), rows);
+  const auto charge = pick(values(parse_loop(check_text), {"charge"}), rows);
+  const auto ext_values = pick(values(parse_loop(slurp(sim_ext)), {"charge"}), rows);
+  const auto plugin = pick(values(parse_loop(slurp(sim_plugin)), {"charge"}), rows);
+  const auto noisy = pick(values(parse_loop(slurp(sim_noisy)), {"charge"}), rows);
   ASSERT_GT(charge.size(), 100u);
   const double variance = h.noise_sd * h.noise_sd;
   EXPECT_LE(mse(charge, ext_values), kMseBound * variance);
@@ -474,14 +474,14 @@ TEST_F(SimulateLike, ACovariateEffectReadsItsColumn) {
   const CliRun good = run("simulate ground --like \"" + with + "\" --coefficients \"" + model + "\"");
   ASSERT_EQ(good.exit_code, 0) << good.err;
   // 1023 x 0.5 + 2 x (35 - 30), and 2 x (25 - 30).
-  EXPECT_EQ(values(parse(good.out), {"value"}), (std::vector<double>{521.5, 501.5}));
+  EXPECT_EQ(values(parse_loop(good.out), {"value"}), (std::vector<double>{521.5, 501.5}));
 }
 
 TEST_F(SimulateLike, BatteryLikeRunsTheLogsSpeedsAndTimesAndLeavesItsVoltageOut) {
   const std::string log = write("b.csv", "time_s,speed_cm_s,charge,voltage_v\n0,5,0.99,4.2\n100,5,0.95,4.1\n200,5,0.9,4.0\n");
   const CliRun r = run("simulate battery --like \"" + log + "\"");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const Csv out = parse(r.out);
+  const Csv out = parse_loop(r.out);
   EXPECT_EQ(out.header, (std::vector<std::string>{"time_s", "speed_cm_s", "charge"}));
   // A first reading >= 0.9 is the run's full charge; then the plug-in's Cubic at 5 cm/s, whose
   // curve (d + c t + b t^2 + a t^3, the plug-in's published row) it follows after the firmware

@@ -31,7 +31,7 @@ std::string write_temp(const std::string& name, const std::string& text) {
   return p.string();
 }
 
-std::string error_of(const std::function<void()>& f) {
+std::string error_of_sets(const std::function<void()>& f) {
   try {
     f();
   } catch (const std::exception& e) {
@@ -41,7 +41,7 @@ std::string error_of(const std::function<void()>& f) {
 }
 
 /// FILE:LINE:COLUMN of the first occurrence of `needle` in one-line `text`.
-std::string at(const std::string& path, const std::string& text, const std::string& needle) {
+std::string at_sets(const std::string& path, const std::string& text, const std::string& needle) {
   return path + ":1:" + std::to_string(text.find(needle) + 1) + ":";
 }
 
@@ -76,14 +76,14 @@ TEST(PartialBatteryTables, TheFilesSpeedsAndThePluginsElsewhere) {
   EXPECT_EQ(m.capacity.k, 0.8);
   EXPECT_EQ(m.tables.lifetime_s[5], 7000.0);
   // The full reader still wants all 16.
-  EXPECT_NE(error_of([&] { co::battery_tables_from_json(j, "b.json"); }).find("expected 16 entries"), std::string::npos);
+  EXPECT_NE(error_of_sets([&] { co::battery_tables_from_json(j, "b.json"); }).find("expected 16 entries"), std::string::npos);
 }
 
 TEST(PartialBatteryTables, BadSpeedsAndValuesAreRefusedWhereTheyAre) {
   auto err = [](const std::string& name, const std::string& text) {
     const std::string path = write_temp(name, text);
     co::TableSources src;
-    return error_of([&] { co::battery_tables_from_json(json::parse(text), path, src); });
+    return error_of_sets([&] { co::battery_tables_from_json(json::parse(text), path, src); });
   };
   const std::string twice = R"({"speeds":[)" + speed_row(5, 7000) + "," + speed_row(5, 6000) + "]}";
   const std::string p1 = write_temp("twice.json", twice);
@@ -101,7 +101,7 @@ TEST(PartialBatteryTables, BadSpeedsAndValuesAreRefusedWhereTheyAre) {
     const std::string path = write_temp("life.json", bad);
     const std::string e = err("life.json", bad);
     EXPECT_NE(e.find("lifetime_s must be positive"), std::string::npos) << e;
-    EXPECT_NE(e.find(at(path, bad, life + ",")), std::string::npos) << e;
+    EXPECT_NE(e.find(at_sets(path, bad, life + ",")), std::string::npos) << e;
   }
   EXPECT_NE(err("none.json", R"({"speeds":[]})").find("expected 1 to 16 entries"), std::string::npos);
 }
@@ -114,11 +114,11 @@ TEST(ChooseRobot, AutoByMapByEntityAndThePooledWarning) {
   EXPECT_EQ(co::choose_robot(j, "f.json", "auto", "ep0:A,ep*:B", "ep12").robot, "B");
   EXPECT_EQ(co::choose_robot(j, "f.json", "auto", "", "B").robot, "B");
   EXPECT_EQ(co::choose_robot(j, "f.json", "A", "", "ep0").robot, "A");
-  const std::string missing = error_of([&] { co::choose_robot(j, "f.json", "auto", "", "ep3"); });
+  const std::string missing = error_of_sets([&] { co::choose_robot(j, "f.json", "auto", "", "ep3"); });
   EXPECT_NE(missing.find("the entity 'ep3' has no robot set in the file (robots: A, B)"), std::string::npos) << missing;
-  EXPECT_NE(error_of([&] { co::choose_robot(j, "f.json", "auto", "ep1:A", "ep3"); }).find("no robot_map pattern matches"),
+  EXPECT_NE(error_of_sets([&] { co::choose_robot(j, "f.json", "auto", "ep1:A", "ep3"); }).find("no robot_map pattern matches"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { co::choose_robot(j, "f.json", "A", "ep1:A", "ep3"); }).find("only with robot=\"auto\""), std::string::npos);
+  EXPECT_NE(error_of_sets([&] { co::choose_robot(j, "f.json", "A", "ep1:A", "ep3"); }).find("only with robot=\"auto\""), std::string::npos);
   const co::RobotChoice pooled = co::choose_robot(j, "f.json", "", "", "ep0");
   EXPECT_EQ(pooled.robot, "");
   EXPECT_NE(pooled.warning.find("holds 2 robots (A, B)"), std::string::npos) << pooled.warning;
@@ -140,8 +140,8 @@ TEST(ModelSets, NoiseSectionAndThePathBesideTheExperiment) {
   // Shared: the same parse while the file stays the same.
   EXPECT_EQ(co::shared_json_file(here).get(), co::shared_json_file(here).get());
   const std::string bad = write_temp("big.json", R"({"a": 1e999})");
-  EXPECT_NE(error_of([&] { co::shared_json_file(bad); }).find(bad + ":1:7:"), std::string::npos)
-      << error_of([&] { co::shared_json_file(bad); });
+  EXPECT_NE(error_of_sets([&] { co::shared_json_file(bad); }).find(bad + ":1:7:"), std::string::npos)
+      << error_of_sets([&] { co::shared_json_file(bad); });
 }
 
 TEST(LightSensorGammas, PerSensorEntriesOverTheCommonGammaChecked) {
@@ -164,13 +164,13 @@ TEST(LightSensorGammas, PerSensorEntriesOverTheCommonGammaChecked) {
            {R"({"sensor":1,"gamma":1e308})", "outside its physical range"}}) {
     const std::string t = R"({"kind":"light","parameters":{"gamma":0.075},"per_sensor":[)" + bad + "]}";
     const std::string path = write_temp("gamma.json", t);
-    const std::string e = error_of([&] {
+    const std::string e = error_of_sets([&] {
       const json jj = json::parse(t);
       co::light_sensor_gammas(jj, path, "", co::light_model_from_json(jj, path));
     });
     EXPECT_NE(e.find(why), std::string::npos) << e;
     const std::string key = why.find("number") != std::string::npos ? R"(8,)" : bad.substr(bad.find("gamma") + 7);
-    EXPECT_NE(e.find(at(path, t, key)), std::string::npos) << e << " expected " << at(path, t, key);
+    EXPECT_NE(e.find(at_sets(path, t, key)), std::string::npos) << e << " expected " << at_sets(path, t, key);
   }
 }
 
@@ -183,10 +183,10 @@ TEST(ProximityCurve, TheMeansCurveIsReadAndCheckedWithTheSameRanges) {
   EXPECT_EQ(co::proximity_model_from_json(j, "p.json").base.a_per_m2, 197.0);
   json big = j;
   big["parameters"]["mean_a"] = 1e308;
-  EXPECT_NE(error_of([&] { co::proximity_model_from_json(big, "p.json", "", co::ProximityCurve::means); })
+  EXPECT_NE(error_of_sets([&] { co::proximity_model_from_json(big, "p.json", "", co::ProximityCurve::means); })
                 .find("parameters.mean_a = 1e+308 is outside its physical range"),
             std::string::npos)
-      << error_of([&] { co::proximity_model_from_json(big, "p.json", "", co::ProximityCurve::means); });
+      << error_of_sets([&] { co::proximity_model_from_json(big, "p.json", "", co::ProximityCurve::means); });
 }
 
 // Several lights at once, as a simulator sees them: worked by hand. gamma 0.075, lights (0.1 m,

@@ -22,7 +22,7 @@ using epuck2::logs::Kind;
 
 namespace {
 
-std::vector<epuck2::logs::Log> parse(const std::vector<vr::GeneratedFile>& files, Kind kind) {
+std::vector<epuck2::logs::Log> parse_noise(const std::vector<vr::GeneratedFile>& files, Kind kind) {
   std::vector<epuck2::logs::Log> logs;
   for (const auto& f : files) logs.push_back(epuck2::logs::parse_log(f.content, f.name, kind));
   return logs;
@@ -33,7 +33,7 @@ double rounded(double sd) { return std::sqrt(sd * sd + 1.0 / 12.0); }
 
 constexpr double kTolerance = 0.10;  // the calibrated sd within 10 % of the truth
 
-const std::vector<std::uint64_t> kSeeds{1, 2, 3};
+const std::vector<std::uint64_t> kNoiseSeeds{1, 2, 3};
 
 }  // namespace
 
@@ -99,13 +99,13 @@ TEST(ReadingNoise, UniformLevelHasTheSameVariance) {
 // ----- Each calibration on logs with a known reading noise -----------------------------------
 
 TEST(CalibratedReadingNoise, ProximityFromItsReplicates) {
-  for (std::uint64_t seed : kSeeds) {
+  for (std::uint64_t seed : kNoiseSeeds) {
     // The readings scatter only by the electronic noise (no scatter below the envelope), 40 counts.
     vr::ProximityTruth truth;
     truth.scatter_floor = 0;
     truth.scatter_slope = 0;
     truth.noise_raw = 40.0;
-    const auto f = calibrate::fit_proximity(parse(vr::proximity_logs(truth, seed), Kind::proximity));
+    const auto f = calibrate::fit_proximity(parse_noise(vr::proximity_logs(truth, seed), Kind::proximity));
     const calibrate::ReadingNoise& n = f.noise;
     EXPECT_EQ(n.channel, "proximity");
     EXPECT_EQ(n.unit, "counts");
@@ -122,9 +122,9 @@ TEST(CalibratedReadingNoise, ProximityFromItsReplicates) {
 }
 
 TEST(CalibratedReadingNoise, LightFromItsReplicatesPerSensor) {
-  for (std::uint64_t seed : kSeeds) {
+  for (std::uint64_t seed : kNoiseSeeds) {
     vr::LightTruth truth;  // 15 counts, two sensors, two robots, rails and wild readings
-    const auto f = calibrate::fit_light(parse(vr::light_logs(truth, seed), Kind::light));
+    const auto f = calibrate::fit_light(parse_noise(vr::light_logs(truth, seed), Kind::light));
     const calibrate::ReadingNoise& n = f.noise;
     EXPECT_EQ(n.unit, "counts");
     EXPECT_EQ(n.from, "replicates");
@@ -138,11 +138,11 @@ TEST(CalibratedReadingNoise, LightFromItsReplicatesPerSensor) {
 }
 
 TEST(CalibratedReadingNoise, GroundFromItsReplicatesPerSensor) {
-  for (std::uint64_t seed : kSeeds) {
+  for (std::uint64_t seed : kNoiseSeeds) {
     for (double sd : {5.0, 20.0}) {
       vr::GroundTruth truth;
       truth.noise_raw = sd;
-      const auto f = calibrate::fit_ground(parse(vr::ground_logs(truth, seed), Kind::ground));
+      const auto f = calibrate::fit_ground(parse_noise(vr::ground_logs(truth, seed), Kind::ground));
       const calibrate::ReadingNoise& n = f.noise;
       EXPECT_EQ(n.unit, "counts");
       EXPECT_EQ(n.from, "replicates");
@@ -157,11 +157,11 @@ TEST(CalibratedReadingNoise, GroundFromItsReplicatesPerSensor) {
 }
 
 TEST(CalibratedReadingNoise, CameraFromItsFrames) {
-  for (std::uint64_t seed : kSeeds) {
+  for (std::uint64_t seed : kNoiseSeeds) {
     for (double sd : {0.5, 1.5}) {
       vr::CameraTruth truth;  // 3 frames per LED position, 1 % wild frames
       truth.pixel_noise_px = sd;
-      const auto f = calibrate::fit_camera(parse(vr::camera_logs(truth, seed), Kind::camera));
+      const auto f = calibrate::fit_camera(parse_noise(vr::camera_logs(truth, seed), Kind::camera));
       const calibrate::ReadingNoise& n = f.noise;
       EXPECT_EQ(n.unit, "px");
       EXPECT_EQ(n.from, "replicates");
@@ -172,11 +172,11 @@ TEST(CalibratedReadingNoise, CameraFromItsFrames) {
 }
 
 TEST(CalibratedReadingNoise, TofFromTheReadingsBeforeTheRobotMoves) {
-  for (std::uint64_t seed : kSeeds) {
+  for (std::uint64_t seed : kNoiseSeeds) {
     vr::DriveTruth truth;
     truth.tof_noise_mm = 4.0;  // the same at every range
     truth.tof_noise_per_m_mm = 0.0;
-    const auto f = calibrate::fit_drive(parse(vr::drive_logs(truth, seed), Kind::drive));
+    const auto f = calibrate::fit_drive(parse_noise(vr::drive_logs(truth, seed), Kind::drive));
     const calibrate::ReadingNoise& n = f.tof_noise;
     EXPECT_EQ(n.unit, "mm");
     EXPECT_EQ(n.from, "replicates");
@@ -203,7 +203,7 @@ TEST(CalibratedReadingNoise, WithoutReplicatesTheResidualsAreTheNoise) {
   truth.saturated_distances = 0;
   // One robot's log (the fit pools the distances of every log: two robots' readings would be a
   // mean of two).
-  const auto f = calibrate::fit_proximity({parse(vr::proximity_logs(truth, 7), Kind::proximity).at(0)});
+  const auto f = calibrate::fit_proximity({parse_noise(vr::proximity_logs(truth, 7), Kind::proximity).at(0)});
   ASSERT_TRUE(f.means.usable);
   EXPECT_EQ(f.noise.from, "residuals");
   EXPECT_NEAR(f.noise.sd, f.means.noise_sd * 4095.0, 1e-9);

@@ -34,7 +34,7 @@ using epuck2::testing::Normal;  // seeded_normal.hpp
 
 // The line y* = a + b x, x on [0, 10], noise sd 15, clipped to [120, 250]: the low rail takes the
 // readings where x < 1 or so (10 %), the high one where x > 7.5 (25 %).
-constexpr double kA = 100, kB = 20, kSd = 15, kLo = 120, kHi = 250;
+constexpr double kReadingsA = 100, kReadingsB = 20, kSd = 15, kLo = 120, kHi = 250;
 constexpr std::size_t kN = 300;
 
 struct Clipped {
@@ -47,7 +47,7 @@ Clipped clipped_line(std::uint64_t seed) {
   Clipped c;
   for (std::size_t i = 0; i < kN; ++i) {
     const double x = 10.0 * normal.uniform();
-    const double latent = kA + kB * x + kSd * normal();
+    const double latent = kReadingsA + kReadingsB * x + kSd * normal();
     const double y = std::min(std::max(latent, kLo), kHi);
     c.on_rail += (y <= kLo || y >= kHi) ? 1 : 0;
     c.x.push_back(x);
@@ -56,7 +56,7 @@ Clipped clipped_line(std::uint64_t seed) {
   return c;
 }
 
-struct Line {
+struct ReadingsLine {
   std::vector<double> x;
   template <typename T>
   bool operator()(const T* p, T* out) const {
@@ -73,7 +73,7 @@ fit::RobustFit fit_line(const Clipped& c, bool censored, double noise_sd = std::
   fit::RobustOptions o;
   o.robust = false;
   o.noise_sd = noise_sd;
-  return fit::fit_robust(Line{c.x}, obs, {fit::free_parameter("a", 0.0), fit::free_parameter("b", 1.0)}, o);
+  return fit::fit_robust(ReadingsLine{c.x}, obs, {fit::free_parameter("a", 0.0), fit::free_parameter("b", 1.0)}, o);
 }
 
 }  // namespace
@@ -112,15 +112,15 @@ TEST(Readings, CensoredFitRecoversTheLineAndLeastSquaresDoesNot) {
   ASSERT_TRUE(tobit.usable) << tobit.message;
   EXPECT_EQ(tobit.censored(), c.on_rail);
   // Within 2.5 standard errors of the generator's truth, the noise within 15 %.
-  EXPECT_LT(std::abs(tobit.value("a") - kA), 2.5 * tobit.std_error("a"));
-  EXPECT_LT(std::abs(tobit.value("b") - kB), 2.5 * tobit.std_error("b"));
+  EXPECT_LT(std::abs(tobit.value("a") - kReadingsA), 2.5 * tobit.std_error("a"));
+  EXPECT_LT(std::abs(tobit.value("b") - kReadingsB), 2.5 * tobit.std_error("b"));
   EXPECT_NEAR(tobit.noise_sd, kSd, 0.15 * kSd);
   // Every reading taken at face value: the rails flatten the line, the slope falls by many
   // standard errors.
   const fit::RobustFit plain = fit_line(c, false);
   ASSERT_TRUE(plain.usable) << plain.message;
-  EXPECT_GT(std::abs(plain.value("b") - kB), 10 * plain.std_error("b"));
-  EXPECT_LT(plain.value("b"), 0.85 * kB);
+  EXPECT_GT(std::abs(plain.value("b") - kReadingsB), 10 * plain.std_error("b"));
+  EXPECT_LT(plain.value("b"), 0.85 * kReadingsB);
 }
 
 // Least squares on the expected clamped reading E[clamp(a + b x + noise)] (lib/models
@@ -149,12 +149,12 @@ TEST(Readings, CensoredFitIsUnbiasedWithHonestErrorsOverSeeds) {
     const fit::RobustFit tobit = fit_line(c, true);
     const fit::RobustFit plain = fit_line(c, false);
     ASSERT_TRUE(tobit.usable && plain.usable);
-    const double b = tobit.value("b"), z = (b - kB) / tobit.std_error("b");
+    const double b = tobit.value("b"), z = (b - kReadingsB) / tobit.std_error("b");
     sum_z += z;
     sum_z2 += z * z;
     sum_b += b;
     sum_b2 += b * b;
-    sum_plain_z += (plain.value("b") - kB) / plain.std_error("b");
+    sum_plain_z += (plain.value("b") - kReadingsB) / plain.std_error("b");
     const double e = expected_clamp_slope(c);
     ASSERT_TRUE(std::isfinite(e));
     sum_e += e;
@@ -170,7 +170,7 @@ TEST(Readings, CensoredFitIsUnbiasedWithHonestErrorsOverSeeds) {
   const double sd_expected = std::sqrt(sum_e2 / kSeeds - (sum_e / kSeeds) * (sum_e / kSeeds));
   std::printf("slope over %d logs: censored mean z %.3f, rms z %.3f, sd %.4f; least squares on E[clamp] sd %.4f; "
               "plain least squares mean z %.2f\n", kSeeds, mean_z, rms_z, sd_tobit, sd_expected, sum_plain_z / kSeeds);
-  EXPECT_LT(std::abs(sum_e / kSeeds - kB), 3 * sd_expected / std::sqrt(double(kSeeds)));
+  EXPECT_LT(std::abs(sum_e / kSeeds - kReadingsB), 3 * sd_expected / std::sqrt(double(kSeeds)));
   EXPECT_LT(sd_tobit, sd_expected) << "censored " << sd_tobit << " expected clamp " << sd_expected;
 }
 

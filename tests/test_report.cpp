@@ -24,7 +24,7 @@ struct Constant {
   template <typename T>
   T operator()(const T* p, double) const { return p[0]; }
 };
-struct Line {
+struct ReportLine {
   static constexpr int kParameters = 2;
   static constexpr bool kLinearInParameters = true;
   template <typename T>
@@ -116,7 +116,7 @@ TEST(Correlations, FromACovarianceByHand) {
 TEST(Correlations, StraightLineInterceptAndSlope) {
   // y = a + b x at x = 0, 1, 2, 3: (X^T X) = [[4, 6], [6, 14]], its inverse's correlation
   // -6 / sqrt(4 * 14) = -0.801784 whatever the noise.
-  const FitResult f = fit_curve(Line{}, {0, 1, 2, 3}, {1.1, 2.9, 5.2, 6.8}, {{"a", 0.0}, {"b", 0.0}});
+  const FitResult f = fit_curve(ReportLine{}, {0, 1, 2, 3}, {1.1, 2.9, 5.2, 6.8}, {{"a", 0.0}, {"b", 0.0}});
   ASSERT_TRUE(f.usable);
   const auto list = correlations(f);
   ASSERT_EQ(list.size(), 1u);
@@ -238,9 +238,9 @@ TEST(Autocorrelation, SlopeOnAnAr1SeriesMatchesTheSandwichVariance) {
   for (int r = 0; r < reps; ++r) {
     std::vector<double> y = ar1(rng, n, rho);
     for (std::size_t i = 0; i < n; ++i) y[i] += 1.0 - 0.5 * x[i];
-    const FitResult f = fit_curve(Line{}, x, y, {{"a", 0.0}, {"b", 0.0}});
+    const FitResult f = fit_curve(ReportLine{}, x, y, {{"a", 0.0}, {"b", 0.0}});
     ASSERT_TRUE(f.usable);
-    const auto a = autocorrelation_correction(residuals_of(Line{}, f, x, y), std::vector<int>(n, 0));
+    const auto a = autocorrelation_correction(residuals_of(ReportLine{}, f, x, y), std::vector<int>(n, 0));
     naive += f.std_error("b") / reps;
     corrected += f.std_error("b") * a.factor / reps;
     sum += f.value("b");

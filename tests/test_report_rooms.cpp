@@ -40,7 +40,7 @@ TEST(KindFacts, RailsSensorsAndNamesAreTheHardwares) {
   EXPECT_EQ(kind_facts("proximity")->sensor_name(5), "5");  // unnamed sensors are numbered
 }
 
-TEST(ReportText, AppendsWhatPrintfWouldPrintWithoutTruncating) {
+TEST(ReportTextBuffer, AppendsWhatPrintfWouldPrintWithoutTruncating) {
   epuck2::calibrate::Text t;
   t("%zu readings, %.3f counts\n", std::size_t{12}, 1.5);
   const std::string long_part(5000, 'x');  // longer than any fixed buffer the old printers used

@@ -270,7 +270,7 @@ TEST(RoundThreeClusterRobust, FiveRunsNumberedFromZeroByHand) {
 
 // ----- the Tobit passes: a floor reading far below the curve is as wild as an exact one -----
 
-struct Constant {
+struct R3Constant {
   std::size_t n;
   template <typename T>
   bool operator()(const T* p, T* out) const {
@@ -290,7 +290,7 @@ TEST(RoundThreeTobit, AFloorReadingFarBelowTheCurveIsLeftOut) {
   obs.push_back({0.0, fit::Censoring::at_or_below, "", -1});
   fit::RobustOptions o;
   o.robust = true;
-  const fit::RobustFit f = fit::fit_robust(Constant{obs.size()}, obs, {{"mu", 50.0}}, o);
+  const fit::RobustFit f = fit::fit_robust(R3Constant{obs.size()}, obs, {{"mu", 50.0}}, o);
   ASSERT_TRUE(f.usable) << f.message;
   EXPECT_NEAR(f.value("mu"), 100.0, 1e-6);
   EXPECT_NE(std::find(f.outliers.begin(), f.outliers.end(), 20u), f.outliers.end()) << "the floor reading was kept";

@@ -24,7 +24,7 @@ using SensorCli = epuck2::testing::CliTest;
 using epuck2::testing::CliRun;
 using epuck2::testing::slurp;
 
-struct Case {
+struct CliCase {
   std::string kind;
   std::vector<std::string> parameters;  ///< keys that must be in "parameters" and "std_errors"
   std::string header;                   ///< a valid header for this kind
@@ -32,7 +32,7 @@ struct Case {
   std::string metadata;                 ///< required metadata lines
 };
 
-const std::vector<Case> kCases{
+const std::vector<CliCase> kCases{
     {"proximity", {"a", "b", "c", "mean_a", "mean_b", "mean_c"}, "distance_m,sensor,value", "0.02,0,1971", ""},
     {"light", {"gamma"}, "distance_m,intensity,sensor,value", "0.2,1,0,3519", ""},
     {"ground", {"gain", "offset"}, "grey,sensor,value", "0.5,1,512", ""},
@@ -44,7 +44,7 @@ const std::vector<Case> kCases{
 }  // namespace
 
 TEST_F(SensorCli, EachSubcommandFitsTheShippedLogs) {
-  for (const Case& c : kCases) {
+  for (const CliCase& c : kCases) {
     const fs::path json_out = dir_ / (c.kind + ".json");
     const CliRun r = run(c.kind + shipped(c.kind) + " --json -o \"" + json_out.string() + "\"");
     ASSERT_EQ(r.exit_code, 0) << c.kind << ": " << r.err;
@@ -119,7 +119,7 @@ TEST_F(SensorCli, EveryFileHasTheReadingNoiseOfItsChannels) {
 }
 
 TEST_F(SensorCli, BadInputExitsTwoWithFileLineColumnAndLeavesOutputAlone) {
-  for (const Case& c : kCases) {
+  for (const CliCase& c : kCases) {
     const std::string previous = "{\"previous\": true}\n";
     const std::string out = write(c.kind + "_previous.json", previous);
     const std::string rows = c.metadata + c.header + "\n" + c.good_row + "\n";
@@ -154,7 +154,7 @@ TEST_F(SensorCli, BadInputExitsTwoWithFileLineColumnAndLeavesOutputAlone) {
 
 TEST_F(SensorCli, TooLittleDataIsNoUsableFit) {
   // One reading per kind: the data are read but no fit can come out (exit 1), nothing written.
-  for (const Case& c : kCases) {
+  for (const CliCase& c : kCases) {
     const std::string path = write(c.kind + "_one.csv", c.metadata + c.header + "\n" + c.good_row + "\n");
     const fs::path out = dir_ / (c.kind + "_one.json");
     const CliRun r = run(c.kind + " \"" + path + "\" -o \"" + out.string() + "\"");

@@ -24,13 +24,13 @@ using epuck2::logs::Kind;
 
 namespace {
 
-std::vector<epuck2::logs::Log> parse(const std::vector<vr::GeneratedFile>& files, Kind kind) {
+std::vector<epuck2::logs::Log> parse_fits(const std::vector<vr::GeneratedFile>& files, Kind kind) {
   std::vector<epuck2::logs::Log> logs;
   for (const auto& f : files) logs.push_back(epuck2::logs::parse_log(f.content, f.name, kind));
   return logs;
 }
 
-const std::vector<std::uint64_t> kSeeds{1, 2, 3};
+const std::vector<std::uint64_t> kFitsSeeds{1, 2, 3};
 
 }  // namespace
 
@@ -42,12 +42,12 @@ const std::vector<std::uint64_t> kSeeds{1, 2, 3};
 constexpr double kProximityEnvelopeTolerance = 0.006;
 
 TEST(ProximityFit, MaximaRecoverTheEnvelopeAndMeansLieBelow) {
-  for (std::uint64_t seed : kSeeds) {
+  for (std::uint64_t seed : kFitsSeeds) {
     vr::ProximityTruth truth;
     // This fit takes the maxima per distance: a wild reading (uniform over 0..4095) is the maximum
     // wherever it lands above the envelope. The plain fit is checked without them.
     truth.wild_fraction = 0;
-    const auto f = calibrate::fit_proximity(parse(vr::proximity_logs(truth, seed), Kind::proximity));
+    const auto f = calibrate::fit_proximity(parse_fits(vr::proximity_logs(truth, seed), Kind::proximity));
     ASSERT_TRUE(f.maxima.usable) << f.maxima.message;
     ASSERT_TRUE(f.means.usable) << f.means.message;
     const double m[3] = {f.maxima.value("a"), f.maxima.value("b"), f.maxima.value("c")};
@@ -73,22 +73,22 @@ TEST(ProximityFit, MaximaRecoverTheEnvelopeAndMeansLieBelow) {
 
 // Per sensor, the fit should find gamma sqrt(gain): the stray light (12 counts) biases the
 // normalised response by 0.003, which moves gamma by well under 1 %.
-constexpr double kLightGammaRelTolerance = 0.01;
+constexpr double kFitsLightGammaRelTolerance = 0.01;
 
 TEST(LightFit, RecoversGammaPerSensor) {
-  for (std::uint64_t seed : kSeeds) {
+  for (std::uint64_t seed : kFitsSeeds) {
     vr::LightTruth truth;
     // The plain least-squares fit is checked on one robot without wild readings: robot 2's gamma is
     // 1 % smaller (pooled, the per-sensor gammas move by 0.5 %) and a wild reading weighs as much
     // as the 2000 others.
     truth.wild_fraction = 0;
     truth.robot_gamma_scale = {1.0};
-    const auto f = calibrate::fit_light(parse(vr::light_logs(truth, seed), Kind::light));
+    const auto f = calibrate::fit_light(parse_fits(vr::light_logs(truth, seed), Kind::light));
     ASSERT_TRUE(f.gamma.usable) << f.gamma.message;
     ASSERT_EQ(f.sensors, (std::vector<int>{0, 7}));
     for (std::size_t j = 0; j < 2; ++j) {
       const double expected = truth.gamma_m * std::sqrt(truth.sensor_gain[j]);
-      EXPECT_NEAR(f.gamma_per_sensor[j].value("gamma"), expected, kLightGammaRelTolerance * expected) << "seed " << seed;
+      EXPECT_NEAR(f.gamma_per_sensor[j].value("gamma"), expected, kFitsLightGammaRelTolerance * expected) << "seed " << seed;
     }
     // The pooled gamma lies between the two sensors'.
     EXPECT_GT(f.gamma.value("gamma"), f.gamma_per_sensor[1].value("gamma"));
@@ -105,13 +105,13 @@ TEST(LightFit, RecoversGammaPerSensor) {
 constexpr double kGroundTolerance_raw = 2.5;
 
 TEST(GroundFit, RecoversGainAndOffsetPerSensor) {
-  for (std::uint64_t seed : kSeeds) {
+  for (std::uint64_t seed : kFitsSeeds) {
     vr::GroundTruth truth;
     // The plain least-squares fit is checked on one robot without wild readings: robot 2's gains
     // are 2 % higher (pooled, 9 counts) and a wild reading moves a line by several counts.
     truth.wild_fraction = 0;
     truth.robot_gain_scale = {1.0};
-    const auto f = calibrate::fit_ground(parse(vr::ground_logs(truth, seed), Kind::ground));
+    const auto f = calibrate::fit_ground(parse_fits(vr::ground_logs(truth, seed), Kind::ground));
     for (std::size_t k = 0; k < 3; ++k) {
       ASSERT_TRUE(f.sensors[k].usable) << f.sensors[k].message;
       EXPECT_NEAR(f.sensors[k].value("gain"), truth.gain_raw[k], kGroundTolerance_raw) << "seed " << seed << " sensor " << k;
@@ -132,13 +132,13 @@ constexpr double kCameraFovTolerance_deg = 0.1;
 constexpr double kCameraCentreTolerance_px = 0.25;
 
 TEST(CameraFit, RecoversFieldOfViewAndCentre) {
-  for (std::uint64_t seed : kSeeds) {
+  for (std::uint64_t seed : kFitsSeeds) {
     vr::CameraTruth truth;
     // The plain least-squares fit is checked on one robot without centroids jumping to reflections
     // (robot 2's optical axis is 0.5 px to the right; a jump costs up to 80 px).
     truth.wild_fraction = 0;
     truth.robot_cx_shift_px = {0.0};
-    const auto f = calibrate::fit_camera(parse(vr::camera_logs(truth, seed), Kind::camera));
+    const auto f = calibrate::fit_camera(parse_fits(vr::camera_logs(truth, seed), Kind::camera));
     ASSERT_TRUE(f.result.usable) << f.result.message;
     EXPECT_NEAR(f.result.value("fov_deg"), truth.horizontal_fov_deg, kCameraFovTolerance_deg) << "seed " << seed;
     EXPECT_NEAR(f.result.value("cx_px"), truth.cx_px, kCameraCentreTolerance_px) << "seed " << seed;
@@ -166,7 +166,7 @@ TEST(DriveFit, RecoversStepsPerMetreTofAndSlip) {
   truth.far_run_speed_cm_s = 0;
   truth.tof_wild_fraction = 0;
   truth.steps_per_m_scale = {1.0};
-  const auto f = calibrate::fit_drive(parse(vr::drive_logs(truth, 1), Kind::drive));
+  const auto f = calibrate::fit_drive(parse_fits(vr::drive_logs(truth, 1), Kind::drive));
   ASSERT_TRUE(f.steps.usable) << f.steps.message;
   ASSERT_TRUE(f.tof.usable) << f.tof.message;
   EXPECT_NEAR(f.steps.value("steps_per_m"), truth.steps_per_m, kStepsPerMetreRelTolerance * truth.steps_per_m);
@@ -192,7 +192,7 @@ TEST(DriveFit, UnwrapsTheSixteenBitRegisters) {
   truth.tof_dropout_fraction = 0;
   truth.far_run_speed_cm_s = 0;
   truth.tof_range_m = 1e9;
-  const auto logs = parse(vr::drive_logs(truth, 4), Kind::drive);
+  const auto logs = parse_fits(vr::drive_logs(truth, 4), Kind::drive);
   const calibrate::DriveRun away = calibrate::drive_run_from_log(logs.at(1));
   EXPECT_LT(away.steps.back(), -40000.0);  // past -32768 without a jump
   for (std::size_t k = 1; k < away.steps.size(); ++k) EXPECT_LT(std::abs(away.steps[k] - away.steps[k - 1]), 200.0);

@@ -38,7 +38,7 @@ namespace fx = epuck2::models::effects;
 // ----- the voltage->charge map ------------------------------------------------------------------
 
 // f through (3.0 V, 0), (3.5 V, 0.4), (4.0 V, 1.0); load offsets 0, 0.02, 0.10 V at 0, 5, 15 cm/s.
-c::ChargeMap hand_map() {
+c::ChargeMap hand_map_unlisted() {
   c::ChargeMap m;
   m.knots_v = {3.0, 3.5, 4.0};
   m.knot_charge = {0.0, 0.4, 1.0};
@@ -50,7 +50,7 @@ c::ChargeMap hand_map() {
 }
 
 TEST(ChargeMapByHand, LoadOffsetIsLinearBetweenSpeedsFromTheLowerOne) {
-  const c::ChargeMap m = hand_map();
+  const c::ChargeMap m = hand_map_unlisted();
   // 7 cm/s: 0.02 + (0.10 - 0.02) * (7 - 5) / (15 - 5) = 0.036; 10 cm/s: 0.06; 14: 0.092.
   EXPECT_NEAR(c::load_offset_v(m, 7.0), 0.036, 1e-12);
   EXPECT_NEAR(c::load_offset_v(m, 10.0), 0.06, 1e-12);
@@ -62,7 +62,7 @@ TEST(ChargeMapByHand, LoadOffsetIsLinearBetweenSpeedsFromTheLowerOne) {
 }
 
 TEST(ChargeMapByHand, ConversionAddsTheLoadOffsetToTheVoltage) {
-  const c::ChargeMap m = hand_map();
+  const c::ChargeMap m = hand_map_unlisted();
   // 3.64 V at 10 cm/s: corrected 3.70 V, on the second segment: 0.4 + 0.6 * 0.2 / 0.5 = 0.64.
   c::ChargeConversion r = c::convert_voltage(m, 3.64, 10.0);
   EXPECT_NEAR(r.charge, 0.64, 1e-12);
@@ -77,7 +77,7 @@ TEST(ChargeMapByHand, ConversionAddsTheLoadOffsetToTheVoltage) {
 }
 
 TEST(ChargeMapByHand, OutsideTheRangeClampsAndSaysOnWhichSide) {
-  const c::ChargeMap m = hand_map();
+  const c::ChargeMap m = hand_map_unlisted();
   c::ChargeConversion below = c::convert_voltage(m, 2.9, 0.0);
   EXPECT_EQ(below.side, -1);
   EXPECT_NEAR(below.charge, 0.0, 1e-15);
@@ -244,13 +244,13 @@ const std::vector<double> kInside{0.2, 1.0, 1.4, 0.6, 0.9};
 constexpr double kUpper = 1.5, kLower = 0.0;
 constexpr int kOnUpper = 2, kOnLower = 1;
 
-double Phi(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+double Phi_unlisted(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 double phi(double z) { return std::exp(-0.5 * z * z) / std::sqrt(2 * M_PI); }
 
 double loglik(double a, double s) {
   double l = 0;
   for (double y : kInside) l += -std::log(s) - 0.5 * std::log(2 * M_PI) - (y - a) * (y - a) / (2 * s * s);
-  l += kOnUpper * std::log(Phi((a - kUpper) / s)) + kOnLower * std::log(Phi((kLower - a) / s));
+  l += kOnUpper * std::log(Phi_unlisted((a - kUpper) / s)) + kOnLower * std::log(Phi_unlisted((kLower - a) / s));
   return l;
 }
 
@@ -259,7 +259,7 @@ double score_a(double a, double s) {
   double g = 0;
   for (double y : kInside) g += (y - a) / (s * s);
   const double zu = (a - kUpper) / s, zl = (kLower - a) / s;
-  return g + kOnUpper * phi(zu) / Phi(zu) / s - kOnLower * phi(zl) / Phi(zl) / s;
+  return g + kOnUpper * phi(zu) / Phi_unlisted(zu) / s - kOnLower * phi(zl) / Phi_unlisted(zl) / s;
 }
 
 double a_of(double s) {
@@ -278,7 +278,7 @@ double sigma_ml() {
   return 0.5 * (lo + hi);
 }
 
-struct Constant {
+struct UnlistedConstant {
   std::size_t n;
   template <typename T>
   bool operator()(const T* p, T* out) const {
@@ -295,7 +295,7 @@ fit::RobustFit fit_it(double noise_sd) {
   fit::RobustOptions o;
   o.robust = false;
   o.noise_sd = noise_sd;
-  return fit::fit_robust(Constant{obs.size()}, obs, {fit::free_parameter("a", 0.5)}, o);
+  return fit::fit_robust(UnlistedConstant{obs.size()}, obs, {fit::free_parameter("a", 0.5)}, o);
 }
 
 }  // namespace tobit
@@ -315,8 +315,8 @@ TEST(TobitByHand, GivenNoiseTheEstimateLikelihoodAndErrorAreTobits) {
   // d r / d a = -1/sigma inside, -lambda(z) / r * (dz/da) on a rail, lambda = phi/Phi.
   double info = 5 / (s * s);
   for (const auto& [z, count] : {std::pair{(a - tobit::kUpper) / s, 2}, std::pair{(tobit::kLower - a) / s, 1}}) {
-    const double r = std::sqrt(-2 * std::log(tobit::Phi(z)));
-    const double d = tobit::phi(z) / tobit::Phi(z) / r / s;
+    const double r = std::sqrt(-2 * std::log(tobit::Phi_unlisted(z)));
+    const double d = tobit::phi(z) / tobit::Phi_unlisted(z) / r / s;
     info += count * d * d;
   }
   EXPECT_NEAR(f.std_error("a"), 1 / std::sqrt(info), 1e-7);
@@ -436,13 +436,13 @@ std::unique_ptr<d::Problem> ground_problem() {
   return p;
 }
 
-const d::Effect* effect(const d::Problem& p, std::size_t id) {
+const d::Effect* effect_unlisted(const d::Problem& p, std::size_t id) {
   for (const d::Effect& e : p.effects)
     if (e.cause == fx::ground_catalogue()[id].name) return &e;
   return nullptr;
 }
 
-struct Case {
+struct UnlistedCase {
   std::vector<double> values;
   Eigen::MatrixXd covariance;
   int level = -1, offset = -1;
@@ -450,12 +450,12 @@ struct Case {
 };
 
 // Gains and their covariance as above; every other parameter at the plug-in's value, no error.
-Case ground_case(const d::Problem& p, double v, double c) {
-  Case x;
+UnlistedCase ground_case(const d::Problem& p, double v, double c) {
+  UnlistedCase x;
   x.values = p.plugin_values;
-  const d::Effect* g = effect(p, fx::ground::sensor_gain);
-  const d::Effect* l = effect(p, fx::ground::white_level);
-  const d::Effect* o = effect(p, fx::ground::black_offset);
+  const d::Effect* g = effect_unlisted(p, fx::ground::sensor_gain);
+  const d::Effect* l = effect_unlisted(p, fx::ground::white_level);
+  const d::Effect* o = effect_unlisted(p, fx::ground::black_offset);
   EXPECT_TRUE(g != nullptr && l != nullptr && o != nullptr);
   if (g == nullptr || l == nullptr || o == nullptr) return x;
   x.gains = g->params;
@@ -479,7 +479,7 @@ TEST(IdentifyByHand, GroundGainsEqualWithinTheirCorrelatedErrorsAreOneWhiteLevel
   ASSERT_NE(p, nullptr);
   const std::string gain_cause = fx::ground_catalogue()[fx::ground::sensor_gain].name;
   // v - c = 0.0023 (p = 0.0129): named a white level at the gains' mean.
-  identify::Case x = identify::ground_case(*p, 0.0060, 0.0037);
+  identify::UnlistedCase x = identify::ground_case(*p, 0.0060, 0.0037);
   ASSERT_EQ(x.gains.size(), 3u);
   const double offset = x.values[static_cast<std::size_t>(x.offset)];
   const double level = x.values[static_cast<std::size_t>(x.level)];

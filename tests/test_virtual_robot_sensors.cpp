@@ -84,7 +84,7 @@ Table read_table(const vr::GeneratedFile& f) {
   return t;
 }
 
-std::vector<Table> tables(const std::vector<vr::GeneratedFile>& files) {
+std::vector<Table> tables_vrs(const std::vector<vr::GeneratedFile>& files) {
   std::vector<Table> out;
   for (const auto& f : files) out.push_back(read_table(f));
   return out;
@@ -126,7 +126,7 @@ void expect_fraction(std::size_t observed, std::size_t n, double p, const std::s
   if (p > 0) EXPECT_GT(observed, 0u) << what;
 }
 
-std::string read_bytes(const std::filesystem::path& path) {
+std::string read_bytes_vrs(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream os;
   os << in.rdbuf();
@@ -160,7 +160,7 @@ TEST(VirtualSensors, CommittedLogsAreFresh) {
     std::set<std::string> expected;
     for (const auto& f : files) {
       expected.insert(f.name);
-      EXPECT_TRUE(read_bytes(dir / f.name) == f.content)
+      EXPECT_TRUE(read_bytes_vrs(dir / f.name) == f.content)
           << (dir / f.name) << " differs from a fresh generation: run `epuck2-fit generate " << kind << " --out-dir data/raw/" << kind << "`";
     }
     for (const auto& e : fs::directory_iterator(dir))
@@ -182,7 +182,7 @@ TEST(VirtualSensors, LogsWithoutToFCodesPassTheReader) {
 TEST(VirtualSensors, EveryLogNamesItsRobotAndEachKindHasTwo) {
   for (Kind kind : {Kind::proximity, Kind::light, Kind::ground, Kind::camera, Kind::drive}) {
     std::set<std::string> robots;
-    for (const auto& t : tables(vr::reference_logs(kind, kSeed))) {
+    for (const auto& t : tables_vrs(vr::reference_logs(kind, kSeed))) {
       ASSERT_TRUE(t.meta.count("robot")) << t.name;
       robots.insert(t.meta.at("robot"));
       if (t.meta.at("robot") != "virtual-epuck2-1")
@@ -192,7 +192,7 @@ TEST(VirtualSensors, EveryLogNamesItsRobotAndEachKindHasTwo) {
   }
   // Battery logs name theirs too.
   std::set<std::string> battery;
-  for (const auto& t : tables(vr::battery_reference_logs(kSeed))) battery.insert(t.meta.at("robot"));
+  for (const auto& t : tables_vrs(vr::battery_reference_logs(kSeed))) battery.insert(t.meta.at("robot"));
   EXPECT_EQ(battery.size(), 2u);
   // One element: one robot.
   vr::LightTruth light;
@@ -205,7 +205,7 @@ TEST(VirtualSensors, EveryLogNamesItsRobotAndEachKindHasTwo) {
   drive.steps_per_m_scale = {1.0};
   for (const auto& files : {vr::light_logs(light, kSeed), vr::ground_logs(ground, kSeed), vr::camera_logs(camera, kSeed),
                             vr::drive_logs(drive, kSeed)})
-    for (const auto& t : tables(files)) EXPECT_EQ(t.meta.at("robot"), "virtual-epuck2-1") << t.name;
+    for (const auto& t : tables_vrs(files)) EXPECT_EQ(t.meta.at("robot"), "virtual-epuck2-1") << t.name;
 }
 
 TEST(VirtualSensors, RobotsDifferByTheDocumentedAmounts) {
@@ -223,7 +223,7 @@ TEST(VirtualSensors, RobotsDifferByTheDocumentedAmounts) {
   {  // Light: robot 2's gamma 1 % smaller: at 10 cm, intensity 1, sensor 0 it reads (0.5625 - 0.5513) 4095 = 46 counts more.
     vr::LightTruth truth;
     truth.wild_fraction = 0;
-    const auto ts = tables(vr::light_logs(truth, kSeed));
+    const auto ts = tables_vrs(vr::light_logs(truth, kSeed));
     const std::map<std::string, double> at{{"distance_m", 0.10}, {"sensor", 0}};
     const double diff = mean_where(by_name(ts, "light_intensity_1.00_virtual-epuck2-2.csv"), at, "value") -
                         mean_where(by_name(ts, "light_intensity_1.00.csv"), at, "value");
@@ -236,7 +236,7 @@ TEST(VirtualSensors, RobotsDifferByTheDocumentedAmounts) {
   {  // Ground: robot 2's gains 2 % higher (sensor 0 white: +18 counts); its centre sensor's gain 975.
     vr::GroundTruth truth;
     truth.wild_fraction = 0;
-    const auto ts = tables(vr::ground_logs(truth, kSeed));
+    const auto ts = tables_vrs(vr::ground_logs(truth, kSeed));
     const Table &a = by_name(ts, "ground_virtual-epuck2-1.csv"), &b = by_name(ts, "ground_virtual-epuck2-2.csv");
     const std::map<std::string, double> white0{{"grey", 1.0}, {"sensor", 0}}, half1{{"grey", 0.5}, {"sensor", 1}};
     EXPECT_NEAR(mean_where(b, white0, "value") - mean_where(a, white0, "value"), 0.02 * truth.gain_raw[0], 5.0);
@@ -245,7 +245,7 @@ TEST(VirtualSensors, RobotsDifferByTheDocumentedAmounts) {
   {  // Camera: robot 2's optical axis 0.5 px to the right: every centroid moves by 0.5 px before rounding.
     vr::CameraTruth truth;
     truth.wild_fraction = 0;
-    const auto ts = tables(vr::camera_logs(truth, kSeed));
+    const auto ts = tables_vrs(vr::camera_logs(truth, kSeed));
     const auto a = by_name(ts, "camera_virtual-epuck2-1.csv").col("px"), b = by_name(ts, "camera_virtual-epuck2-2.csv").col("px");
     ASSERT_EQ(a.size(), b.size());
     double diff = 0;
@@ -258,7 +258,7 @@ TEST(VirtualSensors, RobotsDifferByTheDocumentedAmounts) {
     truth.tof_noise_mm = truth.tof_noise_per_m_mm = 0;
     truth.tof_wild_fraction = truth.tof_dropout_fraction = 0;
     truth.other_robot_speeds_cm_s = {10.0};
-    const auto ts = tables(vr::drive_logs(truth, kSeed));
+    const auto ts = tables_vrs(vr::drive_logs(truth, kSeed));
     for (const char* name : {"drive_away_10.0_cm_s.csv", "drive_away_10.0_cm_s_virtual-epuck2-2.csv"}) {
       const Table& t = by_name(ts, name);
       const double scale = t.meta.at("robot") == "virtual-epuck2-1" ? 1.0 : truth.steps_per_m_scale[1];
@@ -277,7 +277,7 @@ TEST(VirtualSensors, ProximitySaturatesAtZeroMillimetresAboutHalfOnTheRail) {
   truth.wild_fraction = 0;
   for (int on : {1, 0}) {
     truth.saturated_distances = on;
-    for (const auto& t : tables(vr::proximity_logs(truth, kSeed))) {
+    for (const auto& t : tables_vrs(vr::proximity_logs(truth, kSeed))) {
       std::size_t rail = 0, n = 0, near = 0;
       for (const auto& r : t.rows) {
         if (r[t.index("distance_m")] != 0.0) continue;
@@ -303,7 +303,7 @@ TEST(VirtualSensors, LightStraddlesTheZeroRail) {
   const double d = 0.1502;
   for (int readings : {48, 0}) {
     truth.rail_readings = readings;
-    const auto ts = tables(vr::light_logs(truth, kSeed));
+    const auto ts = tables_vrs(vr::light_logs(truth, kSeed));
     const Table& t = by_name(ts, "light_intensity_2.00.csv");
     std::size_t rail = 0, n = 0, inside = 0;
     for (const auto& r : t.rows) {
@@ -325,7 +325,7 @@ TEST(VirtualSensors, GroundWhiteOfRobotTwosCentreSensorStraddlesTheRail) {
   truth.wild_fraction = 0;
   for (double rail : {1023.0, 0.0}) {
     truth.white_rail_raw = rail;
-    const auto ts = tables(vr::ground_logs(truth, kSeed));
+    const auto ts = tables_vrs(vr::ground_logs(truth, kSeed));
     for (const auto& t : ts) {
       std::size_t on = 0, n = 0, low = 0;
       for (const auto& r : t.rows) {
@@ -344,7 +344,7 @@ TEST(VirtualSensors, ToFReachesItsFloorAndItsCeilingThenReportsOutOfRange) {
   vr::DriveTruth truth;
   truth.tof_wild_fraction = truth.tof_dropout_fraction = 0;
   const auto files = vr::drive_logs(truth, kSeed);
-  const auto ts = tables(files);
+  const auto ts = tables_vrs(files);
   {  // The floor run stands 11.2 mm from the obstacle first: about half the readings on 20 mm.
     const Table& t = by_name(ts, "drive_away_floor_05.0_cm_s.csv");
     EXPECT_EQ(t.meta.at("obstacle_distance_m"), "0.0112");
@@ -373,7 +373,7 @@ TEST(VirtualSensors, ToFReachesItsFloorAndItsCeilingThenReportsOutOfRange) {
   truth.far_run_speed_cm_s = 0;
   const auto off = vr::drive_logs(truth, kSeed);
   EXPECT_EQ(off.size(), files.size() - 2);
-  for (const auto& t : tables(off))
+  for (const auto& t : tables_vrs(off))
     for (double v : t.col("tof_mm")) ASSERT_TRUE(v > 20 && v < 2000) << t.name << " " << v;
 }
 
@@ -389,7 +389,7 @@ TEST(VirtualSensors, WildReadingsHaveTheDocumentedCountsAndFractions) {
     const auto files = vr::proximity_logs(on, kSeed);
     expect_fraction(differing_rows(files, vr::proximity_logs(off, kSeed)), total_rows(files), 0.05 * 4095 / 4096, "proximity");
     // Without them, nothing reads above the noise where the sensor sees nothing (0.05 m and beyond).
-    for (const auto& t : tables(vr::proximity_logs(off, kSeed)))
+    for (const auto& t : tables_vrs(vr::proximity_logs(off, kSeed)))
       for (const auto& r : t.rows)
         if (r[t.index("distance_m")] >= 0.05) ASSERT_LE(r[t.index("value")], 5 * off.noise_raw) << t.name;
   }
@@ -434,7 +434,7 @@ TEST(VirtualSensors, ToFDropoutsReadTheOutOfRangeCode) {
   truth.far_run_speed_cm_s = 0;  // its own 8190s are not dropouts
   auto codes = [](const std::vector<vr::GeneratedFile>& files) {
     std::size_t n = 0;
-    for (const auto& t : tables(files))
+    for (const auto& t : tables_vrs(files))
       for (double v : t.col("tof_mm")) n += v == 8190;
     return n;
   };
@@ -451,7 +451,7 @@ TEST(VirtualSensors, ToFDropoutsReadTheOutOfRangeCode) {
 TEST(VirtualSensors, OneSpeedIsAboveTheFirmwaresCap) {
   const double cap_cm_s = s::kFirmwareSpeedLimit_steps_s / s::kPluginStepsPerMetre * 100.0;  // 14.17
   std::set<std::string> above;
-  for (const auto& t : tables(vr::drive_reference_logs(kSeed)))
+  for (const auto& t : tables_vrs(vr::drive_reference_logs(kSeed)))
     for (double v : t.col("left_speed_cm_s"))
       if (std::abs(v) > cap_cm_s) above.insert(t.name);
   EXPECT_EQ(above, (std::set<std::string>{"drive_away_15.0_cm_s.csv", "drive_toward_15.0_cm_s.csv"}));
@@ -461,7 +461,7 @@ TEST(VirtualSensors, StaticRunStandsStillThroughout) {
   vr::DriveTruth truth;
   const auto files = vr::drive_logs(truth, kSeed);
   ASSERT_TRUE(has_file(files, "drive_static.csv"));
-  const Table t = tables(files)[std::find_if(files.begin(), files.end(), [](const auto& f) { return f.name == "drive_static.csv"; }) - files.begin()];
+  const Table t = tables_vrs(files)[std::find_if(files.begin(), files.end(), [](const auto& f) { return f.name == "drive_static.csv"; }) - files.begin()];
   EXPECT_EQ(t.meta.at("commanded_speed_cm_s"), "0");
   for (const char* c : {"left_speed_cm_s", "right_speed_cm_s", "left_steps", "right_steps"})
     for (double v : t.col(c)) ASSERT_EQ(v, 0.0) << c;
