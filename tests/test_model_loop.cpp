@@ -516,7 +516,7 @@ TEST_F(SimulateLike, FittedIsTheCompiledInBatteryTablesOnly) {
   ASSERT_EQ(file.exit_code, 0) << file.err;
   const CliRun plugin = run("simulate battery --like \"" + log + "\" --coefficients plugin");
   ASSERT_EQ(plugin.exit_code, 0) << plugin.err;
-  const auto f = values(parse(fitted.out), {"charge"}), j = values(parse(file.out), {"charge"}), p = values(parse(plugin.out), {"charge"});
+  const auto f = values(parse_loop(fitted.out), {"charge"}), j = values(parse_loop(file.out), {"charge"}), p = values(parse_loop(plugin.out), {"charge"});
   ASSERT_EQ(f.size(), 3u);
   EXPECT_EQ(f, j);
   EXPECT_NE(f[2], p[2]);
