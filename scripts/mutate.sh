@@ -259,7 +259,7 @@ MUTANTS = [
     ("identify_wald_no_cross", DK_GROUND, "V(a, b) = cov(ia, ib) - cov(ia, g[0]) - cov(g[0], ib) + cov(g[0], g[0]);", "V(a, b) = cov(ia, ib) + cov(g[0], g[0]);", IDENTIFY),
     ("identify_wald_dof_sensors", DK_GROUND, "const double dof = static_cast<double>(m);", "const double dof = static_cast<double>(m + 1);", IDENTIFY),
     ("identify_level_first_gain", DK_GROUND, "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * mean;", "const double level = offset + (values[static_cast<std::size_t>(level_)] - offset) * values[g[0]];", IDENTIFY),
-    ("identify_tail_share_strict", DK_PROXIMITY, "tail <= kTailShareOfNearField * total) return std::nullopt;", "tail < kTailShareOfNearField * total) return std::nullopt;", IDENTIFY),
+    ("identify_tail_share_strict", DK_PROXIMITY, "tail <= kTailShareOfNearField * total) return std::nullopt;", "tail < kTailShareOfNearField * total) return std::nullopt;", (IDENTIFY[0] + ["test_round_four_slips"], IDENTIFY[1][:-1] + "|RoundFourIdentify)")),
     # Round 2 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
     ('charge_above_fastest_takes_slowest', CM, '  if (s >= x.back()) return y.back();', '  if (s >= x.back()) return y.front();', round_two(CHARGE, "RoundTwoChargeMap")),
     ('noise_screen_floor_forgotten', RN, 'reject_sd * std::max(pooled_sd, floor_sd)', 'reject_sd * pooled_sd', round_two(NOISE, "RoundTwoReadingNoise")),

@@ -338,6 +338,34 @@ TEST(RoundFourIdentify, ALongTailsShareIsCountedUpToTheFullScale) {
   EXPECT_EQ(tail_named("0.03,0,3500\n0.04,0,3000\n"), std::optional<std::string>("near_field_curve"));
 }
 
+// The cut itself: a tail that carries exactly half of the reading within the range is not more
+// than half, so it extends the curve. Base quadratic a = b = 0, c = 0.5 (lib/models
+// proximity_mean_raw: 4095 x 0.5 = 2047.5 counts exactly, every effect neutral); a tail of
+// 8000 exp(-d / 1 m) lifts the reading past the full scale, so as reported it adds
+// 4095 - 2047.5 = 2047.5 counts of 4095: a share of exactly 0.5, all of it exact in doubles. With
+// c = 0.4999 the base gives 2047.09 and the tail 2047.91 > 2047.5: more than half, renamed.
+std::optional<std::string> tail_named_over_flat_base(double c) {
+  namespace dd = epuck2::diagnose::detail;
+  const std::vector<l::Log> logs{l::parse_log("distance_m,sensor,value\n0.02,0,4095\n", "p.csv", l::Kind::proximity)};
+  std::string why;
+  const std::unique_ptr<dd::Problem> p = dd::make_problem(logs, epuck2::diagnose::Options{}, why);
+  std::vector<double> values;
+  for (const auto& q : p->params) values.push_back(q.name == "a" || q.name == "b" ? 0.0 : q.name == "c" ? c : q.fallback);
+  for (const auto& e : p->effects)
+    if (e.cause == "long_tail") {
+      values[static_cast<std::size_t>(e.params.at(0))] = 8000.0;  // amplitude, counts
+      values[static_cast<std::size_t>(e.params.at(1))] = 1.0;     // length, m
+    }
+  const auto id = p->identify("long_tail", values, Eigen::MatrixXd());
+  if (!id) return std::nullopt;
+  return id->cause;
+}
+
+TEST(RoundFourIdentify, ATailOfExactlyHalfTheReadingExtendsTheCurve) {
+  EXPECT_EQ(tail_named_over_flat_base(0.5), std::nullopt);
+  EXPECT_EQ(tail_named_over_flat_base(0.4999), std::optional<std::string>("near_field_curve"));
+}
+
 // ----- the firmware cap's uncapped command: the wheels' mean -----
 
 TEST(RoundFourFirmwareCap, TheUncappedCommandIsTheWheelsMean) {
