@@ -307,14 +307,16 @@ TEST(RoundFourResidualStructure, AChannelsFloorIsInItsOwnUnits) {
 // ----- the naming step: a long tail's share of the reading as the sensor reports it -----
 
 /// Whether the proximity kind names a long tail of `amplitude` counts and length 1 m the
-/// near-field curve on rows at `distances` (every other parameter at its neutral or plug-in value).
-std::optional<std::string> tail_named(const std::string& distances_csv) {
+/// near-field curve on rows at `distances` (every other parameter at its neutral or plug-in value;
+/// with `flat_c`, the base quadratic a = b = 0, c = flat_c instead of the plug-in's).
+std::optional<std::string> tail_named(const std::string& distances_csv, std::optional<double> flat_c = std::nullopt) {
   namespace dd = epuck2::diagnose::detail;
   const std::vector<l::Log> logs{l::parse_log("distance_m,sensor,value\n" + distances_csv, "p.csv", l::Kind::proximity)};
   std::string why;
   const std::unique_ptr<dd::Problem> p = dd::make_problem(logs, epuck2::diagnose::Options{}, why);
   std::vector<double> values;
-  for (const auto& q : p->params) values.push_back(q.fallback);
+  for (const auto& q : p->params)
+    values.push_back(!flat_c ? q.fallback : q.name == "a" || q.name == "b" ? 0.0 : q.name == "c" ? *flat_c : q.fallback);
   for (const auto& e : p->effects)
     if (e.cause == "long_tail") {
       values[static_cast<std::size_t>(e.params.at(0))] = 8000.0;  // amplitude, counts
@@ -344,26 +346,9 @@ TEST(RoundFourIdentify, ALongTailsShareIsCountedUpToTheFullScale) {
 // 8000 exp(-d / 1 m) lifts the reading past the full scale, so as reported it adds
 // 4095 - 2047.5 = 2047.5 counts of 4095: a share of exactly 0.5, all of it exact in doubles. With
 // c = 0.4999 the base gives 2047.09 and the tail 2047.91 > 2047.5: more than half, renamed.
-std::optional<std::string> tail_named_over_flat_base(double c) {
-  namespace dd = epuck2::diagnose::detail;
-  const std::vector<l::Log> logs{l::parse_log("distance_m,sensor,value\n0.02,0,4095\n", "p.csv", l::Kind::proximity)};
-  std::string why;
-  const std::unique_ptr<dd::Problem> p = dd::make_problem(logs, epuck2::diagnose::Options{}, why);
-  std::vector<double> values;
-  for (const auto& q : p->params) values.push_back(q.name == "a" || q.name == "b" ? 0.0 : q.name == "c" ? c : q.fallback);
-  for (const auto& e : p->effects)
-    if (e.cause == "long_tail") {
-      values[static_cast<std::size_t>(e.params.at(0))] = 8000.0;  // amplitude, counts
-      values[static_cast<std::size_t>(e.params.at(1))] = 1.0;     // length, m
-    }
-  const auto id = p->identify("long_tail", values, Eigen::MatrixXd());
-  if (!id) return std::nullopt;
-  return id->cause;
-}
-
 TEST(RoundFourIdentify, ATailOfExactlyHalfTheReadingExtendsTheCurve) {
-  EXPECT_EQ(tail_named_over_flat_base(0.5), std::nullopt);
-  EXPECT_EQ(tail_named_over_flat_base(0.4999), std::optional<std::string>("near_field_curve"));
+  EXPECT_EQ(tail_named("0.02,0,4095\n", 0.5), std::nullopt);
+  EXPECT_EQ(tail_named("0.02,0,4095\n", 0.4999), std::optional<std::string>("near_field_curve"));
 }
 
 // ----- the firmware cap's uncapped command: the wheels' mean -----
