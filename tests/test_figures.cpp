@@ -265,6 +265,17 @@ TEST_F(PaperFigures, AChargeMapSvgStaysSmallAndSaysItIsThinned) {
   EXPECT_NE(slurp(out).find("logged rows, 1 in 48"), std::string::npos);
 }
 
+// The light reference set as an SVG: 3656 readings (the shipped logs' data rows), at most about
+// 1200 drawn: 1 in ceil(3656 / 1200) = 4, stated on the axis; the SVG under 250 KB (450 KB when
+// every reading was drawn).
+TEST_F(PaperFigures, ALightSvgStaysSmallAndSaysItIsThinned) {
+  const fs::path svg = dir_ / "l.svg";
+  const CliRun r = run("light" + logs_of("light") + " --plot \"" + svg.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_LT(fs::file_size(svg), 250u * 1024u);
+  EXPECT_NE(slurp(svg).find("1 in 4 readings drawn"), std::string::npos);
+}
+
 // The drive reference set (19 runs, 1839 readings, each drawn in its speed's panel and again in
 // the encoders') as an SVG: at most 25 readings a run drawn, the SVG under 300 KB (0.54 MB when
 // every reading was drawn), the thinning stated; the PNG keeps every reading (no such entry).
