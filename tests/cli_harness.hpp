@@ -15,6 +15,8 @@
 #include <sstream>
 #include <string>
 
+#include "epuck2/logs/log.hpp"
+
 namespace epuck2::testing {
 
 namespace fs = std::filesystem;
@@ -66,6 +68,39 @@ class CliTest : public ::testing::Test {
     return args;
   }
   fs::path dir_;
+};
+
+/// A scratch folder for one test file's plain TEST()s (made on first use by mkdtemp under /tmp,
+/// named from `tag`), the files they write there, and `simulate --like` through the real binary.
+class Scratch {
+ public:
+  explicit Scratch(std::string tag) : tag_(std::move(tag)) {}
+  const std::string& dir() const {
+    if (dir_.empty()) {
+      std::string tmpl = "/tmp/" + tag_ + "_XXXXXX";
+      const char* d = mkdtemp(tmpl.data());
+      dir_ = d ? d : "/tmp";
+    }
+    return dir_;
+  }
+  std::string write(const std::string& name, const std::string& text) const {
+    const std::string path = dir() + "/" + name;
+    std::ofstream(path) << text;
+    return path;
+  }
+  /// Runs `epuck2-fit simulate KIND --like LOG [--coefficients FILE] -o OUT` and reads OUT back.
+  logs::Log simulate_like(const std::string& kind, const std::string& log, const std::string& coefficients) const {
+    const std::string out = dir() + "/" + kind + "_sim.csv";
+    const std::string cmd = std::string(EPUCK2_FIT_EXE) + " simulate " + kind + " --like " + log +
+                            (coefficients.empty() ? std::string() : " --coefficients " + coefficients) + " -o " + out + " 2>/dev/null";
+    const int rc = std::system(cmd.c_str());
+    EXPECT_EQ(rc, 0) << cmd;
+    return logs::read_log(out);
+  }
+
+ private:
+  std::string tag_;
+  mutable std::string dir_;
 };
 
 }  // namespace epuck2::testing

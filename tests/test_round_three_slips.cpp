@@ -23,6 +23,7 @@
 #include "epuck2/fit/report.hpp"
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
+#include "cli_harness.hpp"
 #include "epuck2/models/noise.hpp"
 
 namespace {
@@ -189,38 +190,15 @@ TEST(RoundThreeJackknife, ThreeFoldsGiveAJackknifeError) {
 
 // ----- simulate --like, through the real binary -----
 
-std::string temp_dir() {
-  static const std::string dir = [] {
-    char tmpl[] = "/tmp/round_three_slips_XXXXXX";
-    const char* d = mkdtemp(tmpl);
-    return std::string(d ? d : "/tmp");
-  }();
-  return dir;
-}
-
-std::string write_file(const std::string& name, const std::string& text) {
-  const std::string path = temp_dir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
-
-/// Runs `epuck2-fit simulate KIND --like LOG [--coefficients FILE] -o OUT` and reads OUT back.
-logs::Log simulate_like(const std::string& kind, const std::string& log, const std::string& coefficients) {
-  const std::string out = temp_dir() + "/" + kind + "_sim.csv";
-  const std::string cmd = std::string(EPUCK2_FIT_EXE) + " simulate " + kind + " --like " + log +
-                          (coefficients.empty() ? std::string() : " --coefficients " + coefficients) + " -o " + out + " 2>/dev/null";
-  const int rc = std::system(cmd.c_str());
-  EXPECT_EQ(rc, 0) << cmd;
-  return logs::read_log(out);
-}
+const epuck2::testing::Scratch kRoundThreeScratch{"round_three_slips"};
 
 TEST(RoundThreeSimulateLike, LightReadingByHandIntensityAndDistanceApart) {
   // docs/coefficient-files.md (light): the paper's Eq. 2, reading / 4095 = 1 - (gamma I / d)^2
   // within range_m. gamma 0.1 m, range 1 m: I = 0.5 at d = 0.2 m: ratio 0.25, 4095 x (1 - 1/16) =
   // 3839.0625; I = 0.2 at d = 0.5 m: ratio 0.04, 4095 x (1 - 0.0016) = 4088.448.
-  const std::string model = write_file("light.json", R"({"kind": "light", "parameters": {"gamma": 0.1, "range_m": 1.0}})");
-  const std::string log = write_file("light.csv", "distance_m,intensity,sensor,value\n0.2,0.5,0,0\n0.5,0.2,3,0\n");
-  const logs::Log sim = simulate_like("light", log, model);
+  const std::string model = kRoundThreeScratch.write("light.json", R"({"kind": "light", "parameters": {"gamma": 0.1, "range_m": 1.0}})");
+  const std::string log = kRoundThreeScratch.write("light.csv", "distance_m,intensity,sensor,value\n0.2,0.5,0,0\n0.5,0.2,3,0\n");
+  const logs::Log sim = kRoundThreeScratch.simulate_like("light", log, model);
   ASSERT_EQ(sim.rows(), 2u);
   EXPECT_NEAR(sim.col("value")[0], 3839.0625, 1e-9);
   EXPECT_NEAR(sim.col("value")[1], 4088.448, 1e-9);
@@ -230,9 +208,9 @@ TEST(RoundThreeSimulateLike, BatteryRunStartsFromTheFirstReading) {
   // docs/cli.md (simulate battery --like): from a full charge when the first reading is >= 0.9,
   // else from the first reading. A log from 0.6 down to 0.3: the simulated charge at the first
   // row (no time elapsed) is 0.6, and a discharge never rises.
-  const std::string log = write_file("battery.csv",
+  const std::string log = kRoundThreeScratch.write("battery.csv",
                                      "time_s,speed_cm_s,charge\n0,0,0.6\n600,0,0.5\n1200,0,0.4\n1800,0,0.3\n");
-  const logs::Log sim = simulate_like("battery", log, "");
+  const logs::Log sim = kRoundThreeScratch.simulate_like("battery", log, "");
   ASSERT_EQ(sim.rows(), 4u);
   EXPECT_NEAR(sim.col("charge")[0], 0.6, 1e-9);
   for (std::size_t i = 1; i < sim.rows(); ++i) EXPECT_LE(sim.col("charge")[i], sim.col("charge")[i - 1]);

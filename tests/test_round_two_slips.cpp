@@ -23,6 +23,7 @@
 #include "epuck2/fit/report.hpp"
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
+#include "cli_harness.hpp"
 #include "epuck2/models/effects.hpp"
 #include "epuck2/models/noise.hpp"
 // The diagnosis's problems (make_problem, Problem::identify) are the library's own, not in its
@@ -229,38 +230,15 @@ TEST(RoundTwoModelFile, ZeroIsRefusedWhereTheRangeIsOpenAtZero) {
 
 // ----- simulate --like, through the real binary -----
 
-std::string temp_dir_r2() {
-  static const std::string dir = [] {
-    char tmpl[] = "/tmp/round_two_slips_XXXXXX";
-    const char* d = mkdtemp(tmpl);
-    return std::string(d ? d : "/tmp");
-  }();
-  return dir;
-}
-
-std::string write_file_r2(const std::string& name, const std::string& text) {
-  const std::string path = temp_dir_r2() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
-
-/// Runs `epuck2-fit simulate KIND --like LOG --coefficients FILE -o OUT` and reads OUT back.
-logs::Log simulate_like_r2(const std::string& kind, const std::string& log, const std::string& coefficients) {
-  const std::string out = temp_dir_r2() + "/" + kind + "_sim.csv";
-  const std::string cmd = std::string(EPUCK2_FIT_EXE) + " simulate " + kind + " --like " + log + " --coefficients " + coefficients +
-                          " -o " + out + " 2>/dev/null";
-  const int rc = std::system(cmd.c_str());
-  EXPECT_EQ(rc, 0) << cmd;
-  return logs::read_log(out);
-}
+const epuck2::testing::Scratch kRoundTwoScratch{"round_two_slips"};
 
 TEST(RoundTwoSimulateLike, CameraRowAndColumnByHand) {
   // fov 90 deg: f = (160/2) / tan(45 deg) = 80 px; centre (70, 50). An LED at forward 1 m,
   // lateral 0.25 m, vertical 0.125 m: px = 70 - 80 x 0.25 = 50, py = 50 - 80 x 0.125 = 40.
-  const std::string model = write_file_r2(
+  const std::string model = kRoundTwoScratch.write(
       "camera.json", R"({"kind": "camera", "parameters": {"fov_deg": 90, "cx_px": 70, "cy_px": 50}})");
-  const std::string log = write_file_r2("camera.csv", "forward_m,lateral_m,vertical_m,px,py\n1,0.25,0.125,0,0\n1,-0.5,-0.25,0,0\n");
-  const logs::Log sim = simulate_like_r2("camera", log, model);
+  const std::string log = kRoundTwoScratch.write("camera.csv", "forward_m,lateral_m,vertical_m,px,py\n1,0.25,0.125,0,0\n1,-0.5,-0.25,0,0\n");
+  const logs::Log sim = kRoundTwoScratch.simulate_like("camera", log, model);
   ASSERT_EQ(sim.rows(), 2u);
   EXPECT_NEAR(sim.col("px")[0], 50.0, 1e-9);
   EXPECT_NEAR(sim.col("py")[0], 40.0, 1e-9);
@@ -272,11 +250,11 @@ TEST(RoundTwoSimulateLike, CameraRowAndColumnByHand) {
 TEST(RoundTwoSimulateLike, ProximityIncidenceAngleIsInDegrees) {
   // a = b = 0, c = 0.5: 4095 x 0.5 = 2047.5 counts within range_m facing the surface; with
   // incidence_angle k = 2 at 60 deg, times cos(60 deg)^2 = 1/4: 511.875.
-  const std::string model = write_file_r2(
+  const std::string model = kRoundTwoScratch.write(
       "proximity.json",
       R"({"kind": "proximity", "parameters": {"a": 0, "b": 0, "c": 0.5, "range_m": 0.1}, "effects": {"incidence_angle": {"k": 2}}})");
-  const std::string log = write_file_r2("proximity.csv", "distance_m,sensor,value,angle_deg\n0.05,0,0,0\n0.05,0,0,60\n0.05,3,0,-60\n");
-  const logs::Log sim = simulate_like_r2("proximity", log, model);
+  const std::string log = kRoundTwoScratch.write("proximity.csv", "distance_m,sensor,value,angle_deg\n0.05,0,0,0\n0.05,0,0,60\n0.05,3,0,-60\n");
+  const logs::Log sim = kRoundTwoScratch.simulate_like("proximity", log, model);
   ASSERT_EQ(sim.rows(), 3u);
   EXPECT_NEAR(sim.col("value")[0], 2047.5, 1e-9);
   EXPECT_NEAR(sim.col("value")[1], 511.875, 1e-9);
