@@ -348,7 +348,10 @@ def sh(cmd, **kw):
 
 def copy_source():
     """Copies the checkout (without build folders, .git and the fuzz corpus) into SRC, keeping
-    SRC/build and its objects."""
+    SRC/build and its objects. The copies get the time of the copy, not the checkout's: a source
+    older than an object of an earlier run (a mutant's restore touched that object later) would
+    otherwise look up to date to make and link stale code; the compiler cache (content-addressed)
+    makes the rebuild of unchanged sources cheap."""
     os.makedirs(SRC, exist_ok=True)
     for name in os.listdir(SRC):
         if name != "build":
@@ -360,10 +363,10 @@ def copy_source():
             continue
         p = os.path.join(ROOT, name)
         if os.path.isdir(p):
-            shutil.copytree(p, os.path.join(SRC, name), symlinks=True,
+            shutil.copytree(p, os.path.join(SRC, name), symlinks=True, copy_function=shutil.copy,
                             ignore=lambda d, names: ["corpus"] if d.endswith("/fuzz") else [])
         else:
-            shutil.copy2(p, os.path.join(SRC, name))
+            shutil.copy(p, os.path.join(SRC, name))
 
 
 def configure():
