@@ -27,7 +27,10 @@
 # (significant digits of the battery charge, default 6), EPUCK2_ARGOS_SAMPLES (readings per
 # condition for proximity, ground and light; default: the experiment's), EPUCK2_ARGOS_FIRMWARE_CAP
 # (true|false, default true: the calibrated wheels capped at the e-puck2 firmware's 1100 steps/s;
-# false for logs of a robot without it, e.g. the project's generated logs).
+# false for logs of a robot without it, e.g. the project's generated logs), EPUCK2_ARGOS_ITERATIONS
+# (dynamics2d's physics steps per tick, a whole number; default: the experiment's, 10; the battery's
+# bit-exactness test uses 1: robots spinning in place need no finer steps, and ARGoS's time is
+# almost all in them).
 # Needs ARGoS 3, the E-Puck2 ARGoS plug-in and the project's plug-in built (scripts/build.sh --argos: build/lib/argos3).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -87,6 +90,11 @@ if [ -n "$LIKE" ]; then
 fi
 if [ "${EPUCK2_ARGOS_FIRMWARE_CAP:-true}" = false ]; then
   sed -i -e 's|<differential_steering implementation="calibrated"|<differential_steering implementation="calibrated" firmware_cap="false"|' "$EXP"
+fi
+if [ -n "${EPUCK2_ARGOS_ITERATIONS:-}" ]; then
+  case "$EPUCK2_ARGOS_ITERATIONS" in ''|*[!0-9]*) echo "argos-record: EPUCK2_ARGOS_ITERATIONS must be a whole number above 0" >&2; exit 2;; esac
+  [ "$((10#$EPUCK2_ARGOS_ITERATIONS))" -gt 0 ] || { echo "argos-record: EPUCK2_ARGOS_ITERATIONS must be a whole number above 0" >&2; exit 2; }
+  sed -i -e "s|<dynamics2d id=\"dyn2d\"[^/]*/>|<dynamics2d id=\"dyn2d\" iterations=\"$EPUCK2_ARGOS_ITERATIONS\" />|" "$EXP"
 fi
 if [ -n "${EPUCK2_ARGOS_SAMPLES:-}" ]; then
   case "$EPUCK2_ARGOS_SAMPLES" in ''|*[!0-9]*) echo "argos-record: EPUCK2_ARGOS_SAMPLES must be a whole number" >&2; exit 2;; esac

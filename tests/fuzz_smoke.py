@@ -240,6 +240,7 @@ class Smoke:
         self.runs = 0
         self.codes = {0: 0, 1: 0, 2: 0}
         self.compiled_headers = 0
+        self.pchs = {}  # a header's #include lines -> its precompiled preamble (preamble_pch)
 
     # Base inputs: the first HEAD_LINES lines of the shipped logs.
     def shipped(self, kind):
@@ -357,13 +358,43 @@ class Smoke:
         tu = os.path.join(os.path.dirname(header), "tu.cpp")
         with open(tu, "w") as f:
             f.write('#include "epuck2/fitted/coefficients.hpp"\nint main() { return 0; }\n')
-        c = subprocess.run([self.cxx, "-std=c++17", "-fsyntax-only", "-I", inc,
-                            "-I", os.path.join(self.src, "lib", "models", "include"), tu],
+        pch = self.preamble_pch(read(header))
+        c = subprocess.run([self.cxx, "-std=c++17", "-fsyntax-only"] + (["-include", pch] if pch else []) +
+                           ["-I", inc, "-I", os.path.join(self.src, "lib", "models", "include"), tu],
                            capture_output=True, timeout=120)
         self.compiled_headers += 1
         if c.returncode != 0:
             self.fail(case, cmd, "codegen wrote a header that does not compile", 0,
                       c.stderr.decode("utf-8", "replace"), [])
+
+    def preamble_pch(self, text):
+        """A precompiled header of the header's own #include lines, when nothing but comments,
+        blank lines and `#pragma once` comes before them: the header then compiles exactly as
+        alone (its includes are already parsed, in the same order, with the same flags, and its own
+        #include lines find them guarded), in ~0.15 s of CPU instead of ~0.5 s (lib/models' headers
+        parsed again for each of the ~19 headers). None (compile without) otherwise, or when the
+        compiler cannot build one."""
+        includes = []
+        for line in text.decode("utf-8", "replace").split("\n"):
+            stripped = line.strip()
+            if stripped.startswith("#include"):
+                includes.append(stripped)
+            elif stripped and not stripped.startswith("//") and stripped != "#pragma once":
+                break
+        if not includes:
+            return None
+        key = tuple(includes)
+        if key not in self.pchs:
+            d = os.path.join(self.work, "pch%d" % len(self.pchs))
+            os.makedirs(d)
+            pre = os.path.join(d, "preamble.hpp")
+            with open(pre, "w") as f:
+                f.write("\n".join(includes) + "\n")
+            c = subprocess.run([self.cxx, "-std=c++17", "-x", "c++-header",
+                                "-I", os.path.join(self.src, "lib", "models", "include"), pre, "-o", pre + ".gch"],
+                               capture_output=True, timeout=120)
+            self.pchs[key] = pre if c.returncode == 0 else None
+        return self.pchs[key]
 
     # ----- the cases ---------------------------------------------------------------------------
     def fixed_cases(self, bases, fitted):

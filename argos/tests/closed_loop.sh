@@ -61,6 +61,9 @@ export EPUCK2_ARGOS_FIRMWARE_CAP=false
 # The battery generator discharges by the corrected Cubic (tests/diagnose_generators.hpp): the
 # calibrated battery replays with that model and behaviour; `default` is the plug-in's own Cubic.
 export EPUCK2_BATTERY_MODEL=cubic EPUCK2_BATTERY_BEHAVIOUR=corrected
+# The battery's replay spins one robot in place: one dynamics2d step per tick, as the other battery
+# tests (the ten steps were 3/4 of the test's CPU; the three MSEs the same to 4 digits).
+if [ "$KIND" = battery ]; then export EPUCK2_ARGOS_ITERATIONS=1; fi
 run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/diagnosis.json" "$WORK/argos_diagnosis.csv" --like "$WORK/full.csv"
 run "$ROOT/scripts/argos-record.sh" "$KIND" "$WORK/calibration.json" "$WORK/argos_calibration.csv" --like "$WORK/full.csv"
 run "$ROOT/scripts/argos-record.sh" "$KIND" default "$WORK/argos_default.csv" --like "$WORK/full.csv"
