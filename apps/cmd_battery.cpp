@@ -86,6 +86,7 @@ int run_battery(const BatteryOptions& o) {
   for (const std::string& path : {o.plot, o.plot_lifetime, o.plot_charge_map})
     if (!path.empty()) std::cerr << "battery: drew " << path << '\n';
   print_figure_warnings("battery");
+  if (logs::is_standard_output(o.output)) return 0;  // -o -: the file is standard output, alone
   if (o.json) {
     std::cout << text;
   } else {

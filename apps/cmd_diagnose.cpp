@@ -147,6 +147,7 @@ int run_diagnose(const DiagnoseOptions& o) {
   if (!output.empty()) std::cerr << "diagnose: wrote " << output << '\n';
   if (!figure.empty()) std::cerr << "diagnose: drew " << figure << '\n';
   print_figure_warnings("diagnose");
+  if (logs::is_standard_output(output)) return 0;  // -o -: the JSON report is standard output, alone
   if (o.json) std::cout << text;
   else std::fputs(diagnose::report_text(r, base_model_name(o.coefficients)).c_str(), stdout);
   return 0;

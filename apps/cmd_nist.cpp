@@ -97,6 +97,7 @@ int run_nist(const NistOptions& o) {
     logs::write_file_atomically(o.out, text);
     std::cerr << "nist: wrote " << o.out << '\n';
   }
+  if (logs::is_standard_output(o.out)) return 0;  // -o -: the JSON report is standard output, alone
   if (o.json) {
     std::cout << text;
     return 0;

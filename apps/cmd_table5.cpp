@@ -59,6 +59,7 @@ int run_table5(const Table5Options& o) {
     write_json(j, o.output);
     std::cerr << "table5: wrote " << o.output << '\n';
   }
+  if (logs::is_standard_output(o.output)) return 0;  // -o -: the JSON report is standard output, alone
   if (o.json) {
     std::cout << text;
     return 0;
