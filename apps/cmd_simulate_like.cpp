@@ -96,7 +96,7 @@ int run_like(const LikeOptions& o) {
   for (std::size_t i = 0; i < simulated.size(); ++i)
     if (simulated[i].empty() && unseen++ == 0) first_unseen = i;
   if (unseen > 0 && unseen == simulated.size())
-    throw logs::InputError(o.like, log.line_of_row[first_unseen], 0,
+    throw logs::InputError(o.like, log.line_of_row[first_unseen], log.column_of(first_unseen, replaced.front()),
                            "the model sees none of this log's " + std::to_string(unseen) +
                                " rows (each LED's image falls off the camera's image" +
                                (o.coefficients.empty() ? std::string() : " with " + o.coefficients) +
@@ -110,7 +110,7 @@ int run_like(const LikeOptions& o) {
   for (std::size_t i = 0; i < simulated.size(); ++i)
     for (std::size_t c = 0; c < simulated[i].size(); ++c)
       if (!std::isfinite(simulated[i][c]))
-        throw logs::InputError(o.like, log.line_of_row[i], 0,
+        throw logs::InputError(o.like, log.line_of_row[i], log.column_of(i, replaced[c]),
                                "the simulated " + replaced[c] + " is " + logs::format_number(simulated[i][c]) +
                                    " (the model overflows on this row's conditions" +
                                    (o.coefficients.empty() ? std::string() : " with " + o.coefficients) + "); nothing was written");
