@@ -97,8 +97,8 @@ int run_like(const LikeOptions& o) {
     if (simulated[i].empty() && unseen++ == 0) first_unseen = i;
   if (unseen > 0 && unseen == simulated.size())
     throw logs::InputError(o.like, log.line_of_row[first_unseen], log.column_of(first_unseen, replaced.front()),
-                           "the model sees none of this log's " + std::to_string(unseen) +
-                               " rows (each LED's image falls off the camera's image" +
+                           "the model sees no row of this log (" + std::to_string(unseen) + " of " + std::to_string(unseen) +
+                               " left out: each LED's image falls off the camera's image" +
                                (o.coefficients.empty() ? std::string() : " with " + o.coefficients) +
                                "); nothing was written");
   if (unseen > 0)
