@@ -112,14 +112,7 @@ void write_json(logs::OutputStage& stage, const nlohmann::json& j, const std::st
   stage.write(path, json_text(j));
 }
 
-void write_json(const nlohmann::json& j, const std::string& path) {
-  const std::string text = json_text(j);
-  if (path == "-") {
-    std::cout << text;
-    return;
-  }
-  logs::write_file_atomically(path, text);
-}
+void write_json(const nlohmann::json& j, const std::string& path) { logs::write_file_atomically(path, json_text(j)); }
 
 void write_output(const std::string& text, const std::string& path) {
   if (path.empty()) {
@@ -261,8 +254,13 @@ void print_figure_warnings(const std::string& command) {
 
 std::string why_not_writable(const std::string& path, bool folder_allowed) {
   namespace fs = std::filesystem;
-  if (path.empty() || path == "-") return std::string();
+  if (path.empty()) return std::string();
   const std::string shown = "'" + logs::escape_control(path) + "'";
+  // Standard output, a descriptor, a device or a FIFO: written in place, never renamed over.
+  if (logs::output_target(path).way != logs::OutputWay::replace) {
+    const std::string why = logs::why_not_writable_in_place(path);
+    return why.empty() ? std::string() : shown + ": " + why;
+  }
   std::error_code ec;
   fs::path target(path);
   if (fs::is_symlink(target, ec)) target = fs::weakly_canonical(target, ec);  // the file it names is replaced

@@ -21,7 +21,8 @@ namespace epuck2::app {
 std::string json_text(const nlohmann::json& j);
 /// Stages `j` for `path` in `stage` (in place once the run commits).
 void write_json(logs::OutputStage& stage, const nlohmann::json& j, const std::string& path);
-/// Writes `j` to `path` on its own, atomically; "-" means standard output.
+/// Writes `j` to `path` on its own, atomically (`-`, a device or a FIFO: in place, checked;
+/// logs::output_target()).
 void write_json(const nlohmann::json& j, const std::string& path);
 /// A result that is text (the CSVs of `simulate`): to standard output when `path` is empty, else
 /// to `path` atomically (a temporary file in its folder, then a rename).
@@ -85,7 +86,9 @@ CLI::Validator figure_file();
 /// A CLI11 check for a file the run will write (-o, --plot, ...), made when the options are read,
 /// before any work: the folder it goes into exists, is a folder and is writable, and the path is
 /// not itself a folder (unless `folder_allowed`: diagnose's old `--plot DIR`). Otherwise exit 2 at
-/// once, naming the path and what is wrong. "-" (standard output) passes; a symlink is followed.
+/// once, naming the path and what is wrong. A symlink is followed. A target written in place
+/// (`-` and /dev/stdout: standard output; /dev/fd/N; an existing device or FIFO): the descriptor
+/// open for writing, the special file writable and no socket (logs::why_not_writable_in_place).
 CLI::Validator output_file(bool folder_allowed = false);
 /// Each warning the run's figures left (a page too short for their panels: plot::check_panel_height),
 /// on standard error as "COMMAND: warning: FIGURE: ...".

@@ -86,6 +86,7 @@ int run_battery(const BatteryOptions& o) {
   for (const std::string& path : {o.plot, o.plot_lifetime, o.plot_charge_map})
     if (!path.empty()) std::cerr << "battery: drew " << path << '\n';
   print_figure_warnings("battery");
+  if (logs::is_standard_output(o.output)) return 0;  // -o -: the file is standard output, alone
   if (o.json) {
     std::cout << text;
   } else {
@@ -101,7 +102,7 @@ void setup_battery(CLI::App& app, Action& action) {
   CLI::App* sub = app.add_subcommand("battery", "Fit the four discharge models (simple, linear, cubic, approximated) per speed");
   sub->add_option("logs", o->logs, "Battery discharge logs (CSV, docs/logs.md#battery)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o->json, "Print one JSON object instead of the report");
-  sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically")->type_name("FILE")->check(output_file());
+  sub->add_option("-o,--output", o->output, "Write the coefficient file (JSON), atomically (-: to standard output, in place of the report)")->type_name("FILE")->check(output_file());
   sub->add_option("--plot", o->plot, "Draw the logs and the four fitted models per speed to FILE (.png, .svg or .pdf, by the extension)")
       ->type_name("FILE")
       ->check(figure_file())

@@ -227,7 +227,7 @@ void setup_codegen(CLI::App& app, Action& action) {
   auto o = std::make_shared<CodegenOptions>();
   CLI::App* sub = app.add_subcommand("codegen", "Write the C++ header of fitted coefficients compiled into lib/models");
   sub->add_option("files", o->inputs, "Coefficient files (JSON) written by the fitting subcommands")->required()->check(CLI::ExistingFile);
-  sub->add_option("-o,--output", o->output, "The header to write (atomically)")->type_name("FILE")->required()->check(output_file());
+  sub->add_option("-o,--output", o->output, "The header to write (atomically; -: to standard output)")->type_name("FILE")->required()->check(output_file());
   sub->callback([o, &action] { action = [o] { return run_codegen(*o); }; });
 }
 

@@ -147,6 +147,7 @@ int run_diagnose(const DiagnoseOptions& o) {
   if (!output.empty()) std::cerr << "diagnose: wrote " << output << '\n';
   if (!figure.empty()) std::cerr << "diagnose: drew " << figure << '\n';
   print_figure_warnings("diagnose");
+  if (logs::is_standard_output(output)) return 0;  // -o -: the JSON report is standard output, alone
   if (o.json) std::cout << text;
   else std::fputs(diagnose::report_text(r, base_model_name(o.coefficients)).c_str(), stdout);
   return 0;
@@ -162,7 +163,7 @@ void setup_diagnose(CLI::App& app, Action& action) {
   sub->add_flag("--json", o->json,
                 "Print the JSON report instead of the human one (the old spellings --json FILE.json and "
                 "--json - still work: the first is -o FILE.json)");
-  sub->add_option("-o,--output", o->output, "Write the JSON report to FILE, atomically")->type_name("FILE")->check(output_file());
+  sub->add_option("-o,--output", o->output, "Write the JSON report to FILE, atomically (-: to standard output, in place of the human report)")->type_name("FILE")->check(output_file());
   sub->add_option("--json-file", o->json_file)->group("")->check(output_file());  // what main.cpp makes of the old --json FILE.json
   sub->add_option("--plot", o->plot,
                   "Draw the residuals before and after the findings, one panel per measured quantity, to FILE "

@@ -97,6 +97,7 @@ int run_nist(const NistOptions& o) {
     logs::write_file_atomically(o.out, text);
     std::cerr << "nist: wrote " << o.out << '\n';
   }
+  if (logs::is_standard_output(o.out)) return 0;  // -o -: the JSON report is standard output, alone
   if (o.json) {
     std::cout << text;
     return 0;
@@ -116,7 +117,7 @@ void setup_nist(CLI::App& app, Action& action) {
   CLI::App* sub = app.add_subcommand("nist", "Fit the NIST StRD nonlinear regression problems and report digits against the certified values");
   sub->add_option("dir", opts->dir, "Folder holding the StRD .dat files (tests/data/nist)")->required()->check(CLI::ExistingDirectory);
   sub->add_flag("--json", opts->json, "Print one JSON object instead of the table");
-  sub->add_option("-o,--output", opts->out, "Also write the JSON report to FILE, atomically")->type_name("FILE")->check(output_file());
+  sub->add_option("-o,--output", opts->out, "Also write the JSON report to FILE, atomically (-: to standard output, in place of the table)")->type_name("FILE")->check(output_file());
   // The spelling published first (docs/cli.md: -o, --out FILE), kept working but not listed.
   sub->add_option("--out", opts->out)->group("")->check(output_file());
   sub->callback([opts, &action] { action = [opts] { return run_nist(*opts); }; });

@@ -88,12 +88,29 @@ int run_like(const LikeOptions& o) {
   const auto simulated = simulate(o, log, normal);
   const auto& readings = facts_of(log.kind).readings;
   const std::vector<std::string> replaced(readings.begin(), readings.end());
+  // A row the sensor does not report (a camera LED whose image falls off the image, which ARGoS
+  // drops too) is left out and said: the log format has no "not seen", and a reading off the image
+  // is one the log reader refuses.
+  std::size_t unseen = 0;
+  std::size_t first_unseen = 0;
+  for (std::size_t i = 0; i < simulated.size(); ++i)
+    if (simulated[i].empty() && unseen++ == 0) first_unseen = i;
+  if (unseen > 0 && unseen == simulated.size())
+    throw logs::InputError(o.like, log.line_of_row[first_unseen], log.column_of(first_unseen, replaced.front()),
+                           "the model sees no row of this log (" + std::to_string(unseen) + " of " + std::to_string(unseen) +
+                               " left out: each LED's image falls off the camera's image" +
+                               (o.coefficients.empty() ? std::string() : " with " + o.coefficients) +
+                               "); nothing was written");
+  if (unseen > 0)
+    std::cerr << "simulate: " << unseen << " of " << simulated.size() << " rows left out: the model does not see them "
+              << "(the LED's image falls off the camera's image, where ARGoS reports no blob); the first at "
+              << logs::escape_control(o.like) << ':' << log.line_of_row[first_unseen] << '\n';
   // A NaN or infinite reading is never written: the row's conditions (which the log reader's ranges
   // should have refused) or the model's coefficients overflow the model there.
   for (std::size_t i = 0; i < simulated.size(); ++i)
     for (std::size_t c = 0; c < simulated[i].size(); ++c)
       if (!std::isfinite(simulated[i][c]))
-        throw logs::InputError(o.like, log.line_of_row[i], 0,
+        throw logs::InputError(o.like, log.line_of_row[i], log.column_of(i, replaced[c]),
                                "the simulated " + replaced[c] + " is " + logs::format_number(simulated[i][c]) +
                                    " (the model overflows on this row's conditions" +
                                    (o.coefficients.empty() ? std::string() : " with " + o.coefficients) + "); nothing was written");
@@ -119,6 +136,7 @@ int run_like(const LikeOptions& o) {
     if (k != "seed") w.metadata(k, v);
   if (o.noise) w.metadata("seed", std::to_string(o.seed));
   for (std::size_t i = 0; i < log.rows(); ++i) {
+    if (simulated[i].empty()) continue;  // not seen (above)
     std::vector<double> row;
     for (const auto& c : columns) {
       const auto at = std::find(replaced.begin(), replaced.end(), c);

@@ -59,6 +59,7 @@ int run_table5(const Table5Options& o) {
     write_json(j, o.output);
     std::cerr << "table5: wrote " << o.output << '\n';
   }
+  if (logs::is_standard_output(o.output)) return 0;  // -o -: the JSON report is standard output, alone
   if (o.json) {
     std::cout << text;
     return 0;
@@ -74,7 +75,7 @@ void setup_table5(CLI::App& app, Action& action) {
   CLI::App* sub = app.add_subcommand("table5", "Reproduce the paper's Table 5 (average MSE per discharge model) for these logs");
   sub->add_option("logs", o->logs, "Battery discharge logs covering speeds 0..15 cm/s")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o->json, "Print one JSON object instead of the table");
-  sub->add_option("-o,--output", o->output, "Also write the JSON report to this file (atomically)")->type_name("FILE")->check(output_file());
+  sub->add_option("-o,--output", o->output, "Also write the JSON report to this file (atomically; -: to standard output, in place of the table)")->type_name("FILE")->check(output_file());
   // As simulate's --dt: 1 ms to 10 s (the plug-in ticks at 0.1 s).
   sub->add_option("--dt", o->dt_s, "Simulation tick in seconds")->capture_default_str()->check(finite_range(1e-3, 10.0));
   add_charge_map_option(sub, o->charge_map);

@@ -13,7 +13,7 @@ namespace epuck2::app::sensors {
 void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what) {
   sub->add_option("logs", o.logs, what + " logs (CSV, docs/logs.md)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o.json, "Print one JSON object instead of the report");
-  sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically")->type_name("FILE")->check(output_file());
+  sub->add_option("-o,--output", o.output, "Write the coefficient file (JSON), atomically (-: to standard output, in place of the report)")->type_name("FILE")->check(output_file());
   sub->add_option("--plot", o.plot,
                   "Draw the data, the fitted curve and the plug-in's curve to FILE (.png, .svg or .pdf, by the extension)")
       ->type_name("FILE")

@@ -73,7 +73,8 @@ void require_fitting(const fit::RobustFit& r, const std::string& what, const Sen
                      std::vector<std::string>& warnings);
 
 /// The outputs all or nothing: -o and the plot staged, renamed into place only when both were
-/// written; then the JSON or the report on standard output. `plot(stage, path)` stages the figure.
+/// written; then the JSON or the report on standard output (none when -o is standard output).
+/// `plot(stage, path)` stages the figure.
 template <class Report, class Plot>
 int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json& j, Report report, Plot plot) {
   logs::OutputStage stage;
@@ -85,6 +86,7 @@ int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json
   if (!o.output.empty()) std::cerr << kind << ": wrote " << o.output << '\n';
   if (!o.plot.empty()) std::cerr << kind << ": drew " << o.plot << '\n';
   print_figure_warnings(kind);
+  if (logs::is_standard_output(o.output)) return 0;  // -o -: the file is standard output, alone
   if (o.json) {
     std::cout << text;
   } else {

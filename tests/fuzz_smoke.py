@@ -2,9 +2,10 @@
 """Mutation smoke test of the epuck2-fit command line (CTest: fuzz_smoke).
 
 Runs every subcommand (battery, table5, proximity, light, ground, camera, drive, diagnose,
-simulate, codegen) on a few hundred inputs derived from the shipped logs, coefficient files and
-diagnosis files (simulate KIND --like with mutated logs or model files, codegen of diagnosis
-files, diagnose --coefficients, battery --charge-map) by
+simulate, codegen, generate, nist) on a few hundred inputs derived from the shipped logs,
+coefficient files, diagnosis files and NIST StRD data files (simulate KIND --like with mutated logs
+or model files, codegen of diagnosis files, diagnose --coefficients, battery --charge-map, nist on
+a mutated .dat file, generate with a bad --seed or an --out-dir that cannot be a folder) by
 seeded mutations (byte flips, truncations, duplicated and deleted lines, huge / NaN / inf numbers,
 CR-only line ends, NUL and ESC bytes, tiny logs) and on out-of-range numeric options, and checks
 the command line's contract. A fixed set of cases runs first whatever the seed (tiny logs and
@@ -12,15 +13,17 @@ repeated times of every kind through its fit and diagnose, every numeric option 
 domain, infinite numbers in the coefficient files codegen reads); then --cases random ones.
 
   * no signal and no hang: the exit code is 0, 1 or 2;
-  * every exit 2 names the bad input: FILE:LINE:COLUMN of the mutated file, or the option (or,
-    for a coefficient file, the entry: FILE: speeds[3].lifetime_s; for an empty file, FILE);
+  * every exit 2 names the bad input: FILE:LINE:COLUMN of the mutated file (a log, a JSON
+    file, a .dat file: the line and the column, always), or the option;
   * a coefficient file written (exit 0) holds no NaN, and no null unless its object says why
     (a key containing "reason");
   * on failure (exit 1 or 2) the -o output is untouched: it is created beforehand with known
     bytes and compared afterwards;
   * a header written by `codegen` compiles (c++ -fsyntax-only against lib/models);
   * a log written by `simulate` holds no NaN or infinity;
-  * every subcommand whose standard output fails (/dev/full) exits 2 saying "standard output".
+  * generate writes logs without a NaN or an infinity, and a refused generate creates no folder;
+  * every subcommand whose standard output fails (/dev/full) exits 2 saying "standard output",
+    `-o -` (the file on standard output) included.
 
 Usage: fuzz_smoke.py --exe build/bin/epuck2-fit --source . [--cases 300] [--seed 1]
 Exit status 0 when every case holds, 1 otherwise; each violation is listed with the command and
@@ -295,18 +298,10 @@ class Smoke:
         self.codes[rc] += 1
         if rc == 2:
             names = [re.escape(m) for m in mutated]
-            # FILE:LINE:COLUMN, or FILE:LINE: for what concerns a whole line (no data rows after
-            # the header line).
-            where = re.search(r"(?:%s):\d+:(?:\d+:)? " % "|".join(names), err) if names else None
+            # FILE:LINE:COLUMN, whatever the input (a log, a JSON file, a .dat file): an error
+            # that names only the file, an entry or a line cannot be found in a long file.
+            where = re.search(r"(?:%s):\d+:\d+: " % "|".join(names), err) if names else None
             opt = option and option in err
-            # Two other ways to name the place: a coefficient file's entry (JSON path such as
-            # speeds[3].segments[3]), and the file alone when it is empty (no line to name).
-            if not where and names:
-                entry = re.search(r"(?:%s): [A-Za-z_]\w*(?:\[\d+\])?(?:\.\w+(?:\[\d+\])?)*:? " % "|".join(names), err)
-                where = entry and any(m.endswith(".json") for m in mutated)
-                empty = any(os.path.exists(os.path.join(self.case_dir(case), m)) and
-                            os.path.getsize(os.path.join(self.case_dir(case), m)) == 0 for m in mutated)
-                where = where or (empty and re.search(r"(?:%s): " % "|".join(names), err))
             if not where and not opt:
                 self.fail(case, cmd, "exit 2 without FILE:LINE:COLUMN of %s%s" % (
                     " or ".join(mutated) or "-", (" or the option " + option) if option else ""), rc, err, mutated)
@@ -332,6 +327,7 @@ class Smoke:
                 bad = NON_FINITE_CELL_RE.search(body)
                 if bad:
                     self.fail(case, cmd, "simulated log written with a non-finite value %r" % bad.group(0), rc, err, mutated)
+        return rc
 
     def run_full_stdout(self, case, args):
         """ARGS with standard output on /dev/full: exit 2 and "standard output: ..." on stderr."""
@@ -461,8 +457,10 @@ class Smoke:
         battery = [self.write6(case, "t5_" + os.path.basename(p), self.head(p, 40))
                    for p in bases["battery"] if "robot-a" in p]
         profile = self.write6(case, "profile.csv", b"time_s,speed_cm_s\n0,7\n60,3\n")
-        commands = [["--help"], ["help", "diagnose"], ["battery", logs["battery"], "--json"], ["table5"] + battery,
-                    ["diagnose", "--json", logs["ground"]], ["simulate", "battery", "--model", "cubic", "--profile", profile],
+        commands = [["--help"], ["--version"], ["help", "diagnose"], ["battery", logs["battery"], "--json"], ["table5"] + battery,
+                    ["diagnose", "--json", logs["ground"]], ["diagnose", logs["ground"]],
+                    ["codegen", fitted["ground"], "-o", "-"], ["ground", logs["ground"], "-o", "-"],
+                    ["simulate", "battery", "--model", "cubic", "--profile", profile],
                     ["simulate", "battery", "--like", logs["battery"]],
                     ["nist", os.path.join(self.src, "tests", "data", "nist"), "--json"]]
         commands += [[k, logs[k], "--json"] for k in SENSOR_COMMANDS]
@@ -486,7 +484,7 @@ class Smoke:
         self.fixed_cases(bases, fitted)
         diagnoses = {k: os.path.join(self.src, "data", "fitted", "reports", "diagnose_%s.json" % k) for k in KINDS}
         kinds_cycle = (["battery", "table5", "diagnose", "simulate", "codegen", "options"] + SENSOR_COMMANDS +
-                       ["simulate_like", "codegen_diagnoses", "diagnose_coefficients", "charge_map"])
+                       ["simulate_like", "codegen_diagnoses", "diagnose_coefficients", "charge_map", "nist", "generate"])
         for case in range(cases):
             what = kinds_cycle[case % len(kinds_cycle)]
             out_json = os.path.join(self.work, "case%04d" % case, "out.json")
@@ -574,6 +572,10 @@ class Smoke:
                 self.run(case, ["diagnose", "--coefficients", coeff, "--json", out_json, log], [name], output=out_json)
             elif what == "charge_map":
                 self.charge_map_case(case, rng, bases, fitted, out_json)
+            elif what == "nist":
+                self.nist_case(case, rng, out_json)
+            elif what == "generate":
+                self.generate_case(case, rng)
             else:
                 self.option_case(case, rng, bases, out_json)
 
@@ -629,6 +631,54 @@ class Smoke:
         cmap = self.write(case, map_name, data)
         self.run(case, ["battery"] + logs + ["--charge-map", cmap, "-o", out_json], names, output=out_json,
                  json_output=True)
+
+    # Small StRD problems (a few dozen observations each): a run of two takes well under a second.
+    NIST_SMALL = ["Misra1a.dat", "Chwirut2.dat", "DanWood.dat", "BoxBOD.dat", "Rat42.dat", "MGH09.dat"]
+
+    def nist_case(self, case, rng, out_json):
+        """nist on a folder of two StRD files, one mutated (its name kept: it names the problem)."""
+        d = os.path.join(self.case_dir(case), "nist")
+        os.makedirs(d, exist_ok=True)
+        victim, other = rng.sample(self.NIST_SMALL, 2)
+        data, how = mutate(rng, read(os.path.join(self.src, "tests", "data", "nist", victim)))
+        with open(os.path.join(d, victim), "wb") as f:
+            f.write(data)
+        shutil.copy(os.path.join(self.src, "tests", "data", "nist", other), os.path.join(d, other))
+        self.run(case, ["nist", d, "-o", out_json], [victim], output=out_json, json_output=True)
+
+    def generate_case(self, case, rng):
+        """generate: a bad --seed or an --out-dir that cannot be a folder (exit 2 naming the option,
+        no folder created), or a seeded run whose logs must hold no NaN or infinity."""
+        d = self.case_dir(case)
+        os.makedirs(d, exist_ok=True)
+        kind = rng.choice(KINDS)
+        choice = rng.randrange(3)
+        if choice == 0:
+            out = os.path.join(d, "gen")
+            bad = rng.choice(["-1", "abc", "1e3", "1.5", "", "99999999999999999999", "nan", " 7"])
+            rc = self.run(case, ["generate", kind, "--out-dir", out, "--seed", bad], [], option="--seed")
+            if rc is not None and rc != 2:
+                self.fail(case, ["generate", kind, "--seed", bad], "a bad --seed was not refused", rc, "", [])
+            if os.path.exists(out):
+                self.fail(case, ["generate", kind, "--seed", bad], "a refused generate created its folder", 2, "", [])
+        elif choice == 1:
+            blocker = os.path.join(d, "a_file")
+            with open(blocker, "wb") as f:
+                f.write(SENTINEL)
+            out = rng.choice([blocker, os.path.join(blocker, "sub"), os.path.join(blocker, "sub", "deeper")])
+            rc = self.run(case, ["generate", kind, "--out-dir", out], [], option="--out-dir")
+            if rc is not None and rc != 2:
+                self.fail(case, ["generate", kind, "--out-dir", out], "an --out-dir that cannot be a folder was not refused", rc, "", [])
+            if read(blocker) != SENTINEL:
+                self.fail(case, ["generate", kind, "--out-dir", out], "a refused generate changed the file in its way", 2, "", [])
+        else:
+            out = os.path.join(d, "gen")
+            cmd = ["generate", kind, "--out-dir", out, "--seed", str(rng.randrange(2 ** 64))]
+            self.run(case, cmd, [])
+            for name in sorted(os.listdir(out)) if os.path.isdir(out) else []:
+                bad = NON_FINITE_CELL_RE.search(read(os.path.join(out, name)))
+                if bad:
+                    self.fail(case, cmd, "generate wrote %s with a non-finite value %r" % (name, bad.group(0)), 0, "", [])
 
     def option_case(self, case, rng, bases, out_json):
         """A numeric option out of its domain: exit 2 naming the option, output untouched."""

@@ -747,7 +747,8 @@ class CCalibratedCameraLEDs : public CPositionalIndex<CLEDEntity>::COperation {
     const auto p = ms::mean_px(m_sModel, cRel.GetX(), cRel.GetY(), cRel.GetZ());
     const double fX = std::round(p[0] + ms::uniform_noise(m_cNoise.unit(0), m_cNoise.level(0)));
     const double fY = std::round(p[1] + ms::uniform_noise(m_cNoise.unit(1), m_cNoise.level(1)));
-    if (fX < 0 || fY < 0 || fX >= m_cCam.GetImagePxWidth() || fY >= m_cCam.GetImagePxHeight()) return true;
+    /* Off the image: no blob (lib/models' camera_image_holds, which simulate --like applies too) */
+    if (!ms::camera_image_holds(fX, fY, m_cCam.GetImagePxWidth(), m_cCam.GetImagePxHeight())) return true;
     m_tBlobs.push_back(new CCI_ColoredBlobPerspectiveCameraSensor::SBlob(c_led.GetColor(), static_cast<SInt32>(fX),
                                                                          static_cast<SInt32>(fY)));
     return true;

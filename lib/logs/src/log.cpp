@@ -51,12 +51,12 @@ Range raw_reading(Kind kind) {
 // Physical ranges of the columns (docs/logs.md). A value outside is rejected (tof_mm also takes the
 // out-of-range code, see kTofOutOfRangeCode_mm).
 std::optional<Range> range_of(Kind kind, const std::string& column) {
-  if (column == "time_s") return Range{0.0, 1e9, "a time >= 0 s"};
-  if (column == "distance_m" && kind != Kind::light) return Range{0.0, 1e3, "a distance >= 0 m"};
+  if (column == "time_s") return Range{0.0, 1e9, "a time in [0, 1e9] s"};
+  if (column == "distance_m" && kind != Kind::light) return Range{0.0, 1e3, "a distance in [0, 1000] m"};
   switch (kind) {
     case Kind::battery:
-      if (column == "speed_cm_s") return Range{-1e3, 1e3, "a speed in cm/s"};
-      if (column == "charge") return Range{-1.0, 1.05, "a normalised charge <= 1.05 (and >= -1)"};
+      if (column == "speed_cm_s") return Range{-1e3, 1e3, "a speed in [-1000, 1000] cm/s"};
+      if (column == "charge") return Range{-1.0, 1.05, "a normalised charge in [-1, 1.05]"};
       if (column == "voltage_v") return Range{0.0, 10.0, "a voltage in [0, 10] V"};
       break;
     case Kind::proximity:
@@ -69,7 +69,7 @@ std::optional<Range> range_of(Kind kind, const std::string& column) {
       if (column == "distance_m") return Range{1e-3, 1e3, "a distance from the light source in [0.001, 1000] m"};
       if (column == "sensor") return sensor_index(kind);
       if (column == "value") return raw_reading(kind);
-      if (column == "intensity") return Range{0, 1e6, "an intensity >= 0"};
+      if (column == "intensity") return Range{0, 1e6, "an intensity in [0, 1e6]"};
       break;
     case Kind::ground:
       if (column == "sensor") return sensor_index(kind);
@@ -77,7 +77,7 @@ std::optional<Range> range_of(Kind kind, const std::string& column) {
       if (column == "grey") return Range{0, 1, "a grey level in [0, 1]"};
       break;
     case Kind::camera:
-      if (column == "forward_m") return Range{1e-12, 1e3, "a forward distance > 0 m"};
+      if (column == "forward_m") return Range{1e-12, 1e3, "a forward distance in (0, 1000] m"};
       // An LED beyond a kilometre is no camera observation; the projection f y/x stays finite.
       if (column == "lateral_m") return Range{-1e3, 1e3, "a lateral position in [-1000, 1000] m"};
       if (column == "vertical_m") return Range{-1e3, 1e3, "a vertical position in [-1000, 1000] m"};
@@ -94,7 +94,7 @@ std::optional<Range> range_of(Kind kind, const std::string& column) {
                          std::to_string(static_cast<int>(kTofOutOfRangeCode_mm)) + " (no target in range)"};
       }
       if (column == "left_speed_cm_s" || column == "right_speed_cm_s")
-        return Range{-1e3, 1e3, "a speed in cm/s"};
+        return Range{-1e3, 1e3, "a speed in [-1000, 1000] cm/s"};
       break;
   }
   return std::nullopt;

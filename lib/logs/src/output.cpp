@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
@@ -43,7 +44,8 @@ extern "C" void remove_temporaries_and_reraise(int sig) {
 }
 
 void install_handlers() {
-  for (int sig : {SIGINT, SIGTERM}) {
+  // SIGPIPE too: an output written in place to a FIFO or a pipe whose reader went away.
+  for (int sig : {SIGINT, SIGTERM, SIGPIPE}) {
     struct sigaction old {};
     if (::sigaction(sig, nullptr, &old) != 0) continue;
     // An ignored signal (nohup, a background job) stays ignored; a handler someone else installed
@@ -93,6 +95,55 @@ fs::path resolve_target(const fs::path& given) {
 }
 
 fs::path folder_of(const fs::path& p) { return p.has_parent_path() ? p.parent_path() : fs::path("."); }
+
+/// N when `text` is a descriptor number (digits only, at most 9), else -1.
+int descriptor_number(const std::string& text) {
+  if (text.empty() || text.size() > 9 || text.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::stoi(text);
+}
+
+/// The name of a target in messages: "standard output" for descriptor 1, else the path given.
+std::string shown_target(const std::string& path, int descriptor) {
+  return descriptor == STDOUT_FILENO ? "standard output" : path;
+}
+
+/// Writes every byte of `content` to `fd`; false (errno set) on the first failure.
+bool write_all(int fd, const std::string& content) {
+  const char* p = content.data();
+  std::size_t left = content.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (n == 0) errno = EIO;
+      return false;
+    }
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+/// The whole content of the file `path` (a reserved temporary, filled by its writer).
+std::string read_whole(const std::string& path, const std::string& what) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error(what + ": cannot read the temporary file " + path + ": " + std::strerror(errno));
+  std::string out;
+  char buf[65536];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int e = errno;
+      ::close(fd);
+      throw std::runtime_error(what + ": cannot read the temporary file " + path + ": " + std::strerror(e));
+    }
+    if (n == 0) break;
+    out.append(buf, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
+  return out;
+}
 
 /// Removes `.NAME.epuck2-tmp.PID` files in `dir` left by processes that no longer run.
 void sweep_stale(const fs::path& dir, const std::string& name) {
@@ -145,6 +196,47 @@ void create_temporary(const fs::path& tmp, const fs::path& resolved, const std::
 }
 }  // namespace
 
+OutputTarget output_target(const std::string& path) {
+  OutputTarget t;
+  int fd = -1;
+  if (path == "-" || path == "/dev/stdout") fd = STDOUT_FILENO;
+  else if (path == "/dev/stderr") fd = STDERR_FILENO;
+  else if (path.rfind("/dev/fd/", 0) == 0) fd = descriptor_number(path.substr(8));
+  else if (path.rfind("/proc/self/fd/", 0) == 0) fd = descriptor_number(path.substr(14));
+  if (fd >= 0) {
+    t.way = OutputWay::descriptor;
+    t.descriptor = fd;
+    return t;
+  }
+  struct stat st {};
+  if (!path.empty() && ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
+    t.way = OutputWay::in_place;
+  return t;
+}
+
+bool is_standard_output(const std::string& path) {
+  const OutputTarget t = output_target(path);
+  return t.way == OutputWay::descriptor && t.descriptor == STDOUT_FILENO;
+}
+
+std::string why_not_writable_in_place(const std::string& path) {
+  const OutputTarget t = output_target(path);
+  if (t.way == OutputWay::descriptor) {
+    const int flags = ::fcntl(t.descriptor, F_GETFL);
+    const std::string which = t.descriptor == STDOUT_FILENO ? std::string("standard output")
+                                                            : "file descriptor " + std::to_string(t.descriptor);
+    if (flags == -1) return which + " is not open";
+    if ((flags & O_ACCMODE) == O_RDONLY) return which + " is open for reading only";
+    return std::string();
+  }
+  if (t.way != OutputWay::in_place) return std::string();
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && S_ISSOCK(st.st_mode))
+    return "is a socket, which cannot be opened as a file (give a file, a FIFO or a device)";
+  if (::access(path.c_str(), W_OK) != 0) return std::string("cannot be written to: ") + std::strerror(errno);
+  return std::string();
+}
+
 std::string temporary_name_for(const std::string& target, long pid) {
   const fs::path t(target);
   return (folder_of(t) / ("." + t.filename().string() + kTag + std::to_string(pid))).string();
@@ -154,6 +246,24 @@ OutputStage::~OutputStage() { discard(); }
 
 OutputStage::Entry& OutputStage::stage(const std::string& path) {
   if (path.empty()) throw std::runtime_error("an output file name is empty");
+  const OutputTarget way = output_target(path);
+  if (way.way != OutputWay::replace) {
+    // Written in place at commit: a device, a FIFO or a descriptor is never renamed over.
+    const std::string why = why_not_writable_in_place(path);
+    if (!why.empty()) throw std::runtime_error(path + ": " + why);
+    Entry e;
+    e.target = path;
+    e.in_place = true;
+    e.descriptor = way.descriptor;
+    std::error_code ec;
+    e.resolved = e.descriptor >= 0 ? "/dev/fd/" + std::to_string(e.descriptor) : fs::canonical(path, ec).string();
+    if (ec) e.resolved = path;
+    for (const Entry& other : entries_)
+      if (other.resolved == e.resolved)
+        throw std::runtime_error(path + ": given for two outputs of the same run (" + other.target + ")");
+    entries_.push_back(e);
+    return entries_.back();
+  }
   const fs::path resolved = resolve_target(fs::path(path));
   const fs::path dir = folder_of(resolved);
   std::error_code ec;
@@ -175,6 +285,10 @@ OutputStage::Entry& OutputStage::stage(const std::string& path) {
 
 void OutputStage::write(const std::string& path, const std::string& content) {
   Entry& e = stage(path);
+  if (e.in_place) {
+    e.content = content;
+    return;
+  }
   try {
     create_temporary(e.temporary, e.resolved, content, path);
   } catch (...) {
@@ -186,8 +300,19 @@ void OutputStage::write(const std::string& path, const std::string& content) {
 
 std::string OutputStage::reserve(const std::string& path) {
   Entry& e = stage(path);
+  if (e.in_place) {
+    // The writer fills a temporary of the temporary folder (the target's folder may be /dev or
+    // /proc/self/fd); commit() copies it into the target.
+    static std::atomic<int> reserved{0};
+    std::error_code ec;
+    const fs::path folder = fs::temp_directory_path(ec);
+    e.temporary = ((ec ? fs::path("/tmp") : folder) / (".epuck2-in-place." + std::to_string(::getpid()) + "." +
+                                                       std::to_string(++reserved)))
+                      .string();
+    e.slot = register_temporary(e.temporary);
+  }
   try {
-    create_temporary(e.temporary, e.resolved, std::string(), path);
+    create_temporary(e.temporary, e.in_place ? fs::path(e.temporary) : fs::path(e.resolved), std::string(), path);
   } catch (...) {
     unregister_temporary(e.slot);
     entries_.pop_back();
@@ -196,9 +321,44 @@ std::string OutputStage::reserve(const std::string& path) {
   return e.temporary;
 }
 
+void OutputStage::write_in_place(const Entry& e) const {
+  const std::string shown = shown_target(e.target, e.descriptor);
+  const std::string content = e.temporary.empty() ? e.content : read_whole(e.temporary, e.target);
+  int fd = e.descriptor;
+  if (fd < 0) {
+    // No O_CREAT, no O_TRUNC: the special file is written as it is (a FIFO waits for a reader).
+    fd = ::open(e.target.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0) throw std::runtime_error(shown + ": cannot open it for writing: " + std::strerror(errno));
+  } else if (fd == STDOUT_FILENO) {
+    std::fflush(stdout);  // what the run printed before keeps its place
+  }
+  if (!write_all(fd, content)) {
+    const int err = errno;
+    if (e.descriptor < 0) ::close(fd);
+    throw std::runtime_error(shown + ": " + std::strerror(err));
+  }
+  if (e.descriptor < 0 && ::close(fd) != 0) throw std::runtime_error(shown + ": " + std::strerror(errno));
+}
+
 void OutputStage::commit() {
+  // First the targets written in place: a full device or a closed pipe fails before any file is
+  // replaced.
+  for (Entry& e : entries_) {
+    if (!e.in_place) continue;
+    try {
+      write_in_place(e);
+    } catch (...) {
+      discard();
+      throw;
+    }
+  }
   for (std::size_t i = 0; i < entries_.size(); ++i) {
     Entry& e = entries_[i];
+    if (e.in_place) {
+      if (!e.temporary.empty()) ::unlink(e.temporary.c_str());
+      unregister_temporary(e.slot);
+      continue;
+    }
     if (::rename(e.temporary.c_str(), e.resolved.c_str()) != 0) {
       const std::string why = std::strerror(errno);
       const std::string target = e.target;
@@ -214,7 +374,7 @@ void OutputStage::commit() {
 
 void OutputStage::discard() {
   for (const Entry& e : entries_) {
-    ::unlink(e.temporary.c_str());
+    if (!e.temporary.empty()) ::unlink(e.temporary.c_str());
     unregister_temporary(e.slot);
   }
   entries_.clear();

@@ -18,7 +18,11 @@ namespace epuck2::logs {
 /// same target.
 ///
 /// Targets: a symlink is followed (the link stays, the file it points to is replaced); a replaced
-/// file keeps its permission bits; a new file gets 0666 minus the umask.
+/// file keeps its permission bits; a new file gets 0666 minus the umask. A target that is not a
+/// regular file is never renamed over (output_target()): an existing device, FIFO or other special
+/// file, and an open file descriptor (`-`, /dev/stdout, /dev/fd/N), are written in place at
+/// commit(), before any rename, and every write is checked (a full device, a closed pipe: commit()
+/// throws and replaces nothing).
 class OutputStage {
  public:
   OutputStage() = default;
@@ -32,8 +36,10 @@ class OutputStage {
   /// Reserves (creates empty) the temporary file of `path` for a writer of its own (gnuplot) and
   /// returns its name; the writer fills it before commit(). Throws std::runtime_error.
   std::string reserve(const std::string& path);
-  /// Renames every staged file onto its target, in the order staged. Throws std::runtime_error
-  /// (and removes the temporaries not yet renamed) when a rename fails.
+  /// Writes the targets written in place (checked, in the order staged), then renames every other
+  /// staged file onto its target, in the order staged. Throws std::runtime_error (and removes the
+  /// temporaries not yet renamed) when a write or a rename fails; a failed write in place replaces
+  /// nothing.
   void commit();
   /// Removes every staged temporary; the targets are left as they were.
   void discard();
@@ -46,10 +52,33 @@ class OutputStage {
     std::string resolved;   ///< the file that is replaced (symlinks followed)
     std::string temporary;
     int slot = -1;          ///< in the signal handler's table
+    bool in_place = false;  ///< written in place at commit() (output_target()), never renamed over
+    int descriptor = -1;    ///< in place: the open descriptor written (-1: the target is opened)
+    std::string content;    ///< in place, from write(): the bytes (reserve(): the temporary holds them)
   };
+  void write_in_place(const Entry& e) const;
   Entry& stage(const std::string& path);
   std::vector<Entry> entries_;
 };
+
+/// How an output path is written. `replace`: a regular file or a new one (a temporary beside it,
+/// then a rename). `in_place`: an existing file that is not a regular file or a folder (a device
+/// such as /dev/null, a FIFO, a socket): opened at commit (a FIFO waits for its reader) and
+/// written, never replaced. `descriptor`: an open file descriptor of this process, written as it
+/// is (its offset and append mode kept): `-` and /dev/stdout are 1, /dev/stderr 2, /dev/fd/N and
+/// /proc/self/fd/N are N.
+enum class OutputWay { replace, in_place, descriptor };
+struct OutputTarget {
+  OutputWay way = OutputWay::replace;
+  int descriptor = -1;  ///< OutputWay::descriptor: its number
+};
+OutputTarget output_target(const std::string& path);
+/// True when `path` names standard output (`-`, /dev/stdout, /dev/fd/1, /proc/self/fd/1).
+bool is_standard_output(const std::string& path);
+/// For a target written in place (output_target()): why it cannot be written, checked without
+/// writing or opening ("" when it can): a descriptor that is not open or is open for reading only,
+/// a socket, a special file without write permission. "" for a target that is replaced.
+std::string why_not_writable_in_place(const std::string& path);
 
 /// The temporary file name a stage uses for `target` in this process: `.NAME.epuck2-tmp.PID` in
 /// the target's folder.

@@ -85,6 +85,17 @@ inline bool camera_sees(double aperture_rad, double range_m, double forward_m, d
   return std::acos(forward_m / norm) < aperture_rad && forward_m < range_m;
 }
 
+/// Whether the camera reports an LED whose image falls at (px, py) (sub-pixel, noise included):
+/// the position rounded to a pixel must lie in the image, columns 0..W-1 and rows 0..H-1; a blob
+/// off the image is dropped (the project's ARGoS camera, argos/src/calibrated_sensors.cpp; the log
+/// format has no "not seen": a log lists only the LEDs the camera reported, docs/logs.md). A
+/// position that is not finite is left to the caller to refuse (true here).
+inline bool camera_image_holds(double px, double py, int width_px = kCameraWidth_px, int height_px = kCameraHeight_px) {
+  if (!std::isfinite(px) || !std::isfinite(py)) return true;
+  const double x = std::round(px), y = std::round(py);
+  return x >= 0.0 && y >= 0.0 && x <= width_px - 1.0 && y <= height_px - 1.0;
+}
+
 /// The paper's Table 4 method: the horizontal field of view from one point at the image's edge
 /// seen at a known geometry. An object at `forward` whose image lies `offset_px` from the centre
 /// column and `lateral` from the axis gives tan(alpha/2) = (lateral/forward) (W/2)/offset_px.

@@ -146,8 +146,8 @@ inline std::array<double, 2> mean_px(const CameraModel& m, double forward_m, dou
                     vertical_m, &p[0], &p[1], m.distortion);
   return p;
 }
-/// The reported pixel: rounded, with the noise, not clamped (an LED beyond the image edge has a
-/// position outside it in the logs too). `covariate_px`: the covariate effects' sum on the row
+/// The reported pixel: rounded, with the noise, not clamped (whether an LED beyond the image edge
+/// is seen at all is camera_image_holds's). `covariate_px`: the covariate effects' sum on the row
 /// (covariate_offset), added to both axes as the diagnosis fits it.
 template <class Normal>
 std::array<int, 2> reading(const CameraModel& m, double forward_m, double lateral_m, double vertical_m, Normal& normal,

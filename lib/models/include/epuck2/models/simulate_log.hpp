@@ -5,6 +5,8 @@
 // (kind_facts.hpp: KindFacts::readings). One overload per model type (kinds.hpp): a caller that
 // serves every kind holds the model in a variant and visits it, never switching on the kind.
 //
+// A row whose reading the sensor does not report (a camera LED off the image) gets an empty vector.
+//
 // `log` is any table with has(column), col(column) (the column's values, one a row), rows() and
 // metadata_number(key) (a logs::Log); the columns the kind's conditions need are there (the log
 // reader's checks). `covariate[i]`: the model's covariate effects' sum on row i
@@ -82,7 +84,10 @@ std::vector<std::vector<double>> simulated_readings(const GroundModel& m, const 
 }
 
 /// camera: the image position (px, py) of the LED at the row's position in the camera frame; the
-/// covariate effects move both axes.
+/// covariate effects move both axes. An LED whose image falls off the image (camera_image_holds:
+/// rounded, outside 0..W-1 x 0..H-1) is not seen, as in ARGoS: its row gets no reading (an empty
+/// vector; a camera log lists only the LEDs seen). Without noise a position seen is clamped to the
+/// image's edge pixels (-0.4 or 159.3 is reported as 0 or 159, as the rounding does).
 template <class Log, class Normal>
 std::vector<std::vector<double>> simulated_readings(const CameraModel& m, const Log& log, const std::vector<double>& covariate,
                                                     bool noise, Normal& normal) {
@@ -98,6 +103,12 @@ std::vector<std::vector<double>> simulated_readings(const CameraModel& m, const 
     } else {
       const auto p = mean_px(m, f[i], l[i], v[i]);
       out[i] = {p[0] + covariate[i], p[1] + covariate[i]};
+    }
+    if (!camera_image_holds(out[i][0], out[i][1], m.base.width_px, m.base.height_px)) {
+      out[i].clear();
+    } else if (!noise && std::isfinite(out[i][0]) && std::isfinite(out[i][1])) {
+      out[i][0] = std::clamp(out[i][0], 0.0, m.base.width_px - 1.0);
+      out[i][1] = std::clamp(out[i][1], 0.0, m.base.height_px - 1.0);
     }
   }
   return out;
