@@ -518,9 +518,17 @@ json readable(json j, const Read& read) {
   return j;
 }
 
-/// A value the camera's calibration holds fixed: `key` in its range (when present).
+// The camera's range: positive, at most 10 m, ten times the plug-in's 1 m (models/camera.hpp
+// kCameraRange_m; paper 4.1.6), beyond which an LED is far below a pixel of a 160 px image.
+constexpr double kCameraMaxRange_m = 10.0;
+
+/// What the camera's calibration holds fixed or derives (range_m, width_px, height_px,
+/// aperture_deg), each checked when present.
 void camera_extras(const Doc& d, const s::CameraModel& m) {
   std::string at;
+  if (d.find("parameters", "range_m", at) && !(m.base.range_m > 0 && m.base.range_m <= kCameraMaxRange_m))
+    d.fail(at, "parameters.range_m = " + number_text(m.base.range_m) + " is outside its physical range " +
+                   range_text(0, kCameraMaxRange_m, true, false, "m"));
   if (const json* v = d.find("parameters", "width_px", at); v && d.number(*v, at, "parameters.width_px") != s::kCameraWidth_px)
     d.fail(at, "parameters.width_px = " + v->dump() + " is not the E-Puck2 camera's image width, " + std::to_string(s::kCameraWidth_px) +
                    " px (the model's image; cx_px is checked against it)");
