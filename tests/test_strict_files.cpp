@@ -162,7 +162,7 @@ TEST(StrictFiles, UnknownKeysAreRefusedWithTheClosestKnownOne) {
       {"camera", "/parameters/fov_degs", 30.0, "did you mean 'fov_deg'?"},
       {"light", "/per_sensor/0/gama", 0.07, "unknown key 'gama' in per_sensor[0]"},
       {"battery", "/speeds/2/lifetime_S", 100.0, "unknown key 'lifetime_S' in speeds[2]"},
-      {"battery", "/simple/static_slope", -1e-4, "did you mean 'static_std_error'?"},
+      {"battery", "/simple/static_slope_per_S", -1e-4, "did you mean 'static_slope_per_s'?"},
   };
   for (const Case& c : cases) {
     json j = strict_shipped(c.kind);

@@ -67,8 +67,9 @@ void known_keys(const json& o, const std::vector<std::string>& known, const std:
   if (!o.is_object()) fail_at(path, pointer, where + " must be an object");
   for (auto it = o.begin(); it != o.end(); ++it) {
     if (std::find(known.begin(), known.end(), it.key()) != known.end()) continue;
+    // "did you mean" as the model reader's: within 2 edits, or a third of the key's length.
     std::string best;
-    std::size_t best_d = 3;
+    std::size_t best_d = std::max<std::size_t>(2, it.key().size() / 3) + 1;
     for (const std::string& k : known)
       if (const std::size_t d = logs::edit_distance(it.key(), k); d < best_d) {
         best_d = d;

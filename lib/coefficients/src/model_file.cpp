@@ -715,12 +715,39 @@ s::CameraModel camera_model_from_json(const json& j, const std::string& path, co
   });
 }
 
+/// A number of degrees that a reader turns back into exactly `rad` (deg_to_rad is a rounded
+/// product, so rad_to_deg(rad) may read back an ulp off): rad_to_deg(rad) when it does, else the
+/// nearest within 8 ulps that does; false when none does.
+bool exact_degrees(double rad, double& deg) {
+  deg = s::rad_to_deg(rad);
+  if (s::deg_to_rad(deg) == rad) return true;
+  for (int k = 1; k <= 8; ++k)
+    for (const double toward : {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}) {
+      double x = deg;
+      for (int i = 0; i < k; ++i) x = std::nextafter(x, toward);
+      if (s::deg_to_rad(x) == rad) {
+        deg = x;
+        return true;
+      }
+    }
+  return false;
+}
+
+/// The field of view written so that what is read back writes the same text again: the degrees
+/// that read back to `rad` exactly, or, for radians no number of degrees gives, those of the
+/// nearest radians one does (the model read back then differs from `rad` by an ulp).
+double degrees_that_read_back(double rad) {
+  double deg;
+  if (exact_degrees(rad, deg) || exact_degrees(s::deg_to_rad(s::rad_to_deg(rad)), deg)) return deg;
+  return s::rad_to_deg(rad);
+}
+
 json model_to_json(const s::CameraModel& m) {
   if (m.base.width_px != s::kCameraWidth_px || m.base.height_px != s::kCameraHeight_px)
     throw std::domain_error("cannot write a camera model of a " + std::to_string(m.base.width_px) + "x" + std::to_string(m.base.height_px) +
                             " px image: a coefficient file's camera is the E-Puck2's, " + std::to_string(s::kCameraWidth_px) + "x" +
                             std::to_string(s::kCameraHeight_px) + " px");
-  json parameters = {{"fov_deg", s::rad_to_deg(m.base.horizontal_fov_rad)}, {"cx_px", m.base.cx_px}, {"cy_px", m.base.cy_px}};
+  json parameters = {{"fov_deg", degrees_that_read_back(m.base.horizontal_fov_rad)}, {"cx_px", m.base.cx_px}, {"cy_px", m.base.cy_px}};
   if (m.base.range_m != s::kCameraRange_m) parameters["range_m"] = m.base.range_m;  // the plug-in's 1 m when absent
   json j = with_common("camera", parameters, m);
   j["noise"] = {{"camera", noise_json({m.noise_sd_px}, "px")}};
