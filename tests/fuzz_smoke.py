@@ -293,19 +293,19 @@ class Smoke:
             return
         self.codes[rc] += 1
         if rc == 2:
-            names = [re.escape(m) for m in mutated if not m.endswith(".json")]
-            json_names = [re.escape(m) for m in mutated if m.endswith(".json")]
-            # FILE:LINE:COLUMN, or FILE:LINE: for what concerns a whole line of a log (no data rows
-            # after the header line). A JSON file (a coefficient file, a diagnosis, a charge map)
-            # is always FILE:LINE:COLUMN: its reader locates every error, the JSON path beside it.
+            names = [re.escape(m) for m in mutated]
+            # FILE:LINE:COLUMN, or FILE:LINE: for what concerns a whole line (no data rows after
+            # the header line).
             where = re.search(r"(?:%s):\d+:(?:\d+:)? " % "|".join(names), err) if names else None
-            where = where or (re.search(r"(?:%s):\d+:\d+: " % "|".join(json_names), err) if json_names else None)
             opt = option and option in err
-            # One other way to name the place: a log file alone when it is empty (no line to name).
+            # Two other ways to name the place: a coefficient file's entry (JSON path such as
+            # speeds[3].segments[3]), and the file alone when it is empty (no line to name).
             if not where and names:
+                entry = re.search(r"(?:%s): [A-Za-z_]\w*(?:\[\d+\])?(?:\.\w+(?:\[\d+\])?)*:? " % "|".join(names), err)
+                where = entry and any(m.endswith(".json") for m in mutated)
                 empty = any(os.path.exists(os.path.join(self.case_dir(case), m)) and
                             os.path.getsize(os.path.join(self.case_dir(case), m)) == 0 for m in mutated)
-                where = empty and re.search(r"(?:%s): " % "|".join(names), err)
+                where = where or (empty and re.search(r"(?:%s): " % "|".join(names), err))
             if not where and not opt:
                 self.fail(case, cmd, "exit 2 without FILE:LINE:COLUMN of %s%s" % (
                     " or ".join(mutated) or "-", (" or the option " + option) if option else ""), rc, err, mutated)
