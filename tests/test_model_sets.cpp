@@ -47,9 +47,9 @@ std::string at_sets(const std::string& path, const std::string& text, const std:
 
 std::string speed_row(int v, double life) {
   return R"({"speed_cm_s":)" + std::to_string(v) + R"(,"lifetime_s":)" + std::to_string(life) +
-         R"(,"cubic":[-1e-3,2e-3,-3e-3,1],"linear_slope":-1e-4,"segments":[)"
-         R"({"h":1,"m":-1e-4,"x1_s":0,"x2_s":10,"y1":1,"y2":0.9},{"h":1,"m":-1e-4,"x1_s":10,"x2_s":20,"y1":0.9,"y2":0.8},)"
-         R"({"h":1,"m":-1e-4,"x1_s":20,"x2_s":30,"y1":0.8,"y2":0.7},{"h":1,"m":-1e-4,"x1_s":30,"x2_s":40,"y1":0.7,"y2":0.6}]})";
+         R"(,"cubic":[0.98,-1e-4,2e-9,-1e-13],"linear_slope":-1e-4,"segments":[)"
+         R"({"h":1,"m":-1e-2,"x1_s":0,"x2_s":10,"y1":1,"y2":0.9},{"h":1,"m":-1e-2,"x1_s":10,"x2_s":20,"y1":0.9,"y2":0.8},)"
+         R"({"h":1,"m":-1e-2,"x1_s":20,"x2_s":30,"y1":0.8,"y2":0.7},{"h":1,"m":-1e-2,"x1_s":30,"x2_s":40,"y1":0.7,"y2":0.6}]})";
 }
 
 // A battery file with 2 of the 16 speeds: its tables there, the plug-in's published ones at the
@@ -62,7 +62,7 @@ TEST(PartialBatteryTables, TheFilesSpeedsAndThePluginsElsewhere) {
   EXPECT_FALSE(src.fitted_simple);
   EXPECT_EQ(t.lifetime_s[5], 7000.0);
   EXPECT_EQ(t.lifetime_s[10], 5000.0);
-  EXPECT_EQ(t.cubic[5].a, 1.0);
+  EXPECT_EQ(t.cubic[5].a, -1e-13);
   EXPECT_EQ(t.segments[10][3].y2, 0.6);
   const mb::Tables& plugin = mb::plugin_tables();
   EXPECT_EQ(t.lifetime_s[6], plugin.lifetime_s[6]);

@@ -69,6 +69,16 @@ struct SCommon {
   }
 };
 
+/// Whether the file gives `parameters.KEY` (in the robot's set or at the top level), the value
+/// itself read and checked by the shared reader.
+bool HasParameter(const SCommon& s, const std::string& str_key) {
+  auto has = [&](const nlohmann::json& c_set) {
+    return c_set.is_object() && c_set.contains("parameters") && c_set.at("parameters").is_object() &&
+           c_set.at("parameters").contains(str_key);
+  };
+  return has(*s.Root) || (!s.Robot.empty() && has(s.Root->at("robots").at(s.Robot)));
+}
+
 SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor, const CEntity& c_component) {
   SCommon s;
   s.Sensor = str_sensor;
@@ -707,13 +717,10 @@ void CEPuck2CalibratedCameraSensor::Init(TConfigurationNode& t_tree) {
        on the image diagonal) and the range, as the plug-in's camera */
     m_fAperture = ms::aperture_from_horizontal_fov_rad(m_sModel.base.horizontal_fov_rad, static_cast<int>(fW),
                                                        static_cast<int>(fH));
-    m_fRange = m_pcCamEntity->GetRange();
-    if (s.Root->contains("parameters") && s.Root->at("parameters").is_object() && s.Root->at("parameters").contains("range_m")) {
-      const nlohmann::json& v = s.Root->at("parameters").at("range_m");
-      if (!v.is_number() || !(v.get<double>() > 0) || !std::isfinite(v.get<double>()))
-        s.Fail("/parameters/range_m", "parameters.range_m must be a positive, finite distance in m (found " + v.dump() + ")");
-      m_fRange = v.get<double>();
-    }
+    /* The file's range_m (read and checked by the shared reader, the robot's set first) where
+       the file has one, else the camera entity's */
+    const bool bFileRange = HasParameter(s, "range_m");
+    m_fRange = bFileRange ? m_sModel.base.range_m : m_pcCamEntity->GetRange();
     m_pcCamEntity->SetAperture(CRadians(m_fAperture));
     m_pcCamEntity->SetRange(m_fRange);
     m_pcCamEntity->SetImagePxSize(static_cast<SInt32>(fW), static_cast<SInt32>(fH));

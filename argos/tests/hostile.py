@@ -4,7 +4,9 @@
 For each calibrated sensor (proximity, light, ground, camera, ToF, encoders), the wheel actuator
 and the battery: a file with a parameter at 0, negative or 1e308, a noise sd of 1e308, the
 camera's field of view at 0 and 360 deg and its image centre at 1e300, battery lifetimes of 0
-and -100, a literal 1e999, and an unknown effect name. Each must stop ARGoS at Init with a
+and -100, a literal 1e999, and an unknown effect name; a misspelt section or parameter, an effect
+in a robot's set, a negative camera range, a negative per-sensor light gamma, a battery table
+that rises and a lifetime of 1e308. Each must stop ARGoS at Init with a
 message naming the file, the line:column of the offending value and the reason.
 
 The expected line:column come from the text this script writes, not from the plug-in: the value
@@ -67,6 +69,16 @@ CASES.append(("proximity_incidence_k_negative", "proximity", ["effects", "incide
 CASES.append(("light_covariate", "light", ["effects", "covariate:temperature_c"], '{"slope": 2, "centre": 25}',
               "it needs the log column 'temperature_c', which ARGoS does not have"))
 
+# Nothing dropped in silence (issue #22 item 2): a misspelt section, a misspelt parameter, an effect
+# in a robot's set (None: the file's first robot), and what only ARGoS used to check.
+CASES += [("proximity_misspelt_section", "proximity", ["efects"], '{"incidence_angle": {"k": 1}}', "did you mean 'effects'?"),
+          ("tof_misspelt_parameter", "tof", ["parameters", "tof_scael"], "0.98", "did you mean 'tof_scale'?"),
+          ("ground_robot_set_effect", "ground", ["robots", None, "effects"], '{"warp_drive": {}}', "unknown key 'effects'"),
+          ("camera_range_negative", "camera", ["parameters", "range_m"], "-1", RANGE),
+          ("light_per_sensor_gamma_negative", "light", ["per_sensor", 0, "gamma"], "-1", RANGE),
+          ("battery_segments_rise", "battery", ["speeds", 3, "segments", 1, "y2"], "0.9", "a charge does not rise"),
+          ("battery_lifetime_1e308", "battery", ["speeds", 3, "lifetime_s"], "1e308", RANGE)]
+
 
 def hostile_file(part, path, literal, out):
     """Writes the part's shipped file with `literal` at `path`; returns (line, column) of it."""
@@ -77,6 +89,8 @@ def hostile_file(part, path, literal, out):
         d["noise"][path[1]].pop("per_sensor_sd", None)  # the reader takes sd for every sensor
     if part == "battery" and path[0] == "effects":
         d["effects"] = {}
+    if path[0] == "robots" and path[1] is None:
+        path = ["robots", next(iter(d["robots"]))] + path[2:]
     node = d
     for k in path[:-1]:
         node = node.setdefault(k, {}) if isinstance(k, str) else node[k]

@@ -3,6 +3,7 @@
 // checked against the kind's facts (kind_facts.hpp).
 #include "epuck2/coefficients/model_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -40,6 +41,84 @@ std::string range_text(double lo, double hi, bool open_lo, bool open_hi, const s
          (unit.empty() || unit == "1" ? "" : " " + unit);
 }
 
+/// "; did you mean 'BEST'?" when a known key is close to `key` (an edit distance of at most 2, or a
+/// third of its length), else "".
+std::string did_you_mean(const std::string& key, const std::vector<std::string>& known) {
+  std::string best;
+  std::size_t best_d = std::numeric_limits<std::size_t>::max();
+  for (const std::string& k : known) {
+    const std::size_t d = logs::edit_distance(key, k);
+    if (d < best_d) {
+      best_d = d;
+      best = k;
+    }
+  }
+  return !best.empty() && best_d <= std::max<std::size_t>(2, key.size() / 3) ? "; did you mean '" + best + "'?" : "";
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+bool contains(const std::vector<std::string>& names, const std::string& key) {
+  return std::find(names.begin(), names.end(), key) != names.end();
+}
+
+// The sections a reader reads (docs/coefficient-files.md, "What the readers read").
+const std::vector<std::string> kReadSections{"kind", "parameters", "effects", "noise", "robots"};
+const std::vector<std::string> kBatterySections{"battery_model", "speeds", "simple"};
+
+// Keys a coefficient file holds for people and other tools, never read into a model
+// (docs/coefficient-files.md, "Informational keys"): what the calibrations (lib/calibrate
+// report_json.cpp, *_report.cpp, battery_json.cpp, apps/cmd_battery.cpp) and the diagnosis
+// (lib/diagnose report_output.cpp, extended_model.cpp) write beside the model. Any other key is
+// refused: a misspelt section ("efects") is an error, never a section silently skipped.
+const std::vector<std::string>& informational_sections() {
+  static const std::vector<std::string> keys{
+      // every calibration
+      "sources", "std_errors", "std_errors_corrected", "std_error_why", "fits", "statistics_conventions", "correlations",
+      "censored", "outliers", "lack_of_fit", "rounded", "left_out", "warnings", "robot_spread", "units", "unit_notes", "mse",
+      "observations", "reference_mse", "not_identifiable", "readings",
+      // proximity, ground, camera, drive calibrations
+      "mean_mse", "censored_readings", "points", "range_fit", "mse_per_sensor", "observations_per_sensor", "model", "table4",
+      "steps_mse", "steps_observations", "tof_out_of_range_codes", "capped_rows", "over_limit_runs", "firmware_cap",
+      // battery calibration
+      "models", "complete_tables", "speeds_covered_cm_s", "speeds_missing_cm_s", "speeds_other_cm_s", "charge_map",
+      "charge_conversion",
+      // a diagnosis (epuck2-fit diagnose -o)
+      "rows", "residuals", "logs", "verdict", "most_of_the_gain", "too_few_rows", "minimum_rows", "message", "recalibrated",
+      "recalibrated_uncertainty", "recalibrated_rounded", "recalibrated_uncertainty_jackknife", "jackknife_folds",
+      "recalibrated_uncertainty_corrected", "recalibrated_uncertainty_why", "loss", "censored_per_rail", "fit",
+      "autocorrelation", "heldout_mse_plugin", "heldout_mse_recalibrated", "heldout_mse_recalibrated_why",
+      "heldout_mse_final", "heldout_mse_final_why", "heldout_weighted_recalibrated", "heldout_weighted_final", "noise_sd",
+      "noise_sd_why", "mse_units", "channel_noise_sd", "findings", "possible_findings", "residual_structure",
+      "residual_structure_before", "effects_considered", "search", "notes", "final_base", "effects_not_in_model"};
+  return keys;
+}
+
+// A robot's set (`robots.ID`, lib/calibrate report_json.cpp add_robots): what a reader reads there
+// (parameters, noise; a light calibration's per_sensor) and what it does not (the rest).
+const std::vector<std::string> kRobotSetKeys{"parameters", "noise", "per_sensor", "std_errors", "logs", "usable", "why",
+                                             "not_identifiable"};
+// A noise channel (lib/calibrate report_json.cpp): sd, per_sensor_sd and unit are read; from, n,
+// groups, per_sensor_n and argos_uniform_level say how it was measured.
+const std::vector<std::string> kNoiseKeys{"sd", "per_sensor_sd", "unit", "from", "n", "groups", "per_sensor_n",
+                                          "argos_uniform_level"};
+// A light calibration's per-sensor fit (lib/calibrate light_report.cpp): sensor and gamma are read.
+const std::vector<std::string> kPerSensorKeys{"sensor", "gamma", "usable", "why", "std_error", "std_error_why", "mse",
+                                              "rounded", "fit"};
+
+/// Parameters a kind's file holds beside its base coefficients and its parameter-home effects: the
+/// camera calibration's image size and range (lib/calibrate camera_report.cpp) and the ARGoS
+/// aperture it derives from the field of view; the proximity calibration's curve of the means.
+std::vector<std::string> extra_parameters(const std::string& kind) {
+  if (kind == "camera") return {"aperture_deg", "width_px", "height_px", "range_m"};
+  if (kind == "proximity") return {"mean_a", "mean_b", "mean_c"};
+  return {};
+}
+
 /// The reading of one file: its JSON, its name, the robot asked for, and where each section is.
 class Doc {
  public:
@@ -59,6 +138,7 @@ class Doc {
       robot_set_ = &j.at("robots").at(robot_);
       if (!robot_set_->is_object()) fail("/robots/" + token(robot_), "a robot's set must be an object");
     }
+    check_keys();
   }
 
   [[noreturn]] void fail(const std::string& pointer, const std::string& what) const {
@@ -223,23 +303,101 @@ class Doc {
     }
   }
 
+  /// Every key of `parameters` a file of this kind may hold: the base coefficients, the
+  /// parameter-home effects' file keys (registry), the kind's extra ones (extra_parameters).
+  std::vector<std::string> parameter_keys() const {
+    std::vector<std::string> keys;
+    for (const models::BaseParam& p : facts_->base) keys.emplace_back(p.key);
+    for (const fx::Effect& e : *fx::catalogue(facts_->name))
+      if (e.home == fx::Home::parameters)
+        for (const fx::Param& p : e.params) keys.emplace_back(p.file_key);
+    for (const std::string& k : extra_parameters(facts_->name))
+      if (!contains(keys, k)) keys.push_back(k);
+    return keys;
+  }
+
  private:
-  std::string unknown_effect(const fx::Catalogue& catalogue, const std::string& name) const {
-    std::string known, best;
-    std::size_t best_d = std::numeric_limits<std::size_t>::max();
-    for (const fx::Effect& e : catalogue) {
-      if (e.home == fx::Home::base) continue;
-      known += (known.empty() ? "" : ", ") + std::string(e.name);
-      const std::size_t d = logs::edit_distance(name, e.name);
-      if (d < best_d) {
-        best_d = d;
-        best = e.name;
+  /// Refuses what no reader reads and no writer writes (an unknown key anywhere but `effects`,
+  /// whose names effects() checks against the registry), in the file and in every robot's set.
+  void check_keys() const {
+    std::vector<std::string> top = kReadSections;
+    if (std::string(facts_->name) == "battery") top.insert(top.end(), kBatterySections.begin(), kBatterySections.end());
+    if (std::string(facts_->name) == "light") top.emplace_back("per_sensor");
+    std::vector<std::string> known = top;
+    known.insert(known.end(), informational_sections().begin(), informational_sections().end());
+    for (auto it = j_.begin(); it != j_.end(); ++it)
+      if (!contains(known, it.key()))
+        fail("/" + token(it.key()), "unknown section '" + it.key() + "' in a " + facts_->name + " coefficient file (the sections read: " +
+                                        joined(top) + "; the informational ones are listed in docs/coefficient-files.md)" +
+                                        did_you_mean(it.key(), known));
+    check_set(j_, "");
+    if (!j_.contains("robots")) return;
+    const json& robots = j_.at("robots");
+    if (!robots.is_object()) fail("/robots", "`robots` must be an object {ID: a robot's set}");
+    for (auto it = robots.begin(); it != robots.end(); ++it) {
+      const std::string at = "/robots/" + token(it.key());
+      if (!it.value().is_object()) fail(at, "a robot's set must be an object");
+      for (auto k = it.value().begin(); k != it.value().end(); ++k)
+        if (!contains(kRobotSetKeys, k.key()) || (k.key() == "per_sensor" && std::string(facts_->name) != "light"))
+          fail(at + "/" + token(k.key()), "unknown key '" + k.key() + "' in robot " + it.key() + "'s set (a robot's set holds " +
+                                              joined(kRobotSetKeys) + (k.key() == "effects" ? "; effects are the file's, at the top" : "") +
+                                              ")" + did_you_mean(k.key(), kRobotSetKeys));
+      check_set(it.value(), at);
+    }
+  }
+
+  /// The parameters, std_errors and noise of the file (`at` "") or of a robot's set (`at` its pointer).
+  void check_set(const json& set, const std::string& at) const {
+    const std::vector<std::string> keys = parameter_keys();
+    for (const char* section : {"parameters", "std_errors"}) {
+      if (!set.contains(section)) continue;
+      const json& p = set.at(section);
+      const std::string ps = at + "/" + section;
+      if (!p.is_object()) fail(ps, std::string("`") + section + "` must be an object");
+      for (auto it = p.begin(); it != p.end(); ++it) {
+        if (!contains(keys, it.key()))
+          fail(ps + "/" + token(it.key()), "unknown parameter '" + it.key() + "' in `" + section + "` of a " + facts_->name +
+                                               " coefficient file (its parameters: " + (keys.empty() ? std::string("none") : joined(keys)) +
+                                               ")" + did_you_mean(it.key(), keys));
+        if (std::string(section) == "std_errors") check_std_error(it.value(), ps + "/" + token(it.key()), it.key());
       }
     }
-    std::string msg = "unknown effect '" + name + "' for a " + facts_->name + " model (the effects a " + facts_->name +
-                      " model file holds: " + known + ", and covariate:COLUMN)";
-    if (!best.empty() && best_d <= std::max<std::size_t>(2, name.size() / 3)) msg += "; did you mean '" + best + "'?";
-    return msg;
+    if (!set.contains("noise")) return;
+    const json& n = set.at("noise");
+    if (!n.is_object()) fail(at + "/noise", "`noise` must be an object");
+    std::vector<std::string> channels;
+    for (const models::Channel& c : facts_->channels) channels.emplace_back(c.name);
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      const std::string cp = at + "/noise/" + token(it.key());
+      if (!contains(channels, it.key()))
+        fail(cp, "unknown noise channel '" + it.key() + "' for a " + facts_->name + " model (its channels: " + joined(channels) + ")" +
+                     did_you_mean(it.key(), channels));
+      if (!it.value().is_object()) fail(cp, "noise." + it.key() + " must be an object {sd, unit, ...}");
+      for (auto k = it.value().begin(); k != it.value().end(); ++k)
+        if (!contains(kNoiseKeys, k.key()))
+          fail(cp + "/" + token(k.key()), "unknown key '" + k.key() + "' in noise." + it.key() + " (a channel holds " + joined(kNoiseKeys) +
+                                              ")" + did_you_mean(k.key(), kNoiseKeys));
+    }
+  }
+
+  /// A standard error: a non-negative, finite number, or null (written where it is undefined).
+  void check_std_error(const json& v, const std::string& pointer, const std::string& key) const {
+    if (v.is_null()) return;
+    if (v.is_array()) {
+      for (std::size_t i = 0; i < v.size(); ++i)
+        if (!v.at(i).is_null()) check_std_error(v.at(i), pointer + "/" + std::to_string(i), key + "[" + std::to_string(i) + "]");
+      return;
+    }
+    const double x = number(v, pointer, "std_errors." + key);
+    if (!(x >= 0)) fail(pointer, "std_errors." + key + " = " + number_text(x) + " must not be negative (a standard error)");
+  }
+
+  std::string unknown_effect(const fx::Catalogue& catalogue, const std::string& name) const {
+    std::vector<std::string> known;
+    for (const fx::Effect& e : catalogue)
+      if (e.home != fx::Home::base) known.emplace_back(e.name);
+    return "unknown effect '" + name + "' for a " + facts_->name + " model (the effects a " + facts_->name +
+           " model file holds: " + joined(known) + ", and covariate:COLUMN)" + did_you_mean(name, known);
   }
 
   /// Element values of parameter p of effect `id`, checked against the registry's range.
@@ -334,6 +492,59 @@ std::vector<double> vec(const std::array<double, N>& a) {
   return {a.begin(), a.end()};
 }
 
+/// `read(robot)`, the model asked for, after reading every other set of the file too (the pooled
+/// one and each robot's): a file that one of its sets makes invalid is refused whichever set is
+/// read, so that the CLI (the pooled set) and ARGoS (a robot's) refuse the same files.
+template <class Read>
+auto every_set(const json& j, const std::string& robot, const Read& read) {
+  if (j.is_object() && j.contains("robots") && j.at("robots").is_object()) {
+    if (!robot.empty()) read(std::string());
+    for (auto it = j.at("robots").begin(); it != j.at("robots").end(); ++it)
+      if (it.key() != robot) read(it.key());
+  }
+  return read(robot);
+}
+
+/// The model `m` written as `j`, read back by `read` (the readers' validation): a value the reader
+/// would refuse is refused at write, std::domain_error with the reader's reason, so that what is
+/// written always reads back.
+template <class Read>
+json readable(json j, const Read& read) {
+  try {
+    read(j, std::string("(the model being written)"), std::string());
+  } catch (const logs::InputError& e) {
+    throw std::domain_error(std::string("cannot write this model, a reader would refuse it: ") + e.what());
+  }
+  return j;
+}
+
+// The camera's range: positive, at most 10 m, ten times the plug-in's 1 m (models/camera.hpp
+// kCameraRange_m; paper 4.1.6), beyond which an LED is far below a pixel of a 160 px image.
+constexpr double kCameraMaxRange_m = 10.0;
+
+/// What the camera's calibration holds fixed or derives (range_m, width_px, height_px,
+/// aperture_deg), each checked when present.
+void camera_extras(const Doc& d, const s::CameraModel& m) {
+  std::string at;
+  if (d.find("parameters", "range_m", at) && !(m.base.range_m > 0 && m.base.range_m <= kCameraMaxRange_m))
+    d.fail(at, "parameters.range_m = " + number_text(m.base.range_m) + " is outside its physical range " +
+                   range_text(0, kCameraMaxRange_m, true, false, "m"));
+  if (const json* v = d.find("parameters", "width_px", at); v && d.number(*v, at, "parameters.width_px") != s::kCameraWidth_px)
+    d.fail(at, "parameters.width_px = " + v->dump() + " is not the E-Puck2 camera's image width, " + std::to_string(s::kCameraWidth_px) +
+                   " px (the model's image; cx_px is checked against it)");
+  if (const json* v = d.find("parameters", "height_px", at); v && d.number(*v, at, "parameters.height_px") != s::kCameraHeight_px)
+    d.fail(at, "parameters.height_px = " + v->dump() + " is not the E-Puck2 camera's image height, " + std::to_string(s::kCameraHeight_px) +
+                   " px (the model's image; cy_px is checked against it)");
+  if (const json* v = d.find("parameters", "aperture_deg", at)) {
+    // Derived from fov_deg by the calibration (lib/calibrate camera_report.cpp): the two must agree.
+    const double a = d.number(*v, at, "parameters.aperture_deg");
+    const double expected = s::rad_to_deg(s::aperture_from_horizontal_fov_rad(m.base.horizontal_fov_rad));
+    if (!(std::abs(a - expected) <= 1e-6 * std::max(1.0, expected)))
+      d.fail(at, "parameters.aperture_deg = " + number_text(a) + " does not match fov_deg (its half-angle on the image diagonal is " +
+                     number_text(expected) + " deg); the aperture follows the field of view, write fov_deg alone");
+  }
+}
+
 }  // namespace
 
 json noise_json(const std::vector<double>& sd, const std::string& unit) {
@@ -373,34 +584,45 @@ s::ProximityModel proximity_model_from_json(const json& j, const std::string& pa
 
 s::ProximityModel proximity_model_from_json(const json& j, const std::string& path, const std::string& robot,
                                             ProximityCurve curve) {
-  const Doc d(j, path, robot, "proximity");
-  const std::string prefix = curve == ProximityCurve::means ? "mean_" : "";
-  s::ProximityModel m;
-  m.base.a_per_m2 = d.base1(prefix + "a");
-  m.base.b_per_m = d.base1(prefix + "b");
-  m.base.c = d.base1(prefix + "c");
-  m.base.range_m = d.base1("range_m", m.base.range_m);
-  d.effects(fx::proximity_catalogue(), m.effects, m.covariates);
-  m.noise_sd_raw = to_array<s::kProximityCount>(d.noise(d.facts().channels[0]));
-  return m;
+  return every_set(j, robot, [&](const std::string& r) {
+    const Doc d(j, path, r, "proximity");
+    const std::string prefix = curve == ProximityCurve::means ? "mean_" : "";
+    s::ProximityModel m;
+    m.base.a_per_m2 = d.base1(prefix + "a");
+    m.base.b_per_m = d.base1(prefix + "b");
+    m.base.c = d.base1(prefix + "c");
+    m.base.range_m = d.base1("range_m", m.base.range_m);
+    // The other curve, where the file has it: in the same ranges whichever curve is read.
+    const std::string other = curve == ProximityCurve::means ? "" : "mean_";
+    for (const char* k : {"a", "b", "c"}) {
+      std::string at;
+      if (d.find("parameters", other + k, at)) d.base1(other + k);
+    }
+    d.effects(fx::proximity_catalogue(), m.effects, m.covariates);
+    m.noise_sd_raw = to_array<s::kProximityCount>(d.noise(d.facts().channels[0]));
+    return m;
+  });
 }
 
 json model_to_json(const s::ProximityModel& m) {
   json j = with_common("proximity", {{"a", m.base.a_per_m2}, {"b", m.base.b_per_m}, {"c", m.base.c}, {"range_m", m.base.range_m}}, m);
   j["noise"] = {{"proximity", noise_json(vec(m.noise_sd_raw), "counts")}};
-  return j;
+  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return proximity_model_from_json(w, p, r); });
 }
 
 // ----- light -----
 
 s::LightModel light_model_from_json(const json& j, const std::string& path, const std::string& robot) {
-  const Doc d(j, path, robot, "light");
-  s::LightModel m;
-  m.base.gamma_m = d.base1("gamma");
-  m.base.range_m = d.base1("range_m", m.base.range_m);
-  d.effects(fx::light_catalogue(), m.effects, m.covariates);
-  m.noise_sd_raw = to_array<s::kProximityCount>(d.noise(d.facts().channels[0]));
-  return m;
+  return every_set(j, robot, [&](const std::string& r) {
+    const Doc d(j, path, r, "light");
+    s::LightModel m;
+    m.base.gamma_m = d.base1("gamma");
+    m.base.range_m = d.base1("range_m", m.base.range_m);
+    d.effects(fx::light_catalogue(), m.effects, m.covariates);
+    m.noise_sd_raw = to_array<s::kProximityCount>(d.noise(d.facts().channels[0]));
+    light_sensor_gammas(j, path, r, m);  // the per-sensor fits, checked by every reader alike
+    return m;
+  });
 }
 
 std::array<double, s::kProximityCount> light_sensor_gammas(const json& j, const std::string& path, const std::string& robot,
@@ -421,11 +643,18 @@ std::array<double, s::kProximityCount> light_sensor_gammas(const json& j, const 
     const json& e = list->at(i);
     const std::string at = pointer + "/" + std::to_string(i);
     const std::string what = "per_sensor[" + std::to_string(i) + "]";
-    if (!e.is_object() || !e.contains("sensor") || !e.contains("gamma"))
+    if (!e.is_object() || !e.contains("sensor"))
       d.fail(at, what + " must be an object with \"sensor\" and \"gamma\"");
+    for (auto k = e.begin(); k != e.end(); ++k)
+      if (!contains(kPerSensorKeys, k.key()))
+        d.fail(at + "/" + token(k.key()), "unknown key '" + k.key() + "' in " + what + " (a sensor's fit holds " + joined(kPerSensorKeys) +
+                                              ")" + did_you_mean(k.key(), kPerSensorKeys));
     const double k = d.number(e.at("sensor"), at + "/sensor", what + ".sensor");
     if (!(k >= 0 && k < static_cast<double>(s::kProximityCount)) || k != std::floor(k))
       d.fail(at + "/sensor", what + ".sensor must be a light sensor's number, 0 to 7 (found " + number_text(k) + ")");
+    // A sensor the calibration could not fit ({"usable": false, "why"}) keeps the common gamma.
+    if (e.contains("usable") && e.at("usable") == false && !e.contains("gamma")) continue;
+    if (!e.contains("gamma")) d.fail(at, what + " must be an object with \"sensor\" and \"gamma\"");
     const double g = d.number(e.at("gamma"), at + "/gamma", what + ".gamma");
     if (!(g > range.lower && g <= range.upper))
       d.fail(at + "/gamma", what + ".gamma = " + number_text(g) + " is outside its physical range " +
@@ -438,20 +667,22 @@ std::array<double, s::kProximityCount> light_sensor_gammas(const json& j, const 
 json model_to_json(const s::LightModel& m) {
   json j = with_common("light", {{"gamma", m.base.gamma_m}, {"range_m", m.base.range_m}}, m);
   j["noise"] = {{"light", noise_json(vec(m.noise_sd_raw), "counts")}};
-  return j;
+  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return light_model_from_json(w, p, r); });
 }
 
 // ----- ground -----
 
 s::GroundModel ground_model_from_json(const json& j, const std::string& path, const std::string& robot) {
-  const Doc d(j, path, robot, "ground");
-  s::GroundModel m;
-  const auto gain = d.base("gain", s::kGroundCount);
-  const auto offset = d.base("offset", s::kGroundCount);
-  for (std::size_t k = 0; k < m.sensors.size(); ++k) m.sensors[k] = {gain[k], offset[k]};
-  d.effects(fx::ground_catalogue(), m.effects, m.covariates);
-  m.noise_sd_raw = to_array<s::kGroundCount>(d.noise(d.facts().channels[0]));
-  return m;
+  return every_set(j, robot, [&](const std::string& r) {
+    const Doc d(j, path, r, "ground");
+    s::GroundModel m;
+    const auto gain = d.base("gain", s::kGroundCount);
+    const auto offset = d.base("offset", s::kGroundCount);
+    for (std::size_t k = 0; k < m.sensors.size(); ++k) m.sensors[k] = {gain[k], offset[k]};
+    d.effects(fx::ground_catalogue(), m.effects, m.covariates);
+    m.noise_sd_raw = to_array<s::kGroundCount>(d.noise(d.facts().channels[0]));
+    return m;
+  });
 }
 
 json model_to_json(const s::GroundModel& m) {
@@ -464,45 +695,83 @@ json model_to_json(const s::GroundModel& m) {
   }
   json j = with_common("ground", {{"gain", gain}, {"offset", offset}}, m);
   j["noise"] = {{"ground", noise_json(vec(m.noise_sd_raw), "counts")}};
-  return j;
+  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return ground_model_from_json(w, p, r); });
 }
 
 // ----- camera -----
 
 s::CameraModel camera_model_from_json(const json& j, const std::string& path, const std::string& robot) {
-  const Doc d(j, path, robot, "camera");
-  s::CameraModel m;
-  m.base.horizontal_fov_rad = s::deg_to_rad(d.base1("fov_deg"));
-  m.base.cx_px = d.base1("cx_px");
-  m.base.cy_px = d.base1("cy_px");
-  d.effects(fx::camera_catalogue(), m.distortion, m.covariates);
-  m.noise_sd_px = d.noise(d.facts().channels[0])[0];
-  return m;
+  return every_set(j, robot, [&](const std::string& r) {
+    const Doc d(j, path, r, "camera");
+    s::CameraModel m;
+    m.base.horizontal_fov_rad = s::deg_to_rad(d.base1("fov_deg"));
+    m.base.cx_px = d.base1("cx_px");
+    m.base.cy_px = d.base1("cy_px");
+    m.base.range_m = d.base1("range_m", m.base.range_m);
+    camera_extras(d, m);
+    d.effects(fx::camera_catalogue(), m.distortion, m.covariates);
+    m.noise_sd_px = d.noise(d.facts().channels[0])[0];
+    return m;
+  });
+}
+
+/// A number of degrees that a reader turns back into exactly `rad` (deg_to_rad is a rounded
+/// product, so rad_to_deg(rad) may read back an ulp off): rad_to_deg(rad) when it does, else the
+/// nearest within 8 ulps that does; false when none does.
+bool exact_degrees(double rad, double& deg) {
+  deg = s::rad_to_deg(rad);
+  if (s::deg_to_rad(deg) == rad) return true;
+  for (int k = 1; k <= 8; ++k)
+    for (const double toward : {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}) {
+      double x = deg;
+      for (int i = 0; i < k; ++i) x = std::nextafter(x, toward);
+      if (s::deg_to_rad(x) == rad) {
+        deg = x;
+        return true;
+      }
+    }
+  return false;
+}
+
+/// The field of view written so that what is read back writes the same text again: the degrees
+/// that read back to `rad` exactly, or, for radians no number of degrees gives, those of the
+/// nearest radians one does (the model read back then differs from `rad` by an ulp).
+double degrees_that_read_back(double rad) {
+  double deg;
+  if (exact_degrees(rad, deg) || exact_degrees(s::deg_to_rad(s::rad_to_deg(rad)), deg)) return deg;
+  return s::rad_to_deg(rad);
 }
 
 json model_to_json(const s::CameraModel& m) {
-  json j = with_common(
-      "camera", {{"fov_deg", s::rad_to_deg(m.base.horizontal_fov_rad)}, {"cx_px", m.base.cx_px}, {"cy_px", m.base.cy_px}}, m);
+  if (m.base.width_px != s::kCameraWidth_px || m.base.height_px != s::kCameraHeight_px)
+    throw std::domain_error("cannot write a camera model of a " + std::to_string(m.base.width_px) + "x" + std::to_string(m.base.height_px) +
+                            " px image: a coefficient file's camera is the E-Puck2's, " + std::to_string(s::kCameraWidth_px) + "x" +
+                            std::to_string(s::kCameraHeight_px) + " px");
+  json parameters = {{"fov_deg", degrees_that_read_back(m.base.horizontal_fov_rad)}, {"cx_px", m.base.cx_px}, {"cy_px", m.base.cy_px}};
+  if (m.base.range_m != s::kCameraRange_m) parameters["range_m"] = m.base.range_m;  // the plug-in's 1 m when absent
+  json j = with_common("camera", parameters, m);
   j["noise"] = {{"camera", noise_json({m.noise_sd_px}, "px")}};
-  return j;
+  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return camera_model_from_json(w, p, r); });
 }
 
 // ----- drive -----
 
 s::DriveModel drive_model_from_json(const json& j, const std::string& path, const std::string& robot) {
-  const Doc d(j, path, robot, "drive");
-  s::DriveModel m;
-  m.steps_per_m = d.base1("steps_per_m");
-  d.effects(fx::drive_catalogue(), m.effects, m.covariates);
-  m.tof_noise_sd_mm = d.noise(d.facts().channels[0])[0];
-  m.encoder_noise_sd_steps = d.noise(d.facts().channels[1])[0];
-  return m;
+  return every_set(j, robot, [&](const std::string& r) {
+    const Doc d(j, path, r, "drive");
+    s::DriveModel m;
+    m.steps_per_m = d.base1("steps_per_m");
+    d.effects(fx::drive_catalogue(), m.effects, m.covariates);
+    m.tof_noise_sd_mm = d.noise(d.facts().channels[0])[0];
+    m.encoder_noise_sd_steps = d.noise(d.facts().channels[1])[0];
+    return m;
+  });
 }
 
 json model_to_json(const s::DriveModel& m) {
   json j = with_common("drive", {{"steps_per_m", m.steps_per_m}}, m);
   j["noise"] = {{"tof", noise_json({m.tof_noise_sd_mm}, "mm")}, {"encoder", noise_json({m.encoder_noise_sd_steps}, "steps")}};
-  return j;
+  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return drive_model_from_json(w, p, r); });
 }
 
 // ----- battery -----
@@ -532,11 +801,18 @@ s::BatteryModel battery_model_from_json(const json& j, const std::string& path, 
     // their root mean square.
     double sum = 0;
     int n = 0;
-    for (const json& speed : j.at("speeds"))
-      if (speed.contains("noise_sd") && speed.at("noise_sd").is_number() && std::isfinite(speed.at("noise_sd").get<double>())) {
-        sum += speed.at("noise_sd").get<double>() * speed.at("noise_sd").get<double>();
-        ++n;
-      }
+    const models::Channel& charge = d.facts().channels[0];
+    for (std::size_t i = 0; i < j.at("speeds").size(); ++i) {
+      const json& speed = j.at("speeds").at(i);
+      if (!speed.contains("noise_sd") || speed.at("noise_sd").is_null()) continue;  // null: not measured
+      const std::string at = "/speeds/" + std::to_string(i) + "/noise_sd";
+      const double sd = d.number(speed.at("noise_sd"), at, "speeds[" + std::to_string(i) + "].noise_sd");
+      if (!(sd >= 0 && sd < charge.full_scale))
+        d.fail(at, "speeds[" + std::to_string(i) + "].noise_sd: a reading's noise sd must lie in [0, " + number_text(charge.full_scale) +
+                       ") charge (found " + number_text(sd) + ")");
+      sum += sd * sd;
+      ++n;
+    }
     m.noise_sd = n > 0 ? std::sqrt(sum / n) : 0.0;
   }
   return m;
@@ -553,7 +829,7 @@ json model_to_json(const s::BatteryModel& m) {
   write_effects(m, parameters, effects);
   j["effects"] = effects;
   j["noise"] = {{"charge", noise_json({m.noise_sd}, "charge")}};
-  return j;
+  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return battery_model_from_json(w, p, r); });
 }
 
 // ----- from a file -----

@@ -3,7 +3,10 @@
 // its value (neutral ones too), the noise and the covariate effects.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <string>
+#include <vector>
 
 #include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/models/kinds.hpp"
@@ -23,6 +26,19 @@ std::string model_to_cpp(const models::sensors::BatteryModel& m, const std::stri
 
 /// The same for a model of any kind (the overload of its type).
 std::string model_to_cpp(const AnyModel& m, const std::string& source);
+
+/// `namespace KIND { inline constexpr double KEY = value; ... }`: every numeric entry of the file's
+/// `parameters` and `std_errors` (KEY_std_error) and its `mse`, as named constants. A file of one
+/// of the project's kinds is validated by its reader first (model_from_json: errors as theirs), so
+/// that only accepted, in-range values are written; another kind's values are written as they are.
+/// A name that is no C++ identifier, or a constant declared twice, is a logs::InputError at the
+/// key's FILE:LINE:COLUMN and JSON path.
+std::string parameters_to_cpp(const nlohmann::json& j, const std::string& path, const std::string& kind);
+
+/// The whole header `epuck2-fit codegen INPUTS -o OUTPUT` writes: each input's name and FNV-1a
+/// 64-bit hash, the logs it was fitted from, its constants (parameters_to_cpp) and its model
+/// (model_to_cpp), one file per kind. Errors are logs::InputError located in the input.
+std::string header_cpp(const std::vector<std::string>& inputs, const std::string& output);
 
 /// A double as C++ source that reads back to the same value (shortest round trip).
 std::string cpp_number(double v);

@@ -9,13 +9,16 @@
 //                 "centre"}};
 //   "noise":      {"CHANNEL": {"sd", "per_sensor_sd", "unit", ...}}: the reading noise;
 //   "robots":     {"ID": {"parameters", "noise"}}: one robot's set, read over the pooled one when
-//                 asked for.
+//                 asked for; every set is validated whichever is read.
+// Every other key must be one the calibrations or the diagnosis write for people
+// (docs/coefficient-files.md, "Unknown keys"); an unknown one is refused, with "did you mean".
 // Reading validates everything: a value outside its physical range (the registry's for an
 // effect, the kind's for a base coefficient), a noise sd that is not finite or reaches full
 // scale, an unknown effect or parameter name (with "did you mean"), a file of another kind. Every
 // error is a logs::InputError at FILE:LINE:COLUMN naming the JSON path (the file is read again to
 // find the line; an in-memory document gives the JSON path alone).
-// Writing refuses (std::domain_error) a model with a value that is not finite.
+// Writing refuses (std::domain_error) a model that a reader would refuse, with the reader's reason:
+// what is written always reads back.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -85,7 +88,11 @@ AnyModel plugin_model(const std::string& kind);
 std::vector<std::string> robot_ids(const nlohmann::json& j);
 
 /// {"kind", "parameters", "effects" (non-neutral ones only), "noise"}: what the readers above read
-/// back to the same model, bit for bit.
+/// back to the same model, bit for bit (a camera's field of view to the ulp: it is written in
+/// degrees, and some radians have no exact degrees; what is read back then writes the same text).
+/// Each runs the readers' validation on what it writes: a model a reader would refuse (a noise sd
+/// at full scale, a centre outside the image, a coefficient outside its range, a camera image other
+/// than 160x120 px) is refused with std::domain_error and the reader's reason.
 nlohmann::json model_to_json(const s::ProximityModel& m);
 nlohmann::json model_to_json(const s::LightModel& m);
 nlohmann::json model_to_json(const s::GroundModel& m);
