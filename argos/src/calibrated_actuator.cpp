@@ -84,7 +84,7 @@ class CEPuck2CalibratedDifferentialSteeringActuator : public CSimulatedActuator,
       os << "wheels not capped (firmware_cap=\"false\")";
     else
       os << "wheels capped at " << sConfig.effects.speed_limit.max_cm_s << " cm/s ("
-         << (sConfig.limit_from == "firmware" ? "the firmware's 1100 steps/s over steps_per_m" : "the diagnosis's speed_limit")
+         << (sConfig.limit_from == "firmware" ? "the firmware's 1100 steps/s over steps_per_m" : "the diagnosis's " + sConfig.limit_from)
          << ")";
     if (sConfig.effects.accel_limit.accel_cm_s2 < epuck2::models::sensors::kDriveLimitOn)
       os << ", acceleration limited to " << sConfig.effects.accel_limit.accel_cm_s2 << " cm/s^2";
