@@ -41,20 +41,9 @@ EXEMPT_DIRS = {("tests",), ("docs",), ("argos", "tests"), (".git",)}
 # Independent checkers that must not use the code they check (they recompute from the JSON by the
 # documented formulas): they may name a file's keys.
 INDEPENDENT = {pathlib.Path("examples/check_plugin_models.py")}
-# (file, a piece of the literal): why it may name an effect. ARGoS's REGISTER_SENSOR and
-# REGISTER_ACTUATOR take the `--query` help text as literals at static initialisation, before
-# main: the texts cannot be built from the registry there.
-EXEMPT = {
-    ("argos/src/calibrated_sensors.cpp", "nonlinear_response exponent (1 without)"): "ARGoS help text (REGISTER_SENSOR)",
-    ("argos/src/calibrated_sensors.cpp", "tof_scale * distance + tof_offset_mm"): "ARGoS help text (REGISTER_SENSOR)",
-    ("argos/src/calibrated_sensors.cpp", "with tof_scale and tof_offset_mm from"): "ARGoS help text (REGISTER_SENSOR)",
-    ("argos/src/calibrated_sensors.cpp", "the one latency's delay_s ago"): "ARGoS help text (REGISTER_SENSOR)",
-    ("argos/src/calibrated_sensors.cpp", "a diagnosis's radial_distortion (k1, k2, k3)"): "ARGoS help text (REGISTER_SENSOR)",
-    ("argos/src/calibrated_actuator.cpp", "(or at a diagnosis's speed_limit), reached"): "ARGoS help text (REGISTER_ACTUATOR)",
-    ("argos/src/calibrated_actuator.cpp", "accel_limit; the body moves speed_scale's k"): "ARGoS help text (REGISTER_ACTUATOR)",
-    ("argos/src/calibrated_actuator.cpp", "slip_time_constant_s (wheel_slip)"): "ARGoS help text (REGISTER_ACTUATOR)",
-    ("argos/src/calibrated_actuator.cpp", "no firmware cap (a diagnosis's speed_limit"): "ARGoS help text (REGISTER_ACTUATOR)",
-}
+# (file, a piece of the literal): why it may name an effect. None today: ARGoS's help texts
+# (REGISTER_SENSOR, REGISTER_ACTUATOR) take their effect names from the registry too.
+EXEMPT = {}
 
 
 # ----- the registry ------------------------------------------------------------------------------
