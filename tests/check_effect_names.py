@@ -224,7 +224,7 @@ def shell_text(text):
         m = re.search(r"<<-?\s*['\"]?(\w+)['\"]?", text_kept)
         if m and not quote:
             heredoc = m.group(1)
-    return ["\n".join(out)]
+    return [line for line in out if line.strip()]
 
 
 def literals(path: pathlib.Path, text: str):
@@ -233,12 +233,19 @@ def literals(path: pathlib.Path, text: str):
     if path.suffix == ".sh":
         return shell_text(text)
     if path.suffix == ".argos":
-        return [re.sub(r"<!--.*?-->", " ", text, flags=re.S)]
+        bare = re.sub(r"<!--.*?-->", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
+        return [line for line in bare.splitlines() if line.strip()]
     return joined(cpp_pieces(text))
 
 
 def line_of(text, literal):
     """The line of text where `literal` (or its first line) starts; 0 if not found verbatim."""
+    if isinstance(literal, Joined):  # its first literal with its quotes, where the run starts
+        for q in ('"', "'"):
+            at = text.find(q + literal.parts[0] + q)
+            if at >= 0:
+                return text.count("\n", 0, at) + 1
+        literal = literal.parts[0]
     first = literal.split("\n")[0][:60]
     at = text.find(first) if first else -1
     return text.count("\n", 0, at) + 1 if at >= 0 else 0
