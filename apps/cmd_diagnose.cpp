@@ -53,6 +53,13 @@ struct DiagnoseOptions {
 /// --effects' list: the names between commas. One value, split here (CLI11's delimiter dropped
 /// empty names and let `--effects ,` take the next argument, `-o`, as an effect): an empty name
 /// is a usage error.
+/// An example of an --effects list for the messages: two ground effects, named by the registry.
+std::string example_effects() {
+  namespace fx = models::effects;
+  return std::string(fx::ground_catalogue()[fx::ground::black_offset].name) + "," +
+         fx::ground_catalogue()[fx::ground::white_level].name;
+}
+
 std::vector<std::string> effect_list(const std::string& list) {
   std::vector<std::string> names;
   if (list.empty()) return names;
@@ -61,7 +68,7 @@ std::vector<std::string> effect_list(const std::string& list) {
     const std::size_t comma = list.find(',', from);
     names.push_back(list.substr(from, comma == std::string::npos ? std::string::npos : comma - from));
     if (names.back().empty())
-      throw UsageError("--effects '" + list + "': an empty effect name; give the names between commas, e.g. black_offset,white_level");
+      throw UsageError("--effects '" + list + "': an empty effect name; give the names between commas, e.g. " + example_effects());
     if (comma == std::string::npos) return names;
     from = comma + 1;
   }
@@ -187,10 +194,10 @@ void setup_diagnose(CLI::App& app, Action& action) {
                   "The base model: plugin (the plug-in's published model, default); a coefficient FILE of the logs' kind "
                   "(epuck2-fit KIND -o, or diagnose -o); battery also: fitted (the CLI's compiled-in tables)");
   sub->add_option("--effects", o->effects,
-                  "Search only these effects of the catalogue, comma-separated (e.g. black_offset,white_level); default: all")
+                  "Search only these effects of the catalogue, comma-separated (e.g. " + example_effects() + "); default: all")
       ->check(CLI::Validator(
           [](std::string& input) -> std::string {
-            if (input.empty()) return "an empty list; give effect names between commas, e.g. black_offset,white_level";
+            if (input.empty()) return "an empty list; give effect names between commas, e.g. " + example_effects();
             return std::string();
           },
           "LIST"))

@@ -12,6 +12,7 @@
 #include "epuck2/calibrate/battery_json.hpp"
 #include "epuck2/logs/output.hpp"
 #include "epuck2/models/battery_simulation.hpp"
+#include "epuck2/models/effects.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 
 namespace epuck2::app {
@@ -110,7 +111,8 @@ void setup_simulate(CLI::App& app, Action& action) {
           ->check(one_of({"argos", "corrected"}, "behaviour"));
   sub->add_option("--coefficients", o->coefficients,
                   "Coefficient file (JSON from `epuck2-fit battery -o`, or with --like a battery `diagnose -o` report: "
-                  "tables, discharge model, capacity_scale, noise), or `plugin` (the plug-in's published "
+                  "tables, discharge model, " + std::string(models::effects::battery_catalogue()[models::effects::battery::capacity_scale].name) +
+                      ", noise), or `plugin` (the plug-in's published "
                   "tables), or `fitted` (the compiled-in data/fitted tables). Default: plugin with --compat argos "
                   "or --like, else fitted");
   CLI::Option* profile =

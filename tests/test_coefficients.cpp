@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -95,6 +96,32 @@ TEST(EffectRegistry, EveryEffectHasItsLineInTheDocs) {
   for (const char* kind : fx::kinds())
     for (const fx::Effect& e : *fx::catalogue(kind))
       EXPECT_NE(doc.find(std::string("`") + e.name + "`"), std::string::npos) << e.name << " is not in docs/diagnose.md";
+}
+
+/// What `command` prints on standard output, and its exit status.
+std::pair<std::string, int> guard_output(const std::string& command) {
+  std::string out;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return {"", -1};
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
+  return {out, ::pclose(pipe)};
+}
+
+// The guard that no source names an effect outside the registry (tests/check_effect_names.py)
+// reads the registry's entries from effects.hpp's text: it reads every entry the C++ registry
+// holds, kind by kind, so that an entry written in a form its pattern misses cannot drop out of
+// the check.
+TEST(EffectRegistry, TheNameGuardReadsEveryEntry) {
+  const std::string src = EPUCK2_SOURCE_DIR;
+  const auto [listed, status] = guard_output("/usr/bin/python3 " + src + "/tests/check_effect_names.py --list " + src);
+  ASSERT_EQ(status, 0) << listed;
+  std::multiset<std::string> expected, read;
+  for (const char* kind : fx::kinds())
+    for (const fx::Effect& e : *fx::catalogue(kind)) expected.insert(std::string(kind) + " " + e.name);
+  std::istringstream in(listed);
+  for (std::string line; std::getline(in, line);) read.insert(line);
+  EXPECT_EQ(read, expected) << "the guard reads:\n" << listed;
 }
 
 // ----- every effect through the file and back ---------------------------------------------------

@@ -2,11 +2,16 @@
 // when well conditioned, refined once; column-pivoted QR otherwise) gives the
 // least-squares solution (checked against an independent solve of the normal equations in long
 // double), Ceres only confirms it, and the statistics, covariance and fixed parameters come out as
-// on the generic path.
+// on the generic path. And the engine's named solver settings (FitOptions::precise() ...) hold
+// the values docs/fitting.md's table gives them (the table is the expected value).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -340,5 +345,59 @@ TEST(JacobianReuse, GivesTheCovarianceOfAFreshJacobianAndThePlainPathsFit) {
     }
     EXPECT_GE(agree(fast.rss, static_cast<double>(rss)), 9.0);
     EXPECT_GE(agree(slow.rss, fast.rss), 10.0);
+  }
+}
+
+// ----- the named solver settings -----------------------------------------------------------------
+
+namespace {
+
+/// The rows of docs/fitting.md's "Solver settings" table, by preset: the cells after the name.
+std::map<std::string, std::vector<std::string>> documented_presets() {
+  std::ifstream in(std::string(EPUCK2_SOURCE_DIR) + "/docs/fitting.md");
+  std::map<std::string, std::vector<std::string>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("| `", 0) != 0 || line.find("()` |") == std::string::npos) continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line.substr(1));
+    std::string cell;
+    while (std::getline(ss, cell, '|')) {
+      const auto b = cell.find_first_not_of(' '), e = cell.find_last_not_of(' ');
+      cells.push_back(b == std::string::npos ? "" : cell.substr(b, e - b + 1));
+    }
+    const std::string name = cells.front().substr(1, cells.front().size() - 2);  // without the backquotes
+    cells.erase(cells.begin());
+    rows[name] = cells;
+  }
+  return rows;
+}
+
+}  // namespace
+
+// Each preset holds what the docs' table says (iterations, three tolerances, restarts,
+// alternatives), and the table lists every preset; what a preset leaves alone keeps the defaults.
+TEST(SolverPresets, EachHasTheValuesOfThisTable) {
+  const std::map<std::string, ef::FitOptions> presets{
+      {"precise()", ef::FitOptions::precise()},       {"calibration()", ef::FitOptions::calibration()},
+      {"diagnosis()", ef::FitOptions::diagnosis()},   {"stock()", ef::FitOptions::stock()},
+      {"reference()", ef::FitOptions::reference()}};
+  const auto rows = documented_presets();
+  EXPECT_EQ(rows.size(), presets.size()) << "docs/fitting.md's table and the presets differ in number";
+  for (const auto& [name, o] : presets) {
+    const auto it = rows.find(name);
+    ASSERT_NE(it, rows.end()) << name << " is not in docs/fitting.md's table";
+    const auto& c = it->second;
+    ASSERT_GE(c.size(), 6u) << name;
+    EXPECT_EQ(o.max_iterations, std::stoi(c[0])) << name;
+    EXPECT_EQ(o.function_tolerance, std::stod(c[1])) << name;
+    EXPECT_EQ(o.gradient_tolerance, std::stod(c[2])) << name;
+    EXPECT_EQ(o.parameter_tolerance, std::stod(c[3])) << name;
+    EXPECT_EQ(o.restarts, std::stoi(c[4])) << name;
+    EXPECT_EQ(o.try_alternatives, c[5] == "yes") << name;
+    const ef::FitOptions d;
+    EXPECT_EQ(o.linear_solver, d.linear_solver) << name;
+    EXPECT_EQ(o.compute_covariance, d.compute_covariance) << name;
+    EXPECT_EQ(o.robust, d.robust) << name;
   }
 }

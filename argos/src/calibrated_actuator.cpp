@@ -22,9 +22,16 @@
 #include <sstream>
 
 #include "calibrated_drive.hpp"
+#include <epuck2/models/effects.hpp>
 #include <epuck2/coefficients/model_sets.hpp>
 
 namespace argos {
+
+namespace {
+namespace fx = epuck2::models::effects;
+/// A drive effect's name, from the registry (the help text below names effects through it).
+std::string DriveEffectName(std::size_t un_id) { return fx::drive_catalogue()[un_id].name; }
+}  // namespace
 
 class CEPuck2CalibratedDifferentialSteeringActuator : public CSimulatedActuator,
                                                       public CCI_DifferentialSteeringActuator {
@@ -84,7 +91,7 @@ class CEPuck2CalibratedDifferentialSteeringActuator : public CSimulatedActuator,
       os << "wheels not capped (firmware_cap=\"false\")";
     else
       os << "wheels capped at " << sConfig.effects.speed_limit.max_cm_s << " cm/s ("
-         << (sConfig.limit_from == "firmware" ? "the firmware's 1100 steps/s over steps_per_m" : "the diagnosis's speed_limit")
+         << (sConfig.limit_from == "firmware" ? "the firmware's 1100 steps/s over steps_per_m" : "the diagnosis's " + sConfig.limit_from)
          << ")";
     if (sConfig.effects.accel_limit.accel_cm_s2 < epuck2::models::sensors::kDriveLimitOn)
       os << ", acceleration limited to " << sConfig.effects.accel_limit.accel_cm_s2 << " cm/s^2";
@@ -127,15 +134,18 @@ REGISTER_ACTUATOR(CEPuck2CalibratedDifferentialSteeringActuator, "differential_s
                   "1.0", "The E-Puck2's wheels as the robot's wheels turn, from a drive file fitted by epuck2-fit.",
                   "Same control interface as the default implementation (SetLinearVelocity in cm/s).\n"
                   "The wheels: the command capped at the firmware's 1100 steps/s over the file's\n"
-                  "steps_per_m (or at a diagnosis's speed_limit), reached at the diagnosis's\n"
-                  "accel_limit; the body moves speed_scale's k times the wheels, lagging them by\n"
-                  "slip_time_constant_s (wheel_slip). The robot's calibrated encoders count the\n"
+                  "steps_per_m (or at a diagnosis's " + DriveEffectName(fx::drive::speed_limit) + "), reached at the diagnosis's\n" +
+                  DriveEffectName(fx::drive::accel_limit) + "; the body moves " + DriveEffectName(fx::drive::speed_scale) +
+                  "'s k times the wheels, lagging them by\n"
+                  "slip_time_constant_s (" + DriveEffectName(fx::drive::wheel_slip) + "). The robot's calibrated encoders count the\n"
                   "wheels' travel, its calibrated ToF reads the body's distance. An effect ARGoS\n"
-                  "cannot apply (a covariate, an effect of another kind) stops ARGoS at Init.\n\n"
+                  "cannot apply (a covariate, an effect of another kind, one neither the wheels nor\n"
+                  "the ToF run) stops ARGoS at Init.\n\n"
                   "  <differential_steering implementation=\"calibrated\" coefficients=\"drive.json\"\n"
                   "                         robot=\"ID|auto\" robot_map=\"ep*:robot1\"\n"
                   "                         firmware_cap=\"true\" />\n\n"
-                  "firmware_cap=\"false\": no firmware cap (a diagnosis's speed_limit still applies).\n"
+                  "firmware_cap=\"false\": no firmware cap (a diagnosis's " + DriveEffectName(fx::drive::speed_limit) +
+                  " still applies).\n"
                   "robot: the file's robots.ID set; \"auto\": each robot's own set, named like its\n"
                   "entity id or by robot_map (PATTERN:ID pairs, * any run of characters).",
                   "Usable");

@@ -36,6 +36,8 @@
 #include <epuck2/coefficients/model_sets.hpp>
 #include <epuck2/models/effects.hpp>
 
+#include "applied_effects.hpp"
+
 namespace argos {
 
 namespace mb = epuck2::models::battery;
@@ -80,6 +82,9 @@ std::shared_ptr<const SBatteryFile> SharedBatteryFile(const std::string& str_pat
                                         "effects." + strName + ": the calibrated battery cannot apply it in ARGoS: it needs "
                                         "the log column '" + sModel.covariates.front().column + "', which ARGoS does not have");
   }
+  /* an effect the battery does not apply would be ignored: refused (applied_effects.hpp) */
+  epuck2::argos_plugin::refuse_unapplied(sModel, epuck2::argos_plugin::battery_applies(), *pcRoot, str_path, "",
+                                         "the calibrated battery");
   pcFile->Tables = sModel.tables;
   pcFile->HasModel = pcRoot->contains("battery_model");
   pcFile->Model = sModel.model;

@@ -1,4 +1,5 @@
 #include "calibrated_drive.hpp"
+#include "applied_effects.hpp"
 
 #include <epuck2/models/effects.hpp>
 
@@ -22,6 +23,8 @@ DriveConfig read_drive_config(const nlohmann::json& root, const std::string& pat
             m.covariates.front().column + "', which ARGoS does not have (a diagnosis without --effects " + name +
             ", or a calibration file, runs in ARGoS)");
   }
+  /* what neither the wheels nor the ToF apply would be ignored: refused (applied_effects.hpp) */
+  refuse_unapplied(m, drive_applies(), root, path, robot, who);
   DriveConfig c;
   c.steps_per_m = m.steps_per_m;
   c.effects = m.effects;

@@ -1,4 +1,5 @@
 #include "calibrated_sensors.hpp"
+#include "applied_effects.hpp"
 #include <epuck2/models/effects.hpp>
 
 #include <algorithm>
@@ -168,29 +169,47 @@ void Checked(const std::string& str_sensor, F&& f) {
 }
 
 /// What ARGoS cannot apply stops it at Init, naming the effect, the file (line:column) and why:
-/// a covariate (ARGoS has no log column), and each effect of the kind's catalogue (through the
-/// registry, never by name) that `b_cannot(id)` says the sensor cannot apply, with `str_why`.
-template <class Model, class Cannot>
-void RefuseWhatArgosCannotApply(const SCommon& s, Model& m, Cannot&& b_cannot, const std::string& str_why) {
+/// a covariate (ARGoS has no log column), and a non-neutral effect of the kind's catalogue that
+/// the sensor does not apply (`applied`: what its reading runs, applied_effects.hpp).
+template <class Model>
+void RefuseWhatArgosCannotApply(const SCommon& s, const Model& m, const epuck2::argos_plugin::Applied& applied) {
   if (!m.covariates.empty()) {
     const std::string strName = std::string(fx::kCovariatePrefix) + m.covariates.front().column;
     s.Fail("/effects/" + strName, "effects." + strName + ": the calibrated " + s.Sensor +
                                       " cannot apply it in ARGoS: it needs the log column '" + m.covariates.front().column +
                                       "', which ARGoS does not have");
   }
-  const fx::Catalogue& cCatalogue = fx::catalogue_of(m);
-  fx::for_each_param(fx::effects_of(m), [&](std::size_t un_id, int n_param, int, double& f_value) {
-    const fx::Param& sParam = cCatalogue[un_id].params[static_cast<std::size_t>(n_param)];
-    if (f_value == sParam.neutral || !b_cannot(un_id)) return;
-    const std::string strName = cCatalogue[un_id].name;
-    s.Fail("/effects/" + strName, "effects." + strName + ": the calibrated " + s.Sensor + " cannot apply it in ARGoS: " + str_why);
-  });
+  epuck2::argos_plugin::refuse_unapplied(m, applied, *s.Root, s.Path, s.Robot, "the calibrated " + s.Sensor);
 }
 
 /// Each sensor's reading noise as a vector.
 template <std::size_t N>
 std::vector<double> Sd(const std::array<double, N>& a) {
   return {a.begin(), a.end()};
+}
+
+/// The noise paragraph of a calibrated sensor's help text (ARGoS's --query): the file's channel
+/// noise.`str_channel`, its sd in `str_sd`, the plug-in's scale of a unit noise `str_scale`.
+std::string NoiseHelp(const std::string& str_channel, const std::string& str_sd, const std::string& str_scale) {
+  return "noise (default true): the coefficient file's measured reading noise, noise." + str_channel + "\n(its sd in " + str_sd +
+         "), as a Gaussian of that sd drawn from ARGoS's\n"
+         "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
+         "the same variance, level sqrt(3) sd / " + str_scale + " (the file's argos_uniform_level).\n"
+         "A file without a noise section: the plug-in's uniform noise of noise_level\n"
+         "(x " + str_scale + "), with a warning. noise=\"false\": none.";
+}
+
+/// Effect `un_id`'s name in catalogue `c` (the help texts name effects through the registry).
+std::string EffectName(const fx::Catalogue& c, std::size_t un_id) { return c[un_id].name; }
+
+/// A calibrated drive sensor's file (ToF, encoders): what ARGoS runs of it and the model (noise).
+struct SDriveFile {
+  epuck2::argos_plugin::DriveConfig Drive;
+  ms::DriveModel Model;
+};
+SDriveFile ReadDriveFile(const SCommon& s) {
+  return {epuck2::argos_plugin::read_drive_config(*s.Root, s.Path, s.Robot, "the calibrated " + s.Sensor),
+          ec::drive_model_from_json(*s.Root, s.Path, s.Robot)};
 }
 
 /// The plug-in's encoder noise scale: a unit noise is 32767 steps.
@@ -239,7 +258,7 @@ void CEPuck2CalibratedProximitySensor::Init(TConfigurationNode& t_tree) {
        a diagnosis's effects, the noise; every value checked */
     m_sModel = ec::proximity_model_from_json(*s.Root, s.Path, s.Robot,
                                              strCurve == "mean" ? ec::ProximityCurve::means : ec::ProximityCurve::maxima);
-    RefuseWhatArgosCannotApply(s, m_sModel, [](std::size_t) { return false; }, "");
+    RefuseWhatArgosCannotApply(s, m_sModel, epuck2::argos_plugin::proximity_applies());
     /* incidence_angle: the angle of each hit surface, computed only when the file has one */
     m_bIncidence = m_sModel.effects.incidence.k != 0.0;
     if (m_tReadings.size() != m_sModel.noise_sd_raw.size())
@@ -382,13 +401,8 @@ REGISTER_SENSOR(CEPuck2CalibratedProximitySensor, "epuck2_proximity", "calibrate
                 "                    robot=\"ID\" curve=\"max\" noise=\"true\"\n"
                 "                    noise_distribution=\"gaussian\" />\n\n"
                 "coefficients: the file (relative: to the .argos file, then the working directory).\n"
-                "robot: use the file's robots.ID set.\n"
-                "noise (default true): the coefficient file's measured reading noise, noise.proximity\n"
-                "(its sd in counts, per sensor from per_sensor_sd), as a Gaussian of that sd drawn from ARGoS's\n"
-                "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
-                "the same variance, level sqrt(3) sd / 4095 (the file's argos_uniform_level).\n"
-                "A file without a noise section: the plug-in's uniform noise of noise_level\n"
-                "(x 4095), with a warning. noise=\"false\": none.",
+                "robot: use the file's robots.ID set.\n" +
+                NoiseHelp("proximity", "counts, per sensor from per_sensor_sd", "4095"),
                 "Usable");
 
 /****************************************/
@@ -403,7 +417,7 @@ void CEPuck2CalibratedGroundSensor::Init(TConfigurationNode& t_tree) {
     /* The project's one reader (lib/coefficients): each sensor's gain and offset, a diagnosis's
        nonlinear_response; ARGoS cannot apply a covariate */
     m_sModel = ec::ground_model_from_json(*s.Root, s.Path, s.Robot);
-    RefuseWhatArgosCannotApply(s, m_sModel, [](std::size_t) { return false; }, "");
+    RefuseWhatArgosCannotApply(s, m_sModel, epuck2::argos_plugin::ground_applies());
     if (m_tReadings.size() != m_sModel.sensors.size())
       s.Fail("", "the robot has " + std::to_string(m_tReadings.size()) + " ground sensors, the model " +
                      std::to_string(m_sModel.sensors.size()));
@@ -438,15 +452,11 @@ REGISTER_SENSOR(CEPuck2CalibratedGroundSensor, "epuck2_ground", "calibrated", "e
                 "Same control interface and floor sampling as the rot_z_only implementation; the\n"
                 "reading is offset + gain * grey^exponent (grey in [0, 1], 0 = black), rounded and\n"
                 "clamped to [0, 1023], with gain and offset (arrays of 3: right, centre, left) and a\n"
-                "diagnosis's nonlinear_response exponent (1 without) from the coefficient file.\n\n"
+                "diagnosis's " + EffectName(fx::ground_catalogue(), fx::ground::nonlinear_response) +
+                " exponent (1 without) from the coefficient file.\n\n"
                 "  <epuck2_ground implementation=\"calibrated\" coefficients=\"ground.json\"\n"
-                "                 robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
-                "noise (default true): the coefficient file's measured reading noise, noise.ground\n"
-                "(its sd in counts, per sensor from per_sensor_sd), as a Gaussian of that sd drawn from ARGoS's\n"
-                "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
-                "the same variance, level sqrt(3) sd / 1023 (the file's argos_uniform_level).\n"
-                "A file without a noise section: the plug-in's uniform noise of noise_level\n"
-                "(x 1023), with a warning. noise=\"false\": none.",
+                "                 robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n" +
+                NoiseHelp("ground", "counts, per sensor from per_sensor_sd", "1023"),
                 "Usable");
 
 /****************************************/
@@ -463,8 +473,7 @@ void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
   CEPuck2TOFDefaultSensor::Init(t_tree);
   SCommon s = ReadCommon(t_tree, strName, *m_pcTOFEntity);
   Checked(strName, [&] {
-    const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.Root, s.Path, s.Robot, "the calibrated " + strName);
-    const ms::DriveModel sModel = ec::drive_model_from_json(*s.Root, s.Path, s.Robot);
+    const auto [sDrive, sModel] = ReadDriveFile(s);
     m_sCoefficients.scale = sDrive.effects.tof_scale.k;
     m_sCoefficients.offset_mm = sDrive.effects.tof_offset.offset_mm;
     m_cDelay = epuck2::argos_plugin::DelayLine(sDrive.effects.latency.delay_s);
@@ -476,7 +485,8 @@ void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
     if (bDriveEffects && !epuck2::argos_plugin::DriveRegistry::find(m_pcRobot))
       WarnOnce("calibrated " + strName + ": " + s.Path +
                ": the robot's differential_steering is not implementation=\"calibrated\": the file's speed limit, "
-               "slip and other drive effects do not move the body, only the ToF's own (scale, offset, latency) apply");
+               "slip and other drive effects do not move the body, only the ToF's own (" +
+               epuck2::argos_plugin::applied_names(fx::drive_catalogue(), epuck2::argos_plugin::tof_applies()) + ") apply");
   });
   m_bAddNoise = false;
   Reset();
@@ -508,18 +518,16 @@ void CEPuck2CalibratedTOFSensor::Update() {
 
 REGISTER_SENSOR(CEPuck2CalibratedTOFSensor, "epuck2_tof", "calibrated", "epuck2-fit", "1.0",
                 "The E-Puck2 time-of-flight sensor with coefficients fitted by epuck2-fit.",
-                "Same ray and control interface as the default implementation; the reading is\n"
-                "tof_scale * distance + tof_offset_mm in mm, rounded and clamped to [20, 2000],\n"
-                "with tof_scale and tof_offset_mm from a drive coefficient file, the distance\n"
-                "being the one latency's delay_s ago (a diagnosis's effects.latency).\n\n"
+                "Same ray and control interface as the default implementation; the reading is\n" +
+                std::string(fx::file_key(fx::drive_catalogue(), fx::drive::tof_scale)) +
+                " * distance + tof_offset_mm in mm, rounded and clamped to [20, 2000],\n"
+                "with " + fx::file_key(fx::drive_catalogue(), fx::drive::tof_scale) +
+                " and tof_offset_mm from a drive coefficient file, the distance\n"
+                "being the one " + EffectName(fx::drive_catalogue(), fx::drive::latency) +
+                "'s delay_s ago (a diagnosis's effects." + EffectName(fx::drive_catalogue(), fx::drive::latency) + ").\n\n"
                 "  <epuck2_tof implementation=\"calibrated\" coefficients=\"drive.json\"\n"
-                "              robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
-                "noise (default true): the coefficient file's measured reading noise, noise.tof\n"
-                "(its sd in mm), as a Gaussian of that sd drawn from ARGoS's\n"
-                "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
-                "the same variance, level sqrt(3) sd / 2000 mm (the range) (the file's argos_uniform_level).\n"
-                "A file without a noise section: the plug-in's uniform noise of noise_level\n"
-                "(x 2000 mm (the range)), with a warning. noise=\"false\": none.",
+                "              robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n" +
+                NoiseHelp("tof", "mm", "2000 mm (the range)"),
                 "Usable");
 
 /****************************************/
@@ -536,8 +544,7 @@ void CEPuck2CalibratedEncoderSensor::Init(TConfigurationNode& t_tree) {
   CEPuck2EncoderDefaultSensor::Init(t_tree);
   SCommon s = ReadCommon(t_tree, strName, *m_pcEncoderEntity);
   Checked(strName, [&] {
-    const auto sDrive = epuck2::argos_plugin::read_drive_config(*s.Root, s.Path, s.Robot, "the calibrated " + strName);
-    const ms::DriveModel sModel = ec::drive_model_from_json(*s.Root, s.Path, s.Robot);
+    const auto [sDrive, sModel] = ReadDriveFile(s);
     m_sCoefficients.steps_per_m = sDrive.steps_per_m;
     /* The model scales a unit noise by 32767 steps; one channel per wheel */
     ConfigureNoise(s, "encoder", {sModel.encoder_noise_sd_steps, sModel.encoder_noise_sd_steps}, kEncoderNoiseScale, m_cNoise);
@@ -607,13 +614,8 @@ REGISTER_SENSOR(CEPuck2CalibratedEncoderSensor, "epuck2_encoder", "calibrated", 
                 "from a drive coefficient file. With the calibrated differential_steering\n"
                 "actuator the travel is its wheels' (capped, accelerated, not the lagging body).\n\n"
                 "  <epuck2_encoder implementation=\"calibrated\" coefficients=\"drive.json\"\n"
-                "                  robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
-                "noise (default true): the coefficient file's measured reading noise, noise.encoder\n"
-                "(its sd in steps), as a Gaussian of that sd drawn from ARGoS's\n"
-                "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
-                "the same variance, level sqrt(3) sd / 32767 (the file's argos_uniform_level).\n"
-                "A file without a noise section: the plug-in's uniform noise of noise_level\n"
-                "(x 32767), with a warning. noise=\"false\": none.\n"
+                "                  robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n" +
+                NoiseHelp("encoder", "steps", "32767") + "\n"
                 "The Gaussian is added to each reading (the count stays noiseless: a step\n"
                 "counter does not drift), drawn only when the count moved: a register standing\n"
                 "still reads exactly what it read; the uniform noise, as in the plug-in, to the count\n"
@@ -633,8 +635,7 @@ void CEPuck2CalibratedLightSensor::Init(TConfigurationNode& t_tree) {
     /* The project's one reader (lib/coefficients): Eq. 2's gamma, range_m, a diagnosis's effects
        (ambient_offset, falloff_exponent, sensor_gain: all applied), the noise; every value checked */
     const ms::LightModel sModel = ec::light_model_from_json(*s.Root, s.Path, s.Robot);
-    ms::LightModel sChecked = sModel;
-    RefuseWhatArgosCannotApply(s, sChecked, [](std::size_t) { return false; }, "");
+    RefuseWhatArgosCannotApply(s, sModel, epuck2::argos_plugin::light_applies());
     if (m_tReadings.size() != sModel.noise_sd_raw.size())
       s.Fail("", "the robot has " + std::to_string(m_tReadings.size()) + " light sensors, the model " +
                      std::to_string(sModel.noise_sd_raw.size()));
@@ -690,13 +691,8 @@ REGISTER_SENSOR(CEPuck2CalibratedLightSensor, "epuck2_light", "calibrated", "epu
                 "reading is (1 - sum over visible lights of (gamma I / d)^2) x 4095, rounded and\n"
                 "clamped, with gamma from the coefficient file (per_sensor entries override it).\n\n"
                 "  <epuck2_light implementation=\"calibrated\" coefficients=\"light.json\"\n"
-                "                robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n"
-                "noise (default true): the coefficient file's measured reading noise, noise.light\n"
-                "(its sd in counts, per sensor from per_sensor_sd), as a Gaussian of that sd drawn from ARGoS's\n"
-                "random generator; noise_distribution=\"uniform\": the plug-in's uniform noise of\n"
-                "the same variance, level sqrt(3) sd / 4095 (the file's argos_uniform_level).\n"
-                "A file without a noise section: the plug-in's uniform noise of noise_level\n"
-                "(x 4095), with a warning. noise=\"false\": none.",
+                "                robot=\"ID\" noise=\"true\" noise_distribution=\"gaussian\" />\n\n" +
+                NoiseHelp("light", "counts, per sensor from per_sensor_sd", "4095"),
                 "Usable");
 
 /****************************************/
@@ -710,7 +706,7 @@ void CEPuck2CalibratedCameraSensor::Init(TConfigurationNode& t_tree) {
     /* The project's one reader (lib/coefficients): the field of view, the centre, the radial
        distortion (k1, k2, k3), every value checked; ARGoS cannot apply a covariate */
     m_sModel = ec::camera_model_from_json(*s.Root, s.Path, s.Robot);
-    RefuseWhatArgosCannotApply(s, m_sModel, [](std::size_t) { return false; }, "");
+    RefuseWhatArgosCannotApply(s, m_sModel, epuck2::argos_plugin::camera_applies());
     const double fW = m_pcCamEntity->GetImagePxWidth(), fH = m_pcCamEntity->GetImagePxHeight();
     m_sModel.base.width_px = fW;
     /* Which LEDs it sees: the cone of the fitted field of view's aperture (ARGoS's, the half-angle
@@ -800,7 +796,8 @@ REGISTER_SENSOR(CEPuck2CalibratedCameraSensor, "epuck2_colored_blob_perspective_
                 "The LEDs of the LED medium the plug-in's camera would see (cone of the fitted field of\n"
                 "view's aperture, range_m, occlusions), each projected with lib/models' camera model:\n"
                 "the camera file's horizontal field of view fov_deg, image centre cx_px, cy_px at\n"
-                "sub-pixel accuracy, a diagnosis's radial_distortion (k1, k2, k3), and the measured pixel noise\n"
+                "sub-pixel accuracy, a diagnosis's " + EffectName(fx::camera_catalogue(), fx::camera::radial_distortion) +
+                " (k1, k2, k3), and the measured pixel noise\n"
                 "noise.camera (Gaussian, each axis), then rounded; blobs off the image are dropped.\n\n"
                 "  <epuck2_colored_blob_perspective_camera implementation=\"calibrated\"\n"
                 "      coefficients=\"camera.json\" medium=\"leds\" noise=\"true\" robot=\"ID|auto\" />",

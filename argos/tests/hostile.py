@@ -12,6 +12,10 @@ message naming the file, the line:column of the offending value and the reason.
 The expected line:column come from the text this script writes, not from the plug-in: the value
 is first written as a unique placeholder, whose position in the text is the expected one, and
 then replaced by the hostile literal.
+
+Then the other side of the refusal of effects ARGoS does not apply (argos/src/applied_effects.hpp):
+each part runs a file with every effect of its kind on (two simulated seconds), and must not
+refuse it.
     usage: hostile.py ARGOS_LIBDIR WORK_DIR
 """
 import copy
@@ -137,4 +141,48 @@ for name, part, path, literal, reason in CASES:
     if not ok:
         print(f"     expected exit != 0 (got {code}), '{where}' and '{reason}' in:\n" + log[-1500:])
 print(f"{len(CASES) - failures} of {len(CASES)} hostile files stopped ARGoS at Init with the file, line:column and reason")
-sys.exit(1 if failures else 0)
+
+# The other side of "ARGoS refuses a non-neutral effect it does not apply" (applied_effects.hpp):
+# a file with every effect of its kind's catalogue on, each away from its neutral value, runs in
+# the part that reads it (the values are this script's, inside each documented range). A part
+# whose list missed an effect it runs would stop here with "does not apply it in ARGoS".
+EVERY_EFFECT = {
+    "proximity": ({"ambient_offset": {"offset": 10.0}, "sensor_gain": {"gains": [1.1] * 8},
+                   "long_tail": {"amplitude": 50.0, "length_m": 0.02}, "incidence_angle": {"k": 1.0},
+                   "saturation": {"level": 4000.0}}, {}),
+    "light": ({"ambient_offset": {"offset": 10.0}, "falloff_exponent": {"exponent": 2.2},
+               "sensor_gain": {"gains": [1.05] * 8}}, {}),
+    "ground": ({"nonlinear_response": {"exponent": 1.3}}, {}),
+    "camera": ({"radial_distortion": {"k1": -0.1}, "distortion_k2": {"k2": 1.0}, "distortion_k3": {"k3": 5.0}}, {}),
+    "battery": ({"capacity_scale": {"k": 0.9}}, {}),
+}
+DRIVE_EFFECTS = ({"speed_limit": {"max_cm_s": 12.0}, "accel_limit": {"accel_cm_s2": 40.0}, "speed_scale": {"k": 0.95},
+                  "latency": {"delay_s": 0.05}},
+                 {"slip_time_constant_s": 0.1, "tof_offset_mm": 5.0, "tof_scale": 1.02})
+for part in ("tof", "encoder", "actuator"):
+    EVERY_EFFECT[part] = DRIVE_EFFECTS
+refused = 0
+for part, (effects, parameters) in EVERY_EFFECT.items():
+    out_dir = os.path.join(WORK, f"{part}_every_effect")
+    os.makedirs(out_dir, exist_ok=True)
+    coeff = os.path.join(out_dir, f"{part}.json")
+    d = json.load(open(os.path.join(FITTED, PARTS[part][2])))
+    d["effects"] = copy.deepcopy(effects)
+    d.setdefault("parameters", {}).update(parameters)
+    json.dump(d, open(coeff, "w"), indent=2)
+    exp = experiment(part, coeff, out_dir)
+    x = re.sub(r'<experiment length="[^"]*"', '<experiment length="2"', open(exp).read())
+    open(exp, "w").write(x)
+    try:
+        r = subprocess.run(["argos3", "-n", "-z", "-c", exp], env=env, capture_output=True, text=True, timeout=120)
+        log, code = r.stdout + r.stderr, r.returncode
+    except subprocess.TimeoutExpired:
+        log, code = "timed out", -1
+    ok = code == 0 and "does not apply it in ARGoS" not in log
+    refused += not ok
+    print(f"{'ok  ' if ok else 'FAIL'} {part}_every_effect: {', '.join(list(effects) + list(parameters))} "
+          f"{'applied' if ok else 'refused or failed (exit ' + str(code) + ')'}")
+    if not ok:
+        print(log[-1500:])
+print(f"{len(EVERY_EFFECT) - refused} of {len(EVERY_EFFECT)} parts ran a file with every effect of their kind on")
+sys.exit(1 if failures or refused else 0)

@@ -3,6 +3,7 @@
 // (docs/diagnose.md, "drive"), not from lib/models' code.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,13 +11,17 @@
 #include <iostream>
 #include <string>
 
+#include "../src/applied_effects.hpp"
 #include "../src/calibrated_drive.hpp"
+#include <epuck2/coefficients/model_file.hpp>
 
 namespace {
 
 namespace ap = epuck2::argos_plugin;
 namespace ms = epuck2::models::sensors;
 namespace fs = std::filesystem;
+namespace fx = epuck2::models::effects;
+namespace co = epuck2::coefficients;
 
 std::string write_temp(const std::string& name, const std::string& text) {
   const fs::path p = fs::temp_directory_path() / ("epuck2_argos_drive_test_" + name);
@@ -148,6 +153,73 @@ TEST(CalibratedDrive, EffectsArgosCannotApplyAreRefusedByName) {
   EXPECT_NE(unknown.find("ambient_offset"), std::string::npos) << unknown;
   const std::string bad = error_of([] { config_of("bad.json", R"({"parameters":{"steps_per_m":7763.656},"effects":{"accel_limit":{"accel_cm_s2":"x"}}})"); });
   EXPECT_NE(bad.find("accel_limit"), std::string::npos) << bad;
+}
+
+// A part refuses at Init a non-neutral effect it does not apply, at the value's line:column (counted
+// in the text here), whether the effect lives in "effects" or in "parameters"; the same file passes
+// where the effect is applied.
+TEST(AppliedEffects, AnEffectThePartDoesNotApplyIsRefusedAtItsValue) {
+  const std::string text = R"({"kind":"drive","parameters":{"steps_per_m":7763.656,"tof_scale":1.25},
+"effects":{"speed_scale":{"k":0.9}}})";
+  const std::string path = write_temp("applied.json", text);
+  const auto root = nlohmann::json::parse(text);
+  const ms::DriveModel m = co::drive_model_from_json(root, path, "");
+  // The wheels do not apply the ToF's scale (a "parameters" effect): its value's position.
+  const std::string tof = error_of([&] { ap::refuse_unapplied(m, ap::wheels_apply(), root, path, "", "the wheels"); });
+  const std::string at_tof = "epuck2_argos_drive_test_applied.json:1:" + std::to_string(text.find("1.25") + 1) + ":";
+  EXPECT_NE(tof.find(at_tof), std::string::npos) << tof << " (expected " << at_tof << ")";
+  EXPECT_NE(tof.find("parameters.tof_scale (tof_scale): the wheels does not apply it in ARGoS"), std::string::npos) << tof;
+  EXPECT_NE(tof.find("ARGoS applies speed_limit, accel_limit, wheel_slip and speed_scale"), std::string::npos) << tof;
+  // The ToF does not apply the speed scale (an "effects" effect): line 2, the object's column.
+  const std::string scale = error_of([&] { ap::refuse_unapplied(m, ap::tof_applies(), root, path, "", "the ToF"); });
+  const std::size_t line2 = text.find('\n') + 1;
+  const std::string at_scale = "epuck2_argos_drive_test_applied.json:2:" + std::to_string(text.find("{\"k\":0.9}") - line2 + 1) + ":";
+  EXPECT_NE(scale.find(at_scale), std::string::npos) << scale << " (expected " << at_scale << ")";
+  EXPECT_NE(scale.find("effects.speed_scale: the ToF does not apply it in ARGoS"), std::string::npos) << scale;
+  // What ARGoS applies of a drive file (wheels and ToF together): accepted, as read_drive_config does.
+  EXPECT_EQ(error_of([&] { ap::refuse_unapplied(m, ap::drive_applies(), root, path, "", "ARGoS"); }), "");
+  EXPECT_EQ(error_of([&] { config_of("applied.json", text); }), "");
+}
+
+/// A model of `Model` with every parameter of every effect away from its neutral value, inside its range.
+template <class Model>
+Model every_effect_on() {
+  Model m;
+  const fx::Catalogue& c = fx::catalogue_of(m);
+  fx::for_each_param(fx::effects_of(m), [&](std::size_t id, int p, int, double& v) {
+    const fx::Param& q = c[id].params[static_cast<std::size_t>(p)];
+    v = q.lower + 0.25 * (std::min(q.upper, 1e4) - q.lower);
+    if (v == q.neutral) v = q.lower;
+  });
+  return m;
+}
+
+/// Each effect of the kind that its model struct carries is applied by ARGoS (nothing shipped or
+/// diagnosed is refused), and taken off the list it is refused by name.
+template <class Model>
+void check_every_effect_applied(const ap::Applied& applied) {
+  const Model m = every_effect_on<Model>();
+  const fx::Catalogue& c = fx::catalogue_of(m);
+  const std::string path = write_temp("every.json", "{}");
+  EXPECT_EQ(error_of([&] { ap::refuse_unapplied(m, applied, nlohmann::json::object(), path, "", "ARGoS"); }), "");
+  for (std::size_t id = 0; id < c.size(); ++id) {
+    if (c[id].home == fx::Home::base) continue;  // folded into the base coefficients by the reader
+    ap::Applied without;
+    for (std::size_t a : applied)
+      if (a != id) without.push_back(a);
+    const std::string e = error_of([&] { ap::refuse_unapplied(m, without, nlohmann::json::object(), path, "", "ARGoS"); });
+    EXPECT_NE(e.find("ARGoS does not apply it"), std::string::npos) << c[id].name << ": " << e;
+    EXPECT_NE(e.find(std::string("a file whose ") + c[id].name + " is not neutral"), std::string::npos) << c[id].name << ": " << e;
+  }
+}
+
+TEST(AppliedEffects, ARGoSAppliesEveryEffectOfEveryKindItRuns) {
+  check_every_effect_applied<ms::ProximityModel>(ap::proximity_applies());
+  check_every_effect_applied<ms::LightModel>(ap::light_applies());
+  check_every_effect_applied<ms::GroundModel>(ap::ground_applies());
+  check_every_effect_applied<ms::CameraModel>(ap::camera_applies());
+  check_every_effect_applied<ms::DriveModel>(ap::drive_applies());
+  check_every_effect_applied<ms::BatteryModel>(ap::battery_applies());
 }
 
 // The shipped diagnosis of the drive logs: its speed limit, its slip.

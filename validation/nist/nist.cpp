@@ -366,16 +366,7 @@ double log_relative_error(double computed, double certified, double digits) {
   return std::clamp(lre, 0.0, digits);
 }
 
-FitOptions default_options() {
-  FitOptions o;
-  o.max_iterations = 10000;
-  o.function_tolerance = 1e-16;
-  o.gradient_tolerance = 1e-16;
-  o.parameter_tolerance = 1e-16;
-  o.restarts = 3;
-  o.try_alternatives = true;
-  return o;
-}
+FitOptions default_options() { return FitOptions::reference(); }
 
 FitResult fit(const Problem& problem, int start, const FitOptions& options) {
   const auto found = registry().find(problem.name);

@@ -136,14 +136,10 @@ Candidate fit_candidate(const Data& d, const std::vector<double>& knots, bool lo
   if (load) problem.add(cost.block(), {a.data(), delta.data()});
   else problem.add(cost.block(), {a.data()});
   for (std::size_t k = 1; k < K; ++k) problem.set_lower_bound(a.data(), static_cast<int>(k), 0.0);
-  fit::FitOptions o;
+  fit::FitOptions o = fit::FitOptions::calibration();
   // Thousands of rows, at most a few dozen parameters on well-scaled columns (knot weights in
   // [0, 1], offsets' slopes): the normal equations are cheap and lose no digits that matter.
   o.linear_solver = fit::FitOptions::LinearSolver::dense_normal_cholesky;
-  o.max_iterations = 200;
-  o.function_tolerance = 1e-14;
-  o.gradient_tolerance = 1e-14;
-  o.parameter_tolerance = 1e-12;
   o.compute_covariance = false;
   if (!problem.solve(o).usable) return c;
   std::vector<double> r(n);

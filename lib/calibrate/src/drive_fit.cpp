@@ -15,6 +15,7 @@
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/models/effects.hpp"
 #include "epuck2/models/saturation.hpp"
+#include "epuck2/logs/drive_columns.hpp"
 #include "epuck2/logs/json_location.hpp"
 #include "sensor_fit_common.hpp"
 
@@ -29,14 +30,13 @@ DriveRun drive_run_from_log(const logs::Log& log) {
   DriveRun run;
   run.path = log.path;
   run.robot = log.robot;
-  run.obstacle_distance_m = log.metadata_number("obstacle_distance_m");
-  const auto& t = log.col("time_s");
-  const auto& vl = log.col("left_speed_cm_s");
-  const auto& vr = log.col("right_speed_cm_s");
-  const auto& sl = log.col("left_steps");
-  const auto& sr = log.col("right_steps");
-  const auto& tof = log.col("tof_mm");
-  const std::vector<double> ul = s::unwrap_steps(sl), ur = s::unwrap_steps(sr);
+  const logs::DriveColumns cols = logs::drive_columns(log);
+  run.obstacle_distance_m = cols.obstacle_m;
+  const auto& t = cols.time_s;
+  const auto& vl = cols.left_cm_s;
+  const auto& vr = cols.right_cm_s;
+  const auto& tof = cols.tof_mm;
+  const std::vector<double> ul = s::unwrap_steps(cols.left_steps), ur = s::unwrap_steps(cols.right_steps);
   const double cap = kFirmwareSpeedLimit_m_s;
   for (std::size_t i = 0; i < log.rows(); ++i) {
     run.time_s.push_back(t[i]);

@@ -8,17 +8,13 @@
 #include "epuck2/models/light.hpp"
 #include "epuck2/models/proximity.hpp"
 #include "epuck2/models/tof.hpp"
+#include "epuck2/logs/output.hpp"
 
 namespace epuck2::calibrate {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return logs::format_number(v, 6); }
 
 /// The unit a value in metres was most likely written in, when `metres` is `factor` too large:
 /// centimetres for a factor near 100, millimetres near 1000.

@@ -2,6 +2,7 @@
 #include "sensor_fit_common.hpp"
 
 #include <sstream>
+#include "epuck2/logs/output.hpp"
 
 namespace epuck2::calibrate::sensor_fit_detail {
 
@@ -18,12 +19,7 @@ std::string where(const logs::Log& log, std::size_t row) {
   return log.path + ":" + std::to_string(log.line_of_row.at(row));
 }
 
-std::string fmt(double v, int digits) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v, int digits) { return logs::format_number(v, digits); }
 
 void collect(std::vector<std::string>& into, const std::string& prefix, const std::vector<std::string>& from) {
   for (const std::string& w : from) into.push_back(prefix + w);

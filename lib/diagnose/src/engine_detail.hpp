@@ -177,13 +177,7 @@ class Engine {
       if (std::isfinite(p_.params[j].lower)) problem.set_lower_bound(blocks[j], 0, p_.params[j].lower);
       if (std::isfinite(p_.params[j].upper)) problem.set_upper_bound(blocks[j], 0, p_.params[j].upper);
     }
-    FitOptions options;
-    options.max_iterations = 200;
-    // A relative change of the cost of 1e-8 moves n log(RSS) by 1e-8 n: 0.002 at 200 000
-    // residuals, far below the BIC margin of 10; parameters to 1e-8, far below their errors.
-    options.function_tolerance = 1e-8;
-    options.gradient_tolerance = 1e-12;
-    options.parameter_tolerance = 1e-8;
+    FitOptions options = FitOptions::diagnosis();
     options.compute_covariance = covariance;
     const SolveSummary summary = problem.solve(options);
     ParameterLayout layout;

@@ -1,5 +1,6 @@
 // The diagnosis's drive kind: its base model and catalogue effects (see kinds.cpp).
 #include "kind_common.hpp"
+#include "epuck2/logs/drive_columns.hpp"
 #include "epuck2/models/kind_facts.hpp"
 
 namespace epuck2::diagnose {
@@ -45,17 +46,16 @@ class Drive : public ProblemOf<Drive> {
     const models::Channel& tof_channel = models::kind_facts("drive")->channels.front();
     for (const auto& log : logs) {
       Run r;
-      r.obstacle_m = log.metadata_number("obstacle_distance_m");
+      const logs::DriveColumns cols = logs::drive_columns(log);
+      r.obstacle_m = cols.obstacle_m;
       r.first = time_.size();
-      const auto& t = log.col("time_s");
-      const auto& cl = log.col("left_speed_cm_s");
-      const auto& cr = log.col("right_speed_cm_s");
-      const auto& sl = log.col("left_steps");
-      const auto& sr = log.col("right_steps");
-      const auto& tof = log.col("tof_mm");
+      const auto& t = cols.time_s;
+      const auto& cl = cols.left_cm_s;
+      const auto& cr = cols.right_cm_s;
+      const auto& tof = cols.tof_mm;
       const std::size_t n = log.rows();
       r.symmetric = std::equal(cl.begin(), cl.end(), cr.begin());
-      const std::vector<double> ul = s::unwrap_steps(sl), ur = s::unwrap_steps(sr);
+      const std::vector<double> ul = s::unwrap_steps(cols.left_steps), ur = s::unwrap_steps(cols.right_steps);
       for (std::size_t i = 0; i < n; ++i) {
         time_.push_back(t[i]);
         left_.push_back(cl[i]);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include "epuck2/logs/output.hpp"
 
 namespace epuck2::fit {
 
@@ -18,17 +19,6 @@ double median(std::vector<double> v) {
   if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
   return m;
 }
-
-namespace {
-
-std::string six_digits(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-
-}  // namespace
 
 std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const std::vector<int>& group,
                                        const std::vector<bool>& on_rail, double floor_sd, std::vector<std::string>* why) {
@@ -65,8 +55,8 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
       const double dev = std::abs(values[i] - med);
       wild[i] = on_rail[i] ? railed == 1 && dev > 0.5 * kWildReadingSd * sd : dev > kWildReadingSd * sd;
       if (wild[i] && why != nullptr)
-        (*why)[i] = six_digits(values[i]) + " where the readings under the same conditions centre on " + six_digits(med) + " (robust sd " +
-                    six_digits(sd) + ")";
+        (*why)[i] = logs::format_number(values[i], 6) + " where the readings under the same conditions centre on " + logs::format_number(med, 6) + " (robust sd " +
+                    logs::format_number(sd, 6) + ")";
     }
   }
   return wild;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
+#include "epuck2/logs/output.hpp"
 
 namespace epuck2::fit {
 
@@ -182,13 +183,8 @@ Solution solve_once(const ModelEvaluator& model, const std::vector<Observation>&
       if (std::isfinite(q.upper)) problem.SetParameterUpperBound(p.data(), j, q.upper);
     }
   }
-  FitOptions fo;
-  fo.function_tolerance = 1e-14;
-  fo.gradient_tolerance = 1e-14;
-  fo.parameter_tolerance = 1e-12;
-  fo.max_iterations = 200;
   ceres::Solver::Summary summary;
-  ceres::Solve(solver_options(fo), &problem, &summary);
+  ceres::Solve(solver_options(FitOptions::calibration()), &problem, &summary);
   Solution s;
   s.ok = summary.IsSolutionUsable();
   s.message = summary.message;
@@ -200,12 +196,8 @@ Solution solve_once(const ModelEvaluator& model, const std::vector<Observation>&
   return s;
 }
 
-std::string fmt(double v, int digits = 4) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << v;
-  return os.str();
-}
+/// A number in a message: `digits` significant digits (the project's one formatter).
+std::string fmt(double v, int digits = 4) { return logs::format_number(v, digits); }
 
 }  // namespace
 

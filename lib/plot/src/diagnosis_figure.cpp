@@ -11,6 +11,7 @@
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/models/kind_facts.hpp"
 #include "epuck2/plot/figure.hpp"
+#include "epuck2/logs/output.hpp"
 
 namespace epuck2::plot {
 
@@ -279,11 +280,7 @@ double quantile(std::vector<double> v, double q) {
 }
 
 /// A number in a title: "1.23e+04" or "0.5".
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
+std::string num(double v) { return logs::format_number(v, 4); }
 
 /// At most this many points of one series are drawn (the means use every residual): in a PNG,
 /// and in a vector file (SVG, PDF), where every point is an element of the file.

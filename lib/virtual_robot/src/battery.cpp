@@ -336,13 +336,9 @@ Calibration calibrate(const mb::Tables& published) {
   // Bounds on R: plausible for an 1800 mAh LiPo path (milliohms of the cell up to half an ohm).
   problem.set_lower_bound(&resistance_ohm, 0, 0.02);
   problem.set_upper_bound(&resistance_ohm, 0, 0.5);
-  fit::FitOptions opts;
-  opts.max_iterations = 200;
   // The solver's stock tolerances (Ceres 2.1's defaults), with which the shipped virtual cell was
   // calibrated: the engine's own (1e-15) would move the logs in data/raw.
-  opts.function_tolerance = 1e-6;
-  opts.gradient_tolerance = 1e-10;
-  opts.parameter_tolerance = 1e-8;
+  fit::FitOptions opts = fit::FitOptions::stock();
   opts.compute_covariance = false;
   const fit::SolveSummary summary = problem.solve(opts);
   if (!summary.usable) throw std::runtime_error("virtual battery calibration failed: " + summary.brief);

@@ -99,6 +99,44 @@ struct FitOptions {
   /// condition number is at most kNormalEquationsMaxCondition; otherwise from a column-pivoted QR
   /// of the design matrix. False: start from `initial` as for a nonlinear model.
   bool linear_start = true;
+
+  // ----- the named solver settings (docs/fitting.md, "Solver settings"): every fit in the project
+  // starts from one of these; only the linear solver and the covariance are chosen beside them.
+  // Each sets max_iterations and the three tolerances (and, for reference, the restarts and the
+  // alternative strategies); everything else keeps the defaults above.
+
+  /// The defaults above: 500 iterations, every tolerance 1e-15 (fit_curve, fit::Problem's callers
+  /// that state nothing, the battery models).
+  static FitOptions precise() { return FitOptions{}; }
+  /// A calibration's censored robust fit and the charge map: 200 iterations, function and gradient
+  /// tolerance 1e-14, parameter tolerance 1e-12 (what the shipped data/fitted was computed with).
+  static FitOptions calibration() { return with(200, 1e-14, 1e-14, 1e-12); }
+  /// The diagnosis's joint fits: 200 iterations, function tolerance 1e-8 (a relative change of the
+  /// cost of 1e-8 moves n log(RSS) by 1e-8 n: 0.002 at 200 000 residuals, far below the BIC margin
+  /// of 10), gradient 1e-12, parameters 1e-8 (far below their errors).
+  static FitOptions diagnosis() { return with(200, 1e-8, 1e-12, 1e-8); }
+  /// Ceres 2.1's stock tolerances (function 1e-6, gradient 1e-10, parameters 1e-8) with 200
+  /// iterations: the virtual robot's cell was calibrated with them, and the logs in data/raw
+  /// depend on it.
+  static FitOptions stock() { return with(200, 1e-6, 1e-10, 1e-8); }
+  /// The NIST StRD validation: 10 000 iterations, every tolerance 1e-16, up to 3 restarts while
+  /// the cost still falls, and the alternative strategies when a solution fails its checks.
+  static FitOptions reference() {
+    FitOptions o = with(10000, 1e-16, 1e-16, 1e-16);
+    o.restarts = 3;
+    o.try_alternatives = true;
+    return o;
+  }
+
+ private:
+  static FitOptions with(int iterations, double function, double gradient, double parameter) {
+    FitOptions o;
+    o.max_iterations = iterations;
+    o.function_tolerance = function;
+    o.gradient_tolerance = gradient;
+    o.parameter_tolerance = parameter;
+    return o;
+  }
 };
 
 double akaike(std::size_t n, double rss, int k);
