@@ -5,8 +5,7 @@
 #include <sstream>
 #include <string>
 
-#include "epuck2/models/light.hpp"
-#include "epuck2/models/proximity.hpp"
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/models/tof.hpp"
 #include "epuck2/logs/output.hpp"
 
@@ -64,12 +63,11 @@ void check_obstacle(const logs::Log& log) {
 
 void check_plausible_units(const std::vector<logs::Log>& logs) {
   for (const logs::Log& log : logs) {
-    switch (log.kind) {
-      case logs::Kind::proximity: check_distances(log, models::sensors::kPluginProximity.range_m, "proximity sensor"); break;
-      case logs::Kind::light: check_distances(log, models::sensors::kPluginLight.range_m, "light sensor (the plug-in's range)"); break;
-      case logs::Kind::drive: check_obstacle(log); break;
-      default: break;
-    }
+    // How far the kind's sensor sees, and whether its logs give an obstacle's distance (kind_facts).
+    const models::KindFacts& facts = *models::kind_facts(std::string(logs::to_string(log.kind)));
+    if (facts.distances.sees_to_m > 0) check_distances(log, facts.distances.sees_to_m, facts.distances.sensor);
+    for (const models::RequiredMetadata& m : facts.metadata)
+      if (std::string(m.key) == "obstacle_distance_m") check_obstacle(log);
   }
 }
 

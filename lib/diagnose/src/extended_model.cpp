@@ -8,6 +8,7 @@
 
 #include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/models/effects.hpp"
+#include "kind_table.hpp"
 
 namespace epuck2::diagnose {
 
@@ -267,14 +268,7 @@ ModelInputs model_inputs(const std::vector<logs::Log>& logs, const Options& opti
 nlohmann::json extended_model_json(const Report& r, const ModelInputs& inputs) {
   std::vector<std::string> left_out;
   nlohmann::json j;
-  switch (r.kind) {
-    case logs::Kind::proximity: j = coefficients::model_to_json(extended_proximity(r, &left_out, inputs)); break;
-    case logs::Kind::light: j = coefficients::model_to_json(extended_light(r, &left_out, inputs)); break;
-    case logs::Kind::ground: j = coefficients::model_to_json(extended_ground(r, &left_out, inputs)); break;
-    case logs::Kind::camera: j = coefficients::model_to_json(extended_camera(r, &left_out, inputs)); break;
-    case logs::Kind::drive: j = coefficients::model_to_json(extended_drive(r, &left_out, inputs)); break;
-    case logs::Kind::battery: j = coefficients::model_to_json(extended_battery(r, &left_out, inputs)); break;
-  }
+  if (const detail::KindRow* row = detail::kind_row(r.kind)) j = row->extended(r, &left_out, inputs);
   if (!left_out.empty()) j["effects_not_in_model"] = left_out;
   return j;
 }

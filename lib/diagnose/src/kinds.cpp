@@ -4,7 +4,11 @@
 // switches effects on by freeing their parameters.
 // Each kind in its own file (kind_ground.cpp, kind_proximity.cpp, kind_light.cpp, kind_camera.cpp,
 // kind_drive.cpp, kind_battery.cpp; their shared helpers: kind_common.hpp); here, the choice of
-// the kind's problem for the logs.
+// the kind's problem for the logs, and the table of what the diagnosis does per kind
+// (kind_table.hpp).
+#include "kind_table.hpp"
+
+#include "epuck2/coefficients/model_file.hpp"
 #include "kind_common.hpp"
 
 namespace epuck2::diagnose {
@@ -12,6 +16,38 @@ namespace epuck2::diagnose {
 using namespace epuck2::fit;  // the engine (lib/fit)
 
 namespace detail {
+
+namespace {
+
+/// A kind's extended model (extended_model.hpp) as a coefficient file.
+template <auto Extended>
+nlohmann::json extended_json(const Report& r, std::vector<std::string>* left_out, const ModelInputs& inputs) {
+  return coefficients::model_to_json(Extended(r, left_out, inputs));
+}
+
+}  // namespace
+
+const KindRow* kind_row(logs::Kind kind) {
+  // The reading noise between replicates is what the kind's calibration measures (lib/calibrate).
+  using Logs = std::vector<logs::Log>;
+  static const KindRow rows[] = {
+      {logs::Kind::ground, make_ground, extended_json<extended_ground>,
+       [](const Logs& l) { return calibrate::fit_ground(l).noise; }},
+      {logs::Kind::proximity, make_proximity, extended_json<extended_proximity>,
+       [](const Logs& l) { return calibrate::fit_proximity(l).noise; }},
+      {logs::Kind::light, make_light, extended_json<extended_light>,
+       [](const Logs& l) { return calibrate::fit_light(l).noise; }},
+      {logs::Kind::camera, make_camera, extended_json<extended_camera>,
+       [](const Logs& l) { return calibrate::fit_camera(l).noise; }},
+      // The drive's replicates need no fit (on a 1M-row log the fits took most of the diagnosis's
+      // time and memory).
+      {logs::Kind::drive, make_drive, extended_json<extended_drive>, calibrate::drive_tof_replicate_noise},
+      {logs::Kind::battery, make_battery, extended_json<extended_battery>, nullptr},
+  };
+  for (const KindRow& row : rows)
+    if (row.kind == kind) return &row;
+  return nullptr;
+}
 
 std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const Options& options, std::string& why) {
   const logs::Kind kind = logs.front().kind;
@@ -25,18 +61,12 @@ std::unique_ptr<Problem> make_problem(const std::vector<logs::Log>& logs, const 
           ", the logs of the kind " + std::string(logs::to_string(kind));
     return nullptr;
   }
-  std::unique_ptr<Problem> p;
-  switch (kind) {
-    case logs::Kind::ground: p = make_ground(logs, options); break;
-    case logs::Kind::proximity: p = make_proximity(logs, options); break;
-    case logs::Kind::light: p = make_light(logs, options); break;
-    case logs::Kind::camera: p = make_camera(logs, options); break;
-    case logs::Kind::drive: p = make_drive(logs, options); break;
-    case logs::Kind::battery: p = make_battery(logs, options); break;
-    default:
-      why = "diagnose does not support the kind '" + std::string(logs::to_string(kind)) + "' yet";
-      return nullptr;
+  const KindRow* row = kind_row(kind);
+  if (!row) {
+    why = "diagnose does not support the kind '" + std::string(logs::to_string(kind)) + "' yet";
+    return nullptr;
   }
+  std::unique_ptr<Problem> p = row->make(logs, options);
   // The kinds' optional columns of docs/logs.md are inputs of the model (angle_deg) or a
   // consequence of the measured quantity (voltage_v), never `covariate:` candidates.
   add_common_covariates(*p, logs, {"angle_deg", "voltage_v"});
@@ -58,16 +88,6 @@ std::string finding_meaning(const std::string& cause) {
   return cause;
 }
 
-bool supported(logs::Kind kind) {
-  switch (kind) {
-    case logs::Kind::ground:
-    case logs::Kind::proximity:
-    case logs::Kind::light:
-    case logs::Kind::camera:
-    case logs::Kind::drive:
-    case logs::Kind::battery: return true;
-  }
-  return false;
-}
+bool supported(logs::Kind kind) { return detail::kind_row(kind) != nullptr; }
 
 }  // namespace epuck2::diagnose

@@ -7,6 +7,7 @@
 
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
+#include "kind_table.hpp"
 
 namespace epuck2::diagnose {
 
@@ -32,15 +33,8 @@ std::map<std::string, calibrate::ReadingNoise> replicate_noise(const std::vector
   // The calibration of these logs measures the replicates exactly as a calibration file's noise;
   // logs it cannot fit have no replicate noise to give (the residuals' is used).
   try {
-    switch (logs.front().kind) {
-      case logs::Kind::proximity: keep_if_replicates(out, calibrate::fit_proximity(logs).noise); break;
-      case logs::Kind::light: keep_if_replicates(out, calibrate::fit_light(logs).noise); break;
-      case logs::Kind::ground: keep_if_replicates(out, calibrate::fit_ground(logs).noise); break;
-      case logs::Kind::camera: keep_if_replicates(out, calibrate::fit_camera(logs).noise); break;
-      // The drive's replicates need no fit (on a 1M-row log the fits took most of the diagnosis's time and memory).
-      case logs::Kind::drive: keep_if_replicates(out, calibrate::drive_tof_replicate_noise(logs)); break;
-      case logs::Kind::battery: break;
-    }
+    const detail::KindRow* row = detail::kind_row(logs.front().kind);
+    if (row && row->replicate_noise) keep_if_replicates(out, row->replicate_noise(logs));
   } catch (const std::exception&) {
     out.clear();
   }

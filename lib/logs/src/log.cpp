@@ -28,81 +28,21 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 namespace {
 
-struct Range {
-  double lo, hi;
-  std::string what;
-};
-
-/// A kind's facts (lib/models kind_facts.hpp): its channels' rails and sensors.
+/// A kind's facts (lib/models kind_facts.hpp): its columns, their ranges, its channels.
 const models::KindFacts& facts_of(Kind kind) { return *models::kind_facts(std::string(to_string(kind))); }
 
-/// A sensor index column: 0 .. the kind's sensors - 1.
-Range sensor_index(Kind kind) {
-  const models::Channel& c = facts_of(kind).channels.front();
-  return Range{0, c.sensors - 1.0, "a " + std::string(to_string(kind)) + " sensor index 0.." + std::to_string(c.sensors - 1)};
-}
-
-/// A raw register reading between the channel's rails.
-Range raw_reading(Kind kind) {
-  const models::Channel& c = facts_of(kind).channels.front();
-  return Range{c.low_rail, c.high_rail, "a raw reading " + c.rails_text()};
-}
-
-// Physical ranges of the columns (docs/logs.md). A value outside is rejected (tof_mm also takes the
-// out-of-range code, see kTofOutOfRangeCode_mm).
-std::optional<Range> range_of(Kind kind, const std::string& column) {
-  if (column == "time_s") return Range{0.0, 1e9, "a time in [0, 1e9] s"};
-  if (column == "distance_m" && kind != Kind::light) return Range{0.0, 1e3, "a distance in [0, 1000] m"};
-  switch (kind) {
-    case Kind::battery:
-      if (column == "speed_cm_s") return Range{-1e3, 1e3, "a speed in [-1000, 1000] cm/s"};
-      if (column == "charge") return Range{-1.0, 1.05, "a normalised charge in [-1, 1.05]"};
-      if (column == "voltage_v") return Range{0.0, 10.0, "a voltage in [0, 10] V"};
-      break;
-    case Kind::proximity:
-      if (column == "sensor") return sensor_index(kind);
-      if (column == "value") return raw_reading(kind);
-      if (column == "angle_deg") return Range{-90, 90, "an incidence angle in [-90, 90] degrees"};
-      break;
-    case Kind::light:
-      // The model divides by the distance (gamma intensity / d): 0 or a subnormal overflows it.
-      if (column == "distance_m") return Range{1e-3, 1e3, "a distance from the light source in [0.001, 1000] m"};
-      if (column == "sensor") return sensor_index(kind);
-      if (column == "value") return raw_reading(kind);
-      if (column == "intensity") return Range{0, 1e6, "an intensity in [0, 1e6]"};
-      break;
-    case Kind::ground:
-      if (column == "sensor") return sensor_index(kind);
-      if (column == "value") return raw_reading(kind);
-      if (column == "grey") return Range{0, 1, "a grey level in [0, 1]"};
-      break;
-    case Kind::camera:
-      if (column == "forward_m") return Range{1e-12, 1e3, "a forward distance in (0, 1000] m"};
-      // An LED beyond a kilometre is no camera observation; the projection f y/x stays finite.
-      if (column == "lateral_m") return Range{-1e3, 1e3, "a lateral position in [-1000, 1000] m"};
-      if (column == "vertical_m") return Range{-1e3, 1e3, "a vertical position in [-1000, 1000] m"};
-      if (column == "px") return Range{0, 159, "a pixel column 0..159"};
-      if (column == "py") return Range{0, 119, "a pixel row 0..119"};
-      break;
-    case Kind::drive:
-      if (column == "left_steps" || column == "right_steps")
-        return Range{-32768, 32767, "a 16-bit encoder count -32768..32767"};
-      if (column == "tof_mm") {
-        const models::Channel& tof = facts_of(kind).channels.front();
-        return Range{tof.low_rail, tof.high_rail,
-                     "a " + std::string(tof.label) + " reading " + tof.rails_text() + " " + tof.unit + ", or >= " +
-                         std::to_string(static_cast<int>(kTofOutOfRangeCode_mm)) + " (no target in range)"};
-      }
-      if (column == "left_speed_cm_s" || column == "right_speed_cm_s")
-        return Range{-1e3, 1e3, "a speed in [-1000, 1000] cm/s"};
-      break;
-  }
+// The physical range of a column (docs/logs.md), or nullopt: the kind's own (kind_facts), else
+// the ranges every log shares. A value outside is rejected (tof_mm also takes the out-of-range
+// code, see kTofOutOfRangeCode_mm).
+std::optional<models::ColumnRange> range_of(Kind kind, const std::string& column) {
+  if (const models::ColumnRange* r = facts_of(kind).range(column)) return *r;
+  if (column == "time_s") return models::ColumnRange{"time_s", 0.0, 1e9, "a time in [0, 1e9] s"};
+  if (column == "distance_m") return models::ColumnRange{"distance_m", 0.0, 1e3, "a distance in [0, 1000] m"};
   return std::nullopt;
 }
 
-bool must_be_integer(Kind kind, const std::string& column) {
-  if (column == "sensor") return true;
-  return kind == Kind::drive && (column == "left_steps" || column == "right_steps");
+bool must_be_integer(const std::optional<models::ColumnRange>& range, const std::string& column) {
+  return column == "sensor" || (range && range->integer);
 }
 
 std::string_view trim_view(std::string_view s) {
@@ -262,15 +202,10 @@ InputError::InputError(std::string file, int line, int column, std::string messa
       message_(escape_control(message)) {}
 
 std::string_view to_string(Kind kind) {
-  switch (kind) {
-    case Kind::battery: return "battery";
-    case Kind::proximity: return "proximity";
-    case Kind::light: return "light";
-    case Kind::ground: return "ground";
-    case Kind::camera: return "camera";
-    case Kind::drive: return "drive";
-  }
-  return "?";
+  // The enumerators' names, in their order (log.hpp).
+  static constexpr std::string_view kNames[] = {"battery", "proximity", "light", "ground", "camera", "drive"};
+  const auto k = static_cast<std::size_t>(kind);
+  return k < std::size(kNames) ? kNames[k] : "?";
 }
 
 const std::vector<Kind>& all_kinds() {
@@ -289,7 +224,7 @@ const std::vector<std::string>& required_columns(Kind kind) {
   // The kinds' facts (lib/models kind_facts.hpp), as strings once.
   static const std::map<Kind, std::vector<std::string>> required = [] {
     std::map<Kind, std::vector<std::string>> m;
-    for (Kind k : {Kind::battery, Kind::proximity, Kind::light, Kind::ground, Kind::camera, Kind::drive}) {
+    for (Kind k : all_kinds()) {
       const auto& columns = facts_of(k).columns;
       m[k] = std::vector<std::string>(columns.begin(), columns.end());
     }
@@ -299,7 +234,8 @@ const std::vector<std::string>& required_columns(Kind kind) {
 }
 
 std::string stand_in_column(Kind kind, const std::string& required) {
-  if (kind == Kind::battery && required == "charge") return "voltage_v";
+  for (const models::StandIn& s : facts_of(kind).stand_ins)
+    if (required == s.required) return s.instead;
   return "";
 }
 
@@ -347,13 +283,6 @@ struct Problem {
 };
 bool before(const Problem& a, const Problem& b) { return a.line != b.line ? a.line < b.line : a.column < b.column; }
 
-std::string range_text(const Range& r) { return r.what; }
-
-// The range check of a numeric cell, with the ToF's out-of-range code let through.
-bool in_range(Kind kind, const std::string& column, const Range& r, double v) {
-  if (kind == Kind::drive && column == "tof_mm" && is_tof_out_of_range(v)) return true;
-  return v >= r.lo && v <= r.hi;
-}
 
 Log parse_impl(const std::string& content, const std::string& name, std::optional<Kind> kind,
                const std::vector<std::string>* table_columns, const ReadOptions& options) {
@@ -524,6 +453,13 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
   }
   std::vector<bool> is_numeric(m, true);
   std::vector<std::vector<double>> values(m, std::vector<double>(n, 0.0));
+  // Each column's range and whether it takes whole numbers only, looked up once.
+  std::vector<std::optional<models::ColumnRange>> range(m);
+  std::vector<bool> integer(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    range[j] = range_of(*kind, header[j]);
+    integer[j] = must_be_integer(range[j], header[j]);
+  }
   auto check_cell = [&](std::size_t i, std::size_t j) {
     const Cell& c = cell(i, j);
     const std::string_view written = text(c);
@@ -534,10 +470,10 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
       return note(i, c.column, "column '" + cname + "': expected a finite number, got '" + std::string(written) + "'");
     if (st == NumberStatus::not_a_number)
       return note(i, c.column, "column '" + cname + "': expected a number, got '" + std::string(written) + "'");
-    const std::optional<Range> r = range_of(*kind, cname);
-    if (r && !in_range(*kind, cname, *r, v))
-      return note(i, c.column, "column '" + cname + "': value " + std::string(written) + " out of range, expected " + range_text(*r));
-    if (must_be_integer(*kind, cname) && v != std::floor(v))
+    const std::optional<models::ColumnRange>& r = range[j];
+    if (r && !r->in_range(v))
+      return note(i, c.column, "column '" + cname + "': value " + std::string(written) + " out of range, expected " + r->what);
+    if (integer[j] && v != std::floor(v))
       return note(i, c.column, "column '" + cname + "': expected an integer, got '" + std::string(written) + "'");
   };
   std::vector<std::size_t> extra;
@@ -622,15 +558,16 @@ Log parse_impl(const std::string& content, const std::string& name, std::optiona
     for (std::size_t j = 0; j < m; ++j) log.cell_start.push_back(cell(i, j).column);
   }
 
-  if (!table_columns && *kind == Kind::drive) {
-    if (!log.metadata.count("obstacle_distance_m"))
+  for (const models::RequiredMetadata& meta : table_columns ? std::vector<models::RequiredMetadata>{} : facts_of(*kind).metadata) {
+    if (!log.metadata.count(meta.key))
       throw InputError(name, header_line, 1,
-                       "missing required metadata line '# obstacle_distance_m: D' (before the header) for a drive log");
-    const double d = log.metadata_number("obstacle_distance_m");
-    if (d < 0 || d > 1e3) {  // the range of every distance_m column
-      const SourcePos at = log.metadata_at.at("obstacle_distance_m");
-      throw InputError(name, at.line, at.column, "metadata 'obstacle_distance_m': expected a distance >= 0 m and <= 1000 m, got " +
-                                                    log.metadata.at("obstacle_distance_m"));
+                       std::string("missing required metadata line '# ") + meta.key + ": " + meta.placeholder +
+                           "' (before the header) for a " + std::string(to_string(*kind)) + " log");
+    const double d = log.metadata_number(meta.key);
+    if (d < meta.lo || d > meta.hi) {
+      const SourcePos at = log.metadata_at.at(meta.key);
+      throw InputError(name, at.line, at.column,
+                       std::string("metadata '") + meta.key + "': expected " + meta.what + ", got " + log.metadata.at(meta.key));
     }
   }
 

@@ -40,15 +40,20 @@ std::vector<Panel> panels_of(const dg::Report& r) {
     }
     for (std::size_t i = 0; i < n && i < r.residual_channel.size(); ++i)
       if (r.residual_channel[i] < out.size()) out[r.residual_channel[i]].residuals.push_back(i);
-  } else if (r.kind == logs::Kind::camera) {
-    // Two residuals a row: the LED's column, then its row in the image.
-    out = {{"LED image column px", "px", {}, "column"}, {"LED image row py", "px", {}, "row"}};
-    for (std::size_t i = 0; i < n; ++i) out[i % 2].residuals.push_back(i);
+  } else if (facts.readings.size() > 1) {
+    // Several residuals a row, one per reading column in turn (the camera's: the LED's image
+    // column, then its row), each named by the kind's facts.
+    const char* unit = facts.channels.front().unit;
+    for (const char* reading : facts.readings) {
+      const models::ColumnWords* w = facts.words_of(reading);
+      out.push_back({w ? w->words : reading, unit, {}, w ? w->brief : reading});
+    }
+    for (std::size_t i = 0; i < n; ++i) out[i % out.size()].residuals.push_back(i);
   } else {
     // One channel: its quantity, unit and rails from the kind's facts (a charge is a fraction of
-    // the full charge, with no register behind it).
+    // the full charge, with no register behind it: Channel::axis_unit).
     const models::Channel& c = facts.channels.front();
-    if (r.kind == logs::Kind::battery) out.push_back({c.label, "fraction of full charge", {}});
+    if (c.axis_unit) out.push_back({c.label, c.axis_unit, {}});
     else out.push_back({std::string(c.label) + " reading", std::string(c.unit) + ", " + c.rails_text(), {}});
     for (std::size_t i = 0; i < n; ++i) out[0].residuals.push_back(i);
   }
@@ -85,6 +90,7 @@ std::string column_label(const std::string& name) {
 Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<double>& x, const std::vector<std::string>& log_names,
              const std::string& panel_unit) {
   Axis a;
+  const models::KindFacts& facts = *models::kind_facts(std::string(logs::to_string(r.kind)));
   std::set<double> values(x.begin(), x.end());
   if (name == "log" || name == "sensor" || name == "axis" || name == "channel") {
     a.categorical = true;
@@ -96,7 +102,7 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
                     ? std::filesystem::path(log_names[static_cast<std::size_t>(k)]).filename().string()
                     : "log " + std::to_string(k);
       } else if (name == "sensor") {
-        label = k >= 0 ? models::kind_facts(std::string(logs::to_string(r.kind)))->sensor_name(static_cast<std::size_t>(k))
+        label = k >= 0 ? facts.sensor_name(static_cast<std::size_t>(k))
                        : std::to_string(k);
       } else if (name == "axis") {
         label = k == 0 ? "px (column)" : k == 1 ? "py (row)" : std::to_string(k);
@@ -111,9 +117,10 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
                                  : "measured quantity (channel)";
     return a;
   }
-  const bool drive = r.kind == logs::Kind::drive;
   static const std::map<std::string, std::string> kKnown{
       {"log_row", "row number within its log (log_row)"},
+      {"speed_cm_s", "wheel speed (cm/s)"},
+      {"distance_m", "distance to the surface (mm)"},
       {"time_s", "time (s)"},
       {"commanded_cm_s", "commanded wheel speed (cm/s)"},
       {"acceleration_cm_s2", "acceleration measured by the encoders (cm/s²)"},
@@ -127,9 +134,7 @@ Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<dou
       {"intensity", "source intensity (simulator units; 1 = the reference source)"},
       {"angle_deg", "incidence angle (°)"},
   };
-  if (name == "speed_cm_s") a.label = drive ? "speed measured by the encoders (cm/s)" : "wheel speed (cm/s)";
-  else if (name == "distance_m")
-    a.label = drive ? "distance travelled from the start (mm; negative: backwards)" : r.kind == logs::Kind::light ? "distance to the light (mm)" : "distance to the surface (mm)";
+  if (const models::ColumnWords* w = facts.words_of(name)) a.label = w->words;  // the kind's own words
   else if (name == "predicted") a.label = "value the recalibrated base model simulates (" + panel_unit + ")";
   else if (name == "image_row") a.label = "LED's row in the image (px, 0 = top)";
   else if (const auto it = kKnown.find(name); it != kKnown.end()) a.label = it->second;

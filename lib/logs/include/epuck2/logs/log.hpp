@@ -19,6 +19,8 @@
 #include <string_view>
 #include <vector>
 
+#include "epuck2/models/tof.hpp"
+
 namespace epuck2::logs {
 
 enum class Kind { battery, proximity, light, ground, camera, drive };
@@ -36,7 +38,7 @@ std::string stand_in_column(Kind kind, const std::string& required);
 
 /// The VL53L0X time-of-flight sensor's "no target in range" code: tof_mm readings at or above it
 /// are kept as read in the tof_mm column; they mean "farther than the sensor's range (2000 mm)".
-inline constexpr double kTofOutOfRangeCode_mm = 8190;
+inline constexpr double kTofOutOfRangeCode_mm = models::sensors::kTofOutOfRangeCode_mm;
 /// True for a tof_mm reading that is the sensor's out-of-range code (>= kTofOutOfRangeCode_mm).
 inline bool is_tof_out_of_range(double mm) { return mm >= kTofOutOfRangeCode_mm; }
 

@@ -263,14 +263,28 @@ inline const Catalogue& catalogue_of(const s::CameraModel&) { return camera_cata
 inline const Catalogue& catalogue_of(const s::DriveModel&) { return drive_catalogue(); }
 inline const Catalogue& catalogue_of(const s::BatteryModel&) { return battery_catalogue(); }
 
+/// A kind's name and its catalogue.
+struct KindCatalogue {
+  const char* kind;
+  const Catalogue& (*catalogue)();
+};
+
+/// Every kind with its catalogue, in the order the logs' kinds are listed: the one dispatch from a
+/// kind's name to its catalogue.
+inline const std::array<KindCatalogue, 6>& kind_catalogues() {
+  static const std::array<KindCatalogue, 6> k{{{"ground", ground_catalogue},
+                                               {"proximity", proximity_catalogue},
+                                               {"light", light_catalogue},
+                                               {"camera", camera_catalogue},
+                                               {"drive", drive_catalogue},
+                                               {"battery", battery_catalogue}}};
+  return k;
+}
+
 /// The catalogue of the kind named `kind` ("proximity", ...); nullptr for another name.
 inline const Catalogue* catalogue(const std::string& kind) {
-  if (kind == "proximity") return &proximity_catalogue();
-  if (kind == "light") return &light_catalogue();
-  if (kind == "ground") return &ground_catalogue();
-  if (kind == "camera") return &camera_catalogue();
-  if (kind == "drive") return &drive_catalogue();
-  if (kind == "battery") return &battery_catalogue();
+  for (const KindCatalogue& k : kind_catalogues())
+    if (kind == k.kind) return &k.catalogue();
   return nullptr;
 }
 
@@ -287,7 +301,11 @@ inline const char* file_key(const Catalogue& c, std::size_t id, std::size_t p = 
 
 /// The kinds that have a catalogue, in the order the logs' kinds are listed.
 inline const std::array<const char*, 6>& kinds() {
-  static const std::array<const char*, 6> k{"ground", "proximity", "light", "camera", "drive", "battery"};
+  static const std::array<const char*, 6> k = [] {
+    std::array<const char*, 6> names{};
+    for (std::size_t i = 0; i < names.size(); ++i) names[i] = kind_catalogues()[i].kind;
+    return names;
+  }();
   return k;
 }
 

@@ -19,6 +19,9 @@ struct TofCoefficients {
   double offset_mm = 0.0;
 };
 inline constexpr TofCoefficients kPluginTof{};
+/// The VL53L0X's "no target in range" code: a tof_mm reading at or above it is no distance
+/// (ST's VL53L0X API reports 8190 or 8191 when the signal is too weak; docs/logs.md, drive).
+inline constexpr double kTofOutOfRangeCode_mm = 8190;
 
 /// The noiseless reading in mm before rounding: scale * 1000 d + offset. What a fit adjusts.
 template <typename T>
