@@ -23,7 +23,10 @@ domain, infinite numbers in the coefficient files codegen reads); then --cases r
   * a log written by `simulate` holds no NaN or infinity;
   * generate writes logs without a NaN or an infinity, and a refused generate creates no folder;
   * every subcommand whose standard output fails (/dev/full) exits 2 saying "standard output",
-    `-o -` (the file on standard output) included.
+    `-o -` (the file on standard output) included;
+  * a model file with one key of its schema misspelt (a section, a parameter, a noise channel or
+    key, an effect) is refused, exit 2 at FILE:LINE:COLUMN, by simulate --like, codegen and
+    diagnose --coefficients alike: never dropped in silence.
 
 Usage: fuzz_smoke.py --exe build/bin/epuck2-fit --source . [--cases 300] [--seed 1]
 Exit status 0 when every case holds, 1 otherwise; each violation is listed with the command and
@@ -187,6 +190,26 @@ def mutate(rng, data):
 
 
 # ----- checks ------------------------------------------------------------------------------------
+
+def misspell(rng, key, taken):
+    """A plausible typo of `key` (two neighbours swapped, a letter dropped, doubled or changed)
+    that is neither the key nor another key beside it."""
+    for _ in range(50):
+        i = rng.randrange(len(key))
+        how = rng.randrange(4)
+        if how == 0 and len(key) > 1:
+            i = min(i, len(key) - 2)
+            typo = key[:i] + key[i + 1] + key[i] + key[i + 2:]
+        elif how == 1 and len(key) > 1:
+            typo = key[:i] + key[i + 1:]
+        elif how == 2:
+            typo = key[:i + 1] + key[i:]
+        else:
+            typo = key[:i] + rng.choice("aeiourstnxz") + key[i + 1:]
+        if typo != key and typo not in taken:
+            return typo
+    return key + "x"
+
 
 def nulls_without_reason(node, where="$", excused=False, parent=None, name=None, grandparent=None):
     """Paths of NaN/inf numbers and of nulls that no reason covers. A reason is a key holding
@@ -484,7 +507,8 @@ class Smoke:
         self.fixed_cases(bases, fitted)
         diagnoses = {k: os.path.join(self.src, "data", "fitted", "reports", "diagnose_%s.json" % k) for k in KINDS}
         kinds_cycle = (["battery", "table5", "diagnose", "simulate", "codegen", "options"] + SENSOR_COMMANDS +
-                       ["simulate_like", "codegen_diagnoses", "diagnose_coefficients", "charge_map", "nist", "generate"])
+                       ["simulate_like", "codegen_diagnoses", "diagnose_coefficients", "charge_map", "nist", "generate",
+                        "misspelt_key"])
         for case in range(cases):
             what = kinds_cycle[case % len(kinds_cycle)]
             out_json = os.path.join(self.work, "case%04d" % case, "out.json")
@@ -576,6 +600,8 @@ class Smoke:
                 self.nist_case(case, rng, out_json)
             elif what == "generate":
                 self.generate_case(case, rng)
+            elif what == "misspelt_key":
+                self.misspelt_key_case(case, rng, bases, fitted, diagnoses)
             else:
                 self.option_case(case, rng, bases, out_json)
 
@@ -600,6 +626,47 @@ class Smoke:
         if rng.random() < 0.3:
             args += ["--noise", "--seed", str(rng.randrange(1000))]
         self.run(case, args + ["-o", out_csv], [name], output=out_csv, csv_output=True)
+
+    def misspelt_key_case(self, case, rng, bases, fitted, diagnoses):
+        """A model file (a calibration or a diagnosis) with one key of its schema misspelt: a
+        section, a parameter, a noise channel or a key of one, an effect. Whichever reader takes it
+        (simulate --like, codegen, diagnose --coefficients) must refuse it, exit 2 at
+        FILE:LINE:COLUMN: a misspelt key that is dropped would leave its value out in silence."""
+        kind = rng.choice(KINDS)
+        doc = json.loads(read(rng.choice([fitted[kind], diagnoses[kind]])).decode("utf-8"))
+        places = [((), k) for k in doc]
+        for section in ("parameters", "noise", "effects"):
+            if isinstance(doc.get(section), dict):
+                places += [((section,), k) for k in doc[section]]
+        for channel, v in (doc.get("noise") or {}).items():
+            if isinstance(v, dict):
+                places += [(("noise", channel), k) for k in v]
+        path, key = rng.choice(sorted(places))
+        holder = doc
+        for p in path:
+            holder = holder[p]
+        typo = misspell(rng, key, set(holder))
+        renamed = {(typo if k == key else k): v for k, v in holder.items()}
+        holder.clear()
+        holder.update(renamed)
+        name = "misspelt_%s_%s.json" % (kind, re.sub(r"[^A-Za-z0-9]+", "-", "_".join(path + (typo,))))
+        coeff = self.write(case, name, json.dumps(doc, indent=1).encode("utf-8") + b"\n")
+        log = self.write(case, "%s.csv" % kind, self.head(rng.choice(bases[kind])))
+        how = rng.choice(["simulate", "codegen", "diagnose"])
+        case_dir = os.path.join(self.work, "case%04d" % case)
+        if how == "simulate":
+            out = os.path.join(case_dir, "out.csv")
+            args = ["simulate", kind, "--like", log, "--coefficients", coeff, "-o", out]
+        elif how == "codegen":
+            out = os.path.join(case_dir, "coefficients.hpp")
+            args = ["codegen", coeff, "-o", out]
+        else:
+            out = os.path.join(case_dir, "out.json")
+            args = ["diagnose", "--coefficients", coeff, "--json", out, log]
+        rc = self.run(case, args, [name], output=out)
+        if rc is not None and rc != 2:
+            self.fail(case, [self.exe] + args, "the key '%s' misspelt '%s' (at /%s) was not refused" % (
+                key, typo, "/".join(path + (typo,))), rc, "", [name])
 
     def charge_map_case(self, case, rng, bases, fitted, out_json):
         """battery --charge-map: voltage-only logs (the charge column dropped) through the fitted
