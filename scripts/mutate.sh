@@ -192,6 +192,19 @@ R4_LIKE = whole(R4_ALWAYS + ["test_model_loop", "test_coefficients", "test_check
 R4_PLOT = whole(R4_ALWAYS + ["test_figures", "test_sensor_cli", "test_battery_cli", "test_docs"])
 R4_ARGOS = (R3_ARGOS[0], ("whole", (), R3_ARGOS[1][2] + ("argos_incidence_shapes",)))
 
+# Round 5 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-5), planted without reading
+# the tests; each group is every test of the programs that touch the area (round 4's groups, which
+# already hold round 4's tests), as in rounds 3 and 4.
+R5_FACTS = whole(list(R4_FACTS[1][1]) + list(R4_REPORT[1][1]))
+
+
+def with_round_five(group):
+    """A whole group with tests/test_round_five_slips.cpp's tests too (written after the run
+    before them; an ARGoS group, which names no test program, is left as it is)."""
+    if not group[1][1]:
+        return group
+    return whole(list(group[1][1]) + ["test_round_five_slips"], group[1][2])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -340,6 +353,43 @@ MUTANTS = [
      "RotateUnit(cQ.GetW(), cQ.GetX(), cQ.GetY(), cQ.GetZ(), c_hit - sOrigin.Position)", R4_ARGOS),
     ("r4_argos_tof_noise_scale_metres", AS, 'ConfigureNoise(s, "tof", {sModel.tof_noise_sd_mm}, m_sCoefficients.range_m * 1000.0, m_cNoise);',
      'ConfigureNoise(s, "tof", {sModel.tof_noise_sd_mm}, m_sCoefficients.range_m, m_cNoise);', R4_ARGOS),
+    # Round 5 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
+    ("r5_charge_below_slowest_takes_last", CM, "if (x.size() == 1 || s <= x.front()) return y.front();",
+     "if (x.size() == 1 || s <= x.front()) return y.back();", with_round_five(with_round_four(R3_CHARGE))),
+    ("r5_dnoise_warning_ratio_inverted", DR, "const double ratio = v.value / it->second.sd;",
+     "const double ratio = it->second.sd / v.value;", with_round_five(R4_NOISE)),
+    ("r5_codegen_segment_x1_x2_swapped", CG, 'cpp_number(g.x1_s) << ", " << cpp_number(g.x2_s)',
+     'cpp_number(g.x2_s) << ", " << cpp_number(g.x1_s)', with_round_five(with_round_four(R3_CODEGEN))),
+    ("r5_model_noise_sd_largest_not_rms", MF, 'c["sd"] = same ? sd[0] : rms;', 'c["sd"] = same ? sd[0] : top;', with_round_five(R5_FACTS)),
+    ("r5_like_drive_wheels_swapped", SLM, "out[i] = {static_cast<double>(r.left_steps), static_cast<double>(r.right_steps),",
+     "out[i] = {static_cast<double>(r.right_steps), static_cast<double>(r.left_steps),", with_round_five(R4_LIKE)),
+    ("r5_identify_tail_total_without", DK_PROXIMITY, "total += std::max(0.0, std::min(with[i], s::kProximityFullScale_raw));",
+     "total += std::max(0.0, std::min(without[i], s::kProximityFullScale_raw));", with_round_five(with_round_four(R3_DIAGNOSE))),
+    ("r5_structure_df1_bins", DE_RS, "const double df1 = static_cast<double>(used - 1),",
+     "const double df1 = static_cast<double>(used),", with_round_five(with_round_four(R3_DIAGNOSE))),
+    ("r5_jackknife_mean_divisor", DE_S, "mean += v[static_cast<std::size_t>(j)] / G;",
+     "mean += v[static_cast<std::size_t>(j)] / (G - 1);", with_round_five(with_round_four(R3_DIAGNOSE))),
+    ("r5_ar1_neff_inverted", RP, "std::clamp(nn * (1.0 - a.rho) / (1.0 + a.rho), 1.0, nn);",
+     "std::clamp(nn * (1.0 + a.rho) / (1.0 - a.rho), 1.0, nn);", with_round_five(R4_FIT)),
+    ("r5_tobit_hazard_tail_sign", RD, "return -z / (1 - 1 / z2 + 3 / (z2 * z2) - 15 / (z2 * z2 * z2));",
+     "return z / (1 - 1 / z2 + 3 / (z2 * z2) - 15 / (z2 * z2 * z2));", with_round_five(R4_FIT)),
+    ("r5_q_two_robots_skipped", RB, "if (x.size() < 2) continue;", "if (x.size() < 3) continue;", with_round_five(R4_FIT)),
+    ("r5_cap_one_row_not_tested", FS_D, "if (out.capped_rows > 0) {", "if (out.capped_rows > 1) {", with_round_five(with_round_four(R3_CAP))),
+    ("r5_tof_code_range_sign", DK_DRIVE, "1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i]))",
+     "1000.0 * (r.obstacle_m + steps_metres(ul[i], ur[i]))", with_round_five(R4_TOF_CODES)),
+    ("r5_argos_uniform_level_first_sensor", AS, "vecLevel.push_back(ms::uniform_level_with_sd(fSd, f_scale));",
+     "vecLevel.push_back(ms::uniform_level_with_sd(vec_sd.front(), f_scale));", with_round_five(R4_ARGOS)),
+    ("r5_log_forward_zero_accepted", LR, 'Range{1e-12, 1e3, "a forward distance > 0 m"}', 'Range{0.0, 1e3, "a forward distance > 0 m"}', with_round_five(R4_LOGS)),
+    ("r5_hint_unit_with_underscore", LR, 'has the unit " + h.substr(quantity.size() + 1) + "; this column',
+     'has the unit " + h.substr(quantity.size()) + "; this column', with_round_five(R4_LOGS)),
+    ("r5_facts_ground_names_reversed", "lib/models/include/epuck2/models/kind_facts.hpp", '{"0 (right)", "1 (centre)", "2 (left)"}',
+     '{"0 (left)", "1 (centre)", "2 (right)"}', with_round_five(R5_FACTS)),
+    ("r5_effects_neutral_not_admissible", "lib/models/include/epuck2/models/effects.hpp",
+     "return value == p.neutral || (value >= p.lower && value <= p.upper);", "return value >= p.lower && value <= p.upper;", with_round_five(R5_FACTS)),
+    ("r5_drive_report_steps_observations_from_tof", "lib/calibrate/src/drive_report.cpp", 'j["steps_observations"] = f.steps.observations;',
+     'j["steps_observations"] = f.tof.observations;', with_round_five(R4_REPORT)),
+    ("r5_dreport_structure_before_as_after", "lib/diagnose/src/report_output.cpp", 'j["residual_structure"] = scores(r.structure_after);',
+     'j["residual_structure"] = scores(r.structure_before);', with_round_five(R4_DREPORT)),
 ]
 
 
