@@ -591,6 +591,10 @@ def main():
             else:
                 passed, why, _, failed = run_tests(patterns[pattern], stop=not is_whole(pattern))
                 verdict = "survived" if passed else "killed"
+                if not passed and not failed:
+                    # ctest failed, yet no test did (a test program missing, "Not Run"): the
+                    # tests said nothing about this mutant, so it is not counted as killed.
+                    verdict, why = "invalid", "ctest failed without a failing test: " + (why or "see the build")
                 stability_only = not passed and is_whole(pattern) and set(failed) <= STABILITY
         finally:
             with open(file, "w") as f:
