@@ -591,7 +591,7 @@ def main():
             else:
                 passed, why, _, failed = run_tests(patterns[pattern], stop=not is_whole(pattern))
                 verdict = "survived" if passed else "killed"
-                if not passed and not failed:
+                if not passed and (not failed or failed == ["none matched"]):
                     # ctest failed, yet no test did (a test program missing, "Not Run"): the
                     # tests said nothing about this mutant, so it is not counted as killed.
                     verdict, why = "invalid", "ctest failed without a failing test: " + (why or "see the build")
