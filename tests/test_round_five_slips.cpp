@@ -105,12 +105,14 @@ std::vector<double> r5_numbers_after(const std::string& text, const std::string&
 TEST(RoundFiveCodegen, ApproximatedSegmentsKeepTheirStartAndEndTimes) {
   r5s::BatteryModel m;
   // Segment struct order (models/battery.hpp): h, m, x1_s, x2_s, y1, y2.
-  m.tables.segments[3][1] = {0.5, -0.002, 1200.0, 2400.0, 0.9, 0.6};
+  // A physical segment (lib/coefficients refuses to write one whose line misses its ends): the
+  // line through (1200 s, 0.9) and (2400 s, 0.6), m = -0.3 / 1200, h = 0.9 + 0.3 = 1.2.
+  m.tables.segments[3][1] = {1.2, -0.00025, 1200.0, 2400.0, 0.9, 0.6};
   const std::string cpp = epuck2::coefficients::model_to_cpp(m, "a hand-made table");
   const std::vector<double> v = r5_numbers_after(cpp, "t.segments[3][1] = ");
   ASSERT_EQ(v.size(), 6u) << cpp;
-  EXPECT_DOUBLE_EQ(v[0], 0.5);
-  EXPECT_DOUBLE_EQ(v[1], -0.002);
+  EXPECT_DOUBLE_EQ(v[0], 1.2);
+  EXPECT_DOUBLE_EQ(v[1], -0.00025);
   EXPECT_DOUBLE_EQ(v[2], 1200.0);
   EXPECT_DOUBLE_EQ(v[3], 2400.0);
   EXPECT_DOUBLE_EQ(v[4], 0.9);

@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
   const mb::Tables& t = mb::plugin_tables();
   nlohmann::json j;
   j["kind"] = "battery";
-  j["source"] = "the E-Puck2 ARGoS plug-in's tables (commit 0c30e1e), verbatim";
+  j["sources"] = {"the E-Puck2 ARGoS plug-in's tables (commit 0c30e1e), verbatim"};
   for (int s = 0; s < mb::kSpeedCount; ++s) {
     nlohmann::json e;
     e["speed_cm_s"] = s;

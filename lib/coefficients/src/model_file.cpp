@@ -68,7 +68,6 @@ bool contains(const std::vector<std::string>& names, const std::string& key) {
 
 // The sections a reader reads (docs/coefficient-files.md, "What the readers read").
 const std::vector<std::string> kReadSections{"kind", "parameters", "effects", "noise", "robots"};
-const std::vector<std::string> kBatterySections{"battery_model", "speeds", "simple"};
 
 // Keys a coefficient file holds for people and other tools, never read into a model
 // (docs/coefficient-files.md, "Informational keys"): what the calibrations (lib/calibrate
@@ -109,15 +108,6 @@ const std::vector<std::string> kNoiseKeys{"sd", "per_sensor_sd", "unit", "from",
 // A light calibration's per-sensor fit (lib/calibrate light_report.cpp): sensor and gamma are read.
 const std::vector<std::string> kPerSensorKeys{"sensor", "gamma", "usable", "why", "std_error", "std_error_why", "mse",
                                               "rounded", "fit"};
-
-/// Parameters a kind's file holds beside its base coefficients and its parameter-home effects: the
-/// camera calibration's image size and range (lib/calibrate camera_report.cpp) and the ARGoS
-/// aperture it derives from the field of view; the proximity calibration's curve of the means.
-std::vector<std::string> extra_parameters(const std::string& kind) {
-  if (kind == "camera") return {"aperture_deg", "width_px", "height_px", "range_m"};
-  if (kind == "proximity") return {"mean_a", "mean_b", "mean_c"};
-  return {};
-}
 
 /// The reading of one file: its JSON, its name, the robot asked for, and where each section is.
 class Doc {
@@ -304,15 +294,15 @@ class Doc {
   }
 
   /// Every key of `parameters` a file of this kind may hold: the base coefficients, the
-  /// parameter-home effects' file keys (registry), the kind's extra ones (extra_parameters).
+  /// parameter-home effects' file keys (registry), the kind's own (kind_facts' file_parameters).
   std::vector<std::string> parameter_keys() const {
     std::vector<std::string> keys;
     for (const models::BaseParam& p : facts_->base) keys.emplace_back(p.key);
     for (const fx::Effect& e : *fx::catalogue(facts_->name))
       if (e.home == fx::Home::parameters)
         for (const fx::Param& p : e.params) keys.emplace_back(p.file_key);
-    for (const std::string& k : extra_parameters(facts_->name))
-      if (!contains(keys, k)) keys.push_back(k);
+    for (const char* k : facts_->file_parameters)
+      if (!contains(keys, k)) keys.emplace_back(k);
     return keys;
   }
 
@@ -321,8 +311,7 @@ class Doc {
   /// whose names effects() checks against the registry), in the file and in every robot's set.
   void check_keys() const {
     std::vector<std::string> top = kReadSections;
-    if (std::string(facts_->name) == "battery") top.insert(top.end(), kBatterySections.begin(), kBatterySections.end());
-    if (std::string(facts_->name) == "light") top.emplace_back("per_sensor");
+    top.insert(top.end(), facts_->file_sections.begin(), facts_->file_sections.end());
     std::vector<std::string> known = top;
     known.insert(known.end(), informational_sections().begin(), informational_sections().end());
     for (auto it = j_.begin(); it != j_.end(); ++it)
@@ -338,7 +327,9 @@ class Doc {
       const std::string at = "/robots/" + token(it.key());
       if (!it.value().is_object()) fail(at, "a robot's set must be an object");
       for (auto k = it.value().begin(); k != it.value().end(); ++k)
-        if (!contains(kRobotSetKeys, k.key()) || (k.key() == "per_sensor" && std::string(facts_->name) != "light"))
+        if (!contains(kRobotSetKeys, k.key()) ||
+            (k.key() == "per_sensor" && std::find(facts_->file_sections.begin(), facts_->file_sections.end(),
+                                                   std::string_view("per_sensor")) == facts_->file_sections.end()))
           fail(at + "/" + token(k.key()), "unknown key '" + k.key() + "' in robot " + it.key() + "'s set (a robot's set holds " +
                                               joined(kRobotSetKeys) + (k.key() == "effects" ? "; effects are the file's, at the top" : "") +
                                               ")" + did_you_mean(k.key(), kRobotSetKeys));

@@ -141,6 +141,12 @@ struct KindFacts {
   std::vector<RequiredMetadata> metadata = {};
   DistanceCheck distances = {};
   std::vector<ColumnWords> axis_words = {};  ///< a column's words on a figure's axis, where the kind has its own
+  /// A coefficient file of the kind: its sections beside the common ones (kind, parameters,
+  /// effects, noise, robots), e.g. the battery's tables or the light's per-sensor fits (a robot's
+  /// set may hold those of them the calibration fits per robot: per_sensor), and the keys of its
+  /// `parameters` beside the base coefficients and the parameter-home effects (lib/coefficients).
+  std::vector<const char*> file_sections = {};
+  std::vector<const char*> file_parameters = {};
   /// The range of `column`, or nullptr.
   const ColumnRange* range(const std::string& column) const {
     for (const ColumnRange& r : ranges)
@@ -196,6 +202,8 @@ inline const KindFacts* kind_facts(const std::string& kind) {
        {},
        {},
        {"proximity sensor", s::kPluginProximity.range_m}});
+    // The proximity calibration's curve of the means (proximity_report.cpp).
+    v.back().file_parameters = {"mean_a", "mean_b", "mean_c"};
     v.push_back(KindFacts{"light",
        {{"light", "counts", 0.0, s::kProximityFullScale_raw, s::kProximityFullScale_raw, s::kProximityCount, "light sensor"}},
        {{"gamma", "m", 0.0, 10.0, true, false}, {"range_m", "m", 0.0, 10.0, true, false}},
@@ -212,6 +220,8 @@ inline const KindFacts* kind_facts(const std::string& kind) {
        {},
        {"light sensor (the plug-in's range)", s::kPluginLight.range_m},
        {{"distance_m", "distance to the light (mm)"}}});
+    // A light calibration's per-sensor fits (lib/calibrate light_report.cpp; in a robot's set too).
+    v.back().file_sections = {"per_sensor"};
     v.push_back(KindFacts{"ground",
        {{"ground", "counts", 0.0, s::kGroundFullScale_raw, s::kGroundFullScale_raw, s::kGroundCount, "ground sensor",
          {"0 (right)", "1 (centre)", "2 (left)"}}},
@@ -245,6 +255,8 @@ inline const KindFacts* kind_facts(const std::string& kind) {
        {},
        // Two readings a row, the LED's image column and row: a diagnosis figure's two panels.
        {{"px", "LED image column px", "column"}, {"py", "LED image row py", "row"}}});
+    // The image size and range, and the ARGoS aperture from the field of view (camera_report.cpp).
+    v.back().file_parameters = {"aperture_deg", "width_px", "height_px", "range_m"};
     v.push_back(KindFacts{"drive",
        {{"tof", "mm", s::kPluginTof.min_mm, s::kPluginTof.max_mm, s::kPluginTof.max_mm, 1, "ToF"},
         {"encoder", "steps", -inf, inf, 65536.0, 1, "wheel encoder"}},
@@ -283,6 +295,8 @@ inline const KindFacts* kind_facts(const std::string& kind) {
         {"voltage_v", 0.0, 10.0, "a voltage in [0, 10] V"}},
        // A voltage-only log, as real robots report (its charge from a voltage->charge map).
        {{"charge", "voltage_v"}}});
+    // Its coefficient file's tables (lib/calibrate battery_json.cpp).
+    v.back().file_sections = {"battery_model", "speeds", "simple"};
     return v;
   }();
   for (const KindFacts& k : all)
