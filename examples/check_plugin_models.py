@@ -46,9 +46,11 @@ def expected(folder):
     out["proximity_mean"] = (mean, 1e-9 * FULL_SCALE, "value")
     out["proximity_reading"] = (mean, 6 * sd, "noisy", 0.0, FULL_SCALE)
 
-    # Light, Eq. 2: reading / 4095 = 1 - (gamma I / d)^2 for d <= range.
+    # Light, Eq. 2: reading / 4095 = 1 - (gamma I / d)^2 for d <= range, gamma sensor 0's own
+    # where the calibration fitted one (per_sensor), else the common one.
     j = load(folder, "light")
     g = j["parameters"]["gamma"]
+    g = next((e["gamma"] for e in j.get("per_sensor", []) if e["sensor"] == 0 and "gamma" in e), g)
     intensity, d = 1.0, 0.20
     mean = FULL_SCALE * (1.0 - (g * intensity / d) ** 2)
     sd = j["noise"]["light"]["per_sensor_sd"][0]

@@ -30,6 +30,7 @@ void build(s::ProximityModel& m, Next& next) {
 template <class Next>
 void build(s::LightModel& m, Next& next) {
   for (double* v : {&m.base.gamma_m, &m.base.range_m}) *v = next(*v);
+  m.sensor_gamma_m[3] = next(m.base.gamma_m);  // a calibration's own gamma for one sensor
   for (double& v : m.noise_sd_raw) v = next(v);
 }
 template <class Next>

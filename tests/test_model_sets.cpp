@@ -150,13 +150,12 @@ TEST(LightSensorGammas, PerSensorEntriesOverTheCommonGammaChecked) {
       R"("robots":{"r":{"per_sensor":[{"sensor":3,"gamma":0.06}]}}})";
   const json j = json::parse(text);
   const s::LightModel m = co::light_model_from_json(j, "l.json");
-  const auto g = co::light_sensor_gammas(j, "l.json", "", m);
-  EXPECT_EQ(g[0], 0.07);
-  EXPECT_EQ(g[7], 0.08);
-  EXPECT_EQ(g[3], 0.075);
-  const auto r = co::light_sensor_gammas(j, "l.json", "r", co::light_model_from_json(j, "l.json", "r"));
-  EXPECT_EQ(r[3], 0.06);
-  EXPECT_EQ(r[0], 0.075);  // the robot's list replaces the top level's
+  EXPECT_EQ(s::light_gamma_m(m, 0), 0.07);
+  EXPECT_EQ(s::light_gamma_m(m, 7), 0.08);
+  EXPECT_EQ(s::light_gamma_m(m, 3), 0.075);
+  const s::LightModel r = co::light_model_from_json(j, "l.json", "r");
+  EXPECT_EQ(s::light_gamma_m(r, 3), 0.06);
+  EXPECT_EQ(s::light_gamma_m(r, 0), 0.075);  // the robot's list replaces the top level's
   for (const auto& [bad, why] : std::vector<std::pair<std::string, std::string>>{
            {R"({"sensor":8,"gamma":0.07})", "a light sensor's number, 0 to 7"},
            {R"({"sensor":1,"gamma":0})", "outside its physical range"},
@@ -166,7 +165,7 @@ TEST(LightSensorGammas, PerSensorEntriesOverTheCommonGammaChecked) {
     const std::string path = write_temp("gamma.json", t);
     const std::string e = error_of_sets([&] {
       const json jj = json::parse(t);
-      co::light_sensor_gammas(jj, path, "", co::light_model_from_json(jj, path));
+      co::light_model_from_json(jj, path);
     });
     EXPECT_NE(e.find(why), std::string::npos) << e;
     const std::string key = why.find("number") != std::string::npos ? R"(8,)" : bad.substr(bad.find("gamma") + 7);

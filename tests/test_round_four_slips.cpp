@@ -125,14 +125,14 @@ TEST(RoundFourModelFile, TheImageCentreRowLiesInsideTheImagesHeight) {
 TEST(RoundFourModelFile, ALightSensorsOwnGammaOfZeroIsRefused) {
   // gamma's range is (0, 10] m, open at 0 (docs/coefficient-files.md): per_sensor's gammas too.
   const json base = {{"kind", "light"}, {"parameters", {{"gamma", 0.075}}}};
-  const s::LightModel m = co::light_model_from_json(base, "light.json");
   json zero = base, small = base;
   zero["per_sensor"] = json::array({{{"sensor", 3}, {"gamma", 0.0}}});
   small["per_sensor"] = json::array({{{"sensor", 3}, {"gamma", 1e-3}}});
-  const std::string e = error_of([&] { co::light_sensor_gammas(zero, "light.json", "", m); });
+  const std::string e = error_of([&] { co::light_model_from_json(zero, "light.json"); });
   EXPECT_NE(e.find("per_sensor[0].gamma"), std::string::npos) << e;
-  EXPECT_DOUBLE_EQ(co::light_sensor_gammas(small, "light.json", "", m)[3], 1e-3);
-  EXPECT_DOUBLE_EQ(co::light_sensor_gammas(small, "light.json", "", m)[2], 0.075);
+  const s::LightModel m = co::light_model_from_json(small, "light.json");
+  EXPECT_DOUBLE_EQ(s::light_gamma_m(m, 3), 1e-3);
+  EXPECT_DOUBLE_EQ(s::light_gamma_m(m, 2), 0.075);
 }
 
 // ----- codegen: the Simple model's two slopes -----

@@ -190,7 +190,8 @@ TEST(StrictFiles, CameraFixedValuesAndTheLightsUnusableSensors) {
   json l = strict_shipped("light");
   l["per_sensor"][2] = {{"sensor", 2}, {"usable", false}, {"why", "no reading"}};
   const auto light = std::get<s::LightModel>(co::model_from_json("light", l, "x.json"));
-  EXPECT_EQ(co::light_sensor_gammas(l, "x.json", "", light)[2], light.base.gamma_m);
+  EXPECT_FALSE(light.sensor_gamma_m[2].has_value());
+  EXPECT_EQ(s::light_gamma_m(light, 2), light.base.gamma_m);
   l["per_sensor"][2] = {{"sensor", 2}, {"usable", true}};
   EXPECT_NE(strict_error("light", l).find("must be an object with \"sensor\" and \"gamma\""), std::string::npos);
 }

@@ -632,20 +632,16 @@ void CEPuck2CalibratedLightSensor::Init(TConfigurationNode& t_tree) {
   CEPuck2LightDefaultSensor::Init(t_tree);
   SCommon s = ReadCommon(t_tree, strName, *m_pcLightEntity);
   Checked(strName, [&] {
-    /* The project's one reader (lib/coefficients): Eq. 2's gamma, range_m, a diagnosis's effects
+    /* The project's one reader (lib/coefficients): Eq. 2's gamma, a calibration's per-sensor
+       gammas (per_sensor; a robot's set's robots.ID.per_sensor), range_m, a diagnosis's effects
        (ambient_offset, falloff_exponent, sensor_gain: all applied), the noise; every value checked */
-    const ms::LightModel sModel = ec::light_model_from_json(*s.Root, s.Path, s.Robot);
-    RefuseWhatArgosCannotApply(s, sModel, epuck2::argos_plugin::light_applies());
-    if (m_tReadings.size() != sModel.noise_sd_raw.size())
+    m_sModel = ec::light_model_from_json(*s.Root, s.Path, s.Robot);
+    RefuseWhatArgosCannotApply(s, m_sModel, epuck2::argos_plugin::light_applies());
+    if (m_tReadings.size() != m_sModel.noise_sd_raw.size())
       s.Fail("", "the robot has " + std::to_string(m_tReadings.size()) + " light sensors, the model " +
-                     std::to_string(sModel.noise_sd_raw.size()));
-    /* A light calibration's per-sensor fits (per_sensor; a robot's set has them in
-       robots.ID.per_sensor) replace the common gamma for their sensor */
-    const auto aGamma = ec::light_sensor_gammas(*s.Root, s.Path, s.Robot, sModel);
-    m_vecModels.assign(m_tReadings.size(), sModel);
-    for (std::size_t i = 0; i < m_vecModels.size(); ++i) m_vecModels[i].base.gamma_m = aGamma[i];
+                     std::to_string(m_sModel.noise_sd_raw.size()));
     /* The model adds the noise in counts: a unit noise times 4095 */
-    ConfigureNoise(s, "light", Sd(sModel.noise_sd_raw), ms::kPluginNoiseScaleLight_counts, m_cNoise);
+    ConfigureNoise(s, "light", Sd(m_sModel.noise_sd_raw), ms::kPluginNoiseScaleLight_counts, m_cNoise);
   });
   m_bAddNoise = false;
 }
@@ -664,7 +660,7 @@ void CEPuck2CalibratedLightSensor::Update() {
         CLightEntity& cLight = *any_cast<CLightEntity*>(tLight.second);
         if (cLight.GetIntensity() <= 0.0) continue;
         CRay3 cRay(cRayStart, cLight.GetPosition());
-        if (cRay.GetLength() > m_vecModels[i].base.range_m) continue;
+        if (cRay.GetLength() > m_sModel.base.range_m) continue;
         if (GetClosestEmbodiedEntityIntersectedByRay(sIntersection, cRay)) {
           if (m_bShowRays) {
             m_pcControllableEntity->AddIntersectionPoint(cRay, sIntersection.TOnRay);
@@ -676,10 +672,10 @@ void CEPuck2CalibratedLightSensor::Update() {
         vecLights.push_back(ms::LightSource{cRay.GetLength(), cLight.GetIntensity()});
       }
     }
-    /* lib/models' mean over the visible lights (every effect the file has), the noise in counts
+    /* lib/models' mean over the visible lights (the sensor's own gamma, every effect the file has), the noise in counts
        (the plug-in's sign: noise raises the normalised sum, lowering the reading), the rounding
        and the rails */
-    const double fMean = ms::mean_raw(m_vecModels[i], static_cast<int>(i), vecLights) -
+    const double fMean = ms::mean_raw(m_sModel, static_cast<int>(i), vecLights) -
                          ms::uniform_noise(m_cNoise.unit(i), m_cNoise.level(i)) * ms::kPluginNoiseScaleLight_counts;
     m_tReadings[i].Value = std::clamp(std::round(fMean), 0.0, ms::kProximityFullScale_raw);
   }

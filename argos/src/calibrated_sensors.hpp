@@ -109,7 +109,7 @@ class CEPuck2CalibratedLightSensor : public CEPuck2LightDefaultSensor {
   void Update() override;
 
  private:
-  std::vector<epuck2::models::sensors::LightModel> m_vecModels;  ///< per sensor: its own gamma
+  epuck2::models::sensors::LightModel m_sModel;  ///< the file's model (each sensor's own gamma included)
   epuck2::argos_plugin::ArgosNoise m_cNoise;
 };
 

@@ -2,11 +2,13 @@
 // file (docs/coefficient-files.md), from the fit's result (calibrate::fit_light).
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/models/kind_facts.hpp"
 #include "epuck2/calibrate/report_json.hpp"
 #include "epuck2/calibrate/report_text.hpp"
@@ -53,6 +55,14 @@ nlohmann::json coefficient_json(const LightFit& f, const std::vector<logs::Log>&
   j["mse"] = f.gamma.mse;
   j["observations"] = f.gamma.observations;
   j["readings"] = f.readings;
+  // Each sensor's own gamma as the light model holds it (LightModel::sensor_gamma_m), written by
+  // lib/coefficients' writer, which refuses what its reader would; beside it, what its fit did.
+  s::LightModel model;
+  for (std::size_t i = 0; i < f.sensors.size(); ++i)
+    if (f.gamma_per_sensor[i].usable) model.sensor_gamma_m.at(static_cast<std::size_t>(f.sensors[i])) = f.gamma_per_sensor[i].value("gamma");
+  std::map<int, nlohmann::json> written;  // sensor -> {"sensor", "gamma"}
+  for (const nlohmann::json& e : coefficients::model_to_json(model).value("per_sensor", nlohmann::json::array()))
+    written[e.at("sensor").get<int>()] = e;
   nlohmann::json per = nlohmann::json::array();
   for (std::size_t i = 0; i < f.sensors.size(); ++i) {
     const auto& r = f.gamma_per_sensor[i];
@@ -60,11 +70,10 @@ nlohmann::json coefficient_json(const LightFit& f, const std::vector<logs::Log>&
       per.push_back({{"sensor", f.sensors[i]}, {"usable", false}, {"why", r.message}});
       continue;
     }
-    nlohmann::json one = {{"sensor", f.sensors[i]}, {"usable", r.usable}, {"gamma", json_number(r.value("gamma"))},
-                          {"std_error", json_number(r.std_error("gamma"))}, {"mse", json_number(r.mse)},
-                          {"rounded", fit::format_uncertain(r.value("gamma"), r.std_error("gamma"), "m",
-                                                            std_error_reason(r, "gamma"))},
-                          {"fit", fit_details(r, "(reading / 4095)")}};
+    nlohmann::json one = written.at(f.sensors[i]);
+    one.update({{"usable", r.usable}, {"std_error", json_number(r.std_error("gamma"))}, {"mse", json_number(r.mse)},
+                {"rounded", fit::format_uncertain(r.value("gamma"), r.std_error("gamma"), "m", std_error_reason(r, "gamma"))},
+                {"fit", fit_details(r, "(reading / 4095)")}});
     if (!std::isfinite(r.std_error("gamma"))) one["std_error_why"] = r.usable ? std_error_reason(r, "gamma") : r.message;
     per.push_back(one);
   }

@@ -288,8 +288,10 @@ std::string model_to_cpp(const s::LightModel& m, const std::string& source) {
   std::ostringstream os;
   os << "/// The light model of " << source << ": base, effects, reading noise (counts).\n"
      << "inline models::sensors::LightModel light_model() {\n  models::sensors::LightModel m;\n"
-     << "  m.base.gamma_m = " << cpp_number(m.base.gamma_m) << ";\n  m.base.range_m = " << cpp_number(m.base.range_m) << ";\n"
-     << effects_code(m) << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n" << close(covariates_code(m.covariates));
+     << "  m.base.gamma_m = " << cpp_number(m.base.gamma_m) << ";\n  m.base.range_m = " << cpp_number(m.base.range_m) << ";\n";
+  for (std::size_t k = 0; k < m.sensor_gamma_m.size(); ++k)  // a calibration's per-sensor fits; the others take base.gamma_m
+    if (m.sensor_gamma_m[k]) os << "  m.sensor_gamma_m[" << k << "] = " << cpp_number(*m.sensor_gamma_m[k]) << ";\n";
+  os << effects_code(m) << "  m.noise_sd_raw = " << array_of(m.noise_sd_raw) << ";\n" << close(covariates_code(m.covariates));
   return os.str();
 }
 

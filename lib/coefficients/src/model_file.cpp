@@ -603,31 +603,20 @@ json model_to_json(const s::ProximityModel& m) {
 
 // ----- light -----
 
-s::LightModel light_model_from_json(const json& j, const std::string& path, const std::string& robot) {
-  return every_set(j, robot, [&](const std::string& r) {
-    const Doc d(j, path, r, "light");
-    s::LightModel m;
-    m.base.gamma_m = d.base1("gamma");
-    m.base.range_m = d.base1("range_m", m.base.range_m);
-    d.effects(fx::light_catalogue(), m.effects, m.covariates);
-    m.noise_sd_raw = to_array<s::kProximityCount>(d.noise(d.facts().channels[0]));
-    light_sensor_gammas(j, path, r, m);  // the per-sensor fits, checked by every reader alike
-    return m;
-  });
-}
+namespace {
 
-std::array<double, s::kProximityCount> light_sensor_gammas(const json& j, const std::string& path, const std::string& robot,
-                                                           const s::LightModel& m) {
-  const Doc d(j, path, robot, "light");
-  std::array<double, s::kProximityCount> gamma{};
-  gamma.fill(m.base.gamma_m);
+/// A light calibration's per-sensor fits into `m.sensor_gamma_m`: the `per_sensor` entries
+/// ({"sensor": 0..7, "gamma"}; the robot's set's list in place of the file's), each in gamma's
+/// physical range; a sensor without an entry, or whose entry says it could not be fitted
+/// ({"usable": false, "why"}), keeps the pooled gamma.
+void read_sensor_gammas(const Doc& d, const json& j, const std::string& robot, s::LightModel& m) {
   std::string pointer = "/per_sensor";
   const json* list = j.contains("per_sensor") ? &j.at("per_sensor") : nullptr;
   if (!robot.empty() && j.at("robots").at(robot).contains("per_sensor")) {
     list = &j.at("robots").at(robot).at("per_sensor");
     pointer = "/robots/" + token(robot) + "/per_sensor";
   }
-  if (!list) return gamma;
+  if (!list) return;
   if (!list->is_array()) d.fail(pointer, "per_sensor must be an array of {\"sensor\", \"gamma\"}");
   const models::BaseParam& range = *d.facts().base_param("gamma");
   for (std::size_t i = 0; i < list->size(); ++i) {
@@ -650,13 +639,36 @@ std::array<double, s::kProximityCount> light_sensor_gammas(const json& j, const 
     if (!(g > range.lower && g <= range.upper))
       d.fail(at + "/gamma", what + ".gamma = " + number_text(g) + " is outside its physical range " +
                                 range_text(range.lower, range.upper, range.open_lower, range.open_upper, range.unit));
-    gamma[static_cast<std::size_t>(k)] = g;
+    if (m.sensor_gamma_m[static_cast<std::size_t>(k)])
+      d.fail(at + "/sensor", what + ".sensor: sensor " + number_text(k) + " has an entry already (one per sensor)");
+    m.sensor_gamma_m[static_cast<std::size_t>(k)] = g;
   }
-  return gamma;
+}
+
+}  // namespace
+
+s::LightModel light_model_from_json(const json& j, const std::string& path, const std::string& robot) {
+  return every_set(j, robot, [&](const std::string& r) {
+    const Doc d(j, path, r, "light");
+    s::LightModel m;
+    m.base.gamma_m = d.base1("gamma");
+    m.base.range_m = d.base1("range_m", m.base.range_m);
+    read_sensor_gammas(d, j, r, m);  // the per-sensor fits, checked by every reader alike
+    d.effects(fx::light_catalogue(), m.effects, m.covariates);
+    m.noise_sd_raw = to_array<s::kProximityCount>(d.noise(d.facts().channels[0]));
+    return m;
+  });
 }
 
 json model_to_json(const s::LightModel& m) {
   json j = with_common("light", {{"gamma", m.base.gamma_m}, {"range_m", m.base.range_m}}, m);
+  json per = json::array();
+  for (std::size_t k = 0; k < m.sensor_gamma_m.size(); ++k)
+    if (m.sensor_gamma_m[k]) {
+      require_finite(*m.sensor_gamma_m[k], "per_sensor[" + std::to_string(per.size()) + "].gamma");
+      per.push_back({{"sensor", k}, {"gamma", *m.sensor_gamma_m[k]}});
+    }
+  if (!per.empty()) j["per_sensor"] = per;
   j["noise"] = {{"light", noise_json(vec(m.noise_sd_raw), "counts")}};
   return readable(j, [](const json& w, const std::string& p, const std::string& r) { return light_model_from_json(w, p, r); });
 }

@@ -162,7 +162,8 @@ s::LightModel extended_light(const Report& r, std::vector<std::string>* left_out
   require(r, logs::Kind::light);
   s::LightModel m = base_of<s::LightModel>(r);
   const Values v = values_of(r, left_out, fx::catalogue_of(m));
-  m.base.gamma_m = v.base_or("gamma_m", m.base.gamma_m);
+  // The recalibrated pooled gamma; a calibration's per-sensor gammas move with it (kind_light.cpp).
+  m = s::with_pooled_gamma(m, v.base_or("gamma_m", m.base.gamma_m));
   apply_findings(v, m);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   m.noise_sd_raw = noise_per_sensor<s::kProximityCount>(inputs, "light", r.noise_sd);

@@ -11,7 +11,7 @@ namespace {
 
 // ---------------------------------------------------------------------------------------------
 // light: v = 4095 clamp01(1 - (gamma I / d)^2) for d <= 0.5 m, else 4095 (paper Eq. 2, reference
-// section 2.2); gamma free. Catalogue: ambient_offset, falloff_exponent, sensor_gain. Combined:
+// section 2.2); gamma free (a base model's per-sensor gammas: gamma r_s, r_s held). Catalogue: ambient_offset, falloff_exponent, sensor_gain. Combined:
 // v = 4095 (1 - g_s (gamma I / d)^p) - offset.
 class Light : public ProblemOf<Light> {
  public:
@@ -50,9 +50,12 @@ class Light : public ProblemOf<Light> {
     covariates.emplace_back("intensity", intensity_);
     covariates.emplace_back("sensor", std::move(sensor_d));
   }
-  /// A calibrated base: its gamma and the effects it already carries.
+  /// A calibrated base: its gamma, its per-sensor gammas (held in proportion to the pooled one,
+  /// which the recalibration fits: s::light_gamma_ratio, exactly 1 for a sensor without its own)
+  /// and the effects it already carries.
   void set_base_model(const s::LightModel& m) {
     set_base(*this, gamma_, m.base.gamma_m);
+    for (std::size_t k = 0; k < ratio_.size(); ++k) ratio_[k] = s::light_gamma_ratio(m, static_cast<int>(k));
     range_m_ = m.base.range_m;
     set_base_effects(*this, ix_, m.effects);
   }
@@ -62,7 +65,8 @@ class Light : public ProblemOf<Light> {
     s::LightEffects<T> e;
     fill_effects(ix_, p, e);
     for (std::size_t i = 0; i < distance_.size(); ++i)
-      out[i] = s::light_mean_raw(p[gamma_], range_m_, e, sensor_[i], intensity_[i], distance_[i]);
+      out[i] = s::light_mean_raw(T(p[gamma_] * ratio_[static_cast<std::size_t>(sensor_[i])]), range_m_, e, sensor_[i], intensity_[i],
+                                 distance_[i]);
   }
 
  private:
@@ -70,6 +74,7 @@ class Light : public ProblemOf<Light> {
   std::vector<int> sensor_;
   CatalogueIndex ix_;
   int gamma_ = 0;
+  std::array<double, s::kProximityCount> ratio_{1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0};  ///< sensor's gamma / pooled
   double range_m_ = 0.5;
 };
 

@@ -43,12 +43,10 @@ s::ProximityModel proximity_model_from_json(const nlohmann::json& j, const std::
 enum class ProximityCurve { maxima, means };
 s::ProximityModel proximity_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot,
                                             ProximityCurve curve);
+/// A light model: the pooled gamma (`parameters.gamma`) and a calibration's per-sensor fits
+/// (`per_sensor[i]`: {"sensor": 0..7, "gamma"}, the robot's set's list in place of the file's) as
+/// `sensor_gamma_m`, each in gamma's physical range, one entry per sensor at most.
 s::LightModel light_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
-/// Each light sensor's gamma: a light calibration's `per_sensor` entries ({"sensor": 0..7,
-/// "gamma"}; the robot's set's first) over the model's common gamma `m.base.gamma_m`, each in
-/// gamma's physical range.
-std::array<double, s::kProximityCount> light_sensor_gammas(const nlohmann::json& j, const std::string& path,
-                                                           const std::string& robot, const s::LightModel& m);
 s::GroundModel ground_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
 s::CameraModel camera_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
 s::DriveModel drive_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
@@ -87,7 +85,8 @@ AnyModel plugin_model(const std::string& kind);
 /// The robots a file has a set for (`robots`' keys), in the file's order.
 std::vector<std::string> robot_ids(const nlohmann::json& j);
 
-/// {"kind", "parameters", "effects" (non-neutral ones only), "noise"}: what the readers above read
+/// {"kind", "parameters", "effects" (non-neutral ones only), "noise"; light: "per_sensor" for the
+/// sensors with their own gamma}: what the readers above read
 /// back to the same model, bit for bit (a camera's field of view to the ulp: it is written in
 /// degrees, and some radians have no exact degrees; what is read back then writes the same text).
 /// Each runs the readers' validation on what it writes: a model a reader would refuse (a noise sd

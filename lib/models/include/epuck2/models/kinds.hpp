@@ -87,19 +87,44 @@ int reading(const ProximityModel& m, int sensor, std::optional<double> distance_
 // ----- light -----------------------------------------------------------------------------------
 
 struct LightModel {
-  LightCoefficients base = kPluginLight;
+  LightCoefficients base = kPluginLight;  ///< Eq. 2: the pooled gamma (every sensor's, but those below)
+  /// A light calibration's per-sensor fits (the file's `per_sensor[i].gamma`, m): sensor s's own
+  /// gamma in place of base.gamma_m; an empty entry (the neutral value) takes the pooled one.
+  std::array<std::optional<double>, kProximityCount> sensor_gamma_m{};
   LightEffects<double> effects;
   std::array<double, kProximityCount> noise_sd_raw{};  ///< reading noise per sensor, counts
   std::vector<CovariateEffect> covariates;             ///< counts per unit of each column
 };
 
+/// Sensor s's gamma (m): its own fit where the model has one, else the pooled base.gamma_m.
+inline double light_gamma_m(const LightModel& m, int sensor) {
+  return m.sensor_gamma_m[static_cast<std::size_t>(sensor)].value_or(m.base.gamma_m);
+}
+/// Sensor s's gamma over the pooled one (exactly 1 where it has none): what the diagnosis holds
+/// while it recalibrates the pooled gamma (lib/diagnose kind_light.cpp).
+inline double light_gamma_ratio(const LightModel& m, int sensor) { return light_gamma_m(m, sensor) / m.base.gamma_m; }
+/// The model with its pooled gamma recalibrated to gamma_m, each sensor's own gamma moved with it
+/// (gamma_m times its ratio: the diagnosis's extended model, lib/diagnose extended_model.cpp).
+inline LightModel with_pooled_gamma(LightModel m, double gamma_m) {
+  for (std::size_t k = 0; k < m.sensor_gamma_m.size(); ++k)
+    if (m.sensor_gamma_m[k]) m.sensor_gamma_m[k] = gamma_m * light_gamma_ratio(m, static_cast<int>(k));
+  m.base.gamma_m = gamma_m;
+  return m;
+}
+/// Eq. 2's coefficients as sensor s sees them: the base with its own gamma.
+inline LightCoefficients light_coefficients(const LightModel& m, int sensor) {
+  LightCoefficients k = m.base;
+  k.gamma_m = light_gamma_m(m, sensor);
+  return k;
+}
+
 inline double mean_raw(const LightModel& m, int sensor, double intensity, double distance_m) {
-  return light_mean_raw(m.base, m.effects, sensor, intensity, distance_m);
+  return light_mean_raw(light_coefficients(m, sensor), m.effects, sensor, intensity, distance_m);
 }
 /// Several lights at once (`lights`: LightSource), as a simulator sees them.
 template <class Lights>
 double mean_raw(const LightModel& m, int sensor, const Lights& lights) {
-  return light_mean_raw(m.base, m.effects, sensor, lights);
+  return light_mean_raw(light_coefficients(m, sensor), m.effects, sensor, lights);
 }
 /// `covariate_raw`: the covariate effects' sum on the row (covariate_offset), added to the mean.
 template <class Normal>
