@@ -219,6 +219,8 @@ inline models::sensors::LightModel light_model() {
   models::sensors::LightModel m;
   m.base.gamma_m = 0.07369075463203062;
   m.base.range_m = 0.5;
+  m.sensor_gamma_m[0] = 0.07481355785732244;
+  m.sensor_gamma_m[7] = 0.07255302184136406;
   m.effects.ambient.offset_raw = 0;
   m.effects.falloff.exponent = 2;
   m.effects.gains.gain = {1, 1, 1, 1, 1, 1, 1, 1};
