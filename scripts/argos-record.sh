@@ -22,6 +22,8 @@
 #     default            the E-Puck2 plug-in's own implementations (and its battery tables).
 # Environment: EPUCK2_BUILD_DIR (default build), EPUCK2_ARGOS_ROBOT (the `# robot:` id, default
 # argos-epuck2), EPUCK2_ARGOS_NOISE (true|false, default false: the noiseless model),
+# EPUCK2_ARGOS_NOISE_DISTRIBUTION (gaussian|uniform, default gaussian: the calibrated sensors'
+# noise_distribution; uniform is the plug-in's uniform noise of the file's sd),
 # EPUCK2_BATTERY_MODEL (simple|linear|cubic|approximated, default cubic), EPUCK2_BATTERY_BEHAVIOUR
 # (argos|corrected, default argos), EPUCK2_ARGOS_SEED (default 124), EPUCK2_ARGOS_CHARGE_DIGITS
 # (significant digits of the battery charge, default 6), EPUCK2_ARGOS_SAMPLES (readings per
@@ -99,6 +101,14 @@ fi
 if [ -n "${EPUCK2_ARGOS_SAMPLES:-}" ]; then
   case "$EPUCK2_ARGOS_SAMPLES" in ''|*[!0-9]*) echo "argos-record: EPUCK2_ARGOS_SAMPLES must be a whole number" >&2; exit 2;; esac
   sed -i -e "s|samples=\"[^\"]*\"|samples=\"$EPUCK2_ARGOS_SAMPLES\"|" "$EXP"
+fi
+if [ -n "${EPUCK2_ARGOS_NOISE_DISTRIBUTION:-}" ]; then
+  case "$EPUCK2_ARGOS_NOISE_DISTRIBUTION" in gaussian|uniform) ;; *)
+    echo "argos-record: EPUCK2_ARGOS_NOISE_DISTRIBUTION must be gaussian or uniform, not '$EPUCK2_ARGOS_NOISE_DISTRIBUTION'" >&2; exit 2;; esac
+  # The calibrated sensors' attribute (the plug-in's own implementations have none).
+  if [ "$COEFF" != default ]; then
+    sed -i -e "s|\(implementation=\"calibrated\".*\) noise=\"$NOISE\"|\1 noise=\"$NOISE\" noise_distribution=\"$EPUCK2_ARGOS_NOISE_DISTRIBUTION\"|" "$EXP"
+  fi
 fi
 if [ "$COEFF" = default ]; then
   # The plug-in's implementations: rot_z_only for the ground sensors, default for the others;
