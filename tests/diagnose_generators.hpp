@@ -47,7 +47,8 @@ inline std::vector<std::string> hidden_effects(logs::Kind kind) {
     case logs::Kind::light:
       return {"none", "ambient_offset", "falloff_exponent", "sensor_gain", "covariate:temperature_c", "quadratic:temperature_c"};
     case logs::Kind::camera:
-      return {"none", "principal_offset", "radial_distortion", "distortion_k2", "covariate:temperature_c", "quadratic:temperature_c"};
+      return {"none", "principal_offset", "radial_distortion", "distortion_k2", "distortion_k3", "covariate:temperature_c",
+              "quadratic:temperature_c"};
     case logs::Kind::proximity:
       return {"none", "ambient_offset", "sensor_gain", "long_tail", "saturation", "incidence_angle", "covariate:temperature_c",
               "quadratic:temperature_c"};
@@ -181,7 +182,7 @@ inline std::string camera_log(std::uint64_t seed, Hidden& h) {
   Draw d(seed);
   const int n = d.integer(150, 500);
   const double fov = d.uniform(28, 33);
-  double dx = 0, dy = 0, k1 = 0, k2 = 0;
+  double dx = 0, dy = 0, k1 = 0, k2 = 0, k3 = 0;
   if (h.cause == "principal_offset") {
     h.truth["dx_px"] = dx = d.signed_size(1.0, 3.0);
     h.truth["dy_px"] = dy = d.signed_size(1.0, 3.0);
@@ -190,6 +191,16 @@ inline std::string camera_log(std::uint64_t seed, Hidden& h) {
   // OpenCV's fourth-order term alone: r^2 reaches 0.09 in these logs, so k2 8..20 moves the
   // image's corners by 4..10 px (the jitter is 0.5 px).
   if (h.cause == "distortion_k2") h.truth["k2"] = k2 = d.signed_size(8.0, 20.0);
+  // The sixth-order term alone (k2 = 0). On the grid below (0.9 of the image's half-extents) it
+  // is not told apart from k2: at fov 28 deg, 150 LEDs and k3 = 80 the best k2 alone leaves 2.4
+  // jitter variances (0.5 px and the rounding's 1/12 px^2) more than k3, against a BIC tie. A k3
+  // log therefore puts half its LEDs near the image's corners (0.75..0.95 of the half-extents,
+  // r^2 up to 0.088..0.124 for fov 28..33 deg) and draws k3 in 100..200, which moves a corner of
+  // the 0.9 grid by 5..11 px at fov 30 deg: k2 alone then leaves 12..14 such variances more than
+  // k3 at fov 28, 150 LEDs and k3 = 100 (fov 30: 19..38; fov 33: 37..126), and more with more LEDs.
+  // An LED whose image falls off the image is not seen (as in ARGoS): another is drawn.
+  const bool corners = h.cause == "distortion_k3";
+  if (corners) h.truth["k3"] = k3 = d.signed_size(100.0, 200.0);
   const Temperature temp = temperature_effect(h, d, 0.06, 0.15, 0.02, 0.04);
   constexpr double kJitter = 0.5;  // px, as the virtual robot's camera (sensor_truth.hpp)
   covariate_precision(h, temp, kJitter, 2.0 * n);  // px and py both drift
@@ -197,12 +208,22 @@ inline std::string camera_log(std::uint64_t seed, Hidden& h) {
   std::string out = "forward_m,lateral_m,vertical_m,px,py,temperature_c\n";
   for (int i = 0; i < n; ++i) {
     const double fw = d.uniform(0.2, 0.9);
-    const double x = d.uniform(-0.9, 0.9) * 80.0 / f, z = d.uniform(-0.9, 0.9) * 60.0 / f;
+    const bool corner = corners && d.uniform(0, 1) < 0.5;
+    const double x = (corner ? d.signed_size(0.75, 0.95) : d.uniform(-0.9, 0.9)) * 80.0 / f;
+    const double z = (corner ? d.signed_size(0.75, 0.95) : d.uniform(-0.9, 0.9)) * 60.0 / f;
     const double t = d.uniform(20, 40);
     const double r2 = x * x + z * z;
-    const double sc = 1.0 + k1 * r2 + k2 * r2 * r2;
-    const double px = 80 + dx - f * x * sc + temp.effect(t) + kJitter * d.normal();
-    const double py = 60 + dy - f * z * sc + temp.effect(t) + kJitter * d.normal();
+    const double sc = 1.0 + k1 * r2 + k2 * r2 * r2 + k3 * r2 * r2 * r2;
+    const double px0 = 80 + dx - f * x * sc + temp.effect(t), py0 = 60 + dy - f * z * sc + temp.effect(t);
+    // Chosen on the noiseless image (4 jitter sd inside the edge pixels), so that no draw of the
+    // jitter decides which LEDs stay: a choice on the noisy one would keep the edge's LEDs whose
+    // jitter pulled them inward, and bias k3 towards 0.
+    if (corners && (px0 < 2 || px0 > 157 || py0 < 2 || py0 > 117)) {
+      --i;  // not seen
+      continue;
+    }
+    const double px = px0 + kJitter * d.normal();
+    const double py = py0 + kJitter * d.normal();
     out += fmt(fw) + "," + fmt(x * fw) + "," + fmt(z * fw) + "," + fmt(std::clamp(std::round(px), 0.0, 159.0)) + "," +
            fmt(std::clamp(std::round(py), 0.0, 119.0)) + "," + fmt(std::round(t * 10) / 10) + "\n";
   }
