@@ -392,6 +392,11 @@ MUTANTS = [
      'j["steps_observations"] = f.tof.observations;', with_round_five(R4_REPORT)),
     ("r5_dreport_structure_before_as_after", "lib/diagnose/src/report_output.cpp", 'j["residual_structure"] = scores(r.structure_after);',
      'j["residual_structure"] = scores(r.structure_before);', with_round_five(R4_DREPORT)),
+    # One light model everywhere (issue #22): a sensor's own gamma dropped from the model's formula
+    # (simulate --like, codegen's model, the diagnosis's base and ARGoS would take the pooled one).
+    ("lg_light_sensor_gamma_ignored", "lib/models/include/epuck2/models/kinds.hpp", "  k.gamma_m = light_gamma_m(m, sensor);",
+     "  k.gamma_m = m.base.gamma_m;", whole(R3_ALWAYS + ["test_light_gammas", "test_model_sets", "test_round_four_slips",
+                                                         "test_strict_files"])),
 ]
 
 
