@@ -1,7 +1,8 @@
-// The censored, robust fit of epuck2/fit/robust.hpp: the Tobit likelihood stated to the engine as a
-// fit::Problem over fit::readings_block, Cauchy-weighted first pass, outliers left out beyond
+// The censored, robust fit of epuck2/fit/robust.hpp: the Tobit likelihood stated to the engine as
+// a fit::Problem over fit::readings_block, Cauchy-weighted first pass, outliers left out beyond
 // reject_sd, noise by EM, identifiability by the engine's one check (check_identifiability) with
-// the calibration's policy (hold at the fallback, refit), lack of fit against replicates, and the distributions the tests need.
+// the calibration's policy (hold at the fallback, refit), lack of fit against replicates, and the
+// distributions the tests need. No Ceres here: the engine's sources below hold it.
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/fit/replicates.hpp"
 #include "epuck2/fit/problem.hpp"
