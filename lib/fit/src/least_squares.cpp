@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <stdexcept>
 
@@ -209,26 +208,31 @@ ceres::Solver::Summary solve(ceres::Problem& problem, const FitOptions& options)
 }
 
 namespace {
-// The columns of a Jacobian scaled to unit norm and their column-pivoted QR: what both the
-// covariance and the linear least-squares start factor, so that the two give the same digits.
-// The factorization runs in place on the scaled copy (one n x m buffer, not two).
+// The columns of a Jacobian scaled to unit norm and their column-pivoted QR: what the covariance,
+// the identifiability check and the linear least-squares start factor, so that they give the same
+// digits. The factorization runs in place on the scaled copy (one n x m buffer, not two); with
+// `cols`, of those columns only (no second copy of them first).
 struct EquilibratedQR {
   Eigen::VectorXd scale;
   Eigen::MatrixXd factors;  // the equilibrated columns, overwritten by the QR factors
   Eigen::ColPivHouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr;
 
-  explicit EquilibratedQR(const Eigen::MatrixXd& jacobian)
-      : scale(jacobian.cols()), factors(equilibrated(jacobian, &scale)), qr(factors) {}
+  explicit EquilibratedQR(const Eigen::MatrixXd& jacobian, const std::vector<Eigen::Index>* cols = nullptr)
+      : scale(cols != nullptr ? static_cast<Eigen::Index>(cols->size()) : jacobian.cols()),
+        factors(equilibrated(jacobian, cols, &scale)),
+        qr(factors) {}
   EquilibratedQR(const EquilibratedQR&) = delete;
   EquilibratedQR& operator=(const EquilibratedQR&) = delete;
 
-  static Eigen::MatrixXd equilibrated(const Eigen::MatrixXd& jacobian, Eigen::VectorXd* scale) {
-    const Eigen::Index m = jacobian.cols();
+  static Eigen::MatrixXd equilibrated(const Eigen::MatrixXd& jacobian, const std::vector<Eigen::Index>* cols,
+                                      Eigen::VectorXd* scale) {
+    const Eigen::Index m = scale->size();
     Eigen::MatrixXd Jf(jacobian.rows(), m);
     for (Eigen::Index c = 0; c < m; ++c) {
-      const double norm = jacobian.col(c).norm();
+      const auto column = jacobian.col(cols != nullptr ? (*cols)[static_cast<std::size_t>(c)] : c);
+      const double norm = column.norm();
       (*scale)(c) = norm > 0 ? 1.0 / norm : 1.0;
-      Jf.col(c) = jacobian.col(c) * (*scale)(c);
+      Jf.col(c) = column * (*scale)(c);
     }
     return Jf;
   }
@@ -242,24 +246,22 @@ struct EquilibratedQR {
     const Eigen::MatrixXd P = qr.colsPermutation();
     return scale.asDiagonal() * (P * inner * P.transpose()) * scale.asDiagonal();
   }
+  // The condition number of the equilibrated normal matrix Jf^T Jf (the square of R's, infinite
+  // when R is singular) and its least-determined direction over the columns: Jf = Q R P^T and
+  // R = U S V_R^T give Jf's right singular vectors P V_R, the last for the smallest value.
+  double smallest_direction(Eigen::VectorXd* direction) const {
+    const Eigen::Index m = scale.size(), k = std::min(factors.rows(), m);
+    Eigen::MatrixXd R = qr.matrixR().topRows(k);
+    for (Eigen::Index c = 0; c < m; ++c)
+      for (Eigen::Index row = c + 1; row < k; ++row) R(row, c) = 0;
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeFullV);
+    *direction = qr.colsPermutation() * svd.matrixV().col(m - 1);
+    const double hi = svd.singularValues()(0);
+    const double lo = k < m ? 0.0 : svd.singularValues()(m - 1);
+    return lo > 0 ? (hi / lo) * (hi / lo) : std::numeric_limits<double>::infinity();
+  }
 };
 
-// The columns with free_column true (or beyond its end) and a nonzero norm: the parameters the
-// data determine.
-std::vector<Eigen::Index> estimable_columns(const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column) {
-  std::vector<Eigen::Index> cols;
-  for (Eigen::Index j = 0; j < jacobian.cols(); ++j)
-    if ((static_cast<std::size_t>(j) >= free_column.size() || free_column[static_cast<std::size_t>(j)]) &&
-        jacobian.col(j).squaredNorm() > 0)
-      cols.push_back(j);
-  return cols;
-}
-
-Eigen::MatrixXd columns(const Eigen::MatrixXd& jacobian, const std::vector<Eigen::Index>& cols) {
-  Eigen::MatrixXd Jf(jacobian.rows(), static_cast<Eigen::Index>(cols.size()));
-  for (std::size_t c = 0; c < cols.size(); ++c) Jf.col(static_cast<Eigen::Index>(c)) = jacobian.col(cols[c]);
-  return Jf;
-}
 // Why a parameter's standard error stays NaN (ParameterEstimate::std_error_why): a free column of
 // zeros (the data do not depend on it), or no degrees of freedom left over the estimable columns
 // `cols`; the estimable ones get a provisional reason that the covariance clears.
@@ -291,10 +293,49 @@ void explain_rank_deficient(FitResult& r, const std::vector<Eigen::Index>& cols)
 }
 }  // namespace
 
+Identifiability check_identifiability(const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
+                                      double max_condition, const Eigen::MatrixXd* inverse_normal_given) {
+  Identifiability id;
+  for (Eigen::Index j = 0; j < jacobian.cols(); ++j) {
+    if (static_cast<std::size_t>(j) < free_column.size() && !free_column[static_cast<std::size_t>(j)]) continue;
+    if (jacobian.col(j).squaredNorm() > 0)
+      id.estimable.push_back(j);
+    else
+      id.undetermined.push_back({j, Identifiability::Why::zero_column, 1.0});
+  }
+  const auto m = static_cast<Eigen::Index>(id.estimable.size());
+  if (m == 0) return id;
+  if (inverse_normal_given != nullptr && inverse_normal_given->rows() == m && inverse_normal_given->cols() == m) {
+    id.rank = m;
+    id.inverse_normal = *inverse_normal_given;
+    return id;
+  }
+  const bool every_column = m == jacobian.cols();
+  const EquilibratedQR f(jacobian, every_column ? nullptr : &id.estimable);
+  id.rank = f.qr.rank();
+  bool weak = id.rank_deficient();
+  if (weak || std::isfinite(max_condition)) {
+    Eigen::VectorXd v;
+    id.condition = f.smallest_direction(&v);
+    weak = weak || !(id.condition <= max_condition);
+    if (weak) {
+      const Eigen::VectorXd a = v.cwiseAbs();
+      const double largest = a.maxCoeff();
+      const auto why = id.rank_deficient() ? Identifiability::Why::rank_deficient : Identifiability::Why::condition;
+      for (Eigen::Index c = 0; c < m; ++c)
+        if (a(c) >= kAlongShare * largest) id.undetermined.push_back({id.estimable[static_cast<std::size_t>(c)], why, a(c) / largest});
+      std::sort(id.undetermined.begin(), id.undetermined.end(),
+                [](const Identifiability::Column& x, const Identifiability::Column& y) { return x.column < y.column; });
+    }
+  }
+  if (!weak) id.inverse_normal = f.inverse_normal();
+  return id;
+}
+
 bool inverse_normal_matrix(const Eigen::MatrixXd& jacobian, Eigen::MatrixXd* inverse) {
-  const EquilibratedQR f(jacobian);
-  if (!f.full_rank()) return false;
-  *inverse = f.inverse_normal();
+  Identifiability id = check_identifiability(jacobian, {});
+  if (!id.determined()) return false;
+  *inverse = std::move(id.inverse_normal);
   return true;
 }
 
@@ -311,7 +352,7 @@ bool linear_least_squares(const Eigen::MatrixXd& residual_jacobian, const Eigen:
   // would drop it from the covariance).
   for (Eigen::Index c : cols)
     if (!(residual_jacobian.col(c).squaredNorm() > 0)) return false;
-  const EquilibratedQR f(m == p ? residual_jacobian : columns(residual_jacobian, cols));
+  const EquilibratedQR f(residual_jacobian, m == p ? nullptr : &cols);
   if (!f.full_rank()) return false;
   // residuals + J step is minimal at step = -J^+ residuals; in equilibrated columns step = S z.
   const Eigen::VectorXd z = f.qr.solve(residuals);
@@ -367,25 +408,35 @@ bool normal_equations_least_squares(const Eigen::MatrixXd& normal, const Eigen::
 }
 
 namespace {
-// set_covariance's work over the estimable columns `cols` (parameter indices, `total` in all) of an
-// n-row Jacobian: `estimable` gives those columns only (n x m), called when no `inverse_normal`
-// of the right size is given.
-void covariance_over(FitResult& r, Eigen::Index total, Eigen::Index n, const std::vector<Eigen::Index>& cols,
-                     const std::vector<bool>& free_column, const std::vector<bool>& zero_column,
-                     const std::function<Eigen::MatrixXd()>& estimable, const Eigen::MatrixXd* inverse_normal) {
+// The policy of set_covariance and summarize on the one identifiability check (explained NaN):
+// column c of `jacobian` is parameter param_of[c] (`total` in all; param_of empty: c itself),
+// free where `free_in_jacobian` says so (true beyond its end); `is_free` says it per parameter
+// (true beyond its end). A free zero column keeps NaN with its reason; no degree of freedom
+// left, or rank-deficient estimable columns, leave every estimable one NaN with the reason.
+// `inverse_normal`, when of the estimable columns' size, is their (J^T J)^-1 already computed.
+void covariance_over(FitResult& r, Eigen::Index total, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_in_jacobian,
+                     const std::vector<Eigen::Index>& param_of, const std::vector<bool>& is_free,
+                     const Eigen::MatrixXd* inverse_normal) {
+  const Identifiability id = check_identifiability(jacobian, free_in_jacobian, std::numeric_limits<double>::infinity(), inverse_normal);
+  auto parameter = [&](Eigen::Index c) { return param_of.empty() ? c : param_of[static_cast<std::size_t>(c)]; };
+  std::vector<bool> zero_column(static_cast<std::size_t>(total), false);
+  for (const Identifiability::Column& u : id.undetermined)
+    if (u.why == Identifiability::Why::zero_column) zero_column[static_cast<std::size_t>(parameter(u.column))] = true;
+  std::vector<Eigen::Index> cols;  // the estimable parameters
+  for (Eigen::Index c : id.estimable) cols.push_back(parameter(c));
+  const auto n = jacobian.rows();
   const auto m = static_cast<Eigen::Index>(cols.size());
-  explain_undetermined(r, n, free_column, zero_column, cols);
+  explain_undetermined(r, n, is_free, zero_column, cols);
   if (m == 0 || n <= m) return;
   const double s2 = r.rss / static_cast<double>(n - m);
-  Eigen::MatrixXd covf;
-  if (inverse_normal != nullptr && inverse_normal->rows() == m && inverse_normal->cols() == m) {
-    covf = *inverse_normal;
-  } else if (!inverse_normal_matrix(estimable(), &covf)) {
+  if (id.inverse_normal.size() == 0) {
     r.covariance = Eigen::MatrixXd::Zero(total, total);
-    r.message += " (covariance rank-deficient: standard errors unavailable)";
+    r.message += " (covariance rank-deficient, rank " + std::to_string(id.rank) + " of " + std::to_string(m) +
+                 ": standard errors unavailable)";
     explain_rank_deficient(r, cols);
     return;
   }
+  const Eigen::MatrixXd& covf = id.inverse_normal;
   r.covariance = Eigen::MatrixXd::Zero(total, total);
   for (Eigen::Index j : cols)
     if (static_cast<std::size_t>(j) < r.parameters.size()) r.parameters[static_cast<std::size_t>(j)].std_error_why.clear();
@@ -396,7 +447,7 @@ void covariance_over(FitResult& r, Eigen::Index total, Eigen::Index n, const std
     if (static_cast<std::size_t>(j) < r.parameters.size())
       r.parameters[static_cast<std::size_t>(j)].std_error = std::sqrt(std::max(0.0, r.covariance(j, j)));
   for (Eigen::Index j = 0; j < total; ++j)
-    if (static_cast<std::size_t>(j) < free_column.size() && !free_column[static_cast<std::size_t>(j)] &&
+    if (static_cast<std::size_t>(j) < is_free.size() && !is_free[static_cast<std::size_t>(j)] &&
         static_cast<std::size_t>(j) < r.parameters.size())
       r.parameters[static_cast<std::size_t>(j)].std_error = 0.0;
 }
@@ -404,11 +455,7 @@ void covariance_over(FitResult& r, Eigen::Index total, Eigen::Index n, const std
 
 void set_covariance(FitResult& r, const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
                     const Eigen::MatrixXd* inverse_normal) {
-  const std::vector<Eigen::Index> cols = estimable_columns(jacobian, free_column);
-  std::vector<bool> zero_column(static_cast<std::size_t>(jacobian.cols()));
-  for (Eigen::Index j = 0; j < jacobian.cols(); ++j) zero_column[static_cast<std::size_t>(j)] = !(jacobian.col(j).squaredNorm() > 0);
-  covariance_over(r, jacobian.cols(), jacobian.rows(), cols, free_column, zero_column,
-                  [&] { return columns(jacobian, cols); }, inverse_normal);
+  covariance_over(r, jacobian.cols(), jacobian, free_column, {}, free_column, inverse_normal);
 }
 
 void set_rss(FitResult& r, double rss) {
@@ -586,36 +633,14 @@ FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout, cons
     r.message += " (covariance: unexpected Jacobian shape: standard errors unavailable)";
     return r;
   }
-  // A free parameter with a zero column (the data do not depend on it, or a SubsetManifold holds
-  // it) is left out of the covariance, as set_covariance does.
-  std::vector<double> norm2(param_of.size(), 0.0);
-  for (std::size_t idx = 0; idx < jac.values.size(); ++idx)
-    norm2[static_cast<std::size_t>(jac.cols[idx])] += jac.values[idx] * jac.values[idx];
-  std::vector<bool> zero_column(static_cast<std::size_t>(total), false);
-  std::vector<Eigen::Index> cols;       // estimable parameters
-  std::vector<Eigen::Index> col_of(param_of.size(), -1);  // jac column -> column of the estimable Jacobian
-  for (std::size_t c = 0; c < param_of.size(); ++c) {
-    if (norm2[c] > 0) {
-      col_of[c] = static_cast<Eigen::Index>(cols.size());
-      cols.push_back(param_of[c]);
-    } else {
-      zero_column[static_cast<std::size_t>(param_of[c])] = true;
-    }
-  }
-  // No QR of an empty matrix: covariance_over stops when no free column is estimable (every free
-  // column zero) or no degree of freedom is left, and says why.
-  covariance_over(r, total, n, cols, is_free, zero_column,
-                  [&] {
-                    Eigen::MatrixXd Jf = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(cols.size()));
-                    for (int row = 0; row < jac.num_rows; ++row)
-                      for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx) {
-                        const Eigen::Index c = col_of[static_cast<std::size_t>(jac.cols[static_cast<std::size_t>(idx)])];
-                        if (c >= 0) Jf(row, c) = jac.values[static_cast<std::size_t>(idx)];
-                      }
-                    jac = ceres::CRSMatrix();  // no longer needed: not held beside the QR's copies
-                    return Jf;
-                  },
-                  nullptr);
+  // The one identifiability check on the free columns (a zero column: the data do not depend on
+  // the parameter, or a SubsetManifold holds it), then the covariance as set_covariance gives it.
+  Eigen::MatrixXd Jf = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(param_of.size()));
+  for (int row = 0; row < jac.num_rows; ++row)
+    for (int idx = jac.rows[static_cast<std::size_t>(row)]; idx < jac.rows[static_cast<std::size_t>(row) + 1]; ++idx)
+      Jf(row, jac.cols[static_cast<std::size_t>(idx)]) = jac.values[static_cast<std::size_t>(idx)];
+  jac = ceres::CRSMatrix();  // no longer needed: not held beside the QR's copies
+  covariance_over(r, total, Jf, {}, param_of, is_free, nullptr);
   return r;
 }
 

@@ -27,19 +27,20 @@ class BlockCost : public ceres::CostFunction {
 };
 }  // namespace
 
-ResidualBlock readings_block(ResidualBlock latent, std::vector<double> readings, std::vector<int> channel, Channels channels) {
-  if (static_cast<std::size_t>(latent.residuals) != readings.size() || (!channel.empty() && channel.size() != readings.size()))
-    throw std::invalid_argument("fit::readings_block: one latent prediction (and channel) per reading");
+namespace {
+// The readings block's chain rule, once: the latent predictions land in `residuals` and their
+// derivatives in `jacobians`, then each row becomes its reading's residual residual_of(i, f_i),
+// the row's derivatives times d r / d f.
+template <class ResidualOf>
+ResidualBlock chained(ResidualBlock latent, ResidualOf residual_of) {
   ResidualBlock out;
   out.residuals = latent.residuals;
   out.sizes = latent.sizes;
-  out.evaluate = [latent = std::move(latent), y = std::move(readings), channel = std::move(channel),
-                  channels = std::move(channels)](double const* const* parameters, double* residuals, double** jacobians) {
-    // The latent predictions land in `residuals` and their derivatives in `jacobians`, then each
-    // row becomes its reading's residual (chain rule: the row's derivatives times d r / d f).
+  out.evaluate = [latent = std::move(latent), residual_of = std::move(residual_of)](double const* const* parameters, double* residuals,
+                                                                                    double** jacobians) {
     if (!latent.evaluate(parameters, residuals, jacobians)) return false;
-    for (std::size_t i = 0; i < y.size(); ++i) {
-      const Residual r = channels.residual(residuals[i], y[i], channel.empty() ? 0 : static_cast<std::size_t>(channel[i]));
+    for (std::size_t i = 0; i < static_cast<std::size_t>(latent.residuals); ++i) {
+      const Residual r = residual_of(i, residuals[i]);
       residuals[i] = r.value;
       if (!std::isfinite(r.value)) return false;
       if (jacobians == nullptr) continue;
@@ -50,6 +51,28 @@ ResidualBlock readings_block(ResidualBlock latent, std::vector<double> readings,
     return true;
   };
   return out;
+}
+}  // namespace
+
+ResidualBlock readings_block(ResidualBlock latent, std::vector<double> readings, std::vector<int> channel, Channels channels) {
+  if (static_cast<std::size_t>(latent.residuals) != readings.size() || (!channel.empty() && channel.size() != readings.size()))
+    throw std::invalid_argument("fit::readings_block: one latent prediction (and channel) per reading");
+  return chained(std::move(latent), [y = std::move(readings), channel = std::move(channel), channels = std::move(channels)](
+                                        std::size_t i, double f) {
+    return channels.residual(f, y[i], channel.empty() ? 0 : static_cast<std::size_t>(channel[i]));
+  });
+}
+
+ResidualBlock readings_block(ResidualBlock latent, std::vector<double> readings, std::vector<Censoring> censoring,
+                             std::vector<double> weights, double sd) {
+  const std::size_t n = readings.size();
+  if (static_cast<std::size_t>(latent.residuals) != n || censoring.size() != n || weights.size() != n)
+    throw std::invalid_argument("fit::readings_block: one latent prediction, censoring and weight per reading");
+  return chained(std::move(latent), [y = std::move(readings), censoring = std::move(censoring), w = std::move(weights), sd](
+                                        std::size_t i, double f) {
+    if (!(w[i] > 0)) return Residual{};
+    return reading_residual(f, y[i], censoring[i], sd, std::sqrt(w[i]));
+  });
 }
 
 struct Problem::Impl {
@@ -68,6 +91,12 @@ void Problem::add_parameters(double* block, int size) { impl_->problem.AddParame
 void Problem::set_lower_bound(double* block, int index, double value) { impl_->problem.SetParameterLowerBound(block, index, value); }
 void Problem::set_upper_bound(double* block, int index, double value) { impl_->problem.SetParameterUpperBound(block, index, value); }
 void Problem::hold(double* block) { impl_->problem.SetParameterBlockConstant(block); }
+void Problem::hold(double* block, const std::vector<int>& indices) {
+  if (static_cast<int>(indices.size()) >= impl_->problem.ParameterBlockSize(block))
+    impl_->problem.SetParameterBlockConstant(block);
+  else if (!indices.empty())
+    impl_->problem.SetManifold(block, new ceres::SubsetManifold(impl_->problem.ParameterBlockSize(block), indices));
+}
 bool Problem::held(double* block) const { return impl_->problem.IsParameterBlockConstant(block); }
 
 SolveSummary Problem::solve(const FitOptions& options) {

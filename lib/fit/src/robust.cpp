@@ -1,16 +1,17 @@
-// The censored, robust fit of epuck2/fit/robust.hpp: Tobit likelihood in Ceres, Cauchy-weighted
-// first pass, outliers left out beyond reject_sd, noise by EM, identifiability by the equilibrated
-// normal matrix, lack of fit against replicates, and the distributions the tests need.
+// The censored, robust fit of epuck2/fit/robust.hpp: the Tobit likelihood stated to the engine as
+// a fit::Problem over fit::readings_block, Cauchy-weighted first pass, outliers left out beyond
+// reject_sd, noise by EM, identifiability by the engine's one check (check_identifiability) with
+// the calibration's policy (hold at the fallback, refit), lack of fit against replicates, and the
+// distributions the tests need. No Ceres here: the engine's sources below hold it.
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/fit/replicates.hpp"
-#include "epuck2/fit/solver.hpp"
+#include "epuck2/fit/problem.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <sstream>
 
-#include <Eigen/Eigenvalues>
 #include "epuck2/logs/output.hpp"
 
 namespace epuck2::fit {
@@ -105,55 +106,32 @@ double f_upper_tail(double f, double d1, double d2) {
 }
 
 // ================================================================================================
-// The Tobit problem for Ceres
+// The Tobit problem, stated to the engine
 // ================================================================================================
 
 namespace {
 
-// Residuals, for observation i with latent prediction f_i and weight w_i (0 leaves it out): the
-// engine's one treatment of readings (readings.hpp), reading_residual(f_i, y_i, censoring, sigma,
-// sqrt(w_i)), so that 1/2 sum r_i^2 is the negative log-likelihood up to constants.
-class TobitCost : public ceres::CostFunction {
- public:
-  TobitCost(const ModelEvaluator& model, const std::vector<Observation>& obs, const std::vector<double>& weights,
-            double sigma, bool use_censored, int parameters)
-      : model_(model), obs_(obs), weights_(weights), sigma_(sigma), use_censored_(use_censored), m_(parameters) {
-    set_num_residuals(static_cast<int>(obs.size()));
-    mutable_parameter_block_sizes()->push_back(parameters);
+// The readings as the engine's one treatment states them (fit::readings_block over the model's
+// latent predictions): observation i's residual is reading_residual(f_i, y_i, censoring, sigma,
+// sqrt(w_i)), so that 1/2 sum r_i^2 is the negative log-likelihood up to constants; a weight of 0
+// leaves it out, and so does `use_censored` false for a reading on a rail.
+ResidualBlock tobit_block(const ModelEvaluator& model, const std::vector<Observation>& obs, const std::vector<double>& weights,
+                          double sigma, bool use_censored, int parameters) {
+  ResidualBlock latent;
+  latent.residuals = static_cast<int>(obs.size());
+  latent.sizes = {parameters};
+  latent.evaluate = [&model](double const* const* p, double* predictions, double** jacobians) {
+    return model(p[0], predictions, jacobians != nullptr ? jacobians[0] : nullptr);
+  };
+  std::vector<double> y(obs.size()), w(obs.size());
+  std::vector<Censoring> censoring(obs.size());
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    y[i] = obs[i].value;
+    censoring[i] = obs[i].censoring;
+    w[i] = obs[i].censoring != Censoring::none && !use_censored ? 0.0 : weights[i];
   }
-
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const std::size_t n = obs_.size(), m = static_cast<std::size_t>(m_);
-    pred_.resize(n);
-    const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
-    if (want_jacobian) jac_.resize(n * m);
-    if (!model_(parameters[0], pred_.data(), want_jacobian ? jac_.data() : nullptr)) return false;
-    for (std::size_t i = 0; i < n; ++i) {
-      double dr_df = 0;  // d r_i / d f_i
-      const Observation& o = obs_[i];
-      if (weights_[i] <= 0 || (o.censoring != Censoring::none && !use_censored_)) {
-        residuals[i] = 0;
-      } else {
-        const Residual r = reading_residual(pred_[i], o.value, o.censoring, sigma_, std::sqrt(weights_[i]));
-        residuals[i] = r.value;
-        dr_df = r.d_prediction;
-      }
-      if (!std::isfinite(residuals[i])) return false;
-      if (want_jacobian)
-        for (std::size_t j = 0; j < m; ++j) jacobians[0][i * m + j] = dr_df * jac_[i * m + j];
-    }
-    return true;
-  }
-
- private:
-  const ModelEvaluator& model_;
-  const std::vector<Observation>& obs_;
-  const std::vector<double>& weights_;
-  const double sigma_;
-  const bool use_censored_;
-  const int m_;
-  mutable std::vector<double> pred_, jac_;
-};
+  return readings_block(std::move(latent), std::move(y), std::move(censoring), std::move(w), sigma);
+}
 
 struct Solution {
   bool ok = false;
@@ -161,32 +139,29 @@ struct Solution {
   std::vector<double> predictions;
 };
 
-// One Ceres solve with the given weights and sigma, parameters in and out of `p`.
+// One solve with the given weights and sigma, parameters in and out of `p`: a fit::Problem over
+// the readings block, the held parameters held, bounds on the others, the calibration's settings.
 Solution solve_once(const ModelEvaluator& model, const std::vector<Observation>& obs, std::vector<double>& p,
                     const std::vector<Parameter>& params, const std::vector<bool>& held, const std::vector<double>& w,
                     double sigma, bool use_censored) {
   const int m = static_cast<int>(p.size());
-  ceres::Problem::Options po;
-  ceres::Problem problem(po);
-  problem.AddResidualBlock(new TobitCost(model, obs, w, sigma, use_censored, m), nullptr, p.data());
+  const FitOptions options = FitOptions::calibration();
+  Problem problem;
+  problem.add(tobit_block(model, obs, w, sigma, use_censored, m), {p.data()}, options);
   std::vector<int> held_idx;
   for (int j = 0; j < m; ++j)
     if (held[static_cast<std::size_t>(j)]) held_idx.push_back(j);
-  if (static_cast<int>(held_idx.size()) == m) {
-    problem.SetParameterBlockConstant(p.data());
-  } else {
-    if (!held_idx.empty()) problem.SetManifold(p.data(), new ceres::SubsetManifold(m, held_idx));
+  problem.hold(p.data(), held_idx);
+  if (static_cast<int>(held_idx.size()) < m)
     for (int j = 0; j < m; ++j) {
       const Parameter& q = params[static_cast<std::size_t>(j)];
       if (held[static_cast<std::size_t>(j)]) continue;
-      if (std::isfinite(q.lower)) problem.SetParameterLowerBound(p.data(), j, q.lower);
-      if (std::isfinite(q.upper)) problem.SetParameterUpperBound(p.data(), j, q.upper);
+      if (std::isfinite(q.lower)) problem.set_lower_bound(p.data(), j, q.lower);
+      if (std::isfinite(q.upper)) problem.set_upper_bound(p.data(), j, q.upper);
     }
-  }
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options(FitOptions::calibration()), &problem, &summary);
+  const SolveSummary summary = problem.solve(options);
   Solution s;
-  s.ok = summary.IsSolutionUsable();
+  s.ok = summary.usable;
   s.message = summary.message;
   s.predictions.resize(obs.size());
   if (!model(p.data(), s.predictions.data(), nullptr)) {
@@ -195,6 +170,10 @@ Solution solve_once(const ModelEvaluator& model, const std::vector<Observation>&
   }
   return s;
 }
+
+/// The calibration's policy on a direction the logs do not determine: of the parameters along it
+/// (kAlongShare), the last declared of those with at least this share is held at its fallback.
+constexpr double kHoldShare = 0.5;
 
 /// A number in a message: `digits` significant digits (the project's one formatter).
 std::string fmt(double v, int digits = 4) { return logs::format_number(v, digits); }
@@ -364,12 +343,13 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     w = hard;
     predictions = s.predictions;
 
-    // 4. Identifiability: the Jacobian of the residuals over the free parameters.
-    TobitCost cost(model, obs, w, sigma, true, static_cast<int>(m));
+    // 4. Identifiability: the engine's one check on the Jacobian of the residuals over the free
+    // parameters (check_identifiability); the calibration's policy holds the parameter it names.
+    const ResidualBlock cost = tobit_block(model, obs, w, sigma, true, static_cast<int>(m));
     std::vector<double> r(n), jrow(n * m);
     double* jac[1] = {jrow.data()};
     const double* pp[1] = {p.data()};
-    if (!cost.Evaluate(pp, r.data(), jac)) {
+    if (!cost.evaluate(pp, r.data(), jac)) {
       out.message = "the model is not finite at the solution";
       return out;
     }
@@ -382,36 +362,34 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
       for (std::size_t c = 0; c < k; ++c) J(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c)) = jrow[i * m + free_idx[c]];
     std::size_t to_hold = m;  // none
     std::string why;
-    Eigen::VectorXd norms = J.colwise().norm();
-    for (std::size_t c = 0; c < k && to_hold == m; ++c)
-      if (!(norms(static_cast<Eigen::Index>(c)) > 0)) {
-        to_hold = free_idx[c];
-        why = "the logs do not depend on it";
-      }
     Eigen::MatrixXd cov_free;
-    if (to_hold == m && k > 0) {
-      Eigen::MatrixXd Je = J;
-      for (Eigen::Index c = 0; c < Je.cols(); ++c) Je.col(c) /= norms(c);
-      const Eigen::MatrixXd N = Je.transpose() * Je;
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(N);
-      const double lo = eig.eigenvalues()(0), hi = eig.eigenvalues()(eig.eigenvalues().size() - 1);
-      if (!(lo > 0) || hi / lo > opt.max_condition) {
-        const Eigen::VectorXd v = eig.eigenvectors().col(0).cwiseAbs();
-        const double vmax = v.maxCoeff();
-        for (std::size_t c = 0; c < k; ++c)
-          if (v(static_cast<Eigen::Index>(c)) >= 0.5 * vmax) to_hold = free_idx[c];  // the last declared
+    if (k > 0) {
+      const Identifiability id = check_identifiability(J, {}, opt.max_condition);
+      Identifiability said = id;  // for the report: columns as the parameters' indices
+      said.inverse_normal.resize(0, 0);
+      for (Eigen::Index& c : said.estimable) c = static_cast<Eigen::Index>(free_idx[static_cast<std::size_t>(c)]);
+      for (Identifiability::Column& u : said.undetermined) u.column = static_cast<Eigen::Index>(free_idx[static_cast<std::size_t>(u.column)]);
+      out.identifiability.push_back(std::move(said));
+      if (id.any(Identifiability::Why::zero_column)) {
+        // The first free parameter the logs do not depend on.
+        for (const Identifiability::Column& u : id.undetermined)
+          if (u.why == Identifiability::Why::zero_column) {
+            to_hold = free_idx[static_cast<std::size_t>(u.column)];
+            why = "the logs do not depend on it";
+            break;
+          }
+      } else if (!id.determined()) {
+        // Along the least-determined direction: the last declared of those most along it is held.
         std::vector<std::string> along;
-        for (std::size_t c = 0; c < k; ++c)
-          if (v(static_cast<Eigen::Index>(c)) >= 0.2 * vmax) along.push_back(params[free_idx[c]].name);
+        for (const Identifiability::Column& u : id.undetermined) {
+          if (u.share >= kHoldShare) to_hold = free_idx[static_cast<std::size_t>(u.column)];
+          along.push_back(params[free_idx[static_cast<std::size_t>(u.column)]].name);
+        }
         why = "the logs determine only a combination of ";
         for (std::size_t a = 0; a < along.size(); ++a) why += (a ? (a + 1 == along.size() ? " and " : ", ") : "") + along[a];
-        why += lo > 0 ? " (condition number " + fmt(hi / lo) + ")" : " (they enter the logs only together)";
+        why += id.rank_deficient() ? " (they enter the logs only together)" : " (condition number " + fmt(id.condition) + ")";
       } else {
-        const Eigen::MatrixXd inv = eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() *
-                                    eig.eigenvectors().transpose();
-        cov_free = inv;
-        for (Eigen::Index a = 0; a < inv.rows(); ++a)
-          for (Eigen::Index b = 0; b < inv.cols(); ++b) cov_free(a, b) = inv(a, b) / (norms(a) * norms(b));
+        cov_free = id.inverse_normal;
       }
     }
     if (to_hold != m) {

@@ -153,6 +153,54 @@ struct ParameterLayout {
 /// column-pivoted QR (false when rank-deficient). Covariance = this * RSS / (n - p).
 bool inverse_normal_matrix(const Eigen::MatrixXd& jacobian, Eigen::MatrixXd* inverse);
 
+/// The share of a column on the least-determined direction (|v_c| / max |v|) from which the
+/// column counts as along it: undetermined with the others (docs/fitting.md, "Parameters the
+/// logs cannot determine").
+inline constexpr double kAlongShare = 0.2;
+
+/// The engine's one identifiability check: which free columns of a Jacobian at the solution the
+/// data do not determine, and why, with the numbers. Every fit asks it (fit_robust, fit_curve,
+/// fit::Problem::summarize and so the diagnosis) and keeps its own policy on the answer: the
+/// calibration holds such a parameter at its documented default and refits; the others leave its
+/// standard error NaN with the reason (docs/fitting.md).
+///
+/// A free column of zeros is undetermined (the data do not depend on it). The other free columns
+/// ("estimable") are equilibrated to unit norm and factored by a column-pivoted QR, the
+/// factorization every covariance of the engine comes from: when their numerical rank (Eigen's
+/// threshold) is below their count, or the condition number of their equilibrated normal matrix
+/// exceeds `max_condition` (infinite: not tested), the columns along the least-determined
+/// direction (the smallest singular vector of the factor R, share at least kAlongShare) are
+/// undetermined. Otherwise `inverse_normal` holds (J^T J)^-1 over the estimable columns from the
+/// same factorization. `inverse_normal_given`, when it is the size of the estimable columns, is
+/// that inverse already computed from this Jacobian by a factorization that found them of full
+/// rank (fit_curve's linear start): the check then factors nothing and tests no condition.
+struct Identifiability {
+  enum class Why { zero_column, condition, rank_deficient };
+  struct Column {
+    Eigen::Index column = 0;  ///< in the Jacobian given
+    Why why = Why::zero_column;
+    double share = 1;  ///< |v_c| / max |v| on the least-determined direction (1 for a zero column)
+  };
+  std::vector<Column> undetermined;      ///< in column order
+  std::vector<Eigen::Index> estimable;   ///< free columns that are not zero, in order
+  Eigen::Index rank = 0;                 ///< numerical rank of the estimable columns, equilibrated
+  /// Condition number of the estimable columns' equilibrated normal matrix (the square of R's):
+  /// computed when `max_condition` is finite or the columns are rank-deficient (NaN otherwise;
+  /// infinite when R is singular).
+  double condition = std::numeric_limits<double>::quiet_NaN();
+  Eigen::MatrixXd inverse_normal;  ///< (J^T J)^-1 over `estimable`, when they are determined
+  bool rank_deficient() const { return rank < static_cast<Eigen::Index>(estimable.size()); }
+  /// No zero column, full rank and within the condition limit.
+  bool determined() const { return undetermined.empty(); }
+  bool any(Why why) const {
+    return std::any_of(undetermined.begin(), undetermined.end(), [why](const Column& c) { return c.why == why; });
+  }
+};
+
+Identifiability check_identifiability(const Eigen::MatrixXd& jacobian, const std::vector<bool>& free_column,
+                                      double max_condition = std::numeric_limits<double>::infinity(),
+                                      const Eigen::MatrixXd* inverse_normal_given = nullptr);
+
 /// For residuals affine in the parameters, r(p + d) = residuals + residual_jacobian d: the step d
 /// that minimises |r| over the columns with `free_column` true (the others get 0), from the
 /// columns equilibrated and a column-pivoted QR (the factorization inverse_normal_matrix uses),

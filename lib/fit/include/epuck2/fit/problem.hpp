@@ -90,6 +90,13 @@ ResidualBlock autodiff(Functor functor) {
 /// by its channel's noise sd (`channel` empty: every reading in channel 0).
 ResidualBlock readings_block(ResidualBlock latent, std::vector<double> readings, std::vector<int> channel, Channels channels);
 
+/// The same treatment for readings that state their own censoring (the reading being the rail
+/// itself when censored: fit_robust's Observations) and carry a weight each, residuals in noise
+/// sd: reading i's residual is reading_residual(f_i, readings[i], censoring[i], sd,
+/// sqrt(weights[i])); a weight of 0 leaves the reading out (residual and derivatives 0).
+ResidualBlock readings_block(ResidualBlock latent, std::vector<double> readings, std::vector<Censoring> censoring,
+                             std::vector<double> weights, double sd);
+
 /// What a solve did (the engine's summary of its solver's).
 struct SolveSummary {
   bool usable = false;     ///< the parameters hold a solution (converged, or stopped with one)
@@ -120,6 +127,9 @@ class Problem {
   void set_upper_bound(double* block, int index, double value);
   /// Holds every value of the array `block` where it is.
   void hold(double* block);
+  /// Holds the values `indices` of the array `block` where they are, the others free (every one
+  /// of them: as hold(block)).
+  void hold(double* block, const std::vector<int>& indices);
   bool held(double* block) const;
 
   /// Solves as `options` say (epuck2/fit/least_squares.hpp FitOptions: the solver settings, the

@@ -9,8 +9,9 @@
 //   at_or_above: -log L_i = -log Phi((f_i - rail) / sigma)
 //   at_or_below: -log L_i = -log Phi((rail - f_i) / sigma)
 //
-// written for Ceres as the engine's one treatment of readings (epuck2/fit/readings.hpp,
-// reading_residual), the diagnosis's joint fit's too. The
+// stated to the engine as a fit::Problem over fit::readings_block (the engine's one treatment of
+// readings, epuck2/fit/readings.hpp, the diagnosis's joint fit's too) and solved by
+// Problem::solve with FitOptions::calibration(). The
 // noise sigma is estimated with the parameters (EM: the expected squared deviation of a censored
 // reading, sigma^2 (1 + z lambda(z)), stands in for its unknown square), unless it is given.
 //
@@ -20,10 +21,11 @@
 // the fit is repeated until that set no longer changes. What remains is an ordinary Tobit maximum
 // likelihood fit, with its usual covariance. `robust = false` gives plain least squares (Tobit).
 //
-// Identifiability: a parameter whose column of the Jacobian is zero, or that lies along a
-// direction the data do not determine (condition number of the equilibrated normal matrix above
-// `max_condition`), is held at its documented fallback (the plug-in's value) and reported in
-// `not_identifiable`; the fit is repeated without it. No starting guess is ever reported as a
+// Identifiability: the engine's one check (check_identifiability, least_squares.hpp) at the
+// solution; a parameter whose column of the Jacobian is zero, or that lies along a direction the
+// data do not determine (rank-deficient, or condition number of the equilibrated normal matrix
+// above `max_condition`), is held at its documented fallback (the plug-in's value) and reported
+// in `not_identifiable`; the fit is repeated without it (the calibration's policy). No starting guess is ever reported as a
 // result, and no NaN leaves this layer: a standard error that cannot be computed is NaN here with
 // a reason in `std_error_why`, and the caller decides.
 #pragma once
@@ -143,6 +145,10 @@ struct RobustFit : FitResult {
   std::vector<std::size_t> outliers;           ///< indices of the readings left out
   std::vector<std::string> outlier_where;      ///< their file:line
   std::vector<std::string> not_identifiable;   ///< held at their fallback
+  /// The engine's one identifiability check (check_identifiability), once per fit made: the last
+  /// found every free parameter determined, each one before it held the parameter it names at its
+  /// fallback (columns as the parameters' indices; no inverse kept).
+  std::vector<Identifiability> identifiability;
   std::vector<std::string> warnings;           ///< sentences
   LackOfFit lack_of_fit;
   std::string method;                          ///< loss and censoring, in words
