@@ -3,7 +3,7 @@
 // normal matrix, lack of fit against replicates, and the distributions the tests need.
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/fit/replicates.hpp"
-#include "epuck2/fit/solver.hpp"
+#include "solver.hpp"
 
 #include <algorithm>
 #include <cmath>
