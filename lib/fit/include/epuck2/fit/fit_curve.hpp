@@ -242,7 +242,9 @@ FitResult fit_curve(const Model& model, const std::vector<double>& x, const std:
     return true;
   };
   // One residual, differentiated as Ceres' AutoDiffCostFunction<.., 1, P> differentiated it: in
-  // doubles when no derivative is wanted, else by Jets seeded one slot per parameter.
+  // doubles when no derivative is wanted, else by Jets seeded one slot per parameter. A
+  // non-finite value (overflow on a wild trial step) is a failed evaluation: the solver rejects
+  // the step either way, but this way without logging a warning.
   evaluation.one = [&model, &x, &y](std::size_t i, const double* p, double* residual, bool jets, double* gradient) {
     using std::isfinite;
     if (!jets) {
