@@ -5,14 +5,13 @@
 // `help [SUBCOMMAND]`, a misspelt subcommand or simulated kind (did you mean, and the list), and
 // diagnose's old spelling `--json FILE` (taken as the file only when FILE is `-` or ends in .json,
 // so that a log is never taken for the output).
-#include <glog/logging.h>
-
 #include <algorithm>
 #include <iostream>
 
 #include "app_support.hpp"
 #include "commands.hpp"
 #include "heap.hpp"
+#include "epuck2/fit/solver_log.hpp"
 #include "epuck2/logs/log.hpp"
 
 #ifndef EPUCK2_VERSION
@@ -161,9 +160,8 @@ namespace {
 
 int run(int argc, char** argv) {
   using namespace epuck2::app;
-  // Ceres reports through glog; its messages are not for our users (fits report their own status).
-  FLAGS_minloglevel = google::GLOG_FATAL;
-  google::InitGoogleLogging(argv[0]);
+  // The solver's log is not for our users (fits report their own status).
+  epuck2::fit::silence_solver_log(argv[0]);
   // Battery and diagnosis runs fit hundreds of times: freed memory waits for the next fit.
   epuck2::app::keep_freed_heap();
   CLI::App app{"epuck2-fit: calibrate and diagnose E-Puck2 simulation models from raw robot logs"};

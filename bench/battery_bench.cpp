@@ -3,13 +3,13 @@
 // behaviours. Targets (issue): the whole set under 1 s; a Cubic step under 50 ns.
 //   build/bin/bench_battery [--benchmark_min_time=0.5]
 #include <benchmark/benchmark.h>
-#include <glog/logging.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "epuck2/calibrate/battery.hpp"
+#include "epuck2/fit/solver_log.hpp"
 #include "heap.hpp"  // apps/heap.hpp: the programs' heap setting
 #include "epuck2/models/plugin_battery_tables.hpp"
 #include "machine.hpp"
@@ -133,7 +133,7 @@ BENCHMARK_CAPTURE(BM_SwarmStep, approximated_argos, mb::Model::approximated, mb:
 }  // namespace
 
 int main(int argc, char** argv) {
-  FLAGS_minloglevel = google::GLOG_FATAL;  // Ceres' solver chatter
+  epuck2::fit::silence_solver_log();       // the solver's chatter
   epuck2::app::keep_freed_heap();          // as epuck2-fit runs its fits
   benchmark::AddCustomContext("machine", epuck2::bench::machine());
   benchmark::Initialize(&argc, argv);

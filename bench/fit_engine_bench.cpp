@@ -24,7 +24,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <glog/logging.h>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -37,6 +36,7 @@
 #include "heap.hpp"  // apps/heap.hpp: the programs' heap setting
 #include "epuck2/fit/fit_curve.hpp"
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/fit/solver_log.hpp"
 #include "epuck2/nist/nist.hpp"
 #include "epuck2/logs/log.hpp"
 
@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
   }
   if (nist_dir.empty() && battery_dir.empty()) return usage();
   if (!default_heap) epuck2::app::keep_freed_heap();
-  FLAGS_minloglevel = google::GLOG_FATAL;  // Ceres' step-by-step complaints are not the report
+  epuck2::fit::silence_solver_log();  // the solver's step-by-step complaints are not the report
   try {
     nlohmann::json out;
     out["machine"] = {{"cpu", cpu_model()}, {"hardware_threads", std::thread::hardware_concurrency()}};

@@ -91,7 +91,7 @@ struct Check {
   /// The size of the terms that make up a value (cancellations): tolerances are relative to
   /// max(|value|, scale). 0: the value's own size.
   double scale = 0;
-  /// Ceres's Jet divides by multiplying by the reciprocal (jet.h: a = f.a * (1 / g.a)), so where
+  /// fit::Jet divides by multiplying by the reciprocal, as Ceres 2.1's jet.h does (a = f.a * (1 / g.a)), so where
   /// a formula divides a Jet its value part may differ from double's division in the last bits:
   /// then it is checked to 8 ulps of mag() instead of bit for bit.
   bool jet_divides = false;

@@ -1,5 +1,5 @@
 #include "epuck2/fit/least_squares.hpp"
-#include "epuck2/fit/solver.hpp"
+#include "solver.hpp"
 
 #include <algorithm>
 #include <cmath>

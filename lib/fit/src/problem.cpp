@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "epuck2/fit/solver.hpp"
+#include "solver.hpp"
 
 namespace epuck2::fit {
 

@@ -1,5 +1,5 @@
 // The fitting layer's core: nonlinear least squares with Ceres, and what every fit reports.
-// This header does not include Ceres (its solver side is epuck2/fit/solver.hpp, lib/fit's own):
+// This header does not include Ceres (its solver side is lib/fit/src/solver.hpp, lib/fit's own):
 // the many units that only read a FitResult do not parse it.
 //
 // A fit returns a FitResult that says whether it is usable and why (models never throw; this layer

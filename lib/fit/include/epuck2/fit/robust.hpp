@@ -215,8 +215,8 @@ RobustFit fit_robust(const Model& model, const std::vector<Observation>& observa
 /// The value of a Jet or a double (to branch on a parameter's value where a formula has a
 /// limit the Jets cannot take, e.g. a time constant of exactly 0).
 inline double scalar_value(double x) { return x; }
-template <typename T, int N>
-double scalar_value(const ceres::Jet<T, N>& x) { return x.a; }
+template <int N>
+double scalar_value(const Jet<N>& x) { return x.a; }
 
 // ----- Several robots -------------------------------------------------------------------------
 

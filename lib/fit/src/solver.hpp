@@ -1,6 +1,7 @@
-// The Ceres side of the engine: lib/fit's own sources and fit_curve's template include it; no
-// unit outside lib/fit does (a caller states its problem through epuck2/fit/problem.hpp, and the
-// CTest `ceres_in_lib_fit_alone` checks it).
+// The Ceres side of the engine, private to lib/fit (lib/fit/src): only lib/fit's own sources
+// include it. Callers state their fits through epuck2/fit/problem.hpp, fit_curve.hpp and
+// robust.hpp, none of which names Ceres; CTest `ceres_in_lib_fit_alone` checks that no object
+// outside lib/fit is compiled with a Ceres header.
 #pragma once
 
 #include <ceres/ceres.h>
