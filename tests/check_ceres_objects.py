@@ -112,15 +112,18 @@ def out_of_date(build: pathlib.Path, obj: str, deps):
         built = o.stat().st_mtime
     except OSError:
         return True
+    # Relative paths in a record are relative to where the compiler ran: under Makefiles the
+    # target's folder of the build tree (the part before CMakeFiles/), under Ninja the build tree.
+    cwd = build / obj.split("CMakeFiles/")[0] if "CMakeFiles/" in obj else build
     for d in deps:
         p = pathlib.Path(d)
         if not p.is_absolute():
-            p = build / p
+            p = cwd / p
         try:
             if p.stat().st_mtime > built:
                 return True
         except OSError:
-            return True  # a recorded source that is gone: the record is stale
+            continue  # a recorded file that is gone: the next build decides
     return False
 
 
