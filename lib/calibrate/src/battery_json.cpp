@@ -112,9 +112,11 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
     }
     // The speed's tables (what a reader turns into the model) by the file's owner, lib/coefficients;
     // the fit's report around them.
-    json entry = coefficients::battery_speed_to_json(
-        s.speed_cm_s, mb::CubicRow{s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a"), s.lifetime_s},
-        s.linear_slope_per_s, s.segments, s.noise_sd);
+    json entry = owned_model([&] {
+      return coefficients::battery_speed_to_json(
+          s.speed_cm_s, mb::CubicRow{s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a"), s.lifetime_s},
+          s.linear_slope_per_s, s.segments, s.noise_sd);
+    });
     entry.update(json{
         {"runs", s.runs},
         {"observations", s.observations},
@@ -143,7 +145,7 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
     }
   }
   // The Simple model's slopes by the owner too, their report beside them.
-  json simple = coefficients::battery_simple_to_json(fit.simple_static_slope_per_s, fit.simple_moving_slope_per_s);
+  json simple = owned_model([&] { return coefficients::battery_simple_to_json(fit.simple_static_slope_per_s, fit.simple_moving_slope_per_s); });
   simple.update(json{{"static_std_error", fit.simple_static_std_error},
                      {"moving_std_error", fit.simple_moving_std_error},
                      {"static_rounded", fit::format_uncertain(fit.simple_static_slope_per_s, fit.simple_static_std_error, "1/s",

@@ -72,7 +72,7 @@ std::vector<fit::ParameterEstimate> robot_estimates(const CameraFit& f) {
 nlohmann::json coefficient_json(const CameraFit& f, const std::vector<logs::Log>& logs) {
   coefficients::CalibrationExtras extras = measured_noise({f.noise});
   extras.fov_deg = f.result.value("fov_deg");  // written as fitted (it is the model's radians exactly)
-  nlohmann::json j = skeleton(coefficients::calibration_model_json(model_of(f), extras), logs);
+  nlohmann::json j = skeleton(owned_model([&] { return coefficients::calibration_model_json(model_of(f), extras); }), logs);
   j["units"] = {{"fov_deg", "deg"}, {"cx_px", "px"}, {"cy_px", "px"}, {"aperture_deg", "deg"}, {"width_px", "px"},
                 {"height_px", "px"}, {"range_m", "m"}, {"mse", "px^2"}, {"rss", "px^2"}};
   j["unit_notes"] = {{"fov_deg", "horizontal field of view"}, {"aperture_deg", "ARGoS half-angle on the diagonal"},

@@ -65,7 +65,7 @@ std::vector<fit::ParameterEstimate> robot_estimates(const DriveFit& f) {
 }
 
 nlohmann::json coefficient_json(const DriveFit& f, const std::vector<logs::Log>& logs) {
-  nlohmann::json j = skeleton(coefficients::calibration_model_json(model_of(f), measured_noise({f.tof_noise, f.encoder_noise})), logs);
+  nlohmann::json j = skeleton(owned_model([&] { return coefficients::calibration_model_json(model_of(f), measured_noise({f.tof_noise, f.encoder_noise})); }), logs);
   j["units"] = {{"steps_per_m", "steps/m"}, {"tof_offset_mm", "mm"}, {models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), "1"}, {"slip_time_constant_s", "s"},
                 {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}, {"rss", "mm^2 (ToF)"}, {"steps_rss", "steps^2"}};
   // Rows of a run are a time series: both fits' errors get the autocorrelation correction.

@@ -56,7 +56,7 @@ std::vector<fit::ParameterEstimate> robot_estimates(const GroundFit& f) {
 }
 
 nlohmann::json coefficient_json(const GroundFit& f, const std::vector<logs::Log>& logs) {
-  nlohmann::json j = skeleton(coefficients::calibration_model_json(model_of(f), measured_noise({f.noise})), logs);
+  nlohmann::json j = skeleton(owned_model([&] { return coefficients::calibration_model_json(model_of(f), measured_noise({f.noise})); }), logs);
   j["units"] = {{"gain", "counts"}, {"offset", "counts"}, {"mse", "counts^2"}, {"rss", "counts^2"}};
   j["unit_notes"] = {{"gain", "raw counts from black to white (grey 0 to 1)"}, {"offset", "raw counts over black"}};
   nlohmann::json correlations = nlohmann::json::array();

@@ -52,7 +52,7 @@ s::LightModel model_of(const LightFit& f) {
 std::vector<fit::ParameterEstimate> robot_estimates(const LightFit& f) { return named_estimates(f.gamma); }
 
 nlohmann::json coefficient_json(const LightFit& f, const std::vector<logs::Log>& logs) {
-  nlohmann::json j = skeleton(coefficients::calibration_model_json(model_of(f), measured_noise({f.noise})), logs);
+  nlohmann::json j = skeleton(owned_model([&] { return coefficients::calibration_model_json(model_of(f), measured_noise({f.noise})); }), logs);
   j["units"] = {{"gamma", "m"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"rss", "(reading / 4095)^2"}};
   j["unit_notes"] = {{"gamma", "metres per unit of the light's intensity I: Eq. 2's gamma I / d is a ratio"},
                      {"range_m", "the sensor's range, held"}};

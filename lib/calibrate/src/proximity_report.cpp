@@ -76,7 +76,7 @@ std::vector<fit::ParameterEstimate> robot_estimates(const ProximityFit& f) {
 }
 
 nlohmann::json coefficient_json(const ProximityFit& f, const std::vector<logs::Log>& logs) {
-  nlohmann::json j = skeleton(coefficients::calibration_model_json(model_of(f), model_of(f, true), measured_noise({f.noise})), logs);
+  nlohmann::json j = skeleton(owned_model([&] { return coefficients::calibration_model_json(model_of(f), model_of(f, true), measured_noise({f.noise})); }), logs);
   j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"mean_a", "1/m^2"}, {"mean_b", "1/m"}, {"mean_c", "1"},
                 {"values", "reading / 4095"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"mean_mse", "(reading / 4095)^2"},
                 {"rss", "(reading / 4095)^2"}};

@@ -82,6 +82,14 @@ json skeleton(const json& model, const std::vector<logs::Log>& logs) {
   return j;
 }
 
+json owned_model(const std::function<json()>& write) {
+  try {
+    return write();
+  } catch (const std::domain_error& e) {
+    throw NoUsableFit(std::string("the fitted model cannot be written: ") + e.what());
+  }
+}
+
 coefficients::CalibrationExtras measured_noise(const std::vector<ReadingNoise>& channels) {
   coefficients::CalibrationExtras x;
   for (const auto& c : channels) {
@@ -242,7 +250,13 @@ void add_robots(json& j, const std::vector<logs::Log>& all,
     json set = {{"logs", files}, {"usable", true}, {"parameters", r.file.at("parameters")}, {"std_errors", r.file.at("std_errors")}};
     if (r.file.contains("noise")) set["noise"] = r.file.at("noise");
     if (r.file.contains("not_identifiable")) set["not_identifiable"] = r.file.at("not_identifiable");
-    coefficients::add_robot_set(j, kind, name, set);
+    try {
+      coefficients::add_robot_set(j, kind, name, set);
+    } catch (const std::domain_error& e) {
+      // A robot's set that no reader would take is not written: the robot has no usable set.
+      coefficients::add_robot_set(j, kind, name, {{"logs", files}, {"usable", false}, {"why", e.what()}});
+      continue;
+    }
     fits.emplace_back();
     fits.back().usable = true;
     fits.back().parameters = std::move(r.estimates);

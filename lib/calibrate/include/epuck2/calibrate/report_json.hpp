@@ -51,6 +51,11 @@ fit::FitStatistics robust_statistics(const fit::RobustFit& r);
 /// (docs/coefficient-files.md). The calibration's report fields are added around it.
 nlohmann::json skeleton(const nlohmann::json& model, const std::vector<logs::Log>& logs);
 
+/// `write()`, the owner's model sections (coefficients::calibration_model_json of the fit's model),
+/// with a model the owner refuses (a fitted value a reader would refuse: std::domain_error) made a
+/// fit that is not usable (NoUsableFit, exit 1): such a calibration is never written.
+nlohmann::json owned_model(const std::function<nlohmann::json()>& write);
+
 /// What the file's owner writes beside the model from the calibration's noise `channels`: each
 /// channel's pooled sd (coefficients::CalibrationExtras). Throws NoUsableFit for a channel whose
 /// noise could not be measured: every calibration writes its reading noise.
