@@ -346,6 +346,17 @@ TEST(FileOwner, ABatterySpeedsTablesAndNoiseReadBack) {
             std::string::npos);
   EXPECT_NE(owner_error([&] { co::battery_speed_to_json(3, q, -2e-4, owner_segments(), 2.0); }).find("noise_sd"), std::string::npos);
   EXPECT_NE(owner_error([&] { co::battery_simple_to_json(-1e-4, 1e-4); }).find("a reader would refuse them"), std::string::npos);
+  // Unchecked (a calibration reporting tables fitted to a few rows, and saying no reader takes
+  // them): written as given, and the reader refuses them where it would.
+  const json rising = co::battery_speed_to_json(3, q, 2e-4, owner_segments(), 0.03, false);
+  EXPECT_EQ(rising.at("linear_slope").get<double>(), 2e-4);
+  json file = {{"kind", "battery"}, {"speeds", {rising}}};
+  co::TableSources src3;
+  EXPECT_NE(owner_error([&] { co::battery_model_from_json(file, "b.json", "", src3); }).find("(at JSON path /speeds/0/linear_slope)"),
+            std::string::npos);
+  EXPECT_NE(owner_error([&] { co::battery_speed_to_json(3, mb::CubicRow{std::nan(""), 0, 0, 0, 10}, -2e-4, owner_segments(), 0.03, false); })
+                .find("not finite"),
+            std::string::npos);
   EXPECT_EQ(co::battery_simple_to_json(-1e-4, -2e-4), json::parse(R"({"static_slope_per_s": -1e-4, "moving_slope_per_s": -2e-4})"));
 }
 

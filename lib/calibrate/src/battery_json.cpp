@@ -91,6 +91,7 @@ std::string lifetime_text(const SpeedFit& s) {
 }
 
 json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
+  std::vector<std::string> unreadable;  // the warnings of tables written though no reader takes them
   const std::string method = battery_method(robust, reject_sd);
   json speeds = json::array();
   std::vector<std::string> outlier_rows;
@@ -112,11 +113,16 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
     }
     // The speed's tables (what a reader turns into the model) by the file's owner, lib/coefficients;
     // the fit's report around them.
-    json entry = owned_model([&] {
-      return coefficients::battery_speed_to_json(
-          s.speed_cm_s, mb::CubicRow{s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a"), s.lifetime_s},
-          s.linear_slope_per_s, s.segments, s.noise_sd);
-    });
+    const mb::CubicRow cubic{s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a"), s.lifetime_s};
+    json entry;
+    try {
+      entry = coefficients::battery_speed_to_json(s.speed_cm_s, cubic, s.linear_slope_per_s, s.segments, s.noise_sd);
+    } catch (const std::domain_error& e) {
+      // Reported as fitted, and said: no reader takes these tables.
+      entry = coefficients::battery_speed_to_json(s.speed_cm_s, cubic, s.linear_slope_per_s, s.segments, s.noise_sd, false);
+      unreadable.push_back(std::string("written as fitted though no reader takes it: ") + e.what() +
+                           "; codegen, simulate, diagnose --coefficients and ARGoS refuse this file.");
+    }
     entry.update(json{
         {"runs", s.runs},
         {"observations", s.observations},
@@ -145,7 +151,14 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
     }
   }
   // The Simple model's slopes by the owner too, their report beside them.
-  json simple = owned_model([&] { return coefficients::battery_simple_to_json(fit.simple_static_slope_per_s, fit.simple_moving_slope_per_s); });
+  json simple;
+  try {
+    simple = coefficients::battery_simple_to_json(fit.simple_static_slope_per_s, fit.simple_moving_slope_per_s);
+  } catch (const std::domain_error& e) {
+    simple = coefficients::battery_simple_to_json(fit.simple_static_slope_per_s, fit.simple_moving_slope_per_s, false);
+    unreadable.push_back(std::string("written as fitted though no reader takes it: ") + e.what() +
+                         "; codegen, simulate, diagnose --coefficients and ARGoS refuse this file.");
+  }
   simple.update(json{{"static_std_error", fit.simple_static_std_error},
                      {"moving_std_error", fit.simple_moving_std_error},
                      {"static_rounded", fit::format_uncertain(fit.simple_static_slope_per_s, fit.simple_static_std_error, "1/s",
@@ -153,6 +166,8 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
                      {"moving_rounded", fit::format_uncertain(fit.simple_moving_slope_per_s, fit.simple_moving_std_error, "1/s",
                                                               "-1/mean lifetime while moving, which has no standard error (one run a speed)")}});
   const SpeedCoverage coverage = speed_coverage(fit);
+  std::vector<std::string> warnings = fit.warnings;
+  warnings.insert(warnings.end(), unreadable.begin(), unreadable.end());
   return json{
       {"kind", "battery"},
       {"units", {{"time", "s"}, {"speed", "cm/s"}, {"charge", "1 (normalised, 1 = full)"},
@@ -178,7 +193,7 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
       {"speeds_covered_cm_s", coverage.covered},
       {"speeds_missing_cm_s", coverage.missing},
       {"speeds_other_cm_s", coverage.other},
-      {"warnings", fit.warnings},
+      {"warnings", warnings},
   };
 }
 

@@ -198,7 +198,7 @@ const json& speeds_of(const json& j, const std::string& path) {
 }  // namespace
 
 json battery_speed_to_json(double speed_cm_s, const mb::CubicRow& cubic, double linear_slope_per_s,
-                           const std::array<mb::Segment, mb::kSegmentCount>& segments, double noise_sd) {
+                           const std::array<mb::Segment, mb::kSegmentCount>& segments, double noise_sd, bool readable) {
   json segs = json::array();
   for (const mb::Segment& g : segments)
     segs.push_back({{"h", g.h}, {"m", g.m}, {"x1_s", g.x1_s}, {"x2_s", g.x2_s}, {"y1", g.y1}, {"y2", g.y2}});
@@ -209,6 +209,15 @@ json battery_speed_to_json(double speed_cm_s, const mb::CubicRow& cubic, double 
          {"segments", segs}};
   const std::string where = "the battery table at " + json(speed_cm_s).dump() + " cm/s";
   if (!std::isfinite(speed_cm_s) || speed_cm_s < 0) throw std::domain_error("cannot write " + where + ": its speed is not a speed");
+  if (!readable) {
+    for (const double v : {cubic.end_s, cubic.d, cubic.c, cubic.b, cubic.a, linear_slope_per_s})
+      if (!std::isfinite(v)) throw std::domain_error("cannot write " + where + ": a value is not finite");
+    for (const mb::Segment& g : segments)
+      for (const double v : {g.h, g.m, g.x1_s, g.x2_s, g.y1, g.y2})
+        if (!std::isfinite(v)) throw std::domain_error("cannot write " + where + ": a segment's value is not finite");
+    if (std::isfinite(noise_sd)) e["noise_sd"] = noise_sd;
+    return e;
+  }
   if (std::isfinite(noise_sd)) {
     // The charge channel's noise, as battery_model_from_json checks a speed's noise_sd.
     const double full_scale = models::kind_facts("battery")->channels.front().full_scale;
@@ -228,8 +237,13 @@ json battery_speed_to_json(double speed_cm_s, const mb::CubicRow& cubic, double 
   return e;
 }
 
-json battery_simple_to_json(double static_slope_per_s, double moving_slope_per_s) {
+json battery_simple_to_json(double static_slope_per_s, double moving_slope_per_s, bool readable) {
   const json j{{"simple", {{"static_slope_per_s", static_slope_per_s}, {"moving_slope_per_s", moving_slope_per_s}}}};
+  if (!readable) {
+    if (!std::isfinite(static_slope_per_s) || !std::isfinite(moving_slope_per_s))
+      throw std::domain_error("cannot write the Simple model's slopes: a slope is not finite");
+    return j.at("simple");
+  }
   try {
     mb::Tables scratch{};
     read_simple(j, "(the Simple model being written)", scratch);
