@@ -442,6 +442,32 @@ TEST(FileOwner, ARobotSetAReaderWouldRefuseIsNotWritten) {
   EXPECT_EQ(pooled, before);
 }
 
+// Seven rows at 3 cm/s through a charge map (the firmware's line over 3.5..4.2 V): the
+// Approximated model's first segment ends above a full charge, which no reader takes. The
+// calibration reports the tables as fitted and says so, with the reader's reason.
+TEST_F(FreshCalibration, BatteryTablesNoReaderTakesAreWrittenAndSaid) {
+  const std::string map = write("map.json", R"({"kind": "charge_map", "charge_map": {"form": "monotone_piecewise_linear",
+    "knots_v": [3.5, 4.2], "knot_charge": [0.125, 1.0], "load_speeds_cm_s": [0, 5], "load_offset_v": [0, 0]}})");
+  const std::string log = write("v.csv", "time_s,speed_cm_s,voltage_v\n0,3,4.25\n10,3,4.1\n20,3,3.9\n30,3,3.8\n40,3,3.7\n50,3,3.6\n60,3,3.45\n");
+  const std::string out = (dir_ / "b.json").string();
+  const auto r = run("battery \"" + log + "\" --charge-map \"" + map + "\" -o \"" + out + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = co::read_json_file(out);
+  std::string said;
+  for (const auto& w : j.at("warnings"))
+    if (w.get<std::string>().find("written as fitted though no reader takes it") != std::string::npos) said = w.get<std::string>();
+  ASSERT_FALSE(said.empty()) << j.at("warnings").dump();
+  EXPECT_NE(r.err.find(said), std::string::npos) << r.err;  // on standard error too
+  // The reason is the reader's own: reading the file fails where the warning says.
+  const std::string e = owner_error([&] {
+    co::TableSources src;
+    co::battery_model_from_json(j, out, "", src);
+  });
+  ASSERT_FALSE(e.empty());
+  const std::string path = e.substr(e.find("(at JSON path"));
+  EXPECT_NE(said.find(path), std::string::npos) << said << " / " << e;
+}
+
 class TwoRobotsCalibration : public epuck2::testing::CliTest {};
 
 // Two robots whose generator truths differ (robot 2's ground gains 10 % below robot 1's, the same
