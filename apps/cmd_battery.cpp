@@ -63,6 +63,8 @@ int run_battery(const BatteryOptions& o) {
     throw NoUsableFit("battery " + misfits.front() + ". Nothing was written; --accept-misfit writes it anyway.");
   const double reject_sd = o.least_squares ? 0.0 : calibrate::kBatteryRejectSd;
   nlohmann::json j = calibrate::battery_fit_to_json(f, o.robust, reject_sd);
+  // The fit's warnings, and the file's own beyond them (tables no reader takes).
+  const std::vector<std::string> file_warnings = j.at("warnings").get<std::vector<std::string>>();
   for (const auto& w : in.warnings) j["warnings"].push_back(w);
   for (const auto& m : misfits) j["warnings"].push_back(m + " (accepted by --accept-misfit).");
   if (in.map) {
@@ -80,7 +82,7 @@ int run_battery(const BatteryOptions& o) {
   stage.commit();
   report_conversion("battery", in);
   for (const auto& w : in.warnings) std::cerr << "battery: warning: " << w << '\n';
-  for (const auto& w : f.warnings) std::cerr << "battery: warning: " << w << '\n';
+  for (const auto& w : file_warnings) std::cerr << "battery: warning: " << w << '\n';
   for (const auto& m : misfits) std::cerr << "battery: warning: " << m << " (accepted by --accept-misfit).\n";
   if (!o.output.empty()) std::cerr << "battery: wrote " << o.output << '\n';
   for (const std::string& path : {o.plot, o.plot_lifetime, o.plot_charge_map})

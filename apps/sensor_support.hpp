@@ -96,14 +96,19 @@ int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json
 }
 
 /// A sensor subcommand from its parts: the logs read (--skip-bad-rows) and selected (--robot),
-/// `to_json(logs, options, &fit)` for the pooled file, the same per robot when there are several,
+/// `to_json(logs, options, &fit)` for the pooled file, the same per robot when there are several
+/// (compared by their fits' values, calibrate::add_robots),
 /// then finish() with the fit's report (calibrate::report_text) and `draw(stage, path, fit)`.
 template <class Fit, class ToJson, class Draw>
 int run_sensor(const std::string& kind, logs::Kind log_kind, const SensorOptions& o, ToJson to_json, Draw draw) {
   const auto logs = select_robot(read_logs_reporting(kind, o.logs, log_kind, o.skip_bad_rows), o.robot);
   Fit f;
   nlohmann::json j = to_json(logs, o, &f);
-  calibrate::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) { return to_json(mine, o, nullptr); });
+  calibrate::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) {
+    Fit robot;  // compared by its fitted values, not by re-reading its file
+    nlohmann::json file = to_json(mine, o, &robot);
+    return calibrate::RobotCalibration{std::move(file), calibrate::robot_estimates(robot)};
+  });
   return finish(kind, o, j, [&] { std::fputs(calibrate::report_text(f).c_str(), stdout); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 

@@ -70,16 +70,6 @@ struct SCommon {
   }
 };
 
-/// Whether the file gives `parameters.KEY` (in the robot's set or at the top level), the value
-/// itself read and checked by the shared reader.
-bool HasParameter(const SCommon& s, const std::string& str_key) {
-  auto has = [&](const nlohmann::json& c_set) {
-    return c_set.is_object() && c_set.contains("parameters") && c_set.at("parameters").is_object() &&
-           c_set.at("parameters").contains(str_key);
-  };
-  return has(*s.Root) || (!s.Robot.empty() && has(s.Root->at("robots").at(s.Robot)));
-}
-
 SCommon ReadCommon(TConfigurationNode& t_tree, const std::string& str_sensor, const CEntity& c_component) {
   SCommon s;
   s.Sensor = str_sensor;
@@ -711,8 +701,8 @@ void CEPuck2CalibratedCameraSensor::Init(TConfigurationNode& t_tree) {
                                                        static_cast<int>(fH));
     /* The file's range_m (read and checked by the shared reader, the robot's set first) where
        the file has one, else the camera entity's */
-    const bool bFileRange = HasParameter(s, "range_m");
-    m_fRange = bFileRange ? m_sModel.base.range_m : m_pcCamEntity->GetRange();
+    const std::optional<double> cFileRange = ec::camera_range_m(*s.Root, s.Path, s.Robot);
+    m_fRange = cFileRange ? *cFileRange : m_pcCamEntity->GetRange();
     m_pcCamEntity->SetAperture(CRadians(m_fAperture));
     m_pcCamEntity->SetRange(m_fRange);
     m_pcCamEntity->SetImagePxSize(static_cast<SInt32>(fW), static_cast<SInt32>(fH));

@@ -91,13 +91,11 @@ std::string lifetime_text(const SpeedFit& s) {
 }
 
 json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
+  std::vector<std::string> unreadable;  // the warnings of tables written though no reader takes them
   const std::string method = battery_method(robust, reject_sd);
   json speeds = json::array();
   std::vector<std::string> outlier_rows;
   for (const SpeedFit& s : fit.speeds) {
-    json segs = json::array();
-    for (const mb::Segment& g : s.segments)
-      segs.push_back({{"h", g.h}, {"m", g.m}, {"x1_s", g.x1_s}, {"x2_s", g.x2_s}, {"y1", g.y1}, {"y2", g.y2}});
     json cubic_se = json::array(), cubic_why = json::array(), corrected_cubic = json::array(), cubic_rounded = json::array();
     {
       // [d, c, b, a], parallel to `cubic`.
@@ -113,39 +111,63 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
       cubic_why.push_back(defined ? json(nullptr) : json(p.std_error_why.empty() ? "undefined" : p.std_error_why));
       cubic_undefined = cubic_undefined || !defined;
     }
-    speeds.push_back({
-        {"speed_cm_s", s.speed_cm_s},
+    // The speed's tables (what a reader turns into the model) by the file's owner, lib/coefficients;
+    // the fit's report around them.
+    const mb::CubicRow cubic{s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a"), s.lifetime_s};
+    json entry;
+    try {
+      entry = coefficients::battery_speed_to_json(s.speed_cm_s, cubic, s.linear_slope_per_s, s.segments, s.noise_sd);
+    } catch (const std::domain_error& e) {
+      // Reported as fitted, and said: no reader takes these tables.
+      entry = coefficients::battery_speed_to_json(s.speed_cm_s, cubic, s.linear_slope_per_s, s.segments, s.noise_sd, false);
+      unreadable.push_back(std::string("written as fitted though no reader takes it: ") + e.what() +
+                           "; codegen, simulate, diagnose --coefficients and ARGoS refuse this file.");
+    }
+    entry.update(json{
         {"runs", s.runs},
         {"observations", s.observations},
-        {"lifetime_s", s.lifetime_s},
         {"lifetime_std_error_s", s.lifetime_std_error_s},
         {"lifetime_h", s.lifetime_s / 3600.0},
         {"lifetime", lifetime_text(s)},
-        {"cubic", {s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a")}},
         {"cubic_std_errors", cubic_se},
         {"cubic_std_errors_corrected", corrected_cubic},
         {"cubic_rounded", cubic_rounded},
-        {"linear_slope", s.linear_slope_per_s},
         {"linear_slope_std_error", s.linear_slope_std_error},
         {"linear_slope_rounded", fit::format_uncertain(s.linear_slope_per_s, s.linear_slope_std_error, "1/s",
                                                        "-1/lifetime, and the lifetime has no standard error (one run)")},
         {"free_line", fit_values(s.free_line, s.free_line_autocorrelation, {"charge", "1/s"})},
         {"breakpoints", fit_values(s.piecewise, s.piecewise_autocorrelation, {"s", "s", "charge", "charge", "charge"})},
-        {"segments", segs},
         {"mse", mse_json(s.mse)},
         {"fit", {{"cubic", fit_stats(s.cubic, s.cubic_autocorrelation, method)},
                  {"free_line", fit_stats(s.free_line, s.free_line_autocorrelation, method)},
                  {"piecewise", fit_stats(s.piecewise, s.piecewise_autocorrelation, method)}}},
-        {"noise_sd", s.noise_sd},
         {"outliers", s.outliers},
     });
+    speeds.push_back(entry);
     outlier_rows.insert(outlier_rows.end(), s.outliers.begin(), s.outliers.end());
     if (cubic_undefined) {
       speeds.back()["cubic_std_error_why"] = cubic_why;
       speeds.back()["cubic_std_errors_corrected_why"] = cubic_why;
     }
   }
+  // The Simple model's slopes by the owner too, their report beside them.
+  json simple;
+  try {
+    simple = coefficients::battery_simple_to_json(fit.simple_static_slope_per_s, fit.simple_moving_slope_per_s);
+  } catch (const std::domain_error& e) {
+    simple = coefficients::battery_simple_to_json(fit.simple_static_slope_per_s, fit.simple_moving_slope_per_s, false);
+    unreadable.push_back(std::string("written as fitted though no reader takes it: ") + e.what() +
+                         "; codegen, simulate, diagnose --coefficients and ARGoS refuse this file.");
+  }
+  simple.update(json{{"static_std_error", fit.simple_static_std_error},
+                     {"moving_std_error", fit.simple_moving_std_error},
+                     {"static_rounded", fit::format_uncertain(fit.simple_static_slope_per_s, fit.simple_static_std_error, "1/s",
+                                                              "-1/lifetime at 0 cm/s, which has no standard error (one run)")},
+                     {"moving_rounded", fit::format_uncertain(fit.simple_moving_slope_per_s, fit.simple_moving_std_error, "1/s",
+                                                              "-1/mean lifetime while moving, which has no standard error (one run a speed)")}});
   const SpeedCoverage coverage = speed_coverage(fit);
+  std::vector<std::string> warnings = fit.warnings;
+  warnings.insert(warnings.end(), unreadable.begin(), unreadable.end());
   return json{
       {"kind", "battery"},
       {"units", {{"time", "s"}, {"speed", "cm/s"}, {"charge", "1 (normalised, 1 = full)"},
@@ -165,20 +187,13 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
       {"censored", 0},
       {"not_identifiable", json::array()},
       {"speeds", speeds},
-      {"simple", {{"static_slope_per_s", fit.simple_static_slope_per_s},
-                  {"static_std_error", fit.simple_static_std_error},
-                  {"moving_slope_per_s", fit.simple_moving_slope_per_s},
-                  {"moving_std_error", fit.simple_moving_std_error},
-                  {"static_rounded", fit::format_uncertain(fit.simple_static_slope_per_s, fit.simple_static_std_error, "1/s",
-                                                           "-1/lifetime at 0 cm/s, which has no standard error (one run)")},
-                  {"moving_rounded", fit::format_uncertain(fit.simple_moving_slope_per_s, fit.simple_moving_std_error, "1/s",
-                                                           "-1/mean lifetime while moving, which has no standard error (one run a speed)")}}},
+      {"simple", simple},
       {"mse", mse_json(fit.mse)},
       {"complete_tables", fit.tables.has_value()},
       {"speeds_covered_cm_s", coverage.covered},
       {"speeds_missing_cm_s", coverage.missing},
       {"speeds_other_cm_s", coverage.other},
-      {"warnings", fit.warnings},
+      {"warnings", warnings},
   };
 }
 

@@ -51,18 +51,34 @@ std::string report_text(const CameraFit& f) {
   return out.str();
 }
 
+s::CameraModel model_of(const CameraFit& f) {
+  s::CameraModel m;
+  m.base.horizontal_fov_rad = s::deg_to_rad(f.result.value("fov_deg"));
+  m.base.cx_px = f.result.value("cx_px");
+  m.base.cy_px = f.result.value("cy_px");
+  m.base.range_m = s::kCameraRange_m;  // held
+  m.noise_sd_px = f.noise.sd;
+  return m;
+}
+
+std::vector<fit::ParameterEstimate> robot_estimates(const CameraFit& f) {
+  std::vector<fit::ParameterEstimate> out = named_estimates(f.result);
+  // The ARGoS aperture follows the field of view, its error through the derivative.
+  out.emplace_back("aperture_deg", s::rad_to_deg(s::aperture_from_horizontal_fov_rad(s::deg_to_rad(f.result.value("fov_deg")))),
+                   aperture_std_error(f.result.value("fov_deg"), f.result.std_error("fov_deg")));
+  return out;
+}
+
 nlohmann::json coefficient_json(const CameraFit& f, const std::vector<logs::Log>& logs) {
-  nlohmann::json j = skeleton("camera", logs);
+  coefficients::CalibrationExtras extras = measured_noise({f.noise});
+  extras.fov_deg = f.result.value("fov_deg");  // written as fitted (it is the model's radians exactly)
+  nlohmann::json j = skeleton(owned_model([&] { return coefficients::calibration_model_json(model_of(f), extras); }), logs);
   j["units"] = {{"fov_deg", "deg"}, {"cx_px", "px"}, {"cy_px", "px"}, {"aperture_deg", "deg"}, {"width_px", "px"},
                 {"height_px", "px"}, {"range_m", "m"}, {"mse", "px^2"}, {"rss", "px^2"}};
   j["unit_notes"] = {{"fov_deg", "horizontal field of view"}, {"aperture_deg", "ARGoS half-angle on the diagonal"},
                      {"width_px", "the image's size, held"}, {"height_px", "the image's size, held"},
                      {"range_m", "the camera's range, held"}};
-  add_parameters(j, f.result, "", "projection", "px");
-  j["parameters"]["aperture_deg"] = s::rad_to_deg(s::aperture_from_horizontal_fov_rad(s::deg_to_rad(f.result.value("fov_deg"))));
-  j["parameters"]["width_px"] = s::kCameraWidth_px;
-  j["parameters"]["height_px"] = s::kCameraHeight_px;
-  j["parameters"]["range_m"] = s::kCameraRange_m;
+  add_estimates(j, f.result, "", "projection", "px");
   for (const char* held : {"width_px", "height_px", "range_m"}) j["std_errors"][held] = 0.0;
   // The aperture is a function of the field of view: its error follows through the derivative.
   const double aperture_se = aperture_std_error(f.result.value("fov_deg"), f.result.std_error("fov_deg"));

@@ -43,13 +43,34 @@ std::string report_text(const DriveFit& f) {
   return out.str();
 }
 
+models::sensors::DriveModel model_of(const DriveFit& f) {
+  namespace fx = models::effects;
+  models::sensors::DriveModel m;
+  m.steps_per_m = f.steps.value("steps_per_m");
+  // The ToF fit's parameters are the effects whose home is the file's parameters (tof_scale,
+  // tof_offset_mm, slip_time_constant_s), by the registry's file keys.
+  const fx::Catalogue& catalogue = fx::drive_catalogue();
+  fx::for_each_param(m.effects, [&](std::size_t id, int p, int /*element*/, double& v) {
+    if (catalogue[id].home == fx::Home::parameters) v = f.tof.value(catalogue[id].params[static_cast<std::size_t>(p)].file_key);
+  });
+  m.tof_noise_sd_mm = f.tof_noise.sd;
+  m.encoder_noise_sd_steps = f.encoder_noise.sd;
+  return m;
+}
+
+std::vector<fit::ParameterEstimate> robot_estimates(const DriveFit& f) {
+  std::vector<fit::ParameterEstimate> out = named_estimates(f.steps);
+  for (auto& p : named_estimates(f.tof)) out.push_back(p);
+  return out;
+}
+
 nlohmann::json coefficient_json(const DriveFit& f, const std::vector<logs::Log>& logs) {
-  nlohmann::json j = skeleton("drive", logs);
+  nlohmann::json j = skeleton(owned_model([&] { return coefficients::calibration_model_json(model_of(f), measured_noise({f.tof_noise, f.encoder_noise})); }), logs);
   j["units"] = {{"steps_per_m", "steps/m"}, {"tof_offset_mm", "mm"}, {models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), "1"}, {"slip_time_constant_s", "s"},
                 {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}, {"rss", "mm^2 (ToF)"}, {"steps_rss", "steps^2"}};
   // Rows of a run are a time series: both fits' errors get the autocorrelation correction.
-  add_parameters(j, f.steps, "", "steps", "steps", &f.steps_autocorrelation);
-  add_parameters(j, f.tof, "", "tof", "mm", &f.tof_autocorrelation);
+  add_estimates(j, f.steps, "", "steps", "steps", &f.steps_autocorrelation);
+  add_estimates(j, f.tof, "", "tof", "mm", &f.tof_autocorrelation);
   j["mse"] = f.tof.mse;
   j["steps_mse"] = f.steps.mse;
   j["observations"] = f.tof.observations;

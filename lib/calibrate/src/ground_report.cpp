@@ -41,18 +41,30 @@ std::string report_text(const GroundFit& f) {
   return out.str();
 }
 
+models::sensors::GroundModel model_of(const GroundFit& f) {
+  models::sensors::GroundModel m;
+  for (std::size_t k = 0; k < f.sensors.size(); ++k) m.sensors[k] = {f.sensors[k].value("gain"), f.sensors[k].value("offset")};
+  m.noise_sd_raw = per_sensor_noise<models::sensors::kGroundCount>(f.noise);
+  return m;
+}
+
+std::vector<fit::ParameterEstimate> robot_estimates(const GroundFit& f) {
+  std::vector<fit::ParameterEstimate> out;
+  for (std::size_t k = 0; k < f.sensors.size(); ++k)
+    for (auto& p : named_estimates(f.sensors[k], "", "[" + std::to_string(k) + "]")) out.push_back(p);
+  return out;
+}
+
 nlohmann::json coefficient_json(const GroundFit& f, const std::vector<logs::Log>& logs) {
-  nlohmann::json j = skeleton("ground", logs);
+  nlohmann::json j = skeleton(owned_model([&] { return coefficients::calibration_model_json(model_of(f), measured_noise({f.noise})); }), logs);
   j["units"] = {{"gain", "counts"}, {"offset", "counts"}, {"mse", "counts^2"}, {"rss", "counts^2"}};
   j["unit_notes"] = {{"gain", "raw counts from black to white (grey 0 to 1)"}, {"offset", "raw counts over black"}};
   nlohmann::json correlations = nlohmann::json::array();
-  nlohmann::json gain = nlohmann::json::array(), offset = nlohmann::json::array(), gain_se = nlohmann::json::array(),
-                 offset_se = nlohmann::json::array(), mse = nlohmann::json::array(), n = nlohmann::json::array();
+  nlohmann::json gain_se = nlohmann::json::array(), offset_se = nlohmann::json::array(), mse = nlohmann::json::array(),
+                 n = nlohmann::json::array();
   std::size_t observations = 0;
   for (std::size_t k = 0; k < f.sensors.size(); ++k) {
     const auto& r = f.sensors[k];
-    gain.push_back(r.value("gain"));
-    offset.push_back(r.value("offset"));
     gain_se.push_back(json_number(r.std_error("gain")));
     offset_se.push_back(json_number(r.std_error("offset")));
     for (const char* name : {"gain", "offset"})
@@ -69,8 +81,6 @@ nlohmann::json coefficient_json(const GroundFit& f, const std::vector<logs::Log>
       add_rounded(j, name + index, r.value(name), r.std_error(name), std_error_reason(r, name));
   }
   j["correlations"] = correlations;
-  j["parameters"]["gain"] = gain;
-  j["parameters"]["offset"] = offset;
   j["std_errors"]["gain"] = gain_se;
   j["std_errors"]["offset"] = offset_se;
   j["mse"] = f.mse;

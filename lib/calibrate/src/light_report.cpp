@@ -43,13 +43,22 @@ std::string report_text(const LightFit& f) {
   return out.str();
 }
 
+s::LightModel model_of(const LightFit& f) {
+  s::LightModel m;
+  m.base.gamma_m = f.gamma.value("gamma");
+  m.base.range_m = s::kPluginLight.range_m;  // held
+  m.noise_sd_raw = per_sensor_noise<s::kProximityCount>(f.noise);
+  return m;
+}
+
+std::vector<fit::ParameterEstimate> robot_estimates(const LightFit& f) { return named_estimates(f.gamma); }
+
 nlohmann::json coefficient_json(const LightFit& f, const std::vector<logs::Log>& logs) {
-  nlohmann::json j = skeleton("light", logs);
+  nlohmann::json j = skeleton(owned_model([&] { return coefficients::calibration_model_json(model_of(f), measured_noise({f.noise})); }), logs);
   j["units"] = {{"gamma", "m"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"rss", "(reading / 4095)^2"}};
   j["unit_notes"] = {{"gamma", "metres per unit of the light's intensity I: Eq. 2's gamma I / d is a ratio"},
                      {"range_m", "the sensor's range, held"}};
-  add_parameters(j, f.gamma, "", "gamma", "(reading / 4095)");
-  j["parameters"]["range_m"] = s::kPluginLight.range_m;
+  add_estimates(j, f.gamma, "", "gamma", "(reading / 4095)");
   j["std_errors"]["range_m"] = 0.0;
   add_rounded(j, "range_m", s::kPluginLight.range_m, 0.0, "the sensor's range, held: not fitted");
   j["mse"] = f.gamma.mse;

@@ -58,14 +58,30 @@ std::string report_text(const ProximityFit& f) {
   return out.str();
 }
 
+s::ProximityModel model_of(const ProximityFit& f, bool means) {
+  const fit::RobustFit& r = means ? f.means : f.maxima;
+  s::ProximityModel m;
+  m.base.a_per_m2 = r.value("a");
+  m.base.b_per_m = r.value("b");
+  m.base.c = r.value("c");
+  m.base.range_m = s::kPluginProximity.range_m;  // held: Eq. 1's domain (the detected range is `range_fit`)
+  m.noise_sd_raw = per_sensor_noise<s::kProximityCount>(f.noise);
+  return m;
+}
+
+std::vector<fit::ParameterEstimate> robot_estimates(const ProximityFit& f) {
+  std::vector<fit::ParameterEstimate> out = named_estimates(f.maxima);
+  for (auto& p : named_estimates(f.means, "mean_")) out.push_back(p);
+  return out;
+}
+
 nlohmann::json coefficient_json(const ProximityFit& f, const std::vector<logs::Log>& logs) {
-  nlohmann::json j = skeleton("proximity", logs);
+  nlohmann::json j = skeleton(owned_model([&] { return coefficients::calibration_model_json(model_of(f), model_of(f, true), measured_noise({f.noise})); }), logs);
   j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"mean_a", "1/m^2"}, {"mean_b", "1/m"}, {"mean_c", "1"},
                 {"values", "reading / 4095"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"mean_mse", "(reading / 4095)^2"},
                 {"rss", "(reading / 4095)^2"}};
-  add_parameters(j, f.maxima, "", "maxima", "(reading / 4095)");
-  add_parameters(j, f.means, "mean_", "means", "(reading / 4095)");
-  j["parameters"]["range_m"] = s::kPluginProximity.range_m;
+  add_estimates(j, f.maxima, "", "maxima", "(reading / 4095)");
+  add_estimates(j, f.means, "mean_", "means", "(reading / 4095)");
   j["std_errors"]["range_m"] = 0.0;
   add_rounded(j, "range_m", s::kPluginProximity.range_m, 0.0, "the sensor's range, held: not fitted");
   j["mse"] = f.maxima.mse;

@@ -73,15 +73,34 @@ std::vector<std::string> robots_of(const std::vector<logs::Log>& all) {
   return names;
 }
 
-json skeleton(const std::string& kind, const std::vector<logs::Log>& logs) {
+json skeleton(const json& model, const std::vector<logs::Log>& logs) {
   std::vector<std::string> sources;
   for (const auto& l : logs) sources.push_back(l.path);
-  json j;
-  j["kind"] = kind;
-  j["parameters"] = json::object();
+  json j = model;
   j["std_errors"] = json::object();
   j["sources"] = sources;
   return j;
+}
+
+json owned_model(const std::function<json()>& write) {
+  try {
+    return write();
+  } catch (const std::domain_error& e) {
+    throw NoUsableFit(std::string("the fitted model cannot be written: ") + e.what());
+  }
+}
+
+coefficients::CalibrationExtras measured_noise(const std::vector<ReadingNoise>& channels) {
+  coefficients::CalibrationExtras x;
+  for (const auto& c : channels) {
+    if (!c.usable())
+      throw NoUsableFit(c.channel + " reading noise: no reading to measure it from (" +
+                        (c.from == "replicates" ? "no group of two or more readings under the same conditions inside the rails"
+                                                : "the fit it comes from is not usable") +
+                        ")");
+    x.pooled_sd[c.channel] = c.sd;
+  }
+  return x;
 }
 
 void append(json& j, const std::string& key, const json& v) {
@@ -156,11 +175,10 @@ void add_rounded(json& j, const std::string& name, double value, double std_erro
   j["rounded"][name] = fit::format_uncertain(value, std_error, unit == "1" ? "" : unit, why);  // a ratio: no unit
 }
 
-void add_parameters(json& j, const fit::RobustFit& r, const std::string& prefix,
-                    const std::string& key, const std::string& rss_unit,
-                    const fit::AutocorrelationCorrection* autocorrelation) {
+void add_estimates(json& j, const fit::RobustFit& r, const std::string& prefix,
+                   const std::string& key, const std::string& rss_unit,
+                   const fit::AutocorrelationCorrection* autocorrelation) {
   for (const auto& p : r.parameters) {
-    j["parameters"][prefix + p.name] = json_number(p.value);
     j["std_errors"][prefix + p.name] = json_number(p.std_error);
     const bool has_error = std::isfinite(p.std_error) && p.std_error > 0;
     if (!std::isfinite(p.std_error)) j["std_error_why"][prefix + p.name] = std_error_reason(r, p.name);
@@ -184,23 +202,16 @@ void add_left_out(json& j, const std::vector<LeftOut>& rows) {
 }
 
 void add_noise(json& j, const std::vector<ReadingNoise>& channels) {
-  json section = json::object();
+  (void)measured_noise(channels);  // each channel measured
   for (const auto& c : channels) {
-    if (!c.usable())
-      throw NoUsableFit(c.channel + " reading noise: no reading to measure it from (" +
-                        (c.from == "replicates" ? "no group of two or more readings under the same conditions inside the rails"
-                                                : "the fit it comes from is not usable") +
-                        ")");
-    json e = {{"sd", c.sd}, {"unit", c.unit}, {"from", c.from}, {"n", c.n}};
+    // sd, per_sensor_sd and unit: the owner's, from the model (skeleton).
+    json& e = j.at("noise").at(c.channel);
+    e["from"] = c.from;
+    e["n"] = c.n;
     if (c.from == "replicates") e["groups"] = c.groups;
-    if (!c.per_sensor_sd.empty()) {
-      e["per_sensor_sd"] = c.per_sensor_sd;
-      e["per_sensor_n"] = c.per_sensor_n;
-    }
+    if (!c.per_sensor_sd.empty()) e["per_sensor_n"] = c.per_sensor_n;
     if (c.argos_scale > 0) e["argos_uniform_level"] = c.argos_uniform_level();
-    section[c.channel] = e;
   }
-  j["noise"] = section;
 }
 
 void add_warnings(json& j, const std::vector<std::string>& warnings) {
@@ -208,11 +219,18 @@ void add_warnings(json& j, const std::vector<std::string>& warnings) {
   for (const auto& w : warnings) j["warnings"].push_back(w);
 }
 
+std::vector<fit::ParameterEstimate> named_estimates(const fit::FitResult& r, const std::string& prefix, const std::string& suffix) {
+  std::vector<fit::ParameterEstimate> out = r.parameters;
+  for (auto& p : out) p.name = prefix + p.name + suffix;
+  return out;
+}
+
 void add_robots(json& j, const std::vector<logs::Log>& all,
-                const std::function<json(const std::vector<logs::Log>&)>& fit_logs) {
+                const std::function<RobotCalibration(const std::vector<logs::Log>&)>& fit_logs) {
   const std::vector<std::string> names = robots_of(all);
   if (names.size() < 2) return;
-  std::map<std::string, std::vector<std::pair<double, double>>> by_parameter;  // value, se per robot
+  const std::string kind = j.at("kind").get<std::string>();
+  std::vector<fit::FitResult> fits;  // one per usable robot: its fitted parameters, as named in the file
   for (const auto& name : names) {
     std::vector<logs::Log> mine;
     std::vector<std::string> files;
@@ -221,33 +239,41 @@ void add_robots(json& j, const std::vector<logs::Log>& all,
         mine.push_back(l);
         files.push_back(l.path);
       }
-    json r;
+    RobotCalibration r;
     try {
       r = fit_logs(mine);
     } catch (const NoUsableFit& e) {
-      j["robots"][name] = {{"logs", files}, {"usable", false}, {"why", e.what()}};
+      coefficients::add_robot_set(j, kind, name, {{"logs", files}, {"usable", false}, {"why", e.what()}});
       continue;
     }
-    j["robots"][name] = {{"logs", files}, {"usable", true}, {"parameters", r["parameters"]}, {"std_errors", r["std_errors"]}};
-    if (r.contains("noise")) j["robots"][name]["noise"] = r["noise"];
-    if (r.contains("not_identifiable")) j["robots"][name]["not_identifiable"] = r["not_identifiable"];
-    for (auto it = r["parameters"].begin(); it != r["parameters"].end(); ++it) {
-      const auto& se = r["std_errors"].value(it.key(), json());
-      if (it->is_number() && se.is_number()) by_parameter[it.key()].push_back({it->get<double>(), se.get<double>()});
-      if (it->is_array() && se.is_array())
-        for (std::size_t i = 0; i < it->size() && i < se.size(); ++i)
-          if ((*it)[i].is_number() && se[i].is_number())
-            by_parameter[it.key() + "[" + std::to_string(i) + "]"].push_back({(*it)[i].get<double>(), se[i].get<double>()});
+    // The robot's model sections as the owner wrote them for its file; its report beside them.
+    json set = {{"logs", files}, {"usable", true}, {"parameters", r.file.at("parameters")}, {"std_errors", r.file.at("std_errors")}};
+    if (r.file.contains("noise")) set["noise"] = r.file.at("noise");
+    if (r.file.contains("not_identifiable")) set["not_identifiable"] = r.file.at("not_identifiable");
+    try {
+      coefficients::add_robot_set(j, kind, name, set);
+    } catch (const std::domain_error& e) {
+      // A robot's set that no reader would take is not written: the robot has no usable set.
+      coefficients::add_robot_set(j, kind, name, {{"logs", files}, {"usable", false}, {"why", e.what()}});
+      continue;
     }
+    fits.emplace_back();
+    fits.back().usable = true;
+    fits.back().parameters = std::move(r.estimates);
   }
+  // Every parameter any robot's fit has, by name (the file's order: alphabetical), compared over the
+  // robots whose fit has it with a standard error.
+  std::map<std::string, std::vector<fit::ParameterEstimate>> by_parameter;
+  for (const fit::FitResult& f : fits)
+    for (const auto& p : f.parameters) by_parameter[p.name].push_back(p);
   json spread = json::array();
   for (const auto& [name, values] : by_parameter) {
-    std::vector<fit::FitResult> fits(values.size());
+    std::vector<fit::FitResult> one(values.size());
     std::vector<const fit::FitResult*> ptrs;
     for (std::size_t i = 0; i < values.size(); ++i) {
-      fits[i].usable = true;
-      fits[i].parameters = {{name, values[i].first, values[i].second}};
-      ptrs.push_back(&fits[i]);
+      one[i].usable = true;
+      one[i].parameters = {values[i]};
+      ptrs.push_back(&one[i]);
     }
     for (const fit::RobotSpread& s : fit::robot_spread(ptrs)) {
       spread.push_back({{"parameter", name}, {"spread_sd", json_number(s.spread_sd)}, {"q", json_number(s.q)}, {"dof", s.dof},

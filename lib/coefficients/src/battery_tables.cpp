@@ -10,6 +10,7 @@
 
 #include "epuck2/logs/json_location.hpp"
 #include "epuck2/logs/log.hpp"
+#include "epuck2/models/kind_facts.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 
 namespace epuck2::coefficients {
@@ -106,18 +107,11 @@ void within(double v, double lo, double hi, const std::string& path, const std::
 json battery_tables_to_json(const mb::Tables& t) {
   json speeds = json::array();
   for (std::size_t s = 0; s < mb::kSpeedCount; ++s) {
-    json segs = json::array();
-    for (const mb::Segment& g : t.segments[s])
-      segs.push_back({{"h", g.h}, {"m", g.m}, {"x1_s", g.x1_s}, {"x2_s", g.x2_s}, {"y1", g.y1}, {"y2", g.y2}});
-    const mb::CubicRow& q = t.cubic[s];
-    speeds.push_back({{"speed_cm_s", static_cast<double>(s)},
-                      {"lifetime_s", t.lifetime_s[s]},
-                      {"cubic", {q.d, q.c, q.b, q.a}},
-                      {"linear_slope", t.linear_slope_per_s[s]},
-                      {"segments", segs}});
+    mb::CubicRow q = t.cubic[s];
+    q.end_s = t.lifetime_s[s];  // a row's end is its speed's lifetime in every table the project makes or ships
+    speeds.push_back(battery_speed_to_json(static_cast<double>(s), q, t.linear_slope_per_s[s], t.segments[s]));
   }
-  json j{{"speeds", speeds},
-         {"simple", {{"static_slope_per_s", t.simple_static_slope_per_s}, {"moving_slope_per_s", t.simple_moving_slope_per_s}}}};
+  json j{{"speeds", speeds}, {"simple", battery_simple_to_json(t.simple_static_slope_per_s, t.simple_moving_slope_per_s)}};
   // What is written reads back: the reader's checks refuse at write (std::domain_error).
   try {
     battery_tables_from_json(j, "(the tables being written)");
@@ -202,6 +196,62 @@ const json& speeds_of(const json& j, const std::string& path) {
 }
 
 }  // namespace
+
+json battery_speed_to_json(double speed_cm_s, const mb::CubicRow& cubic, double linear_slope_per_s,
+                           const std::array<mb::Segment, mb::kSegmentCount>& segments, double noise_sd, bool readable) {
+  json segs = json::array();
+  for (const mb::Segment& g : segments)
+    segs.push_back({{"h", g.h}, {"m", g.m}, {"x1_s", g.x1_s}, {"x2_s", g.x2_s}, {"y1", g.y1}, {"y2", g.y2}});
+  json e{{"speed_cm_s", speed_cm_s},
+         {"lifetime_s", cubic.end_s},
+         {"cubic", {cubic.d, cubic.c, cubic.b, cubic.a}},
+         {"linear_slope", linear_slope_per_s},
+         {"segments", segs}};
+  const std::string where = "the battery table at " + json(speed_cm_s).dump() + " cm/s";
+  if (!std::isfinite(speed_cm_s) || speed_cm_s < 0) throw std::domain_error("cannot write " + where + ": its speed is not a speed");
+  if (!readable) {
+    for (const double v : {cubic.end_s, cubic.d, cubic.c, cubic.b, cubic.a, linear_slope_per_s})
+      if (!std::isfinite(v)) throw std::domain_error("cannot write " + where + ": a value is not finite");
+    for (const mb::Segment& g : segments)
+      for (const double v : {g.h, g.m, g.x1_s, g.x2_s, g.y1, g.y2})
+        if (!std::isfinite(v)) throw std::domain_error("cannot write " + where + ": a segment's value is not finite");
+    if (std::isfinite(noise_sd)) e["noise_sd"] = noise_sd;
+    return e;
+  }
+  if (std::isfinite(noise_sd)) {
+    // The charge channel's noise, as battery_model_from_json checks a speed's noise_sd.
+    const double full_scale = models::kind_facts("battery")->channels.front().full_scale;
+    if (!(noise_sd >= 0 && noise_sd < full_scale))
+      throw std::domain_error("cannot write " + where + ": its noise_sd " + json(noise_sd).dump() + " is not a reading's noise sd, in [0, " +
+                              json(full_scale).dump() + ") charge");
+    e["noise_sd"] = noise_sd;
+  } else if (!std::isnan(noise_sd)) {
+    throw std::domain_error("cannot write " + where + ": its noise_sd is not finite");
+  }
+  try {
+    mb::Tables scratch{};
+    read_speed(e, 0, 0, "(the battery table being written)", scratch);
+  } catch (const logs::InputError& x) {
+    throw std::domain_error("cannot write " + where + ", a reader would refuse it: " + x.what());
+  }
+  return e;
+}
+
+json battery_simple_to_json(double static_slope_per_s, double moving_slope_per_s, bool readable) {
+  const json j{{"simple", {{"static_slope_per_s", static_slope_per_s}, {"moving_slope_per_s", moving_slope_per_s}}}};
+  if (!readable) {
+    if (!std::isfinite(static_slope_per_s) || !std::isfinite(moving_slope_per_s))
+      throw std::domain_error("cannot write the Simple model's slopes: a slope is not finite");
+    return j.at("simple");
+  }
+  try {
+    mb::Tables scratch{};
+    read_simple(j, "(the Simple model being written)", scratch);
+  } catch (const logs::InputError& x) {
+    throw std::domain_error(std::string("cannot write the Simple model's slopes, a reader would refuse them: ") + x.what());
+  }
+  return j.at("simple");
+}
 
 mb::Tables battery_tables_from_json(const json& j, const std::string& path) {
   const json& speeds = speeds_of(j, path);

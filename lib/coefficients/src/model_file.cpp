@@ -221,6 +221,14 @@ class Doc {
       fail(pointer + "/unit", where + ".unit must be \"" + c.unit + "\" (found " + e->at("unit").dump() + ")");
     std::string at = pointer + "/sd";
     if (n > 1 && e->contains("per_sensor_sd")) {
+      // The sd over all the sensors' readings beside them (a calibration's pooled estimate): the
+      // sensors' own are read, the sd checked alike.
+      if (e->contains("sd")) {
+        const double all = number(e->at("sd"), pointer + "/sd", where + ".sd");
+        if (!(all >= 0 && all < c.full_scale))
+          fail(pointer + "/sd", where + ": a reading's noise sd must lie in [0, " + number_text(c.full_scale) + ") " + c.unit + " (found " +
+                                    number_text(all) + ")");
+      }
       at = pointer + "/per_sensor_sd";
       out = numbers(e->at("per_sensor_sd"), n, at, where + ".per_sensor_sd");
     } else {
@@ -509,6 +517,33 @@ json readable(json j, const Read& read) {
   return j;
 }
 
+/// A model's sections `j` (model_to_json's) as a calibration file holds them (`c` non-null): no
+/// empty `effects` section, and each channel of `c->pooled_sd` with that sd, beside each sensor's
+/// (`per_sensor_sd`, the model's) for a channel of several sensors; a channel of one sensor has its
+/// model's sd alone, which the calibration's must then be.
+json as_calibration(json j, const CalibrationExtras* c) {
+  if (c == nullptr) return j;
+  if (j.contains("effects") && j.at("effects").empty()) j.erase("effects");
+  const models::KindFacts& facts = *models::kind_facts(j.at("kind").get<std::string>());
+  for (const auto& [name, sd] : c->pooled_sd) {
+    const models::Channel* channel = nullptr;
+    for (const models::Channel& ch : facts.channels)
+      if (name == ch.name) channel = &ch;
+    if (channel == nullptr || !j.at("noise").contains(name))
+      throw std::domain_error("cannot write the noise of '" + name + "': a " + facts.name + " model has no such channel");
+    json& e = j["noise"][name];
+    if (channel->sensors > 1) {
+      if (!e.contains("per_sensor_sd")) e["per_sensor_sd"] = std::vector<double>(static_cast<std::size_t>(channel->sensors), e.at("sd").get<double>());
+      require_finite(sd, "noise." + name + ".sd");
+      e["sd"] = sd;
+    } else if (!(sd == e.at("sd").get<double>())) {
+      throw std::domain_error("cannot write noise." + name + ".sd = " + number_text(sd) + ": the model's is " + e.at("sd").dump() +
+                              " (a channel of one sensor has one sd, the model's)");
+    }
+  }
+  return j;
+}
+
 // The camera's range: positive, at most 10 m, ten times the plug-in's 1 m (models/camera.hpp
 // kCameraRange_m; paper 4.1.6), beyond which an LED is far below a pixel of a 160 px image.
 constexpr double kCameraMaxRange_m = 10.0;
@@ -595,11 +630,15 @@ s::ProximityModel proximity_model_from_json(const json& j, const std::string& pa
   });
 }
 
-json model_to_json(const s::ProximityModel& m) {
+namespace {
+json write_model(const s::ProximityModel& m, const CalibrationExtras* c) {
   json j = with_common("proximity", {{"a", m.base.a_per_m2}, {"b", m.base.b_per_m}, {"c", m.base.c}, {"range_m", m.base.range_m}}, m);
   j["noise"] = {{"proximity", noise_json(vec(m.noise_sd_raw), "counts")}};
-  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return proximity_model_from_json(w, p, r); });
+  return readable(as_calibration(j, c), [](const json& w, const std::string& p, const std::string& r) { return proximity_model_from_json(w, p, r); });
 }
+}  // namespace
+
+json model_to_json(const s::ProximityModel& m) { return write_model(m, nullptr); }
 
 // ----- light -----
 
@@ -660,7 +699,8 @@ s::LightModel light_model_from_json(const json& j, const std::string& path, cons
   });
 }
 
-json model_to_json(const s::LightModel& m) {
+namespace {
+json write_model(const s::LightModel& m, const CalibrationExtras* c) {
   json j = with_common("light", {{"gamma", m.base.gamma_m}, {"range_m", m.base.range_m}}, m);
   json per = json::array();
   for (std::size_t k = 0; k < m.sensor_gamma_m.size(); ++k)
@@ -670,8 +710,11 @@ json model_to_json(const s::LightModel& m) {
     }
   if (!per.empty()) j["per_sensor"] = per;
   j["noise"] = {{"light", noise_json(vec(m.noise_sd_raw), "counts")}};
-  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return light_model_from_json(w, p, r); });
+  return readable(as_calibration(j, c), [](const json& w, const std::string& p, const std::string& r) { return light_model_from_json(w, p, r); });
 }
+}  // namespace
+
+json model_to_json(const s::LightModel& m) { return write_model(m, nullptr); }
 
 // ----- ground -----
 
@@ -688,7 +731,8 @@ s::GroundModel ground_model_from_json(const json& j, const std::string& path, co
   });
 }
 
-json model_to_json(const s::GroundModel& m) {
+namespace {
+json write_model(const s::GroundModel& m, const CalibrationExtras* c) {
   std::array<double, s::kGroundCount> gain{}, offset{};
   for (std::size_t k = 0; k < m.sensors.size(); ++k) {
     gain[k] = m.sensors[k].gain_raw;
@@ -698,8 +742,11 @@ json model_to_json(const s::GroundModel& m) {
   }
   json j = with_common("ground", {{"gain", gain}, {"offset", offset}}, m);
   j["noise"] = {{"ground", noise_json(vec(m.noise_sd_raw), "counts")}};
-  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return ground_model_from_json(w, p, r); });
+  return readable(as_calibration(j, c), [](const json& w, const std::string& p, const std::string& r) { return ground_model_from_json(w, p, r); });
 }
+}  // namespace
+
+json model_to_json(const s::GroundModel& m) { return write_model(m, nullptr); }
 
 // ----- camera -----
 
@@ -745,17 +792,35 @@ double degrees_that_read_back(double rad) {
   return s::rad_to_deg(rad);
 }
 
-json model_to_json(const s::CameraModel& m) {
+namespace {
+json write_model(const s::CameraModel& m, const CalibrationExtras* c) {
   if (m.base.width_px != s::kCameraWidth_px || m.base.height_px != s::kCameraHeight_px)
     throw std::domain_error("cannot write a camera model of a " + std::to_string(m.base.width_px) + "x" + std::to_string(m.base.height_px) +
                             " px image: a coefficient file's camera is the E-Puck2's, " + std::to_string(s::kCameraWidth_px) + "x" +
                             std::to_string(s::kCameraHeight_px) + " px");
-  json parameters = {{"fov_deg", degrees_that_read_back(m.base.horizontal_fov_rad)}, {"cx_px", m.base.cx_px}, {"cy_px", m.base.cy_px}};
-  if (m.base.range_m != s::kCameraRange_m) parameters["range_m"] = m.base.range_m;  // the plug-in's 1 m when absent
+  double fov_deg = degrees_that_read_back(m.base.horizontal_fov_rad);
+  if (c != nullptr && std::isfinite(c->fov_deg)) {
+    // The calibration's own degrees, when they are the model's radians exactly.
+    if (!(s::deg_to_rad(c->fov_deg) == m.base.horizontal_fov_rad))
+      throw std::domain_error("cannot write fov_deg = " + number_text(c->fov_deg) + ": it is not the model's field of view (" +
+                              number_text(m.base.horizontal_fov_rad) + " rad)");
+    fov_deg = c->fov_deg;
+  }
+  json parameters = {{"fov_deg", fov_deg}, {"cx_px", m.base.cx_px}, {"cy_px", m.base.cy_px}};
+  if (m.base.range_m != s::kCameraRange_m || c != nullptr) parameters["range_m"] = m.base.range_m;  // the plug-in's 1 m when absent
+  if (c != nullptr) {
+    // What a calibration holds fixed (the image) or derives (ARGoS's aperture), each checked by the reader.
+    parameters["width_px"] = s::kCameraWidth_px;
+    parameters["height_px"] = s::kCameraHeight_px;
+    parameters["aperture_deg"] = s::rad_to_deg(s::aperture_from_horizontal_fov_rad(m.base.horizontal_fov_rad));
+  }
   json j = with_common("camera", parameters, m);
   j["noise"] = {{"camera", noise_json({m.noise_sd_px}, "px")}};
-  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return camera_model_from_json(w, p, r); });
+  return readable(as_calibration(j, c), [](const json& w, const std::string& p, const std::string& r) { return camera_model_from_json(w, p, r); });
 }
+}  // namespace
+
+json model_to_json(const s::CameraModel& m) { return write_model(m, nullptr); }
 
 // ----- drive -----
 
@@ -771,11 +836,15 @@ s::DriveModel drive_model_from_json(const json& j, const std::string& path, cons
   });
 }
 
-json model_to_json(const s::DriveModel& m) {
+namespace {
+json write_model(const s::DriveModel& m, const CalibrationExtras* c) {
   json j = with_common("drive", {{"steps_per_m", m.steps_per_m}}, m);
   j["noise"] = {{"tof", noise_json({m.tof_noise_sd_mm}, "mm")}, {"encoder", noise_json({m.encoder_noise_sd_steps}, "steps")}};
-  return readable(j, [](const json& w, const std::string& p, const std::string& r) { return drive_model_from_json(w, p, r); });
+  return readable(as_calibration(j, c), [](const json& w, const std::string& p, const std::string& r) { return drive_model_from_json(w, p, r); });
 }
+}  // namespace
+
+json model_to_json(const s::DriveModel& m) { return write_model(m, nullptr); }
 
 // ----- battery -----
 
@@ -833,6 +902,47 @@ json model_to_json(const s::BatteryModel& m) {
   j["effects"] = effects;
   j["noise"] = {{"charge", noise_json({m.noise_sd}, "charge")}};
   return readable(j, [](const json& w, const std::string& p, const std::string& r) { return battery_model_from_json(w, p, r); });
+}
+
+// ----- a calibration's file -----
+
+json calibration_model_json(const s::ProximityModel& maxima, const s::ProximityModel& means, const CalibrationExtras& extras) {
+  json j = write_model(maxima, &extras);
+  // The second curve: Eq. 1 fitted to the means (ProximityCurve::means reads it).
+  j["parameters"]["mean_a"] = means.base.a_per_m2;
+  j["parameters"]["mean_b"] = means.base.b_per_m;
+  j["parameters"]["mean_c"] = means.base.c;
+  for (const char* k : {"mean_a", "mean_b", "mean_c"}) require_finite(j["parameters"][k].get<double>(), std::string("parameters.") + k);
+  return readable(j, [](const json& w, const std::string& p, const std::string& r) {
+    return proximity_model_from_json(w, p, r, ProximityCurve::means);
+  });
+}
+json calibration_model_json(const s::LightModel& m, const CalibrationExtras& extras) { return write_model(m, &extras); }
+json calibration_model_json(const s::GroundModel& m, const CalibrationExtras& extras) { return write_model(m, &extras); }
+json calibration_model_json(const s::CameraModel& m, const CalibrationExtras& extras) { return write_model(m, &extras); }
+json calibration_model_json(const s::DriveModel& m, const CalibrationExtras& extras) { return write_model(m, &extras); }
+
+void add_robot_set(json& j, const std::string& kind, const std::string& id, const json& set) {
+  const bool had_robots = j.contains("robots");
+  const json before = had_robots && j.at("robots").contains(id) ? j.at("robots").at(id) : json();
+  j["robots"][id] = set;
+  try {
+    (void)model_from_json(kind, j, "(the file being written)", id);
+  } catch (const logs::InputError& e) {
+    // Left as it was.
+    if (!before.is_null()) j["robots"][id] = before;
+    else if (had_robots) j["robots"].erase(id);
+    else j.erase("robots");
+    throw std::domain_error("cannot write robot " + id + "'s set, a reader would refuse it: " + e.what());
+  }
+}
+
+std::optional<double> camera_range_m(const json& j, const std::string& path, const std::string& robot) {
+  const s::CameraModel m = camera_model_from_json(j, path, robot);  // every value checked
+  const Doc d(j, path, robot, "camera");
+  std::string at;
+  if (!d.find("parameters", "range_m", at)) return std::nullopt;
+  return m.base.range_m;
 }
 
 // ----- from a file -----

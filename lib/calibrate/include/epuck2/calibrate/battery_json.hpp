@@ -13,7 +13,10 @@
 namespace epuck2::calibrate {
 
 /// `robust` and `reject_sd`: how the fits treated the readings (fit_battery's options), for the
-/// file's `method`.
+/// file's `method`. The tables are written by the file's owner (lib/coefficients
+/// battery_speed_to_json, battery_simple_to_json), which checks them as its readers do; tables a
+/// reader would refuse (a speed fitted to a few rows) are still written as fitted, the report of
+/// what the logs gave, and `warnings` says which and that no reader takes the file.
 nlohmann::json battery_fit_to_json(const BatteryFit& fit, bool robust = false, double reject_sd = kBatteryRejectSd);
 
 // The tables alone (battery_tables_from_json, battery_tables_to_json) belong to the coefficient

@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,22 @@ struct TableSources {
 /// (plugin_battery_tables.hpp) at the others and for `simple` when the file has none; `sources`
 /// says which are which.
 models::battery::Tables battery_tables_from_json(const nlohmann::json& j, const std::string& path, TableSources& sources);
+
+/// One entry of `speeds`, as the readers above read it: {speed_cm_s, lifetime_s (the cubic row's
+/// end_s), cubic [d, c, b, a], linear_slope, segments}, and `noise_sd` when finite (a
+/// calibration's residual sd at that speed: a file without a `noise` section has their root mean
+/// square as its model's noise, battery_model_from_json). Each value checked as the readers check
+/// it: one they would refuse is std::domain_error, with their reason. A calibration (lib/calibrate
+/// battery_json.cpp) adds its report fields (standard errors, fits, ...) around it.
+/// `readable` false: only a value that is not finite is refused (JSON has none), the readers' ranges
+/// are not checked: for a calibration that reports what it fitted even where no reader takes it
+/// (a speed with a few rows), and says so in its warnings.
+nlohmann::json battery_speed_to_json(double speed_cm_s, const models::battery::CubicRow& cubic, double linear_slope_per_s,
+                                     const std::array<models::battery::Segment, models::battery::kSegmentCount>& segments,
+                                     double noise_sd = std::numeric_limits<double>::quiet_NaN(), bool readable = true);
+/// The Simple model's `simple` section {static_slope_per_s, moving_slope_per_s}, checked alike
+/// (`readable` as above).
+nlohmann::json battery_simple_to_json(double static_slope_per_s, double moving_slope_per_s, bool readable = true);
 
 /// The tables alone, as battery_tables_from_json reads them back bit for bit (a cubic row's end_s
 /// is its speed's lifetime_s, as in every table the project makes or ships).

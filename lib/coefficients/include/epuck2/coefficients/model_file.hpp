@@ -23,6 +23,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <limits>
+#include <map>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -99,6 +102,48 @@ nlohmann::json model_to_json(const s::CameraModel& m);
 nlohmann::json model_to_json(const s::DriveModel& m);
 /// {"kind", "battery_model", "speeds", "simple" (the tables), "effects", "noise"}.
 nlohmann::json model_to_json(const s::BatteryModel& m);
+
+/// What a calibration file holds beside its model, for calibration_model_json.
+struct CalibrationExtras {
+  /// Each noise channel's sd over all its readings together, as the calibration measured it
+  /// (channel -> sd), written as the channel's `sd`; a channel of several sensors then has
+  /// `per_sensor_sd`, the model's, always (a reader reads those). A channel not given: as
+  /// model_to_json writes it.
+  std::map<std::string, double> pooled_sd;
+  /// A camera's field of view as the calibration fitted it, in degrees: written as `fov_deg` when
+  /// it reads back to the model's radians exactly (else std::domain_error); NaN: the degrees
+  /// model_to_json writes.
+  double fov_deg = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// The model sections of a calibration file (`epuck2-fit KIND -o`, and each robot's set of it):
+/// {"kind", "parameters", "noise"} as model_to_json writes them for the same model (the same
+/// function: every key one the readers read and check), reshaped as a calibration holds them:
+/// no `effects` section when no effect is on (a calibration fits the base model), each noise
+/// channel with `extras.pooled_sd`, and what the kind's calibration holds fixed or derives: the
+/// proximity's and light's `range_m`, the camera's `range_m`, `width_px`, `height_px` and
+/// `aperture_deg` (from fov_deg). The proximity's adds the second curve, Eq. 1 fitted to the
+/// means, as `mean_a`, `mean_b`, `mean_c` (`means`' base; read with ProximityCurve::means).
+/// What is written reads back (std::domain_error otherwise, with the reader's reason); the
+/// calibration adds its report fields (std_errors, mse, observations, the noise's `from`, `n`,
+/// ...: docs/coefficient-files.md, "Informational keys") around it.
+nlohmann::json calibration_model_json(const s::ProximityModel& maxima, const s::ProximityModel& means, const CalibrationExtras& extras);
+nlohmann::json calibration_model_json(const s::LightModel& m, const CalibrationExtras& extras);
+nlohmann::json calibration_model_json(const s::GroundModel& m, const CalibrationExtras& extras);
+nlohmann::json calibration_model_json(const s::CameraModel& m, const CalibrationExtras& extras);
+nlohmann::json calibration_model_json(const s::DriveModel& m, const CalibrationExtras& extras);
+
+/// Writes robot `id`'s set into the calibration file `j` of the kind `kind`: `robots.<id>` =
+/// `set`, whose `parameters` and `noise` are calibration_model_json's for that robot's model
+/// (its other keys, std_errors, logs, usable, why, not_identifiable, are report fields). The file is then read for that robot (every set is
+/// validated whichever is read): a set a reader would refuse is std::domain_error, with the
+/// reader's reason, and `j` is left as it was.
+void add_robot_set(nlohmann::json& j, const std::string& kind, const std::string& id, const nlohmann::json& set);
+
+/// The camera's range of the file `j` (`parameters.range_m`, the robot's set first), read and
+/// checked as camera_model_from_json reads it; none when the file has no range (a simulator then
+/// keeps its own, the plug-in's 1 m by default).
+std::optional<double> camera_range_m(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
 
 /// The noise section of one channel: {"sd", "per_sensor_sd" (when the sensors differ), "unit"};
 /// sd is the root mean square of the sensors' (computed without overflow). Throws
