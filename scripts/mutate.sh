@@ -439,6 +439,8 @@ MUTANTS = [
      "if (v[i] < 0 || v[i] >= s::kProximityFullScale_raw) ++out.censored;", C6_FIT),
     # E: an option's non-default value never given (the user's --reject-sd dropped).
     ("c6_sensor_reject_sd_ignored", "lib/calibrate/src/sensor_fit_common.cpp", "  r.reject_sd = o.reject_sd;\n", "", C6_FIT),
+    # D: a statistic's degrees of freedom (added after both c6 runs: judged by neither, see bench/fresh-slips.md).
+    ("c6_stat_reduced_chi2_no_k", RP, "s.reduced_chi2 = nn > k ? rss / (nn - k) : kNaN;", "s.reduced_chi2 = nn > k ? rss / nn : kNaN;", C6_FIT),
 ]
 
 

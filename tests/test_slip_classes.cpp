@@ -278,7 +278,22 @@ TEST_F(SlipClassesReports, GroundFileEveryPerSensorNumberByHand) {
     EXPECT_EQ(j["observations_per_sensor"][s].get<std::size_t>(), n) << "sensor " << s;
     // Every residual is +-d: MSE = RSS / n = d^2 (docs/coefficient-files.md: MSE is RSS / n).
     EXPECT_NEAR(j["mse_per_sensor"][s].get<double>(), t.d * t.d, 1e-9) << "sensor " << s;
-    EXPECT_EQ(j["fits"]["sensor_" + std::to_string(s)]["n"].get<std::size_t>(), n);
+    // The fit's statistics (class D: each a formula of n, k = 2 and RSS = n d^2; docs/fitting.md and
+    // the report's own words: reduced chi2 RSS/(n-k), AIC n ln(RSS/n) + 2k, BIC n ln(RSS/n) + k ln n,
+    // R^2 1 - RSS/TSS, TSS about the readings' mean).
+    const auto& fit = j["fits"]["sensor_" + std::to_string(s)];
+    const double nn = static_cast<double>(n), rss = nn * t.d * t.d;
+    EXPECT_EQ(fit["n"].get<std::size_t>(), n);
+    EXPECT_EQ(fit["free_parameters"].get<int>(), 2);
+    EXPECT_NEAR(fit["rss"].get<double>(), rss, 1e-9 * rss);
+    EXPECT_NEAR(fit["reduced_chi2"].get<double>(), rss / (nn - 2), 1e-9) << "sensor " << s;
+    EXPECT_NEAR(fit["aic"].get<double>(), nn * std::log(t.d * t.d) + 4, 1e-6) << "sensor " << s;
+    EXPECT_NEAR(fit["bic"].get<double>(), nn * std::log(t.d * t.d) + 2 * std::log(nn), 1e-6) << "sensor " << s;
+    double mean = 0, tss = 0;
+    for (double grey : t.greys) mean += 2 * (t.offset + t.gain * grey) / nn;
+    for (double grey : t.greys)
+      for (double sign : {1.0, -1.0}) tss += std::pow(t.offset + t.gain * grey + sign * t.d - mean, 2);
+    EXPECT_NEAR(fit["r2"].get<double>(), 1 - rss / tss, 1e-9) << "sensor " << s;
     // The plug-in (offset 0, gain 1023): its error (offset + (gain - 1023) grey +- d)^2; the +-d
     // terms cancel in pairs.
     double plugin = 0;
