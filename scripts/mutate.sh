@@ -205,6 +205,27 @@ def with_round_five(group):
         return group
     return whole(list(group[1][1]) + ["test_round_five_slips"], group[1][2])
 
+# Round 6 (bench/fresh-slips.md, "Classes of survivors", branch slip-classes): slips of each class of
+# rounds 2-5's survivors, planted in places no round had slipped -- by someone who HAD read the
+# earlier rounds' tests (not a fresh round). Each group is every test of the programs that touch
+# the area (the earlier rounds' groups, with test_strict_files and test_kind_facts, which read model
+# files and kind_facts too) and tests/test_slip_classes.cpp, the tests that close the classes. (The
+# run "before" them, on main's tests, had C6_TESTS = [], commit adbd788.)
+C6_TESTS = ["test_slip_classes"]
+
+
+def c6(group, more=()):
+    return whole(list(group[1][1]) + list(more) + C6_TESTS, group[1][2])
+
+
+C6_REPORT = c6(with_round_five(R4_REPORT))
+C6_DREPORT = c6(with_round_five(R4_DREPORT))
+C6_CODEGEN = c6(with_round_five(with_round_four(R3_CODEGEN)), ["test_strict_files"])
+C6_LIKE = c6(with_round_five(R4_LIKE))
+C6_MODEL = c6(with_round_five(R5_FACTS), ["test_strict_files", "test_kind_facts"])
+C6_LOGS = c6(with_round_five(R4_LOGS), ["test_kind_facts", "test_long_logs"])
+C6_FIT = c6(with_round_five(R4_FIT))
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -397,6 +418,34 @@ MUTANTS = [
     ("lg_light_sensor_gamma_ignored", "lib/models/include/epuck2/models/kinds.hpp", "  k.gamma_m = light_gamma_m(m, sensor);",
      "  k.gamma_m = m.base.gamma_m;", whole(R3_ALWAYS + ["test_light_gammas", "test_model_sets", "test_round_four_slips",
                                                          "test_strict_files"])),
+    # Round 6: slips of the survivors' classes (bench/fresh-slips.md, "Classes of survivors").
+    # A: a field written with its sibling's value, checked only by stability comparisons.
+    ("c6_codegen_light_range_from_gamma", CG, r'<< ";\n  m.base.range_m = " << cpp_number(m.base.range_m)',
+     r'<< ";\n  m.base.range_m = " << cpp_number(m.base.gamma_m)', C6_CODEGEN),
+    ("c6_drive_report_steps_mse_from_tof", "lib/calibrate/src/drive_report.cpp", 'j["steps_mse"] = f.steps.mse;',
+     'j["steps_mse"] = f.tof.mse;', C6_REPORT),
+    ("c6_proximity_points_min_from_mean", "lib/calibrate/src/proximity_report.cpp", '{"mean", p.mean}, {"min", p.min}',
+     '{"mean", p.mean}, {"min", p.mean}', C6_REPORT),
+    ("c6_dreport_heldout_recalibrated_from_plugin", "lib/diagnose/src/report_output.cpp",
+     'j["heldout_mse_recalibrated"] = r.heldout_mse_base;', 'j["heldout_mse_recalibrated"] = r.heldout_mse_plugin;', C6_DREPORT),
+    # B: per-sensor values equal in every fixture (an index swap, sensor 0 or the pooled value for all).
+    ("c6_ground_report_n_sensor0", "lib/calibrate/src/ground_report.cpp", "n.push_back(r.observations);",
+     "n.push_back(f.sensors[0].observations);", C6_REPORT),
+    ("c6_ground_report_mse_pooled", "lib/calibrate/src/ground_report.cpp", "mse.push_back(r.mse);", "mse.push_back(f.mse);", C6_REPORT),
+    ("c6_light_report_sensor_mse_pooled", "lib/calibrate/src/light_report.cpp", '{"mse", json_number(r.mse)}',
+     '{"mse", json_number(f.gamma.mse)}', C6_REPORT),
+    ("c6_codegen_effect_array_first", CG, 'for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + cpp_number(v[i]);',
+     'for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + cpp_number(v[0]);', C6_CODEGEN),
+    ("c6_like_sensor_first_row", SLM, "const int sensor = static_cast<int>(sn[i]);", "const int sensor = static_cast<int>(sn[0]);", C6_LIKE),
+    # C: a boundary the code branches on that no test sits on.
+    ("c6_model_open_upper_ignored", MF, "(p->open_upper ? x < p->upper : x <= p->upper)", "(x <= p->upper)", C6_MODEL),
+    ("c6_log_metadata_low_strict", LR, "if (d < meta.lo || d > meta.hi) {", "if (d <= meta.lo || d > meta.hi) {", C6_LOGS),
+    ("c6_light_censored_zero_strict", FS_L, "if (v[i] <= 0 || v[i] >= s::kProximityFullScale_raw) ++out.censored;",
+     "if (v[i] < 0 || v[i] >= s::kProximityFullScale_raw) ++out.censored;", C6_FIT),
+    # E: an option's non-default value never given (the user's --reject-sd dropped).
+    ("c6_sensor_reject_sd_ignored", "lib/calibrate/src/sensor_fit_common.cpp", "  r.reject_sd = o.reject_sd;\n", "", C6_FIT),
+    # D: a statistic's degrees of freedom (added after both c6 runs: judged by neither, see bench/fresh-slips.md).
+    ("c6_stat_reduced_chi2_no_k", RP, "s.reduced_chi2 = nn > k ? rss / (nn - k) : kNaN;", "s.reduced_chi2 = nn > k ? rss / nn : kNaN;", C6_FIT),
 ]
 
 
