@@ -418,6 +418,12 @@ MUTANTS = [
     ("lg_light_sensor_gamma_ignored", "lib/models/include/epuck2/models/kinds.hpp", "  k.gamma_m = light_gamma_m(m, sensor);",
      "  k.gamma_m = m.base.gamma_m;", whole(R3_ALWAYS + ["test_light_gammas", "test_model_sets", "test_round_four_slips",
                                                          "test_strict_files"])),
+    # The engine's one identifiability check (lib/fit/src/least_squares.cpp), used by the calibration
+    # (hold at the fallback, refit) and by every other fit (an explained NaN).
+    ("e7_identifiability_zero_column_unseen", "lib/fit/src/least_squares.cpp", "if (jacobian.col(j).squaredNorm() > 0)",
+     "if (jacobian.col(j).squaredNorm() >= 0)", whole(list(R3_FIT[1][1]) + ["test_one_engine", "test_diagnose"])),
+    ("e7_identifiability_condition_ignored", "lib/fit/src/least_squares.cpp", "weak = weak || !(id.condition <= max_condition);",
+     "weak = weak || !(id.condition <= 1e6 * max_condition);", whole(list(R3_FIT[1][1]) + ["test_one_engine", "test_diagnose"])),
     # Round 6: slips of the survivors' classes (bench/fresh-slips.md, "Classes of survivors").
     # A: a field written with its sibling's value, checked only by stability comparisons.
     ("c6_codegen_light_range_from_gamma", CG, r'<< ";\n  m.base.range_m = " << cpp_number(m.base.range_m)',
