@@ -334,3 +334,47 @@ TEST(RobustOnEngine, ProblemHoldsSomeValuesOfAnArray) {
   // sum x (y - 1) = 2.1 + 7.8 + 18.6 + 31.2 = 59.7; sum x^2 = 30.
   EXPECT_NEAR(p[1], 59.7 / 30.0, 1e-12);
 }
+
+TEST(OneEngine, ConfirmReachesAndKeepsTheLinearSolution) {
+  // fit_curve's confirming step (Problem::confirm) on y = a + b x. By hand: x mean 2.5, y mean 6,
+  // Sxy = 4.35 + 0.55 + 0.6 + 4.2 = 9.7, Sxx = 5: b = 1.94, a = 6 - 1.94 * 2.5 = 1.15.
+  const std::vector<double> x{1, 2, 3, 4}, y{3.1, 4.9, 7.2, 8.8};
+  double p[2] = {0.0, 0.0};
+  fit::Problem problem;
+  problem.add(fit::autodiff<4, 2>([x, y](const auto* q, auto* r) {
+                for (std::size_t i = 0; i < 4; ++i) r[i] = y[i] - (q[0] + q[1] * x[i]);
+                return true;
+              }),
+              {p});
+  const fit::SolveSummary first = problem.confirm(fit::FitOptions{});
+  ASSERT_TRUE(first.usable) << first.message;
+  EXPECT_NEAR(p[0], 1.15, 1e-9);
+  EXPECT_NEAR(p[1], 1.94, 1e-9);
+  // From the solution itself, nothing to improve: still a converged fit, the point kept.
+  const double a = p[0], b = p[1];
+  const fit::SolveSummary again = problem.confirm(fit::FitOptions{});
+  EXPECT_TRUE(again.usable) << again.message;
+  EXPECT_TRUE(again.converged) << again.message;
+  EXPECT_NEAR(p[0], a, 1e-12);
+  EXPECT_NEAR(p[1], b, 1e-12);
+}
+
+TEST(OneEngine, SummarizeFromResidualsTheCallerEvaluated) {
+  // The line above at (1.15, 1.94): residuals 0.01, -0.13, 0.23, -0.11 (by hand), RSS 0.082; the
+  // total sum of squares about y's mean 6 is 8.41 + 1.21 + 1.44 + 7.84 = 18.9.
+  const std::vector<double> y{3.1, 4.9, 7.2, 8.8}, residuals{0.01, -0.13, 0.23, -0.11};
+  double p[2] = {1.15, 1.94};
+  fit::SolveSummary summary;
+  summary.usable = true;
+  summary.iterations = 3;
+  summary.message = "stated";
+  const fit::FitResult r =
+      fit::Problem::summarize(fit::ParameterLayout{{p}, {2}, {"a", "b"}}, residuals, true, y, summary);
+  ASSERT_TRUE(r.usable);
+  EXPECT_EQ(r.observations, 4u);
+  EXPECT_EQ(r.iterations, 3);
+  EXPECT_NEAR(r.rss, 0.082, 1e-12);
+  EXPECT_NEAR(r.r2, 1 - 0.082 / 18.9, 1e-12);
+  EXPECT_NEAR(r.residual_variance, 0.082 / 2, 1e-12);
+  EXPECT_EQ(r.value("b"), 1.94);
+}

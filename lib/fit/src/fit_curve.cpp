@@ -1,6 +1,6 @@
 // fit_curve's solver side (epuck2/fit/fit_curve.hpp): the curve model's type-erased evaluation
-// as Ceres cost functions, the solve, the active set at the bounds and the statistics. The
-// template in the header evaluates the model; this file alone states the problem to Ceres.
+// as the engine's residual blocks (fit::Problem), the solve, the active set at the bounds and
+// the statistics. The template in the header evaluates the model; this file states the problem.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -10,57 +10,38 @@
 #include <vector>
 
 #include "epuck2/fit/fit_curve.hpp"
-#include "solver.hpp"
+#include "epuck2/fit/problem.hpp"
 
 namespace epuck2::fit {
 
 namespace {
 
-// Every residual in one cost function, evaluated in doubles unless a Jacobian is wanted; with
-// `record`, each evaluation with derivatives is also stored there (the caller's to reuse at the
-// point the solver ends at, instead of evaluating the same Jets again).
-class CurveBlockCost : public ceres::CostFunction {
- public:
-  CurveBlockCost(const CurveEvaluation& evaluation, std::size_t observations, RecordedEvaluation* record)
-      : evaluation_(evaluation), record_(record) {
-    set_num_residuals(static_cast<int>(observations));
-    mutable_parameter_block_sizes()->push_back(evaluation.parameters);
-  }
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    if (jacobians == nullptr || jacobians[0] == nullptr) return evaluation_.all(parameters[0], residuals, nullptr, nullptr);
-    return evaluation_.all(parameters[0], residuals, jacobians[0], record_);
-  }
-
- private:
-  const CurveEvaluation& evaluation_;
-  RecordedEvaluation* const record_;
-};
-
-// Residual i alone (one block per observation, each with the loss): in doubles when Ceres asks
-// for no derivatives at all, else by Jets, as AutoDiffCostFunction evaluates a functor.
-class CurvePointCost : public ceres::CostFunction {
- public:
-  CurvePointCost(const CurveEvaluation& evaluation, std::size_t i) : evaluation_(evaluation), i_(i) {
-    set_num_residuals(1);
-    mutable_parameter_block_sizes()->push_back(evaluation.parameters);
-  }
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    return evaluation_.one(i_, parameters[0], residuals, jacobians != nullptr, jacobians != nullptr ? jacobians[0] : nullptr);
-  }
-
- private:
-  const CurveEvaluation& evaluation_;
-  const std::size_t i_;
-};
-
-// The curve's residuals over `parameters`: one block without a loss, or one block per observation
-// with the options' loss (robust, or single_residual_block off).
-void add_curve_residuals(ceres::Problem& problem, const CurveEvaluation& evaluation, std::size_t n, double* parameters,
+// The curve's residuals over `parameters`, added to `problem`: without a loss, every residual in
+// one block, evaluated in doubles unless a Jacobian is wanted; with `record`, each evaluation with
+// derivatives is also stored there (the caller's to reuse at the point the solver ends at,
+// instead of evaluating the same Jets again). With the options' loss (robust, or
+// single_residual_block off), one block per observation: residual i alone, in doubles when no
+// derivatives are asked for at all, else by Jets, as AutoDiffCostFunction evaluates a functor.
+void add_curve_residuals(Problem& problem, const CurveEvaluation& evaluation, std::size_t n, double* parameters,
                          RecordedEvaluation* record, const FitOptions& options) {
-  if (options.single_residual_block && !options.robust)
-    problem.AddResidualBlock(new CurveBlockCost(evaluation, n, record), nullptr, parameters);
-  else
-    for (std::size_t i = 0; i < n; ++i) problem.AddResidualBlock(new CurvePointCost(evaluation, i), make_loss(options), parameters);
+  ResidualBlock block;
+  block.sizes = {evaluation.parameters};
+  if (options.single_residual_block && !options.robust) {
+    block.residuals = static_cast<int>(n);
+    block.evaluate = [&evaluation, record](double const* const* p, double* residuals, double** jacobians) {
+      if (jacobians == nullptr || jacobians[0] == nullptr) return evaluation.all(p[0], residuals, nullptr, nullptr);
+      return evaluation.all(p[0], residuals, jacobians[0], record);
+    };
+    problem.add(std::move(block), {parameters});
+  } else {
+    block.residuals = 1;
+    for (std::size_t i = 0; i < n; ++i) {
+      block.evaluate = [&evaluation, i](double const* const* p, double* residuals, double** jacobians) {
+        return evaluation.one(i, p[0], residuals, jacobians != nullptr, jacobians != nullptr ? jacobians[0] : nullptr);
+      };
+      problem.add(block, {parameters}, options);
+    }
+  }
 }
 
 }  // namespace
@@ -80,44 +61,24 @@ FitResult solve_curve(const CurveEvaluation& evaluation, CurveStart start, const
   const Eigen::MatrixXd& start_jacobian = start.start_jacobian;
   const Eigen::MatrixXd& start_inverse_normal = start.start_inverse_normal;
   RecordedEvaluation recorded;
-  ceres::Problem problem;
+  Problem problem;
   add_curve_residuals(problem, evaluation, n, initial.data(), &recorded, options);
-  if (!fixed.empty()) {
-    std::vector<int> fixed_sorted = fixed;
-    problem.SetManifold(initial.data(), new ceres::SubsetManifold(P, fixed_sorted));
-  }
+  problem.hold(initial.data(), fixed);
   for (std::size_t j = 0; j < parameters.size(); ++j) {
     if (parameters[j].fixed) continue;
-    if (std::isfinite(parameters[j].lower)) problem.SetParameterLowerBound(initial.data(), static_cast<int>(j), parameters[j].lower);
-    if (std::isfinite(parameters[j].upper)) problem.SetParameterUpperBound(initial.data(), static_cast<int>(j), parameters[j].upper);
+    if (std::isfinite(parameters[j].lower)) problem.set_lower_bound(initial.data(), static_cast<int>(j), parameters[j].lower);
+    if (std::isfinite(parameters[j].upper)) problem.set_upper_bound(initial.data(), static_cast<int>(j), parameters[j].upper);
   }
-  ceres::Solver::Summary summary;
-  if (linear_started && options.restarts <= 0 && !options.try_alternatives) {
-    // From the least-squares minimum, Levenberg-Marquardt's first step only confirms it (a step of
-    // rounding size): the normal equations suffice for it, without Jacobi scaling.
-    ceres::Solver::Options confirm = solver_options(options);
-    confirm.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-    confirm.jacobi_scaling = false;
-    const std::vector<double> linear_solution = initial;
-    ceres::Solve(confirm, &problem, &summary);
-    // At the exact minimum the gradient is rounding (about 1e-13, above the 1e-15 tolerance) and
-    // every step's predicted decrease can round to zero or below: Ceres counts those as invalid
-    // steps and, after five, reports FAILURE without moving. The point is still the linear
-    // least-squares solution: a converged fit (seen on AR(1) data, 1 series in 300).
-    if (summary.termination_type == ceres::FAILURE && initial == linear_solution) {
-      summary.termination_type = ceres::CONVERGENCE;
-      summary.message = "linear least-squares solution (the confirming step found nothing to improve: " + summary.message + ")";
-    }
-  } else {
-    summary = solve(problem, options);
-  }
+  // From the least-squares minimum, a confirming step (Problem::confirm) rather than a solve.
+  SolveSummary summary = linear_started && options.restarts <= 0 && !options.try_alternatives ? problem.confirm(options)
+                                                                                              : problem.solve(options);
   // Ceres' projected steps crawl along a bound (a parameter pressed against it shrinks every
   // step): the parameters that end on a bound are held there and the others solved again (an
   // active set, one pass: a parameter held is not released again). They are reported without a
   // standard error and do not count as free parameters (the others' errors are conditional on
   // the bound).
   std::vector<std::pair<int, const char*>> at_bound;
-  if (bounded && summary.IsSolutionUsable()) {
+  if (bounded && summary.usable) {
     for (std::size_t j = 0; j < parameters.size(); ++j) {
       if (!free_column[j]) continue;
       const double lo = parameters[j].lower, hi = parameters[j].upper;
@@ -135,17 +96,18 @@ FitResult solve_curve(const CurveEvaluation& evaluation, CurveStart start, const
         free_column[static_cast<std::size_t>(j)] = false;
       }
       std::sort(fixed.begin(), fixed.end());
-      ceres::Problem polish;
+      Problem polish;
       add_curve_residuals(polish, evaluation, n, initial.data(), nullptr, options);
       if (static_cast<int>(fixed.size()) < P) {
-        polish.SetManifold(initial.data(), new ceres::SubsetManifold(P, fixed));
+        polish.hold(initial.data(), fixed);
         for (std::size_t j = 0; j < parameters.size(); ++j) {
           if (!free_column[j]) continue;
-          if (std::isfinite(parameters[j].lower)) polish.SetParameterLowerBound(initial.data(), static_cast<int>(j), parameters[j].lower);
-          if (std::isfinite(parameters[j].upper)) polish.SetParameterUpperBound(initial.data(), static_cast<int>(j), parameters[j].upper);
+          if (std::isfinite(parameters[j].lower)) polish.set_lower_bound(initial.data(), static_cast<int>(j), parameters[j].lower);
+          if (std::isfinite(parameters[j].upper)) polish.set_upper_bound(initial.data(), static_cast<int>(j), parameters[j].upper);
         }
-        ceres::Solver::Summary second = solve(polish, options);
-        second.iterations.insert(second.iterations.begin(), summary.iterations.begin(), summary.iterations.end());
+        // The polish solve's result, counting the first solve's iterations too (the total work).
+        SolveSummary second = polish.solve(options);
+        second.iterations += summary.iterations;
         summary = second;
       }
       recorded.valid = false;  // the record is of the first problem's last evaluation
@@ -169,7 +131,7 @@ FitResult solve_curve(const CurveEvaluation& evaluation, CurveStart start, const
     evaluated = evaluation.at(initial, &residuals, options.compute_covariance ? &jacobian : nullptr);
   }
   ParameterLayout layout{{initial.data()}, {P}, names};
-  FitResult r = summarize(layout, residuals, evaluated, y, summary);
+  FitResult r = Problem::summarize(layout, residuals, evaluated, y, summary);
   if (!fixed.empty()) {
     // Fixed parameters do not count as free and have no uncertainty.
     int free = 0;

@@ -568,10 +568,9 @@ std::vector<bool> statistics(FitResult& r, const ParameterLayout& layout, const 
 }  // namespace
 
 FitResult summarize(const ParameterLayout& layout, const std::vector<double>& residuals, bool evaluated,
-                    const std::vector<double>& observations, const ceres::Solver::Summary& summary) {
+                    const std::vector<double>& observations, int iterations, const std::string& message, bool usable) {
   FitResult r;
-  statistics(r, layout, {}, residuals, evaluated, observations, static_cast<int>(summary.iterations.size()), summary.message,
-             summary.IsSolutionUsable());
+  statistics(r, layout, {}, residuals, evaluated, observations, iterations, message, usable);
   return r;
 }
 

@@ -38,9 +38,10 @@ FitResult summarize(ceres::Problem& problem, const ParameterLayout& layout,
                     const FitOptions& options);
 
 /// summarize from the residuals already evaluated at the solution (`evaluated` false when they
-/// could not be), with every parameter free and no covariance (see set_covariance).
+/// could not be), with every parameter free and no covariance (see set_covariance), the solver's
+/// summary given as its parts: what fit::Problem's residuals summarize reports through.
 FitResult summarize(const ParameterLayout& layout, const std::vector<double>& residuals, bool evaluated,
-                    const std::vector<double>& observations, const ceres::Solver::Summary& summary);
+                    const std::vector<double>& observations, int iterations, const std::string& message, bool usable);
 
 /// summarize's work with the solver's summary given as its parts (iterations made, termination
 /// message, whether the solution is usable): what fit::Problem::summarize reports through.

@@ -135,12 +135,23 @@ class Problem {
   /// Solves as `options` say (epuck2/fit/least_squares.hpp FitOptions: the solver settings, the
   /// restarts and alternative strategies); the arrays end at the solution.
   SolveSummary solve(const FitOptions& options);
+  /// One solve from a point that should already be the minimum (fit_curve's linear least-squares
+  /// start): Levenberg-Marquardt on the normal equations (dense Cholesky) without Jacobi scaling,
+  /// no restarts. A FAILURE that left every array where it was is reported as convergence: at the
+  /// exact minimum every step's predicted decrease rounds to zero or below, and Ceres gives up
+  /// after five such steps without moving.
+  SolveSummary confirm(const FitOptions& options);
 
   /// The fit's statistics at the arrays' current values (FitResult: RSS, R^2 against
   /// `observations`, AIC, BIC, covariance and standard errors over the arrays not held), as
   /// every fit of the engine reports them.
   FitResult summarize(const ParameterLayout& layout, const std::vector<double>& observations, const SolveSummary& summary,
                       const FitOptions& options);
+  /// The statistics from residuals the caller evaluated itself at the arrays' values (`evaluated`
+  /// false when they could not be), every parameter counted free and no covariance (see
+  /// set_covariance): fit_curve's, which keeps the Jacobian its solve already evaluated.
+  static FitResult summarize(const ParameterLayout& layout, const std::vector<double>& residuals, bool evaluated,
+                             const std::vector<double>& observations, const SolveSummary& summary);
 
   /// The residuals (no loss applied) and, when `jacobian` is given, their derivatives over the
   /// arrays `over` (the others held): one column per value of those arrays in order, or, with
