@@ -35,11 +35,12 @@ void add_curve_residuals(Problem& problem, const CurveEvaluation& evaluation, st
     problem.add(std::move(block), {parameters});
   } else {
     block.residuals = 1;
+    const std::vector<double*> over{parameters};
     for (std::size_t i = 0; i < n; ++i) {
       block.evaluate = [&evaluation, i](double const* const* p, double* residuals, double** jacobians) {
         return evaluation.one(i, p[0], residuals, jacobians != nullptr, jacobians != nullptr ? jacobians[0] : nullptr);
       };
-      problem.add(block, {parameters}, options);
+      problem.add(block, over, options);
     }
   }
 }

@@ -15,16 +15,18 @@ namespace {
 // A ResidualBlock as Ceres' CostFunction.
 class BlockCost : public ceres::CostFunction {
  public:
-  explicit BlockCost(ResidualBlock block) : block_(std::move(block)) {
-    set_num_residuals(block_.residuals);
-    *mutable_parameter_block_sizes() = block_.sizes;
+  // Only the evaluation is kept: the sizes move into Ceres' own list (no second copy per block;
+  // fit_curve's per-observation path adds one block per observation).
+  explicit BlockCost(ResidualBlock block) : evaluate_(std::move(block.evaluate)) {
+    set_num_residuals(block.residuals);
+    *mutable_parameter_block_sizes() = std::move(block.sizes);
   }
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    return block_.evaluate(parameters, residuals, jacobians);
+    return evaluate_(parameters, residuals, jacobians);
   }
 
  private:
-  const ResidualBlock block_;
+  const std::function<bool(double const* const*, double*, double**)> evaluate_;
 };
 }  // namespace
 
