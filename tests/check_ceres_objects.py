@@ -21,12 +21,14 @@ usage: check_ceres_objects.py BUILD_DIR GENERATOR MAKE_PROGRAM [--ceres-include 
           header, one that puts a Ceres folder on its include path, one clean; the check must
           name the first two and pass the clean one, and must fail on an empty build tree)
 """
+import os
 import pathlib
 import re
 import shlex
 import subprocess
 import sys
 import tempfile
+import time
 
 # lib/fit's folder of the build tree: epuck2_fit and lib/fit's own test program (Jet against Ceres').
 ALLOWED_FOLDER = "lib/fit/CMakeFiles/"
@@ -197,7 +199,6 @@ def self_test(cmake: str, generator: str, make_program: str, ceres_include: str)
             failures.append(f"objects just built were called out of date: {stale}")
         # A source edited after its object was built: that object's record is stale (skipped, named
         # as such), while the planted object is still caught.
-        import os, time
         future = time.time() + 3600
         os.utime(src / "clean.cpp", (future, future))
         again, _, stale_after = check(build, generator, make_program, [fake])

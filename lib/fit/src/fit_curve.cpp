@@ -45,6 +45,18 @@ void add_curve_residuals(Problem& problem, const CurveEvaluation& evaluation, st
   }
 }
 
+// Holds the `fixed` values of the curve's parameters and bounds the free ones (finite bounds
+// only): the solve and the active set's polish alike.
+void hold_and_bound(Problem& problem, double* values, const std::vector<int>& fixed, const std::vector<bool>& free_column,
+                    const std::vector<Parameter>& parameters) {
+  problem.hold(values, fixed);
+  for (std::size_t j = 0; j < parameters.size(); ++j) {
+    if (!free_column[j]) continue;
+    if (std::isfinite(parameters[j].lower)) problem.set_lower_bound(values, static_cast<int>(j), parameters[j].lower);
+    if (std::isfinite(parameters[j].upper)) problem.set_upper_bound(values, static_cast<int>(j), parameters[j].upper);
+  }
+}
+
 }  // namespace
 
 namespace detail {
@@ -64,12 +76,7 @@ FitResult solve_curve(const CurveEvaluation& evaluation, CurveStart start, const
   RecordedEvaluation recorded;
   Problem problem;
   add_curve_residuals(problem, evaluation, n, initial.data(), &recorded, options);
-  problem.hold(initial.data(), fixed);
-  for (std::size_t j = 0; j < parameters.size(); ++j) {
-    if (parameters[j].fixed) continue;
-    if (std::isfinite(parameters[j].lower)) problem.set_lower_bound(initial.data(), static_cast<int>(j), parameters[j].lower);
-    if (std::isfinite(parameters[j].upper)) problem.set_upper_bound(initial.data(), static_cast<int>(j), parameters[j].upper);
-  }
+  hold_and_bound(problem, initial.data(), fixed, free_column, parameters);
   // From the least-squares minimum, a confirming step (Problem::confirm) rather than a solve.
   SolveSummary summary = linear_started && options.restarts <= 0 && !options.try_alternatives ? problem.confirm(options)
                                                                                               : problem.solve(options);
@@ -100,12 +107,7 @@ FitResult solve_curve(const CurveEvaluation& evaluation, CurveStart start, const
       Problem polish;
       add_curve_residuals(polish, evaluation, n, initial.data(), nullptr, options);
       if (static_cast<int>(fixed.size()) < P) {
-        polish.hold(initial.data(), fixed);
-        for (std::size_t j = 0; j < parameters.size(); ++j) {
-          if (!free_column[j]) continue;
-          if (std::isfinite(parameters[j].lower)) polish.set_lower_bound(initial.data(), static_cast<int>(j), parameters[j].lower);
-          if (std::isfinite(parameters[j].upper)) polish.set_upper_bound(initial.data(), static_cast<int>(j), parameters[j].upper);
-        }
+        hold_and_bound(polish, initial.data(), fixed, free_column, parameters);
         // The polish solve's result, counting the first solve's iterations too (the total work).
         SolveSummary second = polish.solve(options);
         second.iterations += summary.iterations;
