@@ -226,6 +226,34 @@ C6_MODEL = c6(with_round_five(R5_FACTS), ["test_strict_files", "test_kind_facts"
 C6_LOGS = c6(with_round_five(R4_LOGS), ["test_kind_facts", "test_long_logs"])
 C6_FIT = c6(with_round_five(R4_FIT))
 
+# Round 7 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-7), planted without reading
+# the tests: each group is every test of the programs that touch the area -- the earlier rounds'
+# groups for it (with round 5's and the classes' tests) and the programs of the code changed since
+# (the one engine, the light's per-sensor gammas, the file owner, the third distortion term).
+# R7_TESTS: tests written after the run before them (empty for that run).
+R7_TESTS = []
+
+
+def r7(groups, more=(), extra=()):
+    programs = [p for g in groups for p in g[1][1]]
+    return whole(programs + list(more) + R7_TESTS, tuple(e for g in groups for e in g[1][2]) + tuple(extra))
+
+
+R7_FIT = r7([C6_FIT], ["test_one_engine", "test_linear_start", "test_nist", "test_charge_map", "test_battery_fit",
+                       "test_battery_fast_paths", "test_diagnose", "test_diagnose_noise", "test_light_gammas"])
+# lib/fit's dual numbers: the CTest that compares them with Ceres' jet.h is its own program.
+R7_JET = (R7_FIT[0] + ["test_fit_jet_matches_ceres"], ("whole", R7_FIT[1][1], R7_FIT[1][2] + ("fit_jet_matches_ceres",)))
+R7_COEFF = r7([C6_CODEGEN, C6_MODEL], ["test_file_owner", "test_light_gammas", "test_distortion_k3", "test_battery_fit",
+                                      "test_battery_fast_paths", "test_sensor_cli", "test_voltage_logs_cli"])
+R7_MODELS = r7([C6_LIKE, C6_MODEL, C6_DREPORT], ["test_light_gammas", "test_distortion_k3", "test_file_owner", "test_sensor_models",
+                                                "test_model_formulas", "test_virtual_robot_sensors", "test_diagnose"])
+R7_CALIB = r7([C6_REPORT], ["test_battery_cli", "test_battery_fit", "test_battery_fast_paths", "test_file_owner",
+                           "test_voltage_logs_cli", "test_small_data_cli", "test_sensor_fits", "test_light_gammas"])
+R7_DIAGNOSE = r7([C6_DREPORT, with_round_five(with_round_four(R3_DIAGNOSE))], ["test_light_gammas"])
+R7_LOGS = r7([C6_LOGS], ["test_battery_cli", "test_voltage_logs_cli", "test_measured_logs", "test_long_logs"])
+R7_APPS = r7([C6_LOGS, C6_DREPORT], ["test_safe_cli", "test_battery_cli", "test_voltage_logs_cli", "test_model_loop"], ("fuzz_smoke",))
+R7_ARGOS = with_round_five(R4_ARGOS)
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -452,6 +480,46 @@ MUTANTS = [
     ("c6_sensor_reject_sd_ignored", "lib/calibrate/src/sensor_fit_common.cpp", "  r.reject_sd = o.reject_sd;\n", "", C6_FIT),
     # D: a statistic's degrees of freedom (added after both c6 runs: judged by neither, see bench/fresh-slips.md).
     ("c6_stat_reduced_chi2_no_k", RP, "s.reduced_chi2 = nn > k ? rss / (nn - k) : kNaN;", "s.reduced_chi2 = nn > k ? rss / nn : kNaN;", C6_FIT),
+    # Round 7 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
+    ("r7_covariance_permutation_transposed", "lib/fit/src/least_squares.cpp",
+     "return scale.asDiagonal() * (P * inner * P.transpose()) * scale.asDiagonal();",
+     "return scale.asDiagonal() * (P.transpose() * inner * P) * scale.asDiagonal();", R7_FIT),
+    ("r7_jet_erfc_derivative_sign", "lib/fit/include/epuck2/fit/jet.hpp", "return Jet<N>(erfc(x.a), -x.v * exp(-x.a * x.a)",
+     "return Jet<N>(erfc(x.a), x.v * exp(-x.a * x.a)", R7_JET),
+    ("r7_channels_sd_and_scale_swapped", RD, "return reading_residual(prediction, at, censoring, sd_[c], sd_[0]);",
+     "return reading_residual(prediction, at, censoring, sd_[0], sd_[c]);", R7_FIT),
+    ("r7_active_set_upper_held_at_lower", "lib/fit/src/fit_curve.cpp", "        initial[j] = hi;\n", "        initial[j] = lo;\n", R7_FIT),
+    ("r7_problem_lower_bound_sets_upper", "lib/fit/src/problem.cpp",
+     "void Problem::set_lower_bound(double* block, int index, double value) { impl_->problem.SetParameterLowerBound(block, index, value); }",
+     "void Problem::set_lower_bound(double* block, int index, double value) { impl_->problem.SetParameterUpperBound(block, index, value); }",
+     R7_FIT),
+    ("r7_calibration_mean_c_from_maxima", MF, 'j["parameters"]["mean_c"] = means.base.c;', 'j["parameters"]["mean_c"] = maxima.base.c;', R7_COEFF),
+    ("r7_battery_segment_y2_from_y1", "lib/coefficients/src/battery_tables.cpp", '{"y1", g.y1}, {"y2", g.y2}', '{"y1", g.y1}, {"y2", g.y1}',
+     R7_COEFF),
+    ("r7_codegen_camera_range_inverted", CG, "(m.base.range_m != s::kCameraRange_m ?", "(m.base.range_m == s::kCameraRange_m ?", R7_COEFF),
+    ("r7_light_gamma_ratio_inverted", "lib/models/include/epuck2/models/kinds.hpp",
+     "light_gamma_ratio(const LightModel& m, int sensor) { return light_gamma_m(m, sensor) / m.base.gamma_m; }",
+     "light_gamma_ratio(const LightModel& m, int sensor) { return m.base.gamma_m / light_gamma_m(m, sensor); }", R7_MODELS),
+    ("r7_effects_tail_length_param_index", "lib/models/include/epuck2/models/effects.hpp", "f(proximity::long_tail, 1, 0, e.tail.length_m);",
+     "f(proximity::long_tail, 0, 0, e.tail.length_m);", R7_MODELS),
+    ("r7_like_drive_noisy_wheels_swapped", SLM, "sim.sample(t[i], cl[i], cr[i], normal, covariate[i])",
+     "sim.sample(t[i], cr[i], cl[i], normal, covariate[i])", R7_MODELS),
+    ("r7_battery_lifetime_h_in_minutes", "lib/calibrate/src/battery_json.cpp", '{"lifetime_h", s.lifetime_s / 3600.0}',
+     '{"lifetime_h", s.lifetime_s / 60.0}', R7_CALIB),
+    ("r7_camera_aperture_se_degree_step", "lib/calibrate/src/camera_report.cpp", "/ (2 * s::deg_to_rad(h));", "/ (2 * h);", R7_CALIB),
+    ("r7_enough_rows_strict", DE_S, "if (report_.rows >= report_.minimum_rows", "if (report_.rows > report_.minimum_rows", R7_DIAGNOSE),
+    ("r7_structure_size_not_sqrt", DE_RS, "s.size = std::sqrt(between / static_cast<double>(n));", "s.size = between / static_cast<double>(n);",
+     R7_DIAGNOSE),
+    ("r7_dreport_final_fit_from_base", "lib/diagnose/src/report_output.cpp", '{"final", calibrate::statistics_json(r.final_fit, rss_unit)}',
+     '{"final", calibrate::statistics_json(r.base_fit, rss_unit)}', R7_DIAGNOSE),
+    ("r7_log_equal_times_refused", LR, "if (previous && values[j][i] < values[j][*previous])",
+     "if (previous && values[j][i] <= values[j][*previous])", R7_LOGS),
+    ("r7_effects_list_name_last_char_dropped", "apps/cmd_diagnose.cpp", "comma == std::string::npos ? std::string::npos : comma - from)",
+     "comma == std::string::npos ? std::string::npos : comma - from - 1)", R7_APPS),
+    ("r7_stdout_errno_never_kept", "apps/app_support.cpp", "if (standard_output_errno == 0) standard_output_errno",
+     "if (standard_output_errno != 0) standard_output_errno", R7_APPS),
+    ("r7_argos_light_sensor_zero_model", AS, "ms::mean_raw(m_sModel, static_cast<int>(i), vecLights)", "ms::mean_raw(m_sModel, 0, vecLights)",
+     R7_ARGOS),
 ]
 
 
