@@ -501,8 +501,8 @@ MUTANTS = [
     ("r7_light_gamma_ratio_inverted", "lib/models/include/epuck2/models/kinds.hpp",
      "light_gamma_ratio(const LightModel& m, int sensor) { return light_gamma_m(m, sensor) / m.base.gamma_m; }",
      "light_gamma_ratio(const LightModel& m, int sensor) { return m.base.gamma_m / light_gamma_m(m, sensor); }", R7_MODELS),
-    ("r7_effects_tail_length_param_index", "lib/models/include/epuck2/models/effects.hpp", "f(proximity::long_tail, 1, 0, e.tail.length_m);",
-     "f(proximity::long_tail, 0, 0, e.tail.length_m);", R7_MODELS),
+    ("r7_effects_tail_length_param_index", "lib/models/include/epuck2/models/effects.hpp", ", 1, 0, e.tail.length_m);",
+     ", 0, 0, e.tail.length_m);", R7_MODELS),  # the tail's length given parameter index 0 (its amplitude's)
     ("r7_like_drive_noisy_wheels_swapped", SLM, "sim.sample(t[i], cl[i], cr[i], normal, covariate[i])",
      "sim.sample(t[i], cr[i], cl[i], normal, covariate[i])", R7_MODELS),
     ("r7_battery_lifetime_h_in_minutes", "lib/calibrate/src/battery_json.cpp", '{"lifetime_h", s.lifetime_s / 3600.0}',
