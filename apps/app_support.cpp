@@ -82,7 +82,11 @@ class StdioForward : public std::streambuf {
 }  // namespace
 
 void capture_standard_output() {
-  static StdioForward forward;
+  // Never destroyed: std::cout flushes through it until the very end of the process, after the
+  // program's own statics are gone (the last std::ios_base::Init, in a shared library, flushes it
+  // at exit). A function-local static was destroyed first, and that flush called a dead object
+  // (AddressSanitizer: SEGV in std::ostream::flush from ~Init).
+  static StdioForward* const forward = new StdioForward;
   cookie_io_functions_t io{};
   io.write = write_standard_output;
   FILE* checked = ::fopencookie(nullptr, "w", io);
@@ -90,7 +94,7 @@ void capture_standard_output() {
   std::setvbuf(checked, nullptr, ::isatty(STDOUT_FILENO) ? _IOLBF : _IOFBF, BUFSIZ);
   std::fflush(stdout);
   stdout = checked;  // glibc: stdout is an assignable variable (what printf and fwrite use)
-  std::cout.rdbuf(&forward);
+  std::cout.rdbuf(forward);
 }
 
 std::string standard_output_error() {
