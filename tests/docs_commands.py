@@ -16,7 +16,9 @@ files) carries, on the line right before its fence, the visible marker
 
     *Not run by the docs test: REASON.*
 
-and is skipped with that reason (printed).
+and is skipped with that reason (printed). A block that runs a part this build left out (the ARGoS
+plug-in, or the benchmark programs: the sanitizer build has neither) is skipped, saying so; a build
+that has them runs it.
 
 Numbers quoted in prose (or in a block that is no command, like a JSON excerpt) carry, on the line
 right before their paragraph or block, an HTML comment (invisible once rendered) naming the command
@@ -160,6 +162,33 @@ def restore_tree(src, bin_dir, root, manifest):
         os.makedirs(os.path.join(root, rel), exist_ok=True)
 
 
+def parts_not_built(src, bin_dir):
+    """{part: (pattern of a block that needs it, reason)} for the optional parts this build lacks:
+    the ARGoS plug-in (EPUCK2_BUILD_ARGOS=OFF, or ARGoS not found: scripts/setup-and-test.sh
+    --sanitize leaves it out, since an instrumented plug-in cannot load into argos3) and the
+    benchmark programs (EPUCK2_BUILD_BENCH=OFF). A build that has them runs every such block."""
+    out = {}
+    lib = os.path.join(os.path.dirname(os.path.abspath(bin_dir)), "lib", "argos3")
+    if not os.path.isfile(os.path.join(lib, "libepuck2_argos_protocols.so")):
+        out["argos"] = (re.compile(r"\bargos3\b|argos-record\.sh"),
+                        "the ARGoS plug-in is not built in this build (" + lib + " has no libepuck2_argos_protocols.so)")
+    with open(os.path.join(src, "bench", "CMakeLists.txt")) as f:
+        programs = re.findall(r"add_executable\((\w+)", f.read())
+    missing = [p for p in programs if not os.path.isfile(os.path.join(bin_dir, p))]
+    if missing:
+        out["bench"] = (re.compile(r"\b(" + "|".join(map(re.escape, missing)) + r")\b"),
+                        "the benchmark programs are not built in this build (EPUCK2_BUILD_BENCH=OFF)")
+    return out
+
+
+def needs_unbuilt(text, unbuilt):
+    """The reason to skip a block that runs a part this build lacks, else None."""
+    for pattern, reason in unbuilt.values():
+        if pattern.search(text):
+            return reason
+    return None
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--source", required=True)
@@ -173,6 +202,8 @@ def main():
     src = os.path.abspath(a.source)
     files = [a.only] if a.only else ["README.md"] + sorted(
         os.path.join("docs", f) for f in os.listdir(os.path.join(src, "docs")) if f.endswith(".md"))
+
+    unbuilt = parts_not_built(src, a.bin)
 
     work = tempfile.mkdtemp(prefix="epuck2-docs-")
     root = os.path.join(work, "repo")  # the repository's copy the blocks run in
@@ -190,6 +221,8 @@ def main():
                 is_output = lang == "text" and text.startswith("$ ")
                 if lang not in ("sh", "bash", "checked") and not is_output:
                     continue
+                if not skip:
+                    skip = needs_unbuilt(text, unbuilt)
                 if skip:
                     skipped += 1
                     print(f"skipped {where}: {skip}")
