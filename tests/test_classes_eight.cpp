@@ -1,0 +1,457 @@
+// Session 8 of the slip classes (bench/fresh-slips.md, "Classes closed (session 8)"; issue #22
+// item 6): the classes that round 7's slips fell in, covered where they still held. Every expected
+// value is worked by hand in the test, recomputed from the rows by another route (the written
+// model run by `simulate --like` over the log, the log's own time column), or a relation between
+// sibling fields that a documented formula fixes (docs/coefficient-files.md's statistics table,
+// docs/diagnose.md's noise). File-local names carry the prefix c8 (one unity program).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "epuck2/calibrate/reading_noise.hpp"
+#include "epuck2/models/kinds.hpp"
+#include "epuck2/models/simulate_log.hpp"
+
+namespace {
+
+namespace c8fs = std::filesystem;
+using c8json = nlohmann::json;
+
+// ----- helpers ------------------------------------------------------------------------------
+
+c8fs::path c8_scratch(const std::string& name) {
+  const c8fs::path p = c8fs::temp_directory_path() / ("epuck2_c8_" + name + "_" + std::to_string(::getpid()));
+  c8fs::remove_all(p);
+  c8fs::create_directories(p);
+  return p;
+}
+
+std::string c8_read(const c8fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Runs `args` (after the CLI's path) from the source folder; standard output and error into
+/// files of `dir`; the exit code.
+int c8_cli(const std::string& args, const c8fs::path& dir, std::string* out = nullptr) {
+  const c8fs::path o = dir / "stdout.txt", e = dir / "stderr.txt";
+  const std::string cmd = "cd '" + std::string(EPUCK2_SOURCE_DIR) + "' && '" + std::string(EPUCK2_FIT_EXE) + "' " + args + " > '" +
+                          o.string() + "' 2> '" + e.string() + "'";
+  const int status = std::system(cmd.c_str());
+  if (out) *out = c8_read(o);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// A CSV's columns by name, '#' lines skipped (the tool's comments and metadata).
+std::map<std::string, std::vector<double>> c8_csv(const std::string& text) {
+  std::istringstream in(text);
+  std::string line;
+  std::vector<std::string> names;
+  std::map<std::string, std::vector<double>> cols;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (names.empty()) {
+      names = cells;
+      continue;
+    }
+    for (std::size_t k = 0; k < names.size() && k < cells.size(); ++k) cols[names[k]].push_back(std::stod(cells[k]));
+  }
+  return cols;
+}
+
+/// A ground log written by hand: 3 sensors, offsets 40, 25, 15 and gains 900, 950, 1000 over the
+/// grey level to the power 1.6 (the catalogue's nonlinear_response), 21 grey levels 0 .. 1, 6
+/// readings each with the deviations +2, -2, +1, -1, +3, -3 about the rounded mean (sd sqrt(28/6)
+/// about it, sqrt(28/5) with one degree per group taken); rows in a seeded shuffle.
+std::string c8_ground_log() {
+  const double offset[3] = {40, 25, 15}, gain[3] = {900, 950, 1000};
+  const double dev[6] = {2, -2, 1, -1, 3, -3};
+  std::vector<std::string> rows;
+  for (int s = 0; s < 3; ++s)
+    for (int k = 0; k <= 20; ++k)
+      for (int r = 0; r < 6; ++r) {
+        const double grey = 0.05 * k;
+        std::ostringstream row;
+        row << grey << "," << s << "," << std::round(offset[s] + gain[s] * std::pow(grey, 1.6)) + dev[r];
+        rows.push_back(row.str());
+      }
+  std::mt19937 rng(11);
+  std::shuffle(rows.begin(), rows.end(), rng);
+  std::string text = "grey,sensor,value\n";
+  for (const std::string& r : rows) text += r + "\n";
+  return text;
+}
+
+/// Checks one statistics block against docs/coefficient-files.md's formulas from its own n, k and
+/// RSS: MSE = RSS/n, reduced chi2 = RSS/(n - k), AIC = n ln(RSS/n) + 2k, BIC = n ln(RSS/n) + k ln n.
+void c8_expect_statistics(const c8json& s, const std::string& where) {
+  const double n = s["n"].get<double>(), k = s["free_parameters"].get<double>(), rss = s["rss"].get<double>();
+  ASSERT_GT(n, k) << where;
+  ASSERT_GT(rss, 0.0) << where;
+  const double tol = 1e-9;
+  EXPECT_NEAR(s["mse"].get<double>(), rss / n, tol * rss / n) << where;
+  EXPECT_NEAR(s["reduced_chi2"].get<double>(), rss / (n - k), tol * rss / (n - k)) << where;
+  const double ll = n * std::log(rss / n);
+  EXPECT_NEAR(s["aic"].get<double>(), ll + 2 * k, 1e-9 * std::abs(ll) + 1e-9) << where;
+  EXPECT_NEAR(s["bic"].get<double>(), ll + k * std::log(n), 1e-9 * std::abs(ll) + 1e-9) << where;
+}
+
+// ----- class A: every numeric field of the diagnosis report ----------------------------------
+
+// A diagnosis of the hand-made ground log (binary, `--json` and `-o`): every statistics block
+// (recalibrated, final, each finding's) follows from its own n, k and RSS; n is the log's 378
+// rows; R^2 is 1 - RSS / sum (y - mean y)^2 with the sum from the log; fit.final is the written
+// model's: `simulate ground --like` with the extended model gives back, row by row, an MSE equal
+// to fit.final.mse, and with the plug-in's model (the ground base has no free parameter:
+// docs/diagnose.md) fit.recalibrated.mse. The findings chain: each one's held-out MSE after is
+// the next one's before, the first's before is heldout_mse_recalibrated, the last's after
+// heldout_mse_final, each lower; the last finding's fit is fit.final. noise_sd is the final
+// model's residual sd; the file's noise is the final residuals' with the rounding's 1/12 taken out
+// (docs/diagnose.md: at most that, and below the replicates' 28/5 - 1/12 here).
+TEST(ClassesEightDiagnosisReport, EveryFitFieldFollowsFromTheRowsAndTheWrittenModel) {
+  const c8fs::path dir = c8_scratch("dreport");
+  const std::string text = c8_ground_log();
+  {
+    std::ofstream f(dir / "g.csv");
+    f << text;
+  }
+  const std::string log = "'" + (dir / "g.csv").string() + "'";
+  std::string out;
+  ASSERT_EQ(c8_cli("diagnose " + log + " --json -o '" + (dir / "ext.json").string() + "'", dir, &out), 0) << c8_read(dir / "stderr.txt");
+  const c8json j = c8json::parse(out);
+  ASSERT_GE(j["findings"].size(), 2u) << out;
+  const c8json& rec = j["fit"]["recalibrated"];
+  const c8json& fin = j["fit"]["final"];
+  c8_expect_statistics(rec, "fit.recalibrated");
+  c8_expect_statistics(fin, "fit.final");
+  for (const c8json& f : j["findings"]) c8_expect_statistics(f["fit"], "finding " + f["cause"].get<std::string>());
+
+  // n and R^2 from the log itself.
+  const auto y = c8_csv(text).at("value");
+  ASSERT_EQ(y.size(), 378u);
+  double mean = 0, ss = 0;
+  for (double v : y) mean += v / y.size();
+  for (double v : y) ss += (v - mean) * (v - mean);
+  for (const c8json* s : {&rec, &fin}) {
+    EXPECT_EQ((*s)["n"].get<std::size_t>(), y.size());
+    EXPECT_NEAR((*s)["r2"].get<double>(), 1 - (*s)["rss"].get<double>() / ss, 1e-9);
+  }
+
+  // base and final differ, and the final fits better.
+  EXPECT_GT(fin["free_parameters"].get<int>(), rec["free_parameters"].get<int>());
+  EXPECT_LT(fin["rss"].get<double>(), 0.01 * rec["rss"].get<double>());
+  EXPECT_DOUBLE_EQ(j["findings"].back()["fit"]["rss"].get<double>(), fin["rss"].get<double>());
+
+  // the written model over the rows (simulate without noise: the expected readings).
+  auto mse_of = [&](const std::string& coefficients) {
+    const c8fs::path sim = dir / "sim.csv";
+    EXPECT_EQ(c8_cli("simulate ground --like " + log + coefficients + " -o '" + sim.string() + "'", dir), 0) << c8_read(dir / "stderr.txt");
+    const auto p = c8_csv(c8_read(sim)).at("value");
+    EXPECT_EQ(p.size(), y.size());
+    double s = 0;
+    for (std::size_t i = 0; i < std::min(p.size(), y.size()); ++i) s += (y[i] - p[i]) * (y[i] - p[i]);
+    return s / y.size();
+  };
+  const double written = mse_of(" --coefficients '" + (dir / "ext.json").string() + "'");
+  EXPECT_NEAR(fin["mse"].get<double>(), written, 1e-6 * written);
+  EXPECT_LT(written, 2.0 * 28.0 / 6.0);  // the deviations' own 28/6 and the fit's slack
+  const double plugin = mse_of("");
+  EXPECT_NEAR(rec["mse"].get<double>(), plugin, 1e-9 * plugin);
+
+  // the findings' held-out MSEs, chained.
+  double before = j["heldout_mse_recalibrated"].get<double>();
+  for (const c8json& f : j["findings"]) {
+    EXPECT_DOUBLE_EQ(f["heldout_mse_before"].get<double>(), before) << f["cause"];
+    EXPECT_LT(f["heldout_mse_after"].get<double>(), before) << f["cause"];
+    before = f["heldout_mse_after"].get<double>();
+  }
+  EXPECT_DOUBLE_EQ(j["heldout_mse_final"].get<double>(), before);
+  EXPECT_LT(j["heldout_mse_final"].get<double>(), 2.0 * 28.0 / 6.0);
+
+  // the noise.
+  EXPECT_NEAR(j["noise_sd"].get<double>(), std::sqrt(fin["mse"].get<double>()), 1e-6);
+  const double sd = j["noise"]["ground"]["sd"].get<double>();
+  EXPECT_NEAR(sd * sd, fin["mse"].get<double>() - 1.0 / 12.0, 1e-6);
+  EXPECT_LT(sd * sd, 28.0 / 5.0 - 1.0 / 12.0);
+  c8fs::remove_all(dir);
+}
+
+// ----- class D/A: derived numbers and units of the battery file -------------------------------
+
+// The battery file's lifetime at each speed from the logs' own time columns (docs/coefficient-
+// files.md): lifetime_s the mean of the runs' last times, lifetime_std_error_s their standard
+// error (sample sd / sqrt(runs)), lifetime_h = lifetime_s / 3600, linear_slope = -1 / lifetime_s
+// (1/s) with its error se / lifetime^2, runs the number of logs at that speed.
+TEST(ClassesEightBatteryFile, LifetimesAndLinearSlopesFromTheLogsTimeColumns) {
+  const c8fs::path dir = c8_scratch("battery");
+  std::map<double, std::vector<double>> ends;  // speed -> each run's last time
+  for (const auto& e : c8fs::directory_iterator(c8fs::path(EPUCK2_SOURCE_DIR) / "data/raw/battery")) {
+    if (e.path().extension() != ".csv") continue;
+    const auto cols = c8_csv(c8_read(e.path()));
+    ends[cols.at("speed_cm_s").front()].push_back(cols.at("time_s").back());
+  }
+  ASSERT_GE(ends.size(), 2u);
+  ASSERT_EQ(c8_cli("battery data/raw/battery/*.csv -o '" + (dir / "b.json").string() + "'", dir), 0) << c8_read(dir / "stderr.txt");
+  const c8json j = c8json::parse(c8_read(dir / "b.json"));
+  ASSERT_EQ(j["speeds"].size(), ends.size());
+  for (const c8json& s : j["speeds"]) {
+    const double speed = s["speed_cm_s"].get<double>();
+    ASSERT_EQ(ends.count(speed), 1u) << speed;
+    const std::vector<double>& t = ends[speed];
+    double mean = 0, ss = 0;
+    for (double v : t) mean += v / t.size();
+    for (double v : t) ss += (v - mean) * (v - mean);
+    const double se = t.size() > 1 ? std::sqrt(ss / (t.size() - 1)) / std::sqrt(double(t.size())) : 0.0;
+    EXPECT_EQ(s["runs"].get<std::size_t>(), t.size()) << speed;
+    EXPECT_NEAR(s["lifetime_s"].get<double>(), mean, 1e-9 * mean) << speed;
+    EXPECT_NEAR(s["lifetime_h"].get<double>(), mean / 3600.0, 1e-9 * mean / 3600.0) << speed;
+    EXPECT_NEAR(s["lifetime_std_error_s"].get<double>(), se, 1e-9 * mean) << speed;
+    EXPECT_NEAR(s["linear_slope"].get<double>(), -1.0 / mean, 1e-9 / mean) << speed;
+    EXPECT_NEAR(s["linear_slope_std_error"].get<double>(), se / (mean * mean), 1e-6 * se / (mean * mean) + 1e-18) << speed;
+  }
+  c8fs::remove_all(dir);
+}
+
+// ----- class E: `simulate --like` with noise, every kind ---------------------------------------
+
+/// A log's columns as simulated_readings reads a log.
+struct C8Log {
+  std::map<std::string, std::vector<double>> c;
+  double obstacle_m = 1.0;
+  bool has(const std::string& k) const { return c.count(k) != 0; }
+  const std::vector<double>& col(const std::string& k) const { return c.at(k); }
+  std::size_t rows() const { return c.begin()->second.size(); }
+  double metadata_number(const std::string&) const { return obstacle_m; }
+};
+
+/// Every draw the same number of standard deviations: with +1 each noisy reading is its own
+/// sensor's mean plus its own sensor's noise sd, rounded.
+struct C8ConstantNormal {
+  double z = 1.0;
+  double operator()() { return z; }
+};
+
+// Ground with noise: sensor s reads round(offset_s + gain_s grey^1.6 + sd_s) (each draw +1 sd),
+// clamped to 0..1023, by hand: offsets 40, 25, 15, gains 900, 950, 1000, sds 2, 5, 9; rows in the
+// sensor order 2, 0, 1, 1, 2, 0 at grey levels that differ.
+TEST(ClassesEightSimulateLikeNoisy, GroundEachSensorFollowsItsOwnLineAndNoise) {
+  namespace s = epuck2::models::sensors;
+  s::GroundModel m;
+  const double offset[3] = {40, 25, 15}, gain[3] = {900, 950, 1000}, sd[3] = {2, 5, 9};
+  for (int k = 0; k < 3; ++k) {
+    m.sensors[k].offset_raw = offset[k];
+    m.sensors[k].gain_raw = gain[k];
+    m.noise_sd_raw[k] = sd[k];
+  }
+  m.effects.exponent = 1.6;
+  C8Log log;
+  log.c["sensor"] = {2, 0, 1, 1, 2, 0};
+  log.c["grey"] = {0.3, 0.7, 0.45, 0.9, 0.1, 0.25};
+  C8ConstantNormal one;
+  const std::vector<double> cov(6, 0.0);
+  const auto out = s::simulated_readings(m, log, cov, true, one);
+  ASSERT_EQ(out.size(), 6u);
+  for (std::size_t i = 0; i < 6; ++i) {
+    const int k = static_cast<int>(log.c["sensor"][i]);
+    const double want = std::round(offset[k] + gain[k] * std::pow(log.c["grey"][i], 1.6) + sd[k]);
+    EXPECT_EQ(out[i].at(0), want) << "row " << i << " sensor " << k;
+  }
+}
+
+// Light with noise: sensor s reads round(4095 (1 - g_s (gamma_s I / d)^2) - offset + sd_s), by
+// hand: per-sensor gammas 0.06, 0.08, 0.1 (sensors 0..2), gains 0.9, 1.0, 1.1, ambient offset 12,
+// sds 3, 6, 11; distance and intensity differ on every row (their swap changes the ratio).
+TEST(ClassesEightSimulateLikeNoisy, LightEachSensorFollowsItsOwnGammaGainAndNoise) {
+  namespace s = epuck2::models::sensors;
+  s::LightModel m;
+  const double gamma[3] = {0.06, 0.08, 0.1}, g[3] = {0.9, 1.0, 1.1}, sd[3] = {3, 6, 11};
+  for (int k = 0; k < 3; ++k) {
+    m.sensor_gamma_m[k] = gamma[k];
+    m.effects.gains.gain[k] = g[k];
+    m.noise_sd_raw[k] = sd[k];
+  }
+  m.effects.ambient.offset_raw = 12.0;
+  C8Log log;
+  log.c["sensor"] = {1, 2, 0, 2, 0, 1};
+  log.c["distance_m"] = {0.2, 0.35, 0.15, 0.25, 0.3, 0.12};
+  log.c["intensity"] = {0.5, 1.2, 0.8, 0.7, 1.5, 0.4};
+  C8ConstantNormal one;
+  const std::vector<double> cov(6, 0.0);
+  const auto out = s::simulated_readings(m, log, cov, true, one);
+  ASSERT_EQ(out.size(), 6u);
+  for (std::size_t i = 0; i < 6; ++i) {
+    const int k = static_cast<int>(log.c["sensor"][i]);
+    const double r = gamma[k] * log.c["intensity"][i] / log.c["distance_m"][i];
+    const double want = std::clamp(std::round(4095.0 * (1 - g[k] * r * r) - 12.0 + sd[k]), 0.0, 4095.0);
+    EXPECT_EQ(out[i].at(0), want) << "row " << i << " sensor " << k;
+  }
+}
+
+// Proximity with noise: with draws +1 and -1 sd, sensor s's two readings differ by 2 sd_s (to the
+// rounding's 1 count), sds 10, 40, 90 for sensors 0..2 (rows in another order); with draw 0 each
+// reading is the noiseless expected reading of its own row rounded, at distances and angles that
+// differ (gains 0.8, 1.0, 1.25 per sensor, so that a sibling's sensor index shows).
+TEST(ClassesEightSimulateLikeNoisy, ProximityEachSensorDrawsItsOwnNoiseAtItsOwnDistance) {
+  namespace s = epuck2::models::sensors;
+  s::ProximityModel m;
+  const double sd[3] = {10, 40, 90}, g[3] = {0.8, 1.0, 1.25};
+  for (int k = 0; k < 3; ++k) {
+    m.noise_sd_raw[k] = sd[k];
+    m.effects.gains.gain[k] = g[k];
+  }
+  C8Log log;
+  log.c["sensor"] = {2, 0, 1, 0, 2, 1};
+  log.c["distance_m"] = {0.01, 0.02, 0.015, 0.03, 0.012, 0.025};
+  log.c["angle_deg"] = {0, 20, 40, 10, 30, 0};
+  const std::vector<double> cov(6, 0.0);
+  C8ConstantNormal up{1.0}, down{-1.0}, zero{0.0};
+  const auto hi = s::simulated_readings(m, log, cov, true, up);
+  const auto lo = s::simulated_readings(m, log, cov, true, down);
+  const auto mid = s::simulated_readings(m, log, cov, true, zero);
+  const auto exact = s::simulated_readings(m, log, cov, false, zero);
+  for (std::size_t i = 0; i < 6; ++i) {
+    const int k = static_cast<int>(log.c["sensor"][i]);
+    ASSERT_GT(exact[i][0], 2 * sd[2]) << "row " << i << ": the fixture must sit off the rails";
+    ASSERT_LT(exact[i][0], 4095 - 2 * sd[2]) << "row " << i;
+    EXPECT_NEAR(hi[i][0] - lo[i][0], 2 * sd[k], 1.0) << "row " << i << " sensor " << k;
+    EXPECT_EQ(mid[i][0], std::round(exact[i][0])) << "row " << i;
+  }
+  // the fixture's power: the rows' expected readings all differ
+  for (std::size_t a = 0; a < 6; ++a)
+    for (std::size_t b = a + 1; b < 6; ++b) EXPECT_GT(std::abs(exact[a][0] - exact[b][0]), 2.0) << a << " " << b;
+}
+
+// Camera with noise: each axis is its own mean plus the noise (px and py are not swapped, every
+// draw +1 sd = 2 px), the LED positions asymmetric so that px != py and forward, lateral and
+// vertical differ; with draw 0 the rounded noiseless position.
+TEST(ClassesEightSimulateLikeNoisy, CameraEachAxisFollowsItsOwnPosition) {
+  namespace s = epuck2::models::sensors;
+  s::CameraModel m;
+  m.noise_sd_px = 2.0;
+  C8Log log;
+  log.c["forward_m"] = {0.3, 0.5, 0.4};
+  log.c["lateral_m"] = {0.05, -0.08, 0.02};
+  log.c["vertical_m"] = {-0.03, 0.04, 0.06};
+  const std::vector<double> cov(3, 0.0);
+  C8ConstantNormal up{1.0}, zero{0.0};
+  const auto hi = s::simulated_readings(m, log, cov, true, up);
+  const auto mid = s::simulated_readings(m, log, cov, true, zero);
+  const auto exact = s::simulated_readings(m, log, cov, false, zero);
+  for (std::size_t i = 0; i < 3; ++i) {
+    ASSERT_EQ(exact[i].size(), 2u) << "row " << i << " must be seen";
+    ASSERT_GT(std::abs(exact[i][0] - exact[i][1]), 5.0) << "row " << i;
+    for (int a = 0; a < 2; ++a) {
+      EXPECT_EQ(mid[i].at(a), std::round(exact[i][a])) << "row " << i << " axis " << a;
+      EXPECT_EQ(hi[i].at(a), std::round(exact[i][a] + 2.0)) << "row " << i << " axis " << a;
+    }
+  }
+}
+
+// Drive with noise: the ToF's draw is in mm (sd 7 mm), the encoders' in steps (sd 0.4): every draw
+// +1 sd moves the ToF by 7 mm (to the rounding) against the noiseless run, never by 0.4; both
+// wheels commanded differently (8 and 3 cm/s), each encoder within a step of its noiseless count.
+TEST(ClassesEightSimulateLikeNoisy, DriveToFAndEncodersDrawTheirOwnNoise) {
+  namespace s = epuck2::models::sensors;
+  s::DriveModel m;
+  m.tof_noise_sd_mm = 7.0;
+  m.encoder_noise_sd_steps = 0.4;
+  C8Log log;
+  log.obstacle_m = 0.5;
+  for (int i = 0; i <= 10; ++i) {
+    log.c["time_s"].push_back(0.1 * i);
+    log.c["left_speed_cm_s"].push_back(8.0);
+    log.c["right_speed_cm_s"].push_back(3.0);
+  }
+  const std::vector<double> cov(11, 0.0);
+  C8ConstantNormal up{1.0}, zero{0.0};
+  const auto hi = s::simulated_readings(m, log, cov, true, up);
+  const auto exact = s::simulated_readings(m, log, cov, false, zero);
+  ASSERT_GT(exact.back()[0], exact.back()[1] + 100) << "the left wheel must have turned further";
+  for (std::size_t i = 1; i < 11; ++i) {
+    EXPECT_NEAR(hi[i][2] - exact[i][2], 7.0, 1.0) << "row " << i;
+    EXPECT_NEAR(hi[i][0], exact[i][0], 1.0) << "row " << i;
+    EXPECT_NEAR(hi[i][1], exact[i][1], 1.0) << "row " << i;
+  }
+}
+
+// Battery with noise: the charge is the mean plus noise_sd times the draw, not rounded: +1 sd of
+// 0.004 is 0.004 above the noiseless charge on every row below the bound 1.05.
+TEST(ClassesEightSimulateLikeNoisy, BatteryChargeMovesByItsOwnNoise) {
+  namespace s = epuck2::models::sensors;
+  s::BatteryModel m;
+  m.noise_sd = 0.004;
+  C8Log log;
+  log.c["time_s"] = {0, 600, 1200, 1800};
+  log.c["speed_cm_s"] = {5, 5, 5, 5};
+  log.c["charge"] = {0.9, 0.85, 0.8, 0.75};
+  const std::vector<double> cov(4, 0.0);
+  C8ConstantNormal up{1.0}, zero{0.0};
+  const auto hi = s::simulated_readings(m, log, cov, true, up);
+  const auto exact = s::simulated_readings(m, log, cov, false, zero);
+  for (std::size_t i = 0; i < 4; ++i) {
+    ASSERT_LT(exact[i][0], 1.05 - 0.004) << "row " << i;
+    EXPECT_NEAR(hi[i][0] - exact[i][0], 0.004, 1e-12) << "row " << i;
+  }
+}
+
+// ----- class C: the reading noise's group sizes, at the limits ----------------------------------
+
+/// 50 groups of two readings -1, +1 (each 2 counts^2 about its mean, 1 degree), a lone reading
+/// 1000 (a group of one: no spread, never pooled) and a test group `t`; the pooled sd.
+epuck2::calibrate::PooledSd c8_pooled_with(const std::vector<double>& t) {
+  std::vector<double> v;
+  std::vector<int> g;
+  for (int k = 0; k < 50; ++k) {
+    v.insert(v.end(), {-1.0, 1.0});
+    g.insert(g.end(), {k, k});
+  }
+  v.push_back(1000.0);
+  g.push_back(50);
+  for (double x : t) {
+    v.push_back(x);
+    g.push_back(51);
+  }
+  return epuck2::calibrate::pooled_replicate_sd(v, g, std::vector<bool>(v.size(), false), 0.0);
+}
+
+// reading_noise.hpp: groups of two or more are pooled; a reading farther than 4 pooled sd from its
+// group's median is left out only in groups of fewer than kSmallGroup = 10 readings. A group of 9
+// (-1 x4, +1 x4, 10): the first pass pools (100 + 96.89) / 58 (sd 1.842), the 10 sits 9 from the
+// median 1, beyond 4 x 1.842 = 7.37: left out, leaving (100 + 8) / (50 + 7) over 108 readings. A
+// group of exactly 10 (-1 x4, 0, +1 x4, 10) keeps it: (100 + 98) / (50 + 9), 110 readings. Neither
+// 10 is wild (8 robust sd: 1.4826 x MAD 2 and 1 from the medians 1 and 0.5: 23.7 and 11.9 > 9).
+TEST(ClassesEightBoundaries, ReadingNoiseSmallGroupIsBelowTenAndPairsArePooled) {
+  const auto nine = c8_pooled_with({-1, -1, -1, -1, 1, 1, 1, 1, 10});
+  EXPECT_EQ(nine.outliers, 1u);
+  EXPECT_EQ(nine.groups, 51u);
+  EXPECT_EQ(nine.n, 108u);
+  EXPECT_NEAR(nine.sd, std::sqrt(108.0 / 57.0), 1e-12);
+  const auto ten = c8_pooled_with({-1, -1, -1, -1, 0, 1, 1, 1, 1, 10});
+  EXPECT_EQ(ten.outliers, 0u);
+  EXPECT_EQ(ten.wild, 0u);
+  EXPECT_EQ(ten.groups, 51u);
+  EXPECT_EQ(ten.n, 110u);
+  EXPECT_NEAR(ten.sd, std::sqrt(198.0 / 59.0), 1e-12);
+}
+
+}  // namespace
