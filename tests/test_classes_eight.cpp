@@ -310,7 +310,8 @@ TEST(ClassesEightSimulateLikeNoisy, LightEachSensorFollowsItsOwnGammaGainAndNois
 // Proximity with noise: with draws +1 and -1 sd, sensor s's two readings differ by 2 sd_s (to the
 // rounding's 1 count), sds 10, 40, 90 for sensors 0..2 (rows in another order); with draw 0 each
 // reading is the noiseless expected reading of its own row rounded, at distances and angles that
-// differ (gains 0.8, 1.0, 1.25 per sensor, so that a sibling's sensor index shows).
+// differ (gains 0.8, 1.0, 1.25 per sensor, so that a sibling's sensor index shows; the incidence
+// effect on, k = 2, so that the angle does).
 TEST(ClassesEightSimulateLikeNoisy, ProximityEachSensorDrawsItsOwnNoiseAtItsOwnDistance) {
   namespace s = epuck2::models::sensors;
   s::ProximityModel m;
@@ -319,6 +320,7 @@ TEST(ClassesEightSimulateLikeNoisy, ProximityEachSensorDrawsItsOwnNoiseAtItsOwnD
     m.noise_sd_raw[k] = sd[k];
     m.effects.gains.gain[k] = g[k];
   }
+  m.effects.incidence.k = 2.0;  // the angle matters: cos^2 of it
   C8Log log;
   log.c["sensor"] = {2, 0, 1, 0, 2, 1};
   log.c["distance_m"] = {0.01, 0.02, 0.015, 0.03, 0.012, 0.025};
@@ -336,7 +338,13 @@ TEST(ClassesEightSimulateLikeNoisy, ProximityEachSensorDrawsItsOwnNoiseAtItsOwnD
     EXPECT_NEAR(hi[i][0] - lo[i][0], 2 * sd[k], 1.0) << "row " << i << " sensor " << k;
     EXPECT_EQ(mid[i][0], std::round(exact[i][0])) << "row " << i;
   }
-  // the fixture's power: the rows' expected readings all differ
+  // the fixture's power: the rows' expected readings all differ, and each row at an angle reads
+  // otherwise than it would facing the surface
+  C8Log facing = log;
+  facing.c["angle_deg"] = std::vector<double>(6, 0.0);
+  const auto straight = s::simulated_readings(m, facing, cov, false, zero);
+  for (std::size_t i = 0; i < 6; ++i)
+    if (log.c["angle_deg"][i] != 0) EXPECT_GT(std::abs(straight[i][0] - exact[i][0]), 2.0) << "row " << i;
   for (std::size_t a = 0; a < 6; ++a)
     for (std::size_t b = a + 1; b < 6; ++b) EXPECT_GT(std::abs(exact[a][0] - exact[b][0]), 2.0) << a << " " << b;
 }
