@@ -15,6 +15,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -193,6 +195,110 @@ TEST(ClassesEightDiagnosisReport, EveryFitFieldFollowsFromTheRowsAndTheWrittenMo
   const double sd = j["noise"]["ground"]["sd"].get<double>();
   EXPECT_NEAR(sd * sd, fin["mse"].get<double>() - 1.0 / 12.0, 1e-6);
   EXPECT_LT(sd * sd, 28.0 / 5.0 - 1.0 / 12.0);
+  c8fs::remove_all(dir);
+}
+
+/// A CSV's data rows with their line numbers in the file ('#' lines and the header skipped).
+std::vector<std::pair<std::size_t, std::map<std::string, double>>> c8_rows(const std::string& text) {
+  std::istringstream in(text);
+  std::string line;
+  std::vector<std::string> names;
+  std::vector<std::pair<std::size_t, std::map<std::string, double>>> out;
+  for (std::size_t ln = 1; std::getline(in, line); ++ln) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (names.empty()) {
+      names = cells;
+      continue;
+    }
+    std::map<std::string, double> row;
+    for (std::size_t k = 0; k < names.size() && k < cells.size(); ++k) row[names[k]] = std::stod(cells[k]);
+    out.emplace_back(ln, row);
+  }
+  return out;
+}
+
+// Every kind, on the first shipped log of each: every statistics block of the diagnosis report
+// (recalibrated, final, each finding's) follows from its own n, k and RSS by the documented
+// formulas; where a finding is kept the final fit has more free parameters and a smaller RSS than
+// the recalibrated one, and the last finding's fit is the final one (where no possible finding
+// stayed in the search's model). The held-out MSEs chain
+// (each finding's before is the one before it's after, from heldout_mse_recalibrated to
+// heldout_mse_final) where every finding is judged on the same rows' MSE: light, ground, camera,
+// drive (its ToF channel) and battery (proximity's findings are judged on the censored
+// likelihood's rows, not chained). For light and camera (no rail reached) the written model,
+// run by `simulate --like` over the log, gives back fit.final's RSS and n over the rows that the
+// report does not list as wild (`outliers.rows`, file:line), on the kind's reading columns.
+TEST(ClassesEightDiagnosisReport, EveryKindsFitBlocksFollowFromTheirRowsAndTheWrittenModel) {
+  const c8fs::path dir = c8_scratch("kinds");
+  struct Kind {
+    std::string kind, log;
+    std::vector<std::string> readings;  // empty: no written-model check
+    bool chained;
+  };
+  const std::vector<Kind> kinds = {{"proximity", "data/raw/proximity/proximity_virtual-epuck2-1.csv", {}, false},
+                                   {"light", "data/raw/light/light_intensity_0.50.csv", {"value"}, true},
+                                   {"ground", "data/raw/ground/ground_virtual-epuck2-1.csv", {}, true},
+                                   {"camera", "data/raw/camera/camera_virtual-epuck2-1.csv", {"px", "py"}, true},
+                                   {"drive", "data/raw/drive/drive_away_02.5_cm_s.csv", {}, true},
+                                   {"battery", "data/raw/battery/robot-a_speed-00.csv", {}, true}};
+  for (const Kind& k : kinds) {
+    SCOPED_TRACE(k.kind);
+    const c8fs::path ext = dir / (k.kind + ".json");
+    std::string out;
+    ASSERT_EQ(c8_cli("diagnose " + k.log + " --json -o '" + ext.string() + "'", dir, &out), 0) << c8_read(dir / "stderr.txt");
+    const c8json j = c8json::parse(out);
+    const c8json& rec = j["fit"]["recalibrated"];
+    const c8json& fin = j["fit"]["final"];
+    c8_expect_statistics(rec, "fit.recalibrated");
+    c8_expect_statistics(fin, "fit.final");
+    for (const c8json& f : j["findings"]) c8_expect_statistics(f["fit"], "finding " + f["cause"].get<std::string>());
+    ASSERT_FALSE(j["findings"].empty()) << "the shipped logs hold the virtual robot's imperfections";
+    EXPECT_GT(fin["free_parameters"].get<int>(), rec["free_parameters"].get<int>());
+    EXPECT_LT(fin["rss"].get<double>(), rec["rss"].get<double>());
+    EXPECT_EQ(fin["n"], rec["n"]);
+    // (a possible, not determined finding is in the search's model at later steps but not in
+    // the final one: docs/diagnose.md; the shipped proximity log keeps a long_tail so)
+    if (j["possible_findings"].empty()) EXPECT_DOUBLE_EQ(j["findings"].back()["fit"]["rss"].get<double>(), fin["rss"].get<double>());
+    if (k.chained) {
+      double before = j["heldout_mse_recalibrated"].get<double>();
+      for (const c8json& f : j["findings"]) {
+        EXPECT_NEAR(f["heldout_mse_before"].get<double>(), before, 1e-6 * before) << f["cause"];
+        before = f["heldout_mse_after"].get<double>();
+      }
+      EXPECT_NEAR(j["heldout_mse_final"].get<double>(), before, 1e-6 * before);
+    }
+    if (k.readings.empty()) continue;
+    std::set<std::size_t> wild;
+    const std::regex at(":([0-9]+):");
+    for (const c8json& r : j["outliers"]["rows"]) {
+      std::smatch m;
+      const std::string text = r.get<std::string>();
+      ASSERT_TRUE(std::regex_search(text, m, at)) << text;
+      wild.insert(std::stoul(m[1]));
+    }
+    const c8fs::path sim = dir / (k.kind + "_sim.csv");
+    ASSERT_EQ(c8_cli("simulate " + k.kind + " --like " + k.log + " --coefficients '" + ext.string() + "' -o '" + sim.string() + "'", dir), 0)
+        << c8_read(dir / "stderr.txt");
+    const auto measured = c8_rows(c8_read(c8fs::path(EPUCK2_SOURCE_DIR) / k.log));
+    const auto simulated = c8_rows(c8_read(sim));
+    ASSERT_EQ(measured.size(), simulated.size());
+    double rss = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < measured.size(); ++i) {
+      if (wild.count(measured[i].first)) continue;
+      for (const std::string& c : k.readings) {
+        const double d = measured[i].second.at(c) - simulated[i].second.at(c);
+        rss += d * d;
+        ++n;
+      }
+    }
+    EXPECT_EQ(n, fin["n"].get<std::size_t>());
+    EXPECT_NEAR(rss, fin["rss"].get<double>(), 1e-6 * rss);
+  }
   c8fs::remove_all(dir);
 }
 
