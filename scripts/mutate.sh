@@ -547,6 +547,8 @@ MUTANTS = [
      "s::kCameraHeight_px / 2.0 + v.at(principal.name, principal.params[0].key", R7_DIAGNOSE),
     ("c8_dreport_heldout_final_from_base", "lib/diagnose/src/report_output.cpp", 'j["heldout_mse_final"] = r.heldout_mse_final;',
      'j["heldout_mse_final"] = r.heldout_mse_base;', R7_DIAGNOSE),
+    ("c8_std_errors_first_parameters", "lib/calibrate/src/report_json.cpp", 'j["std_errors"][prefix + p.name] = json_number(p.std_error);',
+     'j["std_errors"][prefix + p.name] = json_number(r.parameters.front().std_error);', R7_CALIB),
     ("c8_stat_aic_from_bic", "lib/calibrate/src/report_json.cpp", '{"aic", json_number(s.aic)},', '{"aic", json_number(s.bic)},', R7_CALIB),
     ("c8_battery_linear_slope_se_over_l", "lib/calibrate/src/battery_fit.cpp", "s.linear_slope_std_error = s.lifetime_std_error_s / (L * L);",
      "s.linear_slope_std_error = s.lifetime_std_error_s / L;", R7_CALIB),

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
@@ -334,6 +335,56 @@ TEST(ClassesEightBatteryFile, LifetimesAndLinearSlopesFromTheLogsTimeColumns) {
     EXPECT_NEAR(s["lifetime_std_error_s"].get<double>(), se, 1e-9 * mean) << speed;
     EXPECT_NEAR(s["linear_slope"].get<double>(), -1.0 / mean, 1e-9 / mean) << speed;
     EXPECT_NEAR(s["linear_slope_std_error"].get<double>(), se / (mean * mean), 1e-6 * se / (mean * mean) + 1e-18) << speed;
+  }
+  c8fs::remove_all(dir);
+}
+
+// The camera file's standard errors in their units (degrees for fov_deg, px for the centre),
+// recomputed by another route: docs/coefficient-files.md's pinhole, px = cx - f lateral/forward,
+// py = cy - f vertical/forward, f = 80 / tan(fov/2), differentiated by central differences in
+// degrees and pixels at the file's parameters over the rows the file does not list as outliers;
+// se = sqrt(s^2 (J^T J)^-1), s^2 the projection fit's reduced chi^2 (its noise sd squared). Within
+// 1 % (the file leaves out single readings, the test their rows). A derivative taken per radian
+// and written per degree is 57.3 times off.
+TEST(ClassesEightCameraFile, StandardErrorsInDegreesAndPixelsByFiniteDifferences) {
+  const c8fs::path dir = c8_scratch("camera");
+  const std::string log = "data/raw/camera/camera_virtual-epuck2-1.csv";
+  ASSERT_EQ(c8_cli("camera " + log + " -o '" + (dir / "c.json").string() + "'", dir), 0) << c8_read(dir / "stderr.txt");
+  const c8json j = c8json::parse(c8_read(dir / "c.json"));
+  std::set<std::size_t> wild;
+  for (const c8json& r : j["outliers"]["rows"]) {
+    const std::string t = r.get<std::string>();
+    wild.insert(std::stoul(t.substr(t.rfind(':') + 1)));
+  }
+  const double pi = std::acos(-1.0);
+  const Eigen::Vector3d p0(j["parameters"]["fov_deg"].get<double>(), j["parameters"]["cx_px"].get<double>(),
+                           j["parameters"]["cy_px"].get<double>());
+  auto project = [&](const Eigen::Vector3d& p, double fwd, double lat, double vert) {
+    const double f = 80.0 / std::tan(p[0] * pi / 180.0 / 2.0);
+    return Eigen::Vector2d(p[1] - f * lat / fwd, p[2] - f * vert / fwd);
+  };
+  Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+  std::size_t rows = 0;
+  for (const auto& [line, r] : c8_rows(c8_read(c8fs::path(EPUCK2_SOURCE_DIR) / log))) {
+    if (wild.count(line)) continue;
+    Eigen::Matrix<double, 2, 3> g;
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d a = p0, b = p0;
+      a[k] += 1e-4;
+      b[k] -= 1e-4;
+      g.col(k) = (project(a, r.at("forward_m"), r.at("lateral_m"), r.at("vertical_m")) -
+                  project(b, r.at("forward_m"), r.at("lateral_m"), r.at("vertical_m"))) / 2e-4;
+    }
+    jtj += g.transpose() * g;
+    ++rows;
+  }
+  ASSERT_GT(rows, 300u);
+  const double s2 = j["fits"]["projection"]["reduced_chi2"].get<double>();
+  const Eigen::Matrix3d cov = s2 * jtj.inverse();
+  const char* names[3] = {"fov_deg", "cx_px", "cy_px"};
+  for (int k = 0; k < 3; ++k) {
+    const double want = std::sqrt(cov(k, k));
+    EXPECT_NEAR(j["std_errors"][names[k]].get<double>(), want, 0.01 * want) << names[k];
   }
   c8fs::remove_all(dir);
 }
