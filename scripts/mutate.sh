@@ -552,6 +552,7 @@ MUTANTS = [
     ("c8_stat_aic_from_bic", "lib/calibrate/src/report_json.cpp", '{"aic", json_number(s.aic)},', '{"aic", json_number(s.bic)},', R7_CALIB),
     ("c8_battery_linear_slope_se_over_l", "lib/calibrate/src/battery_fit.cpp", "s.linear_slope_std_error = s.lifetime_std_error_s / (L * L);",
      "s.linear_slope_std_error = s.lifetime_std_error_s / L;", R7_CALIB),
+    ("c8_cluster_min_runs_strict", "lib/fit/src/report.cpp", "if (G < kMinClusters) {", "if (G <= kMinClusters) {", R7_FIT),
     ("c8_noise_small_group_le", "lib/calibrate/src/reading_noise.cpp", "g.kept.size() < kSmallGroup ?", "g.kept.size() <= kSmallGroup ?",
      R7_CALIB),
     ("c8_noise_pairs_not_pooled", "lib/calibrate/src/reading_noise.cpp", "if (v.size() < 2) continue;", "if (v.size() <= 2) continue;",

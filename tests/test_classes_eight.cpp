@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "epuck2/calibrate/reading_noise.hpp"
+#include "epuck2/fit/report.hpp"
 #include "epuck2/models/kinds.hpp"
 #include "epuck2/models/simulate_log.hpp"
 
@@ -617,6 +618,39 @@ TEST(ClassesEightBoundaries, ReadingNoiseSmallGroupIsBelowTenAndPairsArePooled) 
   EXPECT_EQ(ten.groups, 51u);
   EXPECT_EQ(ten.n, 110u);
   EXPECT_NEAR(ten.sd, std::sqrt(198.0 / 59.0), 1e-12);
+}
+
+// fit/report.hpp: the cluster-robust errors need at least kMinClusters = 5 runs. One parameter
+// (a mean: every Jacobian entry 1), runs of two rows with residuals d_c, d_c, d = 1, -2, 3, -1, -1:
+// s_c = 2 d_c = 2, -4, 6, -2, -2, sum of s_c^2 = 64, (J^T J)^-1 = 1/10, so V = 64/100 x 5/4 = 0.8 and
+// the error sqrt(0.8) = 0.894427 (above the covariance's 0.001). With the first four runs only, not
+// cluster-robust: the covariance's 0.001 (AR(1) not computed: factor 1) and a reason naming 4 runs.
+TEST(ClassesEightBoundaries, ClusterRobustErrorsFromExactlyFiveRuns) {
+  auto run_with = [](int runs) {
+    const double d[5] = {1, -2, 3, -1, -1};
+    epuck2::fit::FitResult fit;
+    fit.parameters.emplace_back("mean", 0.0, 0.001);
+    std::vector<double> residuals;
+    std::vector<int> run;
+    for (int c = 0; c < runs; ++c)
+      for (int r = 0; r < 2; ++r) {
+        residuals.push_back(d[c]);
+        run.push_back(c);
+      }
+    const Eigen::MatrixXd jacobian = Eigen::MatrixXd::Ones(static_cast<Eigen::Index>(residuals.size()), 1);
+    epuck2::fit::AutocorrelationCorrection a;
+    epuck2::fit::apply_cluster_robust(a, fit, jacobian, residuals, run);
+    return a;
+  };
+  const auto five = run_with(5);
+  EXPECT_TRUE(five.cluster_robust) << five.cluster_why_not;
+  ASSERT_EQ(five.std_errors.size(), 1u);
+  EXPECT_NEAR(five.std_errors[0], std::sqrt(0.8), 1e-12);
+  const auto four = run_with(4);
+  EXPECT_FALSE(four.cluster_robust);
+  ASSERT_EQ(four.std_errors.size(), 1u);
+  EXPECT_DOUBLE_EQ(four.std_errors[0], 0.001);
+  EXPECT_NE(four.cluster_why_not.find("4 runs"), std::string::npos) << four.cluster_why_not;
 }
 
 }  // namespace
