@@ -390,6 +390,63 @@ TEST(ClassesEightCameraFile, StandardErrorsInDegreesAndPixelsByFiniteDifferences
   c8fs::remove_all(dir);
 }
 
+// The drive file's numbers in their documented units (docs/coefficient-files.md), from the logs by
+// hand: steps_per_m against each moving run's encoder slope over its second half, steps per
+// second over the commanded speed in m/s (runs at most 12.5 cm/s: 15 is above the firmware's
+// cap), within 0.2 % each and 0.1 % on their mean; the ToF's scale and offset (mm) against the
+// readings standing before a run first moves, tof_mm = scale 1000 (D - 0) + offset with D the
+// log's obstacle_distance_m: their mean misfit within 1 mm (the noise's ~3.7 mm over ~100 rows);
+// capped_rows the rows whose command, either wheel, exceeds the firmware's 1100 steps/s (14.17
+// cm/s), over_limit_runs the runs holding one.
+TEST(ClassesEightDriveFile, StepsPerMetreAndTofLineInTheirUnitsFromTheLogs) {
+  const c8fs::path dir = c8_scratch("drive");
+  ASSERT_EQ(c8_cli("drive data/raw/drive/*.csv -o '" + (dir / "d.json").string() + "'", dir), 0) << c8_read(dir / "stderr.txt");
+  const c8json j = c8json::parse(c8_read(dir / "d.json"));
+  const double steps_per_m = j["parameters"]["steps_per_m"].get<double>();
+  const double scale = j["parameters"]["tof_scale"].get<double>(), offset = j["parameters"]["tof_offset_mm"].get<double>();
+  double slopes = 0, misfit = 0;
+  std::size_t runs = 0, still = 0, capped = 0, capped_runs = 0;
+  const double cap_cm_s = 1100.0 / 7763.656 * 100.0;  // the firmware's 1100 steps/s at the plug-in's steps/m
+  for (const auto& e : c8fs::directory_iterator(c8fs::path(EPUCK2_SOURCE_DIR) / "data/raw/drive")) {
+    if (e.path().extension() != ".csv") continue;
+    const std::string text = c8_read(e.path());
+    const std::size_t at = text.find("# obstacle_distance_m: ");
+    ASSERT_NE(at, std::string::npos) << e.path();
+    const double d_m = std::stod(text.substr(at + 23));
+    const auto rows = c8_rows(text);
+    std::vector<std::map<std::string, double>> moving;
+    bool moved = false;
+    std::size_t over = 0;
+    for (const auto& [line, r] : rows) {
+      (void)line;
+      if (std::max(std::abs(r.at("left_speed_cm_s")), std::abs(r.at("right_speed_cm_s"))) > cap_cm_s) ++over;
+      moved = moved || r.at("left_speed_cm_s") != 0 || r.at("right_speed_cm_s") != 0;
+      if (!moved && r.at("tof_mm") < 8190) {
+        misfit += r.at("tof_mm") - (scale * 1000.0 * d_m + offset);
+        ++still;
+      }
+      if (r.at("left_speed_cm_s") != 0) moving.push_back(r);
+    }
+    capped += over;
+    capped_runs += over > 0;
+    if (moving.size() < 10 || std::abs(moving.front().at("left_speed_cm_s")) > 12.5) continue;
+    const auto& a = moving[moving.size() / 2];
+    const auto& b = moving.back();
+    const double slope = (b.at("left_steps") - a.at("left_steps")) / (b.at("time_s") - a.at("time_s")) / (a.at("left_speed_cm_s") / 100.0);
+    EXPECT_NEAR(slope, steps_per_m, 0.002 * steps_per_m) << e.path();
+    slopes += slope;
+    ++runs;
+  }
+  ASSERT_GE(runs, 10u);
+  ASSERT_GE(still, 50u);
+  EXPECT_NEAR(slopes / runs, steps_per_m, 0.001 * steps_per_m);
+  EXPECT_NEAR(misfit / still, 0.0, 1.0);
+  EXPECT_EQ(j["capped_rows"].get<std::size_t>(), capped);
+  EXPECT_EQ(j["over_limit_runs"].size(), capped_runs);
+  EXPECT_GT(capped, 0u);
+  c8fs::remove_all(dir);
+}
+
 // ----- class E: `simulate --like` with noise, every kind ---------------------------------------
 
 /// A log's columns as simulated_readings reads a log.
