@@ -710,4 +710,47 @@ TEST(ClassesEightBoundaries, ClusterRobustErrorsFromExactlyFiveRuns) {
   EXPECT_NE(four.cluster_why_not.find("4 runs"), std::string::npos) << four.cluster_why_not;
 }
 
+/// A drive log written by hand: `still` rows standing (ToF 297, 303 alternating about the obstacle
+/// at 0.3 m, encoders 0), then 4 s at 5 cm/s on both wheels, the encoders at floor(7763.656 x) of
+/// the commanded travel x and the ToF at 1000 (0.3 - x) +- 1 mm.
+std::string c8_drive_log(int still) {
+  std::ostringstream out;
+  out << "# obstacle_distance_m: 0.3\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n";
+  int row = 0;
+  for (int i = 0; i < still; ++i, ++row) out << 0.1 * row << ",0,0,0,0," << (i % 2 ? 303 : 297) << "\n";
+  for (int k = 0; k < 40; ++k, ++row) {
+    const double x = 0.05 * 0.1 * k;
+    const long steps = static_cast<long>(std::floor(7763.656 * x));
+    out << 0.1 * row << ",5,5," << steps << "," << steps << "," << std::lround(1000 * (0.3 - x)) + (k % 2 ? 1 : -1) << "\n";
+  }
+  return out.str();
+}
+
+// drive_fit: the ToF's noise comes from the readings standing before a run moves when there are at
+// least kMinStillReadings = 30 of them. Exactly 30 (15 at 297, 15 at 303): from the replicates, n
+// 30, one group, sd sqrt(15 x 9 x 2 / 29) = sqrt(270/29) = 3.0513; 29: from the ToF fit's residuals.
+TEST(ClassesEightBoundaries, DriveToFNoiseFromExactlyThirtyStandingReadings) {
+  const c8fs::path dir = c8_scratch("still");
+  for (int still : {30, 29}) {
+    SCOPED_TRACE(still);
+    const c8fs::path log = dir / ("still" + std::to_string(still) + ".csv");
+    {
+      std::ofstream f(log);
+      f << c8_drive_log(still);
+    }
+    const c8fs::path out = dir / "d.json";
+    ASSERT_EQ(c8_cli("drive '" + log.string() + "' -o '" + out.string() + "'", dir), 0) << c8_read(dir / "stderr.txt");
+    const c8json tof = c8json::parse(c8_read(out))["noise"]["tof"];
+    if (still == 30) {
+      EXPECT_EQ(tof["from"], "replicates") << tof.dump();
+      EXPECT_EQ(tof["n"].get<int>(), 30);
+      EXPECT_EQ(tof["groups"].get<int>(), 1);
+      EXPECT_NEAR(tof["sd"].get<double>(), std::sqrt(270.0 / 29.0), 1e-9);
+    } else {
+      EXPECT_EQ(tof["from"], "residuals") << tof.dump();
+    }
+  }
+  c8fs::remove_all(dir);
+}
+
 }  // namespace
