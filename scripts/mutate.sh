@@ -540,6 +540,7 @@ MUTANTS = [
     ("c8_battery_noise_squared", "lib/models/include/epuck2/models/kinds.hpp",
      "const double noise = m.noise_sd > 0 ? m.noise_sd * normal() : 0.0;",
      "const double noise = m.noise_sd > 0 ? m.noise_sd * m.noise_sd * normal() : 0.0;", R7_MODELS),
+    ("c8_noise_per_sensor_key_missed", MF, '    if (n > 1 && e->contains("per_sensor_sd")) {', '    if (n > 1 && e->contains("per_sensor_sd_")) {', R7_COEFF),
     ("c8_dreport_finding_before_from_after", "lib/diagnose/src/report_output.cpp", 'fj["heldout_mse_before"] = f.heldout_mse_before;',
      'fj["heldout_mse_before"] = f.heldout_mse_after;', R7_DIAGNOSE),
     ("c8_extended_camera_cy_from_dx", "lib/diagnose/src/extended_model.cpp",

@@ -637,6 +637,45 @@ TEST(ClassesEightSimulateLikeNoisy, BatteryChargeMovesByItsOwnNoise) {
   }
 }
 
+// Through the binary, the file's noise per sensor: a ground log written by hand whose sensors
+// scatter by +-2, +-3, +-8 counts (20 readings at each of 11 grey levels: replicate sd d sqrt(20/19)
+// = 2.052, 3.078, 8.208), calibrated (`ground -o`), then `simulate ground --like --noise --seed 3`
+// and without noise: each sensor's simulated readings scatter about the noiseless ones by its own
+// sd (within 20 %: 220 draws each, and the rounding) and centre on them (within 4 sd / sqrt(220)).
+TEST(ClassesEightSimulateLikeNoisy, GroundThroughTheBinaryEachSensorDrawsItsOwnFilesNoise) {
+  const c8fs::path dir = c8_scratch("gnoise");
+  const double offset[3] = {30, 10, 20}, gain[3] = {700, 850, 990}, dev[3] = {2, 3, 8};
+  {
+    std::ofstream f(dir / "g.csv");
+    f << "grey,sensor,value\n";
+    for (int k = 0; k <= 10; ++k)
+      for (int s = 0; s < 3; ++s)
+        for (int r = 0; r < 20; ++r) f << 0.1 * k << "," << s << "," << std::round(offset[s] + gain[s] * 0.1 * k) + (r % 2 ? dev[s] : -dev[s]) << "\n";
+  }
+  const std::string log = "'" + (dir / "g.csv").string() + "'", file = "'" + (dir / "g.json").string() + "'";
+  ASSERT_EQ(c8_cli("ground " + log + " -o " + file, dir), 0) << c8_read(dir / "stderr.txt");
+  ASSERT_EQ(c8_cli("simulate ground --like " + log + " --coefficients " + file + " --noise --seed 3 -o '" + (dir / "n.csv").string() + "'", dir), 0)
+      << c8_read(dir / "stderr.txt");
+  ASSERT_EQ(c8_cli("simulate ground --like " + log + " --coefficients " + file + " -o '" + (dir / "e.csv").string() + "'", dir), 0)
+      << c8_read(dir / "stderr.txt");
+  const auto noisy = c8_csv(c8_read(dir / "n.csv")), exact = c8_csv(c8_read(dir / "e.csv"));
+  ASSERT_EQ(noisy.at("value").size(), 660u);
+  ASSERT_EQ(exact.at("value").size(), 660u);
+  for (int s = 0; s < 3; ++s) {
+    std::vector<double> d;
+    for (std::size_t i = 0; i < 660; ++i)
+      if (noisy.at("sensor")[i] == s) d.push_back(noisy.at("value")[i] - exact.at("value")[i]);
+    ASSERT_EQ(d.size(), 220u);
+    double mean = 0, ss = 0;
+    for (double v : d) mean += v / d.size();
+    for (double v : d) ss += (v - mean) * (v - mean);
+    const double want = dev[s] * std::sqrt(20.0 / 19.0);
+    EXPECT_NEAR(std::sqrt(ss / (d.size() - 1)), want, 0.2 * want) << "sensor " << s;
+    EXPECT_NEAR(mean, 0.0, 4 * want / std::sqrt(220.0)) << "sensor " << s;
+  }
+  c8fs::remove_all(dir);
+}
+
 // ----- class C: the reading noise's group sizes, at the limits ----------------------------------
 
 /// 50 groups of two readings -1, +1 (each 2 counts^2 about its mean, 1 degree), a lone reading
