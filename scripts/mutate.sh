@@ -211,7 +211,10 @@ def with_round_five(group):
 # the area (the earlier rounds' groups, with test_strict_files and test_kind_facts, which read model
 # files and kind_facts too) and tests/test_slip_classes.cpp, the tests that close the classes. (The
 # run "before" them, on main's tests, had C6_TESTS = [], commit adbd788.)
-C6_TESTS = ["test_slip_classes"]
+# C8_TESTS: tests/test_classes_eight.cpp (session 8, "Classes closed (session 8)"), in the c6 and r7
+# groups alike, so that the next run of either includes them.
+C8_TESTS = ["test_classes_eight"]
+C6_TESTS = ["test_slip_classes"] + C8_TESTS
 
 
 def c6(group, more=()):
@@ -232,7 +235,7 @@ C6_FIT = c6(with_round_five(R4_FIT))
 # (the one engine, the light's per-sensor gammas, the file owner, the third distortion term).
 # R7_TESTS: tests/test_round_seven_slips.cpp, written after the run before them (that run had
 # R7_TESTS = [], commit ff3f0c0).
-R7_TESTS = ["test_round_seven_slips"]
+R7_TESTS = ["test_round_seven_slips"] + C8_TESTS
 
 
 def r7(groups, more=(), extra=()):
@@ -521,6 +524,48 @@ MUTANTS = [
      "if (standard_output_errno != 0) standard_output_errno", R7_APPS),
     ("r7_argos_light_sensor_zero_model", AS, "ms::mean_raw(m_sModel, static_cast<int>(i), vecLights)", "ms::mean_raw(m_sModel, 0, vecLights)",
      R7_ARGOS),
+    # Session 8 (bench/fresh-slips.md, "Classes closed (session 8)"): one slip of each class planted by
+    # hand against tests/test_classes_eight.cpp, in places no round had slipped (not a fresh round).
+    ("c8_ground_noisy_sd_sensor0", "lib/models/include/epuck2/models/kinds.hpp",
+     "m.noise_sd_raw[static_cast<std::size_t>(sensor)], 0.0,\n                        kGroundFullScale_raw",
+     "m.noise_sd_raw[0], 0.0,\n                        kGroundFullScale_raw", R7_MODELS),
+    ("c8_like_light_noisy_intensity_distance_swapped", SLM, "reading(m, sensor, in[i], d[i], g, covariate[i])",
+     "reading(m, sensor, d[i], in[i], g, covariate[i])", R7_MODELS),
+    ("c8_like_proximity_noisy_angle_dropped", SLM, "reading(m, sensor, d[i], cos_incidence(i), g, covariate[i])",
+     "reading(m, sensor, d[i], 1.0, g, covariate[i])", R7_MODELS),
+    ("c8_camera_noisy_py_from_px", "lib/models/include/epuck2/models/kinds.hpp", "noisy_register(p[1] + covariate_px",
+     "noisy_register(p[0] + covariate_px", R7_MODELS),
+    ("c8_drive_tof_noise_from_encoders", "lib/models/include/epuck2/models/kinds.hpp", "r.tof_mm = noisy_register(tof, m_.tof_noise_sd_mm,",
+     "r.tof_mm = noisy_register(tof, m_.encoder_noise_sd_steps,", R7_MODELS),
+    ("c8_battery_noise_squared", "lib/models/include/epuck2/models/kinds.hpp",
+     "const double noise = m.noise_sd > 0 ? m.noise_sd * normal() : 0.0;",
+     "const double noise = m.noise_sd > 0 ? m.noise_sd * m.noise_sd * normal() : 0.0;", R7_MODELS),
+    ("c8_noise_per_sensor_key_missed", MF, '    if (n > 1 && e->contains("per_sensor_sd")) {', '    if (n > 1 && e->contains("per_sensor_sd_")) {', R7_COEFF),
+    ("c8_dreport_finding_before_from_after", "lib/diagnose/src/report_output.cpp", 'fj["heldout_mse_before"] = f.heldout_mse_before;',
+     'fj["heldout_mse_before"] = f.heldout_mse_after;', R7_DIAGNOSE),
+    ("c8_extended_camera_cy_from_dx", "lib/diagnose/src/extended_model.cpp",
+     "s::kCameraHeight_px / 2.0 + v.at(principal.name, principal.params[1].key",
+     "s::kCameraHeight_px / 2.0 + v.at(principal.name, principal.params[0].key", R7_DIAGNOSE),
+    ("c8_dreport_heldout_final_from_base", "lib/diagnose/src/report_output.cpp", 'j["heldout_mse_final"] = r.heldout_mse_final;',
+     'j["heldout_mse_final"] = r.heldout_mse_base;', R7_DIAGNOSE),
+    ("c8_std_errors_first_parameters", "lib/calibrate/src/report_json.cpp", 'j["std_errors"][prefix + p.name] = json_number(p.std_error);',
+     'j["std_errors"][prefix + p.name] = json_number(r.parameters.front().std_error);', R7_CALIB),
+    ("c8_stat_aic_from_bic", "lib/calibrate/src/report_json.cpp", '{"aic", json_number(s.aic)},', '{"aic", json_number(s.bic)},', R7_CALIB),
+    ("c8_battery_linear_slope_se_over_l", "lib/calibrate/src/battery_fit.cpp", "s.linear_slope_std_error = s.lifetime_std_error_s / (L * L);",
+     "s.linear_slope_std_error = s.lifetime_std_error_s / L;", R7_CALIB),
+    ("c8_cluster_min_runs_strict", "lib/fit/src/report.cpp", "if (G < kMinClusters) {", "if (G <= kMinClusters) {", R7_FIT),
+    ("c8_drive_right_command_in_cm_s", "lib/calibrate/src/drive_fit.cpp", "r = std::clamp(vr[i] / 100.0, -cap, cap);",
+     "r = std::clamp(vr[i], -cap, cap);", R7_CALIB),
+    ("c8_drive_tof_scale_offset_swapped", "lib/calibrate/src/drive_fit.cpp",
+     "out[i++] = s::tof_response_mm(p[1], p[0], T(run.obstacle_distance_m) - travel[k]);",
+     "out[i++] = s::tof_response_mm(p[0], p[1], T(run.obstacle_distance_m) - travel[k]);", R7_CALIB),
+    ("c8_drive_still_readings_strict", "lib/calibrate/src/drive_fit.cpp",
+     "  if (!(out.tof_noise.n >= kMinStillReadings) || !std::isfinite(out.tof_noise.sd))",
+     "  if (!(out.tof_noise.n > kMinStillReadings) || !std::isfinite(out.tof_noise.sd))", R7_CALIB),
+    ("c8_noise_small_group_le", "lib/calibrate/src/reading_noise.cpp", "g.kept.size() < kSmallGroup ?", "g.kept.size() <= kSmallGroup ?",
+     R7_CALIB),
+    ("c8_noise_pairs_not_pooled", "lib/calibrate/src/reading_noise.cpp", "if (v.size() < 2) continue;", "if (v.size() <= 2) continue;",
+     R7_CALIB),
 ]
 
 
