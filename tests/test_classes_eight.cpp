@@ -62,13 +62,13 @@ int c8_cli(const std::string& args, const c8fs::path& dir, std::string* out = nu
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-/// A CSV's columns by name, '#' lines skipped (the tool's comments and metadata).
-std::map<std::string, std::vector<double>> c8_csv(const std::string& text) {
+/// A CSV's data rows with their line numbers in the file ('#' lines and the header skipped).
+std::vector<std::pair<std::size_t, std::map<std::string, double>>> c8_rows(const std::string& text) {
   std::istringstream in(text);
   std::string line;
   std::vector<std::string> names;
-  std::map<std::string, std::vector<double>> cols;
-  while (std::getline(in, line)) {
+  std::vector<std::pair<std::size_t, std::map<std::string, double>>> out;
+  for (std::size_t ln = 1; std::getline(in, line); ++ln) {
     if (line.empty() || line[0] == '#') continue;
     std::vector<std::string> cells;
     std::stringstream ss(line);
@@ -78,8 +78,18 @@ std::map<std::string, std::vector<double>> c8_csv(const std::string& text) {
       names = cells;
       continue;
     }
-    for (std::size_t k = 0; k < names.size() && k < cells.size(); ++k) cols[names[k]].push_back(std::stod(cells[k]));
+    std::map<std::string, double> row;
+    for (std::size_t k = 0; k < names.size() && k < cells.size(); ++k) row[names[k]] = std::stod(cells[k]);
+    out.emplace_back(ln, row);
   }
+  return out;
+}
+
+/// A CSV's columns by name, '#' lines skipped (the tool's comments and metadata).
+std::map<std::string, std::vector<double>> c8_csv(const std::string& text) {
+  std::map<std::string, std::vector<double>> cols;
+  for (const auto& [line, row] : c8_rows(text))
+    for (const auto& [name, value] : row) cols[name].push_back(value);
   return cols;
 }
 
@@ -200,28 +210,6 @@ TEST(ClassesEightDiagnosisReport, EveryFitFieldFollowsFromTheRowsAndTheWrittenMo
   c8fs::remove_all(dir);
 }
 
-/// A CSV's data rows with their line numbers in the file ('#' lines and the header skipped).
-std::vector<std::pair<std::size_t, std::map<std::string, double>>> c8_rows(const std::string& text) {
-  std::istringstream in(text);
-  std::string line;
-  std::vector<std::string> names;
-  std::vector<std::pair<std::size_t, std::map<std::string, double>>> out;
-  for (std::size_t ln = 1; std::getline(in, line); ++ln) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (names.empty()) {
-      names = cells;
-      continue;
-    }
-    std::map<std::string, double> row;
-    for (std::size_t k = 0; k < names.size() && k < cells.size(); ++k) row[names[k]] = std::stod(cells[k]);
-    out.emplace_back(ln, row);
-  }
-  return out;
-}
 
 // Every kind, on the first shipped log of each: every statistics block of the diagnosis report
 // (recalibrated, final, each finding's) follows from its own n, k and RSS by the documented
