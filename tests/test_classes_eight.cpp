@@ -25,6 +25,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli_harness.hpp"
 #include "epuck2/calibrate/reading_noise.hpp"
 #include "epuck2/fit/report.hpp"
 #include "epuck2/models/kinds.hpp"
@@ -44,12 +45,6 @@ c8fs::path c8_scratch(const std::string& name) {
   return p;
 }
 
-std::string c8_read(const c8fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 /// Runs `args` (after the CLI's path) from the source folder; standard output and error into
 /// files of `dir`; the exit code.
@@ -58,7 +53,7 @@ int c8_cli(const std::string& args, const c8fs::path& dir, std::string* out = nu
   const std::string cmd = "cd '" + std::string(EPUCK2_SOURCE_DIR) + "' && '" + std::string(EPUCK2_FIT_EXE) + "' " + args + " > '" +
                           o.string() + "' 2> '" + e.string() + "'";
   const int status = std::system(cmd.c_str());
-  if (out) *out = c8_read(o);
+  if (out) *out = epuck2::testing::slurp(o);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
@@ -151,7 +146,7 @@ TEST(ClassesEightDiagnosisReport, EveryFitFieldFollowsFromTheRowsAndTheWrittenMo
   }
   const std::string log = "'" + (dir / "g.csv").string() + "'";
   std::string out;
-  ASSERT_EQ(c8_cli("diagnose " + log + " --json -o '" + (dir / "ext.json").string() + "'", dir, &out), 0) << c8_read(dir / "stderr.txt");
+  ASSERT_EQ(c8_cli("diagnose " + log + " --json -o '" + (dir / "ext.json").string() + "'", dir, &out), 0) << epuck2::testing::slurp(dir / "stderr.txt");
   const c8json j = c8json::parse(out);
   ASSERT_GE(j["findings"].size(), 2u) << out;
   const c8json& rec = j["fit"]["recalibrated"];
@@ -179,8 +174,8 @@ TEST(ClassesEightDiagnosisReport, EveryFitFieldFollowsFromTheRowsAndTheWrittenMo
   // the written model over the rows (simulate without noise: the expected readings).
   auto mse_of = [&](const std::string& coefficients) {
     const c8fs::path sim = dir / "sim.csv";
-    EXPECT_EQ(c8_cli("simulate ground --like " + log + coefficients + " -o '" + sim.string() + "'", dir), 0) << c8_read(dir / "stderr.txt");
-    const auto p = c8_csv(c8_read(sim)).at("value");
+    EXPECT_EQ(c8_cli("simulate ground --like " + log + coefficients + " -o '" + sim.string() + "'", dir), 0) << epuck2::testing::slurp(dir / "stderr.txt");
+    const auto p = c8_csv(epuck2::testing::slurp(sim)).at("value");
     EXPECT_EQ(p.size(), y.size());
     double s = 0;
     for (std::size_t i = 0; i < std::min(p.size(), y.size()); ++i) s += (y[i] - p[i]) * (y[i] - p[i]);
@@ -239,7 +234,7 @@ TEST(ClassesEightDiagnosisReport, EveryKindsFitBlocksFollowFromTheirRowsAndTheWr
     SCOPED_TRACE(k.kind);
     const c8fs::path ext = dir / (k.kind + ".json");
     std::string out;
-    ASSERT_EQ(c8_cli("diagnose " + k.log + " --json -o '" + ext.string() + "'", dir, &out), 0) << c8_read(dir / "stderr.txt");
+    ASSERT_EQ(c8_cli("diagnose " + k.log + " --json -o '" + ext.string() + "'", dir, &out), 0) << epuck2::testing::slurp(dir / "stderr.txt");
     const c8json j = c8json::parse(out);
     const c8json& rec = j["fit"]["recalibrated"];
     const c8json& fin = j["fit"]["final"];
@@ -272,9 +267,9 @@ TEST(ClassesEightDiagnosisReport, EveryKindsFitBlocksFollowFromTheirRowsAndTheWr
     }
     const c8fs::path sim = dir / (k.kind + "_sim.csv");
     ASSERT_EQ(c8_cli("simulate " + k.kind + " --like " + k.log + " --coefficients '" + ext.string() + "' -o '" + sim.string() + "'", dir), 0)
-        << c8_read(dir / "stderr.txt");
-    const auto measured = c8_rows(c8_read(c8fs::path(EPUCK2_SOURCE_DIR) / k.log));
-    const auto simulated = c8_rows(c8_read(sim));
+        << epuck2::testing::slurp(dir / "stderr.txt");
+    const auto measured = c8_rows(epuck2::testing::slurp(c8fs::path(EPUCK2_SOURCE_DIR) / k.log));
+    const auto simulated = c8_rows(epuck2::testing::slurp(sim));
     ASSERT_EQ(measured.size(), simulated.size());
     double rss = 0;
     std::size_t n = 0;
@@ -303,12 +298,12 @@ TEST(ClassesEightBatteryFile, LifetimesAndLinearSlopesFromTheLogsTimeColumns) {
   std::map<double, std::vector<double>> ends;  // speed -> each run's last time
   for (const auto& e : c8fs::directory_iterator(c8fs::path(EPUCK2_SOURCE_DIR) / "data/raw/battery")) {
     if (e.path().extension() != ".csv") continue;
-    const auto cols = c8_csv(c8_read(e.path()));
+    const auto cols = c8_csv(epuck2::testing::slurp(e.path()));
     ends[cols.at("speed_cm_s").front()].push_back(cols.at("time_s").back());
   }
   ASSERT_GE(ends.size(), 2u);
-  ASSERT_EQ(c8_cli("battery data/raw/battery/*.csv -o '" + (dir / "b.json").string() + "'", dir), 0) << c8_read(dir / "stderr.txt");
-  const c8json j = c8json::parse(c8_read(dir / "b.json"));
+  ASSERT_EQ(c8_cli("battery data/raw/battery/*.csv -o '" + (dir / "b.json").string() + "'", dir), 0) << epuck2::testing::slurp(dir / "stderr.txt");
+  const c8json j = c8json::parse(epuck2::testing::slurp(dir / "b.json"));
   ASSERT_EQ(j["speeds"].size(), ends.size());
   for (const c8json& s : j["speeds"]) {
     const double speed = s["speed_cm_s"].get<double>();
@@ -338,8 +333,8 @@ TEST(ClassesEightBatteryFile, LifetimesAndLinearSlopesFromTheLogsTimeColumns) {
 TEST(ClassesEightCameraFile, StandardErrorsInDegreesAndPixelsByFiniteDifferences) {
   const c8fs::path dir = c8_scratch("camera");
   const std::string log = "data/raw/camera/camera_virtual-epuck2-1.csv";
-  ASSERT_EQ(c8_cli("camera " + log + " -o '" + (dir / "c.json").string() + "'", dir), 0) << c8_read(dir / "stderr.txt");
-  const c8json j = c8json::parse(c8_read(dir / "c.json"));
+  ASSERT_EQ(c8_cli("camera " + log + " -o '" + (dir / "c.json").string() + "'", dir), 0) << epuck2::testing::slurp(dir / "stderr.txt");
+  const c8json j = c8json::parse(epuck2::testing::slurp(dir / "c.json"));
   std::set<std::size_t> wild;
   for (const c8json& r : j["outliers"]["rows"]) {
     const std::string t = r.get<std::string>();
@@ -354,7 +349,7 @@ TEST(ClassesEightCameraFile, StandardErrorsInDegreesAndPixelsByFiniteDifferences
   };
   Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
   std::size_t rows = 0;
-  for (const auto& [line, r] : c8_rows(c8_read(c8fs::path(EPUCK2_SOURCE_DIR) / log))) {
+  for (const auto& [line, r] : c8_rows(epuck2::testing::slurp(c8fs::path(EPUCK2_SOURCE_DIR) / log))) {
     if (wild.count(line)) continue;
     Eigen::Matrix<double, 2, 3> g;
     for (int k = 0; k < 3; ++k) {
@@ -388,8 +383,8 @@ TEST(ClassesEightCameraFile, StandardErrorsInDegreesAndPixelsByFiniteDifferences
 // cm/s), over_limit_runs the runs holding one.
 TEST(ClassesEightDriveFile, StepsPerMetreAndTofLineInTheirUnitsFromTheLogs) {
   const c8fs::path dir = c8_scratch("drive");
-  ASSERT_EQ(c8_cli("drive data/raw/drive/*.csv -o '" + (dir / "d.json").string() + "'", dir), 0) << c8_read(dir / "stderr.txt");
-  const c8json j = c8json::parse(c8_read(dir / "d.json"));
+  ASSERT_EQ(c8_cli("drive data/raw/drive/*.csv -o '" + (dir / "d.json").string() + "'", dir), 0) << epuck2::testing::slurp(dir / "stderr.txt");
+  const c8json j = c8json::parse(epuck2::testing::slurp(dir / "d.json"));
   const double steps_per_m = j["parameters"]["steps_per_m"].get<double>();
   const double scale = j["parameters"]["tof_scale"].get<double>(), offset = j["parameters"]["tof_offset_mm"].get<double>();
   double slopes = 0, misfit = 0;
@@ -397,7 +392,7 @@ TEST(ClassesEightDriveFile, StepsPerMetreAndTofLineInTheirUnitsFromTheLogs) {
   const double cap_cm_s = 1100.0 / 7763.656 * 100.0;  // the firmware's 1100 steps/s at the plug-in's steps/m
   for (const auto& e : c8fs::directory_iterator(c8fs::path(EPUCK2_SOURCE_DIR) / "data/raw/drive")) {
     if (e.path().extension() != ".csv") continue;
-    const std::string text = c8_read(e.path());
+    const std::string text = epuck2::testing::slurp(e.path());
     const std::size_t at = text.find("# obstacle_distance_m: ");
     ASSERT_NE(at, std::string::npos) << e.path();
     const double d_m = std::stod(text.substr(at + 23));
@@ -641,12 +636,12 @@ TEST(ClassesEightSimulateLikeNoisy, GroundThroughTheBinaryEachSensorDrawsItsOwnF
         for (int r = 0; r < 20; ++r) f << 0.1 * k << "," << s << "," << std::round(offset[s] + gain[s] * 0.1 * k) + (r % 2 ? dev[s] : -dev[s]) << "\n";
   }
   const std::string log = "'" + (dir / "g.csv").string() + "'", file = "'" + (dir / "g.json").string() + "'";
-  ASSERT_EQ(c8_cli("ground " + log + " -o " + file, dir), 0) << c8_read(dir / "stderr.txt");
+  ASSERT_EQ(c8_cli("ground " + log + " -o " + file, dir), 0) << epuck2::testing::slurp(dir / "stderr.txt");
   ASSERT_EQ(c8_cli("simulate ground --like " + log + " --coefficients " + file + " --noise --seed 3 -o '" + (dir / "n.csv").string() + "'", dir), 0)
-      << c8_read(dir / "stderr.txt");
+      << epuck2::testing::slurp(dir / "stderr.txt");
   ASSERT_EQ(c8_cli("simulate ground --like " + log + " --coefficients " + file + " -o '" + (dir / "e.csv").string() + "'", dir), 0)
-      << c8_read(dir / "stderr.txt");
-  const auto noisy = c8_csv(c8_read(dir / "n.csv")), exact = c8_csv(c8_read(dir / "e.csv"));
+      << epuck2::testing::slurp(dir / "stderr.txt");
+  const auto noisy = c8_csv(epuck2::testing::slurp(dir / "n.csv")), exact = c8_csv(epuck2::testing::slurp(dir / "e.csv"));
   ASSERT_EQ(noisy.at("value").size(), 660u);
   ASSERT_EQ(exact.at("value").size(), 660u);
   for (int s = 0; s < 3; ++s) {
@@ -766,8 +761,8 @@ TEST(ClassesEightBoundaries, DriveToFNoiseFromExactlyThirtyStandingReadings) {
       f << c8_drive_log(still);
     }
     const c8fs::path out = dir / "d.json";
-    ASSERT_EQ(c8_cli("drive '" + log.string() + "' -o '" + out.string() + "'", dir), 0) << c8_read(dir / "stderr.txt");
-    const c8json tof = c8json::parse(c8_read(out))["noise"]["tof"];
+    ASSERT_EQ(c8_cli("drive '" + log.string() + "' -o '" + out.string() + "'", dir), 0) << epuck2::testing::slurp(dir / "stderr.txt");
+    const c8json tof = c8json::parse(epuck2::testing::slurp(out))["noise"]["tof"];
     if (still == 30) {
       EXPECT_EQ(tof["from"], "replicates") << tof.dump();
       EXPECT_EQ(tof["n"].get<int>(), 30);

@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include "../lib/diagnose/src/engine_detail.hpp"
+#include "cli_harness.hpp"
 #include "epuck2/coefficients/battery_tables.hpp"
 #include "epuck2/coefficients/codegen.hpp"
 #include "epuck2/coefficients/model_file.hpp"
@@ -53,12 +54,6 @@ r7fs::path r7_scratch(const std::string& name) {
   return p;
 }
 
-std::string r7_read(const r7fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 /// Runs `args` (a shell command line after the CLI's path) from the source folder; its standard
 /// output and error into files of `dir`; the exit code.
@@ -68,8 +63,8 @@ int r7_cli(const std::string& args, const r7fs::path& dir, std::string* out = nu
   const std::string cmd = "cd '" + std::string(EPUCK2_SOURCE_DIR) + "' && '" + std::string(EPUCK2_FIT_EXE) + "' " + args + " > " +
                           (stdout_to.empty() ? "'" + o.string() + "'" : stdout_to) + " 2> '" + e.string() + "'";
   const int status = std::system(cmd.c_str());
-  if (out) *out = r7_read(o);
-  if (err) *err = r7_read(e);
+  if (out) *out = epuck2::testing::slurp(o);
+  if (err) *err = epuck2::testing::slurp(e);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
@@ -386,7 +381,7 @@ TEST(RoundSevenDiagnosisReport, FinalFitIsTheFitWithTheFindings) {
     f << r7_ground_log(6, 1.6, 11);
   }
   std::string out;
-  ASSERT_EQ(r7_cli("diagnose '" + (dir / "ground.csv").string() + "' --json", dir, &out), 0) << r7_read(dir / "stderr.txt");
+  ASSERT_EQ(r7_cli("diagnose '" + (dir / "ground.csv").string() + "' --json", dir, &out), 0) << epuck2::testing::slurp(dir / "stderr.txt");
   const r7json j = r7json::parse(out);
   ASSERT_FALSE(j["findings"].empty()) << out;
   const r7json& rec = j["fit"]["recalibrated"];
@@ -403,8 +398,8 @@ TEST(RoundSevenDiagnosisReport, FinalFitIsTheFitWithTheFindings) {
 // The battery file's lifetime in hours is its lifetime in seconds over 3600 at every speed.
 TEST(RoundSevenReports, BatteryLifetimeInHoursIsSecondsOver3600) {
   const r7fs::path dir = r7_scratch("battery");
-  ASSERT_EQ(r7_cli("battery data/raw/battery/*.csv -o '" + (dir / "b.json").string() + "'", dir), 0) << r7_read(dir / "stderr.txt");
-  const r7json j = r7json::parse(r7_read(dir / "b.json"));
+  ASSERT_EQ(r7_cli("battery data/raw/battery/*.csv -o '" + (dir / "b.json").string() + "'", dir), 0) << epuck2::testing::slurp(dir / "stderr.txt");
+  const r7json j = r7json::parse(epuck2::testing::slurp(dir / "b.json"));
   ASSERT_FALSE(j["speeds"].empty());
   for (const r7json& s : j["speeds"]) {
     const double sec = s["lifetime_s"].get<double>();
@@ -419,8 +414,8 @@ TEST(RoundSevenReports, BatteryLifetimeInHoursIsSecondsOver3600) {
 // diagonal): dA/df = (k / 2) sec^2(f / 2) / (1 + k^2 tan^2(f / 2)), degrees over degrees.
 TEST(RoundSevenReports, CameraApertureErrorIsTheFieldOfViewsThroughItsDerivative) {
   const r7fs::path dir = r7_scratch("camera");
-  ASSERT_EQ(r7_cli("camera data/raw/camera/*.csv -o '" + (dir / "c.json").string() + "'", dir), 0) << r7_read(dir / "stderr.txt");
-  const r7json j = r7json::parse(r7_read(dir / "c.json"));
+  ASSERT_EQ(r7_cli("camera data/raw/camera/*.csv -o '" + (dir / "c.json").string() + "'", dir), 0) << epuck2::testing::slurp(dir / "stderr.txt");
+  const r7json j = r7json::parse(epuck2::testing::slurp(dir / "c.json"));
   const double pi = std::acos(-1.0);
   const double f = j["parameters"]["fov_deg"].get<double>() * pi / 180.0;
   const double se_f = j["std_errors"]["fov_deg"].get<double>();
@@ -450,7 +445,7 @@ TEST(RoundSevenCli, EffectsListNamesEachEffectWhole) {
   const r7fs::path dir = r7_scratch("effects");
   std::string out;
   ASSERT_EQ(r7_cli("diagnose data/raw/ground/ground_virtual-epuck2-1.csv --effects black_offset,white_level --json", dir, &out), 0)
-      << r7_read(dir / "stderr.txt");
+      << epuck2::testing::slurp(dir / "stderr.txt");
   const r7json j = r7json::parse(out);
   EXPECT_EQ(j["effects_considered"], r7json({"black_offset", "white_level"})) << j["effects_considered"].dump();
   r7fs::remove_all(dir);
