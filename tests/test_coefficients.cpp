@@ -22,6 +22,9 @@
 #include "epuck2/models/effects.hpp"
 #include "epuck2/models/kind_facts.hpp"
 
+// This file's `using namespace` stays in its own named namespace, so it opens nothing to the
+// files compiled after it in the same unity unit (tests/CMakeLists.txt).
+namespace test_coefficients_cpp {
 namespace {
 
 using namespace epuck2;
@@ -458,3 +461,4 @@ TEST(NewEffectDiagnosis, CameraDistortionK2IsFoundAndSized) {
 }
 
 }  // namespace
+}  // namespace test_coefficients_cpp

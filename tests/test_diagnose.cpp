@@ -12,6 +12,9 @@
 #include "cli_harness.hpp"
 #include "diagnose_generators.hpp"
 
+// This file's `using namespace` stays in its own named namespace, so it opens nothing to the
+// files compiled after it in the same unity unit (tests/CMakeLists.txt).
+namespace test_diagnose_cpp {
 namespace {
 
 using namespace epuck2;
@@ -230,3 +233,4 @@ TEST_F(DiagnoseCli, BadInputExitsTwo) {
 }
 
 }  // namespace
+}  // namespace test_diagnose_cpp

@@ -14,6 +14,9 @@
 #include "epuck2/diagnose/reading_noise.hpp"
 #include "epuck2/logs/log.hpp"
 
+// This file's `using namespace` stays in its own named namespace, so it opens nothing to the
+// files compiled after it in the same unity unit (tests/CMakeLists.txt).
+namespace test_diagnose_noise_cpp {
 namespace {
 
 using namespace epuck2;
@@ -81,3 +84,4 @@ TEST(DiagnoseNoise, WithoutReplicatesTheFinalResiduals) {
 }
 
 }  // namespace
+}  // namespace test_diagnose_noise_cpp

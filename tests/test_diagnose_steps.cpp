@@ -24,6 +24,9 @@
 #include "epuck2/fit/parameter.hpp"
 #include "epuck2/logs/log.hpp"
 
+// This file's `using namespace` stays in its own named namespace, so it opens nothing to the
+// files compiled after it in the same unity unit (tests/CMakeLists.txt).
+namespace test_diagnose_steps_cpp {
 namespace {
 
 using namespace epuck2;
@@ -268,3 +271,4 @@ TEST(ParameterType, FitCurveKeepsBoundsAndHeldParameters) {
 }
 
 }  // namespace
+}  // namespace test_diagnose_steps_cpp

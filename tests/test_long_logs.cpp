@@ -27,6 +27,9 @@
 // The drive's problem (make_problem, its covariates) is the library's own, not in its public headers.
 #include "../lib/diagnose/src/problem.hpp"
 
+// This file's `using namespace` stays in its own named namespace, so it opens nothing to the
+// files compiled after it in the same unity unit (tests/CMakeLists.txt).
+namespace test_long_logs_cpp {
 namespace {
 
 using namespace epuck2;
@@ -325,3 +328,4 @@ TEST(LongLogs, DriveCovariatesBuiltAfterTheFitsAreTheLogsOwn) {
   EXPECT_TRUE(p->is_per_row(8));
   EXPECT_TRUE(p->is_per_row(9));
 }
+}  // namespace test_long_logs_cpp

@@ -14,6 +14,9 @@
 #include "epuck2/fit/fit_curve.hpp"
 #include "epuck2/logs/log.hpp"
 
+// This file's `using namespace` stays in its own named namespace, so it opens nothing to the
+// files compiled after it in the same unity unit (tests/CMakeLists.txt).
+namespace test_nist_cpp {
 namespace {
 
 using namespace epuck2::fit;
@@ -262,3 +265,4 @@ TEST(NistCli, MalformedFileExitsTwoWithPosition) {
 }
 
 }  // namespace
+}  // namespace test_nist_cpp

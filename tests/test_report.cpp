@@ -13,6 +13,9 @@
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/report.hpp"
 
+// This file's `using namespace` stays in its own named namespace, so it opens nothing to the
+// files compiled after it in the same unity unit (tests/CMakeLists.txt).
+namespace test_report_cpp {
 namespace {
 
 using namespace epuck2::fit;
@@ -358,3 +361,4 @@ TEST(ClusterRobust, FewRunsFallBackOnTheLagOneFactorAndSaySo) {
 }
 
 }  // namespace
+}  // namespace test_report_cpp

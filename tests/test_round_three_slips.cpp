@@ -26,6 +26,9 @@
 #include "cli_harness.hpp"
 #include "epuck2/models/noise.hpp"
 
+// This file's `using namespace` stays in its own named namespace, so it opens nothing to the
+// files compiled after it in the same unity unit (tests/CMakeLists.txt).
+namespace test_round_three_slips_cpp {
 namespace {
 
 using namespace epuck2;
@@ -291,3 +294,4 @@ TEST(RoundThreeUnitHints, TheLargestDistanceIsTheOneJudged) {
 }
 
 }  // namespace
+}  // namespace test_round_three_slips_cpp

@@ -30,6 +30,9 @@
 // public headers.
 #include "../lib/diagnose/src/problem.hpp"
 
+// This file's `using namespace` stays in its own named namespace, so it opens nothing to the
+// files compiled after it in the same unity unit (tests/CMakeLists.txt).
+namespace test_round_two_slips_cpp {
 namespace {
 
 using namespace epuck2;
@@ -384,3 +387,4 @@ TEST(RoundTwoJackknife, AgreesWithTheCovarianceOnWhiteNoise) {
 }
 
 }  // namespace
+}  // namespace test_round_two_slips_cpp

@@ -25,6 +25,9 @@
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 
+// This file's `using namespace` stays in its own named namespace, so it opens nothing to the
+// files compiled after it in the same unity unit (tests/CMakeLists.txt).
+namespace test_strict_files_cpp {
 namespace {
 
 using namespace epuck2;
@@ -300,3 +303,4 @@ TEST(StrictFiles, BuiltModelsAreWrittenAndReadBackOrRefused) {
 }
 
 }  // namespace
+}  // namespace test_strict_files_cpp
