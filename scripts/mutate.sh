@@ -598,8 +598,9 @@ MUTANTS = [
      "r.aic = akaike(r.observations, r.rss, P);", R8_FIT),
     ("r8_ar1_lag_across_runs", RP, "if (i + 1 < e.size() && series[i + 1] == series[i] && std::isfinite(e[i + 1])) {",
      "if (i + 1 < e.size() && std::isfinite(e[i + 1])) {", R8_FIT),
-    ("r8_robot_set_checked_as_base", MF, '(void)model_from_json(kind, j, "(the file being written)", id);',
-     '(void)model_from_json(kind, j, "(the file being written)", "");', R8_COEFF),
+    # (r8_robot_set_checked_as_base, `model_from_json(kind, j, ..., id)` -> `..., "")`, was withdrawn: every
+    # reader reads every set of the file whichever it is asked for (every_set), so it changes nothing.)
+    ("r8_model_pooled_sd_negative_accepted", MF, "if (!(all >= 0 && all < c.full_scale))", "if (!(all < c.full_scale))", R8_COEFF),
     ("r8_noise_per_sensor_written_when_same", MF, 'if (!same) c["per_sensor_sd"] = sd;', 'if (same) c["per_sensor_sd"] = sd;', R8_COEFF),
     ("r8_battery_cubic_b_c_swapped", "lib/coefficients/src/battery_tables.cpp", '{"cubic", {cubic.d, cubic.c, cubic.b, cubic.a}},',
      '{"cubic", {cubic.d, cubic.b, cubic.c, cubic.a}},', R8_COEFF),
