@@ -611,7 +611,9 @@ MUTANTS = [
      "out[i][1] = std::clamp(out[i][1], 0.0, m.base.width_px - 1.0);", R8_MODELS),
     ("r8_facts_light_distance_zero_accepted", "lib/models/include/epuck2/models/kind_facts.hpp",
      '{"distance_m", 1e-3, 1e3, "a distance from the light source', '{"distance_m", 0, 1e3, "a distance from the light source', R8_FACTS),
-    ("r8_charge_speed_not_absolute", CM, "out.push_back({v[i], std::abs(s[i]), q[i]});", "out.push_back({v[i], s[i], q[i]});", R8_CALIB),
+    # (r8_charge_speed_not_absolute, `{v[i], std::abs(s[i]), q[i]}` -> `{v[i], s[i], q[i]}`, was withdrawn: every
+    # use of a sample's speed takes its magnitude again (speed_key, load_offset_v), so it changes nothing.)
+    ("r8_charge_offset_speed_signed", CM, "const double s = std::abs(speed_cm_s);", "const double s = speed_cm_s;", R8_CALIB),
     ("r8_noise_per_sensor_n_pooled", RN, "r.per_sensor_n.push_back(own ? one.n : 0);", "r.per_sensor_n.push_back(own ? all.n : 0);",
      R8_CALIB),
     ("r8_proximity_point_mean_censoring_from_max", "lib/calibrate/src/proximity_report.cpp", '{"mean_censoring", rail(p.mean_censoring)}',
