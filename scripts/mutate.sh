@@ -604,13 +604,6 @@ MUTANTS = [
     ("r8_noise_per_sensor_written_when_same", MF, 'if (!same) c["per_sensor_sd"] = sd;', 'if (same) c["per_sensor_sd"] = sd;', R8_COEFF),
     ("r8_battery_cubic_b_c_swapped", "lib/coefficients/src/battery_tables.cpp", '{"cubic", {cubic.d, cubic.c, cubic.b, cubic.a}},',
      '{"cubic", {cubic.d, cubic.b, cubic.c, cubic.a}},', R8_COEFF),
-    ("r8_pooled_gamma_drops_ratio", "lib/models/include/epuck2/models/kinds.hpp",
-     "if (m.sensor_gamma_m[k]) m.sensor_gamma_m[k] = gamma_m * light_gamma_ratio(m, static_cast<int>(k));",
-     "if (m.sensor_gamma_m[k]) m.sensor_gamma_m[k] = gamma_m;", R8_MODELS),
-    ("r8_like_camera_row_clamped_to_width", SLM, "out[i][1] = std::clamp(out[i][1], 0.0, m.base.height_px - 1.0);",
-     "out[i][1] = std::clamp(out[i][1], 0.0, m.base.width_px - 1.0);", R8_MODELS),
-    ("r8_facts_light_distance_zero_accepted", "lib/models/include/epuck2/models/kind_facts.hpp",
-     '{"distance_m", 1e-3, 1e3, "a distance from the light source', '{"distance_m", 0, 1e3, "a distance from the light source', R8_FACTS),
     # (r8_charge_speed_not_absolute, `{v[i], std::abs(s[i]), q[i]}` -> `{v[i], s[i], q[i]}`, was withdrawn: every
     # use of a sample's speed takes its magnitude again (speed_key, load_offset_v), so it changes nothing.)
     ("r8_charge_offset_speed_signed", CM, "const double s = std::abs(speed_cm_s);", "const double s = speed_cm_s;", R8_CALIB),
@@ -631,6 +624,14 @@ MUTANTS = [
      'if (!o.noise) w.metadata("seed", std::to_string(o.seed));', R8_APPS),
     ("r8_argos_camera_file_range_ignored", AS, "m_fRange = cFileRange ? *cFileRange : m_pcCamEntity->GetRange();",
      "m_fRange = m_pcCamEntity->GetRange();", R8_ARGOS),
+    # The three lib/models headers last: each rebuilds most test programs (about 15 minutes a slip here).
+    ("r8_pooled_gamma_drops_ratio", "lib/models/include/epuck2/models/kinds.hpp",
+     "if (m.sensor_gamma_m[k]) m.sensor_gamma_m[k] = gamma_m * light_gamma_ratio(m, static_cast<int>(k));",
+     "if (m.sensor_gamma_m[k]) m.sensor_gamma_m[k] = gamma_m;", R8_MODELS),
+    ("r8_like_camera_row_clamped_to_width", SLM, "out[i][1] = std::clamp(out[i][1], 0.0, m.base.height_px - 1.0);",
+     "out[i][1] = std::clamp(out[i][1], 0.0, m.base.width_px - 1.0);", R8_MODELS),
+    ("r8_facts_light_distance_zero_accepted", "lib/models/include/epuck2/models/kind_facts.hpp",
+     '{"distance_m", 1e-3, 1e3, "a distance from the light source', '{"distance_m", 0, 1e3, "a distance from the light source', R8_FACTS),
 ]
 
 
