@@ -31,6 +31,7 @@
 #include "epuck2/models/kinds.hpp"
 #include "epuck2/models/noise.hpp"
 #include "epuck2/models/simulate_log.hpp"
+#include "../lib/diagnose/src/kind_common.hpp"
 
 namespace {
 
@@ -225,6 +226,39 @@ TEST(RoundEightReadingNoise, PerSensorCountsAreEachSensorsOwnReadings) {
   // SS 5 on 3, sd sqrt(5/3).
   EXPECT_NEAR(r.per_sensor_sd[0], 1.0, 1e-12);
   EXPECT_NEAR(r.per_sensor_sd[1], std::sqrt(5.0 / 3.0), 1e-12);
+}
+
+// The naming step (docs/diagnose.md): sensor gains equal within their errors are one white level,
+// level = offset + (level - offset) g with g the gains' mean -- the mean of the sensors seen. A ground
+// log of sensors 0 and 1 only, both gains 0.9 at the plug-in's black 0 and white 1023 counts:
+// level = 0 + 1023 x 0.9 = 920.7.
+TEST(RoundEightIdentify, TwoSensorsEqualGainsGiveTheWhiteLevelOfTheirMean) {
+  std::string csv = "# robot: r8\ngrey,sensor,value\n";
+  for (int s = 0; s < 2; ++s)
+    for (int k = 0; k <= 20; ++k) csv += std::to_string(k / 20.0) + "," + std::to_string(s) + "," + std::to_string(std::round(920.7 * k / 20.0)) + "\n";
+  const std::vector<epuck2::logs::Log> logs{epuck2::logs::parse_log(csv, "r8_ground2.csv", epuck2::logs::Kind::ground)};
+  const std::unique_ptr<epuck2::diagnose::detail::Problem> p = epuck2::diagnose::detail::make_ground(logs, epuck2::diagnose::Options{});
+  ASSERT_TRUE(p);
+  std::vector<double> values;
+  int gains = 0;
+  for (const auto& q : p->params) {
+    values.push_back(q.fallback);
+    if (q.name == "offset") EXPECT_EQ(q.fallback, 0.0);
+    if (q.name == "level") EXPECT_EQ(q.fallback, 1023.0);
+  }
+  for (std::size_t j = 0; j < p->params.size(); ++j)
+    if (p->params[j].name.rfind("gains", 0) == 0 && (p->params[j].name == "gains[0]" || p->params[j].name == "gains[1]")) {
+      values[j] = 0.9;
+      ++gains;
+    }
+  ASSERT_EQ(gains, 2);
+  const auto P = static_cast<Eigen::Index>(values.size());
+  const Eigen::MatrixXd cov = 1e-4 * Eigen::MatrixXd::Identity(P, P);
+  const auto id = p->identify("sensor_gain", values, cov);
+  ASSERT_TRUE(id.has_value());
+  EXPECT_EQ(id->cause, "white_level");
+  ASSERT_EQ(id->starts.size(), 1u);
+  EXPECT_NEAR(id->starts[0].second, 920.7, 1e-9);
 }
 
 // ----- through the CLI ------------------------------------------------------------------------
