@@ -31,6 +31,7 @@
 #include "epuck2/models/kinds.hpp"
 #include "epuck2/models/noise.hpp"
 #include "epuck2/models/simulate_log.hpp"
+#include "../lib/diagnose/src/engine_detail.hpp"
 #include "../lib/diagnose/src/kind_common.hpp"
 
 namespace {
@@ -243,11 +244,15 @@ TEST(RoundEightIdentify, TwoSensorsEqualGainsGiveTheWhiteLevelOfTheirMean) {
   int gains = 0;
   for (const auto& q : p->params) {
     values.push_back(q.fallback);
-    if (q.name == "offset") EXPECT_EQ(q.fallback, 0.0);
-    if (q.name == "level") EXPECT_EQ(q.fallback, 1023.0);
+    if (q.name == "offset") {
+      EXPECT_EQ(q.fallback, 0.0);
+    }
+    if (q.name == "level") {
+      EXPECT_EQ(q.fallback, 1023.0);
+    }
   }
   for (std::size_t j = 0; j < p->params.size(); ++j)
-    if (p->params[j].name.rfind("gains", 0) == 0 && (p->params[j].name == "gains[0]" || p->params[j].name == "gains[1]")) {
+    if (p->params[j].name == "gains[0]" || p->params[j].name == "gains[1]") {
       values[j] = 0.9;
       ++gains;
     }
@@ -259,6 +264,22 @@ TEST(RoundEightIdentify, TwoSensorsEqualGainsGiveTheWhiteLevelOfTheirMean) {
   EXPECT_EQ(id->cause, "white_level");
   ASSERT_EQ(id->starts.size(), 1u);
   EXPECT_NEAR(id->starts[0].second, 920.7, 1e-9);
+}
+
+// docs/diagnose.md's residual structure: a covariate of at most 24 distinct values is binned by
+// value. x = 0..23, each twice; residual +1 at even x, -1 at odd x. By value each bin's mean is its
+// residual: the binned means explain all the variance (score 1). (Quantile bins would pair x = 2k
+// with 2k + 1, whose means are 0: score 0.)
+TEST(RoundEightResidualStructure, TwentyFourDistinctValuesAreBinnedByValue) {
+  std::vector<double> x, r;
+  for (int v = 0; v < 24; ++v)
+    for (int k = 0; k < 2; ++k) {
+      x.push_back(v);
+      r.push_back(v % 2 == 0 ? 1.0 : -1.0);
+    }
+  const epuck2::diagnose::CovariateScore s = epuck2::diagnose::engine_detail::score_covariate("x", x, r, 0.1);
+  EXPECT_NEAR(s.score, 1.0, 1e-12);
+  EXPECT_NEAR(s.size, 1.0, 1e-12);  // the binned means' RMS: every mean is +-1
 }
 
 // ----- through the CLI ------------------------------------------------------------------------
@@ -380,6 +401,43 @@ TEST(RoundEightLogReader, ALightDistanceOfZeroOrDenormalIsRefusedWhereItIs) {
   }
   EXPECT_NO_THROW((void)epuck2::logs::parse_log("# robot: r8\ndistance_m,intensity,sensor,value\n0.001,1,0,1792\n", "r8_light.csv",
                                                 epuck2::logs::Kind::light));
+}
+
+// docs/coefficient-files.md, points[]: max_censoring and mean_censoring are each their own --
+// `at_or_above` on the 4095 rail, `at_or_below` on 0 or nothing detected, else `none`. In the
+// shipped proximity logs the readings at 45 mm include zeros and no 4095 while their maximum is
+// above 0 (counted here from the CSVs): the mean is at_or_below, the maximum none.
+TEST(RoundEightProximityReport, APointsMeanAndMaximumCarryTheirOwnRail) {
+  const std::string dir = std::string(EPUCK2_SOURCE_DIR) + "/data/raw/proximity/";
+  int zeros = 0, top = 0;
+  double highest = 0;
+  for (const char* name : {"proximity_virtual-epuck2-1.csv", "proximity_virtual-epuck2-2.csv"}) {
+    std::istringstream in(r8_read(dir + name));
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#' || line[0] < '0' || line[0] > '9') continue;
+      double t = 0, d = 0, sensor = 0, value = 0;  // time_s,distance_m,sensor,value
+      if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf", &t, &d, &sensor, &value) != 4 || std::abs(d - 0.045) > 1e-9) continue;
+      zeros += value == 0;
+      top += value >= 4095;
+      highest = std::max(highest, value);
+    }
+  }
+  ASSERT_GT(zeros, 0);
+  ASSERT_EQ(top, 0);
+  ASSERT_GT(highest, 0.01 * 4095);  // detected: the maximum is no rail
+  const std::string out = (r8_dir() / "prox.json").string();
+  const R8Run r = r8_cli("proximity \"" + dir + "proximity_virtual-epuck2-1.csv\" \"" + dir + "proximity_virtual-epuck2-2.csv\" -o \"" + out + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r8_read(out));
+  bool seen = false;
+  for (const auto& p : j.at("points"))
+    if (std::abs(p.at("distance_m").get<double>() - 0.045) < 1e-9) {
+      seen = true;
+      EXPECT_EQ(p.at("mean_censoring"), "at_or_below") << p.dump();
+      EXPECT_EQ(p.at("max_censoring"), "none") << p.dump();
+    }
+  EXPECT_TRUE(seen);
 }
 
 }  // namespace
