@@ -258,6 +258,31 @@ R7_LOGS = r7([C6_LOGS], ["test_battery_cli", "test_voltage_logs_cli", "test_meas
 R7_APPS = r7([C6_LOGS, C6_DREPORT], ["test_safe_cli", "test_battery_cli", "test_voltage_logs_cli", "test_model_loop"], ("fuzz_smoke",))
 R7_ARGOS = with_round_five(R4_ARGOS)
 
+# Round 8 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-8), planted without reading
+# the tests: each group is every test of the programs that touch the area -- round 7's groups for
+# it (which hold the earlier rounds' and the classes' groups) and, for the charge map, the reading
+# noise and the unit hints, round 3's and 4's groups of those areas.
+# R8_TESTS: tests/test_round_eight_slips.cpp, written after the run before them started (that run had
+# R8_TESTS = R7_TESTS, commit 50379fa).
+R8_TESTS = R7_TESTS + ["test_round_eight_slips"]
+
+
+def r8(groups, more=(), extra=()):
+    programs = [p for g in groups for p in g[1][1]]
+    return whole(programs + list(more) + R8_TESTS, tuple(e for g in groups for e in g[1][2]) + tuple(extra))
+
+
+R8_FIT = r8([R7_FIT])
+R8_JET = (R8_FIT[0] + ["test_fit_jet_matches_ceres"], ("whole", R8_FIT[1][1], R8_FIT[1][2] + ("fit_jet_matches_ceres",)))
+R8_COEFF = r8([R7_COEFF])
+R8_MODELS = r8([R7_MODELS])
+R8_FACTS = r8([R7_LOGS, R7_MODELS])
+R8_CALIB = r8([R7_CALIB, R3_CHARGE, R4_NOISE])
+R8_DIAGNOSE = r8([R7_DIAGNOSE])
+R8_HINTS = r8([R7_LOGS, R3_HINTS])
+R8_APPS = r8([R7_APPS, C6_LIKE])
+R8_ARGOS = R7_ARGOS
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -566,6 +591,48 @@ MUTANTS = [
      R7_CALIB),
     ("c8_noise_pairs_not_pooled", "lib/calibrate/src/reading_noise.cpp", "if (v.size() < 2) continue;", "if (v.size() <= 2) continue;",
      R7_CALIB),
+    # Round 8 (bench/fresh-slips.md, "Round 8"): fresh slips, planted without reading the tests.
+    ("r8_jet_reciprocal_not_squared", "lib/fit/include/epuck2/fit/jet.hpp", "const double minus_s_g_a_inverse2 = -s / (g.a * g.a);",
+     "const double minus_s_g_a_inverse2 = -s / g.a;", R8_JET),
+    ("r8_channels_weight_inverted", RD, "weight_[c] = sd_[0] / sd_[c];", "weight_[c] = sd_[c] / sd_[0];", R8_FIT),
+    ("r8_fit_curve_aic_counts_held", "lib/fit/src/fit_curve.cpp", "r.aic = akaike(r.observations, r.rss, free);",
+     "r.aic = akaike(r.observations, r.rss, P);", R8_FIT),
+    ("r8_ar1_lag_across_runs", RP, "if (i + 1 < e.size() && series[i + 1] == series[i] && std::isfinite(e[i + 1])) {",
+     "if (i + 1 < e.size() && std::isfinite(e[i + 1])) {", R8_FIT),
+    # (r8_robot_set_checked_as_base, `model_from_json(kind, j, ..., id)` -> `..., "")`, was withdrawn: every
+    # reader reads every set of the file whichever it is asked for (every_set), so it changes nothing.)
+    ("r8_model_pooled_sd_negative_accepted", MF, "if (!(all >= 0 && all < c.full_scale))", "if (!(all < c.full_scale))", R8_COEFF),
+    ("r8_noise_per_sensor_written_when_same", MF, 'if (!same) c["per_sensor_sd"] = sd;', 'if (same) c["per_sensor_sd"] = sd;', R8_COEFF),
+    ("r8_battery_cubic_b_c_swapped", "lib/coefficients/src/battery_tables.cpp", '{"cubic", {cubic.d, cubic.c, cubic.b, cubic.a}},',
+     '{"cubic", {cubic.d, cubic.b, cubic.c, cubic.a}},', R8_COEFF),
+    # (r8_charge_speed_not_absolute, `{v[i], std::abs(s[i]), q[i]}` -> `{v[i], s[i], q[i]}`, was withdrawn: every
+    # use of a sample's speed takes its magnitude again (speed_key, load_offset_v), so it changes nothing.)
+    ("r8_charge_offset_speed_signed", CM, "const double s = std::abs(speed_cm_s);", "const double s = speed_cm_s;", R8_CALIB),
+    ("r8_noise_per_sensor_n_pooled", RN, "r.per_sensor_n.push_back(own ? one.n : 0);", "r.per_sensor_n.push_back(own ? all.n : 0);",
+     R8_CALIB),
+    ("r8_proximity_point_mean_censoring_from_max", "lib/calibrate/src/proximity_report.cpp", '{"mean_censoring", rail(p.mean_censoring)}',
+     '{"mean_censoring", rail(p.max_censoring)}', R8_CALIB),
+    ("r8_min_rows_one_fold", DE_S, "report_.minimum_rows = std::max(blocks, folds * per_fold);",
+     "report_.minimum_rows = std::max(blocks, per_fold);", R8_DIAGNOSE),
+    ("r8_structure_value_bins_strict", DE_RS, "if (distinct <= kMaxValueBins) {", "if (distinct < kMaxValueBins) {", R8_DIAGNOSE),
+    ("r8_dreport_censored_above_from_below", "lib/diagnose/src/report_output.cpp",
+     'j["censored_per_rail"] = {{"at_or_below", r.censored_below}, {"at_or_above", r.censored_above}};',
+     'j["censored_per_rail"] = {{"at_or_below", r.censored_below}, {"at_or_above", r.censored_below}};', R8_DIAGNOSE),
+    ("r8_identify_mean_over_all_sensors", DK_GROUND, "for (std::size_t j : g) mean += values[j] / static_cast<double>(g.size());",
+     "for (std::size_t j : g) mean += values[j] / static_cast<double>(s::kGroundCount);", R8_DIAGNOSE),
+    ("r8_hint_distance_midrange_dropped", PL, "likely_unit(d[worst] / (2 * range_m))", "likely_unit(d[worst] / range_m)", R8_HINTS),
+    ("r8_like_seed_metadata_inverted", "apps/cmd_simulate_like.cpp", 'if (o.noise) w.metadata("seed", std::to_string(o.seed));',
+     'if (!o.noise) w.metadata("seed", std::to_string(o.seed));', R8_APPS),
+    ("r8_argos_camera_file_range_ignored", AS, "m_fRange = cFileRange ? *cFileRange : m_pcCamEntity->GetRange();",
+     "m_fRange = m_pcCamEntity->GetRange();", R8_ARGOS),
+    # The three lib/models headers last: each rebuilds most test programs (about 15 minutes a slip here).
+    ("r8_pooled_gamma_drops_ratio", "lib/models/include/epuck2/models/kinds.hpp",
+     "if (m.sensor_gamma_m[k]) m.sensor_gamma_m[k] = gamma_m * light_gamma_ratio(m, static_cast<int>(k));",
+     "if (m.sensor_gamma_m[k]) m.sensor_gamma_m[k] = gamma_m;", R8_MODELS),
+    ("r8_like_camera_row_clamped_to_width", SLM, "out[i][1] = std::clamp(out[i][1], 0.0, m.base.height_px - 1.0);",
+     "out[i][1] = std::clamp(out[i][1], 0.0, m.base.width_px - 1.0);", R8_MODELS),
+    ("r8_facts_light_distance_zero_accepted", "lib/models/include/epuck2/models/kind_facts.hpp",
+     '{"distance_m", 1e-3, 1e3, "a distance from the light source', '{"distance_m", 0, 1e3, "a distance from the light source', R8_FACTS),
 ]
 
 
