@@ -7,6 +7,8 @@
 #   distortion a diagnosis-like file with radial_distortion k1 = -0.3 and the centre at 80.4, 60.7;
 #   noise      noise.camera 1.5 px: the readings' sd about the sub-pixel projection is
 #              sqrt(1.5^2 + 1/12) within 10 %;
+#   range      the file's parameters.range_m 0.25 (the entity's own is 1 m): no LED farther
+#              forward than 0.25 m is seen, the nearer ones are;
 #   refusal    a covariate effect stops ARGoS at Init naming it.
 #   usage: camera.sh ARGOS_LIBDIR WORK_DIR
 set -euo pipefail
@@ -22,6 +24,9 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 d.pop("robots", None)  # one robot: no pooled-set warning
 json.dump(d, open(sys.argv[2] + "/plain.json", "w"))
+d["parameters"]["range_m"] = 0.25
+json.dump(d, open(sys.argv[2] + "/range.json", "w"))
+d["parameters"]["range_m"] = 1.0  # the shipped file's
 d["parameters"].update({"cx_px": 80.4, "cy_px": 60.7})
 d["effects"] = {"radial_distortion": {"k1": -0.3}}
 json.dump(d, open(sys.argv[2] + "/distortion.json", "w"))
@@ -39,6 +44,7 @@ run() {  # name noise samples
   argos3 -n -z -c "$dir/exp.argos" > "$dir/log" 2>&1
 }
 run plain false 1 || { cat "$WORK/plain/log"; fail "argos3 (plain)"; }
+run range false 1 || { cat "$WORK/range/log"; fail "argos3 (range)"; }
 run distortion false 1 || { cat "$WORK/distortion/log"; fail "argos3 (distortion)"; }
 run noise true 20 || { cat "$WORK/noise/log"; fail "argos3 (noise)"; }
 if run covariate false 1; then fail "ARGoS ran with a covariate effect on the camera"; fi
@@ -65,6 +71,16 @@ for name in ("plain", "distortion"):
     print(("ok   " if ok else "FAIL ") + f"{name}: {len(r)} blobs, {len(wrong)} off the rounded projection" +
           (f" (first: {wrong[0]}, wanted {mean(name, *wrong[0][:3])})" if wrong else ""))
     bad += not ok
+# The range: the grid runs 0.15-0.4 m forward; with range_m 0.25 the LEDs at 0.3 m and beyond are out
+# of range, those at 0.15 and 0.2 m in (at most 0.2 m forward, 0.06 m aside and 0.03 m up: < 0.22 m away).
+r, whole = rows("range"), rows("plain")
+far = [row for row in r if row[0] > 0.25 + 1e-9]
+near = [row for row in r if row[0] <= 0.2 + 1e-9]
+near_plain = [row for row in whole if row[0] <= 0.2 + 1e-9]
+ok = not far and len(near) == len(near_plain) > 0 and any(row[0] > 0.25 for row in whole)
+print(("ok   " if ok else "FAIL ") + f"range: {len(r)} blobs with range_m 0.25 ({len(whole)} with the entity's 1 m), "
+      f"{len(far)} beyond 0.25 m forward, {len(near)} of {len(near_plain)} at 0.2 m or nearer")
+bad += not ok
 r = rows("noise")
 res = [row[3] - mean("noise", *row[:3])[0] for row in r] + [row[4] - mean("noise", *row[:3])[1] for row in r]
 sd, want = statistics.pstdev(res), math.sqrt(1.5 ** 2 + 1 / 12)
