@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_harness.hpp"
 #include "epuck2/calibrate/charge_map.hpp"
 #include "epuck2/calibrate/reading_noise.hpp"
 #include "epuck2/coefficients/battery_tables.hpp"
@@ -304,21 +305,14 @@ std::string r8_write(const std::string& name, const std::string& text) {
   return p.string();
 }
 
-std::string r8_read(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 R8Run r8_cli(const std::string& args) {
   const std::string out = (r8_dir() / "stdout.txt").string(), err = (r8_dir() / "stderr.txt").string();
   const std::string cmd = std::string("\"") + EPUCK2_FIT_EXE + "\" " + args + " >\"" + out + "\" 2>\"" + err + "\"";
   const int s = std::system(cmd.c_str());
   R8Run r;
   r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  r.out = r8_read(out);
-  r.err = r8_read(err);
+  r.out = epuck2::testing::slurp(out);
+  r.err = epuck2::testing::slurp(err);
   return r;
 }
 
@@ -412,7 +406,7 @@ TEST(RoundEightProximityReport, APointsMeanAndMaximumCarryTheirOwnRail) {
   int zeros = 0, top = 0;
   double highest = 0;
   for (const char* name : {"proximity_virtual-epuck2-1.csv", "proximity_virtual-epuck2-2.csv"}) {
-    std::istringstream in(r8_read(dir + name));
+    std::istringstream in(epuck2::testing::slurp(dir + name));
     std::string line;
     while (std::getline(in, line)) {
       if (line.empty() || line[0] == '#' || line[0] < '0' || line[0] > '9') continue;
@@ -429,7 +423,7 @@ TEST(RoundEightProximityReport, APointsMeanAndMaximumCarryTheirOwnRail) {
   const std::string out = (r8_dir() / "prox.json").string();
   const R8Run r = r8_cli("proximity \"" + dir + "proximity_virtual-epuck2-1.csv\" \"" + dir + "proximity_virtual-epuck2-2.csv\" -o \"" + out + "\"");
   ASSERT_EQ(r.status, 0) << r.err;
-  const nlohmann::json j = nlohmann::json::parse(r8_read(out));
+  const nlohmann::json j = nlohmann::json::parse(epuck2::testing::slurp(out));
   bool seen = false;
   for (const auto& p : j.at("points"))
     if (std::abs(p.at("distance_m").get<double>() - 0.045) < 1e-9) {
