@@ -1,0 +1,271 @@
+// Classes of round 8's survivors (bench/fresh-slips.md, "Round 8"), closed where else they can
+// occur: a statistic that counts parameters or readings, a boundary a decision branches on, which
+// rail a count comes from. Written from the headers' and docs' definitions before round 9's slips
+// were planted; every expected value is worked by hand in its comment.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "epuck2/calibrate/plausibility.hpp"
+#include "epuck2/fit/robust.hpp"
+#include "epuck2/logs/log.hpp"
+
+namespace {
+
+namespace c9_fit = epuck2::fit;
+
+c9_fit::ReplicateGroup c9_group(std::vector<double> readings, double prediction, double condition, std::string label) {
+  c9_fit::ReplicateGroup g;
+  g.predictions.assign(readings.size(), prediction);
+  g.readings = std::move(readings);
+  g.condition = condition;
+  g.label = std::move(label);
+  return g;
+}
+
+// Three groups of two readings at conditions 1, 2, 3:
+//   A {1, 3} predicted 2 (mean 2, miss 0), B {4, 6} predicted 4 (mean 5, miss +1),
+//   C {7, 9} predicted 10 (mean 8, miss -2).
+// Pure error: each group's squares about its mean are 1 + 1 = 2, so 6 on 6 - 3 = 3 dof: variance 2.
+// Residuals about the predictions: A 1 + 1, B 0 + 4, C 9 + 1 = 16; lack of fit 16 - 6 = 10
+// (= 2 x 0^2 + 2 x 1^2 + 2 x 2^2) on 3 groups - k dof.
+std::vector<c9_fit::ReplicateGroup> c9_three_groups() {
+  return {c9_group({1, 3}, 2, 1, "A"), c9_group({4, 6}, 4, 2, "B"), c9_group({7, 9}, 10, 3, "C")};
+}
+
+// F(2, d2)'s upper tail has a closed form: P(F > f) = (1 + 2 f / d2)^(-d2 / 2).
+double c9_f2_tail(double f, double d2) { return std::pow(1 + 2 * f / d2, -d2 / 2); }
+
+TEST(ClassesNineLackOfFit, OneFreeParameterByHand) {
+  const c9_fit::LackOfFit lof = c9_fit::lack_of_fit(c9_three_groups(), 1);
+  ASSERT_TRUE(lof.tested) << lof.why_not;
+  EXPECT_EQ(lof.groups, 3u);
+  EXPECT_EQ(lof.dof_pure, 3u);  // 6 readings - 3 groups
+  EXPECT_EQ(lof.dof_lack, 2u);  // 3 groups - 1 parameter
+  EXPECT_NEAR(lof.replicate_sd, std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(lof.reduced_chi2, (10.0 / 2) / 2, 1e-12);  // 2.5
+  EXPECT_NEAR(lof.p_value, c9_f2_tail(2.5, 3), 1e-9);  // (8/3)^-1.5 = 0.22964
+  EXPECT_NEAR(lof.p_value, 0.229640, 1e-6);
+  EXPECT_NEAR(lof.misfit_rms, std::sqrt(10.0 / 6), 1e-12);  // per reading, not per group
+  EXPECT_NEAR(lof.misfit_ratio, std::sqrt(10.0 / 6) / std::sqrt(2.0), 1e-12);
+  // The worst group is C (miss 2, below); B misses on the other side, so C stands alone.
+  EXPECT_NE(lof.worst.find("C"), std::string::npos) << lof.worst;
+  EXPECT_NE(lof.worst.find("below"), std::string::npos) << lof.worst;
+}
+
+TEST(ClassesNineLackOfFit, TwoFreeParametersLeaveOneDegreeOfFreedom) {
+  // Same sums, dof_lack 3 - 2 = 1: reduced chi^2 = 10 / 2 = 5; F(1, 3) = t(3)^2, and
+  // P(|t3| > sqrt 5) = 1 - (2/pi)(atan(u) + u/(1 + u^2)) with u = sqrt(5/3) (Student's t, 3 dof).
+  const c9_fit::LackOfFit lof = c9_fit::lack_of_fit(c9_three_groups(), 2);
+  ASSERT_TRUE(lof.tested) << lof.why_not;
+  EXPECT_EQ(lof.dof_lack, 1u);
+  EXPECT_NEAR(lof.reduced_chi2, 5.0, 1e-12);
+  const double u = std::sqrt(5.0 / 3.0);
+  EXPECT_NEAR(lof.p_value, 1 - (2 / M_PI) * (std::atan(u) + u / (1 + u * u)), 1e-9);
+}
+
+TEST(ClassesNineLackOfFit, NotTestedWhenTheGroupsDoNotOutnumberTheParameters) {
+  // 3 groups and 3 free parameters: no degree of freedom for the lack of fit.
+  const c9_fit::LackOfFit lof = c9_fit::lack_of_fit(c9_three_groups(), 3);
+  EXPECT_FALSE(lof.tested);
+  EXPECT_FALSE(lof.why_not.empty());
+  // One reading per group and no known noise: no pure error to test against.
+  const c9_fit::LackOfFit single =
+      c9_fit::lack_of_fit({c9_group({1}, 2, 1, "A"), c9_group({5}, 4, 2, "B"), c9_group({8}, 10, 3, "C")}, 1);
+  EXPECT_FALSE(single.tested);
+}
+
+TEST(ClassesNineLackOfFit, KnownNoiseReplacesThePureErrorByHand) {
+  // Replicate sd 1 known on 10 dof: the pure error is that sd, and the whole residual sum (16) is
+  // the lack of fit (nothing subtracted): reduced chi^2 = (16 / 2) / 1 = 8, p = (1 + 1.6)^-5;
+  // misfit rms sqrt(16 / 6), ratio the same over sd 1.
+  const c9_fit::LackOfFit lof = c9_fit::lack_of_fit(c9_three_groups(), 1, {}, 0.0, 1.0, 10);
+  ASSERT_TRUE(lof.tested) << lof.why_not;
+  EXPECT_EQ(lof.dof_pure, 10u);
+  EXPECT_EQ(lof.dof_lack, 2u);
+  EXPECT_NEAR(lof.replicate_sd, 1.0, 1e-12);
+  EXPECT_NEAR(lof.reduced_chi2, 8.0, 1e-12);
+  EXPECT_NEAR(lof.p_value, std::pow(2.6, -5.0), 1e-9);
+  EXPECT_NEAR(lof.misfit_rms, std::sqrt(16.0 / 6), 1e-12);
+  EXPECT_NEAR(lof.misfit_ratio, std::sqrt(16.0 / 6), 1e-12);
+}
+
+TEST(ClassesNineLackOfFit, TheFloorRaisesIdenticalReplicates) {
+  // Identical replicates {2, 2}, {4, 4}, {7, 7} predicted 2, 4.5, 6.5: pure error 0, raised to the
+  // floor 0.5 (variance 0.25). Misses 0, -0.5, +0.5, two readings each: lack 2 x (0.25 + 0.25) = 1
+  // on 3 - 1 = 2 dof, reduced chi^2 = (1 / 2) / 0.25 = 2 against F(2, 3) (6 readings - 3 groups).
+  const c9_fit::LackOfFit lof = c9_fit::lack_of_fit(
+      {c9_group({2, 2}, 2, 1, "A"), c9_group({4, 4}, 4.5, 2, "B"), c9_group({7, 7}, 6.5, 3, "C")}, 1, {}, 0.5);
+  ASSERT_TRUE(lof.tested) << lof.why_not;
+  EXPECT_NEAR(lof.replicate_sd, 0.5, 1e-12);
+  EXPECT_NEAR(lof.reduced_chi2, 2.0, 1e-12);
+  EXPECT_NEAR(lof.p_value, c9_f2_tail(2.0, 3), 1e-9);
+}
+
+TEST(ClassesNineLackOfFit, SpoiltGroupsAndTheirReadingsAreLeftOut) {
+  // A spoilt fourth group (wild readings) changes nothing: the same numbers as the three alone.
+  auto groups = c9_three_groups();
+  groups.push_back(c9_group({100, -100}, 0, 4, "D"));
+  groups.back().spoilt = true;
+  const c9_fit::LackOfFit lof = c9_fit::lack_of_fit(groups, 1);
+  ASSERT_TRUE(lof.tested);
+  EXPECT_EQ(lof.groups, 3u);
+  EXPECT_EQ(lof.dof_pure, 3u);
+  EXPECT_NEAR(lof.reduced_chi2, 2.5, 1e-12);
+}
+
+TEST(ClassesNineLackOfFit, TheWorstRunsOfNeighboursMissedOnTheSameSide) {
+  // Misses (mean - prediction) at conditions 1..4 mm: +0.2, +1.5, +2, -0.1. The worst is 3 mm
+  // (+2); 2 mm misses on the same side by at least half (1.5 >= 1), 1 mm does not (0.2), 4 mm is
+  // on the other side: "distances 2-3 mm: the curve misses by 2 counts, the readings above it".
+  c9_fit::MisfitWords words;
+  words.conditions = "distances";
+  words.condition_unit = "mm";
+  words.unit = "counts";
+  words.condition_scale = 1000;
+  const c9_fit::LackOfFit lof = c9_fit::lack_of_fit(
+      {c9_group({0.2, 0.2}, 0, 0.001, "a"), c9_group({1.5, 1.5}, 0, 0.002, "b"), c9_group({2, 2}, 0, 0.003, "c"),
+       c9_group({-0.1, -0.1}, 0, 0.004, "d")},
+      1, words, 0.1);
+  ASSERT_TRUE(lof.tested);
+  EXPECT_EQ(lof.worst, "distances 2\u20133 mm: the curve misses by 2 counts, the readings above it");
+}
+
+// ----- fit_robust's information criteria: the noise counts as a parameter when estimated -----
+
+// A constant plus a slope held by the caller at 0.
+struct C9ConstantAndHeldSlope {
+  std::vector<double> x;
+  template <typename T>
+  bool operator()(const T* p, T* out) const {
+    for (std::size_t i = 0; i < x.size(); ++i) out[i] = p[0] + p[1] * x[i];
+    return true;
+  }
+};
+
+std::vector<c9_fit::Observation> c9_readings(const std::vector<double>& y) {
+  std::vector<c9_fit::Observation> obs;
+  for (double v : y) obs.push_back({v, c9_fit::Censoring::none, "", -1});
+  return obs;
+}
+
+// AIC - BIC = 2 p - p ln n = p (2 - ln n) whatever the log-likelihood: the parameter count p and
+// the readings n the criteria use, read back without knowing the likelihood's convention.
+TEST(ClassesNineRobustCriteria, EstimatedNoiseCountsHeldSlopeDoesNot) {
+  // Readings 1..5, the constant free, the slope held, sigma estimated: p = 1 + 1 (sigma), n = 5.
+  std::vector<c9_fit::Parameter> p(2);
+  p[0].name = "level";
+  p[1].name = "slope";
+  p[1].fixed = true;
+  c9_fit::RobustOptions o;
+  o.robust = false;
+  const c9_fit::RobustFit f =
+      c9_fit::fit_robust(C9ConstantAndHeldSlope{{1, 2, 3, 4, 5}}, c9_readings({1, 2, 3, 4, 5}), p, o);
+  ASSERT_TRUE(f.usable) << f.message;
+  EXPECT_NEAR(f.value("level"), 3.0, 1e-6);
+  EXPECT_NEAR(f.value("slope"), 0.0, 0.0);
+  EXPECT_EQ(f.free_parameters, 1);
+  EXPECT_NEAR(f.aic - f.bic, 2 * (2 - std::log(5.0)), 1e-6);
+}
+
+TEST(ClassesNineRobustCriteria, ARejectedReadingLeavesTheCount) {
+  // Readings 1..5 and a wild 1000, robust: the 1000 is left out, so n = 5 kept (not 6), p = 2.
+  std::vector<c9_fit::Parameter> p(2);
+  p[0].name = "level";
+  p[0].value = 3;
+  p[1].name = "slope";
+  p[1].fixed = true;
+  const c9_fit::RobustFit f =
+      c9_fit::fit_robust(C9ConstantAndHeldSlope{{1, 2, 3, 4, 5, 6}}, c9_readings({1, 2, 3, 4, 5, 1000}), p);
+  ASSERT_TRUE(f.usable) << f.message;
+  ASSERT_EQ(f.outliers.size(), 1u);
+  EXPECT_EQ(f.outliers[0], 5u);
+  EXPECT_EQ(f.observations, 5u);
+  EXPECT_NEAR(f.value("level"), 3.0, 1e-4);
+  EXPECT_NEAR(f.aic - f.bic, 2 * (2 - std::log(5.0)), 1e-6);
+}
+
+TEST(ClassesNineRobustCriteria, AKnownNoiseIsNotAParameter) {
+  // sigma given: p = 1, n = 5.
+  std::vector<c9_fit::Parameter> p(2);
+  p[0].name = "level";
+  p[1].name = "slope";
+  p[1].fixed = true;
+  c9_fit::RobustOptions o;
+  o.robust = false;
+  o.noise_sd = 1.0;
+  const c9_fit::RobustFit f =
+      c9_fit::fit_robust(C9ConstantAndHeldSlope{{1, 2, 3, 4, 5}}, c9_readings({1, 2, 3, 4, 5}), p, o);
+  ASSERT_TRUE(f.usable) << f.message;
+  EXPECT_NEAR(f.aic - f.bic, 1 * (2 - std::log(5.0)), 1e-6);
+}
+
+// ----- the column-unit hints: each range and each branch's denominator -----
+
+// The message a unit check stops with, or "" when it accepts the log.
+std::string c9_unit_message(const std::string& text, epuck2::logs::Kind kind) {
+  const epuck2::logs::Log log = epuck2::logs::parse_log(text, "hint.csv", kind);
+  try {
+    epuck2::calibrate::check_plausible_units({log});
+  } catch (const epuck2::logs::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string c9_proximity_at(double d) {
+  return c9_unit_message("distance_m,sensor,value\n0.01,0,3000\n" + std::to_string(d) + ",0,100\n",
+                         epuck2::logs::Kind::proximity);
+}
+
+TEST(ClassesNineUnitHints, ProximityFactorsAtEachRangesEdge) {
+  // The proximity sensor sees to 0.05 m: a distance beyond 10 x 0.05 = 0.5 m stops, and the
+  // unit is guessed from d / (2 x 0.05): (30, 300) centimetres, [300, 3000) millimetres.
+  EXPECT_EQ(c9_proximity_at(0.5), "");                                              // 10 x, not beyond
+  EXPECT_NE(c9_proximity_at(0.6).find("not metres?"), std::string::npos);          // factor 6
+  EXPECT_NE(c9_proximity_at(3.0).find("not metres?"), std::string::npos);          // factor 30: not above 30
+  EXPECT_NE(c9_proximity_at(3.5).find("centimetres?"), std::string::npos);         // 35
+  EXPECT_NE(c9_proximity_at(29.9).find("centimetres?"), std::string::npos);        // 299
+  EXPECT_NE(c9_proximity_at(30.0).find("millimetres?"), std::string::npos);        // 300
+  EXPECT_NE(c9_proximity_at(299.0).find("millimetres?"), std::string::npos);       // 2990
+  EXPECT_NE(c9_proximity_at(300.0).find("not metres?"), std::string::npos);        // 3000
+  // The message names line 3 (the second row) and the value.
+  EXPECT_NE(c9_proximity_at(3.5).find("hint.csv:3:1: distance_m reaches 3.5"), std::string::npos)
+      << c9_proximity_at(3.5);
+}
+
+std::string c9_obstacle(const std::string& d, const std::string& tof_mm) {
+  return c9_unit_message("# obstacle_distance_m: " + d +
+                             "\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n0,0,0,0,0," +
+                             tof_mm + "\n",
+                         epuck2::logs::Kind::drive);
+}
+
+TEST(ClassesNineUnitHints, AnObstacleTheToFDoesNotSeeIsJudgedAgainstItsCeiling) {
+  // The ToF sees 20..2000 mm; a first reading at its 20 mm floor is no target. An obstacle at
+  // "100" (beyond 10 x 2 m): 100 / 2 m = 50 -> centimetres (against the 20 mm reading it would be
+  // 5000: "not metres?").
+  const std::string m = c9_obstacle("100", "20");
+  EXPECT_NE(m.find("obstacle_distance_m is 100: centimetres?"), std::string::npos) << m;
+  // Seen at 500 mm: 100 / 0.5 = 200 -> centimetres; at 50 mm: 2000 -> millimetres.
+  EXPECT_NE(c9_obstacle("100", "500").find("centimetres?"), std::string::npos) << c9_obstacle("100", "500");
+  EXPECT_NE(c9_obstacle("100", "50").find("millimetres?"), std::string::npos) << c9_obstacle("100", "50");
+  // 20 m is 10 x the ceiling, not beyond it; unseen: accepted.
+  EXPECT_EQ(c9_obstacle("20", "2000"), "");
+}
+
+TEST(ClassesNineUnitHints, AnObstacleBeyondTheCeilingThatTheToFSeesIsRefused) {
+  // 3 m is beyond the ToF's 2 m but not 10 x: refused only when the ToF sees something
+  // (300 mm): 3 / 0.3 = 10 -> "not metres?"; 15 m seen at 150 mm: 100 -> centimetres.
+  const std::string m = c9_obstacle("3", "300");
+  EXPECT_NE(m.find("beyond the ToF's 2 m, but tof_mm reads 300 mm at line 3: not metres?"), std::string::npos) << m;
+  EXPECT_NE(c9_obstacle("15", "150").find("centimetres?"), std::string::npos) << c9_obstacle("15", "150");
+  // Not seen (2000 mm: the ceiling, no target): accepted.
+  EXPECT_EQ(c9_obstacle("3", "2000"), "");
+  // Within the ceiling: accepted.
+  EXPECT_EQ(c9_obstacle("1.5", "300"), "");
+}
+
+}  // namespace
