@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "epuck2/calibrate/battery.hpp"
 #include "epuck2/calibrate/plausibility.hpp"
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
@@ -266,6 +267,76 @@ TEST(ClassesNineUnitHints, AnObstacleBeyondTheCeilingThatTheToFSeesIsRefused) {
   EXPECT_EQ(c9_obstacle("3", "2000"), "");
   // Within the ceiling: accepted.
   EXPECT_EQ(c9_obstacle("1.5", "300"), "");
+}
+
+// ----- averages over the right set: the battery's lifetimes, Simple slopes and Table 5 MSEs -----
+
+// A run from full to empty in 1-s rows with a small fixed wiggle (never an outlier).
+epuck2::calibrate::BatteryRun c9_run(double speed, double lifetime, const std::string& robot) {
+  epuck2::calibrate::BatteryRun r;
+  r.path = robot + "_" + std::to_string(speed) + ".csv";
+  r.robot = robot;
+  r.speed_cm_s = speed;
+  r.lifetime_s = lifetime;
+  for (int t = 0; t <= static_cast<int>(lifetime); ++t) {
+    r.time_s.push_back(t);
+    r.charge.push_back(1.0 - t / lifetime + 0.002 * std::sin(1.3 * t));
+    r.line.push_back(t + 2);
+  }
+  r.profile = {{0.0, speed}};
+  return r;
+}
+
+TEST(ClassesNineBatteryAverages, LifetimesAndSimpleSlopesByHand) {
+  // 0 cm/s: runs of 100 and 120 s -> lifetime 110, se sqrt((10^2 + 10^2) / 1 / 2) = 10.
+  // 5 cm/s: 50 and 70 s -> 60, se 10. 10 cm/s: one run of 40 s -> 40, se 0.
+  // Simple: m0 = -1/110, its se 10 / 110^2; m1 = -1/mean(60, 40) = -1/50, the mean's se
+  // sqrt(10^2 + 0^2) / 2 = 5, so m1's se 5 / 50^2 = 0.002 (the static run is not a moving one).
+  const std::vector<epuck2::calibrate::BatteryRun> runs{c9_run(0, 100, "a"), c9_run(0, 120, "b"), c9_run(5, 50, "a"),
+                                                        c9_run(5, 70, "b"), c9_run(10, 40, "a")};
+  const epuck2::calibrate::BatteryFit f = epuck2::calibrate::fit_battery(runs);
+  ASSERT_EQ(f.speeds.size(), 3u);
+  EXPECT_EQ(f.speeds[0].runs, 2u);
+  EXPECT_NEAR(f.speeds[0].lifetime_s, 110.0, 1e-12);
+  EXPECT_NEAR(f.speeds[0].lifetime_std_error_s, 10.0, 1e-12);
+  EXPECT_NEAR(f.speeds[1].lifetime_s, 60.0, 1e-12);
+  EXPECT_NEAR(f.speeds[1].lifetime_std_error_s, 10.0, 1e-12);
+  EXPECT_NEAR(f.speeds[2].lifetime_s, 40.0, 1e-12);
+  EXPECT_EQ(f.speeds[2].lifetime_std_error_s, 0.0);
+  EXPECT_NEAR(f.simple_static_slope_per_s, -1.0 / 110, 1e-15);
+  EXPECT_NEAR(f.simple_static_std_error, 10.0 / (110.0 * 110.0), 1e-15);
+  EXPECT_NEAR(f.simple_moving_slope_per_s, -1.0 / 50, 1e-15);
+  EXPECT_NEAR(f.simple_moving_std_error, 5.0 / 2500.0, 1e-15);
+  // One run at 10 cm/s only: said.
+  bool said = false;
+  for (const std::string& w : f.warnings) said = said || w.find("one run at 10 cm/s") != std::string::npos;
+  EXPECT_TRUE(said);
+  // Each speed's analytic MSE is over its own runs' rows, and Table 5's is the mean over the
+  // speeds (3 speeds, equal weight), not over rows (221, 122, 41 rows).
+  namespace mb = epuck2::models::battery;
+  for (mb::Model m : mb::kAllModels) {
+    double mean_over_speeds = 0;
+    for (const epuck2::calibrate::SpeedFit& s : f.speeds) {
+      double ss = 0;
+      std::size_t n = 0;
+      for (const auto& r : runs) {
+        if (r.speed_cm_s != s.speed_cm_s) continue;
+        for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+          const double e = r.charge[i] - epuck2::calibrate::analytic_charge(s, f, m, r.time_s[i]);
+          ss += e * e;
+          ++n;
+        }
+      }
+      EXPECT_NEAR(s.mse.get(m), ss / static_cast<double>(n), 1e-12 + 1e-9 * ss / static_cast<double>(n)) << s.speed_cm_s;
+      mean_over_speeds += s.mse.get(m) / 3.0;
+    }
+    EXPECT_NEAR(f.mse.get(m), mean_over_speeds, 1e-15 + 1e-12 * mean_over_speeds);
+  }
+  // The Linear model's Table 5 MSE, worked apart: at 10 cm/s its line 1 - t/40 is the run's own,
+  // so only the wiggle is left there: mean of (0.002 sin 1.3t)^2 over t = 0..40.
+  double wiggle = 0;
+  for (int t = 0; t <= 40; ++t) wiggle += std::pow(0.002 * std::sin(1.3 * t), 2) / 41.0;
+  EXPECT_NEAR(f.speeds[2].mse.linear, wiggle, 1e-12);
 }
 
 }  // namespace
