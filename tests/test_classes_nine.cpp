@@ -12,6 +12,10 @@
 #include "epuck2/calibrate/plausibility.hpp"
 #include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
+#include "epuck2/models/plugin_battery_tables.hpp"
+#include "cli_harness.hpp"
+#include <fstream>
+#include <sstream>
 
 namespace {
 
@@ -337,6 +341,65 @@ TEST(ClassesNineBatteryAverages, LifetimesAndSimpleSlopesByHand) {
   double wiggle = 0;
   for (int t = 0; t <= 40; ++t) wiggle += std::pow(0.002 * std::sin(1.3 * t), 2) / 41.0;
   EXPECT_NEAR(f.speeds[2].mse.linear, wiggle, 1e-12);
+}
+
+// ----- options only their non-default value reaches: battery --robust's scale, simulate --dt -----
+
+TEST(ClassesNineOptionPaths, BatteryHuberLossAndItsScaleReachTheCubic) {
+  // Two runs of 100 s at 5 cm/s, charge 1 - t/100 (+-0.002 wiggle), and the readings at t = 49, 50,
+  // 51 of run a off by +0.3, every reading kept (reject_sd 0). Least squares pulls the cubic towards
+  // the wild readings; a Huber threshold of 0.005 weighs them linearly, pulling several times less; a
+  // threshold of 1 (above every residual: charge is 0..1) is least squares exactly.
+  std::vector<epuck2::calibrate::BatteryRun> runs{c9_run(5, 100, "a"), c9_run(5, 100, "b")};
+  for (int t : {49, 50, 51}) runs[0].charge[static_cast<std::size_t>(t)] += 0.3;
+  namespace mb = epuck2::models::battery;
+  auto at50 = [&](bool robust, double scale) {
+    epuck2::fit::FitOptions o;
+    o.robust = robust;
+    o.robust_scale = scale;
+    const epuck2::calibrate::BatteryFit f = epuck2::calibrate::fit_battery(runs, o, 0.0);
+    EXPECT_EQ(f.speeds.size(), 1u);
+    EXPECT_TRUE(f.speeds[0].cubic.usable) << f.speeds[0].cubic.message;
+    return epuck2::calibrate::analytic_charge(f.speeds[0], f, mb::Model::cubic, 50.0);
+  };
+  const double truth = 0.5;
+  const double ls = at50(false, 1.0), huber = at50(true, 0.005), wide = at50(true, 1.0);
+  EXPECT_GT(std::abs(ls - truth), 0.003) << ls;  // the wild reading moves a least-squares cubic
+  EXPECT_LT(std::abs(huber - truth), std::abs(ls - truth) / 4) << huber << " vs " << ls;
+  EXPECT_NEAR(wide, ls, 1e-9);
+}
+
+class ClassesNineSimulateDt : public epuck2::testing::CliTest {};
+
+TEST_F(ClassesNineSimulateDt, TheTickSetsTheRowsNotTheCharge) {
+  // A profile of 5 cm/s for 10 s, then 10 cm/s to 20 s: the Linear model (the plug-in's tables,
+  // the corrected behaviour) loses m5 per second then m10, so the charge at 20 s is 1 + 10 m5 + 10 m10 whatever
+  // the tick, and --dt 2.5 writes the rows 0, 2.5, ..., 20 (9), each step 2.5 m at its speed.
+  const std::string profile = write("profile.csv", "time_s,speed_cm_s\n0,5\n10,10\n20,0\n");
+  const double m5 = epuck2::models::battery::plugin_tables().linear_slope_per_s[5];
+  const double m10 = epuck2::models::battery::plugin_tables().linear_slope_per_s[10];
+  ASSERT_LT(m5, 0.0);
+  ASSERT_NE(m5, m10);
+  for (const std::string dt : {"2.5", "0.5"}) {
+    const epuck2::testing::CliRun r = run("simulate battery --model linear --profile \"" + profile + "\" --coefficients plugin --dt " + dt);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::istringstream in(r.out);
+    std::string line;
+    std::vector<std::pair<double, double>> rows;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#' || line.rfind("time_s", 0) == 0) continue;
+      const auto comma = line.find(',');
+      rows.emplace_back(std::stod(line.substr(0, comma)), std::stod(line.substr(comma + 1)));
+    }
+    const double step = std::stod(dt);
+    ASSERT_EQ(rows.size(), static_cast<std::size_t>(std::lround(20 / step)) + 1) << dt << r.out;
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const double t = static_cast<double>(k) * step;
+      EXPECT_NEAR(rows[k].first, t, 1e-9) << dt;
+      const double want = t <= 10 ? 1 + m5 * t : 1 + 10 * m5 + m10 * (t - 10);
+      EXPECT_NEAR(rows[k].second, want, 1e-12) << dt << " at " << t;
+    }
+  }
 }
 
 }  // namespace
