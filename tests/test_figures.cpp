@@ -136,10 +136,20 @@ TEST_P(Figures, AreDrawnInTheFormatTheExtensionNames) {
   EXPECT_EQ(files, 1u);
 }
 
+// The figures whose command is a whole diagnosis or battery fit of the shipped logs (each 2-4 s):
+// drawn once, as SVG (whose texts are checked). The format follows the extension through one code
+// path for every figure (lib/plot's terminal choice), which every other figure checks in all three;
+// the diagnosis figure's terminal-specific layout is drawn as PNG and PDF by the drive's, light's,
+// ground's and camera's diagnoses, the battery's pages by battery_lifetime.
+bool drawn_in_svg_only(const std::string& name) {
+  return name == "diagnose_battery" || name == "diagnose_proximity" || name == "battery_fits";
+}
+
 std::vector<std::tuple<std::size_t, std::string>> all_cases() {
   std::vector<std::tuple<std::size_t, std::string>> cases;
   for (std::size_t i = 0; i < figures_listed().size(); ++i)
-    for (const char* format : {"png", "svg", "pdf"}) cases.emplace_back(i, format);
+    for (const char* format : {"png", "svg", "pdf"})
+      if (!drawn_in_svg_only(figures_listed()[i].name) || std::string(format) == "svg") cases.emplace_back(i, format);
   return cases;
 }
 
