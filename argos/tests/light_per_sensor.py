@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """The light file of light_per_sensor.sh, its logs, and the checks of what ARGoS and simulate made.
 
-usage: light_per_sensor.py write WORK_DIR    light.json, gammas.csv, noise.csv
+usage: light_per_sensor.py write WORK_DIR    light.json, gammas.csv, noise.csv, range.json, range.csv
        light_per_sensor.py check WORK_DIR    gammas.simulated.csv, gammas.argos.csv,
-                                             noise.uniform.csv, noise.gaussian.csv
+                                             noise.uniform.csv, noise.gaussian.csv,
+                                             range.simulated.csv, range.argos.csv
 
 Every expected value is worked here from the file's numbers (paper Eq. 2, the noise's
 distributions), apart from the project's code. Prints one line per check; exits 1 on a failure.
@@ -26,6 +27,10 @@ READINGS = 400             # per sensor, noisy
 HAND = [3839.0625, 3726.45, 3593.3625, 3439.8, 3265.7625, 3071.25, 2856.2625, 2620.8]
 # The pooled gamma alone would give every sensor 4095 (1 - 0.375^2) = 3519.140625.
 POOLED = 3519.140625
+# The file's range_m: with 0.25 m (the plug-in's is 0.5 m) a light at 0.3 m is ignored (the reading
+# is the full 4095 of no light), one at 0.2 m still counts (HAND).
+RANGE_M = 0.25
+RANGE_POINTS = (0.2, 0.3)
 TOLERANCE = 0.15  # a spread's relative tolerance: 400 readings give it to 2.2 % (uniform) or 3.5 % (Gaussian), 1 sd
 
 
@@ -50,6 +55,14 @@ def write(work):
         f.write("# robot: light-per-sensor\ndistance_m,intensity,sensor,value\n")
         for k in range(8):
             f.write(f"{d},{i},{k},0\n")
+    light["parameters"]["range_m"] = RANGE_M
+    with open(os.path.join(work, "range.json"), "w") as f:
+        json.dump(light, f, indent=1)
+    with open(os.path.join(work, "range.csv"), "w") as f:
+        f.write("# robot: light-per-sensor\ndistance_m,intensity,sensor,value\n")
+        for d in RANGE_POINTS:
+            for k in range(8):
+                f.write(f"{d},1.0,{k},0\n")
     d, i = NOISE_POINT
     with open(os.path.join(work, "noise.csv"), "w") as f:
         f.write("# robot: light-per-sensor\ndistance_m,intensity,sensor,value\n")
@@ -90,6 +103,16 @@ def check(work):
         say(abs(arg[k] - hand) <= 0.5 + 1e-6, f"sensor {k}: ARGoS {arg[k]:.0f}, by hand {hand} (rounded: within 0.5)")
         say(abs(arg[k] - sim[k]) <= 0.5 + 1e-6, f"sensor {k}: ARGoS {arg[k]:.0f} and simulate {sim[k]:.4f} agree to a count")
         say(abs(arg[k] - POOLED) > 50, f"sensor {k}: ARGoS {arg[k]:.0f} is not the pooled gamma's {POOLED}")
+
+    # 1b. The file's range_m, noiseless: a light beyond it is not seen, one inside it is.
+    for name in ("simulated", "argos"):
+        got = [(float(r["distance_m"]), int(r["sensor"]), float(r["value"])) for r in rows(os.path.join(work, f"range.{name}.csv"))]
+        say(len(got) == 8 * len(RANGE_POINTS), f"range {name}: {len(got)} rows, expected {8 * len(RANGE_POINTS)}")
+        for d, k, v in got:
+            want = FULL if d > RANGE_M else HAND[k]
+            say(abs(v - want) <= 0.5 + 1e-6,
+                f"range {name}: sensor {k} at {d} m with range_m {RANGE_M}: {v:.1f}, expected {want} "
+                + ("(beyond the range: no light)" if d > RANGE_M else "(Eq. 2 by hand)"))
 
     # 2. Each sensor's own noise sd, uniform and Gaussian.
     d, i = NOISE_POINT

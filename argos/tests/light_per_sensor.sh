@@ -5,6 +5,8 @@
 #      `epuck2-fit simulate light --like` and the calibrated ARGoS light sensor (argos-record.sh
 #      --like): each against Eq. 2 worked by hand from the file's gammas, and against each other,
 #      to the reading's resolution (ARGoS rounds to a count, simulate writes the expected value);
+#   1b. noiseless, the same file with range_m 0.25 m and the light at 0.2 and 0.3 m: beyond the
+#      file's range no light is seen (4095), inside it Eq. 2 holds (both tools);
 #   2. with noise, 400 readings per sensor at a fixed pose (0.3 m, intensity 1), the uniform noise
 #      (noise_distribution="uniform", the plug-in's) and the Gaussian: each sensor's spread against
 #      its own sd (light_per_sensor.py, computed apart from the code under test).
@@ -21,6 +23,8 @@ run() { echo "+ $*"; "$@"; }
 run python3 "$HERE/light_per_sensor.py" write "$WORK"
 run "$FIT" simulate light --like "$WORK/gammas.csv" --coefficients "$WORK/light.json" -o "$WORK/gammas.simulated.csv"
 EPUCK2_ARGOS_NOISE=false run "$ROOT/scripts/argos-record.sh" light "$WORK/light.json" "$WORK/gammas.argos.csv" --like "$WORK/gammas.csv"
+run "$FIT" simulate light --like "$WORK/range.csv" --coefficients "$WORK/range.json" -o "$WORK/range.simulated.csv"
+EPUCK2_ARGOS_NOISE=false run "$ROOT/scripts/argos-record.sh" light "$WORK/range.json" "$WORK/range.argos.csv" --like "$WORK/range.csv"
 for dist in uniform gaussian; do
   EPUCK2_ARGOS_NOISE=true EPUCK2_ARGOS_NOISE_DISTRIBUTION=$dist \
     run "$ROOT/scripts/argos-record.sh" light "$WORK/light.json" "$WORK/noise.$dist.csv" --like "$WORK/noise.csv"
