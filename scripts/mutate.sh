@@ -284,6 +284,33 @@ R8_HINTS = r8([R7_LOGS, R3_HINTS])
 R8_APPS = r8([R7_APPS, C6_LIKE])
 R8_ARGOS = R7_ARGOS
 
+# Round 9 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-9), planted without reading
+# the tests: each group is every test of the programs that touch the area -- round 8's groups for it
+# (which hold the earlier rounds' and the classes' groups), with their build targets merged so that
+# a group that holds the ARGoS tests also builds the plug-in. R9_TESTS: tests/test_round_nine_slips.cpp,
+# written while the run before them went on (that run, from fd79662, had R9_TESTS = R8_TESTS, which
+# holds main's test_classes_nine, merged before it).
+R9_TESTS = R8_TESTS + ["test_round_nine_slips"]
+
+
+def r9(groups, more=(), extra=()):
+    targets = {t for g in groups for t in g[0]} | set(more) | set(R9_TESTS) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R9_TESTS)
+    extras = tuple(dict.fromkeys(e for g in groups for e in g[1][2])) + tuple(extra)
+    return (sorted(targets), ("whole", tuple(sorted(programs)), extras))
+
+
+R9_FACTS = r9([R8_FACTS, R8_CALIB])
+R9_MODELS = r9([R8_MODELS])
+R9_CAMERA = r9([R8_MODELS, R8_ARGOS])
+R9_FIT = r9([R8_FIT, R8_CALIB])
+R9_COEFF = r9([R8_COEFF, R8_ARGOS])
+R9_CALIB = r9([R8_CALIB])
+R9_DIAGNOSE = r9([R8_DIAGNOSE])
+R9_LOGS = r9([R8_FACTS, R8_HINTS, R8_APPS])
+R9_APPS = r9([R8_APPS, R3_CHARGE], ["test_battery_models", "test_battery_fast_paths"])
+R9_ARGOS = r9([R8_ARGOS])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -660,6 +687,44 @@ MUTANTS = [
      "out[i][1] = std::clamp(out[i][1], 0.0, m.base.width_px - 1.0);", R8_MODELS),
     ("r8_facts_light_distance_zero_accepted", "lib/models/include/epuck2/models/kind_facts.hpp",
      '{"distance_m", 1e-3, 1e3, "a distance from the light source', '{"distance_m", 0, 1e3, "a distance from the light source', R8_FACTS),
+    # Round 9 (bench/fresh-slips.md, "Round 9"): fresh slips, planted without reading the tests; the
+    # three lib/models header slips first (each rebuilds most test programs).
+    ("r9_facts_grey_percent_accepted", "lib/models/include/epuck2/models/kind_facts.hpp", '{"grey", 0, 1, "a grey level in [0, 1]"}',
+     '{"grey", 0, 100, "a grey level in [0, 1]"}', R9_FACTS),
+    ("r9_like_noiseless_covariate_dropped", SLM, ": std::clamp(mean(i, sensor) + covariate[i], 0.0, full_scale)};",
+     ": std::clamp(mean(i, sensor), 0.0, full_scale)};", R9_MODELS),
+    ("r9_camera_sees_range_along_ray", MC, "&& forward_m < range_m;", "&& norm < range_m;", R9_CAMERA),
+    ("r9_condition_not_squared", "lib/fit/src/least_squares.cpp", "return lo > 0 ? (hi / lo) * (hi / lo) :", "return lo > 0 ? hi / lo :",
+     R9_FIT),
+    ("r9_error_two_digits_at_100", RP, "if (m >= 100) {", "if (m > 100) {", R9_FIT),
+    ("r9_correlations_negative_dropped", RP, "std::abs(r(i, j)) > min_abs", "r(i, j) > min_abs", R9_FIT),
+    ("r9_lack_of_fit_dof_pure_minus_one", RB, "lof.dof_pure = known ? known_dof_pure : count - g;",
+     "lof.dof_pure = known ? known_dof_pure : count - 1;", R9_FIT),
+    ("r9_light_per_sensor_duplicate_accepted", MF, "if (m.sensor_gamma_m[static_cast<std::size_t>(k)])\n      d.fail(",
+     "if (false)\n      d.fail(", R9_COEFF),
+    ("r9_camera_range_zero_accepted", MF, "!(m.base.range_m > 0 && m.base.range_m <= kCameraMaxRange_m)",
+     "!(m.base.range_m >= 0 && m.base.range_m <= kCameraMaxRange_m)", R9_COEFF),
+    ("r9_battery_noise_rms_over_n", MF, "m.noise_sd = n > 0 ? std::sqrt(sum / n) : 0.0;", "m.noise_sd = n > 0 ? std::sqrt(sum) / n : 0.0;",
+     R9_COEFF),
+    ("r9_codegen_lifetime_first_speed", CG, "cpp_number(t.lifetime_s[static_cast<std::size_t>(sp)])", "cpp_number(t.lifetime_s[0])",
+     R9_COEFF),
+    ("r9_light_report_gamma_by_position", "lib/calibrate/src/light_report.cpp",
+     "model.sensor_gamma_m.at(static_cast<std::size_t>(f.sensors[i]))", "model.sensor_gamma_m.at(i)", R9_CALIB),
+    ("r9_battery_lifetime_se_is_sd", "lib/calibrate/src/battery_fit.cpp",
+     "return std::sqrt(ss / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()));",
+     "return std::sqrt(ss / static_cast<double>(v.size() - 1));", R9_CALIB),
+    ("r9_diagnose_camera_cy_base_from_width", DK_CAMERA, "set_base(*this, dy_, m.base.cy_px - s::kCameraHeight_px / 2.0);",
+     "set_base(*this, dy_, m.base.cy_px - s::kCameraWidth_px / 2.0);", R9_DIAGNOSE),
+    ("r9_finding_undetermined_signed", DE_S, "if (!(std::abs(v.std_error) <= std::abs(v.value)))", "if (!(v.std_error <= v.value))",
+     R9_DIAGNOSE),
+    ("r9_log_angle_not_required_checked", LR, '|| cname == "angle_deg" || cname == "voltage_v";', '|| cname == "voltage_v";', R9_LOGS),
+    ("r9_log_metadata_upper_unchecked", LR, "if (d < meta.lo || d > meta.hi) {", "if (d < meta.lo) {", R9_LOGS),
+    ("r9_simulate_profile_speed_signed", "apps/cmd_simulate.cpp", "profile.push_back({t[i], std::abs(v[i])});",
+     "profile.push_back({t[i], v[i]});", R9_APPS),
+    ("r9_simulate_default_tables_swapped", "apps/cmd_simulate.cpp", 'if (source.empty()) source = argos ? "plugin" : "fitted";',
+     'if (source.empty()) source = argos ? "fitted" : "plugin";', R9_APPS),
+    ("r9_argos_tail_reach_one_count", AS, "std::log(2.0 * std::abs(sTail.amplitude_raw))", "std::log(std::abs(sTail.amplitude_raw))",
+     R9_ARGOS),
 ]
 
 
