@@ -156,14 +156,21 @@ std::vector<c9_fit::Observation> c9_readings(const std::vector<double>& y) {
   return obs;
 }
 
+// A free level starting at `start` and a slope held by the caller at 0.
+std::vector<c9_fit::Parameter> c9_level_and_held_slope(double start) {
+  std::vector<c9_fit::Parameter> p(2);
+  p[0].name = "level";
+  p[0].value = start;
+  p[1].name = "slope";
+  p[1].fixed = true;
+  return p;
+}
+
 // AIC - BIC = 2 p - p ln n = p (2 - ln n) whatever the log-likelihood: the parameter count p and
 // the readings n the criteria use, read back without knowing the likelihood's convention.
 TEST(ClassesNineRobustCriteria, EstimatedNoiseCountsHeldSlopeDoesNot) {
   // Readings 1..5, the constant free, the slope held, sigma estimated: p = 1 + 1 (sigma), n = 5.
-  std::vector<c9_fit::Parameter> p(2);
-  p[0].name = "level";
-  p[1].name = "slope";
-  p[1].fixed = true;
+  const std::vector<c9_fit::Parameter> p = c9_level_and_held_slope(0.0);
   c9_fit::RobustOptions o;
   o.robust = false;
   const c9_fit::RobustFit f =
@@ -177,11 +184,7 @@ TEST(ClassesNineRobustCriteria, EstimatedNoiseCountsHeldSlopeDoesNot) {
 
 TEST(ClassesNineRobustCriteria, ARejectedReadingLeavesTheCount) {
   // Readings 1..5 and a wild 1000, robust: the 1000 is left out, so n = 5 kept (not 6), p = 2.
-  std::vector<c9_fit::Parameter> p(2);
-  p[0].name = "level";
-  p[0].value = 3;
-  p[1].name = "slope";
-  p[1].fixed = true;
+  const std::vector<c9_fit::Parameter> p = c9_level_and_held_slope(3.0);
   const c9_fit::RobustFit f =
       c9_fit::fit_robust(C9ConstantAndHeldSlope{{1, 2, 3, 4, 5, 6}}, c9_readings({1, 2, 3, 4, 5, 1000}), p);
   ASSERT_TRUE(f.usable) << f.message;
@@ -194,10 +197,7 @@ TEST(ClassesNineRobustCriteria, ARejectedReadingLeavesTheCount) {
 
 TEST(ClassesNineRobustCriteria, AKnownNoiseIsNotAParameter) {
   // sigma given: p = 1, n = 5.
-  std::vector<c9_fit::Parameter> p(2);
-  p[0].name = "level";
-  p[1].name = "slope";
-  p[1].fixed = true;
+  const std::vector<c9_fit::Parameter> p = c9_level_and_held_slope(0.0);
   c9_fit::RobustOptions o;
   o.robust = false;
   o.noise_sd = 1.0;
