@@ -366,5 +366,22 @@ TEST(RoundTenChargeMap, FittedFromLogsWithBothColumnsAndReportedOnlyWhenItConver
   fs::remove_all(d);
 }
 
+
+// ---- numbers written so that they read back --------------------------------------------------------
+
+// logs/output.hpp: format_number writes the shortest of 6 to 17 significant digits that reads back
+// as the same double. 0.1 + 0.2 = 0.30000000000000004 needs all 17 (a tick time 3 x 0.1); 0.1 and
+// 1234567 need 6 or fewer; 1/3 needs 16 (0.3333333333333333).
+TEST(RoundTenNumbers, EveryWrittenNumberReadsBackAsTheSameDouble) {
+  namespace logs = epuck2::logs;
+  EXPECT_EQ(logs::format_number(0.1 + 0.2), "0.30000000000000004");
+  EXPECT_EQ(logs::format_number(0.1), "0.1");
+  EXPECT_EQ(logs::format_number(1234567.0), "1234567");
+  EXPECT_EQ(logs::format_number(1.0 / 3.0), "0.3333333333333333");
+  EXPECT_EQ(logs::format_number(std::nextafter(1.0, 2.0)), "1.0000000000000002");
+  for (double v : {0.1 + 0.2, 3 * 0.1, 1.0 / 3.0, 2.0 / 3.0, 1e-300 / 3.0, 4095.0 / 7.0, -0.7 * 0.1, std::nextafter(0.3, 1.0)})
+    EXPECT_EQ(std::strtod(logs::format_number(v).c_str(), nullptr), v) << logs::format_number(v);
+}
+
 }  // namespace
 }  // namespace test_round_ten_slips_cpp
