@@ -264,7 +264,7 @@ inline std::string proximity_log(std::uint64_t seed, Hidden& h) {
     double base = 0;
     const double abc[3] = {s::kPluginProximity.a_per_m2, s::kPluginProximity.b_per_m, s::kPluginProximity.c};
     if (dist <= s::kPluginProximity.range_m)
-      base = 4095.0 * std::clamp(std::pow(std::cos(angle_deg * s::kPi / 180.0), k_angle) * s::proximity_polynomial(abc, dist), 0.0, 1.0);
+      base = 4095.0 * std::pow(std::cos(angle_deg * s::kPi / 180.0), k_angle) * std::clamp(s::proximity_polynomial(abc, dist), 0.0, 1.0);
     double v = std::min(gain[static_cast<std::size_t>(sensor)] * base + offset + amplitude * std::exp(-dist / length), level);
     v += temp.effect(t) + kNoise * d.normal();
     out += fmt(dist) + "," + std::to_string(sensor) + "," + fmt(std::clamp(std::round(v), 0.0, 4095.0)) + "," +

@@ -178,9 +178,9 @@ double incidence_by_hand(double k, double cos_incidence) {
 /// Proximity, docs/diagnose.md with every effect (the combination as proximity.hpp's comment
 /// writes it): min(g_s cos^k 4095 clamp01(a d^2 + b d + c) [d <= range] + offset
 /// + amplitude exp(-d/length), level). p = {a, b, c, offset, g_s, amplitude, length, k, level}.
-/// The documented incidence_angle formula is 4095 clamp01(cos^k poly): cos^k inside the clamp; the
-/// header multiplies the clamped polynomial. They differ only where poly > 1 (d < 0.4 mm for the
-/// plug-in's coefficients); ProximityMeanRaw's poly > 1 points follow the header (see there).
+/// The incidence_angle factor multiplies the clamped polynomial (docs/diagnose.md since session 12:
+/// it wrote 4095 clamp01(cos^k poly) before, which differs only where poly > 1, d < 0.4 mm for the
+/// plug-in's coefficients, and biased a diagnosis of logs with readings at 0 m made that way).
 double proximity_by_hand(const std::array<double, 9>& p, double range, double d, double cos_incidence) {
   const double poly = p[0] * d * d + p[1] * d + p[2];
   const double hit = d <= range ? p[4] * incidence_by_hand(p[7], cos_incidence) * kFull * std::min(std::max(poly, 0.0), 1.0) : 0.0;
@@ -444,9 +444,8 @@ TEST(ModelFormulas, ProximityMeanRawAtTheClampsAndTheCutOff) {
   check_proximity("poly just above 0", e, plugin_distance_at(1e-3));
   check_proximity("poly just below 0", e, 0.049);
   check_proximity("poly above 1 (d = 1e-6)", e, 1e-6);
-  // poly > 1 with the incidence effect: the header's formula, cos^k times the clamped polynomial
-  // (proximity.hpp's comment): 4095 * 0.92^2 * 1 = 4095 * 0.846. docs/diagnose.md writes
-  // 4095 clamp01(cos^k poly) = 4095 * 0.856 here: the two disagree wherever poly > 1 (only there).
+  // poly > 1 with the incidence effect: cos^k times the clamped polynomial (proximity.hpp's
+  // comment, docs/diagnose.md): 4095 * 0.92^2 * 1 = 4095 * 0.846 (not clamp01(cos^k poly), 0.856).
   std::array<double, 9> tilted = e;
   tilted[7] = 2.0;
   check_proximity("poly above 1, incidence (header's formula)", tilted, 1e-6, 0.92);
