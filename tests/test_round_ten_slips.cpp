@@ -475,5 +475,44 @@ TEST(RoundTenStandardErrors, EveryFindingsErrorIsTheSpreadOfItsEstimates) {
   fs::remove_all(d);
 }
 
+
+// ---- a base model's covariate found again --------------------------------------------------------
+
+// docs/diagnose.md: a base model's `covariate:` terms are not simulated by the diagnosis (a drift
+// they describe is found again, and the extended model takes the new slope); they are carried into
+// the extended model. A ground base with covariate:temperature_c (slope 0.7) and
+// covariate:humidity_pct (slope 1), a log whose readings drift with temperature: the extended
+// model holds one temperature term, the slope found (near the generator's), and the humidity
+// term as the base had it.
+TEST(RoundTenExtendedModel, ACovariateFoundAgainReplacesTheBasesOfThatColumnOnly) {
+  namespace gen = epuck2::testing::diagnose;
+  namespace ec = epuck2::coefficients;
+  const fs::path d = r10_scratch("covariates");
+  gen::Hidden h = gen::hidden("covariate:temperature_c");
+  r10_write(d / "g.csv", gen::make_log(epuck2::logs::Kind::ground, 3, h));
+  ASSERT_TRUE(h.truth.count("slope"));
+  json base = std::visit([](const auto& m) { return ec::model_to_json(m); }, ec::plugin_model("ground"));
+  base["effects"]["covariate:temperature_c"] = {{"slope", 0.7}, {"centre", 25.0}};
+  base["effects"]["covariate:humidity_pct"] = {{"slope", 1.0}, {"centre", 50.0}};
+  r10_write(d / "base.json", base.dump(2));
+  ASSERT_EQ(r10_run("diagnose --kind ground --coefficients '" + (d / "base.json").string() + "' --effects covariate:temperature_c -o '" +
+                        (d / "ext.json").string() + "' '" + (d / "g.csv").string() + "'",
+                    d / "out.txt"),
+            0)
+      << r10_read(d / "out.txt.err");
+  const json ext = json::parse(r10_read(d / "ext.json"));
+  const json& e = ext.at("effects");
+  ASSERT_TRUE(e.contains("covariate:temperature_c")) << e.dump();
+  ASSERT_TRUE(e.contains("covariate:humidity_pct")) << e.dump();
+  int temperature_terms = 0;
+  for (auto it = e.begin(); it != e.end(); ++it) temperature_terms += it.key() == "covariate:temperature_c";
+  EXPECT_EQ(temperature_terms, 1);
+  EXPECT_NEAR(e.at("covariate:temperature_c").at("slope").get<double>(), h.truth.at("slope"), 0.2 * std::abs(h.truth.at("slope")));
+  EXPECT_NE(e.at("covariate:temperature_c").at("slope").get<double>(), 0.7);
+  EXPECT_EQ(e.at("covariate:humidity_pct").at("slope").get<double>(), 1.0);
+  EXPECT_EQ(e.at("covariate:humidity_pct").at("centre").get<double>(), 50.0);
+  fs::remove_all(d);
+}
+
 }  // namespace
 }  // namespace test_round_ten_slips_cpp
