@@ -211,6 +211,77 @@ TEST_P(DocumentedRanges, EachColumnReadToItsEndsAndRefusedBeyond) {
   }
 }
 
+/// The example log with `column`'s cell set to `text` in its last data row, or in every row
+/// (added to every row, as an optional column, where the example lacks it); where the cell starts
+/// (line, column, 1-based: the last row's, or the first's when every row has it) in `line`, `col`.
+std::string with_text(const std::vector<std::string>& example, const std::string& column, const std::string& text, bool every_row,
+                      int& line, int& col) {
+  std::size_t header = 0;
+  while (header < example.size() && example[header].rfind('#', 0) == 0) ++header;
+  std::vector<std::string> cols;
+  std::stringstream h(example.at(header));
+  for (std::string c; std::getline(h, c, ',');) cols.push_back(c);
+  const auto at = std::find(cols.begin(), cols.end(), column);
+  const bool added = at == cols.end();
+  const std::size_t j = added ? cols.size() : static_cast<std::size_t>(at - cols.begin());
+  const std::size_t last = example.size() - 1;
+  const std::size_t target = every_row ? header + 1 : last;  // the first cell the reader meets
+  std::string out;
+  for (std::size_t i = 0; i < example.size(); ++i) {
+    std::string l = example[i];
+    if (i == header && added) l += "," + column;
+    if (i > header) {
+      std::vector<std::string> cells;
+      std::stringstream r(l);
+      for (std::string c; std::getline(r, c, ',');) cells.push_back(c);
+      if (added) cells.push_back(every_row || i != last ? (every_row ? text : "0") : text);
+      else if (every_row || i == last) cells.at(j) = text;
+      l.clear();
+      for (std::size_t k = 0; k < cells.size(); ++k) {
+        if (i == target && k == j) col = static_cast<int>(l.size()) + (k ? 2 : 1);
+        l += (k ? "," : "") + cells[k];
+      }
+    }
+    out += l + "\n";
+  }
+  line = static_cast<int>(target) + 1;
+  return out;
+}
+
+// docs/logs.md: every column of a kind's table is a number in its range. A cell that is not a number
+// (a logger's "n/a", an empty cell) is refused where it stands -- the last row's line and the cell's
+// first character -- whether the other rows of the column are numbers or not: a column with one
+// bad cell is never read as a text column whose numbers are dropped, nor is a column of text.
+TEST_P(DocumentedRanges, EachColumnRefusesACellThatIsNotANumberWhereItIs) {
+  const Kind kind = GetParam();
+  const std::string name(logs::to_string(kind));
+  const DocKind doc = doc_kind(name);
+  ASSERT_GE(doc.example.size(), 3u) << name << ": the example log has fewer than two rows";
+  std::vector<std::string> columns;
+  for (const DocRange& r : doc.ranges) columns.push_back(r.column);
+  if (kind == Kind::battery || kind == Kind::drive) columns.push_back("time_s");  // ">= 0, never decreasing"
+  ASSERT_GE(columns.size(), 3u);
+  for (const std::string& column : columns) {
+    for (const char* text : {"n/a", "", "12abc", "nan", "inf"}) {
+      for (bool every_row : {false, true}) {
+        // A cell left empty in every row of an optional column, or of voltage_v beside charge,
+        // is a column the log does not have; refused is what the other cases expect.
+        if (std::string(text).empty() && every_row) continue;
+        SCOPED_TRACE(name + " " + column + " '" + text + "'" + (every_row ? " in every row" : " in the last row"));
+        int line = 0, col = 0;
+        const std::string csv = with_text(doc.example, column, text, every_row, line, col);
+        try {
+          logs::parse_log(csv, "text.csv", kind);
+          ADD_FAILURE() << "read:\n" << csv;
+        } catch (const InputError& e) {
+          EXPECT_EQ(e.line(), line) << e.what() << "\n" << csv;
+          EXPECT_EQ(e.column(), col) << e.what() << "\n" << csv;
+        }
+      }
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(EveryKind, DocumentedRanges,
                          ::testing::Values(Kind::battery, Kind::proximity, Kind::light, Kind::ground, Kind::camera, Kind::drive),
                          [](const ::testing::TestParamInfo<Kind>& i) { return std::string(logs::to_string(i.param)); });

@@ -110,3 +110,58 @@ if argos3 -n -z -c "$WORK/kind/exp.argos" > "$WORK/kind/log" 2>&1; then fail "ar
 grep -q "calibrated epuck2_proximity: .*drive.json:[0-9]*:[0-9]*: is not a proximity coefficient file (kind \"drive\")" "$WORK/kind/log" ||
   { cat "$WORK/kind/log"; fail "no message naming the kind"; }
 echo "ok   wrong kind: $(grep -o "is not a proximity coefficient file[^)]*)" "$WORK/kind/log" | head -1)"
+
+# 6. the encoders' uniform noise (noise_distribution="uniform", docs/argos.md): the plug-in's, added
+#    to the count on every tick a wheel turns and accumulating there, with the level of the file's
+#    sd (a drive file with noise.encoder.sd 5 steps): recorded twice with the same seed, noiseless
+#    and noisy, one row a tick, the difference noisy - noiseless (a) stays exactly as it was on
+#    every row where the wheel stood still, (b) moves by increments of sd 5 steps (within 12 %;
+#    the floor of both counts adds at most 1/3 step^2) on the rows where it turned -- a noise drawn
+#    afresh on each reading in place of accumulated would give sqrt(2) 5 -- and (c) never by more
+#    than sqrt(3) 5 + 1 steps in one tick (uniform: a Gaussian of 5 steps passes it about 1 in 20).
+mkdir -p "$WORK/encoder/quiet" "$WORK/encoder/uniform"
+python3 - "$ROOT/data/fitted/drive.json" "$WORK/encoder/d.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d.pop("robots", None)
+d["noise"]["encoder"]["sd"] = 5.0
+json.dump(d, open(sys.argv[2], "w"))
+PY
+for mode in quiet uniform; do
+  if [ "$mode" = quiet ]; then attr='noise="false"'; else attr='noise="true" noise_distribution="uniform"'; fi
+  sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$WORK/encoder/$mode\"|" \
+      -e "s|coefficients=\"[^\"]*\"|coefficients=\"$WORK/encoder/d.json\"|g" -e "s|speeds=\"[^\"]*\"|speeds=\"2.5,5,7.5\"|" \
+      -e "s|\(<epuck2_encoder implementation=\"calibrated\" coefficients=\"[^\"]*\"\) noise=\"false\"|\1 $attr|" \
+      "$ROOT/argos/experiments/drive.argos" > "$WORK/encoder/$mode/exp.argos"
+  grep -q "<epuck2_encoder implementation=\"calibrated\" coefficients=\"$WORK/encoder/d.json\" $attr" "$WORK/encoder/$mode/exp.argos" ||
+    fail "the encoder's attributes were not set in $WORK/encoder/$mode/exp.argos"
+  (cd "$WORK/encoder/$mode" && argos3 -n -z -c exp.argos > log 2>&1) || { cat "$WORK/encoder/$mode/log"; fail "argos3 (encoder, $mode)"; }
+done
+python3 - "$WORK/encoder/quiet" "$WORK/encoder/uniform" <<'PY' || fail "the encoders' uniform noise"
+import glob, math, os, sys
+quiet_dir, noisy_dir = sys.argv[1:3]
+def rows(p):
+    return [l.strip().split(",") for l in open(p) if l[0].isdigit()]
+still_moved = 0; still = 0; steps = []
+files = sorted(glob.glob(os.path.join(quiet_dir, "drive_*.csv")))
+assert len(files) == 6, files
+for q in files:
+    rq, rn = rows(q), rows(os.path.join(noisy_dir, os.path.basename(q)))
+    assert len(rq) == len(rn) > 10, q
+    for col in (3, 4):  # left_steps, right_steps
+        for i in range(1, len(rq)):
+            dq = int(rq[i][col]) - int(rq[i - 1][col])
+            dd = (int(rn[i][col]) - int(rq[i][col])) - (int(rn[i - 1][col]) - int(rq[i - 1][col]))
+            if dq == 0:
+                still += 1
+                still_moved += dd != 0
+            else:
+                steps.append(dd)
+n = len(steps); mean = sum(steps) / n
+sd = math.sqrt(sum((x - mean) ** 2 for x in steps) / (n - 1))
+far = sum(abs(x) > 3 ** 0.5 * 5 + 1 for x in steps)
+ok = still > 50 and still_moved == 0 and n >= 300 and abs(sd - 5) <= 0.12 * 5 and far == 0
+print(("ok   " if ok else "FAIL ") + f"encoder uniform noise: {still} still ticks, {still_moved} of them moved by the noise; "
+      f"{n} turning ticks, increments sd {sd:.2f} steps (file 5), {far} beyond sqrt(3) 5 + 1")
+sys.exit(0 if ok else 1)
+PY

@@ -220,6 +220,7 @@ class Doc {
     if (e->contains("unit") && (!e->at("unit").is_string() || e->at("unit").get<std::string>() != c.unit))
       fail(pointer + "/unit", where + ".unit must be \"" + c.unit + "\" (found " + e->at("unit").dump() + ")");
     std::string at = pointer + "/sd";
+    bool per_sensor = false;
     if (n > 1 && e->contains("per_sensor_sd")) {
       // The sd over all the sensors' readings beside them (a calibration's pooled estimate): the
       // sensors' own are read, the sd checked alike.
@@ -231,14 +232,17 @@ class Doc {
       }
       at = pointer + "/per_sensor_sd";
       out = numbers(e->at("per_sensor_sd"), n, at, where + ".per_sensor_sd");
+      per_sensor = true;
     } else {
       if (!e->contains("sd")) fail(pointer, "missing " + where + ".sd");
       out.assign(n, number(e->at("sd"), at, where + ".sd"));
     }
+    // A sensor's own sd out of range is refused at its entry (/per_sensor_sd/3), not at the list.
     for (std::size_t i = 0; i < n; ++i)
       if (!(out[i] >= 0 && out[i] < c.full_scale))
-        fail(at, where + ": a reading's noise sd must lie in [0, " + number_text(c.full_scale) + ") " + c.unit + " (found " +
-                     number_text(out[i]) + ")");
+        fail(per_sensor ? at + "/" + std::to_string(i) : at,
+             where + (per_sensor ? ".per_sensor_sd[" + std::to_string(i) + "]" : std::string()) + ": a reading's noise sd must lie in [0, " +
+                 number_text(c.full_scale) + ") " + c.unit + " (found " + number_text(out[i]) + ")");
     return out;
   }
 

@@ -154,28 +154,4 @@ FitResult Problem::summarize(const ParameterLayout& layout, const std::vector<do
   return fit::summarize(layout, residuals, evaluated, observations, summary.iterations, summary.message, summary.usable);
 }
 
-bool Problem::evaluate(const std::vector<double*>& over, std::vector<double>* residuals, Eigen::MatrixXd* jacobian,
-                       const std::vector<Eigen::Index>& columns) {
-  ceres::Problem::EvaluateOptions eo;
-  eo.parameter_blocks = over;
-  eo.apply_loss_function = false;
-  eo.num_threads = 1;
-  double cost = 0;
-  ceres::CRSMatrix crs;
-  if (!impl_->problem.Evaluate(eo, &cost, residuals, nullptr, jacobian != nullptr ? &crs : nullptr))
-    return false;
-  if (jacobian == nullptr) return true;
-  if (columns.empty()) {
-    *jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  } else if (static_cast<int>(columns.size()) != crs.num_cols || jacobian->rows() != crs.num_rows) {
-    return false;
-  }
-  for (int row = 0; row < crs.num_rows; ++row)
-    for (int k = crs.rows[static_cast<std::size_t>(row)]; k < crs.rows[static_cast<std::size_t>(row) + 1]; ++k) {
-      const int c = crs.cols[static_cast<std::size_t>(k)];
-      (*jacobian)(row, columns.empty() ? c : columns[static_cast<std::size_t>(c)]) = crs.values[static_cast<std::size_t>(k)];
-    }
-  return true;
-}
-
 }  // namespace epuck2::fit

@@ -153,13 +153,6 @@ class Problem {
   static FitResult summarize(const ParameterLayout& layout, const std::vector<double>& residuals, bool evaluated,
                              const std::vector<double>& observations, const SolveSummary& summary);
 
-  /// The residuals (no loss applied) and, when `jacobian` is given, their derivatives over the
-  /// arrays `over` (the others held): one column per value of those arrays in order, or, with
-  /// `columns`, column c written to column columns[c] of a `jacobian` the caller has sized (the
-  /// other columns left as they are; no second n-row copy). False when they cannot be evaluated.
-  bool evaluate(const std::vector<double*>& over, std::vector<double>* residuals, Eigen::MatrixXd* jacobian,
-                const std::vector<Eigen::Index>& columns = {});
-
   struct Impl;
 
  private:
