@@ -313,6 +313,34 @@ R9_LOGS = r9([R8_FACTS, R8_HINTS, R8_APPS])
 R9_APPS = r9([R8_APPS, R3_CHARGE], ["test_battery_models", "test_battery_fast_paths"])
 R9_ARGOS = r9([R8_ARGOS])
 
+# Round 10 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-10), planted without reading
+# the tests: each group is every test of the programs that touch the area -- round 8's groups for it,
+# as in round 9, with the ARGoS tests for argos/src and for the model headers the plug-in includes.
+# `targets` are build targets that are no test program (ctest runs them through a script): the
+# battery's bit-exactness helper, for the slips the ARGoS battery tests compare against. The ARGoS
+# drive slips also run the drive's closed loops, and the discharge and battery-table slips the ARGoS
+# battery tests (R3_ARGOS leaves both out). R10_TESTS: the programs added for round 10 (none yet).
+R10_TESTS = R9_TESTS
+R10_ARGOS_BATTERY = ("argos_battery_", "argos_closed_loop_battery_")
+
+
+def r10(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R10_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R10_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+R10_MODELS = r10([R8_MODELS, R8_ARGOS])
+R10_DISCHARGE = r10([R9_APPS, R8_CALIB], extra=R10_ARGOS_BATTERY, targets=R3_ARGOS[0] + ["argos_plugin_battery_json"])
+R10_ARGOS = r10([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+R10_FIT = r10([R8_FIT, R8_CALIB, R8_DIAGNOSE])
+R10_COEFF = r10([R8_COEFF, R8_ARGOS], extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+R10_CALIB = r10([R8_CALIB])
+R10_LOGS = r10([R8_FACTS, R8_HINTS, R8_APPS])
+R10_DIAGNOSE = r10([R8_DIAGNOSE], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+R10_APPS = r10([R8_APPS, R3_CHARGE], ["test_battery_models", "test_battery_fast_paths"])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -727,6 +755,55 @@ MUTANTS = [
      'if (source.empty()) source = argos ? "fitted" : "plugin";', R9_APPS),
     ("r9_argos_tail_reach_one_count", AS, "std::log(2.0 * std::abs(sTail.amplitude_raw))", "std::log(std::abs(sTail.amplitude_raw))",
      R9_ARGOS),
+    # Round 10 (bench/fresh-slips.md), planted without reading the tests; the lib/models headers first.
+    ("r10_discharge_argos_command_one_tick_early", "lib/models/include/epuck2/models/battery_simulation.hpp",
+     "cursor.speed_at(static_cast<double>(k - 2) * dt_s)", "cursor.speed_at(static_cast<double>(k - 1) * dt_s)", R10_DISCHARGE),
+    ("r10_light_mean_range_edge_excluded", ML, "if (distance_m <= range_m && intensity > 0) {",
+     "if (distance_m < range_m && intensity > 0) {", R10_MODELS),
+    ("r10_ground_mean_grey_zero_through_log", MG, "if (!(grey > 0)) return ground_response(gain_raw, offset_raw, 0.0);",
+     "if (!(grey >= 0)) return ground_response(gain_raw, offset_raw, 0.0);", R10_MODELS),
+    ("r10_argos_tof_delay_pops_past_when", "argos/src/calibrated_drive.hpp",
+     "while (past_.size() > 2 && past_[1].first <= when) past_.pop_front();",
+     "while (past_.size() > 2 && past_[0].first <= when) past_.pop_front();", R10_ARGOS),
+    ("r10_argos_firmware_cap_attribute_inverted", "argos/src/calibrated_actuator.cpp",
+     'if (!bFirmwareCap && sConfig.limit_from == "firmware") {', 'if (bFirmwareCap && sConfig.limit_from == "firmware") {', R10_ARGOS),
+    ("r10_fit_held_residual_variance_all_params", "lib/fit/src/fit_curve.cpp",
+     "r.residual_variance = n > free ? r.rss / (n - free) : r.residual_variance;",
+     "r.residual_variance = n > free ? r.rss / (n - P) : r.residual_variance;", R10_FIT),
+    ("r10_wild_replicates_typical_floor_dropped", "lib/fit/src/replicates.cpp",
+     "const double sd = std::max({sd_of.count(g) ? sd_of.at(g) : typical, 0.5 * typical, floor_sd});",
+     "const double sd = std::max({sd_of.count(g) ? sd_of.at(g) : typical, floor_sd});", R10_FIT),
+    ("r10_robot_map_star_one_character", "lib/coefficients/src/model_sets.cpp", "(*text != '\\0' && glob_match(pattern, text + 1))",
+     "(*text != '\\0' && glob_match(pattern + 1, text + 1))", R10_COEFF),
+    ("r10_pooled_set_warning_from_three_robots", "lib/coefficients/src/model_sets.cpp",
+     "if (!attribute.empty() || !robots.is_object() || robots.size() < 2) return c;",
+     "if (!attribute.empty() || !robots.is_object() || robots.size() <= 2) return c;", R10_COEFF),
+    ("r10_battery_cubic_range_end_unchecked", "lib/coefficients/src/battery_tables.cpp", "for (int i = 0; i <= 64; ++i) {",
+     "for (int i = 0; i < 64; ++i) {", R10_COEFF),
+    ("r10_camera_table4_alpha_sd_over_n", "lib/calibrate/src/camera_fit.cpp", "std::sqrt(ss / static_cast<double>(alphas.size() - 1))",
+     "std::sqrt(ss / static_cast<double>(alphas.size()))", R10_CALIB),
+    ("r10_proximity_range_error_sqrt3", "lib/calibrate/src/proximity_fit.cpp",
+     "R.std_error_m = (R.undetected_from_m - R.detected_to_m) / std::sqrt(12.0);",
+     "R.std_error_m = (R.undetected_from_m - R.detected_to_m) / std::sqrt(3.0);", R10_CALIB),
+    ("r10_table5_simulated_ratio_to_analytic", "lib/calibrate/src/battery_report.cpp",
+     "ratio_s[std::string(mb::to_string(m))] = t.simulated.get(m) / pg.get(m);",
+     "ratio_s[std::string(mb::to_string(m))] = t.simulated.get(m) / pa.get(m);", R10_CALIB),
+    ("r10_format_number_sixteen_digits", "lib/logs/src/csv_writer.cpp", "for (int digits = 6; digits <= 17; ++digits) {",
+     "for (int digits = 6; digits < 17; ++digits) {", R10_LOGS),
+    ("r10_log_trailing_delimiter_at_header_size", LR,
+     "if (cells.size() - row_first.back() == header.size() + 1 && cells.back().size == 0) cells.pop_back();",
+     "if (cells.size() - row_first.back() == header.size() && cells.back().size == 0) cells.pop_back();", R10_LOGS),
+    ("r10_diagnose_light_base_range_plugin", DK_LIGHT, "    range_m_ = m.base.range_m;\n",
+     "    range_m_ = s::kPluginLight.range_m;\n", R10_DIAGNOSE),
+    ("r10_diagnose_battery_derivative_one_step", DK_BATTERY, "out[r].v = p[k_].v * ((sim.up[i] - sim.down[i]) / (2.0 * h));",
+     "out[r].v = p[k_].v * ((sim.up[i] - sim.down[i]) / h);", R10_DIAGNOSE),
+    ("r10_extended_covariate_merged_by_other_column", "lib/diagnose/src/extended_model.cpp",
+     "[&](const s::CovariateEffect& b) { return b.column == f.column; }",
+     "[&](const s::CovariateEffect& b) { return b.column != f.column; }", R10_DIAGNOSE),
+    ("r10_table5_charge_map_without_conversion", "apps/cmd_table5.cpp", "if (in.map && in.conversion.logs > 0) {", "if (in.map) {",
+     R10_APPS),
+    ("r10_battery_map_fitted_only_when_needed", "apps/battery_input.hpp", "} else if (fit_map || voltage_only) {",
+     "} else if (fit_map && voltage_only) {", R10_APPS),
 ]
 
 
