@@ -396,8 +396,22 @@ void render(logs::OutputStage& stage, const std::string& path, const Draw& draw,
                                                          std::to_string(++figures) + ".txt");
   std::string messages_text;  // a shell word: single-quoted
   for (char c : messages.string()) messages_text += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  // With EPUCK2_PLOT_SCRIPT_DIR naming a folder, every command and datum sent to gnuplot is also
+  // kept there as NAME.gp (NAME: the figure's file name), to restyle a figure by hand or to check
+  // what it draws (the figure tests read the curves and points from it). Its `set output` names
+  // the staged temporary: change it before running the script.
+  std::string command = strict ? "gnuplot 2>'" + messages_text + "'" : std::string("gnuplot 2>/dev/null");
+  if (const char* dir = std::getenv("EPUCK2_PLOT_SCRIPT_DIR"); dir != nullptr && *dir != '\0') {
+    std::error_code dir_ec;
+    if (!fs::is_directory(dir, dir_ec))
+      throw std::runtime_error(path + ": EPUCK2_PLOT_SCRIPT_DIR '" + dir + "' is not a folder (the figure's gnuplot script is kept there)");
+    std::string script;  // a shell word: single-quoted
+    for (char c : (fs::path(dir) / (fs::path(path).filename().string() + ".gp")).string())
+      script += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    command = "tee '" + script + "' | " + command;
+  }
   {
-    gnuplotio::Gnuplot gp(strict ? "gnuplot 2>'" + messages_text + "'" : std::string("gnuplot 2>/dev/null"));
+    gnuplotio::Gnuplot gp(command);
     gp << "set encoding utf8\n";
     gp << terminal(*format, width_px, height_px);
     std::string path_text;  // single-quoted: every byte but a newline as it is ('' stands for ')

@@ -1,0 +1,532 @@
+// What the figures draw, checked against what they claim to draw. tests/test_figures.cpp checks
+// that each figure is drawn, in its format, with its axes and legend; this file checks its data:
+// the gnuplot script the real binary sends (kept with EPUCK2_PLOT_SCRIPT_DIR, docs/cli.md
+// "Figures") is read back, and
+//   - every plotted reading is a row of the logs (read here from the CSV text), in the panel or
+//     series of its own intensity, sensor or speed;
+//   - every curve is the paper's formula (written here from the reference's statement of it) with
+//     the coefficients the same run reports in its JSON, or the plug-in's published constants;
+//   - the battery lifetime figure's runs, means and standard errors are the logs' end times, worked
+//     here, and its published end times the paper's (Fig. 10).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+namespace test_figure_data_cpp {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using Rows = std::vector<std::vector<double>>;
+
+/// A gnuplot script as the binary sent it: its datablocks by name, and the inline ('-') data blocks
+/// of its plot commands in order.
+struct Script {
+  std::map<std::string, Rows> blocks;
+  std::vector<Rows> inline_blocks;
+};
+
+std::vector<double> numbers(const std::string& line) {
+  std::vector<double> out;
+  std::istringstream in(line);
+  std::string word;
+  while (in >> word) out.push_back(std::strtod(word.c_str(), nullptr));
+  return out;
+}
+
+Script read_script(const fs::path& p) {
+  std::ifstream in(p);
+  EXPECT_TRUE(in.good()) << p;
+  Script s;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.size() > 1 && line[0] == '$' && line.find(" << EOD") != std::string::npos) {
+      const std::string name = line.substr(1, line.find(' ') - 1);
+      Rows rows;
+      while (std::getline(in, line) && line != "EOD") rows.push_back(numbers(line));
+      s.blocks[name] = rows;
+    } else if (line.rfind("plot ", 0) == 0) {
+      std::size_t inl = 0;
+      for (std::size_t at = line.find("'-'"); at != std::string::npos; at = line.find("'-'", at + 3)) ++inl;
+      for (std::size_t b = 0; b < inl; ++b) {
+        Rows rows;
+        while (std::getline(in, line) && line != "e") rows.push_back(numbers(line));
+        s.inline_blocks.push_back(rows);
+      }
+    }
+  }
+  return s;
+}
+
+/// A log's data rows by column name (comment lines '#' skipped).
+struct Csv {
+  std::vector<std::string> header;
+  Rows rows;
+  std::size_t col(const std::string& name) const {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return static_cast<std::size_t>(it - header.begin());
+  }
+};
+
+Csv read_csv(const fs::path& p) {
+  std::ifstream in(p);
+  Csv c;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    if (c.header.empty()) {
+      std::istringstream words(line);
+      std::string w;
+      while (words >> w) c.header.push_back(w);
+    } else {
+      c.rows.push_back(numbers(line));
+    }
+  }
+  return c;
+}
+
+std::vector<fs::path> logs_of(const std::string& kind) {
+  std::vector<fs::path> out;
+  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data/raw" / kind))
+    if (e.path().extension() == ".csv") out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// Runs `epuck2-fit ARGS` with the figure scripts kept in `dir`; the JSON report (-o) is returned.
+json run_fit(const fs::path& dir, const std::string& kind, const std::string& plots) {
+  std::string cmd = "EPUCK2_PLOT_SCRIPT_DIR='" + dir.string() + "' '" EPUCK2_FIT_EXE "' " + kind;
+  for (const auto& p : logs_of(kind)) cmd += " '" + p.string() + "'";
+  cmd += " --json -o '" + (dir / "report.json").string() + "' " + plots + " >/dev/null 2>'" + (dir / "stderr.txt").string() + "'";
+  const int rc = std::system(cmd.c_str());
+  EXPECT_EQ(rc, 0) << cmd;
+  std::ifstream in(dir / "report.json");
+  return json::parse(in);
+}
+
+class FigureData : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/epuck2-figure-data-XXXXXX";
+    ASSERT_NE(::mkdtemp(tmpl), nullptr);
+    dir_ = tmpl;
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  fs::path dir_;
+};
+
+constexpr double kDatablockDigits = 1e-9;  // datablocks carry 10 significant digits
+
+void expect_near_rel(double want, double got, const std::string& what) {
+  EXPECT_NEAR(got, want, 2 * kDatablockDigits * std::max(1.0, std::abs(want))) << what;
+}
+
+// ---- proximity: paper Eq. 1, the reading / 4095 = clamp01(a d^2 + b d + c) within the range ----
+
+double eq1(double a, double b, double c, double range_m, double d) {
+  if (d > range_m) return 0.0;
+  return std::clamp(a * d * d + b * d + c, 0.0, 1.0);
+}
+
+TEST_F(FigureData, ProximityCurvesAreEq1WithTheReportedAndThePublishedCoefficients) {
+  const json r = run_fit(dir_, "proximity", "--plot '" + (dir_ / "p.png").string() + "'");
+  const Script s = read_script(dir_ / "p.png.gp");
+  const json& k = r["parameters"];
+  const Rows& curves = s.blocks.at("curves");
+  ASSERT_GE(curves.size(), 100u);
+  EXPECT_EQ(curves.front()[0], 0.0);
+  EXPECT_NEAR(curves.back()[0], 50.0, 1e-9);
+  for (const auto& row : curves) {
+    ASSERT_EQ(row.size(), 5u);
+    const double d = row[0] / 1000.0;
+    expect_near_rel(eq1(k["a"], k["b"], k["c"], k["range_m"], d), row[1], "fit to maxima at " + std::to_string(row[0]));
+    expect_near_rel(eq1(k["mean_a"], k["mean_b"], k["mean_c"], k["range_m"], d), row[2], "fit to means");
+    // The plug-in's (reference: 197.8633, -30.47182, 1.011635, range 0.05 m) and the E-Puck v1's.
+    expect_near_rel(eq1(197.8633, -30.47182, 1.011635, 0.05, d), row[3], "plug-in");
+    expect_near_rel(eq1(298.701, -36.8961, 1.08212, 0.05, d), row[4], "E-Puck v1");
+  }
+}
+
+// Each distance's point: the readings at that distance / 4095 (every sensor, every log) less the
+// fit's outliers: where the report keeps them all, their min, mean and max exactly; else within.
+TEST_F(FigureData, ProximityPointsAreTheLogsReadingsAtEachDistance) {
+  const json r = run_fit(dir_, "proximity", "--plot '" + (dir_ / "p.png").string() + "'");
+  const Script s = read_script(dir_ / "p.png.gp");
+  std::map<long, std::vector<double>> at;  // key: distance in micrometres
+  for (const auto& p : logs_of("proximity")) {
+    const Csv c = read_csv(p);
+    for (const auto& row : c.rows) at[std::lround(row[c.col("distance_m")] * 1e6)].push_back(row[c.col("value")] / 4095.0);
+  }
+  Rows drawn = s.blocks.at("pts");
+  if (s.blocks.count("out")) drawn.insert(drawn.end(), s.blocks.at("out").begin(), s.blocks.at("out").end());
+  ASSERT_EQ(drawn.size(), at.size()) << "one point per logged distance";
+  std::size_t exact = 0;
+  for (const auto& row : drawn) {
+    ASSERT_EQ(row.size(), 5u);
+    const auto it = at.find(std::lround(row[0] * 1000.0));
+    ASSERT_NE(it, at.end()) << "a point at " << row[0] << " mm, a distance no log has";
+    const std::vector<double>& v = it->second;
+    const double lo = *std::min_element(v.begin(), v.end()), hi = *std::max_element(v.begin(), v.end());
+    double mean = 0;
+    for (double x : v) mean += x;
+    mean /= static_cast<double>(v.size());
+    EXPECT_LE(row[1], row[2]);
+    EXPECT_LE(row[2], row[3]);
+    EXPECT_GE(row[1], lo - 1e-9);
+    EXPECT_LE(row[3], hi + 1e-9);
+    // The report's point at that distance: how many it kept.
+    for (const auto& p : r["points"])
+      if (std::lround(p["distance_m"].get<double>() * 1e6) == it->first && p["kept"] == p["readings"]) {
+        ++exact;
+        expect_near_rel(lo, row[1], "min at " + std::to_string(row[0]));
+        expect_near_rel(mean, row[2], "mean at " + std::to_string(row[0]));
+        expect_near_rel(hi, row[3], "max at " + std::to_string(row[0]));
+        EXPECT_EQ(row[4], 1.0);
+      }
+  }
+  EXPECT_GE(exact, 3u) << "the shipped logs have distances without a wild reading";
+}
+
+// ---- light: paper Eq. 2, 4095 (1 - (gamma I / d)^2) within 0.5 m, clamped to [0, 4095] ----
+
+double eq2(double gamma_m, double intensity, double d) {
+  if (d > 0.5) return 4095.0;
+  const double x = gamma_m * intensity / d;
+  return std::clamp(4095.0 * (1.0 - x * x), 0.0, 4095.0);
+}
+
+TEST_F(FigureData, LightReadingsAreTheLogsRowsOfTheirIntensityAndTheCurvesEq2) {
+  const json r = run_fit(dir_, "light", "--plot '" + (dir_ / "l.png").string() + "'");
+  const Script s = read_script(dir_ / "l.png.gp");
+  std::map<double, std::multiset<std::pair<long, long>>> rows;  // intensity: (distance in um, value)
+  std::size_t total = 0;
+  for (const auto& p : logs_of("light")) {
+    const Csv c = read_csv(p);
+    for (const auto& row : c.rows) {
+      rows[row[c.col("intensity")]].insert({std::lround(row[c.col("distance_m")] * 1e6), std::lround(row[c.col("value")])});
+      ++total;
+    }
+  }
+  ASSERT_EQ(rows.size(), 4u);
+  const double gamma = r["parameters"]["gamma"];
+  std::size_t k = 0, drawn = 0;
+  for (const auto& [intensity, logged] : rows) {  // the blocks in increasing intensity
+    const std::string i = "i" + std::to_string(k), c = "c" + std::to_string(k);
+    ASSERT_TRUE(s.blocks.count(i) && s.blocks.count(c)) << k;
+    std::multiset<std::pair<long, long>> left = logged;
+    for (const auto& row : s.blocks.at(i)) {
+      const auto it = left.find({std::lround(row[0] * 1e4), std::lround(row[1])});
+      ASSERT_NE(it, left.end()) << "I = " << intensity << ": a reading (" << row[0] << " cm, " << row[1]
+                                << ") that is not a row of its logs";
+      left.erase(it);
+      ++drawn;
+    }
+    for (const auto& row : s.blocks.at(c)) {
+      expect_near_rel(eq2(gamma, intensity, row[0] / 100.0), row[1], "fit at I " + std::to_string(intensity));
+      expect_near_rel(eq2(1.0 / 13.3333333333333, intensity, row[0] / 100.0), row[2], "plug-in");
+    }
+    ++k;
+  }
+  // A PNG draws every reading the fit used: all but its outliers.
+  EXPECT_LE(drawn, total);
+  EXPECT_GE(static_cast<double>(drawn), 0.97 * static_cast<double>(total));
+}
+
+// ---- ground: each sensor's line offset + gain grey, the plug-in's 1023 grey ----
+
+// The readings are drawn shifted sideways (the axis label says by how much): with two robots,
+// sensor k's by (k - 1) 0.005 and robot r's by (r - 1/2) 0.02; each robot has its marker.
+TEST_F(FigureData, GroundReadingsAreEachSensorsRowsAndTheLinesTheReportedOnes) {
+  const json r = run_fit(dir_, "ground", "--plot '" + (dir_ / "g.png").string() + "'");
+  const Script s = read_script(dir_ / "g.png.gp");
+  // (sensor, robot): (grey in 1e-6, value); the robots in the logs' order.
+  std::map<std::pair<int, int>, std::multiset<std::pair<long, long>>> rows;
+  int robot = 0;
+  for (const auto& p : logs_of("ground")) {
+    const Csv c = read_csv(p);
+    for (const auto& row : c.rows)
+      rows[{static_cast<int>(row[c.col("sensor")]), robot}].insert({std::lround(row[c.col("grey")] * 1e6), std::lround(row[c.col("value")])});
+    ++robot;
+  }
+  ASSERT_EQ(robot, 2);
+  ASSERT_EQ(rows.size(), 6u);
+  std::map<int, int> robot_of_marker;
+  for (int sensor = 0; sensor < 3; ++sensor) {
+    const Rows& drawn = s.blocks.at("s" + std::to_string(sensor));
+    EXPECT_GE(static_cast<double>(drawn.size()), 0.97 * static_cast<double>(rows[{sensor, 0}].size() + rows[{sensor, 1}].size()));
+    for (const auto& row : drawn) {
+      bool found = false;
+      for (int rb = 0; rb < 2 && !found; ++rb) {
+        const double shift = (sensor - 1) * 0.005 + (rb - 0.5) * 0.02;
+        auto& left = rows[{sensor, rb}];
+        const auto it = left.find({std::lround((row[0] - shift) * 1e6), std::lround(row[1])});
+        if (it == left.end()) continue;
+        left.erase(it);
+        found = true;
+        const auto m = robot_of_marker.emplace(static_cast<int>(row[2]), rb).first;
+        EXPECT_EQ(m->second, rb) << "one marker, two robots";
+      }
+      ASSERT_TRUE(found) << "sensor " << sensor << ": (" << row[0] << ", " << row[1] << ") is not one of its rows, shifted";
+    }
+  }
+  EXPECT_EQ(robot_of_marker.size(), 2u);
+  const json& k = r["parameters"];
+  const Rows& lines = s.blocks.at("lines");
+  ASSERT_GE(lines.size(), 2u);
+  for (const auto& row : lines) {
+    ASSERT_EQ(row.size(), 5u);
+    for (int sensor = 0; sensor < 3; ++sensor)
+      expect_near_rel(k["offset"][sensor].get<double>() + k["gain"][sensor].get<double>() * row[0], row[1 + sensor],
+                      "sensor " + std::to_string(sensor) + " at grey " + std::to_string(row[0]));
+    expect_near_rel(1023.0 * row[0], row[4], "plug-in");
+  }
+  EXPECT_EQ(lines.front()[0], 0.0);
+  EXPECT_EQ(lines.back()[0], 1.0);
+}
+
+// ---- camera: the pinhole of the reference, column = cx - (W/2) (lateral/forward) / tan(fov/2),
+// row = cy - (W/2) (vertical/forward) / tan(fov/2) (square pixels); the plug-in's fov
+// 2 atan(0.8 tan 18.5 deg) = 29.97 deg, centre (80, 60) ----
+
+TEST_F(FigureData, CameraObservationsAreTheLogsAndTheCurvesThePinhole) {
+  const json r = run_fit(dir_, "camera", "--plot '" + (dir_ / "c.png").string() + "'");
+  const Script s = read_script(dir_ / "c.png.gp");
+  std::multiset<std::vector<long>> logged;
+  for (const auto& p : logs_of("camera")) {
+    const Csv c = read_csv(p);
+    for (const auto& row : c.rows) {
+      const double fwd = row[c.col("forward_m")];
+      logged.insert({std::lround(row[c.col("lateral_m")] / fwd * 1e9), std::lround(row[c.col("px")]),
+                     std::lround(row[c.col("vertical_m")] / fwd * 1e9), std::lround(row[c.col("py")])});
+    }
+  }
+  const json& k = r["parameters"];
+  const double pi = std::acos(-1.0);
+  const double t_fit = std::tan(k["fov_deg"].get<double>() * pi / 360.0);
+  const double t_plugin = 0.8 * std::tan(18.5 * pi / 180.0);
+  const Rows& obs = s.blocks.at("obs");
+  EXPECT_GE(static_cast<double>(obs.size()), 0.97 * static_cast<double>(logged.size()));
+  for (const auto& row : obs) {
+    ASSERT_GE(row.size(), 8u);
+    // The datablock's 10 digits: the ratios to 1e-9 relative.
+    bool found = false;
+    for (long dl : {-1L, 0L, 1L})
+      for (long dv : {-1L, 0L, 1L}) {
+        const auto it = logged.find({std::lround(row[0] * 1e9) + dl, std::lround(row[1]), std::lround(row[4] * 1e9) + dv, std::lround(row[5])});
+        if (it != logged.end() && !found) {
+          logged.erase(it);
+          found = true;
+        }
+      }
+    EXPECT_TRUE(found) << "(" << row[0] << ", " << row[1] << ", " << row[4] << ", " << row[5] << ") is not a row of the logs";
+    expect_near_rel(k["cx_px"].get<double>() - 80.0 * row[0] / t_fit, row[2], "fitted column");
+    expect_near_rel(80.0 - 80.0 * row[0] / t_plugin, row[3], "plug-in column");
+    expect_near_rel(k["cy_px"].get<double>() - 80.0 * row[4] / t_fit, row[6], "fitted row");
+    expect_near_rel(60.0 - 80.0 * row[4] / t_plugin, row[7], "plug-in row");
+  }
+}
+
+// ---- battery ----
+
+struct BatteryRun {
+  double speed = 0;
+  std::vector<double> t, charge, voltage;
+};
+std::vector<BatteryRun> battery_runs() {
+  std::vector<BatteryRun> out;
+  for (const auto& p : logs_of("battery")) {
+    const Csv c = read_csv(p);
+    BatteryRun r;
+    r.speed = c.rows.front()[c.col("speed_cm_s")];
+    for (const auto& row : c.rows) {
+      r.t.push_back(row[c.col("time_s")]);
+      r.charge.push_back(row[c.col("charge")]);
+      r.voltage.push_back(row[c.col("voltage_v")]);
+    }
+    out.push_back(r);
+  }
+  return out;
+}
+
+// Lifetime: each run's last logged time (the logs end at the stop, data/raw/battery/README.md),
+// the mean of a speed's runs and its standard error sd / sqrt(n), and the paper's end times.
+TEST_F(FigureData, TheLifetimeFigureIsTheLogsEndTimesTheirMeansAndThePublishedOnes) {
+  const fs::path stage = dir_;
+  run_fit(stage, "battery", "--plot-lifetime '" + (dir_ / "life.png").string() + "'");
+  const Script s = read_script(dir_ / "life.png.gp");
+  ASSERT_EQ(s.inline_blocks.size(), 3u);
+  const std::vector<BatteryRun> runs = battery_runs();
+  std::multiset<std::pair<long, long>> ends;  // (speed in 0.01 cm/s, end in ms)
+  std::map<long, std::vector<double>> by_speed;
+  for (const auto& r : runs) {
+    ends.insert({std::lround(r.speed * 100), std::lround(r.t.back() * 1000)});
+    by_speed[std::lround(r.speed * 100)].push_back(r.t.back() / 3600.0);
+  }
+  ASSERT_EQ(s.inline_blocks[0].size(), runs.size());
+  for (const auto& row : s.inline_blocks[0]) {
+    const auto it = ends.find({std::lround(row[0] * 100), std::lround(row[1] * 3600 * 1000)});
+    ASSERT_NE(it, ends.end()) << "a run at " << row[0] << " cm/s ending at " << row[1] << " h: no log";
+    ends.erase(it);
+  }
+  ASSERT_EQ(s.inline_blocks[1].size(), by_speed.size());
+  for (const auto& row : s.inline_blocks[1]) {
+    const std::vector<double>& h = by_speed.at(std::lround(row[0] * 100));
+    double mean = 0, ss = 0;
+    for (double x : h) mean += x;
+    mean /= static_cast<double>(h.size());
+    for (double x : h) ss += (x - mean) * (x - mean);
+    const double se = h.size() > 1 ? std::sqrt(ss / static_cast<double>(h.size() - 1) / static_cast<double>(h.size())) : 0.0;
+    EXPECT_NEAR(row[1], mean, 1e-9) << row[0] << " cm/s";
+    EXPECT_NEAR(row[2], se, 1e-9) << row[0] << " cm/s";
+  }
+  // Paper Fig. 10's end times (the reference's, to their 2 decimals: the plug-in's tables hold
+  // 19743.4806580544 ...), s.
+  const double published[16] = {19743.48, 16021.85, 12856.62, 11142.83, 9166.25, 9355.34, 9202.55, 9729.11,
+                                9897.89,  10356.66, 11057.34, 11638.03, 12765.53, 13055.41, 13228.29, 12957.47};
+  ASSERT_EQ(s.inline_blocks[2].size(), 16u);
+  for (int k = 0; k < 16; ++k) {
+    EXPECT_EQ(s.inline_blocks[2][k][0], k);
+    EXPECT_NEAR(s.inline_blocks[2][k][1], published[k] / 3600.0, 0.006 / 3600.0) << k << " cm/s";
+  }
+}
+
+// The fits figure: per speed (increasing), the four models then the logs. The models worked here
+// from the report's coefficients: simple 1 + slope t (the static slope at 0 cm/s, else the moving
+// one), linear 1 + slope t, both floored at 0; cubic d + c t + b t^2 + a t^3 (the report's
+// `cubic`, constant term first); approximated the line through (0, 1), (x1, y1), (x2, y2),
+// (lifetime - 1 s, y3). The logs' points are each run's rows of that speed.
+TEST_F(FigureData, TheBatteryFitsFigureDrawsTheReportedModelsAndTheLogsRows) {
+  const json r = run_fit(dir_, "battery", "--plot '" + (dir_ / "fits.png").string() + "'");
+  const Script s = read_script(dir_ / "fits.png.gp");
+  const json& speeds = r["speeds"];
+  ASSERT_EQ(s.inline_blocks.size(), 5 * speeds.size());
+  const std::vector<BatteryRun> runs = battery_runs();
+  for (std::size_t i = 0; i < speeds.size(); ++i) {
+    const json& sp = speeds[i];
+    const double v = sp["speed_cm_s"], life = sp["lifetime_s"];
+    const double simple = v == 0 ? r["simple"]["static_slope_per_s"].get<double>() : r["simple"]["moving_slope_per_s"].get<double>();
+    const double linear = sp["linear_slope"];
+    const json& cu = sp["cubic"];
+    const json& bp = sp["breakpoints"]["parameters"];
+    const double x[4] = {0.0, bp["x1_s"], bp["x2_s"], life - 1.0}, y[4] = {1.0, bp["y1"], bp["y2"], bp["y3"]};
+    for (int m = 0; m < 4; ++m) {
+      const Rows& c = s.inline_blocks[5 * i + static_cast<std::size_t>(m)];
+      ASSERT_GE(c.size(), 100u);
+      EXPECT_NEAR(c.back()[0], life / 3600.0, 1e-9);
+      for (const auto& row : c) {
+        const double t = row[0] * 3600.0;
+        double want = 0;
+        if (m == 0) want = std::max(0.0, 1.0 + simple * t);
+        if (m == 1) want = std::max(0.0, 1.0 + linear * t);
+        if (m == 2) want = cu[0].get<double>() + cu[1].get<double>() * t + cu[2].get<double>() * t * t + cu[3].get<double>() * t * t * t;
+        if (m == 3) {
+          if (t > x[3]) continue;  // (beyond the last knot: extrapolated, not checked)
+          int seg = t <= x[1] ? 0 : t <= x[2] ? 1 : 2;
+          want = y[seg] + (y[seg + 1] - y[seg]) * (t - x[seg]) / (x[seg + 1] - x[seg]);
+        }
+        EXPECT_NEAR(row[1], want, 1e-9) << v << " cm/s, model " << m << ", t " << t;
+      }
+    }
+    // The logs: every drawn point a row of a run at this speed; each run ends its line with NaN.
+    std::multiset<std::pair<long, long>> logged;
+    std::size_t n_runs = 0;
+    for (const auto& run : runs)
+      if (std::lround(run.speed * 100) == std::lround(v * 100)) {
+        ++n_runs;
+        for (std::size_t k = 0; k < run.t.size(); ++k) logged.insert({std::lround(run.t[k] * 1000), std::lround(run.charge[k] * 1e6)});
+      }
+    ASSERT_EQ(n_runs, sp["runs"].get<std::size_t>());
+    std::size_t nans = 0, points = 0;
+    for (const auto& row : s.inline_blocks[5 * i + 4]) {
+      if (std::isnan(row[0])) {
+        ++nans;
+        continue;
+      }
+      const auto it = logged.find({std::lround(row[0] * 3600 * 1000), std::lround(row[1] * 1e6)});
+      ASSERT_NE(it, logged.end()) << v << " cm/s: (" << row[0] << " h, " << row[1] << ") is not a row of its runs";
+      logged.erase(it);
+      ++points;
+    }
+    EXPECT_EQ(nans, n_runs);
+    EXPECT_GE(points, 100 * n_runs);
+    EXPECT_LE(points, 400 * n_runs);
+  }
+}
+
+// The charge map (the shipped set's map has no load term): the line is the map's linear
+// interpolation between its reported knots, the knots are drawn where they are, every drawn row
+// is a logged (voltage, charge), and every residual is that row's charge minus the line.
+TEST_F(FigureData, TheChargeMapFigureDrawsTheLogsRowsTheMapAndTheirDifference) {
+  const json r = run_fit(dir_, "battery", "--plot-charge-map '" + (dir_ / "map.png").string() + "'");
+  const Script s = read_script(dir_ / "map.png.gp");
+  ASSERT_EQ(s.inline_blocks.size(), 4u);
+  const json& m = r["charge_map"];
+  ASSERT_EQ(m["load"], "none");
+  const std::vector<double> kv = m["knots_v"], kc = m["knot_charge"];
+  auto f = [&](double v) {
+    const double lo = m["voltage_range_v"][0], hi = m["voltage_range_v"][1];
+    v = std::clamp(v, lo, hi);
+    std::size_t k = 0;
+    while (k + 2 < kv.size() && v > kv[k + 1]) ++k;
+    return kc[k] + (kc[k + 1] - kc[k]) * (v - kv[k]) / (kv[k + 1] - kv[k]);
+  };
+  std::multiset<std::pair<long, long>> logged;
+  for (const auto& run : battery_runs())
+    for (std::size_t k = 0; k < run.t.size(); ++k) logged.insert({std::lround(run.voltage[k] * 1e4), std::lround(run.charge[k] * 1e6)});
+  const Rows& pts = s.inline_blocks[0];
+  // At most about 4000 in a PNG (docs/cli.md): every k-th of the 38 471 rows, k = 38 471 / 4000 = 9.
+  const std::size_t n = m["observations"];
+  const std::size_t stride = std::max<std::size_t>(1, n / 4000);
+  EXPECT_EQ(pts.size(), (n + stride - 1) / stride);
+  for (const auto& row : pts) {
+    const auto it = logged.find({std::lround(row[0] * 1e4), std::lround(row[1] * 1e6)});
+    ASSERT_NE(it, logged.end()) << "(" << row[0] << " V, " << row[1] << ") is not a logged row";
+  }
+  for (const auto& row : s.inline_blocks[1]) EXPECT_NEAR(row[1], f(row[0]), 1e-12) << row[0] << " V";
+  ASSERT_EQ(s.inline_blocks[2].size(), kv.size());
+  for (std::size_t k = 0; k < kv.size(); ++k) {
+    EXPECT_EQ(s.inline_blocks[2][k][0], kv[k]);
+    EXPECT_EQ(s.inline_blocks[2][k][1], kc[k]);
+  }
+  const Rows& resid = s.inline_blocks[3];
+  ASSERT_EQ(resid.size(), pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    EXPECT_EQ(resid[i][0], pts[i][0]);
+    EXPECT_NEAR(resid[i][1], pts[i][1] - f(pts[i][0]), 1e-12) << pts[i][0] << " V";
+  }
+}
+
+TEST_F(FigureData, AScriptFolderThatIsNotAFolderStopsTheRun) {
+  const std::string cmd = "EPUCK2_PLOT_SCRIPT_DIR='" + (dir_ / "missing").string() + "' '" EPUCK2_FIT_EXE "' ground " +
+                          logs_of("ground").front().string() + " --plot '" + (dir_ / "g.png").string() + "' >/dev/null 2>'" +
+                          (dir_ / "err.txt").string() + "'";
+  const int rc = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 2);
+  std::ifstream in(dir_ / "err.txt");
+  const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(err.find("EPUCK2_PLOT_SCRIPT_DIR"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir_ / "g.png"));
+}
+
+}  // namespace
+}  // namespace test_figure_data_cpp
