@@ -805,6 +805,29 @@ MUTANTS = [
      R10_APPS),
     ("r10_battery_map_fitted_only_when_needed", "apps/battery_input.hpp", "} else if (fit_map || voltage_only) {",
      "} else if (fit_map && voltage_only) {", R10_APPS),
+    # Session 13, before round 11's GO: probes of product files no earlier mutant touched (listed by
+    # the lead, who has read the tests: they find where the tests are thin, they are no fresh round).
+    ("s13_argos_capacity_time_times_k", "argos/src/calibrated_battery.cpp", "fK == 1.0 ? fDeltaT : fDeltaT / fK,",
+     "fK == 1.0 ? fDeltaT : fDeltaT * fK,", R10_COEFF),
+    ("s13_argos_speed_list_pair_as_range", "argos/src/calibrated_battery.cpp", 'os << (j == i + 1 ? ", " : "..") << v[j];',
+     'os << (j > i ? ".." : ", ") << v[j];', R10_COEFF),
+    ("s13_stale_temporary_of_a_live_run_removed", "lib/logs/src/output.cpp", "== -1 && errno == ESRCH) {",
+     "== -1 || errno == ESRCH) {", R10_LOGS),
+    ("s13_replaced_file_mode_not_kept", "lib/logs/src/output.cpp",
+     "if (::stat(resolved.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::fchmod(",
+     "if (::stat(resolved.c_str(), &st) != 0 && S_ISREG(st.st_mode) && ::fchmod(", R10_LOGS),
+    ("s13_json_location_bom_not_skipped", "lib/logs/src/json_location.cpp", "? 3 : 0;", "? 0 : 0;", R10_COEFF),
+    ("s13_json_location_crlf_two_lines", "lib/logs/src/json_location.cpp", "text[i + 1] != '\\n'))",
+     "text[i + 1] == '\\n'))", R10_COEFF),
+    ("s13_engine_covariate_every_channel", "lib/diagnose/src/engine_detail.hpp",
+     "if (p_.channel[i] == 0) out[i] += values[s.param] * s.centred[i];", "out[i] += values[s.param] * s.centred[i];",
+     R10_DIAGNOSE),
+    ("s13_engine_covariate_mean_over_n_plus_one", "lib/diagnose/src/engine_detail.hpp",
+     "mean /= std::max<std::size_t>(1, values.size());", "mean /= static_cast<double>(values.size() + 1);", R10_DIAGNOSE),
+    ("s13_json_dash_is_a_file", "apps/main.cpp", 'if (value == "-") out.push_back("--json");',
+     'if (value == "--") out.push_back("--json");', R10_APPS),
+    ("s13_drive_figure_plugin_curve_offset", "lib/plot/src/sensor_figures.cpp", "$curves using 1:4 with lines lw 2 dt 2",
+     "$curves using 1:3 with lines lw 2 dt 2", R10_APPS),
 ]
 
 
