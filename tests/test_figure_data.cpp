@@ -36,17 +36,86 @@ using Rows = std::vector<std::vector<double>>;
 
 /// A gnuplot script as the binary sent it: its datablocks by name, and the inline ('-') data blocks
 /// of its plot commands in order.
-struct Script {
-  std::map<std::string, Rows> blocks;
-  std::vector<Rows> inline_blocks;
-};
-
 std::vector<double> numbers(const std::string& line) {
   std::vector<double> out;
   std::istringstream in(line);
   std::string word;
   while (in >> word) out.push_back(std::strtod(word.c_str(), nullptr));
   return out;
+}
+
+/// One element of a plot command: what it draws ($name, '-' or NaN for a legend entry), the
+/// columns it takes (`using`, 1:2 when absent), its style (after `with`) and its title ("" for
+/// notitle).
+struct Element {
+  std::string source;
+  std::vector<int> columns{1, 2};
+  std::string style, title;
+};
+struct Script {
+  std::map<std::string, Rows> blocks;
+  std::vector<Rows> inline_blocks;
+  std::vector<std::vector<Element>> plots;  // each plot command's elements
+};
+
+/// The elements of a `plot` line: split at the commas outside quotes and parentheses.
+std::vector<Element> elements_of(const std::string& line) {
+  std::vector<std::string> parts;
+  std::string cur;
+  int depth = 0;
+  char quote = 0;
+  for (std::size_t i = 5; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if (c == '\'' || c == '"') {
+      quote = c;
+    } else if (c == '(') {
+      ++depth;
+    } else if (c == ')') {
+      --depth;
+    } else if (c == ',' && depth == 0) {
+      parts.push_back(cur);
+      cur.clear();
+      continue;
+    }
+    cur += c;
+  }
+  parts.push_back(cur);
+  std::vector<Element> out;
+  for (std::string p : parts) {
+    while (!p.empty() && p.front() == ' ') p.erase(0, 1);
+    Element e;
+    e.source = p.substr(0, p.find(' '));
+    if (const std::size_t u = p.find(" using "); u != std::string::npos && u < p.find(" with ")) {
+      e.columns.clear();
+      std::string spec = p.substr(u + 7, p.find(' ', u + 7) - (u + 7));
+      std::replace(spec.begin(), spec.end(), ':', ' ');
+      for (double v : numbers(spec)) e.columns.push_back(static_cast<int>(v));
+    }
+    const std::size_t w = p.find(" with ");
+    std::size_t t = p.find(" title ");
+    const std::size_t nt = p.find(" notitle");
+    const std::size_t style_end = std::min(t, nt);
+    if (w != std::string::npos) e.style = p.substr(w + 6, style_end == std::string::npos ? std::string::npos : style_end - (w + 6));
+    if (t != std::string::npos) e.title = p.substr(t + 8, p.size() - (t + 8) - 1);  // inside its quotes
+    out.push_back(e);
+  }
+  return out;
+}
+
+/// The element of `plot` whose title contains `title` (or is `title`, with `whole`); exactly one
+/// must.
+const Element& titled(const std::vector<Element>& plot, const std::string& title, bool whole = false) {
+  const Element* found = nullptr;
+  for (const auto& e : plot)
+    if (whole ? e.title == title : e.title.find(title) != std::string::npos) {
+      EXPECT_EQ(found, nullptr) << "two series titled '" << title << "'";
+      found = &e;
+    }
+  EXPECT_NE(found, nullptr) << "no series titled '" << title << "'";
+  static const Element none;
+  return found ? *found : none;
 }
 
 Script read_script(const fs::path& p) {
@@ -61,6 +130,7 @@ Script read_script(const fs::path& p) {
       while (std::getline(in, line) && line != "EOD") rows.push_back(numbers(line));
       s.blocks[name] = rows;
     } else if (line.rfind("plot ", 0) == 0) {
+      s.plots.push_back(elements_of(line));
       std::size_t inl = 0;
       for (std::size_t at = line.find("'-'"); at != std::string::npos; at = line.find("'-'", at + 3)) ++inl;
       for (std::size_t b = 0; b < inl; ++b) {
@@ -135,6 +205,13 @@ class FigureData : public ::testing::Test {
   fs::path dir_;
 };
 
+/// The 0-based index of the y column `e` draws from `block`.
+std::size_t y_of(const Element& e, const std::string& block) {
+  EXPECT_EQ(e.source, "$" + block) << e.title;
+  EXPECT_GE(e.columns.size(), 2u) << e.title;
+  return e.columns.size() >= 2 ? static_cast<std::size_t>(e.columns[1] - 1) : 0;
+}
+
 constexpr double kDatablockDigits = 1e-9;  // datablocks carry 10 significant digits
 
 void expect_near_rel(double want, double got, const std::string& what) {
@@ -156,15 +233,24 @@ TEST_F(FigureData, ProximityCurvesAreEq1WithTheReportedAndThePublishedCoefficien
   ASSERT_GE(curves.size(), 100u);
   EXPECT_EQ(curves.front()[0], 0.0);
   EXPECT_NEAR(curves.back()[0], 50.0, 1e-9);
+  // Each curve found by its legend entry: what is drawn under a title is what the title says.
+  ASSERT_EQ(s.plots.size(), 1u);
+  const auto& plot = s.plots[0];
+  const std::size_t maxima = y_of(titled(plot, "fit to maxima"), "curves"), means = y_of(titled(plot, "fit to means"), "curves"),
+                    plugin = y_of(titled(plot, "plug-in"), "curves"), v1 = y_of(titled(plot, "E-Puck v1"), "curves");
   for (const auto& row : curves) {
     ASSERT_EQ(row.size(), 5u);
     const double d = row[0] / 1000.0;
-    expect_near_rel(eq1(k["a"], k["b"], k["c"], k["range_m"], d), row[1], "fit to maxima at " + std::to_string(row[0]));
-    expect_near_rel(eq1(k["mean_a"], k["mean_b"], k["mean_c"], k["range_m"], d), row[2], "fit to means");
+    expect_near_rel(eq1(k["a"], k["b"], k["c"], k["range_m"], d), row.at(maxima), "fit to maxima at " + std::to_string(row[0]));
+    expect_near_rel(eq1(k["mean_a"], k["mean_b"], k["mean_c"], k["range_m"], d), row.at(means), "fit to means");
     // The plug-in's (reference: 197.8633, -30.47182, 1.011635, range 0.05 m) and the E-Puck v1's.
-    expect_near_rel(eq1(197.8633, -30.47182, 1.011635, 0.05, d), row[3], "plug-in");
-    expect_near_rel(eq1(298.701, -36.8961, 1.08212, 0.05, d), row[4], "E-Puck v1");
+    expect_near_rel(eq1(197.8633, -30.47182, 1.011635, 0.05, d), row.at(plugin), "plug-in");
+    expect_near_rel(eq1(298.701, -36.8961, 1.08212, 0.05, d), row.at(v1), "E-Puck v1");
   }
+  // The points titled maxima and means: the $pts columns of the max and the mean (distance, min,
+  // mean, max; checked against the logs below).
+  EXPECT_EQ(y_of(titled(plot, "maxima", true), "pts"), 3u);
+  EXPECT_EQ(y_of(titled(plot, "means", true), "pts"), 2u);
 }
 
 // Each distance's point: the readings at that distance / 4095 (every sensor, every log) less the
@@ -241,9 +327,26 @@ TEST_F(FigureData, LightReadingsAreTheLogsRowsOfTheirIntensityAndTheCurvesEq2) {
       left.erase(it);
       ++drawn;
     }
+    // docs/cli.md: the fit solid, the plug-in dashed (`dt`), in the intensity's colour; the
+    // intensity's legend entry names it.
+    std::size_t fit = 0, plugin = 0, lines = 0;
+    std::string colour;
+    for (const auto& e : s.plots.at(0))
+      if (e.source == "$" + c) {
+        ++lines;
+        (e.style.find(" dt ") != std::string::npos ? plugin : fit) = y_of(e, c);
+      } else if (e.source == "$" + i) {
+        colour = e.style.substr(e.style.find("lc rgb"));
+      }
+    ASSERT_EQ(lines, 2u);
+    char name[32];
+    std::snprintf(name, sizeof name, "I = %.2f", intensity);
+    const Element& entry = titled(s.plots.at(0), name);
+    EXPECT_EQ(entry.source, "NaN");
+    EXPECT_NE(entry.style.find(colour), std::string::npos) << name << " is not drawn in its readings' colour";
     for (const auto& row : s.blocks.at(c)) {
-      expect_near_rel(eq2(gamma, intensity, row[0] / 100.0), row[1], "fit at I " + std::to_string(intensity));
-      expect_near_rel(eq2(1.0 / 13.3333333333333, intensity, row[0] / 100.0), row[2], "plug-in");
+      expect_near_rel(eq2(gamma, intensity, row[0] / 100.0), row.at(fit), "fit at I " + std::to_string(intensity));
+      expect_near_rel(eq2(1.0 / 13.3333333333333, intensity, row[0] / 100.0), row.at(plugin), "plug-in");
     }
     ++k;
   }
@@ -293,12 +396,25 @@ TEST_F(FigureData, GroundReadingsAreEachSensorsRowsAndTheLinesTheReportedOnes) {
   const json& k = r["parameters"];
   const Rows& lines = s.blocks.at("lines");
   ASSERT_GE(lines.size(), 2u);
+  std::size_t column[3];
+  for (int sensor = 0; sensor < 3; ++sensor) {
+    const Element& e = titled(s.plots.at(0), "sensor " + std::to_string(sensor) + " (");
+    column[sensor] = y_of(e, "lines");
+    // The title's numbers: the sensor's offset and gain to 0.1.
+    char want[64];
+    std::snprintf(want, sizeof want, "fit: %.1f + %.1f grey", k["offset"][sensor].get<double>(), k["gain"][sensor].get<double>());
+    EXPECT_NE(e.title.find(want), std::string::npos) << e.title << " (expected " << want << ")";
+    // Its readings drawn in its colour.
+    for (const auto& d : s.plots.at(0))
+      if (d.source == "$s" + std::to_string(sensor)) EXPECT_NE(e.style.find(d.style.substr(d.style.find("lc rgb"), 17)), std::string::npos);
+  }
+  const std::size_t plugin = y_of(titled(s.plots.at(0), "plug-in"), "lines");
   for (const auto& row : lines) {
     ASSERT_EQ(row.size(), 5u);
     for (int sensor = 0; sensor < 3; ++sensor)
-      expect_near_rel(k["offset"][sensor].get<double>() + k["gain"][sensor].get<double>() * row[0], row[1 + sensor],
+      expect_near_rel(k["offset"][sensor].get<double>() + k["gain"][sensor].get<double>() * row[0], row.at(column[sensor]),
                       "sensor " + std::to_string(sensor) + " at grey " + std::to_string(row[0]));
-    expect_near_rel(1023.0 * row[0], row[4], "plug-in");
+    expect_near_rel(1023.0 * row[0], row.at(plugin), "plug-in");
   }
   EXPECT_EQ(lines.front()[0], 0.0);
   EXPECT_EQ(lines.back()[0], 1.0);
@@ -325,6 +441,18 @@ TEST_F(FigureData, CameraObservationsAreTheLogsAndTheCurvesThePinhole) {
   const double t_fit = std::tan(k["fov_deg"].get<double>() * pi / 360.0);
   const double t_plugin = 0.8 * std::tan(18.5 * pi / 180.0);
   const Rows& obs = s.blocks.at("obs");
+  // The column panel, then the row panel; in each the series titled fit and plug-in, and the
+  // observations (notitle, the legend's entries name the robots).
+  ASSERT_EQ(s.plots.size(), 2u);
+  const std::size_t fit_col = y_of(titled(s.plots[0], "fit", true), "obs"), plugin_col = y_of(titled(s.plots[0], "plug-in"), "obs");
+  const std::size_t fit_row = y_of(titled(s.plots[1], "fit", true), "obs"), plugin_row = y_of(titled(s.plots[1], "plug-in"), "obs");
+  EXPECT_EQ(s.plots[0][0].columns[0], 1);
+  EXPECT_EQ(s.plots[0][0].columns[1], 2);
+  EXPECT_EQ(s.plots[1][0].columns[0], 5);
+  EXPECT_EQ(s.plots[1][0].columns[1], 6);
+  for (const auto* plot : {&s.plots[0], &s.plots[1]})
+    for (const auto& e : *plot)
+      if (e.source == "$obs") EXPECT_EQ(e.columns[0], plot == &s.plots[0] ? 1 : 5) << "an x that is not the panel's";
   EXPECT_GE(static_cast<double>(obs.size()), 0.97 * static_cast<double>(logged.size()));
   for (const auto& row : obs) {
     ASSERT_GE(row.size(), 8u);
@@ -339,10 +467,10 @@ TEST_F(FigureData, CameraObservationsAreTheLogsAndTheCurvesThePinhole) {
         }
       }
     EXPECT_TRUE(found) << "(" << row[0] << ", " << row[1] << ", " << row[4] << ", " << row[5] << ") is not a row of the logs";
-    expect_near_rel(k["cx_px"].get<double>() - 80.0 * row[0] / t_fit, row[2], "fitted column");
-    expect_near_rel(80.0 - 80.0 * row[0] / t_plugin, row[3], "plug-in column");
-    expect_near_rel(k["cy_px"].get<double>() - 80.0 * row[4] / t_fit, row[6], "fitted row");
-    expect_near_rel(60.0 - 80.0 * row[4] / t_plugin, row[7], "plug-in row");
+    expect_near_rel(k["cx_px"].get<double>() - 80.0 * row[0] / t_fit, row.at(fit_col), "fitted column");
+    expect_near_rel(80.0 - 80.0 * row[0] / t_plugin, row.at(plugin_col), "plug-in column");
+    expect_near_rel(k["cy_px"].get<double>() - 80.0 * row[4] / t_fit, row.at(fit_row), "fitted row");
+    expect_near_rel(60.0 - 80.0 * row[4] / t_plugin, row.at(plugin_row), "plug-in row");
   }
 }
 
@@ -429,7 +557,19 @@ TEST_F(FigureData, TheBatteryFitsFigureDrawsTheReportedModelsAndTheLogsRows) {
     const json& cu = sp["cubic"];
     const json& bp = sp["breakpoints"]["parameters"];
     const double x[4] = {0.0, bp["x1_s"], bp["x2_s"], life - 1.0}, y[4] = {1.0, bp["y1"], bp["y2"], bp["y3"]};
+    // Which curve is which: the style of the legend's entry for the model.
+    const char* names[4] = {"simple", "linear", "cubic", "approximated"};
+    ASSERT_GE(s.plots.size(), speeds.size());
+    ASSERT_EQ(s.plots[i].size(), 5u);
     for (int m = 0; m < 4; ++m) {
+      const Element* entry = nullptr;
+      for (const auto& plot : s.plots)
+        for (const auto& e : plot)
+          if (e.source == "NaN" && e.title.rfind(names[m], 0) == 0) entry = &e;
+      ASSERT_NE(entry, nullptr) << names[m];
+      const Element& drawn = s.plots[i][static_cast<std::size_t>(m)];
+      EXPECT_EQ(drawn.source, "'-'");
+      EXPECT_EQ(drawn.style, entry->style) << v << " cm/s: the " << names[m] << " curve is drawn in another model's style";
       const Rows& c = s.inline_blocks[5 * i + static_cast<std::size_t>(m)];
       ASSERT_GE(c.size(), 100u);
       EXPECT_NEAR(c.back()[0], life / 3600.0, 1e-9);
