@@ -474,6 +474,70 @@ TEST_F(FigureData, CameraObservationsAreTheLogsAndTheCurvesThePinhole) {
   }
 }
 
+// ---- drive: the ToF readings and the encoders as logged; the ToF response scale d + offset and
+// the plug-in's d, both clamped to the sensor's rails [20, 2000] mm; the encoders' steps per
+// metre, fitted and the plug-in's 1000 / (2 pi 0.0205 m) = 7763.656 (the reference) ----
+
+TEST_F(FigureData, DriveReadingsAreTheLogsRowsAndTheResponsesTheReportedOnes) {
+  const json r = run_fit(dir_, "drive", "--plot '" + (dir_ / "d.png").string() + "'");
+  const Script s = read_script(dir_ / "d.png.gp");
+  const json& k = r["parameters"];
+  const double scale = k["tof_scale"], offset = k["tof_offset_mm"], spm = k["steps_per_m"];
+  // Every run's drawn rows: time, reading (NaN for an out-of-range code, then drawn at 2250 mm in
+  // column 7), ..., steps (column 5): a log's rows, in order.
+  std::vector<Csv> logs;
+  for (const auto& p : logs_of("drive")) logs.push_back(read_csv(p));
+  std::size_t runs = 0, codes = 0;
+  for (const auto& [name, rows] : s.blocks) {
+    if (name.size() < 2 || name[0] != 'r' || name.find_first_not_of("0123456789", 1) != std::string::npos) continue;
+    ++runs;
+    bool matched = false;
+    for (const Csv& c : logs) {
+      std::size_t at = 0, hits = 0;
+      for (const auto& row : rows) {
+        while (at < c.rows.size() && std::lround(c.rows[at][c.col("time_s")] * 1000) != std::lround(row[0] * 1000)) ++at;
+        if (at == c.rows.size()) break;
+        const double tof = c.rows[at][c.col("tof_mm")];
+        const bool code = tof >= 8190;
+        const bool same_reading = code ? (std::isnan(row[1]) && row[6] == 2250.0) : (row[1] == tof && std::isnan(row[6]));
+        const double steps = 0.5 * (c.rows[at][c.col("left_steps")] + c.rows[at][c.col("right_steps")]);
+        if (!same_reading || std::abs(row[4] - steps) > 0.5) break;
+        codes += code;
+        ++hits;
+        ++at;
+      }
+      if (hits == rows.size()) {
+        matched = true;
+        break;
+      }
+    }
+    EXPECT_TRUE(matched) << "$" << name << " is not a log's rows (time, ToF, steps)";
+  }
+  EXPECT_EQ(runs, logs.size());
+  EXPECT_GT(codes, 0u) << "the shipped drive logs have out-of-range codes";
+  // The standing-still panel's responses and the encoders' lines, each by its style: the fit
+  // solid, the plug-in dashed.
+  auto by_style = [&](const std::string& block, bool dashed) {
+    for (const auto& plot : s.plots)
+      for (const auto& e : plot)
+        if (e.source == "$" + block && (e.style.find(" dt ") != std::string::npos) == dashed) return y_of(e, block);
+    ADD_FAILURE() << "no " << (dashed ? "dashed" : "solid") << " line of $" << block;
+    return std::size_t{0};
+  };
+  const std::size_t still_fit = by_style("still", false), still_plugin = by_style("still", true);
+  ASSERT_GE(s.blocks.at("still").size(), 10u);
+  for (const auto& row : s.blocks.at("still")) {
+    expect_near_rel(std::clamp(scale * row[0] + offset, 20.0, 2000.0), row.at(still_fit), "fitted ToF at " + std::to_string(row[0]));
+    expect_near_rel(std::clamp(row[0], 20.0, 2000.0), row.at(still_plugin), "plug-in ToF");
+  }
+  const std::size_t steps_fit = by_style("steps", false), steps_plugin = by_style("steps", true);
+  ASSERT_GE(s.blocks.at("steps").size(), 2u);
+  for (const auto& row : s.blocks.at("steps")) {
+    expect_near_rel(spm * row[0] / 1000.0, row.at(steps_fit), "fitted steps at " + std::to_string(row[0]) + " mm");
+    expect_near_rel(7763.656 * row[0] / 1000.0, row.at(steps_plugin), "plug-in steps");
+  }
+}
+
 // ---- battery ----
 
 struct BatteryRun {
