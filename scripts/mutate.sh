@@ -324,7 +324,8 @@ R9_ARGOS = r9([R8_ARGOS])
 # battery tests (R3_ARGOS leaves both out). R10_TESTS: the programs added for round 10 (none yet).
 R10_TESTS = R9_TESTS + ["test_round_ten_slips", "test_probed_areas",  # written after round 10's run began (session 12)
                         "test_figure_data",  # session 13, before round 11's GO: what the figures draw,
-                        "test_generator_truth"]  # and the virtual robot against its READMEs
+                        "test_generator_truth",  # the virtual robot against its READMEs,
+                        "test_text_and_json"]  # and the text report against the JSON (after the GO)
 R10_ARGOS_BATTERY = ("argos_battery_", "argos_closed_loop_battery_")
 
 
