@@ -163,5 +163,101 @@ TEST_P(TextAndJson, EveryNumberOfEachFitsBlockIsTheJsons) {
 
 INSTANTIATE_TEST_SUITE_P(Kinds, TextAndJson, ::testing::Values("proximity", "light", "ground", "camera", "drive"));
 
+
+// ---- the diagnosis: its text report against its JSON report ----
+
+/// The digits after the decimal point of a printed number ("61.40" 2, "2270" 0, "1.2e-05" by its
+/// exponent: 6 with 2 significant digits).
+double half_unit(const std::string& printed) {
+  const std::size_t e = printed.find_first_of("eE");
+  const std::string mant = printed.substr(0, e);
+  const std::size_t dot = mant.find('.');
+  const int decimals = dot == std::string::npos ? 0 : static_cast<int>(mant.size() - dot - 1);
+  const int exponent = e == std::string::npos ? 0 : std::atoi(printed.c_str() + e + 1);
+  return 0.5 * std::pow(10.0, exponent - decimals);
+}
+
+/// A finding's parameter in the JSON: "gains[1]" is element 1 of "gains".
+double json_param(const json& obj, const std::string& name) {
+  const std::size_t b = name.find('[');
+  if (b == std::string::npos) return obj.at(name).get<double>();
+  return obj.at(name.substr(0, b)).at(std::stoul(name.substr(b + 1))).get<double>();
+}
+
+class DiagnosisTextAndJson : public ::testing::TestWithParam<const char*> {};
+
+// Each `Finding:` line against the JSON's findings, in order: the cause; each parameter's value and
+// its first-named error, which is the largest of the covariance's, the jackknife's and the
+// autocorrelation-corrected (to the digits printed); the held-out MSEs before and after (4
+// significant digits) and the BIC's change (1 decimal). Then "Most of the gain" (the cause and
+// every finding's removal BIC), the residual structure left (the covariates, scores and
+// significance in the JSON's order) and the verdict.
+TEST_P(DiagnosisTextAndJson, EveryFindingsNumbersAreTheJsons) {
+  const std::string kind = GetParam();
+  const std::string logs = std::string(EPUCK2_SOURCE_DIR) + "/data/raw/" + kind + "/*.csv";
+  const std::string exe = EPUCK2_FIT_EXE;
+  const std::string text = capture("'" + exe + "' diagnose " + logs + " 2>/dev/null");
+  const json j = json::parse(capture("'" + exe + "' diagnose " + logs + " --json 2>/dev/null"));
+  static const std::regex finding(R"(^Finding: (\S+) \()");
+  static const std::regex param(R"((?:; |, )([A-Za-z_0-9]+(?:\[\d+\])?) = ([-0-9.e+]+) ± ([0-9.e+-]+))");
+  static const std::regex mse(R"(held-out MSE ([0-9.e+-]+) -> ([0-9.e+-]+) .*\(BIC ([-0-9.]+)\)\.?$)");
+  std::istringstream in(text);
+  std::string line;
+  std::smatch m;
+  std::size_t k = 0;
+  std::string most, structure, verdict;
+  while (std::getline(in, line)) {
+    if (line.rfind("Most of the gain: ", 0) == 0) most = line;
+    if (line.rfind("Residual structure left: ", 0) == 0) structure = line;
+    if (line.rfind("Verdict: ", 0) == 0) verdict = line;
+    if (!std::regex_search(line, m, finding)) continue;
+    ASSERT_LT(k, j["findings"].size()) << "more findings in the text than in the JSON";
+    const json& f = j["findings"][k++];
+    const std::string w = kind + " finding " + f["cause"].get<std::string>();
+    EXPECT_EQ(m[1].str(), f["cause"].get<std::string>());
+    std::size_t params = 0;
+    for (auto it = std::sregex_iterator(line.begin(), line.end(), param); it != std::sregex_iterator(); ++it) {
+      const std::string name = (*it)[1], v = (*it)[2], e = (*it)[3];
+      ++params;
+      const double value = json_param(f["parameters"], name);
+      double error = json_param(f["uncertainty"], name);
+      for (const char* other : {"uncertainty_jackknife", "uncertainty_corrected"})
+        if (f.contains(other)) error = std::max(error, json_param(f[other], name));
+      // The error to 2 significant digits, the value to the same place ("2270 ± 950": tens).
+      const double unit = std::max(half_unit(e), 0.5 * std::pow(10.0, std::floor(std::log10(num(e))) - 1));
+      EXPECT_LE(std::abs(num(v) - value), 1.02 * std::max(unit, half_unit(v))) << w << " " << name << ": text " << v << ", JSON " << value;
+      EXPECT_LE(std::abs(num(e) - error), 1.02 * unit) << w << " " << name << " error: text " << e << ", JSON " << error;
+    }
+    EXPECT_GE(params, 1u) << w << ": no parameter read in " << line;
+    ASSERT_TRUE(std::regex_search(line, m, mse)) << line;
+    expect_sig(num(m[1]), f["heldout_mse_before"], 4, w + " held-out MSE before");
+    expect_sig(num(m[2]), f["heldout_mse_after"], 4, w + " held-out MSE after");
+    expect_dec(num(m[3]), f["delta_bic"], 1, w + " BIC change");
+  }
+  EXPECT_EQ(k, j["findings"].size()) << "findings in the JSON not in the text";
+  if (k > 1) {
+    ASSERT_FALSE(most.empty());
+    EXPECT_EQ(most.rfind("Most of the gain: " + j["most_of_the_gain"].get<std::string>() + " ", 0), 0u) << most;
+    for (const json& f : j["findings"]) {
+      char want[160];
+      std::snprintf(want, sizeof want, " %s %+.1f", f["cause"].get<std::string>().c_str(), f["removal_delta_bic"].get<double>());
+      EXPECT_NE(most.find(want), std::string::npos) << most << " lacks" << want;
+    }
+  }
+  ASSERT_FALSE(structure.empty());
+  std::string want = "Residual structure left:";
+  for (std::size_t i = 0; i < std::min<std::size_t>(4, j["residual_structure"].size()); ++i) {
+    const json& r = j["residual_structure"][i];
+    char part[160];
+    std::snprintf(part, sizeof part, " %s %.3f%s", r["covariate"].get<std::string>().c_str(), r["score"].get<double>(),
+                  r["significant"].get<bool>() ? " (significant)" : "");
+    want += part;
+  }
+  EXPECT_EQ(structure.substr(0, want.size()), want);
+  EXPECT_EQ(verdict.rfind("Verdict: " + j["verdict"].get<std::string>(), 0), 0u) << verdict;
+}
+
+INSTANTIATE_TEST_SUITE_P(Kinds, DiagnosisTextAndJson, ::testing::Values("proximity", "light", "ground", "camera", "drive"));
+
 }  // namespace
 }  // namespace test_text_and_json_cpp
