@@ -322,10 +322,11 @@ R9_ARGOS = r9([R8_ARGOS])
 # battery's bit-exactness helper, for the slips the ARGoS battery tests compare against. The ARGoS
 # drive slips also run the drive's closed loops, and the discharge and battery-table slips the ARGoS
 # battery tests (R3_ARGOS leaves both out). R10_TESTS: the programs added for round 10 (none yet).
-R10_TESTS = R9_TESTS + ["test_round_ten_slips", "test_probed_areas",  # written after round 10's run began (session 12)
-                        "test_figure_data",  # session 13, before round 11's GO: what the figures draw,
-                        "test_generator_truth",  # the virtual robot against its READMEs,
-                        "test_text_and_json"]  # and the text report against the JSON (after the GO)
+R10_TESTS = R9_TESTS + [
+    "test_round_ten_slips",  # written after round 10's run began (session 12)
+    "test_figure_data", "test_generator_truth",  # session 13, before round 11's GO (03:19 UTC)
+    "test_probed_areas", "test_text_and_json",  # session 13, after round 11's GO
+]
 R10_ARGOS_BATTERY = ("argos_battery_", "argos_closed_loop_battery_")
 
 
