@@ -720,6 +720,97 @@ TEST_F(FigureData, TheChargeMapFigureDrawsTheLogsRowsTheMapAndTheirDifference) {
   }
 }
 
+// A map with a load term (docs/coefficient-files.md: charge = f(voltage_v + load_offset_v(speed)),
+// load_offset_v linear between load_speeds_cm_s, the end values beyond them): the shipped runs with
+// their voltage lowered by 2 mV per cm/s (a sag under load, 30 mV at 15 cm/s), which the map must
+// take as a load term. Every drawn row stands at its corrected voltage, and its residual is its
+// charge minus f at that voltage -- each row at its own speed.
+TEST_F(FigureData, AChargeMapWithALoadTermDrawsEachRowAtItsOwnSpeedsCorrection) {
+  std::string cmd = "EPUCK2_PLOT_SCRIPT_DIR='" + dir_.string() + "' '" EPUCK2_FIT_EXE "' battery";
+  std::vector<BatteryRun> runs;
+  for (const auto& p : logs_of("battery")) {
+    std::ifstream in(p);
+    std::ofstream out(dir_ / p.filename());
+    std::string line;
+    bool header = false;
+    BatteryRun run;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') {
+        out << line << "\n";
+        continue;
+      }
+      if (!header) {
+        ASSERT_EQ(line, "time_s,speed_cm_s,charge,voltage_v");
+        header = true;
+        out << line << "\n";
+        continue;
+      }
+      std::replace(line.begin(), line.end(), ',', ' ');
+      const std::vector<double> r = numbers(line);
+      const double v = r[3] - 0.002 * std::abs(r[1]);
+      char row[128];
+      std::snprintf(row, sizeof row, "%.17g,%.17g,%.17g,%.6f\n", r[0], r[1], r[2], v);
+      out << row;
+      run.speed = r[1];
+      run.t.push_back(r[0]);
+      run.charge.push_back(r[2]);
+      run.voltage.push_back(std::strtod(row + std::string(row).rfind(',') + 1, nullptr));
+    }
+    runs.push_back(run);
+    cmd += " '" + (dir_ / p.filename()).string() + "'";
+  }
+  cmd += " --json -o '" + (dir_ / "r.json").string() + "' --plot-charge-map '" + (dir_ / "map.png").string() + "' >/dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream in(dir_ / "r.json");
+  const json m = json::parse(in)["charge_map"];
+  ASSERT_EQ(m["load"], "per_speed") << m.dump();
+  const std::vector<double> kv = m["knots_v"], kc = m["knot_charge"], ls = m["load_speeds_cm_s"], lo = m["load_offset_v"];
+  ASSERT_EQ(ls.size(), lo.size());
+  auto offset = [&](double speed) {
+    const double s = std::abs(speed);
+    if (s <= ls.front()) return lo.front();
+    if (s >= ls.back()) return lo.back();
+    std::size_t k = 0;
+    while (s > ls[k + 1]) ++k;
+    return lo[k] + (lo[k + 1] - lo[k]) * (s - ls[k]) / (ls[k + 1] - ls[k]);
+  };
+  // The sag: at 15 cm/s about 30 mV more than at rest.
+  EXPECT_NEAR(offset(15) - offset(0), 0.030, 0.003);
+  auto f = [&](double x) {
+    x = std::clamp(x, m["voltage_range_v"][0].get<double>(), m["voltage_range_v"][1].get<double>());
+    std::size_t k = 0;
+    while (k + 2 < kv.size() && x > kv[k + 1]) ++k;
+    return kc[k] + (kc[k + 1] - kc[k]) * (x - kv[k]) / (kv[k + 1] - kv[k]);
+  };
+  // charge in 1e-6 -> the rows' (voltage, speed)
+  std::multimap<long, std::pair<double, double>> rows_of;
+  for (const auto& run : runs)
+    for (std::size_t k = 0; k < run.t.size(); ++k) rows_of.insert({std::lround(run.charge[k] * 1e6), {run.voltage[k], run.speed}});
+  const Script s = read_script(dir_ / "map.png.gp");
+  ASSERT_EQ(s.inline_blocks.size(), 4u);
+  const Rows& pts = s.inline_blocks[0];
+  const Rows& resid = s.inline_blocks[3];
+  ASSERT_EQ(pts.size(), resid.size());
+  std::size_t moving = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    // The drawn x is voltage + offset(speed): find the logged row whose charge it carries and whose
+    // voltage + its speed's offset is that x.
+    bool found = false;
+    const auto range = rows_of.equal_range(std::lround(pts[i][1] * 1e6));
+    for (auto it = range.first; it != range.second; ++it) {
+      const auto [v, speed] = it->second;
+      if (std::abs(v + offset(speed) - pts[i][0]) > 1e-9) continue;
+      found = true;
+      moving += speed != 0;
+      EXPECT_EQ(resid[i][0], pts[i][0]);
+      EXPECT_NEAR(resid[i][1], pts[i][1] - f(v + offset(speed)), 1e-12) << v << " V at " << speed << " cm/s";
+      break;
+    }
+    ASSERT_TRUE(found) << "(" << pts[i][0] << ", " << pts[i][1] << ") is no logged row at its speed's corrected voltage";
+  }
+  EXPECT_GT(moving, pts.size() / 2);
+}
+
 TEST_F(FigureData, AScriptFolderThatIsNotAFolderStopsTheRun) {
   const std::string cmd = "EPUCK2_PLOT_SCRIPT_DIR='" + (dir_ / "missing").string() + "' '" EPUCK2_FIT_EXE "' ground " +
                           logs_of("ground").front().string() + " --plot '" + (dir_ / "g.png").string() + "' >/dev/null 2>'" +
