@@ -326,6 +326,7 @@ R10_TESTS = R9_TESTS + [
     "test_round_ten_slips",  # written after round 10's run began (session 12)
     "test_figure_data", "test_generator_truth",  # session 13, before round 11's GO (03:19 UTC)
     "test_probed_areas", "test_text_and_json",  # session 13, after round 11's GO
+    "test_round_eleven_slips",
 ]
 R10_ARGOS_BATTERY = ("argos_battery_", "argos_closed_loop_battery_")
 
