@@ -32,7 +32,8 @@
 # false for logs of a robot without it, e.g. the project's generated logs), EPUCK2_ARGOS_ITERATIONS
 # (dynamics2d's physics steps per tick, a whole number; default: the experiment's, 10; the battery's
 # bit-exactness test uses 1: robots spinning in place need no finer steps, and ARGoS's time is
-# almost all in them).
+# almost all in them), EPUCK2_ARGOS_BATTERY_ARC (battery: the left wheel at this fraction of the
+# right's, in [-1, 1), each robot on a circle; default -1, spinning in place).
 # Needs ARGoS 3, the E-Puck2 ARGoS plug-in and the project's plug-in built (scripts/build.sh --argos: build/lib/argos3).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -92,6 +93,10 @@ if [ -n "$LIKE" ]; then
 fi
 if [ "${EPUCK2_ARGOS_FIRMWARE_CAP:-true}" = false ]; then
   sed -i -e 's|<differential_steering implementation="calibrated"|<differential_steering implementation="calibrated" firmware_cap="false"|' "$EXP"
+fi
+if [ -n "${EPUCK2_ARGOS_BATTERY_ARC:-}" ]; then
+  [[ "$EPUCK2_ARGOS_BATTERY_ARC" =~ ^-?[0-9]+(\.[0-9]+)?$ ]] || { echo "argos-record: EPUCK2_ARGOS_BATTERY_ARC must be a number in [-1, 1)" >&2; exit 2; }
+  sed -i -e "s|kind=\"battery\"|kind=\"battery\" arc=\"$EPUCK2_ARGOS_BATTERY_ARC\"|" "$EXP"
 fi
 if [ -n "${EPUCK2_ARGOS_ITERATIONS:-}" ]; then
   case "$EPUCK2_ARGOS_ITERATIONS" in ''|*[!0-9]*) echo "argos-record: EPUCK2_ARGOS_ITERATIONS must be a whole number above 0" >&2; exit 2;; esac

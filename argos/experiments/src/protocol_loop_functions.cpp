@@ -6,6 +6,7 @@
 //   drive      time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm
 //              towards / away from an obstacle 0.3 m ahead of the ToF sensor, one run per speed
 //   battery    time_s,speed_cm_s,charge              robot i spins in place at i cm/s until empty
+//              (with arc="a", a in [-1, 1): it drives a circle instead, left wheel a i, right i cm/s)
 // every file with a `# robot: ID` line. The loop functions place the robots (and lights), command
 // the wheels through the recorder controller and read the sensors it holds: which sensor
 // implementation produced the readings (the plug-in's or the calibrated one) is the .argos
@@ -151,6 +152,11 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       GetNodeAttributeOrDefault(t_tree, "period", m_fPeriod, m_fPeriod);
       /* Significant digits of the charge (the firmware's percentage/100 has 6; 17 for bit-exact comparisons) */
       GetNodeAttributeOrDefault(t_tree, "charge_digits", m_nChargeDigits, m_nChargeDigits);
+      /* arc="a": the left wheel at a times the right's (-1, the default: spinning in place). Moving
+         on a circle, a robot's displacement per tick is not 0, so the discharge models take it,
+         not the rotation, as its speed. */
+      GetNodeAttributeOrDefault(t_tree, "arc", m_fArc, m_fArc);
+      if (!(m_fArc >= -1.0 && m_fArc < 1.0)) THROW_ARGOSEXCEPTION("epuck2_protocol: arc must be in [-1, 1), not " << m_fArc);
       for (std::size_t i = 0; i < m_vecRobots.size(); ++i) {
         /* Robot i spins at speed i cm/s (its id's number when it has one) */
         Real fSpeed = static_cast<Real>(i);
@@ -163,10 +169,14 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
         std::snprintf(name, sizeof name, "_speed-%02d.csv", static_cast<int>(fSpeed));
         s.Out = std::make_unique<std::ofstream>(m_strOutDir + "/" + m_strRobot + name);
         if (!*s.Out) THROW_ARGOSEXCEPTION("epuck2_protocol: cannot write in " << m_strOutDir);
-        *s.Out << "# robot: " << m_strRobot << "\n# protocol: ARGoS, spinning in place at " << Num(fSpeed)
-               << " cm/s from full charge until the charge reads 0\ntime_s,speed_cm_s,charge\n";
+        if (m_fArc == -1.0)
+          *s.Out << "# robot: " << m_strRobot << "\n# protocol: ARGoS, spinning in place at " << Num(fSpeed)
+                 << " cm/s from full charge until the charge reads 0\ntime_s,speed_cm_s,charge\n";
+        else
+          *s.Out << "# robot: " << m_strRobot << "\n# protocol: ARGoS, driving a circle, left wheel " << Num(m_fArc * fSpeed)
+                 << " cm/s, right wheel " << Num(fSpeed) << " cm/s, from full charge until the charge reads 0\ntime_s,speed_cm_s,charge\n";
         m_vecBattery.push_back(std::move(s));
-        Controller(i).SetWheels(-fSpeed, fSpeed);
+        Controller(i).SetWheels(m_fArc * fSpeed, fSpeed);
       }
     } else {
       THROW_ARGOSEXCEPTION("epuck2_protocol: kind must be proximity, ground, light, camera, drive or battery, not \"" << m_strKind << "\"");
@@ -602,7 +612,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   std::vector<CVector3> m_vecCameraPoints;  ///< camera: the LED's positions in the camera's frame
   bool m_bCameraSettled = false;
   CLightEntity* m_pcLight = nullptr;
-  Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0;
+  Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0, m_fArc = -1.0;
   SInt32 m_nStartLeft = 0, m_nStartRight = 0;
   /* like=: the measured log replayed */
   std::string m_strLike, m_strLikeOut;
