@@ -20,6 +20,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "epuck2/fit/fit_curve.hpp"
+
 namespace test_round_eleven_slips_cpp {
 namespace {
 
@@ -99,6 +101,60 @@ TEST(RoundElevenNist, EveryLreIsWorkedFromTheCertifiedValuesAndTheSummaryIsTheir
   char want[200];
   std::snprintf(want, sizeof want, "min parameter LRE %.2f, min standard-error LRE %.2f, min RSS LRE %.2f", min_lre, min_se, min_rss);
   EXPECT_NE(r11_read(d / "out").find(want), std::string::npos) << r11_read(d / "out") << "\nexpected: " << want;
+  fs::remove_all(d);
+}
+
+// ---- a curve fit's size (docs/fitting.md: refused below parameters + 1) ----
+
+struct R11Line {
+  static constexpr int kParameters = 2;
+  template <typename T>
+  T operator()(const T* p, double x) const {
+    return p[0] + p[1] * x;
+  }
+};
+
+TEST(RoundElevenFitCurve, ALineThroughTwoPointsIsRefusedThroughThreeItHasItsError) {
+  namespace fit = epuck2::fit;
+  const fit::FitResult two = fit::fit_curve(R11Line{}, {0, 1}, {1.0, 3.0}, {{"a", 0.0}, {"b", 0.0}});
+  EXPECT_FALSE(two.usable) << "two points, two parameters: nothing left to measure the error with";
+  EXPECT_NE(two.message.find("too few observations (2) for 2 parameters"), std::string::npos) << two.message;
+  // (0, 1), (1, 3), (2, 4) by hand: slope 1.5, intercept 7/6, residuals -1/6, 1/3, -1/6, RSS 1/6,
+  // residual variance RSS / (3 - 2) = 1/6; the slope's error sqrt((1/6) / Sxx), Sxx = 2: 0.288675.
+  const fit::FitResult three = fit::fit_curve(R11Line{}, {0, 1, 2}, {1.0, 3.0, 4.0}, {{"a", 0.0}, {"b", 0.0}});
+  ASSERT_TRUE(three.usable) << three.message;
+  EXPECT_NEAR(three.value("b"), 1.5, 1e-9);
+  EXPECT_NEAR(three.value("a"), 7.0 / 6.0, 1e-9);
+  EXPECT_NEAR(three.std_error("b"), std::sqrt(1.0 / 12.0), 1e-6);
+}
+
+// ---- wild readings: judged against their replicates in groups of at least 3, else against the
+// curve (docs/fitting.md, "Wild readings are left out, and listed") ----
+
+// A ground log whose grey 0.5 reads 60 counts above the line (a curve the model misses there), the
+// others on it within 1 count, `per` readings per sensor and grey. With 3 (a replicate group) the
+// readings at 0.5 agree with each other: none is wild, none left out. With 2 (no group) they are
+// judged against the line, 60 counts off it with a noise sd about 1: left out.
+TEST(RoundElevenReplicates, GroupsOfThreeAreJudgedAgainstThemselvesPairsAgainstTheCurve) {
+  const fs::path d = r11_scratch();
+  auto write = [&](const std::string& name, int per) {
+    std::ofstream out(d / name);
+    out << "# robot: r\ngrey,sensor,value\n";
+    for (int g = 0; g <= 10; ++g)
+      for (int s = 0; s < 3; ++s)
+        for (int i = 0; i < per; ++i) out << g / 10.0 << "," << s << "," << 60 + 90 * g + (g == 5 ? 60 : 0) + (i % 3) - 1 << "\n";
+  };
+  write("three.csv", 3);
+  write("two.csv", 2);
+  auto outliers = [&](const std::string& log) {
+    EXPECT_EQ(r11_run("ground " + log + " --json --accept-misfit", d), 0) << r11_read(d / "err");
+    const json j = json::parse(r11_read(d / "out"));
+    std::size_t n = 0;
+    for (const auto& [name, f] : j["fits"].items()) n += f["outliers"].get<std::size_t>();
+    return n;
+  };
+  EXPECT_EQ(outliers("three.csv"), 0u) << "groups of 3: each reading judged against its replicates";
+  EXPECT_EQ(outliers("two.csv"), 6u) << "pairs: the 2 readings at 0.5 of each of the 3 sensors judged against the line";
   fs::remove_all(d);
 }
 
