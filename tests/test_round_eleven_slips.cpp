@@ -158,6 +158,30 @@ TEST(RoundElevenReplicates, GroupsOfThreeAreJudgedAgainstThemselvesPairsAgainstT
   fs::remove_all(d);
 }
 
+// ---- the diagnosis's base from a file (docs/diagnose.md: `--coefficients` gives the base model,
+// which the diagnosis recalibrates): a file's gamma below or above the logs' is only where the
+// recalibration starts, never a bound. The shipped light logs' calibration (`light --json`, the
+// calibration's own fit) says where it must end, within 1 %. ----
+
+TEST(RoundElevenDiagnosisBase, AFilesValueIsAStartNotABound) {
+  const fs::path d = r11_scratch();
+  std::string logs;
+  for (const auto& e : fs::directory_iterator(shipped("data/raw/light")))
+    if (e.path().extension() == ".csv") logs += " '" + e.path().string() + "'";
+  ASSERT_EQ(r11_run("light" + logs + " --json", d), 0);
+  const double calibrated = json::parse(r11_read(d / "out"))["parameters"]["gamma"];
+  for (const double start : {0.06, 0.09}) {
+    json f = json::parse(r11_read(shipped("data/fitted/light.json")));
+    f["parameters"]["gamma"] = start;
+    f.erase("per_sensor");
+    std::ofstream(d / "base.json") << f.dump(2);
+    ASSERT_EQ(r11_run("diagnose" + logs + " --coefficients base.json --json", d), 0) << r11_read(d / "err");
+    const double found = json::parse(r11_read(d / "out"))["recalibrated"]["gamma_m"];
+    EXPECT_NEAR(found, calibrated, 0.01 * calibrated) << "the file's gamma " << start << " held the recalibration";
+  }
+  fs::remove_all(d);
+}
+
 // ---- generate: --out-dir, or its first spelling --out; both naming one folder is that folder ----
 
 TEST(RoundElevenGenerate, BothSpellingsOfOneFolderAreThatFolderTwoFoldersAreExitTwo) {
