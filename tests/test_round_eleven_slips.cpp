@@ -182,6 +182,29 @@ TEST(RoundElevenDiagnosisBase, AFilesValueIsAStartNotABound) {
   fs::remove_all(d);
 }
 
+// ---- an output that is a symbolic link: written through it to its target (docs/cli.md,
+// Conventions), a relative target taken from the link's own folder, as the system does ----
+
+TEST(RoundElevenOutputs, ARelativeLinkIsFollowedFromItsOwnFolder) {
+  const fs::path d = r11_scratch();
+  fs::create_directories(d / "run" / "x");
+  fs::create_directories(d / "links");
+  fs::create_directories(d / "real");
+  fs::create_symlink("../real/ground.json", d / "links" / "ground.json");
+  // Run from d/run/x: the link's target read from the working folder would be d/run/real/...;
+  // from the link's folder it is d/real.
+  const std::string cmd = "cd '" + (d / "run" / "x").string() + "' && '" EPUCK2_FIT_EXE "' ground '" +
+                          shipped("data/raw/ground/ground_virtual-epuck2-1.csv") + "' -o ../../links/ground.json >/dev/null 2>'" +
+                          (d / "err").string() + "'";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << r11_read(d / "err");
+  EXPECT_TRUE(fs::is_symlink(d / "links" / "ground.json")) << "the link was replaced by a file";
+  ASSERT_TRUE(fs::exists(d / "real" / "ground.json"));
+  EXPECT_EQ(json::parse(r11_read(d / "real" / "ground.json"))["kind"], "ground");
+  EXPECT_FALSE(fs::exists(d / "ground.json"));
+  EXPECT_FALSE(fs::exists(d / "run" / "real"));
+  fs::remove_all(d);
+}
+
 // ---- generate: --out-dir, or its first spelling --out; both naming one folder is that folder ----
 
 TEST(RoundElevenGenerate, BothSpellingsOfOneFolderAreThatFolderTwoFoldersAreExitTwo) {
