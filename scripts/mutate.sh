@@ -348,6 +348,38 @@ R10_LOGS = r10([R8_FACTS, R8_HINTS, R8_APPS])
 R10_DIAGNOSE = r10([R8_DIAGNOSE], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
 R10_APPS = r10([R8_APPS, R3_CHARGE], ["test_battery_models", "test_battery_fast_paths"])
 
+# Round 11 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-11), planted without reading
+# the tests: each group is every test of the programs that touch the area -- round 8's groups for it,
+# as in rounds 9 and 10, with the ARGoS tests for argos/src and for the drive model the plug-in's
+# actuator runs (and the drive's closed loops), the ARGoS battery tests for the calibrated battery
+# and the battery tables. R11_TESTS: the programs added for round 11 (none yet: R10_TESTS, which
+# holds session 13's test_figure_data).
+R11_TESTS = R10_TESTS
+
+
+def r11(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R11_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R11_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+# saturation.hpp: the fits' and the diagnosis's expected clamped reading (the plug-in does not include it).
+R11_SATURATION = r11([R8_MODELS, R8_FIT, R8_CALIB, R8_DIAGNOSE])
+# drive.hpp: simulate --like, the drive's calibration and diagnosis, and the plug-in's calibrated actuator.
+R11_DRIVE_MODEL = r11([R8_MODELS, R8_CALIB, R8_DIAGNOSE, R8_ARGOS], extra=("argos_closed_loop_drive_",))
+R11_ARGOS = r11([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+R11_ARGOS_BATTERY = r11([R8_COEFF, R8_ARGOS], extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+R11_FIT = r11([R8_FIT, R8_CALIB, R8_DIAGNOSE])
+R11_COEFF = r11([R8_COEFF, R8_ARGOS], extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+R11_CALIB = r11([R8_CALIB])
+R11_DIAGNOSE = r11([R8_DIAGNOSE], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+R11_LOGS = r11([R8_FACTS, R8_HINTS, R8_APPS])
+# drive_columns.hpp: the drive's calibration and diagnosis read a drive log through it.
+R11_DRIVE_COLUMNS = r11([R8_FACTS, R8_HINTS, R8_APPS, R8_CALIB, R8_DIAGNOSE])
+R11_APPS = r11([R8_APPS, R3_CHARGE], ["test_battery_models", "test_battery_fast_paths", "test_nist"])
+R11_PLOT = r11([R8_APPS, R3_CHARGE], ["test_figures", "test_battery_models", "test_battery_fast_paths"])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -834,6 +866,56 @@ MUTANTS = [
      'if (value == "--") out.push_back("--json");', R10_APPS),
     ("s13_drive_figure_plugin_curve_offset", "lib/plot/src/sensor_figures.cpp", "$curves using 1:4 with lines lw 2 dt 2",
      "$curves using 1:3 with lines lw 2 dt 2", R10_APPS),
+    # Round 11 (bench/fresh-slips.md): planted without reading the tests; the two lib/models headers first.
+    ("r11_expected_clamp_upper_z_reversed", "lib/models/include/epuck2/models/saturation.hpp",
+     "const T z = (mu - hi) / sigma;", "const T z = (hi - mu) / sigma;", R11_SATURATION),
+    ("r11_drive_right_wheel_ramps_for_left_time", MD, "const T a_r = scalar_of(done) < scalar_of(tr) ? ar : T(0.0);",
+     "const T a_r = scalar_of(done) < scalar_of(tl) ? ar : T(0.0);", R11_DRIVE_MODEL),
+    ("r11_argos_battery_any_rotation_is_distance", "argos/src/calibrated_battery.cpp",
+     "if (fDeltaPos == 0.0 && cDeltaAngle.GetValue() != 0.0) fDeltaPos", "if (cDeltaAngle.GetValue() != 0.0) fDeltaPos",
+     R11_ARGOS_BATTERY),
+    ("r11_argos_turn_half_difference_over_h", "argos/src/calibrated_drive.hpp",
+     "((state_.xl - before.xl) - (state_.xr - before.xr)) / (2.0 * h_s);",
+     "((state_.xl - before.xl) - (state_.xr - before.xr)) / h_s;", R11_ARGOS),
+    ("r11_argos_wheels_do_not_apply_slip", "argos/src/applied_effects.hpp",
+     "{fx::drive::speed_limit, fx::drive::accel_limit, fx::drive::wheel_slip, fx::drive::speed_scale};",
+     "{fx::drive::speed_limit, fx::drive::accel_limit, fx::drive::speed_scale};", R11_ARGOS),
+    ("r11_fit_curve_as_many_points_as_parameters", "lib/fit/include/epuck2/fit/fit_curve.hpp",
+     "if (x.size() < static_cast<std::size_t>(Model::kParameters) + 1) {",
+     "if (x.size() < static_cast<std::size_t>(Model::kParameters)) {", R11_FIT),
+    ("r11_robust_replicate_judgement_from_four", RB, "group_size[obs[i].group] >= kMinReplicates;",
+     "group_size[obs[i].group] > kMinReplicates;", R11_FIT),
+    ("r11_model_path_beside_the_experiment_file_itself", "lib/coefficients/src/model_sets.cpp",
+     "const fs::path beside = fs::path(experiment_file).parent_path() / p;",
+     "const fs::path beside = fs::path(experiment_file) / p;", R11_COEFF),
+    ("r11_battery_flat_segment_refused", "lib/coefficients/src/battery_tables.cpp", "if (!(seg.y2 <= seg.y1))",
+     "if (!(seg.y2 < seg.y1))", R11_COEFF),
+    ("r11_report_six_outlier_lines", "lib/calibrate/src/report_text.cpp", "i < r.outlier_where.size() && i < 5; ++i)",
+     "i < r.outlier_where.size() && i <= 5; ++i)", R11_CALIB),
+    ("r11_reject_sd_option_not_passed", "lib/calibrate/src/sensor_fit_common.cpp", "  r.reject_sd = o.reject_sd;\n", "",
+     R11_CALIB),
+    ("r11_diagnosis_base_caps_its_upper_bound", "lib/diagnose/src/kind_common.hpp", "q.upper = std::max(q.upper, v);",
+     "q.upper = std::min(q.upper, v);", R11_DIAGNOSE),
+    ("r11_voltage_is_a_covariate_candidate", "lib/diagnose/src/kinds.cpp",
+     'add_common_covariates(*p, logs, {"angle_deg", "voltage_v"});', 'add_common_covariates(*p, logs, {"angle_deg"});',
+     R11_DIAGNOSE),
+    ("r11_covariate_column_in_the_last_log_only", DE, "everywhere = everywhere && log.has(name);",
+     "everywhere = log.has(name);", R11_DIAGNOSE),
+    ("r11_output_relative_symlink_from_cwd", "lib/logs/src/output.cpp",
+     "p = link.is_absolute() ? link : p.parent_path() / link;", "p = link;", R11_LOGS),
+    ("r11_drive_right_steps_read_from_left", "lib/logs/include/epuck2/logs/drive_columns.hpp",
+     'log.col("left_steps"), log.col("right_steps"),', 'log.col("left_steps"), log.col("left_steps"),',
+     R11_DRIVE_COLUMNS),
+    ("r11_json_dash_left_as_an_argument", "apps/main.cpp", "++i;  // `--json -`: standard output, which the flag means",
+     "// `--json -`: standard output, which the flag means", R11_APPS),
+    ("r11_generate_out_dir_conflict_inverted", "apps/cmd_generate.cpp",
+     "if (!o.out_dir.empty() && !o.old_out.empty() && o.out_dir != o.old_out)",
+     "if (!o.out_dir.empty() && !o.old_out.empty() && o.out_dir == o.old_out)", R11_APPS),
+    ("r11_nist_min_rss_lre_from_parameters", "apps/cmd_nist.cpp", "min_rss = std::min(min_rss, r.rss_lre);",
+     "min_rss = std::min(min_rss, r.min_lre);", R11_APPS),
+    ("r11_charge_map_residuals_at_rest", "lib/plot/src/charge_map_figure.cpp",
+     "rows[i].charge - calibrate::convert_voltage(map, rows[i].voltage_v, rows[i].speed_cm_s).charge",
+     "rows[i].charge - calibrate::convert_voltage(map, rows[i].voltage_v, 0.0).charge", R11_PLOT),
 ]
 
 
