@@ -41,9 +41,15 @@ EXEMPT_DIRS = {("tests",), ("docs",), ("argos", "tests"), (".git",)}
 # Independent checkers that must not use the code they check (they recompute from the JSON by the
 # documented formulas): they may name a file's keys.
 INDEPENDENT = {pathlib.Path("examples/check_plugin_models.py")}
-# (file, a piece of the literal): why it may name an effect. None today: ARGoS's help texts
-# (REGISTER_SENSOR, REGISTER_ACTUATOR) take their effect names from the registry too.
-EXEMPT = {}
+# (file, a piece of the literal): why it may name an effect. ARGoS's help texts (REGISTER_SENSOR,
+# REGISTER_ACTUATOR) take their effect names from the registry too. scripts/mutate.sh's mutants
+# quote product code verbatim (the text a mutant replaces must occur in the file): a header's path
+# (models/saturation.hpp holds the saturation effect's formula) and code that already takes the
+# names from the registry (fx::drive::speed_limit, ...).
+EXEMPT = {
+    ("scripts/mutate.sh", "lib/models/include/epuck2/models/saturation.hpp"),
+    ("scripts/mutate.sh", "{fx::drive::speed_limit, fx::drive::accel_limit, fx::drive::"),
+}
 
 
 # ----- the registry ------------------------------------------------------------------------------
