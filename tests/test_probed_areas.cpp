@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_harness.hpp"
 #include "epuck2/logs/json_location.hpp"
 
 namespace test_probed_areas_cpp {
@@ -57,12 +58,7 @@ int run(const std::string& args, const fs::path& out, const fs::path& err) {
   const int rc = std::system(cmd.c_str());
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
 }
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using epuck2::testing::slurp;
 fs::path scratch() {
   char tmpl[] = "/tmp/epuck2-probed-XXXXXX";
   EXPECT_NE(::mkdtemp(tmpl), nullptr);

@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_harness.hpp"
 #include "epuck2/fit/fit_curve.hpp"
 
 namespace test_round_eleven_slips_cpp {
@@ -28,12 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string r11_read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using epuck2::testing::slurp;
 /// The real binary: standard output to DIR/out, standard error to DIR/err; the exit code.
 int r11_run(const std::string& args, const fs::path& dir) {
   const std::string cmd = "cd '" + dir.string() + "' && '" EPUCK2_FIT_EXE "' " + args + " >'" + (dir / "out").string() + "' 2>'" +
@@ -47,6 +43,16 @@ fs::path r11_scratch() {
   return tmpl;
 }
 std::string shipped(const std::string& rel) { return std::string(EPUCK2_SOURCE_DIR) + "/" + rel; }
+/// The shipped logs of a kind as arguments, in name order.
+std::string shipped_logs(const std::string& kind) {
+  std::vector<std::string> paths;
+  for (const auto& e : fs::directory_iterator(shipped("data/raw/" + kind)))
+    if (e.path().extension() == ".csv") paths.push_back(e.path().string());
+  std::sort(paths.begin(), paths.end());
+  std::string args;
+  for (const auto& p : paths) args += " '" + p + "'";
+  return args;
+}
 
 // ---- nist: every LRE from the certified values, the summary's minima over the runs ----
 
@@ -62,8 +68,8 @@ TEST(RoundElevenNist, EveryLreIsWorkedFromTheCertifiedValuesAndTheSummaryIsTheir
   fs::create_directory(d / "nist");
   for (const char* p : {"Misra1a", "Chwirut2", "DanWood", "BoxBOD"})
     fs::copy_file(shipped(std::string("tests/data/nist/") + p + ".dat"), d / "nist" / (std::string(p) + ".dat"));
-  ASSERT_EQ(r11_run("nist nist --json", d), 0) << r11_read(d / "err");
-  const json j = json::parse(r11_read(d / "out"));
+  ASSERT_EQ(r11_run("nist nist --json", d), 0) << slurp(d / "err");
+  const json j = json::parse(slurp(d / "out"));
   double min_lre = 99, min_se = 99, min_rss = 99;
   int at_target = 0;
   ASSERT_EQ(j["runs"].size(), 8u);  // two starts each
@@ -100,7 +106,7 @@ TEST(RoundElevenNist, EveryLreIsWorkedFromTheCertifiedValuesAndTheSummaryIsTheir
   ASSERT_EQ(r11_run("nist nist", d), 0);
   char want[200];
   std::snprintf(want, sizeof want, "min parameter LRE %.2f, min standard-error LRE %.2f, min RSS LRE %.2f", min_lre, min_se, min_rss);
-  EXPECT_NE(r11_read(d / "out").find(want), std::string::npos) << r11_read(d / "out") << "\nexpected: " << want;
+  EXPECT_NE(slurp(d / "out").find(want), std::string::npos) << slurp(d / "out") << "\nexpected: " << want;
   fs::remove_all(d);
 }
 
@@ -147,8 +153,8 @@ TEST(RoundElevenReplicates, GroupsOfThreeAreJudgedAgainstThemselvesPairsAgainstT
   write("three.csv", 3);
   write("two.csv", 2);
   auto outliers = [&](const std::string& log) {
-    EXPECT_EQ(r11_run("ground " + log + " --json --accept-misfit", d), 0) << r11_read(d / "err");
-    const json j = json::parse(r11_read(d / "out"));
+    EXPECT_EQ(r11_run("ground " + log + " --json --accept-misfit", d), 0) << slurp(d / "err");
+    const json j = json::parse(slurp(d / "out"));
     std::size_t n = 0;
     for (const auto& [name, f] : j["fits"].items()) n += f["outliers"].get<std::size_t>();
     return n;
@@ -165,18 +171,16 @@ TEST(RoundElevenReplicates, GroupsOfThreeAreJudgedAgainstThemselvesPairsAgainstT
 
 TEST(RoundElevenDiagnosisBase, AFilesValueIsAStartNotABound) {
   const fs::path d = r11_scratch();
-  std::string logs;
-  for (const auto& e : fs::directory_iterator(shipped("data/raw/light")))
-    if (e.path().extension() == ".csv") logs += " '" + e.path().string() + "'";
+  const std::string logs = shipped_logs("light");
   ASSERT_EQ(r11_run("light" + logs + " --json", d), 0);
-  const double calibrated = json::parse(r11_read(d / "out"))["parameters"]["gamma"];
+  const double calibrated = json::parse(slurp(d / "out"))["parameters"]["gamma"];
   for (const double start : {0.06, 0.09}) {
-    json f = json::parse(r11_read(shipped("data/fitted/light.json")));
+    json f = json::parse(slurp(shipped("data/fitted/light.json")));
     f["parameters"]["gamma"] = start;
     f.erase("per_sensor");
     std::ofstream(d / "base.json") << f.dump(2);
-    ASSERT_EQ(r11_run("diagnose" + logs + " --coefficients base.json --json", d), 0) << r11_read(d / "err");
-    const double found = json::parse(r11_read(d / "out"))["recalibrated"]["gamma_m"];
+    ASSERT_EQ(r11_run("diagnose" + logs + " --coefficients base.json --json", d), 0) << slurp(d / "err");
+    const double found = json::parse(slurp(d / "out"))["recalibrated"]["gamma_m"];
     EXPECT_NEAR(found, calibrated, 0.01 * calibrated) << "the file's gamma " << start << " held the recalibration";
   }
   fs::remove_all(d);
@@ -196,10 +200,10 @@ TEST(RoundElevenOutputs, ARelativeLinkIsFollowedFromItsOwnFolder) {
   const std::string cmd = "cd '" + (d / "run" / "x").string() + "' && '" EPUCK2_FIT_EXE "' ground '" +
                           shipped("data/raw/ground/ground_virtual-epuck2-1.csv") + "' -o ../../links/ground.json >/dev/null 2>'" +
                           (d / "err").string() + "'";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << r11_read(d / "err");
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(d / "err");
   EXPECT_TRUE(fs::is_symlink(d / "links" / "ground.json")) << "the link was replaced by a file";
   ASSERT_TRUE(fs::exists(d / "real" / "ground.json"));
-  EXPECT_EQ(json::parse(r11_read(d / "real" / "ground.json"))["kind"], "ground");
+  EXPECT_EQ(json::parse(slurp(d / "real" / "ground.json"))["kind"], "ground");
   EXPECT_FALSE(fs::exists(d / "ground.json"));
   EXPECT_FALSE(fs::exists(d / "run" / "real"));
   fs::remove_all(d);
@@ -224,13 +228,11 @@ TEST(RoundElevenDrive, ATurnsWheelsAreEachReadFromTheirOwnColumn) {
       out << t << "," << (moving ? 5 : 0) << "," << (moving ? 2.5 : 0) << "," << l << "," << r << ",8190\n";
     }
   }
-  std::string logs;
-  for (const auto& e : fs::directory_iterator(shipped("data/raw/drive")))
-    if (e.path().extension() == ".csv") logs += " '" + e.path().string() + "'";
-  ASSERT_EQ(r11_run("drive" + logs + " --json", d), 0) << r11_read(d / "err");
-  const json without = json::parse(r11_read(d / "out"));
-  ASSERT_EQ(r11_run("drive" + logs + " turn.csv --json", d), 0) << r11_read(d / "err");
-  const json with = json::parse(r11_read(d / "out"));
+  const std::string logs = shipped_logs("drive");
+  ASSERT_EQ(r11_run("drive" + logs + " --json", d), 0) << slurp(d / "err");
+  const json without = json::parse(slurp(d / "out"));
+  ASSERT_EQ(r11_run("drive" + logs + " turn.csv --json", d), 0) << slurp(d / "err");
+  const json with = json::parse(slurp(d / "out"));
   EXPECT_EQ(with["fits"]["steps"]["outliers"], without["fits"]["steps"]["outliers"]);
   EXPECT_NEAR(with["fits"]["steps"]["mse"].get<double>(), without["fits"]["steps"]["mse"].get<double>(),
               0.1 * without["fits"]["steps"]["mse"].get<double>());
@@ -243,12 +245,12 @@ TEST(RoundElevenDrive, ATurnsWheelsAreEachReadFromTheirOwnColumn) {
 
 TEST(RoundElevenGenerate, BothSpellingsOfOneFolderAreThatFolderTwoFoldersAreExitTwo) {
   const fs::path d = r11_scratch();
-  ASSERT_EQ(r11_run("generate ground --out-dir g --out g", d), 0) << r11_read(d / "err");
+  ASSERT_EQ(r11_run("generate ground --out-dir g --out g", d), 0) << slurp(d / "err");
   EXPECT_TRUE(fs::exists(d / "g" / "ground_virtual-epuck2-1.csv"));
-  ASSERT_EQ(r11_run("generate ground --out old", d), 0) << r11_read(d / "err");
+  ASSERT_EQ(r11_run("generate ground --out old", d), 0) << slurp(d / "err");
   EXPECT_TRUE(fs::exists(d / "old" / "ground_virtual-epuck2-1.csv"));
   EXPECT_EQ(r11_run("generate ground --out-dir a --out b", d), 2);
-  const std::string err = r11_read(d / "err");
+  const std::string err = slurp(d / "err");
   EXPECT_NE(err.find("--out-dir a"), std::string::npos) << err;
   EXPECT_NE(err.find("--out b"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(d / "a"));
@@ -262,12 +264,10 @@ TEST(RoundElevenGenerate, BothSpellingsOfOneFolderAreThatFolderTwoFoldersAreExit
 
 TEST(RoundElevenRejectSd, ANarrowerRejectionLeavesOutMoreReadings) {
   const fs::path d = r11_scratch();
-  std::string logs;
-  for (const auto& e : fs::directory_iterator(shipped("data/raw/drive")))
-    if (e.path().extension() == ".csv") logs += " '" + e.path().string() + "'";
+  const std::string logs = shipped_logs("drive");
   auto outliers = [&](const std::string& opt) {
-    EXPECT_EQ(r11_run("drive" + logs + " --json " + opt, d), 0) << opt << ": " << r11_read(d / "err");
-    const json j = json::parse(r11_read(d / "out"));
+    EXPECT_EQ(r11_run("drive" + logs + " --json " + opt, d), 0) << opt << ": " << slurp(d / "err");
+    const json j = json::parse(slurp(d / "out"));
     std::size_t n = 0;
     for (const auto& [name, f] : j["fits"].items()) n += f["outliers"].get<std::size_t>();
     return n;
@@ -303,13 +303,13 @@ TEST(RoundElevenCovariates, AColumnSomeLogsLackIsNoCandidateNorIsVoltage) {
   ground("b_without.csv", false, 2);
   ground("c_with.csv", true, 3);
   for (const std::string& logs : {"a_with.csv b_without.csv", "b_without.csv c_with.csv", "a_with.csv b_without.csv c_with.csv"}) {
-    ASSERT_EQ(r11_run("diagnose " + logs + " --json", d), 0) << logs << ": " << r11_read(d / "err");
-    const json j = json::parse(r11_read(d / "out"));
+    ASSERT_EQ(r11_run("diagnose " + logs + " --json", d), 0) << logs << ": " << slurp(d / "err");
+    const json j = json::parse(slurp(d / "out"));
     for (const auto& e : j["effects_considered"])
       EXPECT_NE(e.get<std::string>(), "covariate:temperature_c") << logs << ": a column not every log has";
   }
-  ASSERT_EQ(r11_run("diagnose a_with.csv c_with.csv --json", d), 0) << r11_read(d / "err");
-  const json both = json::parse(r11_read(d / "out"));
+  ASSERT_EQ(r11_run("diagnose a_with.csv c_with.csv --json", d), 0) << slurp(d / "err");
+  const json both = json::parse(slurp(d / "out"));
   EXPECT_NE(std::find(both["effects_considered"].begin(), both["effects_considered"].end(), "covariate:temperature_c"),
             both["effects_considered"].end())
       << "both logs have it: a candidate";
@@ -318,8 +318,8 @@ TEST(RoundElevenCovariates, AColumnSomeLogsLackIsNoCandidateNorIsVoltage) {
                         shipped("data/raw/battery/robot-b_speed-05.csv") + "' --json",
                     d),
             0)
-      << r11_read(d / "err");
-  for (const auto& e : json::parse(r11_read(d / "out"))["effects_considered"])
+      << slurp(d / "err");
+  for (const auto& e : json::parse(slurp(d / "out"))["effects_considered"])
     EXPECT_NE(e.get<std::string>(), "covariate:voltage_v");
   fs::remove_all(d);
 }
@@ -328,7 +328,7 @@ TEST(RoundElevenCovariates, AColumnSomeLogsLackIsNoCandidateNorIsVoltage) {
 
 TEST(RoundElevenBatteryTables, AFlatSegmentIsRead) {
   const fs::path d = r11_scratch();
-  json b = json::parse(r11_read(shipped("data/fitted/battery.json")));
+  json b = json::parse(slurp(shipped("data/fitted/battery.json")));
   json& seg = b["speeds"][3]["segments"][0];
   seg["m"] = 0.0;
   seg["h"] = 1.0;
@@ -339,7 +339,7 @@ TEST(RoundElevenBatteryTables, AFlatSegmentIsRead) {
                         shipped("data/profiles/example_profile.csv") + "' -o sim.csv",
                     d),
             0)
-      << r11_read(d / "err");
+      << slurp(d / "err");
   // A rising one is refused where it rises.
   seg["y2"] = 1.0;
   seg["y1"] = 0.99;
@@ -350,7 +350,7 @@ TEST(RoundElevenBatteryTables, AFlatSegmentIsRead) {
                         shipped("data/profiles/example_profile.csv") + "' -o sim2.csv",
                     d),
             2);
-  EXPECT_NE(r11_read(d / "err").find("/speeds/3/segments/0/"), std::string::npos) << r11_read(d / "err");
+  EXPECT_NE(slurp(d / "err").find("/speeds/3/segments/0/"), std::string::npos) << slurp(d / "err");
   fs::remove_all(d);
 }
 
@@ -359,13 +359,11 @@ TEST(RoundElevenBatteryTables, AFlatSegmentIsRead) {
 
 TEST(RoundElevenReport, TheFirstFiveOutliersThenHowManyMore) {
   const fs::path d = r11_scratch();
-  std::string logs;
-  for (const auto& e : fs::directory_iterator(shipped("data/raw/light")))
-    if (e.path().extension() == ".csv") logs += " '" + e.path().string() + "'";
+  const std::string logs = shipped_logs("light");
   ASSERT_EQ(r11_run("light" + logs, d), 0);
-  const std::string text = r11_read(d / "out");
+  const std::string text = slurp(d / "out");
   ASSERT_EQ(r11_run("light" + logs + " --json", d), 0);
-  const json j = json::parse(r11_read(d / "out"));
+  const json j = json::parse(slurp(d / "out"));
   const std::size_t total = j["fits"]["gamma"]["outliers"];
   ASSERT_GT(total, 6u) << "the pooled fit leaves out more than six: the listing is cut";
   // The pooled fit's block: the first block of outlier lines.
