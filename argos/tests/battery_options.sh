@@ -6,7 +6,9 @@
 #   capacity  tables="plugin" with a diagnosis's capacity_scale k = 0.8: both lifetimes x 0.8
 #             against the same run with k = 1 (within 0.2 %: 10 s rows over ~10^4 s);
 #   model     a file naming battery_model (a diagnosis's) and no model= in the XML: the same charges as
-#             model="simple" in the XML, unlike the Cubic's.
+#             model="simple" in the XML, unlike the Cubic's;
+#   refusals  a covariate effect in the file, tables= or behaviour= misspelt, and tables="file"
+#             without a file each stop ARGoS at Init with a message that names the cause.
 # Expected values: the files' own numbers and lib/models' copy of the plug-in's published tables.
 #   usage: battery_options.sh ARGOS_LIBDIR WORK_DIR
 set -euo pipefail
@@ -40,13 +42,14 @@ experiment() {  # dir battery_attributes
   python3 - "$ROOT/argos/experiments/battery.argos" "$1" "$2" <<'PY'
 import re, sys
 src, out, attrs = sys.argv[1], sys.argv[2], sys.argv[3]
+beh = "" if "behaviour=" in attrs else ' behaviour="corrected"'
 x = open(src).read()
 x = re.sub(r'output_dir="[^"]*"', f'output_dir="{out}"', x)
 robots = re.findall(r'    <e-puck2 id="ep\d+">.*?</e-puck2>\n', x, re.S)
 keep = [r for r in robots if 'id="ep5"' in r or 'id="ep6"' in r]
 x = x.replace("".join(robots), "".join(keep))
 x = re.sub(r'<epuck2_battery discharge_model="calibrated"[^>]*/>',
-           f'<epuck2_battery discharge_model="calibrated" {attrs} behaviour="corrected" start_charge="1.0" />', x)
+           f'<epuck2_battery discharge_model="calibrated" {attrs}{beh} start_charge="1.0" />', x)
 # One dynamics2d step per tick (the experiment has 10): two robots spinning in place need no finer
 # steps, and the ten were 90 % of ARGoS's time; the checks below compare lifetimes and charges,
 # which the finer steps change only through the spin-up of the first tick.
@@ -56,6 +59,23 @@ open(out + "/exp.argos", "w").write(x)
 PY
   argos3 -n -z -c "$1/exp.argos" > "$1/log" 2>&1 || { cat "$1/log"; fail "argos3 ($1)"; }
 }
+refused() {  # dir battery_attributes expected_message (a grep pattern)
+  local dir="$1" attrs="$2" want="$3"
+  if ( experiment "$dir" "$attrs" ) > /dev/null 2>&1; then fail "ARGoS ran with $attrs"; fi
+  grep -q -- "$want" "$dir/log" || { cat "$dir/log"; fail "no message '$want' for $attrs"; }
+  echo "ok   refusal: $(grep -o -- "$want.*" "$dir/log" | head -1 | cut -c1-150)"
+}
+python3 - "$ROOT/data/fitted/battery.json" "$WORK/covariate.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["effects"] = {"covariate:temperature_c": {"slope": 0.01, "centre": 25.0}}
+json.dump(d, open(sys.argv[2], "w"), indent=1)
+PY
+refused "$WORK/covariate" "coefficients=\"$WORK/covariate.json\"" \
+  "covariate.json:[0-9]*:[0-9]*: effects.covariate:temperature_c: the calibrated battery cannot apply it in ARGoS: it needs the log column 'temperature_c'"
+refused "$WORK/tables" "coefficients=\"$WORK/partial.json\" tables=\"files\"" "tables must be 'file' .* or 'plugin' .*, not 'files'"
+refused "$WORK/behaviour" "coefficients=\"$WORK/partial.json\" behaviour=\"corected\"" "behaviour must be 'argos' or 'corrected', not 'corected'"
+refused "$WORK/nofile" "tables=\"file\"" "the attribute 'coefficients' is required"
 experiment "$WORK/partial" "coefficients=\"$WORK/partial.json\" model=\"cubic\""
 grep -q "fitted tables at 5, 10, 13 cm/s, the plug-in's at 0..4, 6..9, 11, 12, 14, 15 cm/s" "$WORK/partial/log" || { cat "$WORK/partial/log"; fail "Init does not say which tables are the file's"; }
 echo "ok   Init: $(grep -o 'fitted tables at [^;]*' "$WORK/partial/log" | head -1)"
