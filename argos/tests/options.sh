@@ -2,7 +2,9 @@
 # The calibrated sensors' XML options in ARGoS: a robot's own coefficient set (robot="ID"), the
 # Gaussian noise of the file's noise.<channel>.sd and its uniform alternative
 # (noise_distribution="uniform"), a file without a noise section (a warning, noise_level's uniform
-# noise), and a bad coefficient file stopping ARGoS at Init with a message naming the file.
+# noise), noise_level beside a measured noise (ignored, with a warning), a noise section without the
+# sensor's channel (a warning, no noise), a misspelt noise_distribution, and a bad coefficient file
+# stopping ARGoS at Init with a message naming the file.
 #   usage: options.sh ARGOS_LIBDIR WORK_DIR
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -78,6 +80,34 @@ n=$(grep -c "has no 'noise' section" "$WORK/old/log")
 distinct=$(grep '^0' "$WORK/old/proximity_argos-epuck2.csv" | cut -d, -f4 | sort -u | wc -l)
 [ "$distinct" = 1 ] || fail "noise_level 0 without a noise section should give no noise, found $distinct distinct readings"
 echo "ok   no noise section: warned once, no noise with noise_level 0"
+
+# 2c. noise_level given with a file that has the measured noise: a warning that it is ignored (the
+#     readings keep the file's Gaussian of 41 counts); a noise section without this sensor's
+#     channel: a warning and no noise at all; a misspelt noise_distribution: ARGoS stops at Init.
+python3 - "$WORK/p.json" "$WORK/nochannel.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["noise"] = {}  # a noise section, empty
+json.dump(d, open(sys.argv[2], "w"))
+PY
+mkdir -p "$WORK/level" "$WORK/nochannel" "$WORK/distribution"
+experiment "$WORK/level" "coefficients=\"$WORK/p.json\" noise=\"true\" noise_level=\"0.2\"" "0.02:0.01:0.02" 400
+argos3 -n -z -c "$WORK/level/exp.argos" > "$WORK/level/log" 2>&1 || { cat "$WORK/level/log"; fail "argos3 (noise_level)"; }
+grep -q "calibrated epuck2_proximity: noise_level is ignored: $WORK/p.json gives the measured reading noise (noise.proximity)" "$WORK/level/log" ||
+  { cat "$WORK/level/log"; fail "no warning that noise_level is ignored"; }
+sd_check "$WORK/level/proximity_argos-epuck2.csv" "noise_level ignored: the file's gaussian noise" 41 400 10
+experiment "$WORK/nochannel" "coefficients=\"$WORK/nochannel.json\" noise=\"true\"" "0.02:0.01:0.02" 20
+argos3 -n -z -c "$WORK/nochannel/exp.argos" > "$WORK/nochannel/log" 2>&1 || { cat "$WORK/nochannel/log"; fail "argos3 (no channel)"; }
+grep -q "calibrated epuck2_proximity: $WORK/nochannel.json: the 'noise' section has no 'proximity' entry: this sensor draws no noise" "$WORK/nochannel/log" ||
+  { cat "$WORK/nochannel/log"; fail "no warning about the missing noise channel"; }
+distinct=$(grep '^0' "$WORK/nochannel/proximity_argos-epuck2.csv" | cut -d, -f4 | sort -u | wc -l)
+[ "$distinct" = 1 ] || fail "a noise section without the proximity channel should give no noise, found $distinct distinct readings"
+echo "ok   noise section without this channel: warned, no noise"
+experiment "$WORK/distribution" "coefficients=\"$WORK/p.json\" noise=\"true\" noise_distribution=\"gauss\"" "0.02:0.01:0.02" 1
+if argos3 -n -z -c "$WORK/distribution/exp.argos" > "$WORK/distribution/log" 2>&1; then fail "argos3 ran with noise_distribution=\"gauss\""; fi
+grep -q "calibrated epuck2_proximity: noise_distribution must be 'gaussian' or 'uniform', not 'gauss'" "$WORK/distribution/log" ||
+  { cat "$WORK/distribution/log"; fail "no message naming noise_distribution"; }
+echo "ok   misspelt noise_distribution: $(grep -o "noise_distribution must be[^)]*" "$WORK/distribution/log" | head -1)"
 
 # 3. a missing coefficient file stops ARGoS at Init, naming the sensor and the file
 mkdir -p "$WORK/missing"
