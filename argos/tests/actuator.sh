@@ -4,7 +4,8 @@
 #   cap       a 20 cm/s command runs at the firmware's 1100 steps/s (the plug-in's default: 20 cm/s);
 #   accel     a 10 cm/s step with accel_limit 50 cm/s^2 ramps as a t^2 / 2 (the encoders, row by row);
 #   slip      slip_time_constant_s 0.3: the ToF's body travel lags the encoders' wheel travel by u tau;
-#   still     encoder noise 3 steps: a robot standing still reads its count exactly, every row.
+#   still     encoder noise 3 steps: a robot standing still reads its count exactly, every row;
+#   warning   the ToF with a slip file on the default steering warns that the body ignores it.
 # Expected values are the effects' closed forms (actuator_check.py), not the plug-in's code.
 #   usage: actuator.sh ARGOS_LIBDIR WORK_DIR
 set -euo pipefail
@@ -42,6 +43,14 @@ run default 20 false default cap
 run accel 10 false calibrated
 run slip 10 false calibrated
 run still 10 true calibrated
+# A drive file with slip (or any drive effect) read by the ToF of a robot whose steering is not the
+# calibrated one: a warning at Init that the body does not move by the file, naming the effects the
+# ToF applies itself; the file with no drive effect (cap, above) gives no such warning.
+run slip_default 10 false default slip
+grep -q "calibrated epuck2_tof: $WORK/slip.json: the robot's differential_steering is not implementation=\"calibrated\": the file's speed limit, slip and other drive effects do not move the body, only the ToF's own (.*tof_scale.*) apply" "$WORK/slip_default/log" ||
+  { cat "$WORK/slip_default/log"; echo "FAIL: no warning that the default steering ignores the file's slip"; exit 1; }
+! grep -q "calibrated epuck2_tof: .*is not implementation=\"calibrated\"" "$WORK/default/log" || { cat "$WORK/default/log"; echo "FAIL: a warning about drive effects for a file with none"; exit 1; }
+echo "ok   default steering with a slip file: $(grep -o "the robot's differential_steering is not[^:]*" "$WORK/slip_default/log" | head -1)"
 # A refusal: an effect ARGoS cannot apply stops it at Init, naming the effect and why.
 mkdir -p "$WORK/covariate"
 sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$WORK/covariate\"|" -e "s|coefficients=\"[^\"]*\"|coefficients=\"$WORK/covariate.json\"|g" \
