@@ -240,3 +240,76 @@ TEST_F(VoltageLogsCli, ThePlotOfTheMapIsDrawn) {
   EXPECT_EQ(n.exit_code, 2) << n.err;
   EXPECT_FALSE(fs::exists(dir_ / "none.png"));
 }
+
+// table5's text report of voltage-only logs ends with the conversion's line: how many logs went
+// through which map, the map's residual sd, and how many readings fell outside the map's voltage
+// range (clamped to its ends). Counted here from the logs and the map file: the voltage-only
+// copies of the virtual robot's seed-7 logs, with one reading pushed 10 mV above the map's range
+// and four 10 mV below it (the seed-7 logs themselves fall outside at most twice: the counts differ).
+TEST_F(VoltageLogsCli, Table5TextSaysWhichMapAndHowManyReadingsWereClampedCountedFromTheLogs) {
+  ASSERT_EQ(run("generate battery --seed 7 --out \"" + (dir_ / "seed7").string() + "\"").exit_code, 0);
+  const std::string map = (dir_ / "map.json").string();
+  ASSERT_EQ(run("battery" + args(csvs(shipped_dir())) + " -o \"" + map + "\"").exit_code, 0);
+  const auto m = nlohmann::json::parse(slurp(map)).at("charge_map");
+  const double lo = m.at("voltage_range_v")[0].get<double>(), hi = m.at("voltage_range_v")[1].get<double>();
+  const auto volts = voltage_only(csvs(dir_ / "seed7"), "t5_volts");
+  ASSERT_EQ(volts.size(), 32u);
+  // Push the 3rd data row of the first log above the range, the 5th to 8th of the second below.
+  auto push = [&](const fs::path& f, std::vector<int> rows, double v) {
+    std::istringstream in(slurp(f));
+    std::string line, text;
+    int data = -1;  // -1: the header not yet read
+    while (std::getline(in, line)) {
+      if (!line.empty() && line[0] != '#') {
+        if (data >= 0 && std::find(rows.begin(), rows.end(), data) != rows.end()) {
+          const std::size_t comma = line.rfind(',');
+          char cell[32];
+          std::snprintf(cell, sizeof cell, "%.4f", v);
+          line = line.substr(0, comma + 1) + cell;
+        }
+        ++data;
+      }
+      text += line + "\n";
+    }
+    std::ofstream(f) << text;
+  };
+  ASSERT_EQ(slurp(volts[0]).find("voltage_v") != std::string::npos, true);
+  push(volts[0], {3}, hi + 0.01);
+  push(volts[1], {5, 6, 7, 8}, lo - 0.01);
+  // Count the readings outside [lo, hi] from the files (the voltage is the last column).
+  int below = 0, above = 0;
+  for (const auto& f : volts) {
+    std::istringstream in(slurp(f));
+    std::string line;
+    bool header = false;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      if (!header) {
+        ASSERT_EQ(line.substr(line.rfind(',') + 1), "voltage_v") << f;
+        header = true;
+        continue;
+      }
+      const double v = std::stod(line.substr(line.rfind(',') + 1));
+      below += v < lo;
+      above += v > hi;
+    }
+  }
+  ASSERT_GE(below, 4);
+  ASSERT_NE(below, above);
+  ASSERT_GE(above, 1);
+  const CliRun t = run("table5" + args(volts) + " --charge-map \"" + map + "\"");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  char sd[32];
+  std::snprintf(sd, sizeof sd, "%.3g", m.at("residual_sd").get<double>());
+  const std::string want = "Charge of 32 voltage-only logs from voltage_v through the voltage->charge map of " + map +
+                           " (residual sd " + sd + "); clamped to its range: " + std::to_string(below) + " below, " +
+                           std::to_string(above) + " above.";
+  EXPECT_NE(t.out.find(want), std::string::npos) << "expected: " << want << "\n" << t.out;
+  // The JSON report counts the same.
+  const CliRun j = run("table5" + args(volts) + " --charge-map \"" + map + "\" --json");
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  const auto c = nlohmann::json::parse(j.out).at("charge_conversion");
+  EXPECT_EQ(c.at("clamped_below_range").get<int>(), below);
+  EXPECT_EQ(c.at("clamped_above_range").get<int>(), above);
+  EXPECT_EQ(c.at("logs").get<int>(), 32);
+}
