@@ -170,3 +170,51 @@ TEST(ChargeMap, ABadMapFileNamesTheEntry) {
                 .find("one charge per knot"),
             std::string::npos);
 }
+
+// Every refusal of the map reader names its entry by JSON path (the file does not exist, so no
+// line:column): the arrays' presence, type and elements, the load terms' count and order, the
+// voltage range's shape and order, and an optional number that is not one.
+TEST(ChargeMap, EachMalformedEntryIsRefusedAtItsJsonPath) {
+  auto message = [](const std::string& charge_map) {
+    try {
+      cal::charge_map_from_json(nlohmann::json::parse(R"({"charge_map": {"form": "monotone_piecewise_linear", )" + charge_map + "}}"),
+                                "/nonexistent/m.json");
+    } catch (const epuck2::logs::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string knots = R"("knots_v": [3, 4], "knot_charge": [0, 1])";
+  struct Case {
+    std::string entries, path, words;
+  };
+  const Case cases[] = {
+      {R"("knot_charge": [0, 1])", "/charge_map", "expected an array of numbers 'knots_v'"},
+      {R"("knots_v": [3, 4])", "/charge_map", "expected an array of numbers 'knot_charge'"},
+      {R"("knots_v": 3, "knot_charge": [0, 1])", "/charge_map/knots_v", "'knots_v' must be an array of numbers"},
+      {R"("knots_v": [3, "4"], "knot_charge": [0, 1])", "/charge_map/knots_v/1", "'knots_v' must hold finite numbers"},
+      {R"("knots_v": [3, 4], "knot_charge": [0, null])", "/charge_map/knot_charge/1", "'knot_charge' must hold finite numbers"},
+      {R"("knots_v": [3], "knot_charge": [0])", "/charge_map/knots_v", "at least 2 knots"},
+      {R"("knots_v": [3, 4, 3.5], "knot_charge": [0, 0.5, 1])", "/charge_map/knots_v/2", "strictly ascending"},
+      {R"("knots_v": [3, 4, 5], "knot_charge": [0, 0.5, 0.4])", "/charge_map/knot_charge/2", "must not decrease"},
+      {knots + R"(, "load_speeds_cm_s": [0, 10], "load_offset_v": [0])", "/charge_map/load_offset_v", "one load_offset_v per load speed"},
+      {knots + R"(, "load_offset_v": [0])", "/charge_map/load_offset_v", "one load_offset_v per load speed"},
+      {knots + R"(, "load_speeds_cm_s": [0, 10, 10], "load_offset_v": [0, 0.1, 0.2])", "/charge_map/load_speeds_cm_s/2",
+       "load_speeds_cm_s must be strictly ascending"},
+      {knots + R"(, "load_speeds_cm_s": [5, 0], "load_offset_v": [0, 0.1])", "/charge_map/load_speeds_cm_s/1",
+       "load_speeds_cm_s must be strictly ascending"},
+      {knots + R"(, "voltage_range_v": [4.2, 3.4])", "/charge_map/voltage_range_v", "[min, max] with min < max"},
+      {knots + R"(, "voltage_range_v": [3.4, 3.4])", "/charge_map/voltage_range_v", "[min, max] with min < max"},
+      {knots + R"(, "voltage_range_v": [3.4])", "/charge_map/voltage_range_v", "[min, max] with min < max"},
+      {knots + R"(, "voltage_range_v": [3.4, 4.2, 4.3])", "/charge_map/voltage_range_v", "[min, max] with min < max"},
+      {knots + R"(, "residual_sd": "small")", "/charge_map/residual_sd", "'residual_sd' must be a number"},
+  };
+  for (const Case& c : cases) {
+    const std::string m = message(c.entries);
+    EXPECT_NE(m.find(c.words), std::string::npos) << c.entries << "\n" << m;
+    EXPECT_NE(m.find("JSON path " + c.path + ")"), std::string::npos) << c.entries << "\n" << m;
+  }
+  // The same entries, well formed, are read: the range as given, the load terms in order.
+  const std::string good = message(knots + R"(, "load_speeds_cm_s": [0, 10], "load_offset_v": [0, 0.1], "voltage_range_v": [3.4, 4.2], "residual_sd": 0.01)");
+  EXPECT_EQ(good, "no error");
+}
