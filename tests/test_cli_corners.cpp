@@ -4,6 +4,7 @@
 // kinds' names typed here.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -88,6 +89,80 @@ TEST_F(CliCorners, DiagnoseDoubleDashEndsTheOptions) {
   EXPECT_EQ(k.exit_code, 2) << k.out;
   EXPECT_NE(k.err.find("--json"), std::string::npos) << k.err;
   EXPECT_EQ(k.out, "");
+}
+
+// Light readings of a light beyond the sensor's 0.5 m range, or of intensity 0, are dark whatever
+// gamma is: they are left out, each named by file:line with its reason, and the fit is the fit
+// without them (the same parameters, to the last bit). A reading at exactly 0.5 m is in range and
+// enters. The log: the virtual robot's at intensity 1.00, with four rows appended (lines counted
+// here from the file).
+TEST_F(CliCorners, LightOutOfRangeOrDarkRowsAreLeftOutByLineAndDoNotMoveTheFit) {
+  ASSERT_EQ(run("generate light --out-dir \"" + (dir_ / "lg").string() + "\"").exit_code, 0);
+  const std::string base = epuck2::testing::slurp(dir_ / "lg" / "light_intensity_1.00.csv");
+  int lines = 0;
+  for (char c : base) lines += c == '\n';
+  const std::string a = write("a.csv", base);
+  const std::string b = write("b.csv", base + "0.6,1,0,4095\n0.2,0,1,4095\n0.75,0,2,4095\n");
+  const std::string c = write("c.csv", base + "0.6,1,0,4095\n0.5,1,0,4000\n0.2,0,1,4095\n");
+  const CliRun ra = run("light \"" + a + "\" --json"), rb = run("light \"" + b + "\" --json"), rc = run("light \"" + c + "\" --json");
+  ASSERT_EQ(ra.exit_code, 0) << ra.err;
+  ASSERT_EQ(rb.exit_code, 0) << rb.err;
+  ASSERT_EQ(rc.exit_code, 0) << rc.err;
+  const auto ja = nlohmann::json::parse(ra.out), jb = nlohmann::json::parse(rb.out), jc = nlohmann::json::parse(rc.out);
+  EXPECT_EQ(ja.at("parameters").at("gamma").get<double>(), jb.at("parameters").at("gamma").get<double>());
+  EXPECT_EQ(jb.at("readings").get<int>(), ja.at("readings").get<int>() + 3);
+  const auto& left = jb.at("left_out");
+  ASSERT_EQ(left.at("count").get<int>(), 3) << left.dump();
+  const std::string beyond = "light beyond the sensor's range (0.5 m)", dark = "no light (intensity 0)";
+  const std::pair<int, std::string> want[3] = {{lines + 1, beyond}, {lines + 2, dark}, {lines + 3, beyond}};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(left.at("rows")[static_cast<std::size_t>(i)].at("where").get<std::string>(), b + ":" + std::to_string(want[i].first));
+    EXPECT_EQ(left.at("rows")[static_cast<std::size_t>(i)].at("why").get<std::string>(), want[i].second);
+  }
+  // At exactly 0.5 m: in range, it enters (and moves gamma); the two others are left out.
+  ASSERT_EQ(jc.at("left_out").at("count").get<int>(), 2) << jc.at("left_out").dump();
+  EXPECT_EQ(jc.at("left_out").at("rows")[0].at("where").get<std::string>(), c + ":" + std::to_string(lines + 1));
+  EXPECT_EQ(jc.at("left_out").at("rows")[1].at("where").get<std::string>(), c + ":" + std::to_string(lines + 3));
+  EXPECT_NE(ja.at("parameters").at("gamma").get<double>(), jc.at("parameters").at("gamma").get<double>());
+}
+
+// A coefficient file that misnames a parameter of a covariate effect, or whose battery speeds are
+// out of order, is refused by every reader with the JSON path (issue #22: one validation).
+TEST_F(CliCorners, AMisnamedCovariateParameterOrBatterySpeedsOutOfOrderAreRefusedByEveryReader) {
+  auto edit = [&](const char* kind, const std::string& name, const std::function<void(nlohmann::json&)>& f) {
+    nlohmann::json j = nlohmann::json::parse(epuck2::testing::slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / (std::string(kind) + ".json")));
+    f(j);
+    return write(name, j.dump(1));
+  };
+  const std::string drive = edit("drive", "d.json", [](nlohmann::json& j) {
+    j["effects"] = {{"covariate:temperature_c", {{"slop", 0.5}, {"centre", 25.0}}}};
+  });
+  std::string drive_log;  // a shipped drive log
+  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "drive"))
+    if (e.path().extension() == ".csv" && (drive_log.empty() || e.path().string() < drive_log)) drive_log = e.path().string();
+  ASSERT_FALSE(drive_log.empty());
+  for (const std::string& cmd : {"codegen \"" + drive + "\" -o \"" + (dir_ / "d.hpp").string() + "\"",
+                                 "simulate drive --like \"" + drive_log + "\" --coefficients \"" + drive + "\"",
+                                 "diagnose \"" + drive_log + "\" --coefficients \"" + drive + "\""}) {
+    const CliRun r = run(cmd);
+    EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.err;
+    EXPECT_NE(r.err.find("effects.covariate:temperature_c has no parameter 'slop' (it has: slope, centre) (at JSON path "
+                         "/effects/covariate:temperature_c/slop)"),
+              std::string::npos)
+        << cmd << "\n" << r.err;
+    EXPECT_NE(r.err.find(drive + ":"), std::string::npos) << cmd << "\n" << r.err;
+  }
+  const std::string battery = edit("battery", "b.json", [](nlohmann::json& j) { std::swap(j["speeds"][3], j["speeds"][4]); });
+  const std::string profile = write("profile.csv", "time_s,speed_cm_s\n0,5\n");
+  for (const std::string& cmd : {"codegen \"" + battery + "\" -o \"" + (dir_ / "b.hpp").string() + "\"",
+                                 "simulate battery --coefficients \"" + battery + "\" --profile \"" + profile + "\" --model cubic"}) {
+    const CliRun r = run(cmd);
+    EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.err;
+    EXPECT_NE(r.err.find("speeds[3]: expected speed_cm_s 3 (at JSON path /speeds/3/speed_cm_s)"), std::string::npos) << cmd << "\n" << r.err;
+    EXPECT_NE(r.err.find(battery + ":"), std::string::npos) << cmd << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "d.hpp"));
+  EXPECT_FALSE(fs::exists(dir_ / "b.hpp"));
 }
 
 }  // namespace test_cli_corners_cpp
