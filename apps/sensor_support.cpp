@@ -52,12 +52,6 @@ void print_warnings(const std::string& kind, const nlohmann::json& j) {
   for (const auto& w : j["warnings"]) std::cerr << kind << ": warning: " << w.get<std::string>() << '\n';
 }
 
-void warn_undefined_std_errors(const std::string& kind, const nlohmann::json& j) {
-  if (!j.contains("std_error_why")) return;
-  for (const auto& [name, why] : j.at("std_error_why").items())
-    std::cerr << kind << ": warning: no standard error for " << name << ": " << why.get<std::string>() << '\n';
-}
-
 void require_usable(const fit::FitResult& r, const std::string& what) {
   if (!r.usable) throw NoUsableFit(what + ": " + (r.message.empty() ? std::string("the solver found no solution") : r.message));
 }

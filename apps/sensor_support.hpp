@@ -60,9 +60,6 @@ std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::strin
 /// Warnings on standard error, each once.
 void print_warnings(const std::string& kind, const nlohmann::json& j);
 
-/// One warning on standard error per standard error written as null, with its reason.
-void warn_undefined_std_errors(const std::string& kind, const nlohmann::json& j);
-
 /// Throws NoUsableFit when the fit is not usable.
 void require_usable(const fit::FitResult& r, const std::string& what);
 
