@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -393,4 +394,63 @@ TEST(Leds, TableTwo) {
   EXPECT_NEAR(p3[0], 0.0, 1e-12);
   EXPECT_NEAR(p3[1], 0.037, 1e-12);
   EXPECT_NEAR(p3[2], 0.048, 1e-12);
+}
+
+// Every LED of the paper's Table 2, one by one (typed from the table: 1..8 on the ring at
+// 0, 45, ..., 315 deg, RED and RGB alternating from LED 1; 9 the front LED, red; 10 the body LED,
+// green; ring radius 0.037 m, elevation 0.048 m from the plug-in's source), and the colours' names
+// as docs/logs.md and the camera logs spell them.
+TEST(Leds, EveryLedOfTableTwoAndItsPosition) {
+  const char* colour[10] = {"red", "rgb", "red", "rgb", "red", "rgb", "red", "rgb", "red", "green"};
+  for (int i = 0; i < 10; ++i) {
+    SCOPED_TRACE("LED " + std::to_string(i + 1));
+    const auto& l = s::kLeds[static_cast<std::size_t>(i)];
+    EXPECT_EQ(l.number, i + 1);
+    EXPECT_EQ(std::string(s::to_string(l.colour)), colour[i]);
+    EXPECT_EQ(l.on_ring, i < 8);
+    if (i >= 8) continue;
+    EXPECT_DOUBLE_EQ(l.angle_deg, 45.0 * i);
+    const auto p = s::led_position_m(l);
+    const double a = 3.14159265358979323846 / 4 * i;  // 45 deg steps, counter-clockwise from +x
+    EXPECT_NEAR(p[0], 0.037 * std::cos(a), 1e-15);
+    EXPECT_NEAR(p[1], 0.037 * std::sin(a), 1e-15);
+    EXPECT_DOUBLE_EQ(p[2], 0.048);
+  }
+  // LED 2 at 45 deg: x = y = 0.037 / sqrt 2 = 0.026163 m, worked by hand
+  EXPECT_NEAR(s::led_position_m(s::kLeds[1])[0], 0.0261630, 1e-7);
+  EXPECT_NEAR(s::led_position_m(s::kLeds[1])[1], 0.0261630, 1e-7);
+  // LED 7 at 270 deg: (0, -0.037)
+  EXPECT_NEAR(s::led_position_m(s::kLeds[6])[1], -0.037, 1e-15);
+}
+
+// The body, wheels and sensor positions, typed from the plug-in's source as the reference tables
+// give them (body radius 0.035 m, wheels 0.053 m apart and 0.0205 m in radius, proximity ring at
+// radius 0.036 m and height 0.043 m with angles -17, -50, -90, -150, 150, 90, 50, 17 deg for
+// index 0..7, the ToF at (0.032, 0, 0.036), ground sensors at (0.03, -0.009), (0.03, 0),
+// (0.03, 0.009) for right, centre, left).
+TEST(Geometry, ThePlugInsBodyWheelsAndSensorPositions) {
+  EXPECT_EQ(s::kProximityCount, 8);
+  EXPECT_EQ(s::kGroundCount, 3);
+  const double angles[8] = {-17, -50, -90, -150, 150, 90, 50, 17};
+  for (int i = 0; i < 8; ++i) EXPECT_DOUBLE_EQ(s::kProximityAngles_deg[static_cast<std::size_t>(i)], angles[i]) << i;
+  EXPECT_DOUBLE_EQ(s::kProximityRingRadius_m, 0.036);
+  EXPECT_DOUBLE_EQ(s::kProximityElevation_m, 0.043);
+  EXPECT_DOUBLE_EQ(s::kBodyRadius_m, 0.035);
+  EXPECT_DOUBLE_EQ(s::kInterWheel_m, 0.053);
+  EXPECT_DOUBLE_EQ(s::kWheelRadius_m, 0.0205);
+  EXPECT_DOUBLE_EQ(s::kTofPosition_m[0], 0.032);
+  EXPECT_DOUBLE_EQ(s::kTofPosition_m[1], 0.0);
+  EXPECT_DOUBLE_EQ(s::kTofPosition_m[2], 0.036);
+  const double ground[3][2] = {{0.03, -0.009}, {0.03, 0.0}, {0.03, 0.009}};
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_DOUBLE_EQ(s::kGroundPositions_m[i][0], ground[i][0]) << i;
+    EXPECT_DOUBLE_EQ(s::kGroundPositions_m[i][1], ground[i][1]) << i;
+  }
+  // the plug-in's encoder scale follows from the wheel radius: 1000 / (2 pi 0.0205) = 7763.656 steps/m
+  EXPECT_NEAR(1000.0 / (2 * s::kPi * s::kWheelRadius_m), 7763.656, 5e-4);
+  // degrees and radians, worked by hand
+  EXPECT_NEAR(s::deg_to_rad(180.0), 3.141592653589793, 1e-15);
+  EXPECT_NEAR(s::deg_to_rad(-17.0), -0.29670597283903605, 1e-15);
+  EXPECT_NEAR(s::rad_to_deg(1.0), 57.29577951308232, 1e-12);
+  EXPECT_NEAR(s::rad_to_deg(-3.141592653589793 / 2), -90.0, 1e-12);
 }
