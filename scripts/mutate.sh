@@ -380,6 +380,43 @@ R11_DRIVE_COLUMNS = r11([R8_FACTS, R8_HINTS, R8_APPS, R8_CALIB, R8_DIAGNOSE])
 R11_APPS = r11([R8_APPS, R3_CHARGE], ["test_battery_models", "test_battery_fast_paths", "test_nist"])
 R11_PLOT = r11([R8_APPS, R3_CHARGE], ["test_figures", "test_battery_models", "test_battery_fast_paths"])
 
+# Round 12 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-12), planted without reading
+# the tests: each group is every test of the programs that touch the area -- round 8's groups for it,
+# as in rounds 9-11, with the ARGoS tests for argos/src and for the model headers the plug-in
+# includes, the generators' programs for lib/virtual_robot (`generate` and the shipped logs), the
+# battery programs for the battery's tables, reports and figures. R12_TESTS: the programs added for
+# round 12 (none yet: R11_TESTS).
+R12_TESTS = R11_TESTS
+R12_GENERATORS = ["test_virtual_robot_sensors", "test_virtual_robot_battery", "test_battery_models", "test_battery_fast_paths"]
+R12_BATTERY = ["test_battery_models", "test_battery_fast_paths", "test_battery_fit", "test_battery_cli", "test_virtual_robot_battery"]
+
+
+def r12(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R12_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R12_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+# plugin_battery_tables.hpp: every reader of the plug-in's tables (the battery's calibration, reports,
+# figures, diagnosis, generator, coefficient files, simulate) and the ARGoS battery tests.
+R12_PLUGIN_TABLES = r12([R8_MODELS, R8_COEFF, R8_CALIB, R8_DIAGNOSE, R8_APPS, R8_ARGOS, R3_CHARGE],
+                        R12_BATTERY + ["test_figures"], extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+# noise.hpp: simulate --like's Gaussian noise (StandardNormal) and the plug-in's sensors (sensors.hpp).
+R12_NOISE = r12([R8_MODELS, R8_APPS, R8_ARGOS])
+R12_ARGOS = r12([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# lib/virtual_robot: `generate` and the shipped logs' generators.
+R12_GENERATE = r12([R8_MODELS, R8_APPS, R3_CHARGE], R12_GENERATORS)
+R12_PLOT = r12([R8_APPS, R3_CHARGE], ["test_figures"] + R12_BATTERY)
+R12_DIAGNOSIS_FIGURE = r12([R8_APPS, R8_DIAGNOSE], ["test_figures"])
+R12_APPS = r12([R8_APPS, R3_CHARGE, R8_CALIB], R12_BATTERY + ["test_figures"])
+# csv_writer.cpp: every log and number the program writes (the generators' logs included).
+R12_LOGS = r12([R8_FACTS, R8_HINTS, R8_APPS], R12_GENERATORS)
+R12_CALIB = r12([R8_CALIB], R12_BATTERY)
+R12_FIT = r12([R8_FIT, R8_CALIB, R8_DIAGNOSE])
+R12_COEFF = r12([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+R12_DIAGNOSE = r12([R8_DIAGNOSE], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -916,6 +953,57 @@ MUTANTS = [
     ("r11_charge_map_residuals_at_rest", "lib/plot/src/charge_map_figure.cpp",
      "rows[i].charge - calibrate::convert_voltage(map, rows[i].voltage_v, rows[i].speed_cm_s).charge",
      "rows[i].charge - calibrate::convert_voltage(map, rows[i].voltage_v, 0.0).charge", R11_PLOT),
+    # Round 12 (bench/fresh-slips.md): planted without reading the tests; the two lib/models headers first.
+    ("r12_plugin_segment_h_and_m_swapped", "lib/models/include/epuck2/models/plugin_battery_tables.hpp",
+     "t.segments[s][k] = Segment{r[0], r[1], r[2], r[3], r[4], r[5]};",
+     "t.segments[s][k] = Segment{r[1], r[0], r[2], r[3], r[4], r[5]};", R12_PLUGIN_TABLES),
+    ("r12_normal_spare_is_the_cosine_again", "lib/models/include/epuck2/models/noise.hpp",
+     "spare_ = r * std::sin(angle);", "spare_ = r * std::cos(angle);", R12_NOISE),
+    ("r12_argos_gaussian_sd_not_over_scale", "argos/src/argos_noise.hpp", "units_[i].sd_ = sd[i] / scale;",
+     "units_[i].sd_ = sd[i];", R12_ARGOS),
+    ("r12_argos_drive_file_steps_per_m_not_kept", "argos/src/calibrated_drive.cpp", "  c.steps_per_m = m.steps_per_m;\n", "",
+     R12_ARGOS),
+    ("r12_argos_encoder_right_noise_while_left_turns", AS, "bRight ? m_cNoise.level(1) : 0.0",
+     "bLeft ? m_cNoise.level(1) : 0.0", R12_ARGOS),
+    ("r12_generate_ground_white_rail_offset_kept", "lib/virtual_robot/src/ground.cpp",
+     "gain[1] = truth.white_rail_raw - truth.offset_raw[1];", "gain[1] = truth.white_rail_raw;", R12_GENERATE),
+    ("r12_generate_proximity_one_more_saturated", "lib/virtual_robot/src/proximity.cpp",
+     "const bool saturated = static_cast<int>(j) < truth.saturated_distances;",
+     "const bool saturated = static_cast<int>(j) <= truth.saturated_distances;", R12_GENERATE),
+    ("r12_generate_camera_reflection_row_from_column", "lib/virtual_robot/src/camera.cpp",
+     "if (jumped) px = wild_px, py = wild_py;", "if (jumped) px = wild_px, py = wild_px;", R12_GENERATE),
+    ("r12_generate_drive_wheels_at_the_hosts_steps", "lib/virtual_robot/src/drive.cpp",
+     "const double wheel_speed = rate_steps_s / true_steps_per_m;", "const double wheel_speed = rate_steps_s / truth.steps_per_m;",
+     R12_GENERATE),
+    ("r12_generate_battery_stop_from_the_wrong_end", "lib/virtual_robot/src/battery.cpp",
+     "const double fraction = (v_prev - stop_v) / (v_prev - terminal_v);",
+     "const double fraction = (stop_v - terminal_v) / (v_prev - terminal_v);", R12_GENERATE),
+    ("r12_lifetime_error_bars_in_seconds", "lib/plot/src/battery_figures.cpp",
+     "s.lifetime_std_error_s / 3600.0);", "s.lifetime_std_error_s);", R12_PLOT),
+    ("r12_diagnosis_axis_metres_labelled_m", "lib/plot/src/diagnosis_figure.cpp", '{"_m", "mm"}', '{"_m", "m"}',
+     R12_DIAGNOSIS_FIGURE),
+    ("r12_battery_lifetime_figure_to_the_fits_path", "apps/cmd_battery.cpp",
+     "plot::battery_lifetime_figure(stage, o.plot_lifetime, runs, f);", "plot::battery_lifetime_figure(stage, o.plot, runs, f);",
+     R12_APPS),
+    ("r12_robot_list_left_empty", "apps/sensor_support.cpp",
+     "if (std::find(names.begin(), names.end(), l.robot) == names.end()) names.push_back(l.robot);",
+     "if (std::find(names.begin(), names.end(), l.robot) != names.end()) names.push_back(l.robot);", R12_APPS),
+    ("r12_drive_tof_misfit_judged_on_the_encoders", "apps/cmd_drive.cpp",
+     'app::sensors::require_fitting(f.tof, "ToF fit", o, f.warnings);',
+     'app::sensors::require_fitting(f.steps, "ToF fit", o, f.warnings);', R12_APPS),
+    ("r12_log_row_default_digits_taken_as_zero", "lib/logs/src/csv_writer.cpp",
+     "line += digits > 0 ? format_number(values[i], digits) : format_number(values[i]);",
+     "line += digits >= 0 ? format_number(values[i], digits) : format_number(values[i]);", R12_LOGS),
+    ("r12_battery_two_runs_lifetime_without_error", "lib/calibrate/src/battery_json.cpp",
+     "if (s.runs < 2 || !(s.lifetime_std_error_s > 0))", "if (s.runs <= 2 || !(s.lifetime_std_error_s > 0))", R12_CALIB),
+    ("r12_bic_rss_not_over_n", "lib/fit/src/least_squares.cpp",
+     "return nn * std::log(std::max(rss, std::numeric_limits<double>::min()) / nn) + k * std::log(nn);",
+     "return nn * std::log(std::max(rss, std::numeric_limits<double>::min())) + k * std::log(nn);", R12_FIT),
+    ("r12_battery_segment_y2_range_checks_y1", "lib/coefficients/src/battery_tables.cpp",
+     'within(seg.y2, 0, 1, path, ga + "/y2", gw + ".y2", "charge");',
+     'within(seg.y1, 0, 1, path, ga + "/y2", gw + ".y2", "charge");', R12_COEFF),
+    ("r12_diagnosis_drive_tof_noise_channel_misnamed", "lib/diagnose/src/extended_model.cpp",
+     'if (c.name == "tof_mm") tof_residual_sd = c.value;', 'if (c.name == "tof") tof_residual_sd = c.value;', R12_DIAGNOSE),
 ]
 
 
