@@ -165,4 +165,45 @@ TEST_F(CliCorners, AMisnamedCovariateParameterOrBatterySpeedsOutOfOrderAreRefuse
   EXPECT_FALSE(fs::exists(dir_ / "b.hpp"));
 }
 
+// A battery segment's ends are charges in [0, 1] (docs/coefficient-files.md), each checked at its
+// own key: the last segment of 5 cm/s ending at y2 = -0.05 two seconds after its start, and the
+// first beginning at y1 = 1.02, each with its line h + m t through both ends (so that only the
+// range is wrong), is refused at that key by codegen and simulate.
+TEST_F(CliCorners, ABatterySegmentEndOutsideZeroToOneIsRefusedAtThatEnd) {
+  const nlohmann::json shipped =
+      nlohmann::json::parse(epuck2::testing::slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / "battery.json"));
+  auto through = [](nlohmann::json& g) {  // the line through (x1, y1) and (x2, y2)
+    const double x1 = g["x1_s"].get<double>(), x2 = g["x2_s"].get<double>(), y1 = g["y1"].get<double>(), y2 = g["y2"].get<double>();
+    g["m"] = (y2 - y1) / (x2 - x1);
+    g["h"] = y1 - g["m"].get<double>() * x1;
+  };
+  nlohmann::json low = shipped;
+  {
+    nlohmann::json& g = low["speeds"][5]["segments"][3];
+    g["x2_s"] = g["x1_s"].get<double>() + 2.0;
+    g["y2"] = -0.05;
+    through(g);
+  }
+  nlohmann::json high = shipped;
+  {
+    nlohmann::json& g = high["speeds"][5]["segments"][0];
+    ASSERT_EQ(g["x1_s"].get<double>(), 0.0);
+    g["y1"] = 1.02;
+    through(g);
+  }
+  const std::string profile = write("profile.csv", "time_s,speed_cm_s\n0,5\n");
+  const std::pair<std::string, std::string> cases[] = {
+      {write("low.json", low.dump(1)), "speeds[5].segments[3].y2 = -0.05 is outside its physical range [0.0, 1.0] charge (at JSON path /speeds/5/segments/3/y2)"},
+      {write("high.json", high.dump(1)), "speeds[5].segments[0].y1 = 1.02 is outside its physical range [0.0, 1.0] charge (at JSON path /speeds/5/segments/0/y1)"}};
+  for (const auto& [file, want] : cases)
+    for (const std::string& cmd : {"codegen \"" + file + "\" -o \"" + (dir_ / "b.hpp").string() + "\"",
+                                   "simulate battery --coefficients \"" + file + "\" --profile \"" + profile + "\" --model approximated"}) {
+      const CliRun r = run(cmd);
+      EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.err;
+      EXPECT_NE(r.err.find(file + ":"), std::string::npos) << cmd << "\n" << r.err;
+      EXPECT_NE(r.err.find(want), std::string::npos) << cmd << "\n" << r.err;
+    }
+  EXPECT_FALSE(fs::exists(dir_ / "b.hpp"));
+}
+
 }  // namespace test_cli_corners_cpp
