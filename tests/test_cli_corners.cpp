@@ -4,7 +4,10 @@
 // kinds' names typed here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <fstream>
 #include <functional>
+#include <vector>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -204,6 +207,57 @@ TEST_F(CliCorners, ABatterySegmentEndOutsideZeroToOneIsRefusedAtThatEnd) {
       EXPECT_NE(r.err.find(want), std::string::npos) << cmd << "\n" << r.err;
     }
   EXPECT_FALSE(fs::exists(dir_ / "b.hpp"));
+}
+
+// The drive's ToF fit is judged on its own readings (docs/fitting.md, "A fit that does not fit"):
+// the shipped drive logs with every second log's `# obstacle_distance_m` moved (0.3 m -> 0.9 m,
+// then 1.5 m) make the ToF line miss its readings while the encoders fit as before. At 0.9 m:
+// R^2 below 0.9, a warning naming the ToF fit, the file written; at 1.5 m: worse than a flat line,
+// exit 1 and nothing written, unless --accept-misfit. The encoders' fit draws no such word.
+TEST_F(CliCorners, TheDrivesToFFitIsJudgedOnTheToFsReadings) {
+  std::vector<fs::path> shipped;
+  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "drive"))
+    if (e.path().extension() == ".csv") shipped.push_back(e.path());
+  std::sort(shipped.begin(), shipped.end());
+  ASSERT_GE(shipped.size(), 10u);
+  auto moved = [&](const std::string& folder, const std::string& metres) {
+    fs::create_directories(dir_ / folder);
+    std::string args;
+    for (std::size_t i = 0; i < shipped.size(); ++i) {
+      std::string text = epuck2::testing::slurp(shipped[i]);
+      if (i % 2 == 1) {
+        const std::size_t at = text.find("# obstacle_distance_m: ");
+        if (at != std::string::npos) text = text.substr(0, at) + "# obstacle_distance_m: " + metres + text.substr(text.find('\n', at));
+      }
+      std::ofstream(dir_ / folder / shipped[i].filename()) << text;
+      args += " \"" + (dir_ / folder / shipped[i].filename()).string() + "\"";
+    }
+    return args;
+  };
+  const std::string shipped_args = moved("same", "0.3");
+  const CliRun base = run("drive" + shipped_args + " -o \"" + (dir_ / "base.json").string() + "\"");
+  ASSERT_EQ(base.exit_code, 0) << base.err;
+  EXPECT_EQ(base.err.find("ToF fit: R^2"), std::string::npos) << base.err;
+
+  const std::string far = moved("far", "0.9");
+  const CliRun w = run("drive" + far + " -o \"" + (dir_ / "far.json").string() + "\"");
+  ASSERT_EQ(w.exit_code, 0) << w.err;
+  EXPECT_TRUE(fs::exists(dir_ / "far.json"));
+  const std::size_t at = w.err.find("drive: warning: ToF fit: R^2 = ");
+  ASSERT_NE(at, std::string::npos) << w.err;
+  EXPECT_LT(std::stod(w.err.substr(at + 31)), 0.9) << w.err;
+  EXPECT_EQ(w.err.find("encoder fit: R^2"), std::string::npos) << w.err;
+
+  const std::string farther = moved("farther", "1.5");
+  const CliRun x = run("drive" + farther + " -o \"" + (dir_ / "farther.json").string() + "\"");
+  EXPECT_EQ(x.exit_code, 1) << x.err;
+  EXPECT_NE(x.err.find("ToF fit: R^2 = "), std::string::npos) << x.err;
+  EXPECT_NE(x.err.find("the curve does worse than a flat line through the readings' mean. Nothing was written"), std::string::npos) << x.err;
+  EXPECT_FALSE(fs::exists(dir_ / "farther.json"));
+  const CliRun y = run("drive" + farther + " --accept-misfit -o \"" + (dir_ / "farther.json").string() + "\"");
+  EXPECT_EQ(y.exit_code, 0) << y.err;
+  EXPECT_NE(y.err.find("ToF fit (accepted by --accept-misfit)"), std::string::npos) << y.err;
+  EXPECT_TRUE(fs::exists(dir_ / "farther.json"));
 }
 
 }  // namespace test_cli_corners_cpp
