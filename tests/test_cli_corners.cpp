@@ -6,6 +6,10 @@
 
 #include <algorithm>
 #include <fstream>
+#include <cmath>
+#include <cstdio>
+#include <cstdint>
+#include <cstdlib>
 #include <functional>
 #include <vector>
 #include <nlohmann/json.hpp>
@@ -258,6 +262,42 @@ TEST_F(CliCorners, TheDrivesToFFitIsJudgedOnTheToFsReadings) {
   EXPECT_EQ(y.exit_code, 0) << y.err;
   EXPECT_NE(y.err.find("ToF fit (accepted by --accept-misfit)"), std::string::npos) << y.err;
   EXPECT_TRUE(fs::exists(dir_ / "farther.json"));
+}
+
+// A log column that carries the residuals' strongest structure is the diagnosis figure's x axis,
+// labelled by its unit suffix (docs/cli.md, "Figures"): a column in metres drawn in mm, "_c" in °C,
+// no suffix "as logged". Ground readings that follow the plug-in's 1023 grey exactly but drift by
+// 20 counts per mm of the column, with a reading noise of sd 3 counts (a seeded generator).
+TEST_F(CliCorners, TheDiagnosisFigureLabelsALogColumnByItsUnit) {
+  std::uint64_t state = 20261127;
+  auto unit = [&]() {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (static_cast<double>(state >> 11) + 0.5) / 9007199254740992.0;
+  };
+  auto normal = [&]() { return std::sqrt(-2.0 * std::log(unit())) * std::cos(2.0 * std::acos(-1.0) * unit()); };
+  const std::pair<std::string, std::string> cases[] = {{"height_m", "height (mm)"},
+                                                       {"temperature_c", "temperature (°C)"},
+                                                       {"humidity", "humidity (as logged: no unit in its name)"}};
+  for (const auto& [column, label] : cases) {
+    std::string text = "grey,sensor,value," + column + "\n";
+    for (int g = 0; g <= 10; ++g)
+      for (int sensor = 0; sensor < 3; ++sensor)
+        for (int i = 0; i < 20; ++i) {
+          const double x = 1.0 + 4.0 * unit();  // 1 .. 5
+          const double v = std::clamp(std::round(1023.0 * g / 10.0 - 20.0 * (x - 3.0) + 3.0 * normal()), 0.0, 1023.0);
+          char row[96];
+          std::snprintf(row, sizeof row, "%.1f,%d,%.0f,%.4f\n", g / 10.0, sensor, v, column == "height_m" ? x / 1000.0 : x);
+          text += row;
+        }
+    const std::string log = write(column + ".csv", text);
+    const fs::path scripts = dir_ / ("gp_" + column);
+    fs::create_directories(scripts);
+    const std::string cmd = "EPUCK2_PLOT_SCRIPT_DIR=\"" + scripts.string() + "\" \"" EPUCK2_FIT_EXE "\" diagnose \"" + log +
+                            "\" --plot \"" + (dir_ / (column + ".png")).string() + "\" > /dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const std::string gp = epuck2::testing::slurp(scripts / (column + ".png.gp"));
+    EXPECT_NE(gp.find("set xlabel \"" + label + "\""), std::string::npos) << column;
+  }
 }
 
 }  // namespace test_cli_corners_cpp
