@@ -69,7 +69,10 @@ class CalibratedDrive {
   /// as in lib/models).
   std::array<double, 2> step(double left_cm_s, double right_cm_s, double h_s) {
     const ms::DriveState<double> before = state_;
-    ms::drive_advance(effects_, left_cm_s, right_cm_s, h_s, state_, left_cm_s == right_cm_s);
+    /* One wheel simulated for both only when the wheels are alike too: after a turn, equal commands
+       (a stop) must move each wheel from its own travel and speed, not copy the left's onto the right */
+    const bool symmetric = left_cm_s == right_cm_s && state_.xl == state_.xr && state_.vl == state_.vr;
+    ms::drive_advance(effects_, left_cm_s, right_cm_s, h_s, state_, symmetric);
     if (!(h_s > 0)) return {0.0, 0.0};
     const double forward = (state_.xg - before.xg) / h_s;
     const double half_diff =

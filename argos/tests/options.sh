@@ -195,3 +195,33 @@ print(("ok   " if ok else "FAIL ") + f"encoder uniform noise: {still} still tick
       f"{n} turning ticks, increments sd {sd:.2f} steps (file 5), {far} beyond sqrt(3) 5 + 1")
 sys.exit(0 if ok else 1)
 PY
+
+# 6b. the same uniform encoder noise on a robot pivoting on its still right wheel (the protocol's
+#     right_wheel="0"): the left count moves and takes noise; the right count stays exactly at 0 on
+#     every row, through the stop too -- the noise goes only to a wheel that turns, each wheel judged
+#     by its own travel, and a stop after a turn moves neither wheel (before session 14's fix the
+#     stop copied the left wheel's travel onto the right).
+mkdir -p "$WORK/encoder/pivot"
+sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$WORK/encoder/pivot\" right_wheel=\"0\"|" \
+    -e "s|coefficients=\"[^\"]*\"|coefficients=\"$WORK/encoder/d.json\"|g" -e "s|speeds=\"[^\"]*\"|speeds=\"5\"|" \
+    -e "s|\(<epuck2_encoder implementation=\"calibrated\" coefficients=\"[^\"]*\"\) noise=\"false\"|\1 noise=\"true\" noise_distribution=\"uniform\"|" \
+    "$ROOT/argos/experiments/drive.argos" > "$WORK/encoder/pivot/exp.argos"
+grep -q 'right_wheel="0"' "$WORK/encoder/pivot/exp.argos" || fail "right_wheel was not set in $WORK/encoder/pivot/exp.argos"
+grep -q 'noise_distribution="uniform"' "$WORK/encoder/pivot/exp.argos" || fail "the encoder's noise was not set in $WORK/encoder/pivot/exp.argos"
+(cd "$WORK/encoder/pivot" && argos3 -n -z -c exp.argos > log 2>&1) || { cat "$WORK/encoder/pivot/log"; fail "argos3 (encoder, pivot)"; }
+python3 - "$WORK/encoder/pivot" <<'PY' || fail "the encoders on a pivoting robot"
+import glob, os, sys
+files = sorted(glob.glob(os.path.join(sys.argv[1], "drive_*.csv")))
+assert len(files) == 2, files
+rows = left_moves = right_cmd = 0; right_values = set()
+for f in files:
+    r = [l.strip().split(",") for l in open(f) if l[0].isdigit()]
+    rows += len(r)
+    right_cmd += sum(float(x[2]) != 0 for x in r)
+    right_values |= {x[4] for x in r}
+    left_moves += sum(r[i][3] != r[i - 1][3] for i in range(1, len(r)))
+ok = rows > 100 and left_moves > 60 and right_cmd == 0 and right_values == {"0"}
+print(("ok   " if ok else "FAIL ") + f"pivot on the right wheel, uniform encoder noise: {rows} rows, the left count moved on {left_moves}, "
+      f"the right count read {sorted(right_values)} (must be only 0), right commands non-zero on {right_cmd} rows")
+sys.exit(0 if ok else 1)
+PY

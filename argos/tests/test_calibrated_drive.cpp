@@ -112,6 +112,34 @@ TEST(CalibratedDrive, TurningInPlaceWithSpeedScale) {
   EXPECT_NEAR(d.state().xr, -0.005, 1e-12);
 }
 
+// After a turn, a command alike on both wheels (here: stop) moves each wheel from where it is: the
+// wheels' travels stay as the turn left them, and the body is not turned back. Found in session 14
+// (a robot pivoting on its right wheel): the one-wheel fast path for equal commands copied the left
+// wheel's travel onto the right on the stop tick, and the actuator turned the body back in one tick.
+// Worked by hand: 10 ticks of 0.1 s at (5, 0) cm/s: left 0.05 m, right 0; then stopped.
+TEST(CalibratedDrive, AfterATurnAStopKeepsEachWheelsTravel) {
+  const auto c = config_of("pivot.json", R"({"parameters":{"steps_per_m":7763.656}})");
+  for (const double accel : {0.0, 50.0}) {
+    SCOPED_TRACE(accel > 0 ? "accel_limit 50 cm/s^2" : "no accel_limit");
+    auto effects = c.effects;
+    if (accel > 0) effects.accel_limit.accel_cm_s2 = accel;
+    ap::CalibratedDrive d(effects);
+    for (int i = 0; i < 10; ++i) d.step(5, 0, 0.1);
+    const double xl = d.state().xl, xr = d.state().xr;
+    if (accel == 0) {
+      EXPECT_NEAR(xl, 0.05, 1e-12);
+      EXPECT_NEAR(xr, 0.0, 1e-12);
+    }
+    for (int i = 0; i < 20; ++i) {
+      const auto v = d.step(0, 0, 0.1);
+      EXPECT_NEAR(d.state().xr, xr, accel > 0 ? 0.0026 : 1e-12) << "tick " << i;  // a stop ramp of at most 5 cm/s over 0.1 s
+      EXPECT_GE(d.state().xl, xl - 1e-12);
+      EXPECT_LE(std::abs(v[0]) + std::abs(v[1]), 0.1 + 1e-12) << "the body turned back on tick " << i;
+    }
+    EXPECT_NEAR(d.state().xl - d.state().xr, xl - xr, accel > 0 ? 0.0026 : 1e-12);
+  }
+}
+
 // A register standing still reads exactly what it read: no noise on a count that did not move.
 TEST(StepRegister, StandingStillTheCountDoesNotChange) {
   ap::StepRegister r(7763.656);

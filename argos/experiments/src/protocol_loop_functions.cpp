@@ -130,6 +130,10 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       GetNodeAttributeOrDefault(t_tree, "speeds", str, str);
       GetNodeAttributeOrDefault(t_tree, "obstacle_distance", m_fObstacle, m_fObstacle);
       GetNodeAttributeOrDefault(t_tree, "travel", m_fTravel, m_fTravel);
+      /* right_wheel="r": the right wheel at r times the command (1, the default: straight runs; 0: the
+         robot pivots on its still right wheel, which the logged right speed says) */
+      GetNodeAttributeOrDefault(t_tree, "right_wheel", m_fRightWheel, m_fRightWheel);
+      if (!(m_fRightWheel >= 0.0 && m_fRightWheel <= 1.0)) THROW_ARGOSEXCEPTION("epuck2_protocol: right_wheel must be in [0, 1], not " << m_fRightWheel);
       for (Real s : ParseList(str)) {
         m_vecSteps.push_back(s);
         m_vecSteps.push_back(-s);
@@ -405,8 +409,8 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
     }
     /* The command for the coming tick, logged with this tick's readings */
     const Real fCmd = (m_unRunTick >= unStill && m_unRunTick < unStill + unMove) ? v : 0.0;
-    c.SetWheels(fCmd, fCmd);
-    m_cOut << Num(m_unRunTick * m_fTick) << ',' << Num(fCmd) << ',' << Num(fCmd) << ','
+    c.SetWheels(fCmd, m_fRightWheel * fCmd);
+    m_cOut << Num(m_unRunTick * m_fTick) << ',' << Num(fCmd) << ',' << Num(m_fRightWheel * fCmd) << ','
            << Wrap16(c.LeftSteps(), m_nStartLeft) << ',' << Wrap16(c.RightSteps(), m_nStartRight) << ',' << c.Tof() << '\n';
     if (++m_unRunTick > 2 * unStill + unMove) {
       m_unRunTick = 0;
@@ -612,7 +616,7 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   std::vector<CVector3> m_vecCameraPoints;  ///< camera: the LED's positions in the camera's frame
   bool m_bCameraSettled = false;
   CLightEntity* m_pcLight = nullptr;
-  Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0, m_fArc = -1.0;
+  Real m_fObstacle = 0.3, m_fTravel = 0.22, m_fPeriod = 10.0, m_fArc = -1.0, m_fRightWheel = 1.0;
   SInt32 m_nStartLeft = 0, m_nStartRight = 0;
   /* like=: the measured log replayed */
   std::string m_strLike, m_strLikeOut;
