@@ -24,6 +24,20 @@ using epuck2::testing::CliRun;
 
 class CliCorners : public epuck2::testing::CliTest {};
 
+/// The shipped logs of `kind` (data/raw/KIND/*.csv), sorted.
+std::vector<fs::path> shipped_csvs(const std::string& kind) {
+  std::vector<fs::path> out;
+  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / kind))
+    if (e.path().extension() == ".csv") out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// The shipped coefficient file data/fitted/KIND.json.
+nlohmann::json shipped_fitted(const std::string& kind) {
+  return nlohmann::json::parse(epuck2::testing::slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / (kind + ".json")));
+}
+
 TEST_F(CliCorners, GenerateAMisspeltKindNamesTheClosestAndEveryKind) {
   const CliRun r = run("generate lihgt --out-dir \"" + (dir_ / "g").string() + "\"");
   EXPECT_EQ(r.exit_code, 2);
@@ -136,18 +150,16 @@ TEST_F(CliCorners, LightOutOfRangeOrDarkRowsAreLeftOutByLineAndDoNotMoveTheFit) 
 // A coefficient file that misnames a parameter of a covariate effect, or whose battery speeds are
 // out of order, is refused by every reader with the JSON path (issue #22: one validation).
 TEST_F(CliCorners, AMisnamedCovariateParameterOrBatterySpeedsOutOfOrderAreRefusedByEveryReader) {
-  auto edit = [&](const char* kind, const std::string& name, const std::function<void(nlohmann::json&)>& f) {
-    nlohmann::json j = nlohmann::json::parse(epuck2::testing::slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / (std::string(kind) + ".json")));
+  auto edit = [&](const std::string& kind, const std::string& name, const std::function<void(nlohmann::json&)>& f) {
+    nlohmann::json j = shipped_fitted(kind);
     f(j);
     return write(name, j.dump(1));
   };
   const std::string drive = edit("drive", "d.json", [](nlohmann::json& j) {
     j["effects"] = {{"covariate:temperature_c", {{"slop", 0.5}, {"centre", 25.0}}}};
   });
-  std::string drive_log;  // a shipped drive log
-  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "drive"))
-    if (e.path().extension() == ".csv" && (drive_log.empty() || e.path().string() < drive_log)) drive_log = e.path().string();
-  ASSERT_FALSE(drive_log.empty());
+  ASSERT_FALSE(shipped_csvs("drive").empty());
+  const std::string drive_log = shipped_csvs("drive").front().string();
   for (const std::string& cmd : {"codegen \"" + drive + "\" -o \"" + (dir_ / "d.hpp").string() + "\"",
                                  "simulate drive --like \"" + drive_log + "\" --coefficients \"" + drive + "\"",
                                  "diagnose \"" + drive_log + "\" --coefficients \"" + drive + "\""}) {
@@ -177,8 +189,7 @@ TEST_F(CliCorners, AMisnamedCovariateParameterOrBatterySpeedsOutOfOrderAreRefuse
 // first beginning at y1 = 1.02, each with its line h + m t through both ends (so that only the
 // range is wrong), is refused at that key by codegen and simulate.
 TEST_F(CliCorners, ABatterySegmentEndOutsideZeroToOneIsRefusedAtThatEnd) {
-  const nlohmann::json shipped =
-      nlohmann::json::parse(epuck2::testing::slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / "battery.json"));
+  const nlohmann::json shipped = shipped_fitted("battery");
   auto through = [](nlohmann::json& g) {  // the line through (x1, y1) and (x2, y2)
     const double x1 = g["x1_s"].get<double>(), x2 = g["x2_s"].get<double>(), y1 = g["y1"].get<double>(), y2 = g["y2"].get<double>();
     g["m"] = (y2 - y1) / (x2 - x1);
@@ -219,10 +230,7 @@ TEST_F(CliCorners, ABatterySegmentEndOutsideZeroToOneIsRefusedAtThatEnd) {
 // R^2 below 0.9, a warning naming the ToF fit, the file written; at 1.5 m: worse than a flat line,
 // exit 1 and nothing written, unless --accept-misfit. The encoders' fit draws no such word.
 TEST_F(CliCorners, TheDrivesToFFitIsJudgedOnTheToFsReadings) {
-  std::vector<fs::path> shipped;
-  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "drive"))
-    if (e.path().extension() == ".csv") shipped.push_back(e.path());
-  std::sort(shipped.begin(), shipped.end());
+  const std::vector<fs::path> shipped = shipped_csvs("drive");
   ASSERT_GE(shipped.size(), 10u);
   auto moved = [&](const std::string& folder, const std::string& metres) {
     fs::create_directories(dir_ / folder);
