@@ -1,0 +1,205 @@
+// Tests written during round 13 of the fresh slips (bench/fresh-slips.md), after its GO: each
+// checks a behaviour that a round-13 slip changes and that no earlier test pinned down. Expected
+// values are worked by hand from docs/ and the plug-in's formulas, or are the documented option
+// ranges; none is read from the code under test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_harness.hpp"
+#include "epuck2/calibrate/charge_map.hpp"
+#include "epuck2/coefficients/battery_tables.hpp"
+#include "epuck2/models/camera.hpp"
+#include "epuck2/models/light.hpp"
+#include "epuck2/virtual_robot/sensor_truth.hpp"
+
+namespace test_round_thirteen_cpp {
+
+namespace ms = epuck2::models::sensors;
+using epuck2::testing::CliRun;
+
+// ---- lib/models: the camera's image bounds, the several-lights mean with per-sensor gains -------
+
+TEST(RoundThirteenModels, ABlobIsOnTheImageOnlyInsideItsColumnsAndRows) {
+  // 160 x 120 px (the E-Puck2's image, docs/sensor-models.md): columns 0..159, rows 0..119; a
+  // position is rounded to its pixel first.
+  EXPECT_TRUE(ms::camera_image_holds(80.0, 119.0));
+  EXPECT_TRUE(ms::camera_image_holds(159.4, 119.4));
+  EXPECT_TRUE(ms::camera_image_holds(-0.4, -0.4));
+  EXPECT_FALSE(ms::camera_image_holds(80.0, 119.6));  // row 120
+  EXPECT_FALSE(ms::camera_image_holds(80.0, 125.0));  // a row past the bottom, inside the width
+  EXPECT_FALSE(ms::camera_image_holds(159.6, 60.0));  // column 160
+  EXPECT_FALSE(ms::camera_image_holds(80.0, -0.6));
+  EXPECT_FALSE(ms::camera_image_holds(-0.6, 60.0));
+  // Another image size: rows bound by the height, columns by the width.
+  EXPECT_TRUE(ms::camera_image_holds(300.0, 20.0, 320, 30));
+  EXPECT_FALSE(ms::camera_image_holds(20.0, 30.0, 320, 30));
+  EXPECT_FALSE(ms::camera_image_holds(320.0, 20.0, 320, 30));
+}
+
+TEST(RoundThirteenModels, SeveralLightsAreScaledByTheSensorsOwnGain) {
+  // gamma 0.075 m: a light of intensity 1 at 0.2 m adds (0.075 / 0.2)^2 = 0.140625, at 0.3 m
+  // 0.0625. Sensor 0 with gain 1.2, one light at 0.2 m: 4095 (1 - 1.2 * 0.140625) = 3403.96875.
+  // Sensor 3 with gain 0.8, both lights: 4095 (1 - 0.8 * 0.203125) = 3429.5625, less the ambient
+  // offset 10. A light beyond 0.5 m adds nothing.
+  const ms::LightCoefficients k{0.075, 0.5};
+  ms::LightEffects<double> e;
+  e.gains.gain[0] = 1.2;
+  e.gains.gain[3] = 0.8;
+  const std::vector<ms::LightSource> one{{0.2, 1.0}}, two{{0.2, 1.0}, {0.3, 1.0}, {0.6, 1.0}};
+  EXPECT_NEAR(ms::light_mean_raw(k, e, 0, one), 3403.96875, 1e-9);
+  e.ambient.offset_raw = 10.0;
+  EXPECT_NEAR(ms::light_mean_raw(k, e, 3, two), 3429.5625 - 10.0, 1e-9);
+  // A sensor at gain 1: the plug-in's sum.
+  EXPECT_NEAR(ms::light_mean_raw(k, e, 5, two), 4095.0 * (1.0 - 0.203125) - 10.0, 1e-9);
+}
+
+// ---- the virtual robot's wild readings: every whole value of [lo, hi] equally likely -----------
+
+TEST(RoundThirteenVirtualRobot, WildWholeValuesReachTheTopOfTheirRange) {
+  epuck2::virtual_robot::WildReadings w(7, 1.0);
+  std::vector<int> count(4, 0);
+  const int n = 8000;
+  for (int i = 0; i < n; ++i) {
+    double v = -1;
+    EXPECT_TRUE(w.next(0.0, 3.0, true, &v));  // fraction 1: every reading wild
+    ASSERT_GE(v, 0.0);
+    ASSERT_LE(v, 3.0);
+    ASSERT_EQ(v, std::floor(v));
+    ++count[static_cast<std::size_t>(v)];
+  }
+  // Each of 0, 1, 2, 3 a quarter of the time: 2000, binomial sd sqrt(8000 * 0.25 * 0.75) = 39;
+  // 6 sd either side.
+  for (int c : count) EXPECT_NEAR(c, 2000, 240);
+  // Not whole: uniform in [lo, hi), mean (lo + hi) / 2.
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    double v = 0;
+    w.next(2.0, 5.0, false, &v);
+    ASSERT_GE(v, 2.0);
+    ASSERT_LT(v, 5.0);
+    sum += v;
+  }
+  EXPECT_NEAR(sum / n, 3.5, 6 * std::sqrt(0.75 / n));
+}
+
+// ---- the voltage->charge map's parameter count ------------------------------------------------
+
+TEST(RoundThirteenChargeMap, ALoadTermAddsOneParameterPerSpeedButTheFirst) {
+  // docs/battery-models.md: the load term is an offset per speed, the first speed's 0 by
+  // definition, so k speeds add k - 1 parameters to the knots' charges.
+  epuck2::calibrate::ChargeMap m;
+  m.knots_v = {3.4, 3.5, 3.6, 3.7, 3.8, 3.9, 4.0, 4.1};
+  m.knot_charge = {0, 0.1, 0.2, 0.3, 0.5, 0.7, 0.9, 1.0};
+  EXPECT_EQ(m.parameters(), 8u);
+  m.load_speeds_cm_s = {0, 5, 10, 15};
+  m.load_offset_v = {0, -0.01, -0.02, -0.03};
+  EXPECT_EQ(m.parameters(), 11u);
+}
+
+// ---- through the CLI -------------------------------------------------------------------------
+
+class RoundThirteenCli : public epuck2::testing::CliTest {
+ protected:
+  static std::string q(const std::string& p) { return "\"" + p + "\""; }
+  static nlohmann::json fitted(const std::string& kind) {
+    return nlohmann::json::parse(
+        epuck2::testing::slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / (kind + ".json")));
+  }
+};
+
+TEST_F(RoundThirteenCli, TheLargestSeedTheHelpStatesIsAccepted) {
+  // docs/cli.md: --seed is an unsigned 64-bit integer, 0 .. 2^64 - 1 = 18446744073709551615.
+  const CliRun top = run("generate proximity --seed 18446744073709551615 -o " + q((dir_ / "top").string()));
+  EXPECT_EQ(top.exit_code, 0) << top.err;
+  const CliRun past = run("generate proximity --seed 18446744073709551616 -o " + q((dir_ / "past").string()));
+  EXPECT_EQ(past.exit_code, 2);
+  EXPECT_NE(past.err.find("out of range"), std::string::npos) << past.err;
+}
+
+TEST_F(RoundThirteenCli, AFitWithFewerThanThreeReadingsPerParameterSaysSoAndNotAtThree) {
+  // docs/fitting.md: a fit with fewer than 3 readings per free parameter (the noise counted)
+  // warns. The light fit has gamma and the noise: 5 readings warn, 6 do not. Readings on the
+  // plug-in's curve 4095 (1 - (0.075 I / d)^2), I = 0.5, with a small fixed scatter.
+  auto log_of = [&](int rows) {
+    std::string t = "distance_m,intensity,sensor,value\n";
+    const double d[] = {0.08, 0.1, 0.12, 0.15, 0.2, 0.25};
+    for (int i = 0; i < rows; ++i) {
+      const double r = 0.075 * 0.5 / d[i];
+      t += std::to_string(d[i]) + ",0.5,0," + std::to_string(std::lround(4095 * (1 - r * r) + (i % 2 ? 3 : -3))) + "\n";
+    }
+    return write("l" + std::to_string(rows) + ".csv", t);
+  };
+  const CliRun five = run("light " + q(log_of(5)));
+  EXPECT_EQ(five.exit_code, 0) << five.err;
+  EXPECT_NE(five.err.find("only 5 readings inside the rails for 1 free parameter and the noise (fewer than 3 per parameter)"),
+            std::string::npos)
+      << five.err;
+  const CliRun six = run("light " + q(log_of(6)));
+  EXPECT_EQ(six.exit_code, 0) << six.err;
+  EXPECT_EQ(six.err.find("only 6 readings inside the rails"), std::string::npos) << six.err;
+}
+
+TEST_F(RoundThirteenCli, ABatteryTableAtAFractionalSpeedIsRefused) {
+  // docs/coefficient-files.md: a table's speed_cm_s is a whole number of cm/s in 0..15. The reader
+  // of partial tables (one table here, the plug-in's for the other speeds: ARGoS's calibrated
+  // battery reads a file so) takes 2 and refuses 2.5 at its JSON path.
+  nlohmann::json j = fitted("battery");
+  nlohmann::json speed = j.at("speeds").at(2);
+  for (const auto& [v, ok] : {std::pair<double, bool>{2.0, true}, {2.5, false}, {15.0, true}, {16.0, false}}) {
+    speed["speed_cm_s"] = v;
+    j["speeds"] = nlohmann::json::array({speed});
+    epuck2::coefficients::TableSources sources;
+    std::string err;
+    try {
+      epuck2::coefficients::battery_tables_from_json(j, "b.json", sources);
+    } catch (const std::exception& e) {
+      err = e.what();
+    }
+    if (ok) {
+      EXPECT_EQ(err, "") << v;
+      ASSERT_EQ(sources.fitted_speeds.size(), 1u) << v;
+      EXPECT_EQ(sources.fitted_speeds[0], static_cast<int>(v));
+    } else {
+      EXPECT_NE(err.find("speed_cm_s must be a whole number of cm/s in 0..15 (found " + nlohmann::json(v).dump() + ")"),
+                std::string::npos)
+          << v << ": " << err;
+      EXPECT_NE(err.find("/speeds/0/speed_cm_s"), std::string::npos) << err;
+    }
+  }
+}
+
+TEST_F(RoundThirteenCli, AnErrorInACompactFileIsPlacedAtItsColumn) {
+  // A coefficient file written on one line (no spaces): the error's column is where its value
+  // starts, found here by searching the text. Numbers before it end at ',', '}' and ']'.
+  nlohmann::json j = fitted("ground");
+  j["parameters"]["gain"][2] = -12345.5;
+  const std::string text = j.dump();
+  const std::size_t at = text.find("-12345.5");
+  ASSERT_NE(at, std::string::npos);
+  ASSERT_NE(text.substr(0, at).find("}"), std::string::npos);  // a number closed by '}' comes first
+  const std::string file = write("g.json", text);
+  const CliRun r = run("codegen " + q(file) + " -o " + q((dir_ / "g.hpp").string()));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(file + ":1:" + std::to_string(at + 1) + ": parameters.gain[2] = -12345.5"), std::string::npos)
+      << r.err;
+}
+
+TEST_F(RoundThirteenCli, ARangeErrorShowsWhichEndsAreOpen) {
+  // docs/coefficient-files.md: the camera's range_m lies in (0, 10] m (0 refused, 10 taken).
+  nlohmann::json j = fitted("camera");
+  j["parameters"]["range_m"] = 0.0;
+  const CliRun r = run("codegen " + q(write("c.json", j.dump(2))) + " -o " + q((dir_ / "c.hpp").string()));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("parameters.range_m = 0.0 is outside its physical range (0.0, 10.0] m"), std::string::npos) << r.err;
+  j["parameters"]["range_m"] = 10.0;
+  const CliRun ten = run("codegen " + q(write("c10.json", j.dump(2))) + " -o " + q((dir_ / "c10.hpp").string()));
+  EXPECT_EQ(ten.exit_code, 0) << ten.err;
+}
+
+}  // namespace test_round_thirteen_cpp
