@@ -6,6 +6,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -16,6 +19,7 @@
 #include "epuck2/coefficients/battery_tables.hpp"
 #include "epuck2/models/camera.hpp"
 #include "epuck2/models/light.hpp"
+#include "epuck2/virtual_robot/reference_logs.hpp"
 #include "epuck2/virtual_robot/sensor_truth.hpp"
 
 namespace test_round_thirteen_cpp {
@@ -86,6 +90,45 @@ TEST(RoundThirteenVirtualRobot, WildWholeValuesReachTheTopOfTheirRange) {
     sum += v;
   }
   EXPECT_NEAR(sum / n, 3.5, 6 * std::sqrt(0.75 / n));
+}
+
+TEST(RoundThirteenVirtualRobot, StrayLightLowersEveryLightReading) {
+  // data/raw/light/README.md: stray ambient light lowers every reading by ambient_raw counts. One
+  // robot, one intensity (1), no noise, no wild readings, no rail probe, one reading a distance:
+  // sensor 0 (gain 1) at 0.2 m reads round(4095 (1 - (0.075 / 0.2)^2) - 12) = round(3507.14) =
+  // 3507; sensor 7 (gain 0.94) round(4095 (1 - 0.94 * 0.140625) - 12) = round(3541.69) = 3542;
+  // at 0.5 m (0.0225): round(4002.86 - 12) = 3991 and round(4008.39 - 12) = 3996.
+  epuck2::virtual_robot::LightTruth t;
+  t.noise_raw = 0;
+  t.wild_fraction = 0;
+  t.rail_readings = 0;
+  t.readings = 1;
+  t.intensities = {1.0};
+  t.robot_gamma_scale = {1.0};
+  t.distances_m = {0.2, 0.5};
+  const auto files = epuck2::virtual_robot::light_logs(t, 3);
+  ASSERT_EQ(files.size(), 1u);
+  std::vector<std::string> data;
+  std::istringstream in(files[0].content);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line[0] != '#') data.push_back(line);
+  const std::vector<std::string> want{"distance_m,intensity,sensor,value", "0.2,1,0,3507", "0.2,1,7,3542", "0.5,1,0,3991",
+                                      "0.5,1,7,3996"};
+  EXPECT_EQ(data, want);
+}
+
+TEST(RoundThirteenVirtualRobot, TheBatteryReferenceLogsAreTwoRobotsAtEverySpeed) {
+  // data/raw/battery/README.md: robots a and b, each at 0..15 cm/s: 32 logs.
+  const auto files = epuck2::virtual_robot::battery_reference_logs(epuck2::virtual_robot::kReferenceSeed);
+  std::set<std::string> names;
+  for (const auto& f : files) names.insert(f.name);
+  EXPECT_EQ(files.size(), 32u);
+  for (const char* robot : {"a", "b"})
+    for (int s = 0; s <= 15; ++s) {
+      char name[64];
+      std::snprintf(name, sizeof name, "robot-%s_speed-%02d.csv", robot, s);
+      EXPECT_EQ(names.count(name), 1u) << name;
+    }
 }
 
 // ---- the voltage->charge map's parameter count ------------------------------------------------
