@@ -4,6 +4,7 @@
 // ranges; none is read from the code under test.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -243,6 +244,51 @@ TEST_F(RoundThirteenCli, ARangeErrorShowsWhichEndsAreOpen) {
   j["parameters"]["range_m"] = 10.0;
   const CliRun ten = run("codegen " + q(write("c10.json", j.dump(2))) + " -o " + q((dir_ / "c10.hpp").string()));
   EXPECT_EQ(ten.exit_code, 0) << ten.err;
+}
+
+TEST_F(RoundThirteenCli, TheDiagnosisCountsReadingsOnBothRails) {
+  // docs/diagnose.md: `censored` counts the readings on a rail, 0 at or below the low one, 4095 at
+  // or above the high one (proximity), after wild readings are left out. Counted here from the
+  // shipped logs' value column, less the listed wild readings that sat on a rail. The shipped
+  // proximity logs have readings on both rails (the 0 mm readings saturate at 4095).
+  std::size_t low = 0, high = 0;
+  std::vector<std::string> logs;
+  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "proximity")) {
+    if (e.path().extension() != ".csv") continue;
+    logs.push_back(e.path().string());
+    std::istringstream in(epuck2::testing::slurp(e.path()));
+    std::string line;
+    int column = -1;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      std::vector<std::string> cells;
+      std::stringstream ls(line);
+      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+      if (column < 0) {
+        column = static_cast<int>(std::find(cells.begin(), cells.end(), "value") - cells.begin());
+        continue;
+      }
+      const double v = std::stod(cells.at(static_cast<std::size_t>(column)));
+      low += v <= 0 ? 1 : 0;
+      high += v >= 4095 ? 1 : 0;
+    }
+  }
+  ASSERT_GT(low, 0u);
+  ASSERT_GT(high, 0u);
+  std::string args = "diagnose --json";
+  for (const auto& l : logs) args += " " + q(l);
+  const CliRun r = run(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  std::size_t wild_on_rail = 0;
+  for (const auto& row : j.at("outliers").at("rows")) {
+    const std::string t = row.get<std::string>();
+    const std::size_t at = t.find(": value ");
+    ASSERT_NE(at, std::string::npos) << t;
+    const double v = std::stod(t.substr(at + 8));
+    wild_on_rail += (v <= 0 || v >= 4095) ? 1 : 0;
+  }
+  EXPECT_EQ(j.at("censored").get<std::size_t>(), low + high - wild_on_rail);
 }
 
 }  // namespace test_round_thirteen_cpp
