@@ -17,6 +17,7 @@
 
 #include "cli_harness.hpp"
 #include "epuck2/calibrate/charge_map.hpp"
+#include "epuck2/fit/readings.hpp"
 #include "epuck2/coefficients/battery_tables.hpp"
 #include "epuck2/models/camera.hpp"
 #include "epuck2/models/light.hpp"
@@ -62,6 +63,23 @@ TEST(RoundThirteenModels, SeveralLightsAreScaledByTheSensorsOwnGain) {
   EXPECT_NEAR(ms::light_mean_raw(k, e, 3, two), 3429.5625 - 10.0, 1e-9);
   // A sensor at gain 1: the plug-in's sum.
   EXPECT_NEAR(ms::light_mean_raw(k, e, 5, two), 4095.0 * (1.0 - 0.203125) - 10.0, 1e-9);
+}
+
+// ---- lib/fit: several channels in one fit, each weighted into channel 0's units ---------------
+
+TEST(RoundThirteenFit, AChannelsErrorIsWeightedByChannelZerosSdOverItsOwn) {
+  // docs/diagnose.md (drive): channel c's residuals are weighted by sd_0 / sd_c. ToF sd 2 mm,
+  // encoders sd 0.5 steps: an encoder reading 1 step off weighs 1 * 2 / 0.5 = 4 (mm), a ToF
+  // reading 1 mm off weighs 1.
+  epuck2::fit::Channels ch(std::vector<epuck2::fit::Channel>(2));
+  ch.set_noise_sd({2.0, 0.5});
+  EXPECT_DOUBLE_EQ(ch.weight(0), 1.0);
+  EXPECT_DOUBLE_EQ(ch.weight(1), 4.0);
+  const double tof = ch.weighted_error(10.0, 11.0, 0), steps = ch.weighted_error(10.0, 11.0, 1);
+  EXPECT_NEAR(std::abs(tof), 1.0, 1e-12);
+  EXPECT_NEAR(std::abs(steps), 4.0, 1e-12);
+  EXPECT_GT(tof * steps, 0.0);  // the same sign for the same direction of error
+  EXPECT_NEAR(std::abs(ch.weighted_error(10.0, 13.0, 1)), 12.0, 1e-12);
 }
 
 // ---- the virtual robot's wild readings: every whole value of [lo, hi] equally likely -----------
