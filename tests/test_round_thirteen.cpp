@@ -17,6 +17,7 @@
 
 #include "cli_harness.hpp"
 #include "epuck2/calibrate/charge_map.hpp"
+#include "epuck2/fit/least_squares.hpp"
 #include "epuck2/fit/readings.hpp"
 #include "epuck2/coefficients/battery_tables.hpp"
 #include "epuck2/models/camera.hpp"
@@ -80,6 +81,32 @@ TEST(RoundThirteenFit, AChannelsErrorIsWeightedByChannelZerosSdOverItsOwn) {
   EXPECT_NEAR(std::abs(steps), 4.0, 1e-12);
   EXPECT_GT(tof * steps, 0.0);  // the same sign for the same direction of error
   EXPECT_NEAR(std::abs(ch.weighted_error(10.0, 13.0, 1)), 12.0, 1e-12);
+}
+
+TEST(RoundThirteenFit, IdentifiabilityNamesWhyEachColumnIsUndetermined) {
+  // Three columns over four rows: the second is zero (the readings do not depend on it), the
+  // first and third are independent: only the zero column is undetermined, for that reason.
+  using Id = epuck2::fit::Identifiability;
+  Eigen::MatrixXd j(4, 3);
+  j << 1, 0, 1, 2, 0, -1, 3, 0, 2, 4, 0, 0;
+  const Id zero = epuck2::fit::check_identifiability(j, {true, true, true});
+  ASSERT_EQ(zero.undetermined.size(), 1u);
+  EXPECT_EQ(zero.undetermined[0].column, 1);
+  EXPECT_TRUE(zero.any(Id::Why::zero_column));
+  EXPECT_FALSE(zero.any(Id::Why::condition));
+  EXPECT_FALSE(zero.any(Id::Why::rank_deficient));
+  // The third column twice the first, none zero: rank deficient, no zero column.
+  Eigen::MatrixXd k(4, 3);
+  k << 1, 5, 2, 2, 1, 4, 3, 0, 6, 4, 2, 8;
+  const Id twice = epuck2::fit::check_identifiability(k, {true, true, true});
+  EXPECT_FALSE(twice.determined());
+  EXPECT_FALSE(twice.any(Id::Why::zero_column));
+  EXPECT_TRUE(twice.any(Id::Why::rank_deficient) || twice.any(Id::Why::condition));
+  // Determined: nothing is named.
+  const Id fine = epuck2::fit::check_identifiability(k.leftCols(2), {true, true});
+  EXPECT_TRUE(fine.determined());
+  EXPECT_FALSE(fine.any(Id::Why::zero_column));
+  EXPECT_FALSE(fine.any(Id::Why::rank_deficient));
 }
 
 // ---- the virtual robot's wild readings: every whole value of [lo, hi] equally likely -----------
