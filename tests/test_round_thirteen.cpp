@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
@@ -334,6 +335,77 @@ TEST_F(RoundThirteenCli, TheDiagnosisCountsReadingsOnBothRails) {
     wild_on_rail += (v <= 0 || v >= 4095) ? 1 : 0;
   }
   EXPECT_EQ(j.at("censored").get<std::size_t>(), low + high - wild_on_rail);
+}
+
+TEST_F(RoundThirteenCli, TheDriveDiagnosisRSquaredDoesNotMoveWithTheToFsLevel) {
+  // docs/diagnose.md: R^2 measures each channel's readings about their own channel's mean. Move
+  // the obstacle 0.1 m farther and every ToF reading 100 mm up: the base model's ToF predictions
+  // move with them (obstacle minus travel), the residuals and the noise are unchanged, and each
+  // channel's spread about its own mean is unchanged, so every R^2 stays (to rounding). The
+  // encoders' spread measured about any other level would move it. The shipped drive logs whose
+  // ToF stays inside its 20..2000 mm rails after the shift (no rail, no code, either way).
+  const fs::path a = dir_ / "a", b = dir_ / "b";
+  fs::create_directories(a);
+  fs::create_directories(b);
+  std::size_t used = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "drive")) {
+    const std::string name = e.path().filename().string();
+    if (e.path().extension() != ".csv") continue;
+    std::istringstream in(epuck2::testing::slurp(e.path()));
+    std::string line, shifted, original;
+    int column = -1;
+    bool inside = true;
+    while (std::getline(in, line)) {
+      original += line + "\n";
+      if (line.rfind("# obstacle_distance_m:", 0) == 0) {
+        const double d = std::stod(line.substr(22));
+        shifted += "# obstacle_distance_m: " + std::to_string(d + 0.1) + "\n";
+        continue;
+      }
+      if (line.empty() || line[0] == '#') {
+        shifted += line + "\n";
+        continue;
+      }
+      std::vector<std::string> cells;
+      std::stringstream ls(line);
+      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+      if (column < 0) {
+        column = static_cast<int>(std::find(cells.begin(), cells.end(), "tof_mm") - cells.begin());
+        shifted += line + "\n";
+        continue;
+      }
+      const double tof = std::stod(cells.at(static_cast<std::size_t>(column)));
+      inside = inside && tof > 20 && tof + 100 < 2000;
+      cells[static_cast<std::size_t>(column)] = std::to_string(static_cast<long>(tof) + 100);
+      std::string row;
+      for (std::size_t k = 0; k < cells.size(); ++k) row += (k ? "," : "") + cells[k];
+      shifted += row + "\n";
+    }
+    if (!inside) continue;
+    ++used;
+    std::ofstream(a / name) << original;
+    std::ofstream(b / name) << shifted;
+  }
+  ASSERT_GE(used, 10u);
+  auto diagnose = [&](const fs::path& d) {
+    std::string args = "diagnose --json";
+    std::vector<std::string> files;
+    for (const auto& e : fs::directory_iterator(d)) files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) args += " " + q(f);
+    const CliRun r = run(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(r.out);
+  };
+  const nlohmann::json ja = diagnose(a), jb = diagnose(b);
+  for (const char* fit : {"recalibrated", "final"}) {
+    const double ra = ja.at("fit").at(fit).at("r2").get<double>(), rb = jb.at("fit").at(fit).at("r2").get<double>();
+    EXPECT_NEAR(ra, rb, 1e-12) << fit;
+    EXPECT_NEAR(ja.at("fit").at(fit).at("rss").get<double>(), jb.at("fit").at(fit).at("rss").get<double>(),
+                1e-6 * ja.at("fit").at(fit).at("rss").get<double>())  // the final fit converges to ~1e-7
+        << fit;
+    EXPECT_LT(ra, 1.0) << fit;
+  }
 }
 
 }  // namespace test_round_thirteen_cpp
