@@ -408,4 +408,19 @@ TEST_F(RoundThirteenCli, TheDriveDiagnosisRSquaredDoesNotMoveWithTheToFsLevel) {
   }
 }
 
+TEST_F(RoundThirteenCli, TheStaticSpeedCountsAsCovered) {
+  // docs/cli.md (battery): the speeds covered are those of 0..15 cm/s with a log; 0 cm/s (the
+  // robot at rest) is one of them. Logs at 0 and 1 cm/s: covered 0, 1; missing 2..15; no other.
+  const std::string logs = " " + q((fs::path(EPUCK2_SOURCE_DIR) / "data/raw/battery/robot-a_speed-00.csv").string()) + " " +
+                           q((fs::path(EPUCK2_SOURCE_DIR) / "data/raw/battery/robot-a_speed-01.csv").string());
+  const CliRun r = run("battery --json" + logs);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("speeds_covered_cm_s"), nlohmann::json({0, 1}));
+  EXPECT_EQ(j.at("speeds_missing_cm_s"), nlohmann::json({2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15}));
+  EXPECT_TRUE(j.at("speeds_other_cm_s").empty()) << j.at("speeds_other_cm_s");
+  const CliRun t = run("battery" + logs);
+  EXPECT_NE(t.out.find("speeds covered (cm/s): 0, 1"), std::string::npos) << t.out;
+}
+
 }  // namespace test_round_thirteen_cpp
