@@ -387,7 +387,8 @@ R11_PLOT = r11([R8_APPS, R3_CHARGE], ["test_figures", "test_battery_models", "te
 # battery programs for the battery's tables, reports and figures. R12_TESTS: the programs added for
 # round 12, written after its run (session 14): the CLI corners (round 12's survivors), the
 # voltage-only table5 line, the charge-map reader's refusals, the geometry and LED facts.
-R12_TESTS = R11_TESTS + ["test_cli_corners", "test_voltage_logs_cli", "test_charge_map", "test_sensor_models"]
+R12_TESTS = R11_TESTS + ["test_cli_corners", "test_voltage_logs_cli", "test_charge_map", "test_sensor_models",
+             "test_round_twelve_stability"]
 R12_GENERATORS = ["test_virtual_robot_sensors", "test_virtual_robot_battery", "test_battery_models", "test_battery_fast_paths"]
 R12_BATTERY = ["test_battery_models", "test_battery_fast_paths", "test_battery_fit", "test_battery_cli", "test_virtual_robot_battery"]
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cli_harness.hpp"
+#include "epuck2/plot/diagnosis_figure.hpp"
 #include "epuck2/plot/figure.hpp"
 
 namespace {
@@ -786,6 +787,21 @@ TEST(FigureFormat, QuotedTextReachesGnuplotAsWritten) {
   EXPECT_EQ(quoted("a \"b\" c\\d"), "\"a \\\"b\\\" c\\\\d\"");
   EXPECT_EQ(quoted("line 1\nline 2"), "\"line 1\\nline 2\"");
   EXPECT_EQ(quoted(std::string("bell\a")), "\"bell?\"");
+}
+
+TEST(DiagnosisFigureAxis, EachUnitSuffixNamesItsUnit) {
+  // docs/logs.md's column-naming rule: a covariate column's unit is its name's suffix. The longer
+  // suffix wins where one ends another (_cm_s2 / _cm_s / _s, _ms / _s, _mm / _m, _cm / _m), and a
+  // column in metres is drawn in mm, as every distance of the figures.
+  const std::pair<const char*, const char*> cases[] = {
+      {"accel_cm_s2", "accel (cm/s²)"},   {"speed_cm_s", "speed (cm/s)"},     {"gap_mm", "gap (mm)"},
+      {"gap_cm", "gap (cm)"},             {"height_m", "height (mm)"},        {"lag_ms", "lag (ms)"},
+      {"elapsed_s", "elapsed (s)"},       {"heading_deg", "heading (°)"},     {"heading_rad", "heading (rad)"},
+      {"board_temp_c", "board temp (°C)"}, {"cell_k", "cell (K)"},            {"supply_v", "supply (V)"},
+      {"motor_a", "motor (A)"},           {"pwm_hz", "pwm (Hz)"},             {"humidity_pct", "humidity (%)"},
+      {"blob_px", "blob (px)"},           {"humidity", "humidity (as logged: no unit in its name)"},
+      {"_m", "_m (as logged: no unit in its name)"}};
+  for (const auto& [name, label] : cases) EXPECT_EQ(epuck2::plot::column_label(name), label) << name;
 }
 
 }  // namespace

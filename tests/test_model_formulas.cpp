@@ -905,7 +905,9 @@ void check_drive(const std::string& where, const std::array<double, 5>& p, doubl
   if (h == std::array<double, 5>{}) h = steps_formulas(p, {1.0, 1.0, 1e-3, 1.0, 1e-3});
   // At tau = 0 the lag is off (a switch on tau's value, its domain's edge): no derivative in tau.
   if (p[2] == 0) h[2] = 0;
-  const auto expected = drive_by_hand(p[0], p[1], p[2], p[3], p[4], left, symmetric ? left : right, st0);
+  // Symmetric: both wheels commanded `left` (drive_advance takes the hint only when it holds).
+  if (symmetric) right = left;
+  const auto expected = drive_by_hand(p[0], p[1], p[2], p[3], p[4], left, right, st0);
   // The body against RK4 to 1e-9 of each output; the wheels are exact piecewise formulas.
   check_formulas<5, 6>(where, drive_formula(left, right, symmetric, st0), p, expected, h,
               Check().divides().with_expected_rel(1e-9).with_scale(scale));
@@ -997,7 +999,7 @@ TEST(ModelFormulas, DriveAdvanceNeutralEffectsGiveThePluginDriveExactly) {
       st.vg = 0.01;
       st.xg = 0.15;
       const s::DriveState<double> st0 = st;
-      s::drive_advance(s::DriveEffects<double>{}, q[0], q[1], q[2], st, sym);
+      s::drive_advance(s::DriveEffects<double>{}, q[0], right, q[2], st, sym);
       const double ul = q[0] * 0.01, ur = right * 0.01;
       EXPECT_EQ(st.vl, ul);
       EXPECT_EQ(st.vr, ur);
@@ -1014,7 +1016,7 @@ TEST(ModelFormulas, DriveAdvanceNeutralEffectsGiveThePluginDriveExactly) {
       // float: the command's speed rounded to float once (c * 0.01 in double, as kPerCm is), then
       // x = u h in float.
       s::DriveState<float> sf;
-      s::drive_advance(s::DriveEffects<float>{}, q[0], q[1], static_cast<float>(q[2]), sf, sym);
+      s::drive_advance(s::DriveEffects<float>{}, q[0], right, static_cast<float>(q[2]), sf, sym);
       const float ulf = static_cast<float>(static_cast<float>(q[0]) * 0.01);
       const float urf = static_cast<float>(static_cast<float>(right) * 0.01);
       EXPECT_EQ(sf.vl, ulf);
@@ -1022,7 +1024,7 @@ TEST(ModelFormulas, DriveAdvanceNeutralEffectsGiveThePluginDriveExactly) {
       EXPECT_EQ(sf.xr, urf * static_cast<float>(q[2]));
       using J = epuck2::fit::Jet<1>;
       s::DriveState<J> sj;
-      s::drive_advance(s::DriveEffects<J>{}, q[0], q[1], J(q[2], 0), sj, sym);
+      s::drive_advance(s::DriveEffects<J>{}, q[0], right, J(q[2], 0), sj, sym);
       EXPECT_EQ(sj.xl.a, ul * q[2]);
       EXPECT_EQ(sj.xl.v[0], ul);  // d x / d h = v
     }
@@ -1033,6 +1035,36 @@ TEST(ModelFormulas, DriveAdvanceNeutralEffectsGiveThePluginDriveExactly) {
   s::drive_advance(s::DriveEffects<double>{}, 5.0, 5.0, 0.0, st);
   EXPECT_EQ(st.xl, 0.3);
   EXPECT_EQ(st.vl, 0.0);
+}
+
+TEST(ModelFormulas, DriveAdvanceTakesTheSymmetricHintOnlyWhenItHolds) {
+  // After a turn the left wheel has run 0.10 m at 0.05 m/s, the right 0.02 m and stands. A stop
+  // (0, 0) for 1 s, hinted symmetric because the commands are equal, must move each wheel from
+  // its own state. Without limits: both stop at once, travels unchanged (0.10, 0.02), the body
+  // at once at the wheels' mean 0. With a 10 cm/s^2 limit: the left slows from 0.05 m/s to 0 in
+  // 0.5 s and runs 0.05 * 0.5 - 0.1 * 0.5^2 / 2 = 0.0125 m more; the right stays.
+  for (bool sym : {false, true}) {
+    s::DriveState<double> st;
+    st.xl = 0.10, st.vl = 0.05, st.xr = 0.02, st.vr = 0.0, st.xg = 0.06, st.vg = 0.025;
+    s::drive_advance(s::DriveEffects<double>{}, 0.0, 0.0, 1.0, st, sym);
+    EXPECT_EQ(st.xl, 0.10) << sym;
+    EXPECT_EQ(st.xr, 0.02) << sym;
+    EXPECT_EQ(st.vl, 0.0) << sym;
+    EXPECT_EQ(st.vr, 0.0) << sym;
+    s::DriveEffects<double> limited;
+    limited.accel_limit.accel_cm_s2 = 10.0;
+    s::DriveState<double> sl;
+    sl.xl = 0.10, sl.vl = 0.05, sl.xr = 0.02, sl.vr = 0.0, sl.xg = 0.06, sl.vg = 0.025;
+    s::drive_advance(limited, 0.0, 0.0, 1.0, sl, sym);
+    EXPECT_NEAR(sl.xl, 0.1125, 1e-15) << sym;
+    EXPECT_EQ(sl.xr, 0.02) << sym;
+    EXPECT_EQ(sl.vl, 0.0) << sym;
+    // Unequal commands hinted symmetric: each wheel gets its own command (no limits).
+    s::DriveState<double> su;
+    s::drive_advance(s::DriveEffects<double>{}, 6.0, 2.0, 0.5, su, sym);
+    EXPECT_EQ(su.xl, 0.06 * 0.5) << sym;
+    EXPECT_EQ(su.xr, 0.02 * 0.5) << sym;
+  }
 }
 
 TEST(ModelFormulas, DriveTofMean) {

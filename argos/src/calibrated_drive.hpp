@@ -69,10 +69,9 @@ class CalibratedDrive {
   /// as in lib/models).
   std::array<double, 2> step(double left_cm_s, double right_cm_s, double h_s) {
     const ms::DriveState<double> before = state_;
-    /* One wheel simulated for both only when the wheels are alike too: after a turn, equal commands
-       (a stop) must move each wheel from its own travel and speed, not copy the left's onto the right */
-    const bool symmetric = left_cm_s == right_cm_s && state_.xl == state_.xr && state_.vl == state_.vr;
-    ms::drive_advance(effects_, left_cm_s, right_cm_s, h_s, state_, symmetric);
+    /* Equal commands hint at one wheel simulated for both; drive_advance takes the hint only when
+       the wheels are alike too (after a turn, a stop moves each wheel from its own travel) */
+    ms::drive_advance(effects_, left_cm_s, right_cm_s, h_s, state_, left_cm_s == right_cm_s);
     if (!(h_s > 0)) return {0.0, 0.0};
     const double forward = (state_.xg - before.xg) / h_s;
     const double half_diff =

@@ -69,24 +69,6 @@ struct Axis {
   std::map<double, std::string> categories;  ///< value -> tic label, in order
 };
 
-/// "temperature_c" -> "temperature (°C)": a log column's unit from its suffix (a column in metres
-/// is drawn in mm, as every distance of the figures).
-std::string column_label(const std::string& name) {
-  static const std::pair<const char*, const char*> kUnits[] = {
-      {"_cm_s2", "cm/s²"}, {"_cm_s", "cm/s"}, {"_mm", "mm"}, {"_cm", "cm"}, {"_m", "mm"}, {"_ms", "ms"}, {"_s", "s"},
-      {"_deg", "°"},       {"_rad", "rad"},   {"_c", "°C"},  {"_k", "K"},   {"_v", "V"}, {"_a", "A"},   {"_hz", "Hz"},
-      {"_pct", "%"},       {"_px", "px"}};
-  for (const auto& [suffix, unit] : kUnits) {
-    const std::string s = suffix;
-    if (name.size() > s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0) {
-      std::string quantity = name.substr(0, name.size() - s.size());
-      std::replace(quantity.begin(), quantity.end(), '_', ' ');
-      return quantity + " (" + unit + ")";
-    }
-  }
-  return name + " (as logged: no unit in its name)";
-}
-
 Axis axis_of(const std::string& name, const dg::Report& r, const std::vector<double>& x, const std::vector<std::string>& log_names,
              const std::string& panel_unit) {
   Axis a;
@@ -304,6 +286,24 @@ std::string verdict_line(const dg::Report& r) {
 }
 
 }  // namespace
+
+/// "temperature_c" -> "temperature (°C)": a log column's unit from its suffix (a column in metres
+/// is drawn in mm, as every distance of the figures).
+std::string column_label(const std::string& name) {
+  static const std::pair<const char*, const char*> kUnits[] = {
+      {"_cm_s2", "cm/s²"}, {"_cm_s", "cm/s"}, {"_mm", "mm"}, {"_cm", "cm"}, {"_m", "mm"}, {"_ms", "ms"}, {"_s", "s"},
+      {"_deg", "°"},       {"_rad", "rad"},   {"_c", "°C"},  {"_k", "K"},   {"_v", "V"}, {"_a", "A"},   {"_hz", "Hz"},
+      {"_pct", "%"},       {"_px", "px"}};
+  for (const auto& [suffix, unit] : kUnits) {
+    const std::string s = suffix;
+    if (name.size() > s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0) {
+      std::string quantity = name.substr(0, name.size() - s.size());
+      std::replace(quantity.begin(), quantity.end(), '_', ' ');
+      return quantity + " (" + unit + ")";
+    }
+  }
+  return name + " (as logged: no unit in its name)";
+}
 
 void diagnosis_figure(logs::OutputStage& stage, const std::string& path, const dg::Report& r,
                       const std::vector<std::string>& log_names, const std::vector<std::string>& log_robots) {

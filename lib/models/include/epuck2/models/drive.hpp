@@ -108,8 +108,10 @@ void body_lag_piece(const DriveWheelSlip<T>& slip, const T& u0_m_s, const T& ag_
   }
 }
 
-/// Advances the drive by h seconds under the commands (cm/s). `symmetric`: both wheels commanded
-/// alike (one wheel simulated, the same arithmetic).
+/// Advances the drive by h seconds under the commands (cm/s). `symmetric`: a hint that both
+/// wheels are commanded alike, so that one wheel is simulated for both (the same arithmetic). It is
+/// taken only when it holds: equal commands and wheels alike (equal travels and speeds). After a
+/// turn, a stop's equal commands must move each wheel from its own state, not copy the left's.
 template <typename T>
 void drive_advance(const DriveEffects<T>& e, double left_cm_s, double right_cm_s, const T& h, DriveState<T>& st,
                    bool symmetric = false) {
@@ -117,6 +119,8 @@ void drive_advance(const DriveEffects<T>& e, double left_cm_s, double right_cm_s
   using std::fmin;
   constexpr double kPerCm = 0.01;
   if (!(scalar_of(h) > 0)) return;
+  symmetric = symmetric && left_cm_s == right_cm_s && scalar_of(st.xl) == scalar_of(st.xr) &&
+              scalar_of(st.vl) == scalar_of(st.vr);
   const T& max = e.speed_limit.max_cm_s;
   const bool accel_limited = scalar_of(e.accel_limit.accel_cm_s2) < kDriveLimitOn;
   if (symmetric) {

@@ -16,6 +16,11 @@
 
 namespace epuck2::plot {
 
+/// A log column's axis label from its name's unit suffix: "temperature_c" -> "temperature (°C)",
+/// "height_m" -> "height (mm)" (a column in metres is drawn in mm, as every distance of the
+/// figures); a name without a known suffix -> "NAME (as logged: no unit in its name)".
+std::string column_label(const std::string& name);
+
 /// Stages the figure in `stage` (in place once it commits). `log_names` label the logs (the
 /// `log` covariate's categories), in the order the diagnosis read them; `log_robots` (the same
 /// order, optional) name each log's robot: logs of several robots give each robot its marker,
