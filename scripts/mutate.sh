@@ -419,6 +419,40 @@ R12_FIT = r12([R8_FIT, R8_CALIB, R8_DIAGNOSE])
 R12_COEFF = r12([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
 R12_DIAGNOSE = r12([R8_DIAGNOSE], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
 
+# Round 13 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-13), planted without reading
+# the tests: each group is every test of the programs that touch the area -- round 8's groups for it,
+# as in rounds 9-12, with the ARGoS tests for argos/src and for the model headers the plug-in
+# includes, the battery programs for the battery's files, calibration and the ARGoS battery, the
+# generators' programs for lib/virtual_robot. R13_TESTS: the programs added for round 13 (none yet).
+R13_TESTS = R12_TESTS
+
+
+def r13(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R13_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R13_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+# camera.hpp (camera_image_holds: simulate --like and the plug-in's camera) and light.hpp (the
+# several-lights mean: the plug-in's light sensor): the models', apps' and ARGoS groups.
+R13_MODELS = r13([R8_MODELS, R8_APPS, R8_ARGOS])
+R13_ARGOS = r13([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# the calibrated battery, the battery tables' reader, the model-file reader: the coefficients'
+# and ARGoS groups with the ARGoS battery tests and the battery programs.
+R13_COEFF = r13([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+# charge_map.hpp, battery_fit.cpp: the calibration's and apps' groups (battery, table5, voltage logs).
+R13_BATTERY_CALIB = r13([R8_CALIB, R8_APPS], R12_BATTERY + ["test_figures"])
+# reading_noise.hpp: every calibration's noise section and text, the coefficient files.
+R13_CALIB = r13([R8_CALIB, R8_APPS, R8_COEFF])
+R13_APPS = r13([R8_APPS, R3_CHARGE, R8_CALIB], R12_BATTERY + ["test_figures"])
+R13_FIT = r13([R8_FIT, R8_CALIB, R8_DIAGNOSE])
+# json_location.cpp: where every coefficient-file error is placed (the readers, the CLI, ARGoS).
+R13_LOGS = r13([R8_COEFF, R8_FACTS, R8_APPS, R8_ARGOS])
+R13_DIAGNOSE = r13([R8_DIAGNOSE, R8_APPS], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+# lib/virtual_robot: `generate` and the shipped logs' generators.
+R13_GENERATE = r13([R8_MODELS, R8_APPS, R3_CHARGE], R12_GENERATORS)
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -1006,6 +1040,54 @@ MUTANTS = [
      'within(seg.y1, 0, 1, path, ga + "/y2", gw + ".y2", "charge");', R12_COEFF),
     ("r12_diagnosis_drive_tof_noise_channel_misnamed", "lib/diagnose/src/extended_model.cpp",
      'if (c.name == "tof_mm") tof_residual_sd = c.value;', 'if (c.name == "tof") tof_residual_sd = c.value;', R12_DIAGNOSE),
+    # Round 13 (bench/fresh-slips.md): planted without reading the tests; the two lib/models headers first.
+    ("r13_camera_image_rows_bounded_by_width", MC, "x <= width_px - 1.0 && y <= height_px - 1.0;",
+     "x <= width_px - 1.0 && y <= width_px - 1.0;", R13_MODELS),
+    ("r13_light_several_lights_gain_dropped", ML,
+     "return kProximityFullScale_raw * (1.0 - e.gains.gain[static_cast<std::size_t>(sensor)] * sum) - e.ambient.offset_raw;",
+     "return kProximityFullScale_raw * (1.0 - sum) - e.ambient.offset_raw;", R13_MODELS),
+    ("r13_argos_ground_clamped_at_4095", AS,
+     "m_tReadings[i] = static_cast<SInt32>(std::clamp(std::round(fMean), 0.0, ms::kGroundFullScale_raw));",
+     "m_tReadings[i] = static_cast<SInt32>(std::clamp(std::round(fMean), 0.0, ms::kProximityFullScale_raw));", R13_ARGOS),
+    ("r13_argos_capacity_distance_not_over_k", "argos/src/calibrated_battery.cpp", "fK == 1.0 ? fDeltaPos : fDeltaPos / fK,",
+     "fDeltaPos,", R13_COEFF),
+    ("r13_charge_map_parameters_count_first_load_speed", "lib/calibrate/include/epuck2/calibrate/charge_map.hpp",
+     "knots_v.size() + (has_load() ? load_speeds_cm_s.size() - 1 : 0)",
+     "knots_v.size() + (has_load() ? load_speeds_cm_s.size() : 0)", R13_BATTERY_CALIB),
+    ("r13_argos_uniform_level_arguments_swapped", "lib/calibrate/include/epuck2/calibrate/reading_noise.hpp",
+     "models::sensors::uniform_level_with_sd(sd, argos_scale)", "models::sensors::uniform_level_with_sd(argos_scale, sd)",
+     R13_CALIB),
+    ("r13_reject_sd_option_not_passed", "apps/sensor_support.hpp", "    f.reject_sd = reject_sd;\n", "", R13_APPS),
+    ("r13_few_readings_two_per_parameter", "lib/fit/include/epuck2/fit/robust.hpp",
+     "inline constexpr std::size_t kFewReadingsPerParameter = 3;",
+     "inline constexpr std::size_t kFewReadingsPerParameter = 2;", R13_FIT),
+    ("r13_identifiability_any_why_inverted", "lib/fit/include/epuck2/fit/least_squares.hpp",
+     "[why](const Column& c) { return c.why == why; }", "[why](const Column& c) { return c.why != why; }", R13_FIT),
+    ("r13_channel_weight_inverted", "lib/fit/include/epuck2/fit/readings.hpp",
+     "Censoring::none, sd_[c], sd_[0]).value;", "Censoring::none, sd_[0], sd_[c]).value;", R13_FIT),
+    ("r13_battery_table_fractional_speed_accepted", "lib/coefficients/src/battery_tables.cpp",
+     "static_cast<double>(mb::kSpeedCount)) || v != std::floor(v))", "static_cast<double>(mb::kSpeedCount)))", R13_COEFF),
+    ("r13_json_location_number_runs_into_brace", "lib/logs/src/json_location.cpp", 'std::string_view(",]} \\t\\r\\n")',
+     'std::string_view(",] \\t\\r\\n")', R13_LOGS),
+    ("r13_diagnosis_censored_count_misses_high_rail", "lib/diagnose/src/screening.cpp",
+     "n += (v <= rails.low_rail || v >= rails.high_rail) ? 1 : 0;", "n += (v <= rails.low_rail || v > rails.high_rail) ? 1 : 0;",
+     R13_DIAGNOSE),
+    ("r13_diagnosis_r2_about_first_channels_mean", "lib/diagnose/src/search.cpp",
+     "const double d = engine.error(i, sum[c] / count[c]);", "const double d = engine.error(i, sum[0] / count[0]);",
+     R13_DIAGNOSE),
+    ("r13_seed_largest_refused", "apps/app_support.cpp", "(digits.size() == max.size() && digits > max)",
+     "(digits.size() == max.size() && digits >= max)", R13_APPS),
+    ("r13_range_text_upper_bracket_from_lower", MF, '(open_hi ? ")" : "]")', '(open_lo ? ")" : "]")', R13_COEFF),
+    ("r13_wild_whole_value_never_top", "lib/virtual_robot/include/epuck2/virtual_robot/sensor_truth.hpp",
+     "std::floor(lo + (hi - lo + 1.0) * w)", "std::floor(lo + (hi - lo) * w)", R13_GENERATE),
+    ("r13_generate_light_ambient_raises", "lib/virtual_robot/src/light.cpp", "- truth.ambient_raw + noise() * truth.noise_raw;",
+     "+ truth.ambient_raw + noise() * truth.noise_raw;", R13_GENERATE),
+    ("r13_generate_battery_last_speed_missing", "lib/virtual_robot/src/battery_logs.cpp",
+     "for (int s = 0; s < models::battery::kSpeedCount; ++s) {", "for (int s = 0; s < models::battery::kSpeedCount - 1; ++s) {",
+     R13_GENERATE),
+    ("r13_battery_speed_zero_not_covered", "lib/calibrate/src/battery_fit.cpp",
+     "if (centi % 100 == 0 && centi >= 0 && centi / 100 < mb::kSpeedCount)",
+     "if (centi % 100 == 0 && centi > 0 && centi / 100 < mb::kSpeedCount)", R13_BATTERY_CALIB),
 ]
 
 

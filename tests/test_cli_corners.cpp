@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <vector>
 #include <nlohmann/json.hpp>
@@ -20,6 +21,7 @@
 
 namespace test_cli_corners_cpp {
 
+namespace fs = std::filesystem;
 using epuck2::testing::CliRun;
 
 class CliCorners : public epuck2::testing::CliTest {};
