@@ -28,6 +28,7 @@
 
 namespace test_round_thirteen_cpp {
 
+namespace fs = std::filesystem;
 namespace ms = epuck2::models::sensors;
 using epuck2::testing::CliRun;
 
