@@ -15,11 +15,29 @@
 #include <sstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "epuck2/logs/log.hpp"
 
 namespace epuck2::testing {
 
 namespace fs = std::filesystem;
+
+/// The shipped logs of `kind` (data/raw/KIND/*.csv whose name starts with `prefix`), in name order.
+inline std::vector<fs::path> shipped_logs(const std::string& kind, const std::string& prefix = "") {
+  std::vector<fs::path> paths;
+  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / kind))
+    if (e.path().extension() == ".csv" && e.path().filename().string().rfind(prefix, 0) == 0) paths.push_back(e.path());
+  std::sort(paths.begin(), paths.end());
+  return paths;
+}
+
+/// shipped_logs as command-line arguments, each quoted, each after a space.
+inline std::string shipped_args(const std::string& kind, const std::string& prefix = "") {
+  std::string args;
+  for (const auto& p : shipped_logs(kind, prefix)) args += " \"" + p.string() + "\"";
+  return args;
+}
 
 struct CliRun {
   int exit_code = -1;
@@ -31,6 +49,11 @@ inline std::string slurp(const fs::path& p) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+/// The shipped coefficient file data/fitted/KIND.json.
+inline nlohmann::json shipped_fitted(const std::string& kind) {
+  return nlohmann::json::parse(slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / (kind + ".json")));
 }
 
 class CliTest : public ::testing::Test {
@@ -57,16 +80,9 @@ class CliTest : public ::testing::Test {
     std::ofstream(dir_ / name) << text;
     return (dir_ / name).string();
   }
-  /// The shipped logs of a kind (those whose name starts with `prefix`), in name order.
-  static std::string shipped(const std::string& kind, const std::string& prefix = "") {
-    std::vector<std::string> paths;
-    for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / kind))
-      if (e.path().extension() == ".csv" && e.path().filename().string().rfind(prefix, 0) == 0) paths.push_back(e.path().string());
-    std::sort(paths.begin(), paths.end());
-    std::string args;
-    for (const auto& p : paths) args += " \"" + p + "\"";
-    return args;
-  }
+  /// The shipped logs of a kind (those whose name starts with `prefix`), in name order, as
+  /// command-line arguments.
+  static std::string shipped(const std::string& kind, const std::string& prefix = "") { return shipped_args(kind, prefix); }
   fs::path dir_;
 };
 

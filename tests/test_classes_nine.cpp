@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "battery_runs.hpp"
 #include "epuck2/calibrate/battery.hpp"
 #include "epuck2/calibrate/plausibility.hpp"
 #include "epuck2/fit/robust.hpp"
@@ -275,21 +276,8 @@ TEST(ClassesNineUnitHints, AnObstacleBeyondTheCeilingThatTheToFSeesIsRefused) {
 
 // ----- averages over the right set: the battery's lifetimes, Simple slopes and Table 5 MSEs -----
 
-// A run from full to empty in 1-s rows with a small fixed wiggle (never an outlier).
-epuck2::calibrate::BatteryRun c9_run(double speed, double lifetime, const std::string& robot) {
-  epuck2::calibrate::BatteryRun r;
-  r.path = robot + "_" + std::to_string(speed) + ".csv";
-  r.robot = robot;
-  r.speed_cm_s = speed;
-  r.lifetime_s = lifetime;
-  for (int t = 0; t <= static_cast<int>(lifetime); ++t) {
-    r.time_s.push_back(t);
-    r.charge.push_back(1.0 - t / lifetime + 0.002 * std::sin(1.3 * t));
-    r.line.push_back(t + 2);
-  }
-  r.profile = {{0.0, speed}};
-  return r;
-}
+// A run from full to empty in 1-s rows with a small fixed wiggle (tests/battery_runs.hpp).
+constexpr auto* c9_run = &epuck2::testing::wiggly_battery_run;
 
 TEST(ClassesNineBatteryAverages, LifetimesAndSimpleSlopesByHand) {
   // 0 cm/s: runs of 100 and 120 s -> lifetime 110, se sqrt((10^2 + 10^2) / 1 / 2) = 10.

@@ -26,19 +26,8 @@ using epuck2::testing::CliRun;
 
 class CliCorners : public epuck2::testing::CliTest {};
 
-/// The shipped logs of `kind` (data/raw/KIND/*.csv), sorted.
-std::vector<fs::path> shipped_csvs(const std::string& kind) {
-  std::vector<fs::path> out;
-  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / kind))
-    if (e.path().extension() == ".csv") out.push_back(e.path());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-/// The shipped coefficient file data/fitted/KIND.json.
-nlohmann::json shipped_fitted(const std::string& kind) {
-  return nlohmann::json::parse(epuck2::testing::slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / (kind + ".json")));
-}
+using epuck2::testing::shipped_fitted;
+using epuck2::testing::shipped_logs;
 
 TEST_F(CliCorners, GenerateAMisspeltKindNamesTheClosestAndEveryKind) {
   const CliRun r = run("generate lihgt --out-dir \"" + (dir_ / "g").string() + "\"");
@@ -160,8 +149,8 @@ TEST_F(CliCorners, AMisnamedCovariateParameterOrBatterySpeedsOutOfOrderAreRefuse
   const std::string drive = edit("drive", "d.json", [](nlohmann::json& j) {
     j["effects"] = {{"covariate:temperature_c", {{"slop", 0.5}, {"centre", 25.0}}}};
   });
-  ASSERT_FALSE(shipped_csvs("drive").empty());
-  const std::string drive_log = shipped_csvs("drive").front().string();
+  ASSERT_FALSE(shipped_logs("drive").empty());
+  const std::string drive_log = shipped_logs("drive").front().string();
   for (const std::string& cmd : {"codegen \"" + drive + "\" -o \"" + (dir_ / "d.hpp").string() + "\"",
                                  "simulate drive --like \"" + drive_log + "\" --coefficients \"" + drive + "\"",
                                  "diagnose \"" + drive_log + "\" --coefficients \"" + drive + "\""}) {
@@ -232,7 +221,7 @@ TEST_F(CliCorners, ABatterySegmentEndOutsideZeroToOneIsRefusedAtThatEnd) {
 // R^2 below 0.9, a warning naming the ToF fit, the file written; at 1.5 m: worse than a flat line,
 // exit 1 and nothing written, unless --accept-misfit. The encoders' fit draws no such word.
 TEST_F(CliCorners, TheDrivesToFFitIsJudgedOnTheToFsReadings) {
-  const std::vector<fs::path> shipped = shipped_csvs("drive");
+  const std::vector<fs::path> shipped = shipped_logs("drive");
   ASSERT_GE(shipped.size(), 10u);
   auto moved = [&](const std::string& folder, const std::string& metres) {
     fs::create_directories(dir_ / folder);

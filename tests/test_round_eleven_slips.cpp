@@ -44,15 +44,7 @@ fs::path r11_scratch() {
 }
 std::string shipped(const std::string& rel) { return std::string(EPUCK2_SOURCE_DIR) + "/" + rel; }
 /// The shipped logs of a kind as arguments, in name order.
-std::string shipped_logs(const std::string& kind) {
-  std::vector<std::string> paths;
-  for (const auto& e : fs::directory_iterator(shipped("data/raw/" + kind)))
-    if (e.path().extension() == ".csv") paths.push_back(e.path().string());
-  std::sort(paths.begin(), paths.end());
-  std::string args;
-  for (const auto& p : paths) args += " '" + p + "'";
-  return args;
-}
+std::string shipped_logs(const std::string& kind) { return epuck2::testing::shipped_args(kind); }
 
 // ---- nist: every LRE from the certified values, the summary's minima over the runs ----
 

@@ -198,9 +198,13 @@ TEST(RoundThirteenChargeMap, ALoadTermAddsOneParameterPerSpeedButTheFirst) {
 class RoundThirteenCli : public epuck2::testing::CliTest {
  protected:
   static std::string q(const std::string& p) { return "\"" + p + "\""; }
-  static nlohmann::json fitted(const std::string& kind) {
-    return nlohmann::json::parse(
-        epuck2::testing::slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / (kind + ".json")));
+  static nlohmann::json fitted(const std::string& kind) { return epuck2::testing::shipped_fitted(kind); }
+  /// A CSV line's cells.
+  static std::vector<std::string> cells_of(const std::string& line) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+    return cells;
   }
 };
 
@@ -299,18 +303,13 @@ TEST_F(RoundThirteenCli, TheDiagnosisCountsReadingsOnBothRails) {
   // shipped logs' value column, less the listed wild readings that sat on a rail. The shipped
   // proximity logs have readings on both rails (the 0 mm readings saturate at 4095).
   std::size_t low = 0, high = 0;
-  std::vector<std::string> logs;
-  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "proximity")) {
-    if (e.path().extension() != ".csv") continue;
-    logs.push_back(e.path().string());
-    std::istringstream in(epuck2::testing::slurp(e.path()));
+  for (const fs::path& log : epuck2::testing::shipped_logs("proximity")) {
+    std::istringstream in(epuck2::testing::slurp(log));
     std::string line;
     int column = -1;
     while (std::getline(in, line)) {
       if (line.empty() || line[0] == '#') continue;
-      std::vector<std::string> cells;
-      std::stringstream ls(line);
-      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+      const std::vector<std::string> cells = cells_of(line);
       if (column < 0) {
         column = static_cast<int>(std::find(cells.begin(), cells.end(), "value") - cells.begin());
         continue;
@@ -322,9 +321,7 @@ TEST_F(RoundThirteenCli, TheDiagnosisCountsReadingsOnBothRails) {
   }
   ASSERT_GT(low, 0u);
   ASSERT_GT(high, 0u);
-  std::string args = "diagnose --json";
-  for (const auto& l : logs) args += " " + q(l);
-  const CliRun r = run(args);
+  const CliRun r = run("diagnose --json" + shipped("proximity"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   std::size_t wild_on_rail = 0;
@@ -349,10 +346,9 @@ TEST_F(RoundThirteenCli, TheDriveDiagnosisRSquaredDoesNotMoveWithTheToFsLevel) {
   fs::create_directories(a);
   fs::create_directories(b);
   std::size_t used = 0;
-  for (const auto& e : fs::directory_iterator(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "drive")) {
-    const std::string name = e.path().filename().string();
-    if (e.path().extension() != ".csv") continue;
-    std::istringstream in(epuck2::testing::slurp(e.path()));
+  for (const fs::path& log : epuck2::testing::shipped_logs("drive")) {
+    const std::string name = log.filename().string();
+    std::istringstream in(epuck2::testing::slurp(log));
     std::string line, shifted, original;
     int column = -1;
     bool inside = true;
@@ -367,9 +363,7 @@ TEST_F(RoundThirteenCli, TheDriveDiagnosisRSquaredDoesNotMoveWithTheToFsLevel) {
         shifted += line + "\n";
         continue;
       }
-      std::vector<std::string> cells;
-      std::stringstream ls(line);
-      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+      std::vector<std::string> cells = cells_of(line);
       if (column < 0) {
         column = static_cast<int>(std::find(cells.begin(), cells.end(), "tof_mm") - cells.begin());
         shifted += line + "\n";

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "battery_runs.hpp"
 #include "epuck2/calibrate/battery.hpp"
 #include "epuck2/calibrate/battery_json.hpp"
 #include "epuck2/virtual_robot/battery.hpp"
@@ -54,21 +55,8 @@ TEST(RoundTwelveStability, TheBatteryStopsWhereItsVoltageCrossesTheStopLevelInsi
   EXPECT_NEAR(run_on(linear_cell(3.70004)).stop_time_s, 1499.88, 1e-6);
 }
 
-// A run from full to empty in 1-s rows, a small fixed wiggle (never an outlier).
-epuck2::calibrate::BatteryRun run_of(double speed, double lifetime, const std::string& robot) {
-  epuck2::calibrate::BatteryRun r;
-  r.path = robot + "_" + std::to_string(speed) + ".csv";
-  r.robot = robot;
-  r.speed_cm_s = speed;
-  r.lifetime_s = lifetime;
-  for (int t = 0; t <= static_cast<int>(lifetime); ++t) {
-    r.time_s.push_back(t);
-    r.charge.push_back(1.0 - t / lifetime + 0.002 * std::sin(1.3 * t));
-    r.line.push_back(t + 2);
-  }
-  r.profile = {{0.0, speed}};
-  return r;
-}
+// A run from full to empty in 1-s rows with a small fixed wiggle (tests/battery_runs.hpp).
+constexpr auto* run_of = &epuck2::testing::wiggly_battery_run;
 
 std::string lifetime_of(const nlohmann::json& j, double speed) {
   for (const nlohmann::json& s : j.at("speeds"))
