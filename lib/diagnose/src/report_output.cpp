@@ -202,7 +202,7 @@ nlohmann::json report_json(const Report& r, const std::vector<std::string>& path
   const std::string rss_unit = residual_unit(r.kind) + "^2";
   j["loss"] = kDiagnosisLoss;
   j["censored_per_rail"] = {{"at_or_below", r.censored_below}, {"at_or_above", r.censored_above}};
-  j["statistics_conventions"] = calibrate::statistics_conventions_json();
+  j["statistics_conventions"] = calibrate::statistics_conventions_json(calibrate::kDiagnosisResidualsConvention);
   j["fit"] = {{"recalibrated", calibrate::statistics_json(r.base_fit, rss_unit)},
               {"final", calibrate::statistics_json(r.final_fit, rss_unit)}};
   j["correlations"] = calibrate::correlations_json(r.correlations);
