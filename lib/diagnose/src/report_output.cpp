@@ -157,7 +157,9 @@ nlohmann::json report_json(const Report& r, const std::vector<std::string>& path
   j["kind"] = std::string(logs::to_string(r.kind));
   j["rows"] = r.rows;
   j["residuals"] = r.residuals;
-  j["logs"] = paths;
+  std::vector<std::string> taken = paths;  // in the order the diagnosis took them (diagnose())
+  std::stable_sort(taken.begin(), taken.end());
+  j["logs"] = taken;
   j["verdict"] = r.verdict_name();
   if (const Finding* d = r.dominant()) j["most_of_the_gain"] = d->cause;
   j["too_few_rows"] = r.too_few_rows;
