@@ -120,8 +120,9 @@ TEST_F(Metamorphic, ACalibrationDoesNotDependOnTheOrderOfItsLogs) {
 
 // One log split into two files (each with the log's comment lines and header) is the same
 // readings: every fitted number must stay. The reading-noise estimate is left out of the
-// comparison by design: its replicate groups are runs of successive readings within a file, so
-// the cut makes one group two (docs/fitting.md); the list of files (sources, logs) changes too.
+// comparison by design: its replicate groups are each log's readings under the same conditions
+// (docs/coefficient-files.md), so the cut makes one group two; the list of files (sources, logs)
+// changes too.
 TEST_F(Metamorphic, ASensorLogSplitIntoTwoFilesCalibratesTheSame) {
   for (const std::string kind : {"proximity", "light", "ground", "camera"}) {
     const std::vector<fs::path> logs = shipped_logs(kind);
