@@ -167,6 +167,40 @@ TEST(DelayLine, TheReadingIsTheDistanceDelayAgo) {
   EXPECT_DOUBLE_EQ(*none.push_and_read(0.1, 7.0), 7.0);
 }
 
+// A tick without a target cannot be interpolated: the delayed time takes the nearer tick's
+// reading, a distance or "no target" (docs/argos.md, effects.latency). Worked by hand, latency 0.12 s at 10
+// ticks/s: at 0.3 s the delayed time is 0.18 s, 0.08 s after the 0.1 s tick and 0.02 s before the
+// 0.2 s tick, so the 0.2 s tick's; at 0.4 s it is 0.28 s, nearer 0.3 s.
+TEST(DelayLine, ATickWithoutTargetGivesWayToTheNearerTick) {
+  ap::DelayLine l(0.12);
+  EXPECT_FALSE(l.push_and_read(0.1, std::nullopt).has_value());  // before the first tick: the first
+  EXPECT_FALSE(l.push_and_read(0.2, 0.3).has_value());           // 0.08 s: on or before the first
+  const auto at_03 = l.push_and_read(0.3, 0.29);                   // 0.18 s: the 0.2 s tick's
+  ASSERT_TRUE(at_03.has_value());
+  EXPECT_DOUBLE_EQ(*at_03, 0.3);
+  const auto at_04 = l.push_and_read(0.4, std::nullopt);           // 0.28 s: between 0.2 and 0.3, interpolated
+  ASSERT_TRUE(at_04.has_value());
+  EXPECT_NEAR(*at_04, 0.3 + 0.8 * (0.29 - 0.3), 1e-12);
+  const auto at_05 = l.push_and_read(0.5, 0.25);                   // 0.38 s: 0.3 s tick (0.29) and 0.4 s (none): nearer 0.4
+  EXPECT_FALSE(at_05.has_value());
+  const auto at_06 = l.push_and_read(0.6, 0.24);                   // 0.48 s: 0.4 s (none) and 0.5 s (0.25): nearer 0.5
+  ASSERT_TRUE(at_06.has_value());
+  EXPECT_DOUBLE_EQ(*at_06, 0.25);
+
+  // The mirror: the target is lost after the tick the delayed time sits next to.
+  ap::DelayLine m(0.12);
+  m.push_and_read(0.1, 0.5);
+  m.push_and_read(0.2, std::nullopt);
+  const auto m_03 = m.push_and_read(0.3, std::nullopt);  // 0.18 s: nearer the 0.2 s tick: no target
+  EXPECT_FALSE(m_03.has_value());
+  ap::DelayLine n(0.18);
+  n.push_and_read(0.1, 0.5);
+  n.push_and_read(0.2, std::nullopt);
+  const auto n_03 = n.push_and_read(0.3, std::nullopt);  // 0.12 s: nearer the 0.1 s tick: 0.5 m
+  ASSERT_TRUE(n_03.has_value());
+  EXPECT_DOUBLE_EQ(*n_03, 0.5);
+}
+
 // What ARGoS cannot apply stops it at Init, naming the effect and why.
 TEST(CalibratedDrive, EffectsArgosCannotApplyAreRefusedByName) {
   // A file otherwise valid: the covariate is refused at its own line:column (the column of its
