@@ -293,4 +293,46 @@ TEST_F(RoundFourteenCli, ABatteryReadingFiveRobustSdOffIsKeptNineIsLeftOut) {
   EXPECT_EQ(json::parse(slurp(out)).at("outliers").at("count").get<int>(), 0);
 }
 
+// The proximity calibration checks both of its fits, the maxima's and the means', each against
+// its own data. A hand-made log whose readings (tight, +-2 counts) zigzag 300 counts about a
+// quadratic: both fits miss by far more than 10 replicate sd. With --accept-misfit each
+// acceptance names its own fit's worst miss, the one its fit's lack-of-fit warning gives: the
+// means' (the readings' mean) is not the maxima's (their top reading).
+TEST_F(RoundFourteenCli, ProximityChecksTheMeansFitAgainstTheMeans) {
+  const int jitter[10] = {-1, 0, 1, 0, 1, -1, 0, 0, 1, -1};
+  std::ostringstream log;
+  log << "# robot: hand-made\ntime_s,distance_m,sensor,value\n";
+  int row = 0;
+  for (int i = 0; i <= 10; ++i) {
+    const double d = 0.005 * i, base = 4000 * (1 - d / 0.05) * (1 - d / 0.05) + 50;
+    const int zigzag = (i == 0 || i == 10) ? 0 : (i % 2 ? 300 : -300);
+    for (int k = 0; k < 20; ++k) {
+      const long v = std::lround(base + zigzag + jitter[k % 10] * (1 + k / 10));
+      char line[64];
+      std::snprintf(line, sizeof line, "%.1f,%.3f,0,%ld\n", 0.1 * row++, d, std::max(0L, std::min(4095L, v)));
+      log << line;
+    }
+  }
+  const std::string path = write("proximity_zigzag.csv", log.str());
+  const auto refused = run("proximity \"" + path + "\" -o \"" + (dir_ / "p.json").string() + "\"");
+  EXPECT_EQ(refused.exit_code, 1) << refused.err;
+  const auto r = run("proximity \"" + path + "\" --accept-misfit -o \"" + (dir_ / "p.json").string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // "<which> fit: the curve misses the readings by ...; worst: W." -> W
+  auto worst_of = [&](const std::string& prefix) {
+    const auto at = r.err.find(prefix);
+    if (at == std::string::npos) return std::string("(no line starting '" + prefix + "')");
+    const auto w = r.err.find("worst: ", at);
+    const auto end = r.err.find('\n', at);
+    if (w == std::string::npos || w > end) return std::string("(no worst in '" + prefix + "')");
+    return r.err.substr(w, end - w);
+  };
+  const std::string means = worst_of("means fit: the curve misses"), maxima = worst_of("maxima fit: the curve misses");
+  const std::string means_accepted = worst_of("proximity fit to the means (accepted by --accept-misfit)");
+  const std::string maxima_accepted = worst_of("proximity fit to the maxima (accepted by --accept-misfit)");
+  EXPECT_NE(means, maxima) << r.err;  // the data tell the two fits apart
+  EXPECT_EQ(means_accepted, means) << r.err;
+  EXPECT_EQ(maxima_accepted, maxima) << r.err;
+}
+
 }  // namespace test_round_fourteen_cpp
