@@ -335,4 +335,43 @@ TEST_F(RoundFourteenCli, ProximityChecksTheMeansFitAgainstTheMeans) {
   EXPECT_EQ(maxima_accepted, maxima) << r.err;
 }
 
+// A diagnosis file is a coefficient file: `simulate --like` with the shipped proximity diagnosis
+// reads, at every distance inside the range, the paper's Eq. 1 with the file's base and its
+// ambient offset, v = clamp(4095 (a d^2 + b d + c) + offset, 0, 4095) (docs/plugin-models.md,
+// docs/diagnose.md: ambient_offset), computed here from the file's `parameters` and `effects`.
+TEST_F(RoundFourteenCli, ASimulatedProximityDiagnosisFileReadsEquationOneWithItsOffset) {
+  const fs::path file = fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / "reports" / "diagnose_proximity.json";
+  const json d = json::parse(slurp(file));
+  ASSERT_EQ(d.at("effects").size(), 1u) << d.at("effects").dump();
+  const double a = d.at("parameters").at("a"), b = d.at("parameters").at("b"), c = d.at("parameters").at("c");
+  const double offset = d.at("effects").at("ambient_offset").at("offset");
+  const auto r = run("simulate proximity --like \"" + epuck2::testing::shipped_logs("proximity").front().string() +
+                     "\" --coefficients \"" + file.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream in(r.out);
+  std::string line;
+  std::vector<std::string> header;
+  int checked = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cell;
+    std::istringstream cells(line);
+    for (std::string x; std::getline(cells, x, ',');) cell.push_back(x);
+    if (header.empty()) {
+      header = cell;
+      continue;
+    }
+    double dist = -1, value = -1;
+    for (std::size_t k = 0; k < header.size() && k < cell.size(); ++k) {
+      if (header[k] == "distance_m") dist = std::stod(cell[k]);
+      if (header[k] == "value") value = std::stod(cell[k]);
+    }
+    if (dist < 0 || dist > 0.045) continue;
+    const double want = std::min(4095.0, std::max(0.0, 4095 * (a * dist * dist + b * dist + c) + offset));
+    ASSERT_NEAR(value, want, 1e-6) << "at " << dist << " m";
+    ++checked;
+  }
+  EXPECT_GE(checked, 1000);
+}
+
 }  // namespace test_round_fourteen_cpp
