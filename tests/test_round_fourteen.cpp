@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -372,6 +373,53 @@ TEST_F(RoundFourteenCli, ASimulatedProximityDiagnosisFileReadsEquationOneWithIts
     ++checked;
   }
   EXPECT_GE(checked, 1000);
+}
+
+// The light's sensor_gain: "the first sensor seen is the reference (gain 1, null in the array, as
+// are sensors not seen)" (docs/diagnose.md). The shipped light logs hold sensors 0 and 7 (counted
+// here from the logs; 0 first): the finding has a gain for sensor 7 only.
+TEST_F(RoundFourteenCli, TheLightsSensorGainHoldsItsFirstSensorAsTheReference) {
+  std::set<int> sensors;
+  int first = -1;
+  for (const auto& log : epuck2::testing::shipped_logs("light")) {
+    std::istringstream in(slurp(log));
+    std::string line;
+    std::vector<std::string> header;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      std::vector<std::string> cell;
+      std::istringstream cells(line);
+      for (std::string x; std::getline(cells, x, ',');) cell.push_back(x);
+      if (header.empty()) {
+        header = cell;
+        continue;
+      }
+      for (std::size_t k = 0; k < header.size(); ++k)
+        if (header[k] == "sensor") {
+          const int sensor = std::stoi(cell[k]);
+          if (first < 0) first = sensor;
+          sensors.insert(sensor);
+        }
+    }
+  }
+  ASSERT_EQ(first, 0);
+  ASSERT_EQ(sensors, (std::set<int>{0, 7}));
+  const std::string out = (dir_ / "light_diagnosis.json").string();
+  const auto r = run("diagnose" + shipped("light") + " -o \"" + out + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(slurp(out));
+  const json* gains = nullptr;
+  for (const auto& f : j.at("findings"))
+    if (f.at("cause") == "sensor_gain") gains = &f.at("parameters").at("gains");
+  ASSERT_NE(gains, nullptr) << j.at("findings").dump().substr(0, 1000);
+  ASSERT_EQ(gains->size(), 8u);
+  for (int s = 0; s < 8; ++s) {
+    if (s == 7) {
+      EXPECT_TRUE((*gains)[7].is_number()) << gains->dump();
+    } else {
+      EXPECT_TRUE((*gains)[static_cast<std::size_t>(s)].is_null()) << "sensor " << s << ": " << gains->dump();
+    }
+  }
 }
 
 }  // namespace test_round_fourteen_cpp
