@@ -426,8 +426,10 @@ R12_DIAGNOSE = r12([R8_DIAGNOSE], ["test_battery_cli", "test_battery_fit", "test
 # generators' programs for lib/virtual_robot. R13_TESTS: the programs added for round 13, written
 # by the lead during its run (after its GO, so not in the run that scored it): test_round_thirteen
 # (its three survivors, its two stability-only kills and the behaviours its other slips change).
-# argos_calibrated_ground_rail is in the ARGoS groups by its prefix.
-R13_TESTS = R12_TESTS + ["test_round_thirteen"]
+# argos_calibrated_ground_rail is in the ARGoS groups by its prefix. test_metamorphic (written
+# before round 14's GO: the same readings in another order or split into two files calibrate the
+# same; the diagnosis's counts against the raw logs) runs in every later group through this list.
+R13_TESTS = R12_TESTS + ["test_round_thirteen", "test_metamorphic"]
 
 
 def r13(groups, more=(), extra=(), targets=()):

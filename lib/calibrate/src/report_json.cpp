@@ -30,8 +30,8 @@ json statistics_json(const fit::FitStatistics& s, const std::string& rss_unit) {
   return j;
 }
 
-json statistics_conventions_json() {
-  return {{"n", "residuals in the RSS (readings inside the rails that the fit kept)"},
+json statistics_conventions_json(const char* n_convention) {
+  return {{"n", n_convention},
           {"reduced_chi2", fit::kReducedChi2Convention},
           {"aic", fit::kAicConvention},
           {"bic", fit::kBicConvention},

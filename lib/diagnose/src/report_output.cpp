@@ -157,7 +157,9 @@ nlohmann::json report_json(const Report& r, const std::vector<std::string>& path
   j["kind"] = std::string(logs::to_string(r.kind));
   j["rows"] = r.rows;
   j["residuals"] = r.residuals;
-  j["logs"] = paths;
+  std::vector<std::string> taken = paths;  // in the order the diagnosis took them (diagnose())
+  std::stable_sort(taken.begin(), taken.end());
+  j["logs"] = taken;
   j["verdict"] = r.verdict_name();
   if (const Finding* d = r.dominant()) j["most_of_the_gain"] = d->cause;
   j["too_few_rows"] = r.too_few_rows;
@@ -202,7 +204,7 @@ nlohmann::json report_json(const Report& r, const std::vector<std::string>& path
   const std::string rss_unit = residual_unit(r.kind) + "^2";
   j["loss"] = kDiagnosisLoss;
   j["censored_per_rail"] = {{"at_or_below", r.censored_below}, {"at_or_above", r.censored_above}};
-  j["statistics_conventions"] = calibrate::statistics_conventions_json();
+  j["statistics_conventions"] = calibrate::statistics_conventions_json(calibrate::kDiagnosisResidualsConvention);
   j["fit"] = {{"recalibrated", calibrate::statistics_json(r.base_fit, rss_unit)},
               {"final", calibrate::statistics_json(r.final_fit, rss_unit)}};
   j["correlations"] = calibrate::correlations_json(r.correlations);

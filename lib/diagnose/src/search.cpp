@@ -1,6 +1,8 @@
 // The diagnosis's search: recalibration, greedy forward search over the catalogue's effects with
 // BIC and held-out error, residual structure (docs/diagnose.md, steps 2 to 5), on the joint-fit
 // engine (engine_detail.hpp).
+#include <algorithm>
+
 #include "engine_detail.hpp"
 
 namespace epuck2::diagnose {
@@ -1008,8 +1010,22 @@ std::string Report::verdict_name() const {
   return "none";
 }
 
-Report diagnose(const std::vector<logs::Log>& logs, const Options& options) { return Diagnosis(options).run(logs, nullptr); }
+namespace {
+/// The held-out test's blocks are contiguous rows: the logs are taken in the order of their paths,
+/// whatever the order they were given in, so that the same logs give the same diagnosis.
+bool by_path(const logs::Log& a, const logs::Log& b) { return a.path < b.path; }
+}  // namespace
 
-Report diagnose(std::vector<logs::Log>&& logs, const Options& options) { return Diagnosis(options).run(logs, &logs); }
+Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {
+  if (std::is_sorted(logs.begin(), logs.end(), by_path)) return Diagnosis(options).run(logs, nullptr);
+  std::vector<logs::Log> sorted = logs;
+  std::stable_sort(sorted.begin(), sorted.end(), by_path);
+  return Diagnosis(options).run(sorted, &sorted);
+}
+
+Report diagnose(std::vector<logs::Log>&& logs, const Options& options) {
+  std::stable_sort(logs.begin(), logs.end(), by_path);
+  return Diagnosis(options).run(logs, &logs);
+}
 
 }  // namespace epuck2::diagnose

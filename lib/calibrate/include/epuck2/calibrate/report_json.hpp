@@ -28,8 +28,16 @@ nlohmann::json json_number(double v);
 /// (r2 null with "r2_why" when the data do not vary).
 nlohmann::json statistics_json(const fit::FitStatistics& s, const std::string& rss_unit);
 
-/// The conventions of statistics_json, once per file: {"reduced_chi2", "aic", "bic"} in words.
-nlohmann::json statistics_conventions_json();
+/// What `n` counts in a calibration: the readings inside the rails that the fit kept (a censored
+/// reading enters the Tobit likelihood, not the RSS).
+inline constexpr const char* kCalibrationResidualsConvention = "residuals in the RSS (readings inside the rails that the fit kept)";
+/// What `n` counts in a diagnosis: every residual it kept, a reading on a rail by its censored term.
+inline constexpr const char* kDiagnosisResidualsConvention =
+    "residuals in the RSS: every reading the diagnosis kept (wild readings left out), a reading on a rail by its "
+    "censored (Tobit) term, as `loss` says";
+/// The conventions of statistics_json, once per file: {"n", "reduced_chi2", "aic", "bic",
+/// "correlations"} in words; `n_convention` says what n counts.
+nlohmann::json statistics_conventions_json(const char* n_convention = kCalibrationResidualsConvention);
 
 /// [{"a", "b", "r"}], names prefixed by `prefix`.
 nlohmann::json correlations_json(const std::vector<fit::Correlation>& c, const std::string& prefix = "");

@@ -260,8 +260,9 @@ struct Options {
 /// into battery_model; another kind's model into Options::base_model.
 void set_base_model(Options& o, const coefficients::AnyModel& m, bool discharge_model);
 
-/// Diagnoses logs of one kind (all of `logs` must be of that kind). Never throws for numerical
-/// trouble; an unsupported kind gives `supported = false`.
+/// Diagnoses logs of one kind (all of `logs` must be of that kind), taken in the order of their
+/// paths (the held-out test's blocks are contiguous rows: the same logs in any order give the same
+/// report). Never throws for numerical trouble; an unsupported kind gives `supported = false`.
 Report diagnose(const std::vector<logs::Log>& logs, const Options& options = {});
 /// The same, releasing the logs once the diagnosis has taken what it needs from them (long logs:
 /// their parsed cells are not kept beside the fits).
