@@ -458,6 +458,51 @@ R13_DIAGNOSE = r13([R8_DIAGNOSE, R8_APPS], ["test_battery_cli", "test_battery_fi
 # lib/virtual_robot: `generate` and the shipped logs' generators.
 R13_GENERATE = r13([R8_MODELS, R8_APPS, R3_CHARGE], R12_GENERATORS)
 
+# Round 14 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-14), planted without reading
+# the tests: each group is every test of the programs that touch the area -- round 8's groups for it,
+# as in rounds 9-13, with the ARGoS tests for argos/src and for the model headers and coefficient-file
+# code the plug-in runs (the drive's closed loops for the drive), the battery programs for the
+# battery's calibration, the generators' programs for the virtual battery's fit. R14_TESTS: no
+# round-14 test exists (the programs of rounds up to 13).
+R14_TESTS = R13_TESTS
+
+
+def r14(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R14_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R14_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+# drive.hpp (drive_advance's one-wheel path): the drive's calibration, its diagnosis, simulate --like
+# and the plug-in's drive, encoders and ToF.
+R14_DRIVE_MODEL = r14([R8_MODELS, R8_APPS, R8_DIAGNOSE, R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# geometry.hpp's rad_to_deg: the camera's calibration, reports, model files, diagnosis and the plug-in.
+R14_GEOMETRY = r14([R8_MODELS, R8_APPS, R8_CALIB, R8_COEFF, R8_DIAGNOSE, R8_ARGOS])
+# calibrated_drive.hpp (the ToF's delay line, the encoders' step register): the ARGoS groups.
+R14_ARGOS = r14([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# lib/fit (the wild replicates, the reported correlations): the fits', calibration's and diagnosis's groups.
+R14_FIT = r14([R8_FIT, R8_CALIB, R8_DIAGNOSE])
+# lib/fit problem.hpp's autodiff of several blocks: the engine's groups and the virtual battery (its
+# calibration to the published curves is the one fit of several blocks), `generate`, the shipped logs.
+R14_AUTODIFF = r14([R8_FIT, R8_APPS, R3_CHARGE], R12_GENERATORS + ["test_figures"])
+# the calibration (the drive's lagged travel, the quantisation floor, the camera's Table 4): the
+# calibration's, apps' and coefficients' groups.
+R14_CALIB = r14([R8_CALIB, R8_APPS, R8_COEFF])
+# battery.hpp's rejection: the calibration's and apps' groups with the battery programs and the figures.
+R14_BATTERY_CALIB = r14([R8_CALIB, R8_APPS], R12_BATTERY + ["test_figures"])
+# the diagnosis's kinds and noise warnings: its group, the apps' and the battery programs.
+R14_DIAGNOSE = r14([R8_DIAGNOSE, R8_APPS], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+# extended_model.cpp: the diagnosis's model files, which the coefficient readers and the plug-in read.
+R14_EXTENDED = r14([R8_DIAGNOSE, R8_APPS, R8_COEFF, R8_ARGOS], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+# model_sets.cpp (the plug-in's robot sets): the coefficients' and ARGoS groups with the ARGoS
+# battery tests and the battery programs.
+R14_COEFF = r14([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+# output.cpp (every file the program writes): the facts', hints', apps' and coefficients' groups,
+# the generators.
+R14_LOGS = r14([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_figures"])
+R14_APPS = r14([R8_APPS, R3_CHARGE, R8_CALIB], R12_BATTERY + ["test_figures"])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -1093,6 +1138,55 @@ MUTANTS = [
     ("r13_battery_speed_zero_not_covered", "lib/calibrate/src/battery_fit.cpp",
      "if (centi % 100 == 0 && centi >= 0 && centi / 100 < mb::kSpeedCount)",
      "if (centi % 100 == 0 && centi > 0 && centi / 100 < mb::kSpeedCount)", R13_BATTERY_CALIB),
+    # Round 14 (bench/fresh-slips.md): planted without reading the tests; the two lib/models header slips first.
+    ("r14_drive_symmetric_ramp_not_cut_at_tick", MD, "    if (scalar_of(ramp) > scalar_of(h)) ramp = h;\n", "",
+     R14_DRIVE_MODEL),
+    ("r14_rad_to_deg_multiplies_like_deg_to_rad", "lib/models/include/epuck2/models/geometry.hpp",
+     "return rad * (180.0 / kPi); }", "return rad * (kPi / 180.0); }", R14_GEOMETRY),
+    ("r14_argos_tof_delay_gap_takes_farther_tick", "argos/src/calibrated_drive.hpp",
+     "return (when - a.first) < (b.first - when) ? a.second : b.second;",
+     "return (when - a.first) < (b.first - when) ? b.second : a.second;", R14_ARGOS),
+    ("r14_argos_step_register_noise_at_zero", "argos/src/calibrated_drive.hpp",
+     "const double f = count == 0.0 ? 0.0 : std::floor(count + noise_steps);",
+     "const double f = std::floor(count + noise_steps);", R14_ARGOS),
+    ("r14_autodiff_later_blocks_seeded_from_slot_zero", "lib/fit/include/epuck2/fit/problem.hpp",
+     "x[offset + j] = J(parameters[b][j], offset + j);", "x[offset + j] = J(parameters[b][j], j);", R14_AUTODIFF),
+    ("r14_wild_railed_pair_flagged", "lib/fit/src/replicates.cpp", "wild[i] = on_rail[i] ? railed == 1 && dev",
+     "wild[i] = on_rail[i] ? railed >= 1 && dev", R14_FIT),
+    ("r14_correlations_reported_from_0_01", "lib/fit/include/epuck2/fit/report.hpp",
+     "inline constexpr double kReportedCorrelation = 0.1;", "inline constexpr double kReportedCorrelation = 0.01;", R14_FIT),
+    ("r14_drive_lagged_travel_without_lag", "lib/calibrate/include/epuck2/calibrate/sensors.hpp", "  slip.tau_s = tau_s;\n", "",
+     R14_CALIB),
+    ("r14_quantisation_sd_is_its_variance", "lib/calibrate/src/sensor_fit_common.hpp",
+     "constexpr double kQuantisationSd = 0.28867513459481287;", "constexpr double kQuantisationSd = 0.08333333333333333;",
+     R14_CALIB),
+    ("r14_camera_table4_left_half_dropped", "lib/calibrate/src/camera_fit.cpp",
+     "if (std::abs(offset) > s::kCameraWidth_px / 4.0 && o.lateral_m != 0.0)",
+     "if (offset > s::kCameraWidth_px / 4.0 && o.lateral_m != 0.0)", R14_CALIB),
+    ("r14_battery_reject_at_four_sd", "lib/calibrate/include/epuck2/calibrate/battery.hpp",
+     "inline constexpr double kBatteryRejectSd = 6.0;", "inline constexpr double kBatteryRejectSd = 4.0;", R14_BATTERY_CALIB),
+    ("r14_diagnose_light_first_sensor_gain_free", DK_LIGHT,
+     "for (std::size_t j = 1; j < seen.size(); ++j) gains.push_back(", "for (std::size_t j = 0; j < seen.size(); ++j) gains.push_back(",
+     R14_DIAGNOSE),
+    ("r14_implausible_noise_ratio_of_variances", "lib/diagnose/include/epuck2/diagnose/reading_noise.hpp",
+     "inline constexpr double kImplausibleNoiseRatio = 2.0;", "inline constexpr double kImplausibleNoiseRatio = 4.0;",
+     R14_DIAGNOSE),
+    ("r14_extended_proximity_c_from_b", "lib/diagnose/src/extended_model.cpp", 'm.base.c = v.base_or("c", m.base.c);',
+     'm.base.c = v.base_or("b", m.base.c);', R14_EXTENDED),
+    ("r14_pooled_set_warning_lists_agreeing_parameters", "lib/coefficients/src/model_sets.cpp",
+     'if (e.is_object() && e.value("exceeds_uncertainty", false) && e.contains("parameter")',
+     'if (e.is_object() && e.contains("parameter")', R14_COEFF),
+    ("r14_read_write_descriptor_called_read_only", "lib/logs/src/output.cpp", "if ((flags & O_ACCMODE) == O_RDONLY) return",
+     "if ((flags & O_WRONLY) == 0) return", R14_LOGS),
+    ("r14_ground_unusable_sensor_named_right", "apps/cmd_ground.cpp",
+     '"ground sensor " + models::kind_facts("ground")->sensor_name(k);',
+     '"ground sensor " + models::kind_facts("ground")->sensor_name(0);', R14_APPS),
+    ("r14_proximity_means_misfit_unchecked", "apps/cmd_proximity.cpp",
+     'require_fitting(f.means, "proximity fit to the means"', 'require_fitting(f.maxima, "proximity fit to the means"', R14_APPS),
+    ("r14_light_help_dark_is_the_low_rail", "apps/cmd_light.cpp", 'channels.front().high_rail) + " = dark, "',
+     'channels.front().low_rail) + " = dark, "', R14_APPS),
+    ("r14_help_stand_in_column_names_itself", "apps/log_help.hpp", 'c + (alt.empty() ? "" : " (or " + alt + ")");',
+     'c + (alt.empty() ? "" : " (or " + c + ")");', R14_APPS),
 ]
 
 
