@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -31,6 +32,27 @@ using epuck2::testing::slurp;
 using nlohmann::json;
 
 class RoundFourteenCli : public CliTest {};
+
+/// A CSV log's text (comments skipped, the first other line the header), as one column of
+/// numbers per name: an independent reader, not the project's.
+std::map<std::string, std::vector<double>> csv_columns(const std::string& text) {
+  std::map<std::string, std::vector<double>> columns;
+  std::vector<std::string> header;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cell;
+    std::istringstream cells(line);
+    for (std::string x; std::getline(cells, x, ',');) cell.push_back(x);
+    if (header.empty()) {
+      header = cell;
+      continue;
+    }
+    for (std::size_t k = 0; k < header.size() && k < cell.size(); ++k) columns[header[k]].push_back(std::stod(cell[k]));
+  }
+  return columns;
+}
 
 // The help's sentinels are the reader's rails (docs/logs.md, light: "4095 = dark, 0 = saturated").
 TEST_F(RoundFourteenCli, LightHelpSaysDarkIsTheTopRail) {
@@ -367,27 +389,16 @@ TEST_F(RoundFourteenCli, ASimulatedProximityDiagnosisFileReadsEquationOneWithIts
   const auto r = run("simulate proximity --like \"" + epuck2::testing::shipped_logs("proximity").front().string() +
                      "\" --coefficients \"" + file.string() + "\"");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::istringstream in(r.out);
-  std::string line;
-  std::vector<std::string> header;
+  const auto columns = csv_columns(r.out);
+  const std::vector<double>& distance = columns.at("distance_m");
+  const std::vector<double>& value = columns.at("value");
+  ASSERT_EQ(distance.size(), value.size());
   int checked = 0;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cell;
-    std::istringstream cells(line);
-    for (std::string x; std::getline(cells, x, ',');) cell.push_back(x);
-    if (header.empty()) {
-      header = cell;
-      continue;
-    }
-    double dist = -1, value = -1;
-    for (std::size_t k = 0; k < header.size() && k < cell.size(); ++k) {
-      if (header[k] == "distance_m") dist = std::stod(cell[k]);
-      if (header[k] == "value") value = std::stod(cell[k]);
-    }
-    if (dist < 0 || dist > 0.045) continue;
+  for (std::size_t i = 0; i < distance.size(); ++i) {
+    const double dist = distance[i];
+    if (dist > 0.045) continue;
     const double want = std::min(4095.0, std::max(0.0, 4095 * (a * dist * dist + b * dist + c) + offset));
-    ASSERT_NEAR(value, want, 1e-6) << "at " << dist << " m";
+    ASSERT_NEAR(value[i], want, 1e-6) << "at " << dist << " m";
     ++checked;
   }
   EXPECT_GE(checked, 1000);
@@ -399,27 +410,12 @@ TEST_F(RoundFourteenCli, ASimulatedProximityDiagnosisFileReadsEquationOneWithIts
 TEST_F(RoundFourteenCli, TheLightsSensorGainHoldsItsFirstSensorAsTheReference) {
   std::set<int> sensors;
   int first = -1;
-  for (const auto& log : epuck2::testing::shipped_logs("light")) {
-    std::istringstream in(slurp(log));
-    std::string line;
-    std::vector<std::string> header;
-    while (std::getline(in, line)) {
-      if (line.empty() || line[0] == '#') continue;
-      std::vector<std::string> cell;
-      std::istringstream cells(line);
-      for (std::string x; std::getline(cells, x, ',');) cell.push_back(x);
-      if (header.empty()) {
-        header = cell;
-        continue;
-      }
-      for (std::size_t k = 0; k < header.size(); ++k)
-        if (header[k] == "sensor") {
-          const int sensor = std::stoi(cell[k]);
-          if (first < 0) first = sensor;
-          sensors.insert(sensor);
-        }
+  for (const auto& log : epuck2::testing::shipped_logs("light"))
+    for (double x : csv_columns(slurp(log)).at("sensor")) {
+      const int sensor = static_cast<int>(x);
+      if (first < 0) first = sensor;
+      sensors.insert(sensor);
     }
-  }
   ASSERT_EQ(first, 0);
   ASSERT_EQ(sensors, (std::set<int>{0, 7}));
   const std::string out = (dir_ / "light_diagnosis.json").string();
