@@ -157,8 +157,8 @@ nlohmann::json report_json(const Report& r, const std::vector<std::string>& path
   j["kind"] = std::string(logs::to_string(r.kind));
   j["rows"] = r.rows;
   j["residuals"] = r.residuals;
-  std::vector<std::string> taken = paths;  // in the order the diagnosis took them (diagnose())
-  std::stable_sort(taken.begin(), taken.end());
+  std::vector<std::string> taken = paths;  // in the order the diagnosis took them
+  std::stable_sort(taken.begin(), taken.end(), taken_before);
   j["logs"] = taken;
   j["verdict"] = r.verdict_name();
   if (const Finding* d = r.dominant()) j["most_of_the_gain"] = d->cause;

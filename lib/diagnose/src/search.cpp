@@ -1011,9 +1011,7 @@ std::string Report::verdict_name() const {
 }
 
 namespace {
-/// The held-out test's blocks are contiguous rows: the logs are taken in the order of their paths,
-/// whatever the order they were given in, so that the same logs give the same diagnosis.
-bool by_path(const logs::Log& a, const logs::Log& b) { return a.path < b.path; }
+bool by_path(const logs::Log& a, const logs::Log& b) { return taken_before(a.path, b.path); }
 }  // namespace
 
 Report diagnose(const std::vector<logs::Log>& logs, const Options& options) {

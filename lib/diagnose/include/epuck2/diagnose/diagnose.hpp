@@ -260,8 +260,12 @@ struct Options {
 /// into battery_model; another kind's model into Options::base_model.
 void set_base_model(Options& o, const coefficients::AnyModel& m, bool discharge_model);
 
+/// The order a diagnosis takes its logs in, and lists them in its report: by path, byte order
+/// (the held-out test's blocks are contiguous rows, so the order is part of the result).
+inline bool taken_before(const std::string& a_path, const std::string& b_path) { return a_path < b_path; }
+
 /// Diagnoses logs of one kind (all of `logs` must be of that kind), taken in the order of their
-/// paths (the held-out test's blocks are contiguous rows: the same logs in any order give the same
+/// paths (taken_before) (the held-out test's blocks are contiguous rows: the same logs in any order give the same
 /// report). Never throws for numerical trouble; an unsupported kind gives `supported = false`.
 Report diagnose(const std::vector<logs::Log>& logs, const Options& options = {});
 /// The same, releasing the logs once the diagnosis has taken what it needs from them (long logs:
