@@ -74,6 +74,35 @@ std::string args_of(const std::vector<fs::path>& paths) {
   return s;
 }
 
+/// A CSV log's text cut into its head (the comment lines and the header, each with its newline)
+/// and its data rows (non-empty lines after the header; comments there skipped).
+struct LogText {
+  std::string head;
+  std::vector<std::string> rows;
+};
+LogText split_log(const std::string& text) {
+  LogText t;
+  std::istringstream in(text);
+  std::string line;
+  bool header_seen = false;
+  while (std::getline(in, line)) {
+    if (!header_seen) {
+      t.head += line + "\n";
+      header_seen = !line.empty() && line[0] != '#';
+    } else if (!line.empty() && line[0] != '#') {
+      t.rows.push_back(line);
+    }
+  }
+  return t;
+}
+
+/// `t`'s rows [from, to) as a log with t's head.
+std::string log_of(const LogText& t, std::size_t from, std::size_t to) {
+  std::string out = t.head;
+  for (std::size_t i = from; i < to && i < t.rows.size(); ++i) out += t.rows[i] + "\n";
+  return out;
+}
+
 class Metamorphic : public CliTest {
  protected:
   json calibrate(const std::string& kind, const std::vector<fs::path>& logs, const std::string& name) {
@@ -127,45 +156,17 @@ TEST_F(Metamorphic, ASensorLogSplitIntoTwoFilesCalibratesTheSame) {
   for (const std::string kind : {"proximity", "light", "ground", "camera"}) {
     const std::vector<fs::path> logs = shipped_logs(kind);
     ASSERT_GE(logs.size(), 2u) << kind;
-    std::ifstream in(logs.front());
-    std::string line, head, body_a, body_b;
-    std::vector<std::string> rows;
-    bool header_seen = false;
-    while (std::getline(in, line)) {
-      if (!header_seen) {
-        head += line + "\n";
-        if (!line.empty() && line[0] != '#') header_seen = true;
-      } else if (!line.empty()) {
-        rows.push_back(line);
-      }
-    }
-    ASSERT_GE(rows.size(), 20u) << kind;
-    for (std::size_t i = 0; i < rows.size(); ++i) (i < rows.size() / 2 + 3 ? body_a : body_b) += rows[i] + "\n";
+    const LogText t = split_log(slurp(logs.front()));
+    ASSERT_GE(t.rows.size(), 20u) << kind;
+    const std::size_t cut = t.rows.size() / 2 + 3;
     std::vector<fs::path> split{dir_ / (kind + "_first_part.csv"), dir_ / (kind + "_second_part.csv")};
-    std::ofstream(split[0]) << head << body_a;
-    std::ofstream(split[1]) << head << body_b;
+    std::ofstream(split[0]) << log_of(t, 0, cut);
+    std::ofstream(split[1]) << log_of(t, cut, t.rows.size());
     split.insert(split.end(), logs.begin() + 1, logs.end());
     const json whole = calibrate(kind, logs, kind + "_whole.json");
     const json parts = calibrate(kind, split, kind + "_parts.json");
     expect_same(whole, parts, {"noise", "logs", "sources"}, 1e-9, 100, kind + " whole against split");
   }
-}
-
-/// The data rows of a log's text (after its comment lines and header).
-std::vector<std::string> data_lines(const std::string& text) {
-  std::vector<std::string> rows;
-  std::istringstream in(text);
-  std::string line;
-  bool header_seen = false;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    if (!header_seen) {
-      header_seen = true;
-      continue;
-    }
-    rows.push_back(line);
-  }
-  return rows;
 }
 
 // Without noise, a sensor's simulated reading is a function of its row's conditions: simulating a
@@ -174,20 +175,10 @@ std::vector<std::string> data_lines(const std::string& text) {
 TEST_F(Metamorphic, ASensorSimulatedInTwoPartsReadsAsSimulatedWhole) {
   for (const std::string kind : {"proximity", "light", "ground", "camera"}) {
     const fs::path log = shipped_logs(kind).front();
-    const std::string text = slurp(log);
-    std::string head;
-    {
-      std::istringstream in(text);
-      std::string line;
-      while (std::getline(in, line)) {
-        head += line + "\n";
-        if (!line.empty() && line[0] != '#') break;
-      }
-    }
-    const std::vector<std::string> rows = data_lines(text);
+    const LogText t = split_log(slurp(log));
+    const std::vector<std::string>& rows = t.rows;
     ASSERT_GE(rows.size(), 20u) << kind;
-    std::string a = head, b = head;
-    for (std::size_t i = 0; i < rows.size(); ++i) (i < rows.size() / 3 ? a : b) += rows[i] + "\n";
+    const std::string a = log_of(t, 0, rows.size() / 3), b = log_of(t, rows.size() / 3, rows.size());
     const std::string pa = write(kind + "_part_a.csv", a), pb = write(kind + "_part_b.csv", b);
     const std::string coefficients = (fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / (kind + ".json")).string();
     const auto whole = run("simulate " + kind + " --like \"" + log.string() + "\" --coefficients \"" + coefficients + "\"");
@@ -196,10 +187,10 @@ TEST_F(Metamorphic, ASensorSimulatedInTwoPartsReadsAsSimulatedWhole) {
     ASSERT_EQ(whole.exit_code, 0) << whole.err;
     ASSERT_EQ(first.exit_code, 0) << first.err;
     ASSERT_EQ(second.exit_code, 0) << second.err;
-    std::vector<std::string> parts = data_lines(first.out);
-    const std::vector<std::string> rest = data_lines(second.out);
+    std::vector<std::string> parts = split_log(first.out).rows;
+    const std::vector<std::string> rest = split_log(second.out).rows;
     parts.insert(parts.end(), rest.begin(), rest.end());
-    const std::vector<std::string> all = data_lines(whole.out);
+    const std::vector<std::string> all = split_log(whole.out).rows;
     EXPECT_EQ(all.size(), rows.size()) << kind;
     EXPECT_TRUE(all == parts) << kind << ": the parts' simulated rows differ from the whole's";
   }
@@ -231,16 +222,6 @@ TEST_F(Metamorphic, ADiagnosisDoesNotDependOnTheOrderOfItsLogs) {
   }
 }
 
-/// Data rows of a CSV log: lines that are neither comments nor empty, less the header.
-std::size_t data_rows(const fs::path& log) {
-  std::ifstream in(log);
-  std::string line;
-  std::size_t n = 0;
-  while (std::getline(in, line))
-    if (!line.empty() && line[0] != '#') ++n;
-  return n == 0 ? 0 : n - 1;
-}
-
 // The diagnosis fits every residual it kept, a reading on a rail by its censored term: every fit
 // it reports (the recalibrated base, the final model, each finding's) has n = `residuals`, and
 // `statistics_conventions` says so (not a calibration's "readings inside the rails"). For the
@@ -256,7 +237,7 @@ TEST(DiagnosisCounts, EveryFitCountsEveryResidualTheDiagnosisKept) {
     const fs::path report = fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / "reports" / ("diagnose_" + std::string(c.kind) + ".json");
     const json j = json::parse(slurp(report));
     std::size_t rows = 0;
-    for (const auto& log : shipped_logs(c.kind)) rows += data_rows(log);
+    for (const auto& log : shipped_logs(c.kind)) rows += split_log(slurp(log)).rows.size();
     EXPECT_EQ(j.at("rows").get<std::size_t>(), rows) << c.kind;
     const auto residuals = j.at("residuals").get<std::size_t>();
     if (c.per_row > 0)
