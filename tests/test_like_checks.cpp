@@ -84,6 +84,11 @@ TEST_F(LikeChecks, TheLightFitRefusesAnRSquaredBelowZero) {
   EXPECT_FALSE(fs::exists(dir_ / "l.json"));
 }
 
+/// A camera log by hand (as camera_log below, unbent) with one wild reading: at forward 0.4 m,
+/// lateral 0, vertical 0 the fourth frame (data row 3 + 45 + 15 + 5 = 68, file line 71) reads
+/// 30 px more in `column` ("px" or "py").
+std::string camera_log_with_wild(const std::string& column);
+
 /// A camera log by hand (the pinhole of docs/fitting.md): horizontal field of view 60 deg,
 /// f = 80 / tan(30 deg) = 138.564 px, centre (80, 60); forward 0.3, 0.4, 0.5 m, lateral and
 /// vertical -0.04, 0, 0.04 m; 5 readings each with a jitter in {-1, 0, 1} px. When `bent`, every
@@ -122,6 +127,44 @@ TEST_F(LikeChecks, TheCameraFitRefusesItsOwnMisfit) {
   EXPECT_EQ(a.exit_code, 0) << a.err;
   EXPECT_NE(a.err.find("camera fit (accepted by --accept-misfit)"), std::string::npos) << a.err;
   EXPECT_TRUE(fs::exists(dir_ / "c.json"));
+}
+
+std::string camera_log_with_wild(const std::string& column) {
+  std::istringstream in(camera_log(false));
+  std::ostringstream o;
+  int line = 0;
+  for (std::string l; std::getline(in, l);) {
+    if (++line == 71) {
+      const std::size_t c = l.rfind(',');
+      const long px = std::stol(l.substr(l.rfind(',', c - 1) + 1)), py = std::stol(l.substr(c + 1));
+      l = l.substr(0, l.rfind(',', c - 1) + 1) + std::to_string(px + (column == "px" ? 30 : 0)) + ',' +
+          std::to_string(py + (column == "py" ? 30 : 0));
+    }
+    o << l << '\n';
+  }
+  return o.str();
+}
+
+// The camera's two readings are each screened: a wild px and a wild py are each left out of the
+// calibration (its outliers name file line 71) and named by the diagnosis with their column.
+// By hand: px at (0.4, 0, 0) is 80 + jitter {-1, 0, 1, 0, 1}, the fourth 80 + 30 = 110; the
+// frames 79, 80, 81, 110, 81 centre on 81 with a median absolute deviation of 1 (robust sd
+// 1.4826). py's jitter is shifted by two frames: 61, 60, 61, 59 + 30 = 89, 60, centre 61, MAD 1.
+TEST_F(LikeChecks, AWildCameraReadingIsFoundInEitherColumn) {
+  const std::pair<std::string, std::string> cases[] = {{"px", "px 110 where the readings under the same conditions centre on 81 (robust sd 1.4826)"},
+                                                       {"py", "py 89 where the readings under the same conditions centre on 61 (robust sd 1.4826)"}};
+  for (const auto& [column, words] : cases) {
+    const std::string log = write("camera_wild_" + column + ".csv", camera_log_with_wild(column));
+    const auto c = run("camera \"" + log + "\" -o " + out("c_" + column + ".json"));
+    ASSERT_EQ(c.exit_code, 0) << column << "\n" << c.err;
+    const nlohmann::json j = nlohmann::json::parse(slurp(dir_ / ("c_" + column + ".json")));
+    EXPECT_EQ(j["outliers"]["rows"], nlohmann::json::array({log + ":71"})) << column << "\n" << j["outliers"].dump();
+    const auto d = run("diagnose \"" + log + "\" -o " + out("d_" + column + ".json"));
+    ASSERT_EQ(d.exit_code, 0) << column << "\n" << d.err;
+    const nlohmann::json dj = nlohmann::json::parse(slurp(dir_ / ("d_" + column + ".json")));
+    ASSERT_EQ(dj["outliers"]["count"], 1) << column << "\n" << dj["outliers"].dump();
+    EXPECT_EQ(dj["outliers"]["rows"][0], log + ":71: " + words) << column;
+  }
 }
 
 // The drive's encoder fit checks its own lack of fit (its ToF fit is test_cli_corners'): the
