@@ -6,6 +6,7 @@
 // the paper's equations with whole-count jitter; the expected words are docs/fitting.md's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -209,6 +210,55 @@ TEST_F(LikeChecks, TheDrivesEncoderFitRefusesItsOwnMisfit) {
   EXPECT_EQ(a.exit_code, 0) << a.err;
   EXPECT_NE(a.err.find("encoder fit (accepted by --accept-misfit): R^2 = "), std::string::npos) << a.err;
   EXPECT_TRUE(fs::exists(dir_ / "d.json"));
+}
+
+/// The 1-based line and column of the `nth` (from 1) occurrence of `what` in `text`, plus `shift`
+/// characters: an independent locator for the expected error positions.
+std::string line_col(const std::string& text, const std::string& what, int nth, std::size_t shift) {
+  std::size_t at = std::string::npos;
+  for (int k = 0; k < nth; ++k) at = text.find(what, at == std::string::npos ? 0 : at + 1);
+  if (at == std::string::npos) return "(not found)";
+  at += shift;
+  const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+  const std::size_t start = text.rfind('\n', at == 0 ? 0 : at - 1);
+  return std::to_string(line) + ":" + std::to_string(start == std::string::npos ? at + 1 : at - start);
+}
+
+// Each of a battery file's speed tables is checked for its shape, not only the first (docs/
+// coefficient-files.md: `cubic` is [d, c, b, a], finite numbers): the shipped battery file with
+// speeds[3]'s cubic cut to three numbers, or its third number a string, or `speeds` an object, is
+// refused by codegen (exit 2) at the place: the array's '[', the element, the object's '{'.
+TEST_F(LikeChecks, EveryBatterySpeedTablesShapeIsCheckedAtItsPlace) {
+  const nlohmann::json shipped = nlohmann::json::parse(slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / "battery.json"));
+  ASSERT_GE(shipped.at("speeds").size(), 4u);
+  struct Case {
+    std::string name;
+    nlohmann::json file;
+    std::string anchor;  // where the error must point: the 4th (or 1st) occurrence of this text
+    int nth;
+    std::size_t shift;
+    std::string words;
+  };
+  std::vector<Case> cases;
+  nlohmann::json three = shipped;
+  three["speeds"][3]["cubic"].erase(3);
+  cases.push_back({"three", three, "\"cubic\": [", 4, 9, "speeds[3]: expected 'cubic' as [d, c, b, a] (at JSON path /speeds/3/cubic)"});
+  nlohmann::json text = shipped;
+  text["speeds"][3]["cubic"][2] = "x";
+  cases.push_back({"text", text, "\"x\"", 1, 0, "speeds[3]: 'cubic' must hold finite numbers (at JSON path /speeds/3/cubic/2)"});
+  nlohmann::json object = shipped;
+  object["speeds"] = {{"a", 1}};
+  cases.push_back({"object", object, "\"speeds\": {", 1, 10,
+                   "not a battery coefficient file: expected an object with a 'speeds' array (at JSON path /speeds)"});
+  for (const Case& c : cases) {
+    const std::string body = c.file.dump(1);
+    const std::string path = write("battery_" + c.name + ".json", body);
+    const auto r = run("codegen \"" + path + "\" -o " + out("b.hpp"));
+    EXPECT_EQ(r.exit_code, 2) << c.name << "\n" << r.err;
+    const std::string want = path + ":" + line_col(body, c.anchor, c.nth, c.shift) + ": " + c.words;
+    EXPECT_NE(r.err.find(want), std::string::npos) << c.name << ": expected \"" << want << "\" in\n" << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "b.hpp")) << c.name;
+  }
 }
 
 }  // namespace test_like_checks_cpp
