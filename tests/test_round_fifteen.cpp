@@ -43,9 +43,10 @@ TEST(RoundFifteenModels, TheEncoderRegisterUnwrapsAcrossItsRailBothWays) {
   EXPECT_EQ(ms::unwrap_steps(std::vector<double>{0, 100, 50}), (std::vector<double>{0, 100, 50}));
 }
 
-// Eq. 1 is clamped to [0, 1] before the effects are added (the plug-in's clamp01, docs/
-// plugin-models.md): a = 0, b = -30 /m, c = 1 at 0.05 m is 1 - 1.5 = -0.5, clamped to 0, so the
-// mean reading is the ambient offset alone, 100 counts; at 0.02 m it is 0.4: 100 + 0.4 x 4095.
+// Eq. 1 is clamped to [0, 1] before the effects are added (docs/diagnose.md, proximity: the base
+// is 4095 clamp01(a d^2 + b d + c), the plug-in's): a = 0, b = -30 /m, c = 1 at 0.05 m is
+// 1 - 1.5 = -0.5, clamped to 0, so the mean reading is the ambient offset alone, 100 counts; at
+// 0.02 m it is 0.4: 100 + 0.4 x 4095.
 TEST(RoundFifteenModels, TheProximityMeanClampsANegativeCurveToZero) {
   ms::ProximityCoefficients k;
   k.a_per_m2 = 0.0;
