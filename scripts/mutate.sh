@@ -465,8 +465,9 @@ R13_GENERATE = r13([R8_MODELS, R8_APPS, R3_CHARGE], R12_GENERATORS)
 # battery's calibration, the generators' programs for the virtual battery's fit. R14_TESTS: the
 # programs of rounds up to 13 and test_round_fourteen, written by the lead during round 14's run
 # (after its GO, so not in the run that scored it); the ToF delay line's case is in
-# test_argos_calibrated_drive, which the ARGoS groups build.
-R14_TESTS = R13_TESTS + ["test_round_fourteen"]
+# test_argos_calibrated_drive, which the ARGoS groups build. test_like_checks (every fit's own
+# lack-of-fit check, each camera column's screening) was written after round 14, before round 15's GO.
+R14_TESTS = R13_TESTS + ["test_round_fourteen", "test_like_checks"]
 
 
 def r14(groups, more=(), extra=(), targets=()):

@@ -7,7 +7,7 @@
 #             against the same run with k = 1 (within 0.2 %: 10 s rows over ~10^4 s);
 #   model     a file naming battery_model (a diagnosis's) and no model= in the XML: the same charges as
 #             model="simple" in the XML, unlike the Cubic's;
-#   refusals  a covariate effect in the file, tables= or behaviour= misspelt, and tables="file"
+#   refusals  a covariate effect in the file, tables=, behaviour= or model= misspelt, and tables="file"
 #             without a file each stop ARGoS at Init with a message that names the cause.
 # Expected values: the files' own numbers and lib/models' copy of the plug-in's published tables.
 #   usage: battery_options.sh ARGOS_LIBDIR WORK_DIR
@@ -76,6 +76,7 @@ refused "$WORK/covariate" "coefficients=\"$WORK/covariate.json\"" \
 refused "$WORK/tables" "coefficients=\"$WORK/partial.json\" tables=\"files\"" "tables must be 'file' .* or 'plugin' .*, not 'files'"
 refused "$WORK/behaviour" "coefficients=\"$WORK/partial.json\" behaviour=\"corected\"" "behaviour must be 'argos' or 'corrected', not 'corected'"
 refused "$WORK/nofile" "tables=\"file\"" "the attribute 'coefficients' is required"
+refused "$WORK/model" "coefficients=\"$WORK/partial.json\" model=\"cubical\"" "model must be simple, linear, cubic or approximated, not 'cubical'"
 experiment "$WORK/partial" "coefficients=\"$WORK/partial.json\" model=\"cubic\""
 grep -q "fitted tables at 5, 10, 13 cm/s, the plug-in's at 0..4, 6..9, 11, 12, 14, 15 cm/s" "$WORK/partial/log" || { cat "$WORK/partial/log"; fail "Init does not say which tables are the file's"; }
 echo "ok   Init: $(grep -o 'fitted tables at [^;]*' "$WORK/partial/log" | head -1)"

@@ -4,7 +4,8 @@
 # (noise_distribution="uniform"), a file without a noise section (a warning, noise_level's uniform
 # noise), noise_level beside a measured noise (ignored, with a warning), a noise section without the
 # sensor's channel (a warning, no noise), a misspelt noise_distribution, and a bad coefficient file
-# stopping ARGoS at Init with a message naming the file.
+# stopping ARGoS at Init with a message naming the file; curve="mean" (the means' curve), a curve
+# that is neither, and a sensor without the coefficients attribute.
 #   usage: options.sh ARGOS_LIBDIR WORK_DIR
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -40,6 +41,32 @@ got=$(tail -n 1 "$WORK/robot/proximity_argos-epuck2.csv" | cut -d, -f4)
 want=$(python3 -c "print(round((150*0.02**2 - 25*0.02 + 0.9)*4095))")
 [ "$got" = "$want" ] || fail "robot r1 reads $got at 20 mm, expected $want"
 echo "ok   robot=\"r1\": $got at 20 mm (the robot's set)"
+
+# 1b. curve="mean": the file's curve of the means (mean_a d^2 + mean_b d + mean_c), not Eq. 1's
+#     maxima; at 20 mm and 30 mm each curve read from the file by an independent reader, and the two
+#     must differ there (else the case shows nothing). 1c: curve="maxima" is no curve: Init stops.
+mkdir -p "$WORK/mean" "$WORK/badcurve"
+experiment "$WORK/mean" "coefficients=\"$ROOT/data/fitted/proximity.json\" curve=\"mean\" noise=\"false\"" "0.02:0.01:0.03" 2
+argos3 -n -z -c "$WORK/mean/exp.argos" > "$WORK/mean/log" 2>&1 || { cat "$WORK/mean/log"; fail "argos3 (curve=mean)"; }
+python3 - "$ROOT/data/fitted/proximity.json" "$WORK/mean/proximity_argos-epuck2.csv" <<'PY' || fail "curve=\"mean\""
+import json, sys
+p = json.load(open(sys.argv[1]))["parameters"]
+rows = [l.strip().split(",") for l in open(sys.argv[2]) if l[0].isdigit()]
+ok = len(rows) > 0
+for d in (0.02, 0.03):
+    mean = round(min(max(p["mean_a"] * d * d + p["mean_b"] * d + p["mean_c"], 0), 1) * 4095)
+    maxima = round(min(max(p["a"] * d * d + p["b"] * d + p["c"], 0), 1) * 4095)
+    got = {int(r[3]) for r in rows if abs(float(r[1]) - d) < 1e-9 and r[2] == "0"}  # time_s,distance_m,sensor,value
+    ok = ok and got == {mean} and mean != maxima
+    print(("ok   " if got == {mean} and mean != maxima else "FAIL ") +
+          f'curve="mean" at {d * 1000:.0f} mm: sensor 0 reads {sorted(got)}, the means\' curve {mean} (the maxima\'s {maxima})')
+sys.exit(0 if ok else 1)
+PY
+experiment "$WORK/badcurve" "coefficients=\"$ROOT/data/fitted/proximity.json\" curve=\"maxima\" noise=\"false\"" "0.02:0.01:0.02" 1
+if argos3 -n -z -c "$WORK/badcurve/exp.argos" > "$WORK/badcurve/log" 2>&1; then fail "argos3 ran with curve=\"maxima\""; fi
+grep -q "calibrated epuck2_proximity: curve must be 'max' (Eq. 1 fitted to the maxima) or 'mean'" "$WORK/badcurve/log" ||
+  { cat "$WORK/badcurve/log"; fail "no message naming the curve attribute"; }
+echo "ok   curve=\"maxima\": stopped at Init naming the attribute"
 
 # 2. noise="true" with noise.proximity.sd = 41 counts: a Gaussian of 41 counts; with
 #    noise_distribution="uniform" the plug-in's uniform noise of the same variance (level
@@ -116,6 +143,14 @@ if argos3 -n -z -c "$WORK/missing/exp.argos" > "$WORK/missing/log" 2>&1; then fa
 grep -q "calibrated epuck2_proximity: $WORK/nope.json: cannot open the file for reading" "$WORK/missing/log" ||
   { cat "$WORK/missing/log"; fail "no message naming the file"; }
 echo "ok   missing file: $(grep -o 'calibrated epuck2_proximity: .*' "$WORK/missing/log")"
+
+# 3b. no coefficients attribute at all: Init stops, saying the attribute is required
+mkdir -p "$WORK/noattr"
+experiment "$WORK/noattr" "noise=\"false\"" "0.02:0.01:0.02" 1
+if argos3 -n -z -c "$WORK/noattr/exp.argos" > "$WORK/noattr/log" 2>&1; then fail "argos3 ran without a coefficients attribute"; fi
+grep -q "calibrated epuck2_proximity: the attribute 'coefficients' is required" "$WORK/noattr/log" ||
+  { cat "$WORK/noattr/log"; fail "no message naming the missing attribute"; }
+echo "ok   no coefficients attribute: stopped at Init naming it"
 
 # 4. a diagnosis file: its effects are applied (the shipped diagnosis: ambient_offset), so that at
 #    20 mm the sensor reads 4095 clamp01(a d^2 + b d + c) + offset with the file's a, b, c and offset

@@ -153,6 +153,10 @@ TEST(StepRegister, StandingStillTheCountDoesNotChange) {
   EXPECT_EQ(r.read(0.01, -0.9), 77);
   // int16 wrap: 5 m is 38818.28 steps, read as 38818 - 65536
   EXPECT_EQ(r.read(5.0), 38818 - 65536);
+  // backwards: -5 m is floor(-38818.28) = -38819 steps, below -32768: read as -38819 + 65536
+  EXPECT_EQ(r.read(-5.0), -38819 + 65536);
+  // -1 m: floor(-7763.656) = -7764, inside the register
+  EXPECT_EQ(r.read(-1.0), -7764);
 }
 
 // latency 0.15 s at 10 ticks/s: the reading at 0.3 s is the distance at 0.15 s, halfway between

@@ -1,0 +1,264 @@
+// The second of two like checks (bench/fresh-slips.md, round 14's survivor classes): every fit
+// a sensor calibration checks for lack of fit refuses its own misfit by its own name, and only
+// that fit is named. Round 14 found `proximity` checking its maxima fit twice; the drive's ToF
+// and the ground's per-sensor fits were already covered (test_cli_corners, test_round_fourteen).
+// Here: the light fit, the camera fit and the drive's encoder fit. Every log is made by hand from
+// the paper's equations with whole-count jitter; the expected words are docs/fitting.md's.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_harness.hpp"
+
+namespace test_like_checks_cpp {
+
+namespace fs = std::filesystem;
+using epuck2::testing::CliTest;
+using epuck2::testing::slurp;
+
+class LikeChecks : public CliTest {
+ protected:
+  std::string out(const std::string& name) const { return "\"" + (dir_ / name).string() + "\""; }
+};
+
+/// A light log by hand (paper Eq. 2): gamma 0.1 m, intensity 0.5, distances 0.10, 0.15, ...,
+/// 0.50 m, 8 sensors, 6 readings each: round(4095 (1 - (0.05/d)^2)) + a jitter in {-2..2}
+/// (replicate sd about 1.5 counts). At d = 0.2 m every reading is 600 counts lower when `bent`
+/// (a misfit of hundreds of replicate sd); `shuffled` deals the readings across the distances.
+std::string light_log(bool bent, bool shuffled) {
+  const int jitter[6] = {-2, 1, 0, 2, -1, 0};
+  std::vector<double> d;
+  for (int i = 0; i <= 8; ++i) d.push_back(0.10 + 0.05 * i);
+  std::vector<int> all;
+  for (double di : d)
+    for (int s = 0; s < 8; ++s)
+      for (int k = 0; k < 6; ++k) all.push_back(static_cast<int>(std::lround(4095.0 * (1.0 - std::pow(0.05 / di, 2)))) + jitter[k]);
+  std::ostringstream o;
+  o << "# robot: hand-made\ndistance_m,intensity,sensor,value\n";
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < d.size(); ++i)
+    for (int s = 0; s < 8; ++s)
+      for (int k = 0; k < 6; ++k) {
+        int v = all[next];
+        if (shuffled) v = all[(next * 97) % all.size()];  // 97 is prime, 432 = 2^4 3^3: a permutation
+        if (bent && i == 2) v -= 600;
+        ++next;
+        o << d[i] << ",0.5," << s << ',' << v << '\n';
+      }
+  return o.str();
+}
+
+// One light fit: a reading set that misses Eq. 2 by far more than 10 replicate sd is refused
+// (exit 1, nothing written) naming the light fit; --accept-misfit writes it with a warning that
+// names it. The miss at d = 0.2 m is downwards: "the readings below it".
+TEST_F(LikeChecks, TheLightFitRefusesItsOwnMisfit) {
+  const std::string log = write("light_bent.csv", light_log(true, false));
+  const auto r = run("light \"" + log + "\" -o " + out("l.json"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("light fit: the curve misses its data"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("the readings below it"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "l.json"));
+  const auto a = run("light \"" + log + "\" --accept-misfit -o " + out("l.json"));
+  EXPECT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_NE(a.err.find("light fit (accepted by --accept-misfit): the curve misses its data"), std::string::npos) << a.err;
+  EXPECT_TRUE(fs::exists(dir_ / "l.json"));
+}
+
+// Readings dealt across the distances follow no distance: Eq. 2's curve, which must pass 1 at
+// an infinite distance, does worse than a flat line (R^2 < 0), refused naming the light fit.
+TEST_F(LikeChecks, TheLightFitRefusesAnRSquaredBelowZero) {
+  const std::string log = write("light_shuffled.csv", light_log(false, true));
+  const auto r = run("light \"" + log + "\" -o " + out("l.json"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const std::size_t at = r.err.find("light fit: R^2 = ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_LT(std::stod(r.err.substr(at + 17)), 0.0) << r.err;
+  EXPECT_NE(r.err.find("worse than a flat line"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "l.json"));
+}
+
+/// A camera log by hand (as camera_log below, unbent) with one wild reading: at forward 0.4 m,
+/// lateral 0, vertical 0 the fourth frame (data row 3 + 45 + 15 + 5 = 68, file line 71) reads
+/// 30 px more in `column` ("px" or "py").
+std::string camera_log_with_wild(const std::string& column);
+
+/// A camera log by hand (the pinhole of docs/fitting.md): horizontal field of view 60 deg,
+/// f = 80 / tan(30 deg) = 138.564 px, centre (80, 60); forward 0.3, 0.4, 0.5 m, lateral and
+/// vertical -0.04, 0, 0.04 m; 5 readings each with a jitter in {-1, 0, 1} px. When `bent`, every
+/// reading at forward 0.4 m, lateral 0.04 m sits 25 px to the right of its image.
+std::string camera_log(bool bent) {
+  const double f = 80.0 / std::tan(30.0 * std::acos(-1.0) / 180.0);
+  const int jitter[5] = {-1, 0, 1, 0, 1};
+  std::ostringstream o;
+  o << "# robot: hand-made\nforward_m,lateral_m,vertical_m,px,py\n";
+  for (double x : {0.3, 0.4, 0.5})
+    for (double y : {-0.04, 0.0, 0.04})
+      for (double z : {-0.04, 0.0, 0.04})
+        for (int k = 0; k < 5; ++k) {
+          long px = std::lround(80.0 - f * y / x) + jitter[k];
+          const long py = std::lround(60.0 - f * z / x) + jitter[(k + 2) % 5];
+          if (bent && x == 0.4 && y == 0.04) px += 25;
+          o << x << ',' << y << ',' << z << ',' << px << ',' << py << '\n';
+        }
+  return o.str();
+}
+
+// The camera fit checks its own lack of fit: the hand log as made fits (exit 0, no word on the
+// fit); bent, it misses the bent readings by about 20 px (their replicates' sd 0.84 px), "above"
+// them (a larger px), and is refused naming the camera fit; written with --accept-misfit.
+TEST_F(LikeChecks, TheCameraFitRefusesItsOwnMisfit) {
+  const auto ok = run("camera \"" + write("camera.csv", camera_log(false)) + "\" -o " + out("c0.json"));
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(ok.err.find("camera fit"), std::string::npos) << ok.err;
+  const std::string log = write("camera_bent.csv", camera_log(true));
+  const auto r = run("camera \"" + log + "\" -o " + out("c.json"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("camera fit: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("the readings above it. Nothing was written"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "c.json"));
+  const auto a = run("camera \"" + log + "\" --accept-misfit -o " + out("c.json"));
+  EXPECT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_NE(a.err.find("camera fit (accepted by --accept-misfit)"), std::string::npos) << a.err;
+  EXPECT_TRUE(fs::exists(dir_ / "c.json"));
+}
+
+std::string camera_log_with_wild(const std::string& column) {
+  std::istringstream in(camera_log(false));
+  std::ostringstream o;
+  int line = 0;
+  for (std::string l; std::getline(in, l);) {
+    if (++line == 71) {
+      const std::size_t c = l.rfind(',');
+      const long px = std::stol(l.substr(l.rfind(',', c - 1) + 1)), py = std::stol(l.substr(c + 1));
+      l = l.substr(0, l.rfind(',', c - 1) + 1) + std::to_string(px + (column == "px" ? 30 : 0)) + ',' +
+          std::to_string(py + (column == "py" ? 30 : 0));
+    }
+    o << l << '\n';
+  }
+  return o.str();
+}
+
+// The camera's two readings are each screened: a wild px and a wild py are each left out of the
+// calibration (its outliers name file line 71) and named by the diagnosis with their column.
+// By hand: px at (0.4, 0, 0) is 80 + jitter {-1, 0, 1, 0, 1}, the fourth 80 + 30 = 110; the
+// frames 79, 80, 81, 110, 81 centre on 81 with a median absolute deviation of 1 (robust sd
+// 1.4826). py's jitter is shifted by two frames: 61, 60, 61, 59 + 30 = 89, 60, centre 61, MAD 1.
+TEST_F(LikeChecks, AWildCameraReadingIsFoundInEitherColumn) {
+  const std::pair<std::string, std::string> cases[] = {{"px", "px 110 where the readings under the same conditions centre on 81 (robust sd 1.4826)"},
+                                                       {"py", "py 89 where the readings under the same conditions centre on 61 (robust sd 1.4826)"}};
+  for (const auto& [column, words] : cases) {
+    const std::string log = write("camera_wild_" + column + ".csv", camera_log_with_wild(column));
+    const auto c = run("camera \"" + log + "\" -o " + out("c_" + column + ".json"));
+    ASSERT_EQ(c.exit_code, 0) << column << "\n" << c.err;
+    const nlohmann::json j = nlohmann::json::parse(slurp(dir_ / ("c_" + column + ".json")));
+    EXPECT_EQ(j["outliers"]["rows"], nlohmann::json::array({log + ":71"})) << column << "\n" << j["outliers"].dump();
+    const auto d = run("diagnose \"" + log + "\" -o " + out("d_" + column + ".json"));
+    ASSERT_EQ(d.exit_code, 0) << column << "\n" << d.err;
+    const nlohmann::json dj = nlohmann::json::parse(slurp(dir_ / ("d_" + column + ".json")));
+    ASSERT_EQ(dj["outliers"]["count"], 1) << column << "\n" << dj["outliers"].dump();
+    EXPECT_EQ(dj["outliers"]["rows"][0], log + ":71: " + words) << column;
+  }
+}
+
+// The drive's encoder fit checks its own lack of fit (its ToF fit is test_cli_corners'): the
+// shipped drive logs with both encoder registers replaced by a sawtooth 0, 300, ..., 1800 steps
+// that does not follow the travelled distance. The encoders' line through the origin does worse
+// than a flat line (R^2 < 0): refused naming the encoder fit, before the ToF fit (whose travel
+// comes from the same encoders) is judged; with --accept-misfit, written with a warning naming it.
+TEST_F(LikeChecks, TheDrivesEncoderFitRefusesItsOwnMisfit) {
+  const std::vector<fs::path> shipped = epuck2::testing::shipped_logs("drive");
+  ASSERT_GE(shipped.size(), 10u);
+  fs::create_directories(dir_ / "saw");
+  std::string args;
+  for (const fs::path& p : shipped) {
+    std::istringstream in(slurp(p));
+    std::ofstream o(dir_ / "saw" / p.filename());
+    bool header = false;
+    int n = 0;
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty() || line[0] == '#' || !header) {
+        header = header || (!line.empty() && line[0] != '#');
+        o << line << '\n';
+        continue;
+      }
+      // time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm
+      std::vector<std::string> c;
+      std::istringstream cells(line);
+      for (std::string x; std::getline(cells, x, ',');) c.push_back(x);
+      ASSERT_EQ(c.size(), 6u) << p << ": " << line;
+      const int saw = (++n % 7) * 300;
+      o << c[0] << ',' << c[1] << ',' << c[2] << ',' << saw << ',' << saw << ',' << c[5] << '\n';
+    }
+    args += " \"" + (dir_ / "saw" / p.filename()).string() + "\"";
+  }
+  const auto r = run("drive" + args + " -o " + out("d.json"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const std::size_t at = r.err.find("encoder fit: R^2 = ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_LT(std::stod(r.err.substr(at + 19)), 0.0) << r.err;
+  EXPECT_NE(r.err.find("the curve does worse than a flat line through the readings' mean. Nothing was written"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "d.json"));
+  const auto a = run("drive" + args + " --accept-misfit -o " + out("d.json"));
+  EXPECT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_NE(a.err.find("encoder fit (accepted by --accept-misfit): R^2 = "), std::string::npos) << a.err;
+  EXPECT_TRUE(fs::exists(dir_ / "d.json"));
+}
+
+/// The 1-based line and column of the `nth` (from 1) occurrence of `what` in `text`, plus `shift`
+/// characters: an independent locator for the expected error positions.
+std::string line_col(const std::string& text, const std::string& what, int nth, std::size_t shift) {
+  std::size_t at = std::string::npos;
+  for (int k = 0; k < nth; ++k) at = text.find(what, at == std::string::npos ? 0 : at + 1);
+  if (at == std::string::npos) return "(not found)";
+  at += shift;
+  const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+  const std::size_t start = text.rfind('\n', at == 0 ? 0 : at - 1);
+  return std::to_string(line) + ":" + std::to_string(start == std::string::npos ? at + 1 : at - start);
+}
+
+// Each of a battery file's speed tables is checked for its shape, not only the first (docs/
+// coefficient-files.md: `cubic` is [d, c, b, a], finite numbers): the shipped battery file with
+// speeds[3]'s cubic cut to three numbers, or its third number a string, or `speeds` an object, is
+// refused by codegen (exit 2) at the place: the array's '[', the element, the object's '{'.
+TEST_F(LikeChecks, EveryBatterySpeedTablesShapeIsCheckedAtItsPlace) {
+  const nlohmann::json shipped = nlohmann::json::parse(slurp(fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / "battery.json"));
+  ASSERT_GE(shipped.at("speeds").size(), 4u);
+  struct Case {
+    std::string name;
+    nlohmann::json file;
+    std::string anchor;  // where the error must point: the 4th (or 1st) occurrence of this text
+    int nth;
+    std::size_t shift;
+    std::string words;
+  };
+  std::vector<Case> cases;
+  nlohmann::json three = shipped;
+  three["speeds"][3]["cubic"].erase(3);
+  cases.push_back({"three", three, "\"cubic\": [", 4, 9, "speeds[3]: expected 'cubic' as [d, c, b, a] (at JSON path /speeds/3/cubic)"});
+  nlohmann::json text = shipped;
+  text["speeds"][3]["cubic"][2] = "x";
+  cases.push_back({"text", text, "\"x\"", 1, 0, "speeds[3]: 'cubic' must hold finite numbers (at JSON path /speeds/3/cubic/2)"});
+  nlohmann::json object = shipped;
+  object["speeds"] = {{"a", 1}};
+  cases.push_back({"object", object, "\"speeds\": {", 1, 10,
+                   "not a battery coefficient file: expected an object with a 'speeds' array (at JSON path /speeds)"});
+  for (const Case& c : cases) {
+    const std::string body = c.file.dump(1);
+    const std::string path = write("battery_" + c.name + ".json", body);
+    const auto r = run("codegen \"" + path + "\" -o " + out("b.hpp"));
+    EXPECT_EQ(r.exit_code, 2) << c.name << "\n" << r.err;
+    const std::string want = path + ":" + line_col(body, c.anchor, c.nth, c.shift) + ": " + c.words;
+    EXPECT_NE(r.err.find(want), std::string::npos) << c.name << ": expected \"" << want << "\" in\n" << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "b.hpp")) << c.name;
+  }
+}
+
+}  // namespace test_like_checks_cpp
