@@ -506,6 +506,48 @@ R14_COEFF = r14([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targ
 R14_LOGS = r14([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_figures"])
 R14_APPS = r14([R8_APPS, R3_CHARGE, R8_CALIB], R12_BATTERY + ["test_figures"])
 
+# Round 15 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-15), planted without reading
+# the tests: each group is every test of the programs that touch the area -- round 8's groups for it,
+# as in rounds 9-14, with the ARGoS tests for argos/src and for the model headers and coefficient-file
+# code the plug-in runs (the drive's closed loops for the drive), the battery programs for the
+# battery's reports. R15_TESTS: the programs of rounds up to 14 and test_round_fifteen, written by
+# the lead during round 15's run (after its GO, so not in the run that scored it).
+R15_TESTS = R14_TESTS + ["test_round_fifteen"]
+
+
+def r15(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R15_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R15_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+# lib/models encoders.hpp (unwrap_steps: the drive's calibration and diagnosis) and proximity.hpp
+# (proximity_mean_raw: simulate --like, the diagnosis, the plug-in's proximity): every group that
+# reads a model, the ARGoS tests and the drive's closed loops.
+R15_MODELS = r15([R8_MODELS, R8_APPS, R8_CALIB, R8_COEFF, R8_DIAGNOSE, R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# calibrated_sensors.cpp (the proximity's surface normal on a cylinder, the ground's grey): the ARGoS groups.
+R15_ARGOS = r15([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# lib/fit (the wild replicates' groups and their limit): the fits',
+# calibration's and diagnosis's groups.
+R15_FIT = r15([R8_FIT, R8_CALIB, R8_DIAGNOSE])
+# lib/coefficients (robot_map's patterns, the proximity's means curve): the coefficients' and ARGoS
+# groups with the ARGoS battery tests and the battery programs.
+R15_COEFF = r15([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+# the calibration (proximity's range, the units check, the camera's model, the noise text): the calibration's, apps' and coefficients' groups.
+R15_CALIB = r15([R8_CALIB, R8_APPS, R8_COEFF])
+# battery_report.cpp and published.hpp (Table 5's paper rows): the calibration's and apps' groups with the battery programs and the figures.
+R15_BATTERY_CALIB = r15([R8_CALIB, R8_APPS], R12_BATTERY + ["test_figures"])
+# kind_common.hpp (the effects' parameter names, which the diagnosis's model files carry to the
+# coefficient readers and the plug-in) and screening.hpp (the ToF dropouts): the diagnosis's group,
+# the apps', coefficients' and ARGoS groups and the battery programs.
+R15_DIAGNOSE = r15([R8_DIAGNOSE, R8_APPS, R8_COEFF, R8_ARGOS], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+# json_location.cpp: where every coefficient-file error is placed (the readers, the CLI, ARGoS).
+R15_LOGS = r15([R8_COEFF, R8_FACTS, R8_APPS, R8_ARGOS])
+# apps/ (sensor_support.hpp's -o -, camera's --help, codegen's inputs): the apps', charge map's,
+# calibration's and coefficients' groups with the battery programs and the figures.
+R15_APPS = r15([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures"])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -1190,6 +1232,53 @@ MUTANTS = [
      'channels.front().low_rail) + " = dark, "', R14_APPS),
     ("r14_help_stand_in_column_names_itself", "apps/log_help.hpp", 'c + (alt.empty() ? "" : " (or " + alt + ")");',
      'c + (alt.empty() ? "" : " (or " + c + ")");', R14_APPS),
+    # Round 15 (bench/fresh-slips.md): planted without reading the tests, the lib/models headers first.
+    ("r15_unwrap_forward_wrap_subtracts", "lib/models/include/epuck2/models/encoders.hpp",
+     "if (delta < -32768.0) delta += 65536.0;", "if (delta < -32768.0) delta -= 65536.0;", R15_MODELS),
+    ("r15_proximity_mean_negative_polynomial_unclamped", "lib/models/include/epuck2/models/proximity.hpp",
+     "const T poly = fmin(fmax(proximity_polynomial(abc, distance_m), T(0.0)), T(1.0));",
+     "const T poly = fmin(proximity_polynomial(abc, distance_m), T(1.0));", R15_MODELS),
+    ("r15_argos_cylinder_normal_axes_swapped", "argos/src/calibrated_sensors.cpp",
+     "c_normal.Set(cLocal.GetX() / fRadial, cLocal.GetY() / fRadial, 0);",
+     "c_normal.Set(cLocal.GetY() / fRadial, cLocal.GetX() / fRadial, 0);", R15_ARGOS),
+    ("r15_argos_ground_grey_over_256", "argos/src/calibrated_sensors.cpp",
+     "const double fGrey = cColor.ToGrayScale() / 255.0;", "const double fGrey = cColor.ToGrayScale() / 256.0;", R15_ARGOS),
+    ("r15_wild_reading_at_six_sd", "lib/fit/include/epuck2/fit/replicates.hpp",
+     "inline constexpr double kWildReadingSd = 8.0;", "inline constexpr double kWildReadingSd = 6.0;", R15_FIT),
+    ("r15_wild_replicates_group_zero_unscreened", "lib/fit/src/replicates.cpp",
+     "if (group[i] >= 0) groups[group[i]].push_back(i);", "if (group[i] > 0) groups[group[i]].push_back(i);", R15_FIT),
+    ("r15_robot_map_pattern_matches_prefix", "lib/coefficients/src/model_sets.cpp",
+     "if (*pattern == '\\0') return *text == '\\0';", "if (*pattern == '\\0') return true;", R15_COEFF),
+    ("r15_proximity_means_curve_takes_maxima_c", "lib/coefficients/src/model_file.cpp",
+     'm.base.c = d.base1(prefix + "c");', 'm.base.c = d.base1("c");', R15_COEFF),
+    ("r15_proximity_range_undetected_from_last_detected", "lib/calibrate/src/proximity_fit.cpp",
+     "R.undetected_from_m = out.points[last + 1].distance_m;", "R.undetected_from_m = out.points[last].distance_m;",
+     R15_CALIB),
+    ("r15_implausible_range_factor_100", "lib/calibrate/include/epuck2/calibrate/plausibility.hpp",
+     "inline constexpr double kImplausibleRangeFactor = 10.0;", "inline constexpr double kImplausibleRangeFactor = 100.0;",
+     R15_CALIB),
+    ("r15_camera_model_cy_from_cx", "lib/calibrate/src/camera_report.cpp", 'm.base.cy_px = f.result.value("cy_px");',
+     'm.base.cy_px = f.result.value("cx_px");', R15_CALIB),
+    ("r15_noise_text_lists_sensors_without_readings", "lib/calibrate/src/report_text.cpp",
+     "if (n.per_sensor_n[i] > 0) {", "if (n.per_sensor_n[i] >= 0) {", R15_CALIB),
+    ("r15_paper_table5_cubic_and_approximated_swapped", "lib/calibrate/include/epuck2/calibrate/published.hpp",
+     "return ModelMse{0.0221, 0.0170, 0.0020, 0.0025}; }", "return ModelMse{0.0221, 0.0170, 0.0025, 0.0020}; }",
+     R15_BATTERY_CALIB),
+    ("r15_battery_cubic_b_unit_per_s", "lib/calibrate/src/battery_report.cpp", 'parameter(s.cubic, "b", "charge/s^2", a)',
+     'parameter(s.cubic, "b", "charge/s", a)', R15_BATTERY_CALIB),
+    ("r15_diagnose_effect_parameters_numbered_from_1", "lib/diagnose/src/kind_common.hpp",
+     'std::string(q.key) + "[" + std::to_string(k) + "]";', 'std::string(q.key) + "[" + std::to_string(k + 1) + "]";',
+     R15_DIAGNOSE),
+    ("r15_tof_in_view_margin_one_percent", "lib/diagnose/src/screening.hpp",
+     "inline constexpr double kTofInViewMargin = 0.1;", "inline constexpr double kTofInViewMargin = 0.01;", R15_DIAGNOSE),
+    ("r15_json_pointer_tilde_escapes_swapped", "lib/logs/src/json_location.cpp",
+     "token += raw[k + 1] == '0' ? '~' : '/';", "token += raw[k + 1] == '1' ? '~' : '/';", R15_LOGS),
+    ("r15_standard_output_file_not_alone", "apps/sensor_support.hpp",
+     "  if (logs::is_standard_output(o.output)) return 0;  // -o -: the file is standard output, alone\n", "", R15_APPS),
+    ("r15_camera_help_lateral_to_the_right", "apps/cmd_camera.cpp", 'lateral_m > 0 to the left."',
+     'lateral_m > 0 to the right."', R15_APPS),
+    ("r15_codegen_inputs_unchecked", "apps/cmd_codegen.cpp", "->required()->check(CLI::ExistingFile);", "->required();",
+     R15_APPS),
 ]
 
 
