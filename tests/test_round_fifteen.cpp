@@ -156,7 +156,7 @@ TEST_F(RoundFifteenCli, TheProximityRangeLiesBetweenTheLastDetectedAndTheNextDis
 
 // The report's per-sensor noise line lists the sensors that have readings, each with its count:
 // sensors 0..3, 12 distances x 6 readings = 72 each, sd sqrt(2) = 1.414; sensors 4..7 have none
-// and take the pooled sd (named as such, not listed with "(0)").
+// and take the pooled sd (named as such, not listed with "(0)"). Without replicates, no such line.
 TEST_F(RoundFifteenCli, TheNoiseLineListsOnlySensorsWithReadings) {
   const std::string log = write("p.csv", proximity_log(4, 50, true));
   const auto r = run("proximity \"" + log + "\"");
@@ -167,6 +167,21 @@ TEST_F(RoundFifteenCli, TheNoiseLineListsOnlySensorsWithReadings) {
       << r.out;
   EXPECT_EQ(r.out.find("sensor 4:"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("(0)"), std::string::npos) << r.out;
+  // One reading per distance and sensor: no replicates, the noise comes from the residuals, pooled,
+  // and no sensor has replicate readings to list.
+  std::ostringstream single;
+  single << "# robot: hand-made\ndistance_m,sensor,value\n";
+  const int jitter[8] = {-2, 1, 0, 2, -1, 0, 1, -1};
+  for (int i = 1; i <= 10; ++i)
+    for (int s = 0; s < 8; ++s) {
+      const double d = 0.005 * i;
+      single << d << ',' << s << ',' << std::lround(4095.0 * (200 * d * d - 30 * d + 1.1)) + jitter[(i + s) % 8] << '\n';
+    }
+  const auto u = run("proximity \"" + write("single.csv", single.str()) + "\"");
+  ASSERT_EQ(u.exit_code, 0) << u.err;
+  EXPECT_NE(u.out.find("Reading noise (proximity): sd "), std::string::npos) << u.out;
+  EXPECT_NE(u.out.find("from residuals"), std::string::npos) << u.out;
+  EXPECT_EQ(u.out.find("per sensor (readings)"), std::string::npos) << u.out;
 }
 
 // docs/fitting.md: a proximity distance beyond 10 x the sensor's 0.05 m ray (0.5 m) is refused,
