@@ -10,6 +10,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -258,6 +260,68 @@ TEST_F(LikeChecks, EveryBatterySpeedTablesShapeIsCheckedAtItsPlace) {
     const std::string want = path + ":" + line_col(body, c.anchor, c.nth, c.shift) + ": " + c.words;
     EXPECT_NE(r.err.find(want), std::string::npos) << c.name << ": expected \"" << want << "\" in\n" << r.err;
     EXPECT_FALSE(fs::exists(dir_ / "b.hpp")) << c.name;
+  }
+}
+
+/// docs/coefficient-files.md's `units` row of the kind's section ("### KIND (`epuck2-fit KIND -o`)"):
+/// name -> unit, as the docs write it ("1" for none; a remark in parentheses after the unit left
+/// out). The battery's `cubic`: [charge, charge/s, charge/s², charge/s³] become d, c, b, a.
+std::map<std::string, std::string> documented_units(const std::string& kind) {
+  const std::string doc = slurp(fs::path(EPUCK2_SOURCE_DIR) / "docs" / "coefficient-files.md");
+  const std::size_t section = doc.find("### " + kind + " (`epuck2-fit " + kind + " -o`)");
+  if (section == std::string::npos) return {};
+  const std::size_t row = doc.find("| `units` | ", section);
+  std::string text = doc.substr(row + 12, doc.find('\n', row) - row - 12);
+  std::map<std::string, std::string> units;
+  const std::size_t cubic = text.find("`cubic`: [");
+  if (cubic != std::string::npos) {
+    std::istringstream list(text.substr(cubic + 10, text.find(']', cubic) - cubic - 10));
+    const char* names[4] = {"d", "c", "b", "a"};
+    int k = 0;
+    for (std::string u; k < 4 && std::getline(list, u, ',');) units[names[k++]] = u.substr(u.find_first_not_of(' '));
+    return units;
+  }
+  std::istringstream entries(text);
+  for (std::string entry; std::getline(entries, entry, ';');) {
+    const std::size_t colon = entry.rfind("`: ");
+    if (colon == std::string::npos) continue;
+    std::string unit = entry.substr(colon + 3);
+    unit = unit.substr(0, unit.find(" ("));
+    unit = unit.substr(0, unit.find(" |"));
+    for (std::size_t at = entry.find('`'); at < colon; at = entry.find('`', entry.find('`', at + 1) + 1)) {
+      const std::size_t end = entry.find('`', at + 1);
+      units[entry.substr(at + 1, end - at - 1)] = unit;
+    }
+  }
+  return units;
+}
+
+// Text no test read against the facts was round 15's class of survivor (the battery report's unit
+// of b). Every parameter line of every calibration's text report ("NAME = VALUE ± SE UNIT ...")
+// carries the unit docs/coefficient-files.md gives NAME in that kind's file (a unit of 1: none
+// printed); every documented parameter the report prints is checked, and at least two per kind.
+TEST_F(LikeChecks, EveryReportedParameterCarriesItsDocumentedUnit) {
+  const std::regex line(R"(^\s*([a-z_]+) = (\S+) ± (\S+)(.*)$)");
+  for (const std::string kind : {"proximity", "light", "ground", "camera", "drive", "battery"}) {
+    const std::map<std::string, std::string> units = documented_units(kind);
+    ASSERT_GE(units.size(), 3u) << kind << ": no units row read from docs/coefficient-files.md";
+    const auto r = run(kind + epuck2::testing::shipped_args(kind));
+    ASSERT_EQ(r.exit_code, 0) << kind << "\n" << r.err;
+    std::istringstream report(r.out);
+    int checked = 0;
+    for (std::string l; std::getline(report, l);) {
+      std::smatch m;
+      if (!std::regex_match(l, m, line)) continue;
+      const auto documented = units.find(m[1].str());
+      if (documented == units.end()) continue;
+      std::string rest = m[4].str();
+      std::string unit = rest.size() > 1 && rest[0] == ' ' && rest[1] != '[' && rest[1] != '(' ? rest.substr(1) : "";
+      unit = unit.substr(0, unit.find(" ["));
+      unit = unit.substr(0, unit.find(" ("));
+      EXPECT_EQ(unit, documented->second == "1" ? "" : documented->second) << kind << ": \"" << l << "\"";
+      ++checked;
+    }
+    EXPECT_GE(checked, 2) << kind << "'s report:\n" << r.out;
   }
 }
 
