@@ -325,4 +325,49 @@ TEST_F(LikeChecks, EveryReportedParameterCarriesItsDocumentedUnit) {
   }
 }
 
+// Round 15's codegen survivor: an input check whose absence only a missing or folder input shows,
+// and the reader's own refusal stood in for it. Every file a command reads is checked alike before
+// any reading (docs/cli.md: a usage error, exit 2, naming the option or argument): a missing file
+// and a folder, for each subcommand's logs, codegen's files, simulate's --profile, --like and
+// --coefficients, and --charge-map; nist's folder. The message is CLI11's: "NAME: File does not
+// exist: PATH", "NAME: File is actually a directory: PATH".
+TEST_F(LikeChecks, EveryFileACommandReadsIsCheckedBeforeAnyReading) {
+  const std::string missing = (dir_ / "missing.csv").string();
+  fs::create_directories(dir_ / "folder");
+  const std::string folder = (dir_ / "folder").string();
+  const std::string prox = epuck2::testing::shipped_logs("proximity").front().string();
+  const std::string batt = epuck2::testing::shipped_logs("battery").front().string();
+  // (command with PATH where the input goes, the name CLI11 gives the input)
+  const std::vector<std::pair<std::string, std::string>> inputs{
+      {"proximity PATH", "logs"},
+      {"light PATH", "logs"},
+      {"ground PATH", "logs"},
+      {"camera PATH", "logs"},
+      {"drive PATH", "logs"},
+      {"battery PATH", "logs"},
+      {"table5 PATH", "logs"},
+      {"diagnose PATH", "logs"},
+      {"codegen PATH -o OUT", "files"},
+      {"simulate battery --profile PATH", "--profile"},
+      {"simulate battery --like PATH", "--like"},
+      {"simulate proximity --like PATH", "--like"},
+      {"simulate drive --like \"" + prox + "\" --coefficients PATH", "--coefficients"},
+      {"battery --charge-map PATH \"" + batt + "\"", "--charge-map"},
+      {"table5 --charge-map PATH \"" + batt + "\"", "--charge-map"}};
+  for (const auto& [command, name] : inputs)
+    for (const auto& [path, words] : std::vector<std::pair<std::string, std::string>>{
+             {missing, "File does not exist: "}, {folder, "File is actually a directory: "}}) {
+      std::string cmd = command;
+      cmd.replace(cmd.find("PATH"), 4, "\"" + path + "\"");
+      if (cmd.find("OUT") != std::string::npos) cmd.replace(cmd.find("OUT"), 3, out("o.hpp"));
+      const auto r = run(cmd);
+      EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.err;
+      EXPECT_NE(r.err.find("error: " + name + ": " + words + path), std::string::npos) << cmd << "\n" << r.err;
+    }
+  const auto nist = run("nist " + out("no_such_folder"));
+  EXPECT_EQ(nist.exit_code, 2) << nist.err;
+  EXPECT_NE(nist.err.find("error: dir: Directory does not exist: "), std::string::npos) << nist.err;
+  EXPECT_FALSE(fs::exists(dir_ / "o.hpp"));
+}
+
 }  // namespace test_like_checks_cpp
