@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
+#include "hand_logs.hpp"
 
 namespace test_like_checks_cpp {
 
@@ -87,31 +88,13 @@ TEST_F(LikeChecks, TheLightFitRefusesAnRSquaredBelowZero) {
   EXPECT_FALSE(fs::exists(dir_ / "l.json"));
 }
 
-/// A camera log by hand (as camera_log below, unbent) with one wild reading: at forward 0.4 m,
+/// The hand-made camera log (hand_logs.hpp, unbent) with one wild reading: at forward 0.4 m,
 /// lateral 0, vertical 0 the fourth frame (data row 3 + 45 + 15 + 5 = 68, file line 71) reads
 /// 30 px more in `column` ("px" or "py").
 std::string camera_log_with_wild(const std::string& column);
 
-/// A camera log by hand (the pinhole of docs/fitting.md): horizontal field of view 60 deg,
-/// f = 80 / tan(30 deg) = 138.564 px, centre (80, 60); forward 0.3, 0.4, 0.5 m, lateral and
-/// vertical -0.04, 0, 0.04 m; 5 readings each with a jitter in {-1, 0, 1} px. When `bent`, every
-/// reading at forward 0.4 m, lateral 0.04 m sits 25 px to the right of its image.
-std::string camera_log(bool bent) {
-  const double f = 80.0 / std::tan(30.0 * std::acos(-1.0) / 180.0);
-  const int jitter[5] = {-1, 0, 1, 0, 1};
-  std::ostringstream o;
-  o << "# robot: hand-made\nforward_m,lateral_m,vertical_m,px,py\n";
-  for (double x : {0.3, 0.4, 0.5})
-    for (double y : {-0.04, 0.0, 0.04})
-      for (double z : {-0.04, 0.0, 0.04})
-        for (int k = 0; k < 5; ++k) {
-          long px = std::lround(80.0 - f * y / x) + jitter[k];
-          const long py = std::lround(60.0 - f * z / x) + jitter[(k + 2) % 5];
-          if (bent && x == 0.4 && y == 0.04) px += 25;
-          o << x << ',' << y << ',' << z << ',' << px << ',' << py << '\n';
-        }
-  return o.str();
-}
+/// The hand-made camera log (hand_logs.hpp).
+std::string camera_log(bool bent) { return epuck2::testing::hand_camera_log(bent); }
 
 // The camera fit checks its own lack of fit: the hand log as made fits (exit 0, no word on the
 // fit); bent, it misses the bent readings by about 20 px (their replicates' sd 0.84 px), "above"

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
+#include "hand_logs.hpp"
 #include "epuck2/coefficients/model_sets.hpp"
 #include "epuck2/fit/replicates.hpp"
 #include "epuck2/logs/json_location.hpp"
@@ -197,26 +198,12 @@ TEST_F(RoundFifteenCli, AProximityLogInCentimetresIsRefusedBeyondTenTimesTheRay)
   EXPECT_EQ(m.exit_code, 0) << m.err;
 }
 
-/// The camera log of test_like_checks (the pinhole: fov 60 deg, centre (80, 60)), made again here.
-std::string camera_log() {
-  const double f = 80.0 / std::tan(30.0 * std::acos(-1.0) / 180.0);
-  const int jitter[5] = {-1, 0, 1, 0, 1};
-  std::ostringstream o;
-  o << "# robot: hand-made\nforward_m,lateral_m,vertical_m,px,py\n";
-  for (double x : {0.3, 0.4, 0.5})
-    for (double y : {-0.04, 0.0, 0.04})
-      for (double z : {-0.04, 0.0, 0.04})
-        for (int k = 0; k < 5; ++k)
-          o << x << ',' << y << ',' << z << ',' << std::lround(80.0 - f * y / x) + jitter[k] << ','
-            << std::lround(60.0 - f * z / x) + jitter[(k + 2) % 5] << '\n';
-  return o.str();
-}
 
 // The camera's coefficient file holds the fitted image centre, column and row apart: made with
 // (80, 60) and a mean jitter of +0.2 px on each axis, cx and cy come out within a pixel of their
 // truths, so 20 px apart (the row is never the column).
 TEST_F(RoundFifteenCli, TheCameraFileKeepsTheCentresRowApartFromItsColumn) {
-  const auto r = run("camera \"" + write("c.csv", camera_log()) + "\" -o " + q("c.json"));
+  const auto r = run("camera \"" + write("c.csv", epuck2::testing::hand_camera_log()) + "\" -o " + q("c.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json p = json::parse(slurp(dir_ / "c.json")).at("parameters");
   EXPECT_NEAR(p.at("cx_px").get<double>(), 80.0, 1.0);
