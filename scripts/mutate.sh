@@ -548,6 +548,41 @@ R15_LOGS = r15([R8_COEFF, R8_FACTS, R8_APPS, R8_ARGOS])
 # calibration's and coefficients' groups with the battery programs and the figures.
 R15_APPS = r15([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures"])
 
+# Round 16 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-16), planted without reading
+# the tests, mostly in files no earlier round slipped: each group is every test of the programs that
+# touch the area (round 8's groups for it, as in rounds 9-15), the ARGoS groups for argos/src and for
+# the coefficient-file code the plug-in reads. R16_TESTS: the programs of rounds up to 15.
+R16_TESTS = R15_TESTS
+
+
+def r16(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R16_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R16_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+# engine.cpp (the diagnosis's common covariates: which log a row is from): the diagnosis's,
+# apps' and coefficients' groups and the battery programs (the battery's diagnosis).
+R16_DIAGNOSE = r16([R8_DIAGNOSE, R8_APPS, R8_COEFF], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+# report_json.hpp (each sensor's noise in the model) and drive_report.cpp (the firmware cap's BICs):
+# the calibration's, apps' and coefficients' groups.
+R16_CALIB = r16([R8_CALIB, R8_APPS, R8_COEFF])
+# fit_curve.cpp (the bounds given to the solver): the fits' (with the Jet check), calibration's and
+# diagnosis's groups and the battery programs.
+R16_FIT = r16([R8_JET, R8_CALIB, R8_DIAGNOSE], R12_BATTERY)
+# model_sets.cpp (the coefficient files' cache): the coefficients' and ARGoS groups with the ARGoS
+# battery tests and the battery programs.
+R16_COEFF = r16([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+# argos_noise.hpp (the Gaussian noise's level): the ARGoS groups.
+R16_ARGOS = r16([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# csv_writer.cpp (LogWriter's refusal of a non-finite value) and output.cpp (the in-place target's
+# check): the facts', hints', apps' and coefficients' groups, the generators and the figures.
+R16_LOGS = r16([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_figures"])
+# apps/ (nist's order, the "did you mean" rule): the apps', charge map's, calibration's and
+# coefficients' groups with the battery programs, the figures and the NIST program.
+R16_APPS = r16([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures", "test_nist"])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -1279,6 +1314,32 @@ MUTANTS = [
      'lateral_m > 0 to the right."', R15_APPS),
     ("r15_codegen_inputs_unchecked", "apps/cmd_codegen.cpp", "->required()->check(CLI::ExistingFile);", "->required();",
      R15_APPS),
+    # Round 16 (bench/fresh-slips.md): planted without reading the tests, mostly in files no round slipped.
+    ("r16_log_covariate_from_three_logs", "lib/diagnose/src/engine.cpp",
+     'if (logs.size() > 1) p.add_row_covariate("log", std::move(which));',
+     'if (logs.size() > 2) p.add_row_covariate("log", std::move(which));', R16_DIAGNOSE),
+    ("r16_per_sensor_noise_all_first_sensor", "lib/calibrate/include/epuck2/calibrate/report_json.hpp",
+     "? c.per_sensor_sd[i] : c.sd;", "? c.per_sensor_sd[0] : c.sd;", R16_CALIB),
+    ("r16_drive_firmware_cap_bic_uncapped_is_capped", "lib/calibrate/src/drive_report.cpp",
+     '{"bic_uncapped", f.bic_uncapped}', '{"bic_uncapped", f.bic_capped}', R16_CALIB),
+    ("r16_fit_upper_bound_checked_on_lower", "lib/fit/src/fit_curve.cpp",
+     "if (std::isfinite(parameters[j].upper)) problem.set_upper_bound(",
+     "if (std::isfinite(parameters[j].lower)) problem.set_upper_bound(", R16_FIT),
+    ("r16_coefficient_cache_ignores_modification_time", "lib/coefficients/src/model_sets.cpp",
+     "it->second.size == size && it->second.modified == modified", "it->second.size == size", R16_COEFF),
+    ("r16_argos_gaussian_noise_level_half", "argos/src/argos_noise.hpp", "levels_[i] = 1.0;", "levels_[i] = 0.5;",
+     R16_ARGOS),
+    ("r16_log_writer_rows_numbered_from_0", "lib/logs/src/csv_writer.cpp",
+     'throw std::domain_error("row " + std::to_string(rows_.size() + 1)',
+     'throw std::domain_error("row " + std::to_string(rows_.size())', R16_LOGS),
+    ("r16_closed_stdout_called_descriptor_1", "lib/logs/src/output.cpp",
+     "const std::string which = t.descriptor == STDOUT_FILENO ?", "const std::string which = t.descriptor == STDERR_FILENO ?",
+     R16_LOGS),
+    ("r16_nist_order_reversed", "apps/cmd_nist.cpp", "return rank(a) != rank(b) ? rank(a) < rank(b) : a < b;",
+     "return rank(a) != rank(b) ? rank(a) > rank(b) : a < b;", R16_APPS),
+    ("r16_did_you_mean_half_of_shorter_word", "apps/app_support.cpp",
+     "if (d < best_distance && 2 * d < std::max(w.size(), c.size())) {",
+     "if (d < best_distance && 2 * d < std::min(w.size(), c.size())) {", R16_APPS),
 ]
 
 
