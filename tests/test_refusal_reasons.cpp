@@ -207,4 +207,52 @@ TEST_F(RefusalReasons, AnEmptyOutputNameIsRefusedByEveryCommand) {
   }
 }
 
+// A warning is a reason too: battery logs whose voltage_v never varies cannot give a voltage->charge
+// map; the charge column still gives the tables, and the run says why the map is missing (in the
+// report's warnings and on standard error), writing no `charge_map`.
+TEST_F(RefusalReasons, BatteryLogsWithAConstantVoltageSayWhyThereIsNoChargeMap) {
+  std::string args;
+  for (const auto& p : epuck2::testing::shipped_logs("battery", "robot-a")) {
+    std::ifstream in(p);
+    std::string text, line;
+    while (std::getline(in, line)) {
+      if (!line.empty() && line[0] >= '0' && line[0] <= '9') line = line.substr(0, line.rfind(',')) + ",3.7";  // voltage_v last
+      text += line + "\n";
+    }
+    args += " \"" + write(p.filename().string(), text) + "\"";
+  }
+  const fs::path out = dir_ / "b.json";
+  const auto r = run("battery" + args + " -o \"" + out.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: no voltage->charge map: voltage_v does not vary"), std::string::npos) << r.err;
+  const json j = json::parse(epuck2::testing::slurp(out));
+  EXPECT_FALSE(j.contains("charge_map"));
+  bool said = false;
+  for (const auto& w : j.at("warnings")) said = said || w.get<std::string>().find("no voltage->charge map") != std::string::npos;
+  EXPECT_TRUE(said) << j.at("warnings").dump();
+}
+
+// A diagnosis with too few rows judges nothing and says so in its warnings as well as in its
+// message: 8 rows of one light log (the minimum is far above 8 for any fold count).
+TEST_F(RefusalReasons, ADiagnosisOfTooFewRowsWarnsThatNoEffectWasJudged) {
+  std::ifstream in(fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "light" / "light_intensity_0.50.csv");
+  std::string text, line;
+  int rows = 0;
+  while (std::getline(in, line) && rows < 8) {
+    text += line + "\n";
+    if (!line.empty() && line[0] >= '0' && line[0] <= '9') ++rows;
+  }
+  const std::string log = write("tiny.csv", text);
+  const fs::path out = dir_ / "d.json";
+  const auto r = run("diagnose \"" + log + "\" -o \"" + out.string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(epuck2::testing::slurp(out));
+  EXPECT_EQ(j.at("rows").get<int>(), 8);
+  EXPECT_TRUE(j.at("findings").empty());
+  bool said = false;
+  for (const auto& w : j.at("warnings")) said = said || w.get<std::string>().find("No effect was judged") != std::string::npos;
+  EXPECT_TRUE(said) << j.at("warnings").dump();
+  EXPECT_NE(r.err.find("warning: too few rows (8)"), std::string::npos) << r.err;
+}
+
 }  // namespace test_refusal_reasons_cpp
