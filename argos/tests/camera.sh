@@ -7,6 +7,8 @@
 #   distortion a diagnosis-like file with radial_distortion k1 = -0.3 and the centre at 80.4, 60.7;
 #   noise      noise.camera 1.5 px: the readings' sd about the sub-pixel projection is
 #              sqrt(1.5^2 + 1/12) within 10 %;
+#   turned     the plain file on a robot turned about z (yaw 180 and 90; the grid is in the camera's
+#              frame): the same blobs as the plain run, every one at the rounded projection;
 #   range      the file's parameters.range_m 0.25 (the entity's own is 1 m): no LED farther
 #              forward than 0.25 m is seen, the nearer ones are;
 #   refusal    a covariate effect stops ARGoS at Init naming it.
@@ -24,6 +26,8 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 d.pop("robots", None)  # one robot: no pooled-set warning
 json.dump(d, open(sys.argv[2] + "/plain.json", "w"))
+json.dump(d, open(sys.argv[2] + "/yaw180.json", "w"))
+json.dump(d, open(sys.argv[2] + "/yaw90.json", "w"))
 d["parameters"]["range_m"] = 0.25
 json.dump(d, open(sys.argv[2] + "/range.json", "w"))
 d["parameters"]["range_m"] = 1.0  # the shipped file's
@@ -36,14 +40,18 @@ json.dump(d, open(sys.argv[2] + "/noise.json", "w"))
 d["effects"] = {"covariate:temperature_c": {"slope": 0.1, "centre": 25}}
 json.dump(d, open(sys.argv[2] + "/covariate.json", "w"))
 PY
-run() {  # name noise samples
+run() {  # name noise samples [yaw]
   local dir="$WORK/$1"; mkdir -p "$dir"
-  sed -e "s|output_dir=\"[^\"]*\"|output_dir=\"$dir\"|" -e "s|coefficients=\"[^\"]*\"|coefficients=\"$WORK/$1.json\"|" \
+  sed -e "s|<body position=\"0,0,0\" orientation=\"0,0,0\" />|<body position=\"0,0,0\" orientation=\"${4:-0},0,0\" />|" \
+      -e "s|output_dir=\"[^\"]*\"|output_dir=\"$dir\"|" -e "s|coefficients=\"[^\"]*\"|coefficients=\"$WORK/$1.json\"|" \
       -e "s|noise=\"false\"|noise=\"$2\"|" -e "s|samples=\"[^\"]*\"|samples=\"$3\"|" \
       "$ROOT/argos/experiments/camera.argos" > "$dir/exp.argos"
   argos3 -n -z -c "$dir/exp.argos" > "$dir/log" 2>&1
 }
 run plain false 1 || { cat "$WORK/plain/log"; fail "argos3 (plain)"; }
+run yaw180 false 1 180 || { cat "$WORK/yaw180/log"; fail "argos3 (yaw 180)"; }
+run yaw90 false 1 90 || { cat "$WORK/yaw90/log"; fail "argos3 (yaw 90)"; }
+grep -q 'orientation="180,0,0"' "$WORK/yaw180/exp.argos" || fail "the yaw was not set"
 run range false 1 || { cat "$WORK/range/log"; fail "argos3 (range)"; }
 run distortion false 1 || { cat "$WORK/distortion/log"; fail "argos3 (distortion)"; }
 run noise true 20 || { cat "$WORK/noise/log"; fail "argos3 (noise)"; }
@@ -70,6 +78,13 @@ for name in ("plain", "distortion"):
     ok = r and not wrong
     print(("ok   " if ok else "FAIL ") + f"{name}: {len(r)} blobs, {len(wrong)} off the rounded projection" +
           (f" (first: {wrong[0]}, wanted {mean(name, *wrong[0][:3])})" if wrong else ""))
+    bad += not ok
+# A turned robot sees the grid as the plain one does (the LEDs are placed in the camera's frame).
+for name in ("yaw180", "yaw90"):
+    r, whole = rows(name), rows("plain")
+    wrong = [row for row in r if (row[3], row[4]) != tuple(float(round(m)) for m in mean(name, *row[:3]))]
+    ok = len(r) == len(whole) > 0 and not wrong
+    print(("ok   " if ok else "FAIL ") + f"{name}: {len(r)} blobs (plain: {len(whole)}), {len(wrong)} off the rounded projection")
     bad += not ok
 # The range: the grid runs 0.15-0.4 m forward; with range_m 0.25 the LEDs at 0.3 m and beyond are out
 # of range, those at 0.15 and 0.2 m in (at most 0.2 m forward, 0.06 m aside and 0.03 m up: < 0.22 m away).

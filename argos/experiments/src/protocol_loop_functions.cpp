@@ -2,6 +2,8 @@
 // formats epuck2-fit reads, one kind each):
 //   proximity  time_s,distance_m,sensor,value        PROX0 facing a wall at 0, 5, ..., 60 mm
 //   ground     grey,sensor,value                     the whole floor at greys 0, 0.1, ..., 1
+//              (with black_below_x="X": the floor is black where x < X, so that which sensor reads
+//              the grey depends on where the robot's pose puts it)
 //   light      distance_m,intensity,sensor,value     a light on sensor 0's then sensor 7's axis
 //   drive      time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm
 //              towards / away from an obstacle 0.3 m ahead of the ToF sensor, one run per speed
@@ -108,6 +110,10 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       std::string str = "0:0.1:1";
       GetNodeAttributeOrDefault(t_tree, "greys", str, str);
       for (Real g : ParseList(str)) m_vecSteps.push_back(std::round(g * 255.0) / 255.0);  // 8-bit floor colours
+      if (NodeAttributeExists(t_tree, "black_below_x")) {
+        GetNodeAttribute(t_tree, "black_below_x", m_fBlackBelowX);
+        m_bBlackBelow = true;
+      }
       Open(m_strOutDir + "/ground_" + m_strRobot + ".csv", "grey,sensor,value",
            {"protocol: ARGoS, the whole floor at each grey (8-bit colour, grey = level/255)"});
       /* Several robots (a swarm, each with its own set): every other robot's log too, named and
@@ -247,7 +253,8 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
 
   bool IsExperimentFinished() override { return m_bDone; }
 
-  CColor GetFloorColor(const CVector2&) override {
+  CColor GetFloorColor(const CVector2& c_pos) override {
+    if (m_strKind == "ground" && m_bBlackBelow && c_pos.GetX() < m_fBlackBelowX) return CColor::BLACK;
     if (m_bReplay && m_strKind == "ground") {
       const UInt8 v = static_cast<UInt8>(std::lround(m_fReplayGrey * 255.0));
       return CColor(v, v, v);
@@ -628,6 +635,9 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   bool m_bReplay = false;
   std::map<std::string, std::vector<Real>> m_mapReplayDiff;  ///< per reading column: ARGoS - log, row by row
   Real m_fReplayGrey = 1.0;
+  /* ground with black_below_x: the floor is black where x < m_fBlackBelowX */
+  bool m_bBlackBelow = false;
+  Real m_fBlackBelowX = 0;
   std::vector<SBatteryRun> m_vecBattery;
 };
 
