@@ -258,7 +258,9 @@ void print_figure_warnings(const std::string& command) {
 
 std::string why_not_writable(const std::string& path, bool folder_allowed) {
   namespace fs = std::filesystem;
-  if (path.empty()) return std::string();
+  // An empty name (an unset shell variable, `-o "$OUT"`) would otherwise read as no -o at all:
+  // the report on the terminal, exit 0 and no file.
+  if (path.empty()) return "an empty file name; give the name of the file to write (or - for standard output)";
   const std::string shown = "'" + logs::escape_control(path) + "'";
   // Standard output, a descriptor, a device or a FIFO: written in place, never renamed over.
   if (logs::output_target(path).way != logs::OutputWay::replace) {

@@ -553,7 +553,8 @@ R15_APPS = r15([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_fi
 # touch the area (round 8's groups for it, as in rounds 9-15), the ARGoS groups for argos/src and for
 # the coefficient-file code the plug-in reads. R16_TESTS: the programs of rounds up to 15.
 # test_round_sixteen: written by the lead during round 16's run (after its GO, not in the run that scored it).
-R16_TESTS = R15_TESTS + ["test_round_sixteen"]
+# test_refusal_reasons (each refusal's own reason, on inputs only that rule refuses): before round 17's GO.
+R16_TESTS = R15_TESTS + ["test_round_sixteen", "test_refusal_reasons"]
 
 
 def r16(groups, more=(), extra=(), targets=()):
