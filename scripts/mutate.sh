@@ -585,6 +585,48 @@ R16_LOGS = r16([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_
 # coefficients' groups with the battery programs, the figures and the NIST program.
 R16_APPS = r16([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures", "test_nist"])
 
+# Round 17 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-17), planted without reading
+# the tests, in functions and branches no earlier round visited (and the few unvisited files with
+# behaviour: lib/fit parameter.hpp): each group is every test of the programs that touch the area
+# (round 8's groups for it, as in rounds 9-16), the ARGoS groups for argos/src and for the model
+# header and coefficient-file code the plug-in reads. R17_TESTS: the programs of rounds up to 16.
+R17_TESTS = list(R16_TESTS) + ["test_round_seventeen"]  # written during round 17's run (after its GO, not in the run that scored it)
+
+
+def r17(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R17_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R17_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+# camera.hpp (aperture_from_horizontal_fov_rad: the camera's report and model files, the virtual
+# robot's camera, the plug-in's camera cone): every group that reads a model, the generators, the
+# ARGoS tests and the drive's closed loops.
+R17_MODELS = r17([R8_MODELS, R8_APPS, R8_CALIB, R8_COEFF, R8_DIAGNOSE, R8_ARGOS], R12_GENERATORS,
+                 extra=("argos_closed_loop_drive_",))
+# calibrated_sensors.cpp (the camera's search box, the ground sensors' positions): the ARGoS groups.
+R17_ARGOS = r17([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# lib/fit (parameter.hpp's free_parameters, problem.cpp's readings_block, fit_curve.hpp's linear
+# start): the fits' (with the Jet check), calibration's and diagnosis's groups, the battery
+# programs and the NIST program.
+R17_FIT = r17([R8_JET, R8_CALIB, R8_DIAGNOSE], R12_BATTERY + ["test_nist"])
+# lib/coefficients (add_robot_set's restore, the light's per-sensor numbers, the battery keys'
+# "did you mean"): the coefficients' and ARGoS groups with the ARGoS battery tests and the battery programs.
+R17_COEFF = r17([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+# the calibration (report_text.cpp's method and noise lines, the proximity's range): the
+# calibration's, apps' and coefficients' groups.
+R17_CALIB = r17([R8_CALIB, R8_APPS, R8_COEFF])
+# the diagnosis (the camera's image_row covariate, the drive's spike screening): the diagnosis's,
+# apps' and coefficients' groups and the battery programs.
+R17_DIAGNOSE = r17([R8_DIAGNOSE, R8_APPS, R8_COEFF], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+# log.cpp (CRLF lines, escape_control): the facts', hints', apps' and coefficients' groups, the
+# generators and the figures.
+R17_LOGS = r17([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_figures"])
+# apps/ (simulate --like's unseen rows and metadata, --skip-bad-rows' report): the apps', charge
+# map's, calibration's and coefficients' groups with the battery programs, the figures and NIST.
+R17_APPS = r17([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures", "test_nist"])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -1342,6 +1384,52 @@ MUTANTS = [
     ("r16_did_you_mean_half_of_shorter_word", "apps/app_support.cpp",
      "if (d < best_distance && 2 * d < std::max(w.size(), c.size())) {",
      "if (d < best_distance && 2 * d < std::min(w.size(), c.size())) {", R16_APPS),
+    # Round 17 (bench/fresh-slips.md): planted without reading the tests; the lib/models header first.
+    ("r17_camera_aperture_over_height", MC, "return std::atan(std::tan(hfov_rad / 2.0) * std::sqrt(w * w + h * h) / w);",
+     "return std::atan(std::tan(hfov_rad / 2.0) * std::sqrt(w * w + h * h) / h);", R17_MODELS),
+    ("r17_argos_camera_box_abs_dropped", AS, "const CVector3 cHalf(Abs(cCorner.GetX()) + fHalfSide,",
+     "const CVector3 cHalf(cCorner.GetX() + fHalfSide,", R17_ARGOS),
+    ("r17_argos_ground_offset_not_rotated", AS, "    cSensorPos.Rotate(cRotZ);\n", "", R17_ARGOS),
+    ("r17_free_parameters_more_starts_accepted", "lib/fit/include/epuck2/fit/parameter.hpp",
+     "if (names.size() != starts.size())", "if (names.size() > starts.size())", R17_FIT),
+    ("r17_readings_block_channel_length_unchecked", "lib/fit/src/problem.cpp",
+     "if (static_cast<std::size_t>(latent.residuals) != readings.size() || (!channel.empty() && channel.size() != readings.size()))",
+     "if (static_cast<std::size_t>(latent.residuals) != readings.size())", R17_FIT),
+    ("r17_linear_start_moves_fixed_first_parameter", "lib/fit/include/epuck2/fit/fit_curve.hpp",
+     "if (j >= 0 && j < P) free_column[static_cast<std::size_t>(j)] = false;",
+     "if (j > 0 && j < P) free_column[static_cast<std::size_t>(j)] = false;", R17_FIT),
+    ("r17_refused_robot_set_left_in_file", MF, '    else j.erase("robots");\n', "", R17_COEFF),
+    ("r17_light_per_sensor_fractional_number", MF,
+     "if (!(k >= 0 && k < static_cast<double>(s::kProximityCount)) || k != std::floor(k))",
+     "if (!(k >= 0 && k < static_cast<double>(s::kProximityCount)))", R17_COEFF),
+    ("r17_battery_key_hint_two_edits_only", "lib/coefficients/src/battery_tables.cpp",
+     "std::size_t best_d = std::max<std::size_t>(2, it.key().size() / 3) + 1;",
+     "std::size_t best_d = std::min<std::size_t>(2, it.key().size() / 3) + 1;", R17_COEFF),
+    ("r17_report_method_censoring_kept_without_rails", "lib/calibrate/src/report_text.cpp",
+     "!has_rails && at != std::string::npos) method.erase(", "has_rails && at != std::string::npos) method.erase(", R17_CALIB),
+    ("r17_noise_text_groups_when_not_replicates", "lib/calibrate/src/report_text.cpp",
+     'if (n.from == "replicates") out(" in %zu groups", n.groups);',
+     'if (n.from != "replicates") out(" in %zu groups", n.groups);', R17_CALIB),
+    ("r17_proximity_range_farthest_distance_unchecked", "lib/calibrate/src/proximity_fit.cpp",
+     "for (std::size_t i = 0; i < out.points.size(); ++i)\n      if (detected(out.points[i].distance_m)) last = i;",
+     "for (std::size_t i = 0; i + 1 < out.points.size(); ++i)\n      if (detected(out.points[i].distance_m)) last = i;",
+     R17_CALIB),
+    ("r17_diagnose_camera_image_row_is_column", DK_CAMERA, "image_row.push_back(nominal_row);",
+     "image_row.push_back(nominal_column);", R17_DIAGNOSE),
+    ("r17_drive_spike_on_command_change_dropped", SC, "if (!(std::abs(d[i]) > limit) || !repeats(i)) continue;",
+     "if (!(std::abs(d[i]) > limit)) continue;", R17_DIAGNOSE),
+    ("r17_drive_spike_message_right_neighbour_is_left", SC, '" and " + logs::format_number(y[i + 1], 6) +',
+     '" and " + logs::format_number(y[i - 1], 6) +', R17_DIAGNOSE),
+    ("r17_log_crlf_two_line_ends", LR, "if (s[i] == '\\r' && i + 1 < s.size() && s[i + 1] == '\\n') ++i;",
+     "if (s[i] == '\\r' && i + 1 < s.size() && s[i + 1] == '\\r') ++i;", R17_LOGS),
+    ("r17_log_space_escaped", LR, "if ((c < 0x20 && c != '\\t') || c == 0x7f) {",
+     "if ((c <= 0x20 && c != '\\t') || c == 0x7f) {", R17_LOGS),
+    ("r17_like_first_unseen_is_second", "apps/cmd_simulate_like.cpp", "if (simulated[i].empty() && unseen++ == 0) first_unseen = i;",
+     "if (simulated[i].empty() && unseen++ == 1) first_unseen = i;", R17_APPS),
+    ("r17_like_seed_key_capitalised", "apps/cmd_simulate_like.cpp", 'if (k != "seed") w.metadata(k, v);',
+     'if (k != "Seed") w.metadata(k, v);', R17_APPS),
+    ("r17_skipped_rows_first_10_at_exactly_10", "apps/app_support.cpp", '(total > 10 ? ", the first 10:" : ":")',
+     '(total >= 10 ? ", the first 10:" : ":")', R17_APPS),
 ]
 
 
