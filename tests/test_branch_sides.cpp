@@ -6,11 +6,15 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <filesystem>
+#include <fstream>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
 #include "epuck2/models/battery.hpp"
@@ -19,6 +23,7 @@
 namespace test_branch_sides_cpp {
 
 namespace mb = epuck2::models::battery;
+namespace fs = std::filesystem;
 
 // The corrected approximated model picks the segment whose band holds the charge; a charge above
 // the first band takes the first segment (the plug-in's quirk takes the last, M4: that side is
@@ -137,6 +142,98 @@ TEST_F(BranchSidesCli, ALongGapBetweenRowsIsSimulatedAsShortSteps) {
               0.9603929712 - 1.9429015609e-04 * t + 3.4602913169e-08 * t * t - 2.5372952124e-12 * t * t * t, 1e-3);
   EXPECT_NEAR(last_charge(three_log, "cubic"),
               0.9603929712 - 1.9429015609e-04 * t + 3.4602913169e-08 * t * t - 2.5372952124e-12 * t * t * t, 1e-3);
+}
+
+// A voltage-only log through a charge map (`battery --charge-map`): every voltage outside the
+// map's range is clamped and counted, and the report lists where the first 10 are (docs/coefficient-files.md:
+// clamped_rows, "the first 10"). 12 rows at 4.6 V (above any cell's 4.2 V) and 3 at 2.9 V (below
+// the power-off threshold): 12 above, 3 below, 10 listed, the file's first 10 data lines (the test
+// counts the lines it wrote).
+TEST_F(BranchSidesCli, EveryClampedVoltageIsCountedAndTheFirstTenListed) {
+  const fs::path shipped = fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "battery" / "robot-a_speed-05.csv";
+  std::istringstream in(epuck2::testing::slurp(shipped));
+  std::string line, text;
+  int line_no = 0, data_rows = 0;
+  std::vector<int> high_lines;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line[0] == '#') {
+      text += line + "\n";
+      continue;
+    }
+    std::vector<std::string> c;
+    std::stringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
+    ASSERT_EQ(c.size(), 4u) << line;  // time_s,speed_cm_s,charge,voltage_v
+    if (c[0] == "time_s") {
+      text += "time_s,speed_cm_s,voltage_v\n";
+      continue;
+    }
+    std::string v = c[3];
+    if (data_rows < 12) {
+      v = "4.6";
+      high_lines.push_back(line_no);
+    } else if (data_rows >= 100 && data_rows < 103) {
+      v = "2.9";
+    }
+    ++data_rows;
+    text += c[0] + "," + c[1] + "," + v + "\n";
+  }
+  const std::string log = write("v5.csv", text);
+  const std::string map = (fs::path(EPUCK2_SOURCE_DIR) / "data" / "fitted" / "battery.json").string();
+  const epuck2::testing::CliRun r = run("battery \"" + log + "\" --charge-map \"" + map + "\" --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json c = j.at("charge_conversion");
+  EXPECT_EQ(c.at("clamped_above_range"), 12);
+  EXPECT_EQ(c.at("clamped_below_range"), 3);
+  ASSERT_EQ(c.at("clamped_rows").size(), 10u) << c.dump();
+  for (std::size_t k = 0; k < 10; ++k)
+    EXPECT_EQ(c.at("clamped_rows").at(k).get<std::string>(), log + ":" + std::to_string(high_lines[k]) + " (4.6000 V)");
+  EXPECT_NE(r.err.find("15 voltages outside the charge map's range"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(3 below, 12 above)"), std::string::npos) << r.err;
+}
+
+// A proximity curve that reads under 5 % of full scale at contact (c < 0.05) is said to be
+// implausible (a sensor touching a surface reads near full scale); one at 8 % is not. Readings
+// 4095 c (1 - d / 0.05)^2 by hand, c = 0.03 and 0.08, six a distance 0..50 mm, noise sd 2 counts
+// (seeded).
+TEST_F(BranchSidesCli, AProximityCurveFaintAtContactIsSaidToBe) {
+  auto log_for = [&](double c, const std::string& name) {
+    std::string text = "# robot: weak-sensor\ntime_s,distance_m,sensor,value\n";
+    std::uint64_t state = 3;
+    auto unit = [&] { state = state * 6364136223846793005ULL + 1442695040888963407ULL; return ((state >> 11) + 0.5) / 9007199254740992.0; };
+    double t = 0;
+    for (int i = 0; i <= 10; ++i) {
+      const double d = i * 0.005, v = c * (1 - d / 0.05) * (1 - d / 0.05);
+      for (int k = 0; k < 6; ++k) {
+        const double noise = 2 * std::sqrt(-2 * std::log(unit())) * std::cos(2 * M_PI * unit());
+        const long reading = std::lround(std::clamp(4095 * v + noise, 0.0, 4095.0));
+        text += std::to_string(t) + "," + std::to_string(d) + ",0," + std::to_string(reading) + "\n";
+        t += 0.05;
+      }
+    }
+    return write(name, text);
+  };
+  const epuck2::testing::CliRun faint = run("proximity \"" + log_for(0.03, "faint.csv") + "\"");
+  for (const char* fit : {"maxima fit", "means fit"})
+    EXPECT_NE(faint.err.find(std::string(fit) + ": the curve reads under 5 % of full scale at contact (c = 0.0"), std::string::npos)
+        << fit << "\n" << faint.err;
+  const epuck2::testing::CliRun fair = run("proximity \"" + log_for(0.08, "fair.csv") + "\"");
+  EXPECT_EQ(fair.err.find("under 5 % of full scale at contact"), std::string::npos) << fair.err;
+}
+
+// diagnose --coefficients fitted names its base as the compiled-in fitted battery tables; plugin
+// (or none) as the plug-in's model with the coefficients given (docs/diagnose.md).
+TEST_F(BranchSidesCli, TheDiagnosisNamesTheBaseItWasGiven) {
+  const std::string log = "\"" + (fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "battery" / "robot-a_speed-05.csv").string() + "\"";
+  const epuck2::testing::CliRun fitted = run("diagnose " + log + " --coefficients fitted");
+  ASSERT_EQ(fitted.exit_code, 0) << fitted.err;
+  EXPECT_NE(fitted.out.find("The plug-in's model with the CLI's compiled-in fitted battery tables, before recalibration"),
+            std::string::npos) << fitted.out;
+  const epuck2::testing::CliRun plugin = run("diagnose " + log + " --coefficients plugin");
+  ASSERT_EQ(plugin.exit_code, 0) << plugin.err;
+  EXPECT_NE(plugin.out.find("The plug-in's model with the coefficients given, before recalibration"), std::string::npos) << plugin.out;
 }
 
 }  // namespace test_branch_sides_cpp
