@@ -236,4 +236,51 @@ TEST_F(BranchSidesCli, TheDiagnosisNamesTheBaseItWasGiven) {
   EXPECT_NE(plugin.out.find("The plug-in's model with the coefficients given, before recalibration"), std::string::npos) << plugin.out;
 }
 
+// The battery's per-speed fits correct their errors by the AR(1) factor; the reason they are not
+// cluster-robust depends on the number of runs (docs/fitting.md): with 4 runs at a speed, "4 runs:
+// too few ... (cluster-robust needs 5)"; with 5, "not computed for the battery's fits". Five
+// copies of a shipped run, each with its own seeded noise on the charge (sd 0.01).
+TEST_F(BranchSidesCli, TheBatteryFitsSayWhyTheyAreNotClusterRobustAtFourAndFiveRuns) {
+  const fs::path shipped = fs::path(EPUCK2_SOURCE_DIR) / "data" / "raw" / "battery" / "robot-a_speed-05.csv";
+  const std::string text = epuck2::testing::slurp(shipped);
+  std::vector<std::string> copies;
+  for (int k = 0; k < 5; ++k) {
+    std::uint64_t state = 11 + k;
+    auto unit = [&] { state = state * 6364136223846793005ULL + 1442695040888963407ULL; return ((state >> 11) + 0.5) / 9007199254740992.0; };
+    std::istringstream in(text);
+    std::string line, out;
+    bool header = false;
+    while (std::getline(in, line)) {
+      if (line.rfind("# robot:", 0) == 0) {
+        out += "# robot: copy-" + std::to_string(k) + "\n";
+        continue;
+      }
+      if (line.empty() || line[0] == '#' || !header) {
+        header = header || (!line.empty() && line[0] != '#');
+        out += line + "\n";
+        continue;
+      }
+      std::vector<std::string> c;
+      std::stringstream cells(line);
+      for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
+      const double noise = 0.01 * std::sqrt(-2 * std::log(unit())) * std::cos(2 * M_PI * unit());
+      char charge[32];
+      std::snprintf(charge, sizeof charge, "%.6f", std::stod(c[2]) + noise);
+      out += c[0] + "," + c[1] + "," + charge + "," + c[3] + "\n";
+    }
+    copies.push_back(" \"" + write("copy-" + std::to_string(k) + "_speed-05.csv", out) + "\"");
+  }
+  const epuck2::testing::CliRun four = run("battery" + copies[0] + copies[1] + copies[2] + copies[3]);
+  ASSERT_EQ(four.exit_code, 0) << four.err;
+  EXPECT_NE(four.out.find("not cluster-robust: 4 runs: too few to estimate the spread between runs (cluster-robust needs 5)"),
+            std::string::npos) << four.out;
+  EXPECT_EQ(four.out.find("not computed for the battery's fits"), std::string::npos) << four.out;
+  const epuck2::testing::CliRun five = run("battery" + copies[0] + copies[1] + copies[2] + copies[3] + copies[4]);
+  ASSERT_EQ(five.exit_code, 0) << five.err;
+  EXPECT_NE(five.out.find("within 5 runs"), std::string::npos) << five.out;
+  EXPECT_NE(five.out.find("not cluster-robust: not computed for the battery's fits (the AR(1) factor is used)"), std::string::npos)
+      << five.out;
+  EXPECT_EQ(five.out.find("too few to estimate"), std::string::npos) << five.out;
+}
+
 }  // namespace test_branch_sides_cpp
