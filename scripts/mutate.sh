@@ -590,7 +590,8 @@ R16_APPS = r16([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_fi
 # behaviour: lib/fit parameter.hpp): each group is every test of the programs that touch the area
 # (round 8's groups for it, as in rounds 9-16), the ARGoS groups for argos/src and for the model
 # header and coefficient-file code the plug-in reads. R17_TESTS: the programs of rounds up to 16.
-R17_TESTS = list(R16_TESTS) + ["test_round_seventeen"]  # written during round 17's run (after its GO, not in the run that scored it)
+R17_TESTS = list(R16_TESTS) + ["test_round_seventeen",  # written during round 17's run (after its GO, not in the run that scored it)
+                                 "test_branch_sides"]  # session 19, before round 18's GO: both sides of branches a coverage run showed taken one way
 
 
 def r17(groups, more=(), extra=(), targets=()):

@@ -5,6 +5,7 @@
 //              (with black_below_x="X": the floor is black where x < X, so that which sensor reads
 //              the grey depends on where the robot's pose puts it)
 //   light      distance_m,intensity,sensor,value     a light on sensor 0's then sensor 7's axis
+//              (with robot_yaw="DEG": the robot turned by DEG, the light on the turned axis)
 //   drive      time_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm
 //              towards / away from an obstacle 0.3 m ahead of the ToF sensor, one run per speed
 //   battery    time_s,speed_cm_s,charge              robot i spins in place at i cm/s until empty
@@ -131,6 +132,9 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       m_vecSteps = ParseList(str);
       m_vecIntensities = ParseList(strI);
       m_pcLight = &dynamic_cast<CLightEntity&>(GetSpace().GetEntity("light"));
+      /* robot_yaw="DEG": the robot turned by DEG about z, the light on the turned sensor's axis (the
+         same geometry turned: the readings must not change) */
+      GetNodeAttributeOrDefault(t_tree, "robot_yaw", m_fRobotYawDeg, m_fRobotYawDeg);
     } else if (m_strKind == "drive") {
       std::string str = "2.5,5,7.5,10,12.5,15";
       GetNodeAttributeOrDefault(t_tree, "speeds", str, str);
@@ -355,9 +359,12 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   /// `f_distance` from it and at its height, of intensity `f_intensity`.
   void PlaceLightAt(UInt32 un_sensor, Real f_distance, Real f_intensity) {
     CQuaternion cOrient;
+    cOrient.FromAngleAxis(ToRadians(CDegrees(m_fRobotYawDeg)), CVector3::Z);
     m_vecRobots[0]->GetEmbodiedEntity().MoveTo(CVector3(0, 0, 0), cOrient, false, true);
     auto& s = m_vecRobots[0]->GetComponent<CLightSensorEquippedEntity>("light_sensors").GetSensor(un_sensor);
-    CVector3 cPos = s.Position, cDir = s.Direction;
+    CVector3 cPos = s.Position, cDir = s.Direction;  // in the robot's frame
+    cPos.Rotate(cOrient);
+    cDir.Rotate(cOrient);
     cDir.Normalize();
     m_pcLight->SetPosition(cPos + cDir * f_distance);
     m_pcLight->SetIntensity(f_intensity);
@@ -638,6 +645,8 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
   /* ground with black_below_x: the floor is black where x < m_fBlackBelowX */
   bool m_bBlackBelow = false;
   Real m_fBlackBelowX = 0;
+  /* light with robot_yaw: the robot's yaw in degrees */
+  Real m_fRobotYawDeg = 0;
   std::vector<SBatteryRun> m_vecBattery;
 };
 
