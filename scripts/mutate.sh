@@ -629,6 +629,51 @@ R17_LOGS = r17([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_
 # map's, calibration's and coefficients' groups with the battery programs, the figures and NIST.
 R17_APPS = r17([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures", "test_nist"])
 
+# Round 18 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-18), planted without reading
+# the tests, in functions and branches no earlier round visited: each group is every test of the
+# programs that touch the area (round 8's groups for it, as in rounds 9-17), the ARGoS groups for
+# argos/src and for the model header and coefficient-file code the plug-in reads. R18_TESTS: the
+# programs of rounds up to 17.
+R18_TESTS = list(R17_TESTS)
+
+
+def r18(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R18_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R18_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+# saturation.hpp (expected_clamp far above the upper clamp: the fits' and diagnosis's saturated
+# readings, the plug-in's): every group that reads a model, the generators, the ARGoS tests and
+# the drive's closed loops.
+R18_MODELS = r18([R8_MODELS, R8_APPS, R8_CALIB, R8_COEFF, R8_DIAGNOSE, R8_ARGOS], R12_GENERATORS,
+                 extra=("argos_closed_loop_drive_",))
+# calibrated_drive.cpp (the firmware cap from the file's steps_per_m) and applied_effects.hpp (what
+# the light applies): the ARGoS groups with the drive's closed loops.
+R18_ARGOS = r18([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# lib/fit (replicates.cpp's group size, readings.cpp's set_noise_sd check, fit_curve.hpp's one-sided
+# bounds): the fits' (with the Jet check), calibration's and diagnosis's groups, the
+# battery programs and the NIST program.
+R18_FIT = r18([R8_JET, R8_CALIB, R8_DIAGNOSE], R12_BATTERY + ["test_nist"])
+# lib/coefficients (model_sets.cpp: a robot set's noise section, robot_map's empty id, a model
+# path relative to the working folder): the coefficients' and ARGoS groups with the ARGoS battery
+# tests and the battery programs.
+R18_COEFF = r18([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+# the calibration (camera_report.cpp's aperture std_error_why, light_report.cpp's rails,
+# proximity_report.cpp's wild readings shown): the calibration's, apps' and coefficients' groups.
+R18_CALIB = r18([R8_CALIB, R8_APPS, R8_COEFF])
+# the diagnosis (the light's per-sensor gamma ratios, the extra columns' covariates and their means in
+# the extended model): the diagnosis's, apps' and coefficients' groups and the battery programs.
+R18_DIAGNOSE = r18([R8_DIAGNOSE, R8_APPS, R8_COEFF], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+# lib/logs (LogWriter's column name in its refusal, which of a row's errors is reported): the facts',
+# hints', apps' and coefficients' groups, the generators and the figures.
+R18_LOGS = r18([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_figures"])
+# apps/ (generate's relative --out-dir, table5's voltage-only logs, table5's coverage message): the
+# apps', charge map's, calibration's and coefficients' groups with the battery programs, the
+# figures and NIST.
+R18_APPS = r18([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures", "test_nist"])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -1432,6 +1477,59 @@ MUTANTS = [
      'if (k != "Seed") w.metadata(k, v);', R17_APPS),
     ("r17_skipped_rows_first_10_at_exactly_10", "apps/app_support.cpp", '(total > 10 ? ", the first 10:" : ":")',
      '(total >= 10 ? ", the first 10:" : ":")', R17_APPS),
+    # Round 18 (bench/fresh-slips.md): planted without reading the tests; the lib/models header first.
+    ("r18_expected_clamp_far_above_is_low_clamp", "lib/models/include/epuck2/models/saturation.hpp",
+     "if (m - hi > kFar * sigma && m - lo > kFar * sigma) return T(hi);",
+     "if (m - hi > kFar * sigma && m - lo > kFar * sigma) return T(lo);", R18_MODELS),
+    ("r18_argos_firmware_cap_from_plugin_steps", "argos/src/calibrated_drive.cpp",
+     "c.effects.speed_limit.max_cm_s = firmware_cap_cm_s(c.steps_per_m);",
+     "c.effects.speed_limit.max_cm_s = firmware_cap_cm_s(ms::kPluginStepsPerMetre);", R18_ARGOS),
+    ("r18_argos_light_sensor_gain_not_applied", "argos/src/applied_effects.hpp",
+     "static const Applied a{fx::light::ambient_offset, fx::light::falloff_exponent, fx::light::sensor_gain};",
+     "static const Applied a{fx::light::ambient_offset, fx::light::falloff_exponent};", R18_ARGOS),
+    ("r18_wild_replicates_three_readings_unscreened", "lib/fit/src/replicates.cpp",
+     "if (members.size() < kMinReplicates) continue;", "if (members.size() <= kMinReplicates) continue;", R18_FIT),
+    ("r18_channels_noise_sd_count_unchecked", "lib/fit/src/readings.cpp",
+     '  if (sd.size() != channels_.size()) throw std::invalid_argument("fit::Channels: one noise sd per channel");\n', "", R18_FIT),
+    ("r18_fit_one_sided_bound_not_bounded", "lib/fit/include/epuck2/fit/fit_curve.hpp",
+     "(std::isfinite(parameters[j].lower) || std::isfinite(parameters[j].upper))",
+     "(std::isfinite(parameters[j].lower) && std::isfinite(parameters[j].upper))", R18_FIT),
+    ("r18_robot_set_noise_section_missed", "lib/coefficients/src/model_sets.cpp",
+     'if (robot.empty() || !root.contains("robots") || !root.at("robots").is_object() || !root.at("robots").contains(robot))',
+     'if (!robot.empty() || !root.contains("robots") || !root.at("robots").is_object() || !root.at("robots").contains(robot))', R18_COEFF),
+    ("r18_robot_map_empty_robot_id_accepted", "lib/coefficients/src/model_sets.cpp",
+     "if (colon == std::string::npos || colon == 0 || colon + 1 == item.size())",
+     "if (colon == std::string::npos || colon == 0)", R18_COEFF),
+    ("r18_model_path_in_working_folder_not_found", "lib/coefficients/src/model_sets.cpp",
+     "  if (fs::exists(p, ec)) return name;\n", "", R18_COEFF),
+    ("r18_camera_aperture_why_when_finite", "lib/calibrate/src/camera_report.cpp",
+     'if (!std::isfinite(f.result.std_error("fov_deg"))) j["std_error_why"]["aperture_deg"] = "follows fov_deg";',
+     'if (std::isfinite(f.result.std_error("fov_deg"))) j["std_error_why"]["aperture_deg"] = "follows fov_deg";', R18_CALIB),
+    ("r18_light_text_rails_swapped", "lib/calibrate/src/light_report.cpp",
+     "f.readings, f.observations.size(), f.censored, light.low_rail, light.high_rail, f.left_out.size());",
+     "f.readings, f.observations.size(), f.censored, light.high_rail, light.low_rail, f.left_out.size());", R18_CALIB),
+    ("r18_proximity_text_six_wild_readings_shown", "lib/calibrate/src/proximity_report.cpp",
+     'if (l.why.rfind("wild", 0) == 0 && shown++ < 5) out(', 'if (l.why.rfind("wild", 0) == 0 && shown++ <= 5) out(', R18_CALIB),
+    ("r18_diagnose_light_last_sensor_ratio_kept_at_1", "lib/diagnose/src/kind_light.cpp",
+     "for (std::size_t k = 0; k < ratio_.size(); ++k) ratio_[k] = s::light_gamma_ratio(m, static_cast<int>(k));",
+     "for (std::size_t k = 0; k + 1 < ratio_.size(); ++k) ratio_[k] = s::light_gamma_ratio(m, static_cast<int>(k));", R18_DIAGNOSE),
+    ("r18_diagnose_extra_columns_skip_list_inverted", "lib/diagnose/src/engine.cpp",
+     "if (std::find(skip.begin(), skip.end(), c) == skip.end()) extras.insert(c);",
+     "if (std::find(skip.begin(), skip.end(), c) != skip.end()) extras.insert(c);", R18_DIAGNOSE),
+    ("r18_extended_column_mean_over_logs", "lib/diagnose/src/extended_model.cpp",
+     "if (everywhere && n > 0) in.column_means[name] = sum / static_cast<double>(n);",
+     "if (everywhere && n > 0) in.column_means[name] = sum / static_cast<double>(logs.size());", R18_DIAGNOSE),
+    ("r18_log_writer_last_column_named_by_number", "lib/logs/src/csv_writer.cpp",
+     "(i < columns_.size() ? columns_[i] : std::to_string(i + 1))",
+     "(i + 1 < columns_.size() ? columns_[i] : std::to_string(i + 1))", R18_LOGS),
+    ("r18_log_later_time_error_reported_first", "lib/logs/src/log.cpp",
+     "before(*time_problem, *first)", "before(*first, *time_problem)", R18_LOGS),
+    ("r18_generate_relative_new_out_dir_refused", "apps/cmd_generate.cpp",
+     '    if (existing.empty()) existing = ".";\n', "", R18_APPS),
+    ("r18_battery_input_voltage_only_never_seen", "apps/battery_input.hpp",
+     'voltage_only = voltage_only || !l.has("charge");', 'voltage_only = voltage_only && !l.has("charge");', R18_APPS),
+    ("r18_table5_one_speed_plural", "apps/cmd_table5.cpp",
+     '(c.covered.size() == 1 ? " speed: " : " speeds: ")', '(c.covered.size() == 0 ? " speed: " : " speeds: ")', R18_APPS),
 ]
 
 
