@@ -49,6 +49,9 @@ INDEPENDENT = {pathlib.Path("examples/check_plugin_models.py")}
 EXEMPT = {
     ("scripts/mutate.sh", "lib/models/include/epuck2/models/saturation.hpp"),
     ("scripts/mutate.sh", "{fx::drive::speed_limit, fx::drive::accel_limit, fx::drive::"),
+    # round 18's mutants: ARGoS code that reads the effects through the registry's names
+    ("scripts/mutate.sh", "c.effects.speed_limit.max_cm_s = firmware_cap_cm_s("),
+    ("scripts/mutate.sh", "static const Applied a{fx::light::ambient_offset, fx::light::"),
 }
 
 
