@@ -13,6 +13,7 @@
 #include "epuck2/logs/output.hpp"
 #include "epuck2/models/battery_simulation.hpp"
 #include "epuck2/models/effects.hpp"
+#include "epuck2/models/kinds.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 
 namespace epuck2::app {
@@ -21,8 +22,9 @@ namespace {
 namespace mb = models::battery;
 
 // The tick's bounds: the plug-in ticks at 0.1 s; 1 ms already makes ~1e8 rows over a battery's
-// life (a few GB of CSV), and past 10 s a tick no longer follows a speed profile.
-constexpr double kMinTick_s = 1e-3, kMaxTick_s = 10.0;
+// life (a few GB of CSV), and past 10 s a tick no longer follows a speed profile, nor is the
+// corrected models' step exact (the longest step `simulate --like` takes, lib/models kinds.hpp).
+constexpr double kMinTick_s = 1e-3, kMaxTick_s = models::sensors::kBatteryLongestStep_s;
 
 struct SimulateOptions {
   std::string like;  ///< --like LOG: the other mode (run_like); --model and --profile are this one's
