@@ -6,7 +6,7 @@
 #   capacity  tables="plugin" with a diagnosis's capacity_scale k = 0.8: both lifetimes x 0.8
 #             against the same run with k = 1 (within 0.2 %: 10 s rows over ~10^4 s);
 #   model     a file naming battery_model (a diagnosis's) and no model= in the XML: the same charges as
-#             model="simple" in the XML, unlike the Cubic's;
+#             model="simple" in the XML, unlike the Cubic's; model="approx" as model="approximated";
 #   refusals  a covariate effect in the file, tables=, behaviour= or model= misspelt, and tables="file"
 #             without a file each stop ARGoS at Init with a message that names the cause.
 # Expected values: the files' own numbers and lib/models' copy of the plug-in's published tables.
@@ -94,6 +94,16 @@ for f in "$WORK"/xml_simple/*.csv; do
   ! cmp -s "$f" "$WORK/xml_cubic/$(basename "$f")" || fail "model=\"simple\" and model=\"cubic\" give the same charges: the test cannot tell them apart"
 done
 echo "ok   a diagnosis's battery_model (simple) runs as the XML's model=\"simple\", row for row, and not as the Cubic"
+# model="approx" is the Approximated model (docs/argos.md: `approx` accepted): the same charges, row
+# for row, as model="approximated", and Init names it.
+experiment "$WORK/xml_approx" "coefficients=\"$WORK/partial.json\" model=\"approx\""
+experiment "$WORK/xml_approximated" "coefficients=\"$WORK/partial.json\" model=\"approximated\""
+grep -q "; model approximated" "$WORK/xml_approx/log" || { cat "$WORK/xml_approx/log"; fail "Init does not say model approximated for model=\"approx\""; }
+for f in "$WORK"/xml_approximated/*.csv; do
+  cmp -s "$f" "$WORK/xml_approx/$(basename "$f")" || fail "model=\"approx\" does not run as model=\"approximated\": $(basename "$f")"
+  ! cmp -s "$f" "$WORK/xml_cubic/$(basename "$f")" || fail "model=\"approximated\" and model=\"cubic\" give the same charges: the test cannot tell them apart"
+done
+echo "ok   model=\"approx\" runs as model=\"approximated\", row for row, and not as the Cubic"
 EPUCK2_ROOT="$ROOT" python3 - "$WORK" "$WORK/partial.json" <<'PY' || fail "lifetimes"
 import glob, json, os, sys
 work, partial = sys.argv[1], json.load(open(sys.argv[2]))
