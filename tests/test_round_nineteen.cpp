@@ -23,6 +23,7 @@
 #include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/fit/report.hpp"
+#include "epuck2/fit/robust.hpp"
 #include "epuck2/logs/log.hpp"
 #include "epuck2/models/plugin_battery_tables.hpp"
 #include "epuck2/models/effects.hpp"
@@ -425,6 +426,40 @@ TEST_F(RoundNineteenCli, EveryEffectOfAFileIsInTheDiagnosissBase) {
         base);
   }
   EXPECT_GE(cases, 10);
+}
+
+// ---- found while writing these tests: replicates that agree exactly ----
+
+// Two groups of readings that agree to the last digit carry no noise: the lack-of-fit test is not
+// done (saying why) rather than a misfit of infinitely many sd; with a quantisation floor the test
+// is done against the floor (docs/fitting.md, "Lack of fit").
+TEST(RoundNineteen, ReplicatesThatAgreeExactlyAreNotANoiseScale) {
+  std::vector<epuck2::fit::ReplicateGroup> groups(3);
+  for (std::size_t g = 0; g < 3; ++g) {
+    groups[g].condition = static_cast<double>(g);
+    groups[g].readings = {10.0 + g, 10.0 + g};
+    groups[g].predictions = {10.5 + g, 10.5 + g};
+  }
+  const auto exact = epuck2::fit::lack_of_fit(groups, 1);
+  EXPECT_FALSE(exact.tested);
+  EXPECT_EQ(exact.why_not.rfind("the repeated readings agree exactly (3 groups", 0), 0u) << exact.why_not;
+  EXPECT_EQ(epuck2::fit::misfit_verdict(exact, 0.99), "");
+  const auto floored = epuck2::fit::lack_of_fit(groups, 1, {}, 0.25);
+  ASSERT_TRUE(floored.tested);
+  EXPECT_DOUBLE_EQ(floored.replicate_sd, 0.25);
+  EXPECT_DOUBLE_EQ(floored.misfit_ratio, 0.5 / 0.25);  // every reading 0.5 off: misfit rms 0.5
+}
+
+// The same battery log given twice under two names: calibrated, with a warning that says so, not
+// refused as a misfit of "inf" sd.
+TEST_F(RoundNineteenCli, TheSameBatteryLogTwiceIsSaidNotRefused) {
+  const std::string a = raw("battery", "robot-a_speed-05.csv").string();
+  const std::string copy = write("copy.csv", slurp(a));
+  const CliRun t = run("battery \"" + a + "\" \"" + copy + "\"");
+  EXPECT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_TRUE(has(t.out, "Warning: 5 cm/s: the 2 runs read the same charge at every time: the cubic's lack of fit is not tested"))
+      << t.out.substr(t.out.size() > 1500 ? t.out.size() - 1500 : 0);
+  EXPECT_FALSE(has(t.err, "inf times")) << t.err;
 }
 
 }  // namespace test_round_nineteen_cpp

@@ -418,6 +418,10 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
   for (const SpeedFit& s : out.speeds) {
     at_rest = at_rest || s.speed_cm_s == 0;
     if (s.runs == 1) single_run.push_back(s.speed_cm_s);
+    if (s.runs > 1 && !s.cubic_lack_of_fit.tested && s.cubic_lack_of_fit.why_not.rfind("the repeated readings agree exactly", 0) == 0)
+      out.warnings.push_back(speeds_text({s.speed_cm_s}) + " cm/s: the " + std::to_string(s.runs) +
+                             " runs read the same charge at every time: the cubic's lack of fit is not tested (" +
+                             s.cubic_lack_of_fit.why_not + ")");
     for (const auto& [name, fit] : {std::pair<const char*, const FitResult*>{"cubic", &s.cubic}, {"approximated", &s.piecewise}}) {
       const std::size_t p = fit->parameters.empty() ? (std::string(name) == "cubic" ? 4u : 5u) : fit->parameters.size();
       if (!fit->usable || s.observations >= kBatteryRowsPerParameter * p) continue;

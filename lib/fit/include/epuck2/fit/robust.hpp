@@ -116,7 +116,8 @@ struct MisfitWords {
 
 /// The lack-of-fit F test of a fit with `free_parameters` against its replicates' own noise, with
 /// the misfit ratio and the worst conditions. The replicate sd is at least `sd_floor` (a quantised
-/// reading's 1/sqrt(12) of a count: identical replicates are not noise-free). `replicate_sd` > 0
+/// reading's 1/sqrt(12) of a count: identical replicates are not noise-free); without a floor,
+/// replicates that agree exactly are not tested (why_not says so). `replicate_sd` > 0
 /// with `dof_pure` replaces the noise estimated from the groups: the groups may then hold one
 /// reading each (a maximum per distance, tested against the raw replicates' sd behind it).
 LackOfFit lack_of_fit(const std::vector<ReplicateGroup>& groups, std::size_t free_parameters, const MisfitWords& words = {},
