@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli_harness.hpp"
+#include "epuck2/calibrate/sensor_reports.hpp"
 #include "epuck2/calibrate/sensors.hpp"
 #include "epuck2/diagnose/diagnose.hpp"
 #include "epuck2/diagnose/extended_model.hpp"
@@ -223,6 +224,12 @@ TEST(HonestDrive, WheelsThatRunFasterThanTheFirmwareCapAreFittedAsTheyRun) {
   bool said = false;
   for (const auto& w : f.warnings) said = said || w.find("the wheels exceed the firmware's limit and are fitted as they run") != std::string::npos;
   EXPECT_TRUE(said);
+  // The text report says which way the test went (docs/fitting.md, "Drive").
+  const std::string text = epuck2::calibrate::report_text(f);
+  EXPECT_NE(text.find("taken as commanded (the encoders beat the limit on the BIC): 30 rows)"), std::string::npos) << text.substr(0, 600);
+  EXPECT_NE(text.find(" without: the wheels run faster, fitted as they run\n"), std::string::npos) << text.substr(0, 600);
+  // The run above the limit is listed, and not as capped: it was fitted as commanded.
+  EXPECT_NE(text.find("  commands above the limit (not capped: the wheels ran them): fast.csv\n"), std::string::npos) << text;
 }
 
 TEST(HonestDrive, WheelsHeldAtTheCapKeepIt) {
@@ -240,6 +247,10 @@ TEST(HonestDrive, WheelsHeldAtTheCapKeepIt) {
   EXPECT_TRUE(f.cap_kept);
   EXPECT_EQ(f.capped_rows, 30u);
   EXPECT_NEAR(f.steps.value("steps_per_m"), kStepsPerMetre, 1e-3 * kStepsPerMetre);
+  const std::string text = epuck2::calibrate::report_text(f);
+  EXPECT_NE(text.find("14.17 cm/s taken as that limit: 30 rows)"), std::string::npos) << text.substr(0, 600);
+  EXPECT_NE(text.find(" without: kept\n"), std::string::npos) << text.substr(0, 600);
+  EXPECT_NE(text.find("  commands above the limit (capped): held.csv\n"), std::string::npos) << text;
 }
 
 // ---- (4) units that cannot be the columns' stop the run (exit 2, the column, the likely unit) --

@@ -28,7 +28,8 @@ std::string report_text(const DriveFit& f) {
         f.cap_kept ? "kept" : "the wheels run faster, fitted as they run");
   write_parameter(out, f.steps, "steps_per_m", "steps/m", "  ", "plug-in 7763.656", &f.steps_autocorrelation);
   write_handling(out, f.steps, "steps", "  ", &f.steps_autocorrelation, /*has_rails=*/false);
-  for (const auto& p : f.over_limit_runs) out("  commands above the limit (capped): %s\n", p.c_str());
+  for (const auto& p : f.over_limit_runs)
+    out("  commands above the limit (%s): %s\n", f.cap_kept ? "capped" : "not capped: the wheels ran them", p.c_str());
   const models::Channel& tof = models::kind_facts("drive")->channels.front();
   out("\nToF: tof_mm = scale * 1000 (D - travel) + offset, travel = encoder travel lagged by tau (%zu rows; %zu at the "
       "%g/%g %s rails or out-of-range codes, censored; %zu codes >= %g)\n",
