@@ -634,7 +634,9 @@ R17_APPS = r17([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_fi
 # programs that touch the area (round 8's groups for it, as in rounds 9-17), the ARGoS groups for
 # argos/src and for the model header and coefficient-file code the plug-in reads. R18_TESTS: the
 # programs of rounds up to 17.
-R18_TESTS = list(R17_TESTS) + ["test_round_eighteen"]  # written after round 18's run (not in the run that scored it)
+R18_TESTS = list(R17_TESTS) + ["test_round_eighteen",  # written after round 18's run (not in the run that scored it)
+                                 "test_every_refusal",  # session 20, before round 19's GO: each refusal no test quoted
+                                 "test_report_lines"]  # session 20, before round 19's GO: the text reports' lines no test quoted
 
 
 def r18(groups, more=(), extra=(), targets=()):
