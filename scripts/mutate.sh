@@ -676,6 +676,51 @@ R18_LOGS = r18([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_
 # figures and NIST.
 R18_APPS = r18([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures", "test_nist"])
 
+# Round 19 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-19), planted without reading
+# the tests, in functions and branches no earlier round visited: each group is every test of the
+# programs that touch the area (round 8's groups for it, as in rounds 9-18), the ARGoS groups for
+# argos/src and for the model header and coefficient-file code the plug-in reads. R19_TESTS: the
+# programs of rounds up to 18.
+R19_TESTS = list(R18_TESTS)
+
+
+def r19(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R19_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R19_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+# proximity.hpp (the incidence factor at or beyond 90 degrees: the fits', the diagnosis's, the
+# virtual robot's and the plug-in's proximity): every group that reads a model, the generators,
+# the ARGoS tests and the drive's closed loops.
+R19_MODELS = r19([R8_MODELS, R8_APPS, R8_CALIB, R8_COEFF, R8_DIAGNOSE, R8_ARGOS], R12_GENERATORS,
+                 extra=("argos_closed_loop_drive_",))
+# calibrated_actuator.cpp (the drive's reset): the ARGoS groups with the drive's closed loops.
+R19_ARGOS = r19([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# lib/fit (report.cpp: the information criteria's undefined reason, a value's decimals beside an
+# error of tens or more, the units' cubes): the fits' (with the Jet check), calibration's and
+# diagnosis's groups, the battery programs and the NIST program.
+R19_FIT = r19([R8_JET, R8_CALIB, R8_DIAGNOSE], R12_BATTERY + ["test_nist"])
+# lib/coefficients (model_file.cpp: the pooled set read beside a robot's, a zero standard error;
+# battery_tables.cpp: a partial file's speeds) and calibrated_battery.cpp (the model's "approx"
+# alias: its battery tests, as round 13's calibrated_battery.cpp mutant): the coefficients' and
+# ARGoS groups with the ARGoS battery tests and the battery programs.
+R19_COEFF = r19([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+# the calibration (battery_report.cpp's lifetime reason and charge conversion, sensor_fit_common.cpp's
+# robot index): the calibration's, apps' and coefficients' groups.
+R19_CALIB = r19([R8_CALIB, R8_APPS, R8_COEFF])
+# the diagnosis (a one-row battery log, the base model's kind in the refusal, a camera base's
+# distortion): the diagnosis's, apps' and coefficients' groups and the battery programs.
+R19_DIAGNOSE = r19([R8_DIAGNOSE, R8_APPS, R8_COEFF], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+# lib/logs (json_location.cpp's overflowing negative number, log.cpp's last line without a line
+# end): the facts', hints', apps' and coefficients' groups, the generators and the figures.
+R19_LOGS = r19([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_figures"])
+# apps/ (diagnose's discharge model from a file, the sensors' --accept-misfit, battery's map
+# from_file): the apps', charge map's, calibration's and coefficients' groups with the battery
+# programs, the figures and NIST.
+R19_APPS = r19([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures", "test_nist"])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -1532,6 +1577,52 @@ MUTANTS = [
      'voltage_only = voltage_only || !l.has("charge");', 'voltage_only = voltage_only && !l.has("charge");', R18_APPS),
     ("r18_table5_one_speed_plural", "apps/cmd_table5.cpp",
      '(c.covered.size() == 1 ? " speed: " : " speeds: ")', '(c.covered.size() == 0 ? " speed: " : " speeds: ")', R18_APPS),
+    # Round 19 (bench/fresh-slips.md): planted without reading the tests; the lib/models header first.
+    ("r19_proximity_incidence_beyond_90_deg_zero_without_effect", "lib/models/include/epuck2/models/proximity.hpp",
+     "if (!(cos_incidence > 0)) return e.k == T(0.0) ? T(1.0) : T(0.0);", "if (!(cos_incidence > 0)) return T(0.0);", R19_MODELS),
+    ("r19_argos_battery_model_approx_alias_refused", "argos/src/calibrated_battery.cpp",
+     '    if (strModel == "approx") strModel = "approximated";\n', "", R19_COEFF),
+    ("r19_argos_actuator_reset_keeps_drive", "argos/src/calibrated_actuator.cpp",
+     "    if (m_pcDrive) m_pcDrive->reset();\n", "", R19_ARGOS),
+    ("r19_information_criteria_no_residual_inverted", "lib/fit/src/report.cpp",
+     '(s.n == 0 ? "no residual" : kInformationCriteriaUndefined)', '(s.n != 0 ? "no residual" : kInformationCriteriaUndefined)',
+     R19_FIT),
+    ("r19_fixed_value_decimals_beside_error_of_tens", "lib/fit/src/report.cpp",
+     'v = printf_string("%.*f", t.last < 0 ? -t.last : 0, rounded);', 'v = printf_string("%.*f", -t.last, rounded);', R19_FIT),
+    ("r19_pretty_unit_cube_left_as_caret", "lib/fit/src/report.cpp",
+     "(unit[i + 1] == '2' || unit[i + 1] == '3')", "unit[i + 1] == '2'", R19_FIT),
+    ("r19_robot_read_skips_pooled_set_check", "lib/coefficients/src/model_file.cpp",
+     "    if (!robot.empty()) read(std::string());\n", "", R19_COEFF),
+    ("r19_zero_std_error_refused", "lib/coefficients/src/model_file.cpp",
+     'if (!(x >= 0)) fail(pointer, "std_errors." + key', 'if (!(x > 0)) fail(pointer, "std_errors." + key', R19_COEFF),
+    ("r19_partial_battery_table_at_its_index", "lib/coefficients/src/battery_tables.cpp",
+     "read_speed(speeds.at(i), static_cast<std::size_t>(s), i, path, t);",
+     "read_speed(speeds.at(i), i, static_cast<std::size_t>(s), path, t);", R19_COEFF),
+    ("r19_battery_lifetime_two_runs_called_one", "lib/calibrate/src/battery_report.cpp",
+     '(s.runs < 2 ? "the end of the only run\'s log', '(s.runs <= 2 ? "the end of the only run\'s log', R19_CALIB),
+    ("r19_charge_conversion_above_is_below", "lib/calibrate/src/battery_report.cpp",
+     '{"clamped_above_range", c.above_range},', '{"clamped_above_range", c.below_range},', R19_CALIB),
+    ("r19_sensor_robot_index_every_log_a_robot", "lib/calibrate/src/sensor_fit_common.cpp",
+     "  if (named != names.end()) return static_cast<int>(named - names.begin());\n", "", R19_CALIB),
+    ("r19_diagnose_battery_one_row_log_not_compared", "lib/diagnose/src/kind_battery.cpp",
+     "if (i + 1 < log.rows() || log.rows() == 1) {", "if (i + 1 < log.rows()) {", R19_DIAGNOSE),
+    ("r19_diagnose_base_kind_refusal_names_base_twice", "lib/diagnose/src/kinds.cpp",
+     '", the logs of the kind " + std::string(logs::to_string(kind));',
+     '", the logs of the kind " + std::string(logs::to_string(base_model_kind(options.base_model)));', R19_DIAGNOSE),
+    ("r19_diagnose_camera_base_distortion_ignored", "lib/diagnose/src/kind_camera.cpp",
+     "    set_base_effects(*this, ix_, m.distortion);\n", "", R19_DIAGNOSE),
+    ("r19_json_overflow_negative_one_column_late", "lib/logs/src/json_location.cpp",
+     "if (c != '-' && (c < '0' || c > '9')) continue;", "if (c < '0' || c > '9') continue;", R19_LOGS),
+    ("r19_log_last_line_without_line_end_dropped", "lib/logs/src/log.cpp",
+     "  if (start < s.size()) lines.push_back(s.substr(start));\n", "", R19_LOGS),
+    ("r19_diagnose_file_discharge_model_only_when_cli_gives_one", "apps/cmd_diagnose.cpp",
+     'file.contains("battery_model") && o.battery_model_given == 0',
+     'file.contains("battery_model") && o.battery_model_given != 0', R19_APPS),
+    ("r19_sensor_misfit_refused_only_with_accept", "apps/sensor_support.cpp",
+     "if (!o.accept_misfit)", "if (o.accept_misfit)", R19_APPS),
+    ("r19_battery_charge_map_from_file_inverted", "apps/cmd_battery.cpp",
+     'if (!in.map_from_file.empty()) j["charge_map"]["from_file"] = in.map_from_file;',
+     'if (in.map_from_file.empty()) j["charge_map"]["from_file"] = in.map_from_file;', R19_APPS),
 ]
 
 
