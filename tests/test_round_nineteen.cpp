@@ -442,10 +442,12 @@ TEST(RoundNineteen, ReplicatesThatAgreeExactlyAreNotANoiseScale) {
   }
   const auto exact = epuck2::fit::lack_of_fit(groups, 1);
   EXPECT_FALSE(exact.tested);
+  EXPECT_TRUE(exact.replicates_agree_exactly);
   EXPECT_EQ(exact.why_not.rfind("the repeated readings agree exactly (3 groups", 0), 0u) << exact.why_not;
   EXPECT_EQ(epuck2::fit::misfit_verdict(exact, 0.99), "");
   const auto floored = epuck2::fit::lack_of_fit(groups, 1, {}, 0.25);
   ASSERT_TRUE(floored.tested);
+  EXPECT_FALSE(floored.replicates_agree_exactly);
   EXPECT_DOUBLE_EQ(floored.replicate_sd, 0.25);
   EXPECT_DOUBLE_EQ(floored.misfit_ratio, 0.5 / 0.25);  // every reading 0.5 off: misfit rms 0.5
 }

@@ -418,7 +418,7 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
   for (const SpeedFit& s : out.speeds) {
     at_rest = at_rest || s.speed_cm_s == 0;
     if (s.runs == 1) single_run.push_back(s.speed_cm_s);
-    if (s.runs > 1 && !s.cubic_lack_of_fit.tested && s.cubic_lack_of_fit.why_not.rfind("the repeated readings agree exactly", 0) == 0)
+    if (s.runs > 1 && s.cubic_lack_of_fit.replicates_agree_exactly)
       out.warnings.push_back(speeds_text({s.speed_cm_s}) + " cm/s: the " + std::to_string(s.runs) +
                              " runs read the same charge at every time: the cubic's lack of fit is not tested (" +
                              s.cubic_lack_of_fit.why_not + ")");

@@ -573,6 +573,7 @@ LackOfFit lack_of_fit(const std::vector<ReplicateGroup>& groups_in, std::size_t 
   if (!known && !(ss_pure > 0) && !(sd_floor > 0)) {
     // Replicates that agree to the last digit carry no noise to judge a misfit by (a ratio over
     // 0 would be infinite whatever the curve): most likely the same log given twice.
+    lof.replicates_agree_exactly = true;
     lof.why_not = "the repeated readings agree exactly (" + std::to_string(g) +
                   " groups, no spread between them: the same log given twice?), so there is no noise to judge the curve by";
     return lof;

@@ -77,6 +77,9 @@ struct LackOfFit {
   double p_value = 1;        ///< F(dof_lack, dof_pure) upper tail
   std::size_t groups = 0, dof_lack = 0, dof_pure = 0;
   std::string why_not;       ///< when not tested
+  /// Not tested because the replicates agree to the last digit (no floor, no known sd): no noise
+  /// scale to judge a misfit by (most likely the same log given twice).
+  bool replicates_agree_exactly = false;
   /// How far the curve misses the replicates' means, per reading (readings' units):
   /// sqrt(sum_g sum_i (mean_g - prediction)^2 / readings), and that over replicate_sd.
   double misfit_rms = 0, misfit_ratio = 0;
