@@ -8,7 +8,8 @@
 # (behaviour="argos") and corrected (its root hints kept between ticks). Two robots on the
 # calibrated wheels, so that a state shared between robots shows too, and a third on the plug-in's
 # wheels (its calibrated encoders then count the wheels' speeds themselves). No command at the first
-# tick: the wheels run on what the actuator holds, nothing after Init and nothing after Reset. The runs must also move: a reset that is never tested
+# tick: the wheels run on what the actuator holds, nothing after Init and nothing after Reset.
+# And the same experiment with threads="2" reads as with threads="0". The runs must also move: a reset that is never tested
 # against a moved state proves nothing.
 #   usage: reset.sh ARGOS_LIBDIR WORK_DIR RESET_CHECK_BINARY
 set -euo pipefail
@@ -87,6 +88,16 @@ $(robot ep2 0 1.2 default_wheels argos)
 XML
 "$CHECK" "$WORK/exp.argos" 90 "$WORK/first.csv" "$WORK/second.csv" > "$WORK/log" 2>&1 ||
   { cat "$WORK/log"; echo "FAIL: argos_reset_check"; exit 1; }
+# The same experiment with ARGoS's threads (threads="2": the robots' sensors and actuators updated in
+# parallel) must read what the single-threaded run read: the calibrated parts share the file cache
+# and the drive registry between robots.
+sed 's/<system threads="0" \/>/<system threads="2" \/>/' "$WORK/exp.argos" > "$WORK/threads.argos"
+grep -q 'threads="2"' "$WORK/threads.argos" || { echo "FAIL: no threads attribute to set"; exit 1; }
+"$CHECK" "$WORK/threads.argos" 90 "$WORK/threads_first.csv" "$WORK/threads_second.csv" > "$WORK/threads.log" 2>&1 ||
+  { cat "$WORK/threads.log"; echo "FAIL: argos_reset_check with threads"; exit 1; }
+cmp "$WORK/first.csv" "$WORK/threads_first.csv" && cmp "$WORK/second.csv" "$WORK/threads_second.csv" ||
+  { echo "FAIL: with threads=\"2\" the readings differ from the single-threaded run's"; exit 1; }
+echo "ok   threads=\"2\": the same readings as threads=\"0\", both runs"
 python3 - "$WORK/first.csv" "$WORK/second.csv" <<'PY'
 import csv, sys
 first = list(csv.DictReader(open(sys.argv[1])))
