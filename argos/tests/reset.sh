@@ -38,6 +38,21 @@ robot() {  # id x y controller behaviour
     </e-puck2>
 XML
 }
+controller() {  # id steering-attributes: the recorder with the calibrated ToF, encoders (noise on)
+  cat <<XML
+    <epuck2_recorder_controller id="$1" library="libepuck2_argos_protocols">
+      <actuators>
+        <differential_steering $2 />
+      </actuators>
+      <sensors>
+        <epuck2_tof implementation="calibrated" coefficients="$WORK/drive.json" noise="true" />
+        <epuck2_encoder implementation="calibrated" coefficients="$WORK/drive.json" noise="true" />
+        <epuck2_battery implementation="default" />
+      </sensors>
+      <params />
+    </epuck2_recorder_controller>
+XML
+}
 cat > "$WORK/exp.argos" <<XML
 <?xml version="1.0" ?>
 <argos-configuration>
@@ -46,28 +61,8 @@ cat > "$WORK/exp.argos" <<XML
     <experiment length="0" ticks_per_second="10" random_seed="321" />
   </framework>
   <controllers>
-    <epuck2_recorder_controller id="recorder" library="libepuck2_argos_protocols">
-      <actuators>
-        <differential_steering implementation="calibrated" coefficients="$WORK/drive.json" />
-      </actuators>
-      <sensors>
-        <epuck2_tof implementation="calibrated" coefficients="$WORK/drive.json" noise="true" />
-        <epuck2_encoder implementation="calibrated" coefficients="$WORK/drive.json" noise="true" />
-        <epuck2_battery implementation="default" />
-      </sensors>
-      <params />
-    </epuck2_recorder_controller>
-    <epuck2_recorder_controller id="default_wheels" library="libepuck2_argos_protocols">
-      <actuators>
-        <differential_steering implementation="default" />
-      </actuators>
-      <sensors>
-        <epuck2_tof implementation="calibrated" coefficients="$WORK/drive.json" noise="true" />
-        <epuck2_encoder implementation="calibrated" coefficients="$WORK/drive.json" noise="true" />
-        <epuck2_battery implementation="default" />
-      </sensors>
-      <params />
-    </epuck2_recorder_controller>
+$(controller recorder 'implementation="calibrated" coefficients="'"$WORK"'/drive.json"')
+$(controller default_wheels 'implementation="default"')
   </controllers>
   <arena size="4, 4, 1" center="0,0,0.5">
     <box id="obstacle" size="0.02,3,0.2" movable="false">
