@@ -64,13 +64,13 @@ inline BatteryInput read_battery_input(const std::string& command, const std::ve
   in.runs = calibrate::battery_runs(logs, in.map ? &*in.map : nullptr, &in.conversion);
   const auto& c = in.conversion;
   if (c.below_range + c.above_range > 0) {
-    char text[320];
+    char text[200];
     std::snprintf(text, sizeof text,
                   "%zu voltages outside the charge map's range %.4f..%.4f V (%zu below, %zu above) were clamped to its end "
-                  "charges; first: %s",
+                  "charges%s; first: ",
                   c.below_range + c.above_range, in.map->voltage_min_v, in.map->voltage_max_v, c.below_range, c.above_range,
-                  c.clamped.front().c_str());
-    in.warnings.push_back(text);
+                  !in.map->has_load() ? "" : " (the range is of the voltage plus its load offset at the row's speed)");
+    in.warnings.push_back(text + c.clamped.front());  // a path of any length, whole
   }
   return in;
 }

@@ -114,6 +114,19 @@ int run_like(const LikeOptions& o) {
                                "the simulated " + replaced[c] + " is " + logs::format_number(simulated[i][c]) +
                                    " (the model overflows on this row's conditions" +
                                    (o.coefficients.empty() ? std::string() : " with " + o.coefficients) + "); nothing was written");
+  // --noise with a model that has no reading noise (the plug-in's battery, a file whose noise sd are
+  // 0): said, and the output not called noisy. Judged by what it does: the same rows without noise.
+  bool noisy = o.noise;
+  if (o.noise) {
+    LikeOptions quiet = o;
+    quiet.noise = false;
+    s::StandardNormal unused(o.seed);
+    if (simulate(quiet, log, unused) == simulated) {
+      noisy = false;
+      std::cerr << "simulate: --noise: the model has no reading noise (its noise sd is 0): no reading changed; written "
+                   "without noise and without a seed\n";
+    }
+  }
   std::vector<std::string> columns;
   std::size_t text_columns = 0;
   for (const auto& c : log.columns) {
@@ -129,12 +142,13 @@ int run_like(const LikeOptions& o) {
   const std::string model = o.coefficients.empty() || o.coefficients == "plugin" ? std::string(" with the plug-in's published model")
                                                                                  : " with " + o.coefficients;
   w.comment("Simulated by epuck2-fit simulate " + std::string(logs::to_string(log.kind)) + " --like " + o.like + model +
-            (o.noise ? " and reading noise, seed " + std::to_string(o.seed) : std::string(", without noise")));
+            (noisy ? " and reading noise, seed " + std::to_string(o.seed)
+                   : std::string(o.noise ? ", without noise (--noise given, but the model has none)" : ", without noise")));
   // The log's conditions are the simulation's too (robot, obstacle distance), but its seed is the
   // recording's: the simulation's own replaces it (with --noise), or none is written.
   for (const auto& [k, v] : log.metadata)
     if (k != "seed") w.metadata(k, v);
-  if (o.noise) w.metadata("seed", std::to_string(o.seed));
+  if (noisy) w.metadata("seed", std::to_string(o.seed));
   for (std::size_t i = 0; i < log.rows(); ++i) {
     if (simulated[i].empty()) continue;  // not seen (above)
     std::vector<double> row;

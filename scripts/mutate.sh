@@ -683,7 +683,8 @@ R18_APPS = r18([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_fi
 # argos/src and for the model header and coefficient-file code the plug-in reads. R19_TESTS: the
 # programs of rounds up to 18.
 R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19's run (after its GO, not in the run that scored it)
-                                 "test_honest_fits"]  # session 20: the drive report's cap lines
+                                 "test_honest_fits",  # session 20: the drive report's cap lines
+                                 "test_new_user_probe"]  # session 21: a new user's probe's defects
 
 
 def r19(groups, more=(), extra=(), targets=()):
@@ -1061,8 +1062,8 @@ MUTANTS = [
     ("r8_identify_mean_over_all_sensors", DK_GROUND, "for (std::size_t j : g) mean += values[j] / static_cast<double>(g.size());",
      "for (std::size_t j : g) mean += values[j] / static_cast<double>(s::kGroundCount);", R8_DIAGNOSE),
     ("r8_hint_distance_midrange_dropped", PL, "likely_unit(d[worst] / (2 * range_m))", "likely_unit(d[worst] / range_m)", R8_HINTS),
-    ("r8_like_seed_metadata_inverted", "apps/cmd_simulate_like.cpp", 'if (o.noise) w.metadata("seed", std::to_string(o.seed));',
-     'if (!o.noise) w.metadata("seed", std::to_string(o.seed));', R8_APPS),
+    ("r8_like_seed_metadata_inverted", "apps/cmd_simulate_like.cpp", 'if (noisy) w.metadata("seed", std::to_string(o.seed));',
+     'if (!noisy) w.metadata("seed", std::to_string(o.seed));', R8_APPS),
     ("r8_argos_camera_file_range_ignored", AS, "m_fRange = cFileRange ? *cFileRange : m_pcCamEntity->GetRange();",
      "m_fRange = m_pcCamEntity->GetRange();", R8_ARGOS),
     # Classes of round 8's survivors closed elsewhere (bench/fresh-slips.md, "Classes closed (session
@@ -1300,8 +1301,9 @@ MUTANTS = [
     ("r12_log_row_default_digits_taken_as_zero", "lib/logs/src/csv_writer.cpp",
      "line += digits > 0 ? format_number(values[i], digits) : format_number(values[i]);",
      "line += digits >= 0 ? format_number(values[i], digits) : format_number(values[i]);", R12_LOGS),
-    ("r12_battery_two_runs_lifetime_without_error", "lib/calibrate/src/battery_json.cpp",
-     "if (s.runs < 2 || !(s.lifetime_std_error_s > 0))", "if (s.runs <= 2 || !(s.lifetime_std_error_s > 0))", R12_CALIB),
+    ("r12_battery_two_runs_lifetime_without_error", "lib/calibrate/src/battery_fit.cpp",  # session 21: one function
+     "std::string lifetime_no_error_why(const SpeedFit& s) {\n  if (s.runs >= 2 &&",
+     "std::string lifetime_no_error_why(const SpeedFit& s) {\n  if (s.runs > 2 &&", R12_CALIB),
     ("r12_bic_rss_not_over_n", "lib/fit/src/least_squares.cpp",
      "return nn * std::log(std::max(rss, std::numeric_limits<double>::min()) / nn) + k * std::log(nn);",
      "return nn * std::log(std::max(rss, std::numeric_limits<double>::min())) + k * std::log(nn);", R12_FIT),
@@ -1611,8 +1613,8 @@ MUTANTS = [
     ("r19_partial_battery_table_at_its_index", "lib/coefficients/src/battery_tables.cpp",
      "read_speed(speeds.at(i), static_cast<std::size_t>(s), i, path, t);",
      "read_speed(speeds.at(i), i, static_cast<std::size_t>(s), path, t);", R19_COEFF),
-    ("r19_battery_lifetime_two_runs_called_one", "lib/calibrate/src/battery_report.cpp",
-     '(s.runs < 2 ? "the end of the only run\'s log', '(s.runs <= 2 ? "the end of the only run\'s log', R19_CALIB),
+    ("r19_battery_lifetime_two_runs_called_one", "lib/calibrate/src/battery_fit.cpp",  # session 21: one function
+     'return s.runs < 2 ? "the end of the only run\'s log', 'return s.runs <= 2 ? "the end of the only run\'s log', R19_CALIB),
     ("r19_charge_conversion_above_is_below", "lib/calibrate/src/battery_report.cpp",
      '{"clamped_above_range", c.above_range},', '{"clamped_above_range", c.below_range},', R19_CALIB),
     ("r19_sensor_robot_index_every_log_a_robot", "lib/calibrate/src/sensor_fit_common.cpp",

@@ -74,8 +74,10 @@ TEST(DiagnosisReport, TextNamesTheUnitPrettyPrinted) {
   r.too_few_rows = true;
   r.message = "only 3 rows";
   r.heldout_mse_plugin = 2.5;
+  r.mse_plugin_reading = 3.5;
   const std::string text = epuck2::diagnose::report_text(r, "The plug-in's model");
-  EXPECT_NE(text.find("before recalibration: MSE 2.5 mm² (ToF)."), std::string::npos) << text;
+  EXPECT_NE(text.find("before recalibration: MSE 2.5 mm² (ToF) against its expected reading"), std::string::npos) << text;
+  EXPECT_NE(text.find("; 3.5 mm² (ToF) against its reading as `simulate --like` writes it."), std::string::npos) << text;
   EXPECT_NE(text.find("Only 3 rows."), std::string::npos) << text;
 }
 

@@ -201,8 +201,13 @@ std::vector<BatteryRun> battery_runs(const std::vector<logs::Log>& all, const Ch
         if (report != nullptr && c.side != 0) {
           (c.side < 0 ? report->below_range : report->above_range) += 1;
           if (report->clamped.size() < 10) {
-            char where[64];
-            std::snprintf(where, sizeof where, " (%.4f V)", volts[i]);
+            char where[96];
+            // With a load term the range is of the corrected voltage: both are said.
+            if (c.corrected_v != volts[i])
+              std::snprintf(where, sizeof where, " (%.4f V; %.4f V with the load offset at %g cm/s)", volts[i], c.corrected_v,
+                            std::abs(speed[i]));
+            else
+              std::snprintf(where, sizeof where, " (%.4f V)", volts[i]);
             report->clamped.push_back(log.path + ":" + std::to_string(log.line_of_row[i]) + where);
           }
         }
@@ -253,6 +258,47 @@ double analytic_charge(const SpeedFit& s, const BatteryFit& all, mb::Model m, do
   return 0;
 }
 
+namespace {
+/// The reading noise's robust sd from the absolute residuals `dev` (reordered): 1.4826 times
+/// their median (the normal's MAD factor, 1 / Phi^-1(3/4)).
+double mad_sd(std::vector<double>& dev) {
+  if (dev.empty()) return 0.0;
+  std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2), dev.end());
+  return 1.482602218505602 * dev[dev.size() / 2];
+}
+}  // namespace
+
+std::string lifetime_no_error_why(const SpeedFit& s) {
+  if (s.runs >= 2 && s.lifetime_std_error_s > 0) return "";
+  return s.runs < 2 ? "the end of the only run's log: no spread to estimate an error from" : "the runs end at the same time";
+}
+
+std::string simple_static_no_error_why(const BatteryFit& f) {
+  for (const SpeedFit& s : f.speeds)
+    if (s.speed_cm_s == 0) {
+      if (s.runs >= 2 && s.lifetime_std_error_s > 0) return "";
+      return s.runs < 2 ? "one run at 0 cm/s" : "the " + std::to_string(s.runs) + " runs at 0 cm/s end at the same time";
+    }
+  return "no run at 0 cm/s: m0 is taken as m1";
+}
+
+std::string simple_moving_no_error_why(const BatteryFit& f) {
+  std::size_t moving = 0, single = 0, together = 0;
+  for (const SpeedFit& s : f.speeds) {
+    if (s.speed_cm_s == 0) continue;
+    ++moving;
+    if (s.runs < 2)
+      ++single;
+    else if (!(s.lifetime_std_error_s > 0))
+      ++together;
+  }
+  if (moving == 0) return "no run while moving";
+  if (single + together < moving) return "";
+  if (together == 0) return "one run a speed";
+  if (single == 0) return "at every speed the runs end at the same time";
+  return "at every speed one run, or runs ending at the same time";
+}
+
 BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& options, double reject_sd) {
   BatteryFit out;
   std::map<long, std::vector<const BatteryRun*>> by_speed;  // key: speed in 0.01 cm/s
@@ -292,8 +338,7 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
         r[i] = y[i] - CubicInScaledTime{}(p.data(), u[i]);
         dev[i] = std::abs(r[i]);
       }
-      std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2), dev.end());
-      s.noise_sd = 1.482602218505602 * dev[dev.size() / 2];
+      s.noise_sd = mad_sd(dev);
       const double limit = reject_sd * s.noise_sd;
       std::size_t kept = 0;
       for (std::size_t i = 0; i < u.size(); ++i) {
@@ -315,6 +360,14 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
       where.resize(kept);
       run_of.resize(kept);
       s.cubic = fit_curve(CubicInScaledTime{}, u, y, {{"d", 1.0}, {"c", -1.0}, {"b", 0.0}, {"a", 0.0}}, options);
+    }
+    // --least-squares (no rejection pass): the same robust sd of the cubic's residuals, so that
+    // the file's reading noise does not depend on whether outliers were looked for.
+    if (!(reject_sd > 0) && s.cubic.usable) {
+      const std::vector<double> p = s.cubic.values();
+      std::vector<double> dev(u.size());
+      for (std::size_t i = 0; i < u.size(); ++i) dev[i] = std::abs(y[i] - CubicInScaledTime{}(p.data(), u[i]));
+      s.noise_sd = mad_sd(dev);
     }
     s.observations = t.size();
     // Lack of fit: the runs' readings at the same time are replicates (the calibration protocol

@@ -83,9 +83,8 @@ json mse_json(const ModelMse& m) {
 }  // namespace
 
 std::string lifetime_text(const SpeedFit& s) {
-  if (s.runs < 2 || !(s.lifetime_std_error_s > 0))
-    return fit::format_uncertain(s.lifetime_s, 0.0, "s", s.runs < 2 ? "the end of the only run's log: no spread to estimate an error from"
-                                                                     : "the runs end at the same time");
+  const std::string why = lifetime_no_error_why(s);
+  if (!why.empty()) return fit::format_uncertain(s.lifetime_s, 0.0, "s", why);
   return fit::format_uncertain(s.lifetime_s, s.lifetime_std_error_s, "s") + " (mean of " + std::to_string(s.runs) +
          " runs' ends, standard error over runs)";
 }
@@ -134,7 +133,8 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
         {"cubic_rounded", cubic_rounded},
         {"linear_slope_std_error", s.linear_slope_std_error},
         {"linear_slope_rounded", fit::format_uncertain(s.linear_slope_per_s, s.linear_slope_std_error, "1/s",
-                                                       "-1/lifetime, and the lifetime has no standard error (one run)")},
+                                                       "-1/lifetime, and the lifetime has no standard error: " +
+                                                           lifetime_no_error_why(s))},
         {"free_line", fit_values(s.free_line, s.free_line_autocorrelation, {"charge", "1/s"})},
         {"breakpoints", fit_values(s.piecewise, s.piecewise_autocorrelation, {"s", "s", "charge", "charge", "charge"})},
         {"mse", mse_json(s.mse)},
@@ -162,9 +162,11 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
   simple.update(json{{"static_std_error", fit.simple_static_std_error},
                      {"moving_std_error", fit.simple_moving_std_error},
                      {"static_rounded", fit::format_uncertain(fit.simple_static_slope_per_s, fit.simple_static_std_error, "1/s",
-                                                              "-1/lifetime at 0 cm/s, which has no standard error (one run)")},
+                                                              "-1/lifetime at 0 cm/s, which has no standard error: " +
+                                                                  simple_static_no_error_why(fit))},
                      {"moving_rounded", fit::format_uncertain(fit.simple_moving_slope_per_s, fit.simple_moving_std_error, "1/s",
-                                                              "-1/mean lifetime while moving, which has no standard error (one run a speed)")}});
+                                                              "-1/mean lifetime while moving, which has no standard error: " +
+                                                                  simple_moving_no_error_why(fit))}});
   const SpeedCoverage coverage = speed_coverage(fit);
   std::vector<std::string> warnings = fit.warnings;
   warnings.insert(warnings.end(), unreadable.begin(), unreadable.end());

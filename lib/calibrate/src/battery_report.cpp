@@ -46,12 +46,11 @@ void write_fit_statistics(Text& out, const fit::FitResult& r, const fit::Autocor
 }
 
 std::string lifetime(const SpeedFit& s) {
-  if (s.runs < 2 || !(s.lifetime_std_error_s > 0)) {
+  const std::string why = lifetime_no_error_why(s);
+  if (!why.empty()) {
     char h[64];
     std::snprintf(h, sizeof h, "%.3g h; ", s.lifetime_s / 3600.0);
-    return fit::format_uncertain(s.lifetime_s, 0.0, "s",
-                                 std::string(h) + (s.runs < 2 ? "the end of the only run's log: no spread to estimate an error from"
-                                                              : "the runs end at the same time"));
+    return fit::format_uncertain(s.lifetime_s, 0.0, "s", std::string(h) + why);
   }
   return fit::format_uncertain(s.lifetime_s, s.lifetime_std_error_s, "s") + " (" +
          fit::format_uncertain(s.lifetime_s / 3600.0, s.lifetime_std_error_s / 3600.0, "h") + "; mean of the " +
@@ -73,8 +72,8 @@ std::string report_text(const BatteryFit& f, bool robust, double reject_sd) {
   out("%6s %4s %6s  %-44s  %9s %9s %9s %9s\n", "speed", "runs", "rows", "lifetime", "MSE simp", "linear", "cubic",
       "approx");
   for (const auto& s : f.speeds) {
-    std::string life = s.runs >= 2 && s.lifetime_std_error_s > 0 ? fit::format_uncertain(s.lifetime_s, s.lifetime_std_error_s, "s")
-                                                                : fit::format_uncertain(s.lifetime_s, 0.0, "s", "one run");
+    const std::string life = fit::format_uncertain(s.lifetime_s, s.lifetime_std_error_s, "s",
+                                                   s.runs < 2 ? "one run" : "runs end together");
     out("%6.2f %4zu %6zu  %-44s  %9.5f %9.5f %9.5f %9.5f\n", s.speed_cm_s, s.runs, s.observations, life.c_str(),
         s.mse.simple, s.mse.linear, s.mse.cubic, s.mse.approximated);
   }
@@ -89,7 +88,7 @@ std::string report_text(const BatteryFit& f, bool robust, double reject_sd) {
     write_fit_statistics(out, s.cubic, a);
     out("  Linear (paper): slope -1/lifetime = %s\n",
         fit::format_uncertain(s.linear_slope_per_s, s.linear_slope_std_error, "1/s",
-                              "the lifetime has no standard error")
+                              "the lifetime has no standard error: " + lifetime_no_error_why(s))
             .c_str());
     out("    free least-squares line (reference): %s, %s\n",
         parameter(s.free_line, "intercept", "charge", s.free_line_autocorrelation).c_str(),
@@ -106,10 +105,10 @@ std::string report_text(const BatteryFit& f, bool robust, double reject_sd) {
   }
   out("\nSimple model: m0 = %s (static), m1 = %s (moving); from the lifetimes' standard errors\n",
       fit::format_uncertain(f.simple_static_slope_per_s, f.simple_static_std_error, "1/s",
-                            "the static lifetime has no standard error (one run)")
+                            "the static lifetime has no standard error: " + simple_static_no_error_why(f))
           .c_str(),
       fit::format_uncertain(f.simple_moving_slope_per_s, f.simple_moving_std_error, "1/s",
-                            "the moving lifetimes have no standard error (one run a speed)")
+                            "the moving lifetimes have no standard error: " + simple_moving_no_error_why(f))
           .c_str());
   out("Average MSE over speeds: simple %.4f, linear %.4f, cubic %.4f, approximated %.4f charge²\n", f.mse.simple,
       f.mse.linear, f.mse.cubic, f.mse.approximated);

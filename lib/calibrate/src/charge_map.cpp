@@ -339,6 +339,7 @@ bool covers_speed(const ChargeMap& m, double speed_cm_s) {
 ChargeConversion convert_voltage(const ChargeMap& m, double voltage_v, double speed_cm_s) {
   ChargeConversion c;
   double x = voltage_v + load_offset_v(m, speed_cm_s);
+  c.corrected_v = x;
   if (x < m.voltage_min_v) {
     c.side = -1;
     x = m.voltage_min_v;

@@ -56,8 +56,8 @@ GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions&
       obs[k].push_back({v[i], c, where(log, i), static_cast<int>(std::lround(g[i] * 1000))});
     }
   }
-  double rss = 0;
-  std::size_t n = 0;
+  double rss = 0, plugin_rss = 0;
+  std::size_t n = 0, plugin_n = 0;
   const double inf = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < static_cast<std::size_t>(s::kGroundCount); ++k) {
     if (obs[k].empty()) {
@@ -79,8 +79,11 @@ GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions&
       if (obs[k][i].censoring == Censoring::none)
         r.push_back(out.value_raw[k][i] - s::ground_response(s::kPluginGround.gain_raw, s::kPluginGround.offset_raw, out.grey[k][i]));
     out.plugin_mse[k] = mse_of(r);
+    for (const double e : r) plugin_rss += e * e;
+    plugin_n += r.size();
   }
   out.mse = n ? rss / static_cast<double>(n) : 0.0;
+  out.plugin_mse_pooled = plugin_n ? plugin_rss / static_cast<double>(plugin_n) : 0.0;
 
   // The reading noise: the replicates of each log, sensor and grey level (to a tenth of a percent).
   std::vector<double> nv;

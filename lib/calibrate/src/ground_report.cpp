@@ -36,7 +36,9 @@ std::string report_text(const GroundFit& f) {
     write_parameter(out, f.sensors[k], "offset", "counts");
     write_handling(out, f.sensors[k], "counts");
   }
-  out("\nPlug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0. Pooled MSE %.3f counts²\n", f.mse);
+  out("\nPlug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0: pooled MSE %.1f counts² on the readings inside the "
+      "rails (the fit's: %.3f counts²)\n",
+      f.plugin_mse_pooled, f.mse);
   write_noise_and_warnings(out, {f.noise}, f.warnings);
   return out.str();
 }
@@ -89,7 +91,7 @@ nlohmann::json coefficient_json(const GroundFit& f, const std::vector<logs::Log>
   j["observations_per_sensor"] = n;
   j["readings"] = f.readings;
   j["model"] = "value_raw = offset + gain * grey, grey in [0, 1], sensors 0 right, 1 centre, 2 left";
-  j["reference_mse"] = {{"plugin", f.plugin_mse}};
+  j["reference_mse"] = {{"plugin", f.plugin_mse}, {"plugin_pooled", f.plugin_mse_pooled}};
   add_noise(j, {f.noise});
   add_warnings(j, f.warnings);
   return j;

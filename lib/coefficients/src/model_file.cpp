@@ -90,7 +90,7 @@ const std::vector<std::string>& informational_sections() {
       "rows", "residuals", "logs", "verdict", "most_of_the_gain", "too_few_rows", "minimum_rows", "message", "recalibrated",
       "recalibrated_uncertainty", "recalibrated_rounded", "recalibrated_uncertainty_jackknife", "jackknife_folds",
       "recalibrated_uncertainty_corrected", "recalibrated_uncertainty_why", "loss", "censored_per_rail", "fit",
-      "autocorrelation", "heldout_mse_plugin", "heldout_mse_recalibrated", "heldout_mse_recalibrated_why",
+      "autocorrelation", "heldout_mse_plugin", "mse_plugin_reading", "heldout_mse_recalibrated", "heldout_mse_recalibrated_why",
       "heldout_mse_final", "heldout_mse_final_why", "heldout_weighted_recalibrated", "heldout_weighted_final", "noise_sd",
       "noise_sd_why", "mse_units", "channel_noise_sd", "findings", "possible_findings", "residual_structure",
       "residual_structure_before", "effects_considered", "search", "notes", "final_base", "effects_not_in_model"};

@@ -172,6 +172,7 @@ nlohmann::json report_json(const Report& r, const std::vector<std::string>& path
     j["recalibrated"] = nlohmann::json::object();
     j["recalibrated_uncertainty"] = nlohmann::json::object();
     j["heldout_mse_plugin"] = r.heldout_mse_plugin;
+    j["mse_plugin_reading"] = r.mse_plugin_reading;
     for (const char* key : {"heldout_mse_recalibrated", "heldout_mse_final", "noise_sd"}) {
       j[key] = nullptr;
       j[std::string(key) + "_why"] = why;
@@ -219,6 +220,7 @@ nlohmann::json report_json(const Report& r, const std::vector<std::string>& path
   j["units"] = units;
   if (const auto why = undefined_errors(r.recalibrated); !why.empty()) j["recalibrated_uncertainty_why"] = why;
   j["heldout_mse_plugin"] = r.heldout_mse_plugin;
+  j["mse_plugin_reading"] = r.mse_plugin_reading;
   j["heldout_mse_recalibrated"] = r.heldout_mse_base;
   j["heldout_mse_final"] = r.heldout_mse_final;
   if (!r.channel_noise_sd.empty()) {
@@ -312,7 +314,10 @@ std::string report_text(const Report& r, const std::string& base_name) {
   calibrate::Text out;
   const std::string u = fit::pretty_unit(units_of(r.kind));
   out("Diagnosis of %zu %s rows (%zu residuals)\n", r.rows, std::string(logs::to_string(r.kind)).c_str(), r.residuals);
-  out("%s, before recalibration: MSE %.4g %s.\n", base_name.c_str(), r.heldout_mse_plugin, u.c_str());
+  out("%s, before recalibration: MSE %.4g %s against its expected reading E[clamp(model + noise)]%s; %.4g %s against its "
+      "reading as `simulate --like` writes it.\n",
+      base_name.c_str(), r.heldout_mse_plugin, u.c_str(), r.too_few_rows ? "" : ", as every held-out MSE below",
+      r.mse_plugin_reading, u.c_str());
   if (r.too_few_rows) {
     const std::string m = r.message.empty() ? r.message : std::string(1, static_cast<char>(std::toupper(r.message[0]))) + r.message.substr(1);
     out("%s.\nNo effect was judged: no recalibration, no search, no finding.\n", m.c_str());

@@ -123,6 +123,22 @@ double reading_mse(const Engine& engine, const Problem& p, const std::vector<dou
   return count ? sse / static_cast<double>(count) : 0.0;
 }
 
+/// The reading's (channel 0's) mean squared error of the model's reading itself at `values`:
+/// clamp(latent) to its rails, no noise (what `simulate --like` writes without --noise), every row.
+double reading_mse_plain(const Engine& engine, const Problem& p, const std::vector<double>& values) {
+  std::vector<double> latent(engine.size());
+  engine.latent(values.data(), latent.data());
+  double sse = 0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < latent.size(); ++i)
+    if (p.channel.empty() || p.channel[i] == 0) {
+      const double e = engine.error(i, std::min(std::max(latent[i], engine.lo(i)), engine.hi(i)));
+      sse += e * e;
+      ++count;
+    }
+  return count ? sse / static_cast<double>(count) : 0.0;
+}
+
 /// One diagnosis, step by step (docs/diagnose.md): each step a method, in the order run() calls
 /// them. The state between steps is the search's: the free parameters, the current fit and its
 /// held-out error, and the effects kept in the order they were found.
@@ -247,6 +263,7 @@ class Diagnosis {
     // The plug-in's error on every row, the one figure that needs no fit (the engine's default
     // noise of 1 in the clamp's expectation: no estimate from so few rows).
     report_.heldout_mse_plugin = reading_mse(*engine_, p, p.plugin_values);
+    report_.mse_plugin_reading = reading_mse_plain(*engine_, p, p.plugin_values);
     std::string why = "too few rows (" + std::to_string(report_.rows) + ") to judge effects; need at least " +
                       std::to_string(report_.minimum_rows) + ": the held-out test's " + std::to_string(folds) +
                       " folds must each hold " + std::to_string(o_.rows_per_parameter) +
@@ -268,6 +285,7 @@ class Diagnosis {
     const Problem& p = *problem_;
     engine_->set_sigma(engine_->noise_sd(p.plugin_values));
     report_.heldout_mse_plugin = reading_mse(*engine_, p, p.plugin_values);
+    report_.mse_plugin_reading = reading_mse_plain(*engine_, p, p.plugin_values);
     report_.message = p.notes;
   }
 

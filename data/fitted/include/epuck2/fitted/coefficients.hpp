@@ -2,7 +2,7 @@
 // source: data/fitted/battery.json fnv1a64 e704974f9b8c8ba6
 // source: data/fitted/proximity.json fnv1a64 ea597d4f9d7ffd05
 // source: data/fitted/light.json fnv1a64 9568e85dec562553
-// source: data/fitted/ground.json fnv1a64 cb066cba772a4583
+// source: data/fitted/ground.json fnv1a64 4fdc199d6f88fe8c
 // source: data/fitted/camera.json fnv1a64 94ff39bfc4352529
 // source: data/fitted/drive.json fnv1a64 b64145aac88fa64e
 // Coefficients fitted by epuck2-fit from these logs:

@@ -107,6 +107,17 @@ struct BatteryFit {
   std::vector<std::string> warnings;
 };
 
+/// Why a speed's lifetime (and so its Linear slope) has no standard error, when it has none: "the
+/// end of the only run's log" (one run) or "the runs end at the same time" (two or more runs
+/// whose ends agree); "" when it has one.
+std::string lifetime_no_error_why(const SpeedFit& s);
+/// Why the Simple model's static slope m0 has no standard error, from the runs the fit had: no run
+/// at 0 cm/s (m0 is m1), one run there, or runs there ending at the same time; "" when it has one.
+std::string simple_static_no_error_why(const BatteryFit& f);
+/// Why the moving slope m1 has none: no moving run, or every moving speed with one run or runs
+/// ending at the same time (said as they are); "" when it has one.
+std::string simple_moving_no_error_why(const BatteryFit& f);
+
 /// Below this many rows per parameter at a speed (cubic: 4 parameters, approximated: 5) the fit
 /// is said to be barely determined (a warning). Fewer rows than parameters + 1 and the fit is
 /// refused (its FitResult is not usable, with the reason).

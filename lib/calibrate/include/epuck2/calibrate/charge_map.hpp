@@ -94,6 +94,7 @@ bool covers_speed(const ChargeMap& map, double speed_cm_s);
 struct ChargeConversion {
   double charge = 0;
   int side = 0;  ///< -1: below the map's voltage range, +1: above (clamped to the end charge), 0: inside
+  double corrected_v = 0;  ///< the voltage plus the load offset at the row's speed: what the range is of
 };
 /// f(voltage + load offset), clamped to the domain.
 ChargeConversion convert_voltage(const ChargeMap& map, double voltage_v, double speed_cm_s);

@@ -131,7 +131,8 @@ struct GroundFit {
   std::array<std::vector<int>, models::sensors::kGroundCount> robot;
   std::vector<std::string> robot_names;
   std::array<double, models::sensors::kGroundCount> plugin_mse{};  ///< gain 1023, offset 0
-  double mse = 0;  ///< pooled over the three sensors
+  double plugin_mse_pooled = 0;  ///< the plug-in's on every reading inside the rails, the three sensors pooled
+  double mse = 0;  ///< the fit's, pooled over the three sensors
   std::size_t readings = 0, censored = 0;
   std::vector<std::string> warnings;
   /// Reading noise in counts, from the replicates (per log, sensor and grey level), per sensor (3).

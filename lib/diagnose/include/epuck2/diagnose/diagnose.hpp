@@ -172,6 +172,11 @@ struct Report {
   /// the first one's units.
   std::vector<NamedValue> channel_noise_sd;
   double heldout_mse_plugin = 0;         ///< the plug-in's model with its published coefficients
+  /// The same model's MSE against its reading itself, clamp(model) to the rails with no noise (what
+  /// `simulate --like` writes without --noise), on every row: the number a user computes by hand.
+  /// heldout_mse_plugin, like every held-out MSE, compares with the expected reading
+  /// E[clamp(model + noise)], the noise sd estimated from the model's residuals.
+  double mse_plugin_reading = 0;
   double heldout_mse_base = 0;           ///< the base model recalibrated
   double heldout_mse_final = 0;          ///< with every finding (these three: the reading, channel 0)
   double heldout_weighted_base = 0, heldout_weighted_final = 0;  ///< every channel, weighted
