@@ -4,7 +4,8 @@
 #   partial   a file with tables at 5, 10 and 13 cm/s only (at 5, the file's 15 cm/s table): ep5 lasts
 #             the file's lifetime_s at 5 cm/s, ep6 the plug-in's published lifetime at 6 cm/s (each within 1 %);
 #   capacity  tables="plugin" with a diagnosis's capacity_scale k = 0.8: both lifetimes x 0.8
-#             against the same run with k = 1 (within 0.2 %: 10 s rows over ~10^4 s);
+#             against the same run with k = 1 (within 0.2 %: 10 s rows over ~10^4 s); tables="plugin"
+#             with no file at all runs as that k = 1 file, row for row;
 #   model     a file naming battery_model (a diagnosis's) and no model= in the XML: the same charges as
 #             model="simple" in the XML, unlike the Cubic's; model="approx" as model="approximated";
 #   refusals  a covariate effect in the file, tables=, behaviour= or model= misspelt, and tables="file"
@@ -83,6 +84,15 @@ echo "ok   Init: $(grep -o 'fitted tables at [^;]*' "$WORK/partial/log" | head -
 experiment "$WORK/k1" "coefficients=\"$WORK/partial.json\" tables=\"plugin\" model=\"cubic\""
 experiment "$WORK/k08" "coefficients=\"$WORK/k08.json\" tables=\"plugin\" model=\"cubic\""
 grep -q "capacity scale 0.8" "$WORK/k08/log" || { cat "$WORK/k08/log"; fail "Init does not say the capacity scale"; }
+# tables="plugin" needs no file (docs/argos.md: the plug-in's tables with the file's capacity scale,
+# k = 1 without one): it runs, says so, and reads as the same tables through a file with k = 1.
+experiment "$WORK/plugin_nofile" "tables=\"plugin\" model=\"cubic\""
+grep -q "calibrated battery: no file: the plug-in's tables at every speed; model cubic" "$WORK/plugin_nofile/log" ||
+  { cat "$WORK/plugin_nofile/log"; fail "Init does not say: no file, the plug-in's tables"; }
+for f in "$WORK"/k1/*.csv; do
+  cmp -s "$f" "$WORK/plugin_nofile/$(basename "$f")" || fail "tables=\"plugin\" without a file does not run as with a file of k = 1: $(basename "$f")"
+done
+echo "ok   tables=\"plugin\" without coefficients= runs the plug-in's tables, row for row as with a file of k = 1"
 # The file's battery_model is the model when the XML names none: the same charges, row for row, as
 # the XML naming it, and not those of the Cubic (the model without either).
 experiment "$WORK/file_model" "coefficients=\"$WORK/simple.json\""
