@@ -10,12 +10,19 @@
 
 #include <Eigen/Dense>
 
+#include "cli_harness.hpp"
 #include "epuck2/fit/fit_curve.hpp"
 #include "epuck2/fit/least_squares.hpp"
+#include "epuck2/coefficients/model_sets.hpp"
+
+#include <nlohmann/json.hpp>
 
 namespace test_round_twenty_cpp {
 
 namespace fit = epuck2::fit;
+using epuck2::testing::CliRun;
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 struct Line {
   static constexpr int kParameters = 2;
@@ -91,6 +98,88 @@ TEST(RoundTwentyFit, AnExactlyDeterminedFitSaysItHasNoDegreeOfFreedom) {
   const fit::FitResult refused = fit::fit_curve(Quadratic{}, {0, 1, 2}, {1, 2, 5}, {{"c0", 0.0}, {"c1", 0.0}, {"c2", 0.0}});
   EXPECT_FALSE(refused.usable);
   EXPECT_EQ(refused.message, "too few observations (3) for 3 parameters");
+}
+
+// ---- lib/coefficients: a null noise section gives no noise ----
+
+// model_sets.hpp: has_noise_section says whether a file gives a reading noise. `"noise": null`
+// gives none (the readers refuse it in a file; the function is asked of whatever JSON it is handed,
+// and a simulator would otherwise take a file without noise for one with measured noise).
+TEST(RoundTwentyCoefficients, ANullNoiseSectionIsNoNoise) {
+  namespace co = epuck2::coefficients;
+  using nlohmann::json;
+  EXPECT_FALSE(co::has_noise_section(json::parse(R"({"noise": null})"), ""));
+  EXPECT_FALSE(co::has_noise_section(json::parse(R"({"robots": {"A": {"noise": null}}})"), "A"));
+  EXPECT_TRUE(co::has_noise_section(json::parse(R"({"noise": {"ground": {"sd": 2}}})"), ""));
+}
+
+// ---- the CLI's outputs: the special paths docs/cli.md names ----
+
+class RoundTwentyCli : public epuck2::testing::CliTest {};
+
+// docs/cli.md: `-o` takes `-`, /dev/stdout, /dev/stderr and /proc/self/fd/N as the streams they
+// name, written in place. The coefficient file (its "kind" line) must land on that stream only.
+TEST_F(RoundTwentyCli, OutputToDevStderrAndProcSelfFdOneLandOnTheirStreams) {
+  const std::string logs = shipped("ground");
+  const CliRun e = run("ground" + logs + " -o /dev/stderr");
+  ASSERT_EQ(e.exit_code, 0) << e.err.substr(0, 500);
+  EXPECT_TRUE(has(e.err, "\"kind\": \"ground\"")) << e.err.substr(0, 500);
+  EXPECT_FALSE(has(e.out, "\"kind\"")) << e.out.substr(0, 500);
+  const CliRun o = run("ground" + logs + " -o /proc/self/fd/1");
+  ASSERT_EQ(o.exit_code, 0) << o.err.substr(0, 500);
+  EXPECT_TRUE(has(o.out, "\"kind\": \"ground\"")) << o.out.substr(0, 500);
+  EXPECT_FALSE(has(o.err, "\"kind\"")) << o.err.substr(0, 500);
+  const CliRun t = run("ground" + logs + " -o /proc/self/fd/2");
+  ASSERT_EQ(t.exit_code, 0) << t.err.substr(0, 500);
+  EXPECT_TRUE(has(t.err, "\"kind\": \"ground\"")) << t.err.substr(0, 500);
+  EXPECT_FALSE(has(t.out, "\"kind\"")) << t.out.substr(0, 500);
+}
+
+// A number option's range is of finite numbers: "nan" compares false both ways and would pass a
+// plain lo <= v <= hi test (docs/cli.md: --dt in [0.001, 10]).
+TEST_F(RoundTwentyCli, ANanTickIsRefused) {
+  for (const char* v : {"nan", "NaN", "inf"}) {
+    const CliRun r = run(std::string("table5 --dt ") + v + shipped("battery"));
+    EXPECT_EQ(r.exit_code, 2) << v;
+    EXPECT_TRUE(has(r.err, "--dt: ")) << r.err;
+    EXPECT_TRUE(has(r.err, "is out of range: allowed a finite number in [0.001, 10]")) << r.err;
+  }
+}
+
+// ---- lib/calibrate: the camera's fewest observations ----
+
+// Two LED positions give 4 pixel readings for 3 parameters (fov, cx, cy): the fit is made, and
+// through the docs' pinhole (docs/diagnose.md's camera model: px = cx - f lateral / forward,
+// py = cy - f vertical / forward, f = (W/2) / tan(fov/2), W = 160) it is exact: the LED at
+// vertical 0 reads py = cy = 58; at vertical -0.035 m, 0.2 m ahead, py - cy = 50 = f 0.175, so
+// f = 285.714 px; px = 154 = cx + f 0.25 gives cx = 82.571; fov = 2 atan(80 / f) = 31.2845 deg.
+// One position (2 readings) is refused, naming the count.
+TEST_F(RoundTwentyCli, ACameraFitOfTwoObservationsIsMadeAndExact) {
+  const std::string two = write("two.csv", "# robot: r\nforward_m,lateral_m,vertical_m,px,py\n0.2,-0.05,-0.035,154,108\n0.2,-0.05,0,154,58\n");
+  const CliRun r = run("camera --json \"" + two + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto p = nlohmann::json::parse(r.out).at("parameters");
+  const double f = 50.0 / 0.175, pi = std::acos(-1.0);
+  EXPECT_NEAR(p.at("cy_px").get<double>(), 58.0, 1e-6);
+  EXPECT_NEAR(p.at("cx_px").get<double>(), 154.0 - 0.25 * f, 1e-4);
+  EXPECT_NEAR(p.at("fov_deg").get<double>(), 2.0 * std::atan(80.0 / f) * 180.0 / pi, 1e-4);
+  const std::string one = write("one.csv", "# robot: r\nforward_m,lateral_m,vertical_m,px,py\n0.2,-0.05,-0.035,154,108\n");
+  const CliRun o = run("camera \"" + one + "\"");
+  EXPECT_EQ(o.exit_code, 1);
+  EXPECT_TRUE(has(o.err, "too few camera observations (1) for 3 parameters and their noise")) << o.err;
+}
+
+// simulate --like copies a log's numeric columns and says when it leaves text columns out: one
+// text column is said as two are.
+TEST_F(RoundTwentyCli, SimulateSaysItLeavesOutEvenOneTextColumn) {
+  std::string text = "# robot: r\ngrey,sensor,value,note\n";
+  for (int g = 0; g <= 10; ++g)
+    for (int s = 0; s < 3; ++s) text += std::to_string(g / 10.0) + "," + std::to_string(s) + ",500,ok\n";
+  const std::string log = write("g.csv", text);
+  const CliRun r = run("simulate ground --like \"" + log + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(has(r.err, "simulate: text columns of " + log + " are not copied (only numeric columns are)")) << r.err;
+  EXPECT_TRUE(has(r.out, "grey,sensor,value\n")) << r.out.substr(0, 300);
 }
 
 }  // namespace test_round_twenty_cpp
