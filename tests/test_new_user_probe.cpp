@@ -67,7 +67,9 @@ TEST_F(NewUserProbe, BatteryLeastSquaresWritesTheReadingNoise) {
   const std::string full = (dir_ / "full.json").string();
   const CliRun f = run("battery --least-squares" + all + " -o \"" + full + "\"");
   ASSERT_EQ(f.exit_code, 0) << f.err;
-  for (const auto& speed : json::parse(slurp(full)).at("speeds"))
+  const json written = json::parse(slurp(full));  // (a range-for over a temporary's member would dangle)
+  ASSERT_EQ(written.at("speeds").size(), 16u);
+  for (const auto& speed : written.at("speeds"))
     EXPECT_NEAR(speed.at("noise_sd").get<double>(), expected, 0.01 * expected) << speed.at("speed_cm_s");
   const CliRun quiet = run("simulate battery --like \"" + a + "\" --coefficients \"" + full + "\"");
   const CliRun noisy = run("simulate battery --like \"" + a + "\" --coefficients \"" + full + "\" --noise --seed 5");

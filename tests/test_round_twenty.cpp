@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -180,6 +181,36 @@ TEST_F(RoundTwentyCli, SimulateSaysItLeavesOutEvenOneTextColumn) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(has(r.err, "simulate: text columns of " + log + " are not copied (only numeric columns are)")) << r.err;
   EXPECT_TRUE(has(r.out, "grey,sensor,value\n")) << r.out.substr(0, 300);
+}
+
+// ---- lib/diagnose: a one-channel kind's misfit is not called its noise ----
+
+// A ground log whose curve has a wiggle no catalogue effect describes (30 sin(6 pi grey) counts)
+// and replicates scattering by the pattern -2, -1, 0, 1, 2 twice: their sd is sqrt(20 / 9) = 1.49
+// counts over 21 greys x 3 sensors x 10 = 630 readings. The final model misses by about the
+// wiggle's rms (21 counts), far over twice that: the diagnosis must say its residuals are not
+// reading noise (docs/diagnose.md), as it does for the drive's and camera's channels.
+TEST_F(RoundTwentyCli, AOneChannelDiagnosisWarnsWhenItsMisfitIsNotNoise) {
+  std::string text = "# robot: r\ngrey,sensor,value\n";
+  const int pattern[10] = {-2, -1, 0, 1, 2, -2, -1, 0, 1, 2};
+  const double pi = std::acos(-1.0);
+  for (int g20 = 0; g20 <= 20; ++g20)
+    for (int s = 0; s < 3; ++s)
+      for (int k = 0; k < 10; ++k) {
+        const double g = g20 / 20.0;
+        char line[64];
+        std::snprintf(line, sizeof line, "%g,%d,%.3f\n", g, s, 50 + 900 * g + 30 * std::sin(6 * pi * g) + pattern[k]);
+        text += line;
+      }
+  const std::string log = write("wiggle.csv", text);
+  const CliRun r = run("diagnose --json \"" + log + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  bool warned = false;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  for (const auto& w : report.at("warnings"))
+    warned = warned || (has(w.get<std::string>(), "ground: the final model's residuals scatter ") &&
+                        has(w.get<std::string>(), "times what replicate readings scatter (1.49 counts over 630 readings)"));
+  EXPECT_TRUE(warned) << r.out.substr(0, 400);
 }
 
 }  // namespace test_round_twenty_cpp
