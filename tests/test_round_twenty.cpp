@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@ namespace test_round_twenty_cpp {
 
 namespace fit = epuck2::fit;
 using epuck2::testing::CliRun;
+using epuck2::testing::slurp;
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
@@ -211,6 +213,33 @@ TEST_F(RoundTwentyCli, AOneChannelDiagnosisWarnsWhenItsMisfitIsNotNoise) {
     warned = warned || (has(w.get<std::string>(), "ground: the final model's residuals scatter ") &&
                         has(w.get<std::string>(), "times what replicate readings scatter (1.49 counts over 630 readings)"));
   EXPECT_TRUE(warned) << r.out.substr(0, 400);
+}
+
+// docs/diagnose.md: incidence_angle is looked for when every log has `angle_deg` and the angle
+// varies or is not 0. One tilt throughout (60 deg: cos 0.5) counts; an angle of 0 throughout does not.
+TEST_F(RoundTwentyCli, OneTiltThroughoutIsEnoughToLookForTheIncidenceEffect) {
+  const std::string source = slurp(std::string(EPUCK2_SOURCE_DIR) + "/data/raw/proximity/proximity_virtual-epuck2-1.csv");
+  const auto with_angle = [&](const std::string& angle) {
+    std::istringstream in(source);
+    std::string out;
+    bool header = false;
+    for (std::string l; std::getline(in, l);) {
+      if (l.empty() || l[0] == '#') out += l + "\n";
+      else if (!header) { out += l + ",angle_deg\n"; header = true; }
+      else out += l + "," + angle + "\n";
+    }
+    return write("p" + angle + ".csv", out);
+  };
+  const auto considered = [&](const std::string& log) {
+    const CliRun r = run("diagnose --json \"" + log + "\"");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json report = nlohmann::json::parse(r.out);
+    for (const auto& e : report.at("effects_considered"))
+      if (e == "incidence_angle") return true;
+    return false;
+  };
+  EXPECT_TRUE(considered(with_angle("60")));
+  EXPECT_FALSE(considered(with_angle("0")));
 }
 
 }  // namespace test_round_twenty_cpp
