@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -16,6 +17,9 @@
 #include "epuck2/fit/fit_curve.hpp"
 #include "epuck2/fit/least_squares.hpp"
 #include "epuck2/coefficients/model_sets.hpp"
+#include "epuck2/diagnose/diagnose.hpp"
+#include "epuck2/logs/log.hpp"
+#include "../lib/diagnose/src/problem.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -240,6 +244,33 @@ TEST_F(RoundTwentyCli, OneTiltThroughoutIsEnoughToLookForTheIncidenceEffect) {
   };
   EXPECT_TRUE(considered(with_angle("60")));
   EXPECT_FALSE(considered(with_angle("0")));
+}
+
+// ---- lib/diagnose: the near field's rows include those at the base model's range ----
+
+// docs/diagnose.md: a long tail that carries most of the modelled reading within the base model's
+// range (d <= range_m, 0.05 m for the plug-in's model) is the near-field curve's shape, and the
+// reason counts those rows. Rows at 30, 40, 50 and 60 mm with a tail of 8000 exp(-d / 1 m) counts
+// (lifting every reading to the full scale): the rows within d <= 0.05 m are 3, the one at 50 mm
+// included; the one at 60 mm is beyond.
+TEST(RoundTwentyDiagnose, TheNearFieldCountsTheRowsAtTheRangeItself) {
+  namespace dd = epuck2::diagnose::detail;
+  const std::vector<epuck2::logs::Log> logs{epuck2::logs::parse_log(
+      "distance_m,sensor,value\n0.03,0,3500\n0.04,0,3000\n0.05,0,2000\n0.06,0,1000\n", "p.csv", epuck2::logs::Kind::proximity)};
+  std::string why;
+  const std::unique_ptr<dd::Problem> p = dd::make_problem(logs, epuck2::diagnose::Options{}, why);
+  ASSERT_TRUE(p) << why;
+  std::vector<double> values;
+  for (const auto& q : p->params) values.push_back(q.fallback);
+  for (const auto& e : p->effects)
+    if (e.cause == "long_tail") {
+      values[static_cast<std::size_t>(e.params.at(0))] = 8000.0;  // amplitude, counts
+      values[static_cast<std::size_t>(e.params.at(1))] = 1.0;     // length, m
+    }
+  const auto id = p->identify("long_tail", values, Eigen::MatrixXd());
+  ASSERT_TRUE(id.has_value());
+  EXPECT_EQ(id->cause, "near_field_curve");
+  EXPECT_TRUE(has(id->why, "within the base model's range (d <= 0.05 m, 3 rows)")) << id->why;
 }
 
 }  // namespace test_round_twenty_cpp
