@@ -136,6 +136,14 @@ TEST_F(RoundTwentyCli, OutputToDevStderrAndProcSelfFdOneLandOnTheirStreams) {
   ASSERT_EQ(o.exit_code, 0) << o.err.substr(0, 500);
   EXPECT_TRUE(has(o.out, "\"kind\": \"ground\"")) << o.out.substr(0, 500);
   EXPECT_FALSE(has(o.err, "\"kind\"")) << o.err.substr(0, 500);
+  // Standard output a pipe (as in `epuck2-fit ground LOGS -o /proc/self/fd/1 | jq`): descriptor 1
+  // is standard output, so it holds the one file and no report (docs/cli.md, as for /dev/fd/1).
+  for (const char* path : {"/proc/self/fd/1", "/dev/fd/1", "/dev/stdout"}) {
+    const CliRun piped = run("ground" + logs + " -o " + path + " 2>/dev/null | cat");
+    ASSERT_EQ(piped.exit_code, 0) << path;
+    EXPECT_FALSE(has(piped.out, "Ground sensors")) << path << ": " << piped.out.substr(0, 300);
+    EXPECT_EQ(nlohmann::json::parse(piped.out).at("kind"), "ground") << path;
+  }
   const CliRun t = run("ground" + logs + " -o /proc/self/fd/2");
   ASSERT_EQ(t.exit_code, 0) << t.err.substr(0, 500);
   EXPECT_TRUE(has(t.err, "\"kind\": \"ground\"")) << t.err.substr(0, 500);
