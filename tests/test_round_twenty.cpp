@@ -4,6 +4,7 @@
 // comment beside it, never from the code under test.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -30,6 +31,8 @@ using epuck2::testing::CliRun;
 using epuck2::testing::slurp;
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+class RoundTwentyCli : public epuck2::testing::CliTest {};
 
 struct Line {
   static constexpr int kParameters = 2;
@@ -107,6 +110,38 @@ TEST(RoundTwentyFit, AnExactlyDeterminedFitSaysItHasNoDegreeOfFreedom) {
   EXPECT_EQ(refused.message, "too few observations (3) for 3 parameters");
 }
 
+// ---- lib/calibrate: the light's plug-in MSE is over the readings inside the rails ----
+
+// docs/coefficient-files.md: the light report's `reference_mse.plugin` is the plug-in's gamma =
+// 0.075 on the readings inside the rails (0 and 4095 are rails: a reading there says only that
+// the light is at least that bright). A light of intensity 1 read with gamma 0.08 (8 sensors,
+// readings truth + -3, 0, 3): at 3 and 5 cm every reading is 0 (1 - (0.08 / d)^2 < 0), left out;
+// the test sums ((v - 4095 clamp01(1 - (0.075 / d)^2)) / 4095)^2 over the others itself.
+TEST_F(RoundTwentyCli, TheLightsPluginMseLeavesOutTheReadingsOnTheRails) {
+  std::string text = "# robot: r\ndistance_m,intensity,sensor,value\n";
+  double sse = 0;
+  std::size_t inside = 0;
+  for (const double d : {0.03, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4})
+    for (int s = 0; s < 8; ++s)
+      for (const int e : {-3, 0, 3}) {
+        const double truth = 4095.0 * std::clamp(1.0 - (0.08 / d) * (0.08 / d), 0.0, 1.0);
+        const double v = truth > 0 ? std::clamp(std::round(truth) + e, 0.0, 4095.0) : 0.0;
+        char line[64];
+        std::snprintf(line, sizeof line, "%g,1,%d,%g\n", d, s, v);
+        text += line;
+        if (v > 0 && v < 4095) {
+          const double plugin = 4095.0 * std::clamp(1.0 - (0.075 / d) * (0.075 / d), 0.0, 1.0);
+          sse += (v - plugin) / 4095.0 * (v - plugin) / 4095.0;
+          ++inside;
+        }
+      }
+  ASSERT_EQ(inside, 120u);  // 5 distances x 8 sensors x 3
+  const std::string log = write("l.csv", text);
+  const CliRun r = run("light --json \"" + log + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out).at("reference_mse").at("plugin").get<double>(), sse / 120.0, 1e-12);
+}
+
 // ---- lib/coefficients: a null noise section gives no noise ----
 
 // model_sets.hpp: has_noise_section says whether a file gives a reading noise. `"noise": null`
@@ -121,8 +156,6 @@ TEST(RoundTwentyCoefficients, ANullNoiseSectionIsNoNoise) {
 }
 
 // ---- the CLI's outputs: the special paths docs/cli.md names ----
-
-class RoundTwentyCli : public epuck2::testing::CliTest {};
 
 // docs/cli.md: `-o` takes `-`, /dev/stdout, /dev/stderr and /proc/self/fd/N as the streams they
 // name, written in place. The coefficient file (its "kind" line) must land on that stream only.
