@@ -151,7 +151,8 @@ R3_HINTS = whole(R3_ALWAYS + ["test_log_reader", "test_cli_grammar", "test_hones
 R3_MODEL = whole(R3_ALWAYS + ["test_coefficients", "test_model_sets", "test_model_loop", "test_log_reader",
                               "test_checked_outputs"])
 # The ARGoS plug-in and its tests (every one but the battery's, which the sensors' noise does not touch).
-R3_ARGOS = (["epuck2-fit", "epuck2_argos_calibrated", "epuck2_argos_protocols", "argos_hidden_log", "test_argos_calibrated_drive"],
+R3_ARGOS = (["epuck2-fit", "epuck2_argos_calibrated", "epuck2_argos_protocols", "argos_hidden_log", "argos_reset_check",
+             "test_argos_calibrated_drive"],
             ("whole", (), ("argos_noise_", "argos_roundtrip_proximity", "argos_roundtrip_ground", "argos_roundtrip_light",
                            "argos_roundtrip_drive", "argos_roundtrip_camera", "argos_roundtrip_default_", "argos_calibrated_",
                            "argos_hostile_files", "argos_closed_loop_proximity_", "argos_closed_loop_ground_",
@@ -1635,6 +1636,17 @@ MUTANTS = [
      '    if (strModel == "approx") strModel = "approximated";\n', "", R19_COEFF),
     ("r19_argos_actuator_reset_keeps_drive", "argos/src/calibrated_actuator.cpp",
      "    if (m_pcDrive) m_pcDrive->reset();\n", "", R19_ARGOS),
+    # Session 21: ARGoS's Reset, tested by argos_calibrated_reset (an experiment run, reset, run again).
+    ("s21_argos_actuator_reset_keeps_command", "argos/src/calibrated_actuator.cpp",
+     "    m_fCommand[0] = m_fCommand[1] = 0.0;\n", "", R19_ARGOS),
+    ("s21_argos_tof_reset_keeps_delay_line", "argos/src/calibrated_sensors.cpp",
+     "  m_cDelay.reset();\n  m_fTime = 0;\n", "  m_fTime = 0;\n", R19_ARGOS),
+    ("s21_argos_encoder_reset_keeps_travel", "argos/src/calibrated_sensors.cpp",
+     "  m_fLeftTravel = m_fRightTravel = 0;\n", "", R19_ARGOS),
+    ("s21_argos_battery_no_restart_on_clock", "argos/src/calibrated_battery.cpp",
+     "    if (m_bRan && unClock <= m_unLastClock) Restart();\n", "", R19_ARGOS),
+    ("s21_argos_battery_restart_keeps_pose", "argos/src/calibrated_battery.cpp",
+     "    m_cOldPosition = m_cStartPosition;\n", "", R19_ARGOS),
     ("r19_information_criteria_no_residual_inverted", "lib/fit/src/report.cpp",
      '(s.n == 0 ? "no residual" : kInformationCriteriaUndefined)', '(s.n != 0 ? "no residual" : kInformationCriteriaUndefined)',
      R19_FIT),

@@ -167,22 +167,29 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
       auto* pcComp = dynamic_cast<CComposableEntity*>(&pc_battery->GetRootEntity());
       if (pcComp == nullptr) THROW_ARGOSEXCEPTION("Root entity is not composable");
       m_psAnchor = &pcComp->GetComponent<CEmbodiedEntity>("body").GetOriginAnchor();
-      m_cOldPosition = m_psAnchor->Position;
-      m_cOldOrientation = m_psAnchor->Orientation;
+      m_cOldPosition = m_cStartPosition = m_psAnchor->Position;
+      m_cOldOrientation = m_cStartOrientation = m_psAnchor->Orientation;
     } catch (CARGoSException& ex) {
       THROW_ARGOSEXCEPTION_NESTED("While setting body for battery model \"calibrated\"", ex);
     }
   }
 
+  /* ARGoS's Reset (the Qt "reset" button, a batch driver repeating trials) must start the battery
+     again as at Init. The plug-in's battery entity has no Reset: its charge, and every discharge
+     model's state, would go on from where the run stopped (a plug-in quirk, docs/argos.md), and
+     it never calls this. So the model also restarts itself when the simulation clock goes back
+     (operator() below). */
   void Reset() override {
-    m_sHints = mb::corrected::CubicHints{};
-    if (m_psAnchor) {
-      m_cOldPosition = m_psAnchor->Position;
-      m_cOldOrientation = m_psAnchor->Orientation;
-    }
+    if (m_bRan) Restart();
+    m_bRan = false;
   }
 
   void operator()() override {
+    const UInt32 unClock = CSimulator::GetInstance().GetSpace().GetSimulationClock();
+    if (m_bRan && unClock <= m_unLastClock) Restart();
+    if (!m_bRan) m_fStartCharge = m_pcBattery->GetAvailableCharge();  // the first tick: nothing spent yet
+    m_bRan = true;
+    m_unLastClock = unClock;
     if (m_pcBattery->GetAvailableCharge() > 0.0) {
       /* The plug-in's distance: displacement, else the rotation angle times 0.0265f */
       Real fDeltaPos = Distance(m_psAnchor->Position, m_cOldPosition);
@@ -204,9 +211,20 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
   }
 
  private:
+  /// The state of the first tick: the start charge, no hints, the pose the body had at Init.
+  void Restart() {
+    m_pcBattery->SetAvailableCharge(m_fStartCharge);
+    m_sHints = mb::corrected::CubicHints{};
+    m_cOldPosition = m_cStartPosition;
+    m_cOldOrientation = m_cStartOrientation;
+  }
+
   const SAnchor* m_psAnchor = nullptr;
-  CVector3 m_cOldPosition;
-  CQuaternion m_cOldOrientation;
+  CVector3 m_cOldPosition, m_cStartPosition;
+  CQuaternion m_cOldOrientation, m_cStartOrientation;
+  bool m_bRan = false;       ///< operator() has run since Init (or the last restart)
+  UInt32 m_unLastClock = 0;  ///< the simulation clock at the last operator()
+  Real m_fStartCharge = 1.0;
   mb::Model m_eModel = mb::Model::cubic;
   mb::Behaviour m_eBehaviour = mb::Behaviour::argos_compatible;
   std::shared_ptr<const mb::Tables> m_pcTables;  ///< shared by every robot with the same file
