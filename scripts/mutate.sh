@@ -725,6 +725,56 @@ R19_LOGS = r19([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_
 # programs, the figures and NIST.
 R19_APPS = r19([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures", "test_nist"])
 
+# Round 20 of the fresh slips (bench/fresh-slips.md, branch fresh-slips-20), planted without reading
+# the tests, in functions and branches no earlier round visited: each group is every test of the
+# programs that touch the area (round 8's groups for it, as in rounds 9-19), the ARGoS groups for
+# argos/src and for the model header and coefficient-file code the plug-in reads. R20_TESTS: the
+# programs of rounds up to 19.
+R20_TESTS = list(R19_TESTS)
+
+
+def r20(groups, more=(), extra=(), targets=()):
+    built = {t for g in groups for t in g[0]} | set(more) | set(R20_TESTS) | set(targets) | {"epuck2-fit"}
+    programs = {p for g in groups for p in g[1][1]} | set(more) | set(R20_TESTS)
+    extras = tuple(dict.fromkeys(tuple(e for g in groups for e in g[1][2]) + tuple(extra)))
+    return (sorted(built), ("whole", tuple(sorted(programs)), extras))
+
+
+# saturation.hpp (the sensor's saturation at its low end without a high one: the light fit's and
+# the light diagnosis's clamp at 0): every group that reads a model, the generators, the ARGoS tests
+# and the drive's closed loops.
+R20_MODELS = r20([R8_MODELS, R8_APPS, R8_CALIB, R8_COEFF, R8_DIAGNOSE, R8_ARGOS], R12_GENERATORS,
+                 extra=("argos_closed_loop_drive_",))
+# calibrated_sensors.cpp (a proximity ray's cosine of incidence on a cylinder's side): the ARGoS
+# groups with the drive's closed loops.
+R20_ARGOS = r20([R8_ARGOS], extra=("argos_closed_loop_drive_",))
+# lib/fit (least_squares.cpp: the reason of a fit with as many residuals as parameters;
+# fit_curve.cpp: a lower bound's name; readings.cpp: a channel's reading at its low rail): the
+# fits' (with the Jet check), calibration's and diagnosis's groups, the battery programs and the
+# NIST program.
+R20_FIT = r20([R8_JET, R8_CALIB, R8_DIAGNOSE], R12_BATTERY + ["test_nist"])
+# lib/coefficients (battery_tables.cpp: a partial file without speeds; codegen.cpp: the header's
+# comment on a calibration's sources; model_sets.cpp: a null noise section) and
+# calibrated_battery.cpp (tables="plugin" without a file: its battery tests, as round 13's and 19's
+# calibrated_battery.cpp mutants): the coefficients' and ARGoS groups with the ARGoS battery tests
+# and the battery programs.
+R20_COEFF = r20([R8_COEFF, R8_ARGOS], R12_BATTERY, extra=R10_ARGOS_BATTERY, targets=["argos_plugin_battery_json"])
+# the calibration (proximity_fit.cpp's distance at the range, light_fit.cpp's plug-in MSE beside
+# readings at 0, camera_fit.cpp's two observations): the calibration's, apps' and coefficients'
+# groups.
+R20_CALIB = r20([R8_CALIB, R8_APPS, R8_COEFF])
+# the diagnosis (kind_proximity.cpp's one tilted angle and its tail's rows at the range,
+# reading_noise.cpp's single-channel noise warning): the diagnosis's, apps' and coefficients'
+# groups and the battery programs.
+R20_DIAGNOSE = r20([R8_DIAGNOSE, R8_APPS, R8_COEFF], ["test_battery_cli", "test_battery_fit", "test_battery_models"])
+# lib/logs (output.cpp: /dev/stderr and /proc/self/fd/N as outputs): the facts', hints', apps' and
+# coefficients' groups, the generators and the figures.
+R20_LOGS = r20([R8_FACTS, R8_HINTS, R8_APPS, R8_COEFF], R12_GENERATORS + ["test_figures"])
+# apps/ (simulate --like of a log with one text column, table5's speeds not in 0..15, a ranged
+# number option given nan): the apps', charge map's, calibration's and coefficients' groups with the
+# battery programs, the figures and NIST.
+R20_APPS = r20([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_figures", "test_nist"])
+
 # name, file, original text (must occur exactly once), mutated text, test group.
 MUTANTS = [
     # The seven that survived the suite before tests/test_independent_checks.cpp:
@@ -1639,6 +1689,47 @@ MUTANTS = [
     ("r19_battery_charge_map_from_file_inverted", "apps/cmd_battery.cpp",
      'if (!in.map_from_file.empty()) j["charge_map"]["from_file"] = in.map_from_file;',
      'if (in.map_from_file.empty()) j["charge_map"]["from_file"] = in.map_from_file;', R19_APPS),
+    # Round 20 (bench/fresh-slips.md): planted without reading the tests; the lib/models header first.
+    ('r20_saturate_low_clamp_only_with_a_high_one', 'lib/models/include/epuck2/models/saturation.hpp',
+     '  if (std::isfinite(lo)) out = fmax(out, T(lo));', '  if (std::isfinite(hi)) out = fmax(out, T(lo));', R20_MODELS),
+    ('r20_argos_battery_plugin_tables_need_a_file', 'argos/src/calibrated_battery.cpp',
+     'if (strFile.empty() && strTables == "file")', 'if (strFile.empty())', R20_COEFF),
+    ('r20_argos_cylinder_side_hit_given_cap_normal', 'argos/src/calibrated_sensors.cpp',
+     'if (fHalfHeight - Abs(fZ) < pcCylinder->GetRadius() - fRadial || !(fRadial > 0)) {', 'if (fHalfHeight - Abs(fZ) > pcCylinder->GetRadius() - fRadial || !(fRadial > 0)) {', R20_ARGOS),
+    ('r20_exactly_determined_fit_error_reason_lost', 'lib/fit/src/least_squares.cpp',
+     'else if (n <= cols.size())', 'else if (n < cols.size())', R20_FIT),
+    ('r20_lower_bound_called_upper', 'lib/fit/src/fit_curve.cpp',
+     'at_bound.emplace_back(static_cast<int>(j), "lower");', 'at_bound.emplace_back(static_cast<int>(j), "upper");', R20_FIT),
+    ('r20_channel_reading_below_rail_taken_at_top', 'lib/fit/src/readings.cpp',
+     'censoring == Censoring::at_or_below ? ch.rail_lo :', 'censoring == Censoring::at_or_below ? ch.rail_hi :', R20_FIT),
+    ('r20_partial_battery_file_without_speeds_read', 'lib/coefficients/src/battery_tables.cpp',
+     'if (speeds.empty() || speeds.size() > mb::kSpeedCount)', 'if (speeds.size() > mb::kSpeedCount)', R20_COEFF),
+    ('r20_codegen_calibration_sources_not_named', 'lib/coefficients/src/codegen.cpp',
+     'j.contains("sources") ? "sources" : "logs"', 'j.contains("sources") ? "logs" : "sources"', R20_COEFF),
+    ('r20_null_noise_section_counted', 'lib/coefficients/src/model_sets.cpp',
+     'if (root.contains("noise") && !root.at("noise").is_null()) return true;', 'if (root.contains("noise")) return true;', R20_COEFF),
+    ('r20_proximity_distance_at_range_left_out', 'lib/calibrate/src/proximity_fit.cpp',
+     '    if (d > start.range_m) {', '    if (d >= start.range_m) {', R20_CALIB),
+    ('r20_light_plugin_mse_counts_zero_readings', 'lib/calibrate/src/light_fit.cpp',
+     'if (o.value_raw > 0 && o.value_raw < s::kProximityFullScale_raw)', 'if (o.value_raw >= 0 && o.value_raw < s::kProximityFullScale_raw)', R20_CALIB),
+    ('r20_camera_two_observations_refused', 'lib/calibrate/src/camera_fit.cpp',
+     'if (out.observations.size() < 2) {', 'if (out.observations.size() < 3) {', R20_CALIB),
+    ('r20_diagnose_proximity_one_tilted_angle_drops_incidence', 'lib/diagnose/src/kind_proximity.cpp',
+     'angles_vary = angles_vary || std::abs(v - cos_.front()) > 1e-9 || v < 1.0 - 1e-12;', 'angles_vary = angles_vary || std::abs(v - cos_.front()) > 1e-9;', R20_DIAGNOSE),
+    ('r20_diagnose_single_channel_noise_never_warned', 'lib/diagnose/src/reading_noise.cpp',
+     '  if (residual.empty()) residual.push_back({"", r.noise_sd, 0.0});\n', '', R20_DIAGNOSE),
+    ('r20_diagnose_tail_rows_at_range_counted_beyond', 'lib/diagnose/src/kind_proximity.cpp',
+     'if (distance_[i] <= range_m_) {', 'if (distance_[i] < range_m_) {', R20_DIAGNOSE),
+    ('r20_output_dev_stderr_is_standard_output', 'lib/logs/src/output.cpp',
+     'else if (path == "/dev/stderr") fd = STDERR_FILENO;', 'else if (path == "/dev/stderr") fd = STDOUT_FILENO;', R20_LOGS),
+    ('r20_output_proc_self_fd_number_one_early', 'lib/logs/src/output.cpp',
+     'fd = descriptor_number(path.substr(14));', 'fd = descriptor_number(path.substr(13));', R20_LOGS),
+    ('r20_like_one_text_column_not_said', 'apps/cmd_simulate_like.cpp',
+     'if (text_columns > 0)', 'if (text_columns > 1)', R20_APPS),
+    ('r20_table5_other_speeds_clause_inverted', 'apps/cmd_table5.cpp',
+     'if (!c.other.empty()) why +=', 'if (c.other.empty()) why +=', R20_APPS),
+    ('r20_finite_range_accepts_nan', 'apps/app_support.cpp',
+     'if (!std::isfinite(v) || v < lo || v > hi)', 'if (v < lo || v > hi)', R20_APPS),
 ]
 
 
