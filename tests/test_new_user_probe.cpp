@@ -1,4 +1,4 @@
-// Defects a new user's probe found (session 21): each exited 0 with a wrong number, a dropped
+// Defects two new users' probes found (session 21): each exited 0 with a wrong number, a dropped
 // value or a false sentence. Every expected value here is computed by the test from the rows it
 // writes (the generator's truth), or is the docs' own formula, never taken from the code under test.
 #include <gtest/gtest.h>
@@ -238,6 +238,110 @@ TEST_F(NewUserProbe, AClampedVoltageWithALoadOffsetIsShownCorrected) {
                         "charges (the range is of the voltage plus its load offset at the row's speed); first: "))
       << r.err;
   EXPECT_TRUE(has(r.err, "a.csv:3 (4.3624 V; 4.4024 V with the load offset at 4 cm/s)")) << r.err;
+}
+
+// ---- The second probe (session 21's, fixed in session 22) ----
+
+/// Light logs of Eq. 2 with gamma 0.075 m and sensor 7's gain 0.94 (its own gamma 0.0727 m),
+/// five readings a condition at mean + {-12, 0, 12, -5, 5} counts, distances 0.06..0.45 m, sensors
+/// 0..7, at intensity `intensity`.
+std::string light_rows(double intensity) {
+  std::string text = "# robot: t\ndistance_m,intensity,sensor,value\n";
+  for (int cm = 6; cm <= 45; ++cm) {
+    const double d = cm / 100.0;
+    for (int s = 0; s < 8; ++s) {
+      const double g = s == 7 ? 0.94 : 1.0;
+      const double r = 0.075 * intensity / d;
+      const double mean = (1.0 - g * r * r) * 4095.0;
+      for (const double e : {-12.0, 0.0, 12.0, -5.0, 5.0}) {
+        char line[96];
+        std::snprintf(line, sizeof line, "%g,%g,%d,%.0f\n", d, intensity, s, std::clamp(std::round(mean + e), 0.0, 4095.0));
+        text += line;
+      }
+    }
+  }
+  return text;
+}
+
+// The diagnosis's `recalibrated` is the base refitted alone, before any finding; the final fit,
+// with sensor 7's gain found, moves gamma back to the generator's 0.075 m: `final_base` and the
+// text report's "Base model in the final fit" line give that one (the report printed only the
+// first, and docs/diagnose.md called it the final fit's). Sensor 7 reads as a smaller gamma
+// (0.075 sqrt(0.94) = 0.0727 m), so the fit of gamma alone lies between the two.
+TEST_F(NewUserProbe, TheFinalBaseIsTheFinalFitsAndTheReportSaysIt) {
+  const std::string a = write("l05.csv", light_rows(0.5)), b = write("l10.csv", light_rows(1.0));
+  const std::string out = (dir_ / "d.json").string();
+  const CliRun t = run("diagnose \"" + a + "\" \"" + b + "\" -o \"" + out + "\"");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  const json d = json::parse(slurp(out));
+  const double final_gamma = d.at("final_base").at("gamma_m").get<double>();
+  const double alone = d.at("recalibrated").at("gamma_m").get<double>();
+  EXPECT_NEAR(final_gamma, 0.075, 0.0001);
+  EXPECT_GT(alone, 0.075 * std::sqrt(0.94));
+  EXPECT_LT(alone, 0.075 - 0.0001);
+  EXPECT_EQ(d.at("findings").at(0).at("cause"), "sensor_gain");
+  char recalibrated[64], final_line[120];
+  std::snprintf(recalibrated, sizeof recalibrated, "Recalibrated base model (gamma_m = %.4f", alone);
+  std::snprintf(final_line, sizeof final_line, "Base model in the final fit, with the findings (the extended model's): gamma_m = %.4f",
+                final_gamma);
+  EXPECT_TRUE(has(t.out, recalibrated)) << recalibrated << "\n" << t.out;
+  EXPECT_TRUE(has(t.out, final_line)) << final_line << "\n" << t.out;
+}
+
+/// Camera logs of the shipped conditions: each condition's first reading (whole px) as a centre,
+/// four readings a condition at centre + {-a, +a, +a, -a} (px) and {+a, -a, +a, -a} (py), written
+/// with two decimals (docs/logs.md allows fractional px). Returns the log's text.
+std::string camera_rows(const std::string& shipped_text, double a) {
+  std::istringstream in(shipped_text);
+  std::string text = "# robot: t\nforward_m,lateral_m,vertical_m,px,py\n";
+  std::string last;
+  bool header = false;
+  for (std::string l; std::getline(in, l);) {
+    if (l.empty() || l[0] == '#') continue;
+    if (!header) {
+      header = true;
+      continue;
+    }
+    std::vector<std::string> f;
+    std::stringstream ls(l);
+    for (std::string c; std::getline(ls, c, ',');) f.push_back(c);
+    const std::string where = f[0] + "," + f[1] + "," + f[2];
+    if (where == last) continue;
+    last = where;
+    const double px = std::stod(f[3]), py = std::stod(f[4]);
+    const double sx[] = {-a, a, a, -a}, sy[] = {a, -a, a, -a};
+    for (int k = 0; k < 4; ++k) {
+      char line[160];
+      std::snprintf(line, sizeof line, "%s,%.2f,%.2f\n", where.c_str(), px + sx[k], py + sy[k]);
+      text += line;
+    }
+  }
+  return text;
+}
+
+// docs/diagnose.md, "The noise of the extended model": the rounding's 1/12 px² is taken off only
+// readings that are whole numbers. Fractional readings (a = 0.37 px: each condition's four
+// readings have the sample sd a sqrt(4/3) = 0.4272 px in both columns) keep the replicates' sd;
+// the same logs with a = 1 (whole readings) have theirs less 1/12 px². The diagnosis took the
+// 1/12 off both.
+TEST_F(NewUserProbe, TheRoundingIsTakenOffOnlyWholeReadings) {
+  const auto logs = epuck2::testing::shipped_logs("camera");
+  ASSERT_FALSE(logs.empty());
+  const std::string shipped = slurp(logs.front());
+  for (const double a : {0.37, 1.0}) {
+    const std::string log = write("c" + std::to_string(a) + ".csv", camera_rows(shipped, a));
+    const std::string d = (dir_ / "d.json").string(), c = (dir_ / "c.json").string();
+    const CliRun diag = run("diagnose \"" + log + "\" -o \"" + d + "\"");
+    ASSERT_EQ(diag.exit_code, 0) << diag.err;
+    const CliRun cal = run("camera --accept-misfit \"" + log + "\" -o \"" + c + "\"");
+    ASSERT_EQ(cal.exit_code, 0) << cal.err;
+    const double replicates = a * std::sqrt(4.0 / 3.0);
+    const double calibrated = json::parse(slurp(c)).at("noise").at("camera").at("sd").get<double>();
+    EXPECT_NEAR(calibrated, replicates, 1e-3 * replicates) << a;
+    const double diagnosed = json::parse(slurp(d)).at("noise").at("camera").at("sd").get<double>();
+    const double expected = a == 1.0 ? std::sqrt(replicates * replicates - 1.0 / 12.0) : replicates;
+    EXPECT_NEAR(diagnosed, expected, 1e-3 * expected) << a;
+  }
 }
 
 }  // namespace test_new_user_probe_cpp

@@ -8,6 +8,7 @@
 
 #include "epuck2/coefficients/model_file.hpp"
 #include "epuck2/models/effects.hpp"
+#include "epuck2/models/kind_facts.hpp"
 #include "kind_table.hpp"
 
 namespace epuck2::diagnose {
@@ -71,12 +72,12 @@ Values values_of(const Report& r, std::vector<std::string>* left_out, const fx::
 }
 
 /// The noise of one reading of `channel` per sensor (reading_noise.hpp: the replicates', else the
-/// final model's residuals, less the rounding's 1/12 unit^2: every reading the diagnosis sees is a
-/// whole number of its unit and the simulation rounds too).
+/// final model's residuals, less the rounding's 1/12 unit^2 when the logs' readings are whole
+/// numbers of their unit, ModelInputs::whole_readings).
 template <std::size_t N>
 std::array<double, N> noise_per_sensor(const ModelInputs& inputs, const std::string& channel, double residual_sd) {
   std::array<double, N> sd{};
-  for (std::size_t k = 0; k < N; ++k) sd[k] = model_noise_sd(inputs.replicate_noise, channel, residual_sd, static_cast<int>(k));
+  for (std::size_t k = 0; k < N; ++k) sd[k] = model_noise_sd(inputs.replicate_noise, channel, residual_sd, static_cast<int>(k), inputs.whole_readings);
   return sd;
 }
 
@@ -210,7 +211,7 @@ s::CameraModel extended_camera(const Report& r, std::vector<std::string>* left_o
   m.base.cy_px = s::kCameraHeight_px / 2.0 + v.at(principal.name, principal.params[1].key, m.base.cy_px - s::kCameraHeight_px / 2.0);
   apply_findings(v, m);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
-  m.noise_sd_px = model_noise_sd(inputs.replicate_noise, "camera", r.noise_sd);
+  m.noise_sd_px = model_noise_sd(inputs.replicate_noise, "camera", r.noise_sd, -1, inputs.whole_readings);
   return m;
 }
 
@@ -222,9 +223,9 @@ s::DriveModel extended_drive(const Report& r, std::vector<std::string>* left_out
   double tof_residual_sd = r.noise_sd;
   for (const NamedValue& c : r.channel_noise_sd) {
     if (c.name == "tof_mm") tof_residual_sd = c.value;
-    if (c.name == "steps") m.encoder_noise_sd_steps = model_noise_sd(inputs.replicate_noise, "encoder", c.value);
+    if (c.name == "steps") m.encoder_noise_sd_steps = model_noise_sd(inputs.replicate_noise, "encoder", c.value, -1, inputs.whole_readings);
   }
-  m.tof_noise_sd_mm = model_noise_sd(inputs.replicate_noise, "tof", tof_residual_sd);
+  m.tof_noise_sd_mm = model_noise_sd(inputs.replicate_noise, "tof", tof_residual_sd, -1, inputs.whole_readings);
   m.covariates = merged(m.covariates, covariates(r, inputs, left_out));
   return m;
 }
@@ -249,6 +250,13 @@ ModelInputs model_inputs(const std::vector<logs::Log>& logs, const Options& opti
   in.battery_capacity_k = options.battery_capacity_k;
   if (logs.empty()) return in;
   in.replicate_noise = replicate_noise(logs);
+  if (const models::KindFacts* facts = models::kind_facts(std::string(logs::to_string(logs.front().kind)))) {
+    for (const auto& log : logs)
+      for (const char* column : facts->readings)
+        if (log.has(column))
+          for (double x : log.col(column))
+            if (std::isfinite(x) && x != std::round(x)) in.whole_readings = false;
+  }
   for (const std::string& name : logs.front().extra_numeric_columns()) {
     double sum = 0;
     std::size_t n = 0;

@@ -372,6 +372,11 @@ std::string report_text(const Report& r, const std::string& base_name) {
     for (std::size_t k = 0; k < r.outliers.size() && k < 5; ++k) out("  %s\n", r.outliers[k].c_str());
   }
   if (r.findings.empty()) out("No effect of the catalogue passes both the BIC and the held-out test.\n");
+  // The base's parameters move when the findings are fitted with them: the extended model (the
+  // JSON's final_base) holds these, not the recalibration's above.
+  if (!r.findings.empty() && !r.final_base.empty())
+    out("Base model in the final fit, with the findings (the extended model's): %s.\n",
+        format_parameters(r.kind, r.final_base).c_str());
   out("Final model: %s (AIC n ln(RSS/n) + 2k, BIC n ln(RSS/n) + k ln n, as lmfit", format_statistics(r.final_fit, ru).c_str());
   out("%s)\n", r.channel_noise_sd.empty() ? "" : "; residuals weighted by their channel's noise, in the first channel's units");
   out("  correlations (|r| > 0.1):");

@@ -30,6 +30,10 @@ struct ModelInputs {
   /// Each channel's noise from the logs' replicates (reading_noise.hpp): the model's noise where
   /// present, else the final model's residuals.
   std::map<std::string, calibrate::ReadingNoise> replicate_noise;
+  /// Whether every reading of the logs (the kind's reading columns, lib/models kind_facts.hpp) is a
+  /// whole number: only then does the model's noise leave out the rounding's 1/12 unit^2 (a camera
+  /// log may give px to 0.01, docs/logs.md: its scatter holds no rounding to take off).
+  bool whole_readings = true;
 };
 
 /// The inputs of a diagnosis of `logs` under `options` (taken before the logs go to diagnose()):
