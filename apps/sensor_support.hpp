@@ -88,6 +88,10 @@ int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json
     std::cout << text;
   } else {
     report();
+    // Every warning the file holds (the fit's, the misfit's, the robots' comparison's), as printed
+    // on standard error above.
+    if (j.contains("warnings") && !j["warnings"].empty())
+      std::cout << j["warnings"].size() << " warnings (on standard error and in the JSON)\n";
   }
   return 0;
 }

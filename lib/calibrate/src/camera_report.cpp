@@ -47,7 +47,7 @@ std::string report_text(const CameraFit& f) {
       "not a standard error)\n",
       f.table4_points,
       fit::format_uncertain(f.table4_alpha_mean_deg, f.table4_alpha_sd_deg, "deg", "one point: no spread").c_str());
-  write_noise_and_warnings(out, {f.noise}, f.warnings);
+  write_noise_sections(out, {f.noise});
   return out.str();
 }
 
@@ -78,7 +78,7 @@ nlohmann::json coefficient_json(const CameraFit& f, const std::vector<logs::Log>
   j["unit_notes"] = {{"fov_deg", "horizontal field of view"}, {"aperture_deg", "ARGoS half-angle on the diagonal"},
                      {"width_px", "the image's size, held"}, {"height_px", "the image's size, held"},
                      {"range_m", "the camera's range, held"}};
-  add_estimates(j, f.result, "", "projection", "px");
+  add_estimates(j, f.result, "", "projection", "px^2");
   for (const char* held : {"width_px", "height_px", "range_m"}) j["std_errors"][held] = 0.0;
   // The aperture is a function of the field of view: its error follows through the derivative.
   const double aperture_se = aperture_std_error(f.result.value("fov_deg"), f.result.std_error("fov_deg"));

@@ -40,7 +40,7 @@ std::string report_text(const DriveFit& f) {
   write_parameter(out, t, "slip_time_constant_s", "s", "  ", "", &f.tof_autocorrelation);
   write_handling(out, t, "mm", "  ", &f.tof_autocorrelation);
   out("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
-  write_noise_and_warnings(out, {f.tof_noise, f.encoder_noise}, f.warnings);
+  write_noise_sections(out, {f.tof_noise, f.encoder_noise});
   return out.str();
 }
 
@@ -70,8 +70,8 @@ nlohmann::json coefficient_json(const DriveFit& f, const std::vector<logs::Log>&
   j["units"] = {{"steps_per_m", "steps/m"}, {"tof_offset_mm", "mm"}, {models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), "1"}, {"slip_time_constant_s", "s"},
                 {"mse", "mm^2 (ToF)"}, {"steps_mse", "steps^2"}, {"rss", "mm^2 (ToF)"}, {"steps_rss", "steps^2"}};
   // Rows of a run are a time series: both fits' errors get the autocorrelation correction.
-  add_estimates(j, f.steps, "", "steps", "steps", &f.steps_autocorrelation);
-  add_estimates(j, f.tof, "", "tof", "mm", &f.tof_autocorrelation);
+  add_estimates(j, f.steps, "", "steps", "steps^2", &f.steps_autocorrelation);
+  add_estimates(j, f.tof, "", "tof", "mm^2", &f.tof_autocorrelation);
   j["mse"] = f.tof.mse;
   j["steps_mse"] = f.steps.mse;
   j["observations"] = f.tof.observations;

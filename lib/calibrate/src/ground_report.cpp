@@ -39,7 +39,7 @@ std::string report_text(const GroundFit& f) {
   out("\nPlug-in: gain 1023 (grey 0..255 * 4.011764706), offset 0: pooled MSE %.1f counts² on the readings inside the "
       "rails (the fit's: %.3f counts²)\n",
       f.plugin_mse_pooled, f.mse);
-  write_noise_and_warnings(out, {f.noise}, f.warnings);
+  write_noise_sections(out, {f.noise});
   return out.str();
 }
 
@@ -75,7 +75,7 @@ nlohmann::json coefficient_json(const GroundFit& f, const std::vector<logs::Log>
     mse.push_back(r.mse);
     n.push_back(r.observations);
     observations += r.observations;
-    add_aggregates(j, r, "sensor_" + std::to_string(k), "sensor_" + std::to_string(k) + ".", "counts");
+    add_aggregates(j, r, "sensor_" + std::to_string(k), "sensor_" + std::to_string(k) + ".", "counts^2");
     // Named as in `parameters`: gain[k], offset[k].
     const std::string index = "[" + std::to_string(k) + "]";
     for (const auto& c : fit::correlations(r)) correlations.push_back({{"a", c.a + index}, {"b", c.b + index}, {"r", c.r}});

@@ -39,7 +39,7 @@ std::string report_text(const LightFit& f) {
     write_handling(out, f.gamma_per_sensor[i], "(reading/4095)");
   }
   out("Plug-in: gamma = 1/13.3333 = 0.075 m, MSE on the readings inside the rails %.3e (reading/4095)²\n", f.plugin_mse);
-  write_noise_and_warnings(out, {f.noise}, f.warnings);
+  write_noise_sections(out, {f.noise});
   return out.str();
 }
 
@@ -58,7 +58,7 @@ nlohmann::json coefficient_json(const LightFit& f, const std::vector<logs::Log>&
   j["units"] = {{"gamma", "m"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"rss", "(reading / 4095)^2"}};
   j["unit_notes"] = {{"gamma", "metres per unit of the light's intensity I: Eq. 2's gamma I / d is a ratio"},
                      {"range_m", "the sensor's range, held"}};
-  add_estimates(j, f.gamma, "", "gamma", "(reading / 4095)");
+  add_estimates(j, f.gamma, "", "gamma", "(reading / 4095)^2");
   j["std_errors"]["range_m"] = 0.0;
   add_rounded(j, "range_m", s::kPluginLight.range_m, 0.0, "the sensor's range, held: not fitted");
   j["mse"] = f.gamma.mse;
@@ -82,7 +82,7 @@ nlohmann::json coefficient_json(const LightFit& f, const std::vector<logs::Log>&
     nlohmann::json one = written.at(f.sensors[i]);
     one.update({{"usable", r.usable}, {"std_error", json_number(r.std_error("gamma"))}, {"mse", json_number(r.mse)},
                 {"rounded", fit::format_uncertain(r.value("gamma"), r.std_error("gamma"), "m", std_error_reason(r, "gamma"))},
-                {"fit", fit_details(r, "(reading / 4095)")}});
+                {"fit", fit_details(r, "(reading / 4095)^2")}});
     if (!std::isfinite(r.std_error("gamma"))) one["std_error_why"] = r.usable ? std_error_reason(r, "gamma") : r.message;
     per.push_back(one);
   }

@@ -54,7 +54,7 @@ std::string report_text(const ProximityFit& f) {
   line("Fitted to the maxima", f.maxima, f.plugin_mse_maxima, f.epuck1_mse_maxima);
   line("Fitted to the means", f.means, f.plugin_mse_means, f.epuck1_mse_means);
   out("\nPlug-in (paper, fitted to maxima): a = 197.8633, b = -30.47182, c = 1.011635\n");
-  write_noise_and_warnings(out, {f.noise}, f.warnings);
+  write_noise_sections(out, {f.noise});
   return out.str();
 }
 
@@ -80,8 +80,8 @@ nlohmann::json coefficient_json(const ProximityFit& f, const std::vector<logs::L
   j["units"] = {{"a", "1/m^2"}, {"b", "1/m"}, {"c", "1"}, {"mean_a", "1/m^2"}, {"mean_b", "1/m"}, {"mean_c", "1"},
                 {"values", "reading / 4095"}, {"range_m", "m"}, {"mse", "(reading / 4095)^2"}, {"mean_mse", "(reading / 4095)^2"},
                 {"rss", "(reading / 4095)^2"}};
-  add_estimates(j, f.maxima, "", "maxima", "(reading / 4095)");
-  add_estimates(j, f.means, "mean_", "means", "(reading / 4095)");
+  add_estimates(j, f.maxima, "", "maxima", "(reading / 4095)^2");
+  add_estimates(j, f.means, "mean_", "means", "(reading / 4095)^2");
   j["std_errors"]["range_m"] = 0.0;
   add_rounded(j, "range_m", s::kPluginProximity.range_m, 0.0, "the sensor's range, held: not fitted");
   j["mse"] = f.maxima.mse;

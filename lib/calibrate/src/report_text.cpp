@@ -118,10 +118,8 @@ void write_noise(Text& out, const ReadingNoise& n) {
   if (any) out("; sensors without readings take the pooled sd\n");
 }
 
-void write_noise_and_warnings(Text& out, const std::vector<ReadingNoise>& channels,
-                              const std::vector<std::string>& warnings) {
+void write_noise_sections(Text& out, const std::vector<ReadingNoise>& channels) {
   for (const auto& n : channels) write_noise(out, n);
-  if (!warnings.empty()) out("%zu warnings (on standard error and in the JSON)\n", warnings.size());
 }
 
 void write_parameter(Text& out, const fit::RobustFit& r, const std::string& name, const std::string& unit,

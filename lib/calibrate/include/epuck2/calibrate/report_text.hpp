@@ -42,10 +42,10 @@ void write_handling(Text& out, const fit::RobustFit& r, const std::string& unit 
 /// A channel's reading noise (the coefficient file's `noise` entry).
 void write_noise(Text& out, const ReadingNoise& n);
 
-/// What every sensor report ends with: each channel's reading noise, then how many warnings there
-/// were (each went to standard error).
-void write_noise_and_warnings(Text& out, const std::vector<ReadingNoise>& channels,
-                              const std::vector<std::string>& warnings);
+/// What every sensor report ends with: each channel's reading noise. (The count of warnings that
+/// follows is the CLI's, apps/sensor_support.hpp finish(): the file's warnings hold more than the
+/// fit's, e.g. the robots' comparison.)
+void write_noise_sections(Text& out, const std::vector<ReadingNoise>& channels);
 
 /// A parameter line: value ± standard error (two significant digits, fit::format_uncertain), or
 /// the reason there is none; `note` follows in parentheses; with an autocorrelation correction,
