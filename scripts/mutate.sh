@@ -685,7 +685,8 @@ R18_APPS = r18([R8_APPS, R3_CHARGE, R8_CALIB, R8_COEFF], R12_BATTERY + ["test_fi
 R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19's run (after its GO, not in the run that scored it)
                                  "test_honest_fits",  # session 20: the drive report's cap lines
                                  "test_new_user_probe",  # session 21: a new user's probe's defects
-                                 "test_round_twenty"]  # round 20's survivors, written during its run (R20_TESTS inherits it)
+                                 "test_round_twenty",  # round 20's survivors, written during its run (R20_TESTS inherits it)
+                                 "test_probe_three"]  # session 22: a third new user's probe's defects
 
 
 def r19(groups, more=(), extra=(), targets=()):
