@@ -3,6 +3,7 @@
 // test writes (the generator's truth) and from docs/coefficient-files.md's definitions.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -88,6 +89,37 @@ TEST_F(ProbeThree, EveryFitsRssUnitIsTheReadingsUnitSquared) {
   const json file = json::parse(j.out);
   EXPECT_EQ(file.at("fits").at("sensor_1").at("rss_unit").get<std::string>(), "counts^2");
   EXPECT_EQ(file.at("units").at("rss").get<std::string>(), "counts^2");
+}
+
+// The proximity report's header counts the readings on a rail, those beyond the range (left out,
+// never fitted) among them: it called them all censored. The plug-in's curve (a = 197.8633,
+// b = -30.47182, c = 1.011635) at 0..60 mm in 5 mm steps, 8 sensors, five readings each at
+// +{-20, -10, 0, 10, 20} counts, clamped to 0..4095: at 0 mm it reads 4142.6 (all 40 on the 4095
+// rail), at 50 mm -71 (all 40 on 0), at 55 and 60 mm below 0 too (80 on 0, beyond the 50 mm
+// range); 45 mm reads 168. So 160 on a rail, 80 of them at the distances the fits use.
+TEST_F(ProbeThree, TheProximityHeaderSaysWhichRailReadingsAreCensored) {
+  std::string text = "# robot: t\ndistance_m,sensor,value\n";
+  std::size_t on_rail = 0;
+  for (int mm5 = 0; mm5 <= 12; ++mm5) {
+    const double d = mm5 * 0.005;
+    const double v = (197.8633 * d * d - 30.47182 * d + 1.011635) * 4095.0;
+    for (int s = 0; s < 8; ++s)
+      for (int e = -20; e <= 20; e += 10) {
+        const double r = std::min(4095.0, std::max(0.0, std::round(v + e)));
+        if (r == 0.0 || r == 4095.0) ++on_rail;
+        char line[64];
+        std::snprintf(line, sizeof line, "%.3f,%d,%.0f\n", d, s, r);
+        text += line;
+      }
+  }
+  ASSERT_EQ(on_rail, 160u);
+  const std::string log = write("p.csv", text);
+  const CliRun t = run("proximity --accept-misfit \"" + log + "\"");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_TRUE(has(t.out, "520 readings at 13 distances; 160 on a rail (0 or 4095: censored at the distances used); ")) << t.out;
+  const CliRun j = run("proximity --accept-misfit --json \"" + log + "\"");
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  EXPECT_EQ(json::parse(j.out).at("censored_readings").get<std::size_t>(), 160u);
 }
 
 }  // namespace test_probe_three_cpp

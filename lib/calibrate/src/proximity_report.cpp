@@ -23,7 +23,7 @@ std::string report_text(const ProximityFit& f) {
   out("Proximity sensor, paper Eq. 1: v(d) = a d^2 + b d + c (normalised 0..1), d <= 0.05 m,\n"
       "held non-increasing with distance over [0, 0.05 m] (slopes at 0 and at 0.05 m bounded at 0)\n");
   const models::Channel& proximity = models::kind_facts("proximity")->channels.front();
-  out("%zu readings at %zu distances; %zu on a rail (%g or %g, censored); %zu left out\n\n", f.readings,
+  out("%zu readings at %zu distances; %zu on a rail (%g or %g: censored at the distances used); %zu left out\n\n", f.readings,
       f.points.size(), f.censored_readings, proximity.low_rail, proximity.high_rail, f.left_out.size());
   out("%10s %8s %6s %8s %8s %8s  %s\n", "distance_m", "readings", "kept", "min", "mean", "max", "used");
   for (const auto& p : f.points)
