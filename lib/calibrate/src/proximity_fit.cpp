@@ -78,8 +78,8 @@ std::vector<Parameter> proximity_parameters(const s::ProximityCoefficients& star
 namespace {
 // A distance whose readings average under this fraction of full scale detected nothing.
 constexpr double kProximityUndetectedFraction = 0.01;
-// Peeling a maximum that the curve rejects: at most this fraction of a distance's readings (and
-// at least one) are taken away before the point itself is left out.
+// Peeling a maximum that lies far above the curve: at most this fraction of a distance's readings
+// (and at least one) are passed over in the maxima fit before the point itself is left out of it.
 constexpr double kProximityMaxPeelFraction = 0.02;
 }  // namespace
 
@@ -199,18 +199,30 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
     }
   }
 
-  // 2. The maxima: peel a maximum the curve rejects (a wild reading that escaped step 1).
+  // 2. The maxima: peel a maximum the curve rejects (a wild high reading that escaped step 1).
+  //    Only a maximum ABOVE the curve through the other distances' maxima is peeled: the next
+  //    highest reading then stands for the distance in the maxima fit. The peeled reading leaves
+  //    the maxima fit only; it was screened as a reading in step 1 and stays in the mean (step 3).
+  //    A maximum BELOW the curve is no wild high reading: its distance is left out of the maxima
+  //    fit, with a warning.
   std::map<double, std::size_t> peeled;
   std::map<double, bool> point_out;
+  // Each distance's kept readings, highest first (the maxima fit takes the first not peeled).
+  std::map<double, std::vector<const Reading*>> highest_first;
+  for (const auto& [d, rs] : kept) {
+    auto& h = highest_first[d];
+    for (const Reading& r : rs) h.push_back(&r);
+    std::stable_sort(h.begin(), h.end(), [](const Reading* a, const Reading* b) { return a->value > b->value; });
+  }
   const std::vector<Parameter> params = proximity_parameters(start);
   for (int round = 0;; ++round) {
     std::vector<double> x;
     std::vector<Observation> obs;
     std::vector<double> dist_of_obs;
     for (ProximityPoint& p : out.points) {
-      auto& rs = kept[p.distance_m];
+      const auto& rs = kept[p.distance_m];
       if (rs.empty() || point_out[p.distance_m]) continue;
-      const auto top = std::max_element(rs.begin(), rs.end(), [](const Reading& a, const Reading& b) { return a.value < b.value; });
+      const Reading* top = highest_first[p.distance_m][peeled[p.distance_m]];
       p.max = top->value / full;
       p.max_where = top->where;
       p.max_censoring = fit::censoring_at(top->value, 0, full);
@@ -229,17 +241,31 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
     bool again = false;
     for (std::size_t i : out.maxima.outliers) {
       const double d = dist_of_obs[i];
-      auto& rs = kept[d];
-      const std::size_t limit = std::max<std::size_t>(1, static_cast<std::size_t>(kProximityMaxPeelFraction * static_cast<double>(rs.size() + peeled[d])));
-      if (peeled[d] >= limit) {
+      const auto& rs = kept[d];
+      if (i >= out.maxima.predictions.size()) continue;
+      const bool above = obs[i].value > out.maxima.predictions[i];
+      if (!above) {
         point_out[d] = true;
-        out.warnings.push_back("the readings at " + fmt(d * 1000) + " mm do not fit the curve even without their " +
-                               std::to_string(peeled[d]) + " highest: that distance is left out of the maxima fit.");
+        out.warnings.push_back("the maximum at " + fmt(d * 1000) + " mm (" + fmt(obs[i].value * full) + " counts, " +
+                               obs[i].where + ") lies far below the curve through the other distances' maxima (" +
+                               fmt(out.maxima.predictions[i] * full) +
+                               " counts): not a wild high reading, so none is peeled; that distance is left out of the maxima fit.");
+        again = true;
+        continue;
+      }
+      const std::size_t limit = std::max<std::size_t>(1, static_cast<std::size_t>(kProximityMaxPeelFraction * static_cast<double>(rs.size())));
+      if (peeled[d] >= limit || peeled[d] + 1 >= rs.size()) {
+        point_out[d] = true;
+        out.warnings.push_back(peeled[d] == 0 ? "the only reading at " + fmt(d * 1000) +
+                                                    " mm lies far above the curve through the other distances' maxima: that "
+                                                    "distance is left out of the maxima fit."
+                                              : "the readings at " + fmt(d * 1000) + " mm do not fit the curve even without their " +
+                                                    std::to_string(peeled[d]) + " highest: that distance is left out of the maxima fit.");
       } else {
-        const auto top = std::max_element(rs.begin(), rs.end(), [](const Reading& a, const Reading& b) { return a.value < b.value; });
-        out.left_out.push_back({top->where, "wild: " + fmt(top->value) + " at " + fmt(d * 1000) +
-                                                " mm, far above the curve through the other distances' maxima"});
-        rs.erase(top);
+        const Reading* top = highest_first[d][peeled[d]];
+        out.left_out.push_back({top->where, "wild maximum: " + fmt(top->value) + " at " + fmt(d * 1000) +
+                                                " mm, far above the curve through the other distances' maxima: left out of the "
+                                                "maxima fit only (the mean keeps it)"});
         ++peeled[d];
       }
       again = true;

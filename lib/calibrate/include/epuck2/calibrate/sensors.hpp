@@ -43,7 +43,9 @@ struct LeftOut {
 struct ProximityPoint {
   double distance_m = 0;
   /// Over the readings kept (not wild); at a distance left out of the fits (beyond the range),
-  /// over its readings that are not wild, as measured, with `excluded_why`.
+  /// over its readings that are not wild, as measured, with `excluded_why`. `max` is the maximum
+  /// the maxima fit takes: the highest kept reading not peeled (a reading far above the curve
+  /// through the other distances' maxima leaves the maxima fit only; `mean` and `kept` keep it).
   double max = 0, mean = 0, min = 0;
   std::size_t readings = 0;           ///< all readings at this distance
   std::size_t kept = 0;               ///< readings kept (not wild)
