@@ -15,6 +15,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
+#include "epuck2/calibrate/sensors.hpp"
+#include "epuck2/diagnose/reading_noise.hpp"
 #include "epuck2/logs/log.hpp"
 
 namespace test_probe_three_proximity_cpp {
@@ -162,6 +164,103 @@ TEST_F(ProbeThreeProximity, AMaximumBelowTheCurveIsNotPeeled) {
   EXPECT_NEAR(file.at("parameters").at("a").get<double>(), 197.8633, 0.5);
   EXPECT_NEAR(file.at("parameters").at("b").get<double>(), -30.47182, 0.05);
   EXPECT_NEAR(file.at("parameters").at("c").get<double>(), 1.011635, 1e-3);
+}
+
+/// Rows facing the target (scattered) and, when `angled`, ten more per distance at 30 degrees
+/// (0.6 of those facing it), interleaved: the calibration must see only the first.
+LogText angled_log(bool facing, bool angled) {
+  LogText log(true);
+  for (int mm = 5; mm <= 45; mm += 5) {
+    const double d = mm / 1000.0;
+    for (int k = 0; k < 10; ++k) {
+      if (facing) log.add(d, 0, std::round(envelope(d) * (1.0 - 0.08 * k)), 0);
+      if (angled) log.add(d, 0, std::round(0.6 * envelope(d) * (1.0 - 0.05 * k)), 30);
+    }
+  }
+  return log;
+}
+
+// A log with rows at 0 and at 30 degrees calibrates exactly as the same log without the 30-degree
+// rows; one warning counts them, each is listed by its line.
+TEST_F(ProbeThreeProximity, RowsAtAnAngleAreLeftOut) {
+  const LogText both = angled_log(true, true), facing = angled_log(true, false);
+  const std::string p_both = write("both.csv", both.text), p_facing = write("facing.csv", facing.text);
+  const json a = calibrate(p_both), b = calibrate(p_facing);
+  ASSERT_FALSE(a.empty());
+  ASSERT_FALSE(b.empty());
+  for (const char* k : {"a", "b", "c", "mean_a", "mean_b", "mean_c"})
+    EXPECT_DOUBLE_EQ(a.at("parameters").at(k).get<double>(), b.at("parameters").at(k).get<double>()) << k;
+  EXPECT_DOUBLE_EQ(a.at("noise").at("proximity").at("sd").get<double>(), b.at("noise").at("proximity").at("sd").get<double>());
+  for (int mm = 5; mm <= 45; mm += 5) {
+    const json pa = point_at(a, mm / 1000.0), pb = point_at(b, mm / 1000.0);
+    EXPECT_EQ(pa.at("mean"), pb.at("mean")) << mm;
+    EXPECT_EQ(pa.at("max"), pb.at("max")) << mm;
+  }
+  std::size_t at_angle = 0;
+  std::vector<std::string> lines;
+  for (const Row& r : both.rows)
+    if (r.angle_deg != 0) {
+      ++at_angle;
+      lines.push_back(p_both + ":" + std::to_string(r.line));
+    }
+  ASSERT_EQ(at_angle, 90u);
+  int warnings = 0;
+  for (const json& w : a.at("warnings")) {
+    const std::string s = w.get<std::string>();
+    if (has(s, "at an angle")) {
+      ++warnings;
+      EXPECT_TRUE(has(s, std::to_string(at_angle) + " of " + std::to_string(both.rows.size()) + " rows")) << s;
+    }
+  }
+  EXPECT_EQ(warnings, 1) << a.at("warnings").dump();
+  std::vector<std::string> listed;
+  for (const json& l : a.at("left_out").at("rows"))
+    if (has(l.at("why").get<std::string>(), "at an angle")) listed.push_back(l.at("where").get<std::string>());
+  EXPECT_EQ(listed, lines);
+  EXPECT_EQ(a.at("readings").get<std::size_t>(), both.rows.size());
+}
+
+// Only rows at 30 degrees: nothing faces the target; exit 2 naming the file and why.
+TEST_F(ProbeThreeProximity, NoRowFacingTheTargetIsBadInput) {
+  const std::string path = write("only_angled.csv", angled_log(false, true).text);
+  const CliRun r = run("proximity \"" + path + "\" -o \"" + (dir_ / "p.json").string() + "\"");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(has(r.err, path)) << r.err;
+  EXPECT_TRUE(has(r.err, "angle_deg 0")) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "p.json"));
+}
+
+/// The pooled within-group sd of `groups` (each group's deviations from its own mean).
+double pooled_sd(const std::vector<std::vector<double>>& groups, std::size_t* n = nullptr) {
+  double ss = 0;
+  std::size_t dof = 0, count = 0;
+  for (const auto& g : groups) {
+    if (g.size() < 2) continue;
+    const double m = mean_of(g);
+    for (double x : g) ss += (x - m) * (x - m);
+    dof += g.size() - 1;
+    count += g.size();
+  }
+  if (n) *n = count;
+  return std::sqrt(ss / static_cast<double>(dof));
+}
+
+// The diagnosis's replicate noise groups proximity readings by distance AND angle: at 20 mm the
+// readings at 0 degrees are {1000, 1002, 1004}, at 30 degrees {500, 502, 504}: each group's sd is
+// 2 counts; pooled over both angles they would scatter 274 counts.
+TEST(ProbeThreeProximityNoise, TheDiagnosisGroupsReplicatesByAngle) {
+  std::string csv = "# robot: probe\ndistance_m,sensor,value,angle_deg\n";
+  for (int v : {1000, 1002, 1004}) csv += "0.020,0," + std::to_string(v) + ",0\n";
+  for (int v : {500, 502, 504}) csv += "0.020,0," + std::to_string(v) + ",30\n";
+  const std::vector<epuck2::logs::Log> logs{epuck2::logs::parse_log(csv, "angles.csv", epuck2::logs::Kind::proximity)};
+  const auto noise = epuck2::diagnose::replicate_noise(logs);
+  ASSERT_EQ(noise.count("proximity"), 1u);
+  EXPECT_NEAR(noise.at("proximity").sd, 2.0, 1e-12);
+  EXPECT_EQ(noise.at("proximity").n, 6u);
+  EXPECT_EQ(noise.at("proximity").groups, 2u);
+  // The calibration's own noise is the same definition over its rows facing the target.
+  const epuck2::calibrate::ReadingNoise own = epuck2::calibrate::proximity_replicate_noise(logs);
+  EXPECT_NEAR(own.sd, 2.0, 1e-12);
 }
 
 }  // namespace test_probe_three_proximity_cpp

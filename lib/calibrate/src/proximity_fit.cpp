@@ -83,9 +83,115 @@ constexpr double kProximityUndetectedFraction = 0.01;
 constexpr double kProximityMaxPeelFraction = 0.02;
 }  // namespace
 
-ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOptions& options,
+namespace {
+
+/// `log` with only the rows `keep` says (their file lines and cells as read).
+logs::Log keep_rows(const logs::Log& log, const std::vector<bool>& keep) {
+  logs::Log out = log;
+  const std::size_t m = log.columns.size();
+  out.line_of_row.clear();
+  out.cell_start.clear();
+  for (auto& [name, v] : out.numeric) v.clear();
+  for (auto& [name, v] : out.text) v.clear();
+  for (std::size_t i = 0; i < log.rows(); ++i) {
+    if (!keep[i]) continue;
+    out.line_of_row.push_back(log.line_of_row[i]);
+    if (log.cell_start.size() >= (i + 1) * m)
+      out.cell_start.insert(out.cell_start.end(), log.cell_start.begin() + static_cast<std::ptrdiff_t>(i * m),
+                            log.cell_start.begin() + static_cast<std::ptrdiff_t>((i + 1) * m));
+    for (auto& [name, v] : out.numeric) v.push_back(log.numeric.at(name)[i]);
+    for (auto& [name, v] : out.text) v.push_back(log.text.at(name)[i]);
+  }
+  return out;
+}
+
+/// The rows facing the target (angle_deg 0, or no angle_deg column): Eq. 1 is the response of a
+/// sensor facing the surface. The rows at an angle are left out of the calibration, each listed in
+/// `out.left_out`, with one warning that counts them; none facing the target is bad input (exit 2).
+/// `logs` itself when every row faces the target, else `facing` filled and returned.
+const std::vector<logs::Log>& facing_rows(const std::vector<logs::Log>& logs, std::vector<logs::Log>& facing, ProximityFit& out) {
+  std::size_t angled = 0, rows = 0;
+  for (const logs::Log& log : logs) {
+    rows += log.rows();
+    if (!log.has("angle_deg")) continue;
+    for (double a : log.col("angle_deg")) angled += a != 0.0;
+  }
+  if (angled == 0) return logs;
+  if (angled == rows) {
+    std::string files;
+    for (const logs::Log& log : logs) files += (files.empty() ? "" : ", ") + log.path;
+    throw logs::InputError(logs.front().path, 0, 0,
+                           "no row faces the target (angle_deg 0): all " + std::to_string(rows) + " rows of " + files +
+                               " are at an angle. The proximity calibration fits Eq. 1, the response of a sensor facing "
+                               "the surface; log rows at angle_deg 0 (`epuck2-fit diagnose` fits the incidence angle).");
+  }
+  for (const logs::Log& log : logs) {
+    if (!log.has("angle_deg")) {
+      facing.push_back(log);
+      continue;
+    }
+    const auto& angle = log.col("angle_deg");
+    const auto& d = log.col("distance_m");
+    std::vector<bool> keep(log.rows());
+    for (std::size_t i = 0; i < log.rows(); ++i) {
+      keep[i] = angle[i] == 0.0;
+      if (!keep[i])
+        out.left_out.push_back({sensor_fit_detail::where(log, i), "at an angle: angle_deg " + sensor_fit_detail::fmt(angle[i]) +
+                                                                      " at " + sensor_fit_detail::fmt(d[i] * 1000) +
+                                                                      " mm (the calibration takes the rows facing the target, angle_deg 0)"});
+    }
+    facing.push_back(keep_rows(log, keep));
+  }
+  out.readings += angled;
+  out.warnings.push_back(std::to_string(angled) + " of " + std::to_string(rows) +
+                         " rows are at an angle (angle_deg not 0): left out of the calibration, which fits Eq. 1 to the "
+                         "rows facing the target (angle_deg 0); `epuck2-fit diagnose` fits the incidence angle.");
+  return facing;
+}
+
+}  // namespace
+
+ReadingNoise proximity_replicate_noise(const std::vector<logs::Log>& logs) {
+  // Replicates: one log, one sensor, one distance, one incidence angle (0 without angle_deg).
+  const double full = s::kProximityFullScale_raw;
+  std::vector<double> nv;
+  std::vector<int> ng, ns;
+  std::vector<bool> nr;
+  Groups<std::tuple<std::size_t, int, double, double>> groups;
+  for (std::size_t l = 0; l < logs.size(); ++l) {
+    const auto& d = logs[l].col("distance_m");
+    const auto& v = logs[l].col("value");
+    const bool has_angle = logs[l].has("angle_deg");
+    for (std::size_t i = 0; i < logs[l].rows(); ++i) {
+      const int sensor = sensor_of(logs[l], i);
+      const double angle = has_angle ? logs[l].col("angle_deg")[i] : 0.0;
+      nv.push_back(v[i]);
+      ng.push_back(groups.of({l, sensor, d[i], angle}));
+      ns.push_back(sensor);
+      nr.push_back(v[i] <= 0 || v[i] >= full);
+    }
+  }
+  // A group where nothing is detected (mean under 1 % of full scale) holds noise around 0 clipped
+  // at the 0 rail: even with no reading on the rail its spread is the clipped noise's, smaller
+  // than a reading's noise. Such groups measure no noise.
+  std::map<int, std::pair<double, std::size_t>> sum;
+  for (std::size_t i = 0; i < nv.size(); ++i) {
+    sum[ng[i]].first += nv[i];
+    ++sum[ng[i]].second;
+  }
+  for (std::size_t i = 0; i < nv.size(); ++i) {
+    const auto& [total, n] = sum[ng[i]];
+    if (total / static_cast<double>(n) < kProximityUndetectedFraction * full) ng[i] = -1;
+  }
+  return noise_from_replicates("proximity", "counts", kArgosNoiseScaleProximity_counts, nv, ng, nr, ns, s::kProximityCount,
+                               kQuantisationSd);
+}
+
+ProximityFit fit_proximity(const std::vector<logs::Log>& all_logs, const SensorFitOptions& options,
                            const s::ProximityCoefficients& start) {
   ProximityFit out;
+  std::vector<logs::Log> facing;
+  const std::vector<logs::Log>& logs = facing_rows(all_logs, facing, out);
   struct Reading {
     double value;
     std::string where;
@@ -383,29 +489,11 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOp
                              "): a proximity sensor touching a surface reads near full scale.");
   }
 
-  // 5. The reading noise: the replicates at each distance, per log and sensor.
-  {
-    std::vector<double> nv;
-    std::vector<int> ng, ns;
-    std::vector<bool> nr;
-    Groups<std::tuple<std::size_t, int, double>> groups;
-    for (std::size_t l = 0; l < logs.size(); ++l) {
-      const auto& d = logs[l].col("distance_m");
-      const auto& v = logs[l].col("value");
-      for (std::size_t i = 0; i < logs[l].rows(); ++i) {
-        const int sensor = sensor_of(logs[l], i);
-        nv.push_back(v[i]);
-        ng.push_back(groups.of({l, sensor, d[i]}));
-        ns.push_back(sensor);
-        nr.push_back(v[i] <= 0 || v[i] >= full);
-      }
-    }
-    // Without replicates each distance's mean is one reading: the means fit's residuals.
-    out.noise = replicates_or_residuals(
-        noise_from_replicates("proximity", "counts", kArgosNoiseScaleProximity_counts, nv, ng, nr, ns, s::kProximityCount,
-                              kQuantisationSd),
-        noise_from_residuals("proximity", "counts", kArgosNoiseScaleProximity_counts, out.means, full, s::kProximityCount));
-  }
+  // 5. The reading noise: the replicates at each distance, per log and sensor (of the rows used).
+  //    Without replicates each distance's mean is one reading: the means fit's residuals.
+  out.noise = replicates_or_residuals(
+      proximity_replicate_noise(logs),
+      noise_from_residuals("proximity", "counts", kArgosNoiseScaleProximity_counts, out.means, full, s::kProximityCount));
   return out;
 }
 

@@ -33,8 +33,9 @@ const KindRow* kind_row(logs::Kind kind) {
   static const KindRow rows[] = {
       {logs::Kind::ground, make_ground, extended_json<extended_ground>,
        [](const Logs& l) { return calibrate::fit_ground(l).noise; }},
-      {logs::Kind::proximity, make_proximity, extended_json<extended_proximity>,
-       [](const Logs& l) { return calibrate::fit_proximity(l).noise; }},
+      // The proximity's replicates are one distance and one incidence angle: every row counts here
+      // (the calibration takes those facing the target only).
+      {logs::Kind::proximity, make_proximity, extended_json<extended_proximity>, calibrate::proximity_replicate_noise},
       {logs::Kind::light, make_light, extended_json<extended_light>,
        [](const Logs& l) { return calibrate::fit_light(l).noise; }},
       {logs::Kind::camera, make_camera, extended_json<extended_camera>,

@@ -84,15 +84,23 @@ struct ProximityFit {
   std::size_t censored_readings = 0;   ///< readings on a rail (0 or 4095)
   std::vector<LeftOut> left_out;       ///< wild readings and readings beyond the range
   std::vector<std::string> warnings;   ///< plausibility and what the fits said
-  /// Reading noise in counts, from the replicates at each distance (per log and sensor), per
-  /// sensor (8).
+  /// Reading noise in counts, from the replicates at each distance (per log and sensor, of the
+  /// rows facing the target: proximity_replicate_noise), per sensor (8).
   ReadingNoise noise;
 };
 
 /// Fits Eq. 1 with the curve held non-increasing over [0, range] (b <= 0 and b + 2 a range <= 0):
-/// parametrised by the slopes at 0 and at the range, both bounded at 0.
+/// parametrised by the slopes at 0 and at the range, both bounded at 0. Eq. 1 is the response
+/// facing the target: rows at an angle (angle_deg not 0) are left out (listed in `left_out`, one
+/// warning counts them); logs without a row at angle_deg 0 throw logs::InputError (exit 2).
 ProximityFit fit_proximity(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {},
                            const models::sensors::ProximityCoefficients& start = models::sensors::kPluginProximity);
+
+/// The proximity reading noise between replicates ("replicates"; not usable() without a group of
+/// two readings): the readings of one log and sensor at one distance and one incidence angle
+/// (angle_deg, 0 where the log has none). One definition for the calibration (its rows facing the
+/// target) and the diagnosis (every row; lib/diagnose kinds.cpp).
+ReadingNoise proximity_replicate_noise(const std::vector<logs::Log>& logs);
 
 // ----- Light -----------------------------------------------------------------------------------
 
