@@ -821,7 +821,7 @@ MUTANTS = [
     ("tof_code_strict", LH, "return mm >= kTofOutOfRangeCode_mm;", "return mm > kTofOutOfRangeCode_mm;", TOF_CODES),
     ("noise_dof_no_minus_one", RN, "dof += v.size() - 1;", "dof += v.size();", NOISE),
     ("noise_small_group_le", RN, "g.kept.size() < kSmallGroup ?", "g.kept.size() <= kSmallGroup ?", NOISE),
-    ("noise_per_sensor_inverted", RN, "if (sensor[i] != s) mine[i] = -1;", "if (sensor[i] == s) mine[i] = -1;", NOISE),
+    ("noise_per_sensor_inverted", RN, "if (key.first != s || v.size() < 2) continue;", "if (key.first == s || v.size() < 2) continue;", NOISE),
     # The reading noise's median is lib/fit's one median (replicates.cpp) since the unity build.
     ("noise_median_even_upper", "lib/fit/src/replicates.cpp", "if (v.size() % 2 == 0) m = 0.5 * (m + ", "if (false) m = 0.5 * (m + ", NOISE),
     ("charge_load_sign", CM, "double x = voltage_v + load_offset_v(m, speed_cm_s);", "double x = voltage_v - load_offset_v(m, speed_cm_s);", CHARGE),
@@ -1102,7 +1102,7 @@ MUTANTS = [
     # (r8_charge_speed_not_absolute, `{v[i], std::abs(s[i]), q[i]}` -> `{v[i], s[i], q[i]}`, was withdrawn: every
     # use of a sample's speed takes its magnitude again (speed_key, load_offset_v), so it changes nothing.)
     ("r8_charge_offset_speed_signed", CM, "const double s = std::abs(speed_cm_s);", "const double s = speed_cm_s;", R8_CALIB),
-    ("r8_noise_per_sensor_n_pooled", RN, "r.per_sensor_n.push_back(own ? one.n : 0);", "r.per_sensor_n.push_back(own ? all.n : 0);",
+    ("r8_noise_per_sensor_n_pooled", RN, "r.per_sensor_n.push_back(mine ? n : 0);", "r.per_sensor_n.push_back(mine ? all.n : 0);",
      R8_CALIB),
     ("r8_proximity_point_mean_censoring_from_max", "lib/calibrate/src/proximity_report.cpp", '{"mean_censoring", rail(p.mean_censoring)}',
      '{"mean_censoring", rail(p.max_censoring)}', R8_CALIB),

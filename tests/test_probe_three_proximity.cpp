@@ -263,4 +263,53 @@ TEST(ProbeThreeProximityNoise, TheDiagnosisGroupsReplicatesByAngle) {
   EXPECT_NEAR(own.sd, 2.0, 1e-12);
 }
 
+// Three sensors, 12 readings each at 5..45 mm. Sensors 0 and 1 scatter ±30 counts (robust sd
+// 18.5), sensor 2 only 0 or 1 count, except one reading 40 counts high at 25 mm. Against the typical
+// group's spread (half of 18.5 counts: 8 x 9.3 = 74 counts) that reading is no glitch; judged
+// among sensor 2's groups alone (robust sd 0.74: 8 x 0.74 = 5.9 counts) it would be one. One
+// reading of sensor 0 at 45 mm is 2000 counts high: wild under any screening. Screened once, the
+// noise leaves out only that one, and the sensors' counts add up to the pooled count; each
+// sensor's sd is its own groups' pooled sd over the readings kept, computed here from the rows.
+TEST_F(ProbeThreeProximity, PerSensorNoiseIsThePooledScreeningsReadings) {
+  const int wide[12] = {-30, -20, -15, -10, -5, 0, 0, 5, 10, 15, 20, 30};
+  const int narrow[12] = {0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1};
+  LogText log;
+  std::map<int, std::vector<std::vector<double>>> kept;  // per sensor, its groups' readings
+  for (int mm = 5; mm <= 45; mm += 5) {
+    const double d = mm / 1000.0, base = std::round(envelope(d));
+    for (int s = 0; s < 3; ++s) {
+      std::vector<double> g;
+      for (int k = 0; k < 12; ++k) {
+        double v = base + (s < 2 ? wide[k] : narrow[k]);
+        if (s == 2 && mm == 25 && k == 11) v = base + 40;
+        log.add(d, s, v);
+        g.push_back(v);
+      }
+      if (s == 0 && mm == 45) log.add(d, s, base + 2000);  // wild: not in `kept`
+      kept[s].push_back(g);
+    }
+  }
+  const json file = calibrate(write("sensors.csv", log.text));
+  ASSERT_FALSE(file.empty());
+  const json& noise = file.at("noise").at("proximity");
+  ASSERT_EQ(noise.at("from"), "replicates");
+  const std::vector<std::size_t> n = noise.at("per_sensor_n").get<std::vector<std::size_t>>();
+  const std::vector<double> sd = noise.at("per_sensor_sd").get<std::vector<double>>();
+  ASSERT_EQ(n.size(), 8u);
+  std::size_t sum = 0;
+  for (std::size_t k : n) sum += k;
+  EXPECT_EQ(sum, noise.at("n").get<std::size_t>());
+  std::vector<std::vector<double>> every;
+  for (int s = 0; s < 3; ++s) {
+    std::size_t count = 0;
+    EXPECT_NEAR(sd[static_cast<std::size_t>(s)], pooled_sd(kept[s], &count), 1e-9) << "sensor " << s;
+    EXPECT_EQ(n[static_cast<std::size_t>(s)], count) << "sensor " << s;
+    for (const auto& g : kept[s]) every.push_back(g);
+  }
+  std::size_t all = 0;
+  EXPECT_NEAR(noise.at("sd").get<double>(), pooled_sd(every, &all), 1e-9);
+  EXPECT_EQ(noise.at("n").get<std::size_t>(), all);
+  EXPECT_EQ(all, 3u * 9u * 12u);
+}
+
 }  // namespace test_probe_three_proximity_cpp

@@ -80,7 +80,10 @@ PooledSd pooled_replicate_sd(const std::vector<double>& values, const std::vecto
                              const std::vector<bool>& on_rail, double floor_sd, double reject_sd = kNoiseRejectSd);
 
 /// A channel's noise from replicates: pooled over all sensors and per sensor (`sensor[i]`, for
-/// `sensors` sensors; 0: no per-sensor entries).
+/// `sensors` sensors; 0: no per-sensor entries). The readings are screened once, as
+/// pooled_replicate_sd does over all the groups; each sensor's sd is pooled over its own groups from
+/// the readings that screening kept, so the per-sensor counts add up to `n` (groups holding one
+/// sensor each, as every caller's do).
 ReadingNoise noise_from_replicates(const std::string& channel, const std::string& unit, double argos_scale,
                                    const std::vector<double>& values, const std::vector<int>& group,
                                    const std::vector<bool>& on_rail, const std::vector<int>& sensor, int sensors,
