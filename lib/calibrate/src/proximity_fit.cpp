@@ -171,18 +171,6 @@ ReadingNoise proximity_replicate_noise(const std::vector<logs::Log>& logs) {
       nr.push_back(v[i] <= 0 || v[i] >= full);
     }
   }
-  // A group where nothing is detected (mean under 1 % of full scale) holds noise around 0 clipped
-  // at the 0 rail: even with no reading on the rail its spread is the clipped noise's, smaller
-  // than a reading's noise. Such groups measure no noise.
-  std::map<int, std::pair<double, std::size_t>> sum;
-  for (std::size_t i = 0; i < nv.size(); ++i) {
-    sum[ng[i]].first += nv[i];
-    ++sum[ng[i]].second;
-  }
-  for (std::size_t i = 0; i < nv.size(); ++i) {
-    const auto& [total, n] = sum[ng[i]];
-    if (total / static_cast<double>(n) < kProximityUndetectedFraction * full) ng[i] = -1;
-  }
   return noise_from_replicates("proximity", "counts", kArgosNoiseScaleProximity_counts, nv, ng, nr, ns, s::kProximityCount,
                                kQuantisationSd);
 }
