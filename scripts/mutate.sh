@@ -686,7 +686,8 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_honest_fits",  # session 20: the drive report's cap lines
                                  "test_new_user_probe",  # session 21: a new user's probe's defects
                                  "test_round_twenty",  # round 20's survivors, written during its run (R20_TESTS inherits it)
-                                 "test_probe_three"]  # session 22: a third new user's probe's defects
+                                 "test_probe_three",  # session 22: a third new user's probe's defects
+                                 "test_probe_four"]  # session 23: a fourth new user's probe's defects
 
 
 def r19(groups, more=(), extra=(), targets=()):

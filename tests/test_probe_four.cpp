@@ -1,0 +1,103 @@
+// Defects a fourth new user's probe found (session 23): the light's plug-in MSE on the unclamped
+// curve, a robot's light set read with the pooled per-sensor gammas, a railed reading near its
+// clamp called wild, and `table5 --charge-map` printing "residual sd nan" for a map written by
+// hand. Every expected value is computed here from the rows the test writes (the generator's
+// truth) or from the docs' formulas, never taken from the code under test.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_harness.hpp"
+#include "epuck2/coefficients/model_file.hpp"
+#include "epuck2/fit/replicates.hpp"
+#include "epuck2/models/kinds.hpp"
+
+namespace test_probe_four_cpp {
+
+using epuck2::testing::CliRun;
+using epuck2::testing::slurp;
+using nlohmann::json;
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+struct LightRow {
+  double distance_m, intensity;
+  int sensor;
+  double value;
+};
+
+std::string light_text(const std::string& robot, const std::vector<LightRow>& rows) {
+  std::string text = "# robot: " + robot + "\ndistance_m,intensity,sensor,value\n";
+  for (const LightRow& r : rows) {
+    char line[96];
+    std::snprintf(line, sizeof line, "%.4f,%.3f,%d,%.0f\n", r.distance_m, r.intensity, r.sensor, r.value);
+    text += line;
+  }
+  return text;
+}
+
+/// Eq. 2 without noise, in counts: 4095 (1 - (gamma I / d)^2), unclamped.
+double eq2_raw(double gamma_m, double intensity, double distance_m) {
+  const double r = gamma_m * intensity / distance_m;
+  return 4095.0 * (1.0 - r * r);
+}
+
+/// Readings of sensors 0..7, sensor s with gamma `gamma_of(s)`, at 0.15..0.40 m and intensities 1
+/// and 0.5, five replicates each at +{-2, -1, 0, 1, 2} counts around the rounded curve.
+std::vector<LightRow> light_rows(const std::function<double(int)>& gamma_of) {
+  std::vector<LightRow> rows;
+  for (int s = 0; s < 8; ++s)
+    for (double d : {0.15, 0.20, 0.25, 0.30, 0.40})
+      for (double in : {1.0, 0.5})
+        for (int e = -2; e <= 2; ++e) rows.push_back({d, in, s, std::round(eq2_raw(gamma_of(s), in, d)) + e});
+  return rows;
+}
+
+class ProbeFour : public epuck2::testing::CliTest {};
+
+// docs/coefficient-files.md: `reference_mse.plugin` is the plug-in's gamma = 0.075 (1/13.3333333333333,
+// the plug-in's source) on the readings inside the rails, its reading clamped as the plug-in's:
+// 1 - (0.075 I / d)^2 clamped to 0..1. A light at 5 cm of intensity 1 puts the unclamped curve at
+// 1 - 2.25 = -1.25 (5119 counts below the rail): a reading of 12 counts there (the plug-in reads 0)
+// was a misfit of 1.25 in the plug-in's MSE, now of 12/4095.
+TEST_F(ProbeFour, LightPluginMseIsTheClampedPluginsReading) {
+  std::vector<LightRow> rows = light_rows([](int) { return 0.08; });
+  for (double v : {3.0, 7.0, 12.0, 0.0, 0.0}) rows.push_back({0.05, 1.0, 0, v});  // bright: the plug-in reads 0
+  for (double v : {20.0, 5.0, 0.0}) rows.push_back({0.06, 1.0, 1, v});
+  const std::string log = write("bright.csv", light_text("r", rows));
+  const CliRun r = run("light --json \"" + log + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  const double gamma = 1.0 / 13.3333333333333;
+  double sum = 0, unclamped_sum = 0;
+  std::size_t n = 0;
+  for (const LightRow& row : rows) {
+    if (!(row.value > 0 && row.value < 4095)) continue;  // on a rail: censored, not in the MSE
+    const double curve = 1.0 - std::pow(gamma * row.intensity / row.distance_m, 2);
+    const double e = row.value / 4095.0 - std::clamp(curve, 0.0, 1.0);
+    const double u = row.value / 4095.0 - curve;
+    sum += e * e;
+    unclamped_sum += u * u;
+    ++n;
+  }
+  const double expected = sum / static_cast<double>(n);
+  ASSERT_GT(unclamped_sum / static_cast<double>(n), 10 * expected);  // the two differ: the case tests something
+  const double got = j.at("reference_mse").at("plugin").get<double>();
+  EXPECT_NEAR(got, expected, 1e-9 * expected) << "unclamped would be " << unclamped_sum / static_cast<double>(n);
+  // The report prints the same number, and says the reading is clamped.
+  const CliRun t = run("light \"" + log + "\"");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  char line[160];
+  std::snprintf(line, sizeof line, "its reading clamped to 0..4095, MSE on the readings inside the rails %.3e", expected);
+  EXPECT_TRUE(has(t.out, line)) << t.out << "\nexpected: " << line;
+}
+
+}  // namespace test_probe_four_cpp
