@@ -100,4 +100,47 @@ TEST_F(ProbeFour, LightPluginMseIsTheClampedPluginsReading) {
   EXPECT_TRUE(has(t.out, line)) << t.out << "\nexpected: " << line;
 }
 
+// A light file of two robots: each robot's set holds that robot's own per-sensor gammas, fitted to
+// its rows, and a reader asked for a robot (ARGoS's robot="ID", the library's light_model_from_json
+// with the robot) reads them; it read the file's pooled per-sensor gammas, so that choosing a robot
+// changed nothing for light. Robot A's sensor s has gamma 0.060 + 0.002 s, robot B's 0.090 +
+// 0.002 s; the readings scatter 1.4 counts, so each fit lands within 1e-4 m of its truth.
+TEST_F(ProbeFour, LightRobotSetsHoldEachRobotsOwnSensorGammas) {
+  auto gamma_a = [](int s) { return 0.060 + 0.002 * s; };
+  auto gamma_b = [](int s) { return 0.090 + 0.002 * s; };
+  const std::string a = write("a.csv", light_text("A", light_rows(gamma_a)));
+  const std::string b = write("b.csv", light_text("B", light_rows(gamma_b)));
+  const std::string file = (dir_ / "light.json").string();
+  // --accept-misfit: each robot's one gamma misses its sensors' own (what per_sensor is for).
+  const CliRun r = run("light --accept-misfit \"" + a + "\" \"" + b + "\" -o \"" + file + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(slurp(file));
+  ASSERT_TRUE(j.at("robots").at("A").contains("per_sensor")) << j.at("robots").at("A").dump();
+  namespace s = epuck2::models::sensors;
+  const s::LightModel pooled = epuck2::coefficients::light_model_from_json(j, file);
+  const s::LightModel ma = epuck2::coefficients::light_model_from_json(j, file, "A");
+  const s::LightModel mb = epuck2::coefficients::light_model_from_json(j, file, "B");
+  for (int k = 0; k < 8; ++k) {
+    EXPECT_NEAR(s::light_gamma_m(ma, k), gamma_a(k), 1e-4) << "sensor " << k;
+    EXPECT_NEAR(s::light_gamma_m(mb, k), gamma_b(k), 1e-4) << "sensor " << k;
+    // The pooled per-sensor gamma lies between the robots': neither robot's.
+    EXPECT_GT(std::abs(s::light_gamma_m(pooled, k) - gamma_a(k)), 0.01) << "sensor " << k;
+    // What each robot's set simulates: its own curve, e.g. at 0.2 m and intensity 1.
+    EXPECT_NEAR(s::mean_raw(ma, k, 1.0, 0.2), eq2_raw(gamma_a(k), 1.0, 0.2), 2.0) << "sensor " << k;
+    EXPECT_NEAR(s::mean_raw(mb, k, 1.0, 0.2), eq2_raw(gamma_b(k), 1.0, 0.2), 2.0) << "sensor " << k;
+  }
+  // Robot A's set matches robot A fitted alone (`--robot A`), sensor by sensor.
+  const std::string alone = (dir_ / "a_alone.json").string();
+  ASSERT_EQ(run("light --accept-misfit --robot A \"" + a + "\" \"" + b + "\" -o \"" + alone + "\"").exit_code, 0);
+  const s::LightModel own = epuck2::coefficients::light_model_from_json(json::parse(slurp(alone)), alone);
+  for (int k = 0; k < 8; ++k) EXPECT_NEAR(s::light_gamma_m(ma, k), s::light_gamma_m(own, k), 1e-12) << "sensor " << k;
+  // A robot's set written without a list reads the robot's gamma on every sensor, never the file's
+  // pooled per-sensor ones.
+  json bare = j;
+  bare["robots"]["A"].erase("per_sensor");
+  const s::LightModel plain = epuck2::coefficients::light_model_from_json(bare, file, "A");
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(s::light_gamma_m(plain, k), plain.base.gamma_m) << "sensor " << k;
+  EXPECT_NEAR(plain.base.gamma_m, j.at("robots").at("A").at("parameters").at("gamma").get<double>(), 1e-15);
+}
+
 }  // namespace test_probe_four_cpp
