@@ -143,4 +143,61 @@ TEST_F(ProbeFour, LightRobotSetsHoldEachRobotsOwnSensorGammas) {
   EXPECT_NEAR(plain.base.gamma_m, j.at("robots").at("A").at("parameters").at("gamma").get<double>(), 1e-15);
 }
 
+// docs/fitting.md: a railed reading is censored (at or beyond its rail), so it is wild only when it
+// is its group's one railed reading and even its distance to the median is beyond the 8 robust sd
+// any reading is judged by. Groups of five readings scattering about 10 counts (robust sd 8.9: the
+// typical group's), and one group just below the dark rail, {4068, 4072, 4073, 4074, 4095}: its
+// inside readings' robust sd is 1.48, floored at half the typical, 4.45; the 4095 is 22 counts from
+// the median 4073, 2.2 of the groups' true sd (about 1.9 above its group's mean): 4.9 floored sd,
+// past the railed readings' old threshold of 4, not wild. A reading 200 counts (20 sd) from its
+// group, inside the rails, is still wild.
+TEST_F(ProbeFour, ARailedReadingNearItsClampIsNotWild) {
+  std::vector<double> values;
+  std::vector<int> group;
+  std::vector<bool> on_rail;
+  for (int g = 0; g < 12; ++g)
+    for (double e : {-13.0, -6.0, 0.0, 6.0, 13.0}) {
+      values.push_back(2000.0 + 100.0 * g + e + (g == 3 && e == 13.0 ? 200.0 : 0.0));
+      group.push_back(g);
+      on_rail.push_back(false);
+    }
+  const std::size_t wild_one = 3 * 5 + 4;
+  for (double v : {4068.0, 4072.0, 4073.0, 4074.0, 4095.0}) {
+    values.push_back(v);
+    group.push_back(12);
+    on_rail.push_back(v >= 4095.0);
+  }
+  const std::size_t railed = values.size() - 1;
+  const std::vector<bool> wild = epuck2::fit::flag_wild_replicates(values, group, on_rail, 0.2886751345948129);
+  EXPECT_FALSE(wild[railed]);
+  EXPECT_TRUE(wild[wild_one]);
+  EXPECT_EQ(std::count(wild.begin(), wild.end(), true), 1);
+  // A stray 4095 in a group far from the rail is still wild.
+  std::vector<double> far = values;
+  far[railed - 1] = 3000.0;
+  far[railed - 2] = 3004.0;
+  far[railed - 3] = 2996.0;
+  far[railed - 4] = 3010.0;
+  EXPECT_TRUE(epuck2::fit::flag_wild_replicates(far, group, on_rail, 0.2886751345948129)[railed]);
+
+  // The same through the light fit: the group just below the rail at 0.21 m and intensity 0.2
+  // (Eq. 2 at gamma 0.075: 4074.1 counts), the others 10 counts of scatter about the plug-in's curve.
+  std::vector<LightRow> rows;
+  for (int s = 0; s < 8; ++s)
+    for (double d : {0.15, 0.20, 0.25, 0.30})
+      for (double e : {-13.0, -6.0, 0.0, 6.0, 13.0}) rows.push_back({d, 1.0, s, std::round(eq2_raw(0.075, 1.0, d)) + e});
+  rows[4].value += 200.0;  // sensor 0 at 0.15 m: 20 sd from its group
+  for (double v : {4068.0, 4072.0, 4073.0, 4074.0, 4095.0}) rows.push_back({0.21, 0.2, 0, v});
+  const std::string log = write("near_rail.csv", light_text("r", rows));
+  const CliRun r = run("light --json \"" + log + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  // Rows start at line 3 (the robot's line, the header).
+  const std::string wild_at = log + ":" + std::to_string(3 + 4), railed_at = log + ":" + std::to_string(3 + rows.size() - 1);
+  std::vector<std::string> outliers;
+  for (const json& w : j.at("outliers").at("rows")) outliers.push_back(w.get<std::string>());
+  EXPECT_NE(std::find(outliers.begin(), outliers.end(), wild_at), outliers.end()) << j.at("outliers").dump();
+  EXPECT_EQ(std::find(outliers.begin(), outliers.end(), railed_at), outliers.end()) << j.at("outliers").dump();
+}
+
 }  // namespace test_probe_four_cpp
