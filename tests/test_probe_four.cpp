@@ -200,4 +200,40 @@ TEST_F(ProbeFour, ARailedReadingNearItsClampIsNotWild) {
   EXPECT_EQ(std::find(outliers.begin(), outliers.end(), railed_at), outliers.end()) << j.at("outliers").dump();
 }
 
+// docs/coefficient-files.md, "Charge map": a map written by hand has no residual sd (`null` with a
+// `_why`). `table5 --charge-map` printed "(residual sd nan)"; it says the file's map has none. The
+// JSON's `charge_map.residual_sd` is null with its reason, not a number.
+TEST_F(ProbeFour, Table5HandWrittenChargeMapPrintsNoNan) {
+  const std::string map = write("map.json",
+                                R"({"kind": "charge_map", "charge_map": {"form": "monotone_piecewise_linear", )"
+                                R"("knots_v": [3.5, 4.2], "knot_charge": [0.1, 1.0]}})");
+  // Voltage-only runs at every speed 0..15 cm/s (Table 5 needs them all), 4.2 V down to 3.55 V.
+  std::string log;
+  for (int speed = 0; speed <= 15; ++speed) {
+    std::string text = "# robot: r\ntime_s,speed_cm_s,voltage_v\n";
+    const double end_s = 20000.0 - 600.0 * speed;
+    for (int k = 0; k <= 20; ++k) {
+      char line[96];
+      std::snprintf(line, sizeof line, "%g,%d,%.4f\n", end_s * k / 20.0, speed, 4.2 - 0.65 * std::pow(k / 20.0, 1.3));
+      text += line;
+    }
+    log += (log.empty() ? "" : "\" \"") + write("volts_" + std::to_string(speed) + ".csv", text);
+  }
+  const CliRun t = run("table5 --charge-map \"" + map + "\" \"" + log + "\"");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_FALSE(has(t.out, "nan")) << t.out;
+  EXPECT_TRUE(has(t.out, "through the voltage->charge map of " + map + " (no residual sd: the file's map has none)")) << t.out;
+  const CliRun j = run("table5 --json --charge-map \"" + map + "\" \"" + log + "\"");
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  EXPECT_FALSE(has(j.out, "nan")) << j.out;
+  const json file = json::parse(j.out);
+  EXPECT_TRUE(file.at("charge_map").at("residual_sd").is_null());
+  EXPECT_TRUE(file.at("charge_map").contains("residual_sd_why"));
+  // The battery report says nothing of a residual sd for that map either (no nan).
+  const CliRun b = run("battery --charge-map \"" + map + "\" \"" + log + "\"");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_FALSE(has(b.out, "nan")) << b.out;
+  EXPECT_FALSE(has(b.out, "residual sd nan")) << b.out;
+}
+
 }  // namespace test_probe_four_cpp
