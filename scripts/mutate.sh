@@ -687,7 +687,9 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_new_user_probe",  # session 21: a new user's probe's defects
                                  "test_round_twenty",  # round 20's survivors, written during its run (R20_TESTS inherits it)
                                  "test_probe_three",  # session 22: a third new user's probe's defects
-                                 "test_round_twenty_one"]  # round 21's survivors, written after its run
+                                 "test_round_twenty_one",  # round 21's survivors, written after its run
+                                 "test_probe_four",  # session 23: a fourth new user's probe's defects
+                                 ]
 
 
 def r19(groups, more=(), extra=(), targets=()):

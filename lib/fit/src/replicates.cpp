@@ -53,7 +53,12 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
     const double sd = std::max({sd_of.count(g) ? sd_of.at(g) : typical, 0.5 * typical, floor_sd});
     for (std::size_t i : members) {
       const double dev = std::abs(values[i] - med);
-      wild[i] = on_rail[i] ? railed == 1 && dev > 0.5 * kWildReadingSd * sd : dev > kWildReadingSd * sd;
+      // A railed reading is censored: the sensor read the rail or beyond, so its distance from the
+      // median is the least its reading's could be. It is wild when even that least distance is
+      // beyond the threshold of any reading (and it is its group's one railed reading: several are
+      // a group near its clamp), never on a lower one: a reading at the rail a few sd from a group
+      // near it is the sensor at its clamp, not a glitch.
+      wild[i] = on_rail[i] ? railed == 1 && dev > kWildReadingSd * sd : dev > kWildReadingSd * sd;
       if (wild[i] && why != nullptr)
         (*why)[i] = logs::format_number(values[i], 6) + " where the readings under the same conditions centre on " + logs::format_number(med, 6) + " (robust sd " +
                     logs::format_number(sd, 6) + ")";

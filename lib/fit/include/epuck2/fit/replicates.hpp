@@ -21,8 +21,9 @@ inline constexpr std::size_t kMinReplicates = 3;
 /// same conditions (-1: none, never wild here), `on_rail[i]` whether it sits on a sensor's rail.
 /// A value inside the rails is wild when farther than kWildReadingSd robust sd from its group's
 /// median (groups of at least kMinReplicates; the sd is the group's 1.4826 MAD, at least half the typical
-/// group's and at least `floor_sd`); a railed value when it is its group's only railed one and
-/// farther than half that (a stray glitch, not a sensor near its clamp). `why`, when given,
+/// group's and at least `floor_sd`); a railed value (censored: at or beyond the rail, so at least
+/// as far as the rail) when it is its group's only railed one and the rail itself is farther than
+/// that (a stray glitch, not a sensor near its clamp). `why`, when given,
 /// receives a sentence per wild value (empty for the others).
 /// The median of `values` (the mean of the two middle ones for an even count); 0 for none.
 double median(std::vector<double> values);
