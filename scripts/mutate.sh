@@ -687,7 +687,10 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_new_user_probe",  # session 21: a new user's probe's defects
                                  "test_round_twenty",  # round 20's survivors, written during its run (R20_TESTS inherits it)
                                  "test_probe_three",  # session 22: a third new user's probe's defects
-                                 "test_probe_three_proximity"]  # session 23: that probe's proximity defects
+                                 "test_round_twenty_one",  # round 21's survivors, written after its run
+                                 "test_probe_four",  # session 23: a fourth new user's probe's defects
+                                 "test_probe_three_proximity",  # session 23: the third probe's proximity defects
+                                 ]
 
 
 def r19(groups, more=(), extra=(), targets=()):
@@ -1732,6 +1735,27 @@ MUTANTS = [
      'if (!c.other.empty()) why +=', 'if (c.other.empty()) why +=', R20_APPS),
     ('r20_finite_range_accepts_nan', 'apps/app_support.cpp',
      'if (!std::isfinite(v) || v < lo || v > hi)', 'if (v < lo || v > hi)', R20_APPS),
+    # Round 21 (bench/fresh-slips.md): its 8 survivors and its one kill by a byte-for-byte comparison
+    # only, written again from the round's record (the round's branch, with its 20 mutants, was lost
+    # with the machine it ran on; its 11 correctness kills are not here).
+    ('r21_argos_robot_set_noise_channel_warned_missing', 'argos/src/calibrated_sensors.cpp',
+     'if (!HasChannel(*s.Root) && !(pcRobotSet && HasChannel(*pcRobotSet)))', 'if (!HasChannel(*s.Root))', R20_ARGOS),
+    ('r21_battery_zero_slope_refused_as_rising', 'lib/coefficients/src/battery_tables.cpp',
+     'if (sign == Sign::negative_or_zero && !(v <= 0))', 'if (sign == Sign::negative_or_zero && !(v < 0))', R20_COEFF),
+    ('r21_battery_static_slope_left_zero_without_a_run_at_rest', 'lib/calibrate/src/battery_fit.cpp',
+     '  if (out.simple_static_slope_per_s == 0) out.simple_static_slope_per_s = out.simple_moving_slope_per_s;\n', '', R20_CALIB),
+    ('r21_corrected_error_shown_when_equal', 'lib/calibrate/src/report_text.cpp',
+     'autocorrelation->std_error(name) > e)', 'autocorrelation->std_error(name) >= e)', R20_CALIB),
+    ('r21_diagnose_unit_of_a_base_key_with_its_unit_lost', 'lib/diagnose/src/report_output.cpp',
+     'if (base == p.key || base == std::string(p.key) + "_" + p.unit) return p.unit;', 'if (base == p.key) return p.unit;', R20_DIAGNOSE),
+    ('r21_diagnose_battery_start_charge_sides_swapped', 'lib/diagnose/src/kind_battery.cpp',
+     'r.start_charge = c.front() >= s::kBatteryStartsFull ? 1.0 : c.front();', 'r.start_charge = c.front() >= s::kBatteryStartsFull ? c.front() : 1.0;', R20_DIAGNOSE),
+    ('r21_diagnose_autocorrelation_smallest_channel_taken', 'lib/diagnose/src/search.cpp',
+     'if (a.computed && (!best.computed || a.factor > best.factor)) {', 'if (a.computed && (!best.computed || a.factor < best.factor)) {', R20_DIAGNOSE),
+    ('r21_log_empty_robot_metadata_taken', 'lib/logs/src/log.cpp',
+     'it != log.metadata.end() && !it->second.empty()) {', 'it != log.metadata.end()) {', R20_LOGS),
+    ('r21_lack_of_fit_worst_run_spans_the_other_side', 'lib/fit/src/robust.cpp',
+     'return std::abs(miss[i]) >= 0.5 * std::abs(miss[top]) && (miss[i] > 0) == (miss[top] > 0);', 'return std::abs(miss[i]) >= 0.5 * std::abs(miss[top]);', R20_FIT),
 ]
 
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The calibrated sensors' XML options in ARGoS: a robot's own coefficient set (robot="ID"), the
 # Gaussian noise of the file's noise.<channel>.sd and its uniform alternative
-# (noise_distribution="uniform"), a file without a noise section (a warning, noise_level's uniform
+# (noise_distribution="uniform"), a robot's own noise section where the top level has none, a file without a noise section (a warning, noise_level's uniform
 # noise), noise_level beside a measured noise (ignored, with a warning), a noise section without the
 # sensor's channel (a warning, no noise), a misspelt noise_distribution, and a bad coefficient file
 # stopping ARGoS at Init with a message naming the file; curve="mean" (the means' curve), a curve
@@ -130,6 +130,23 @@ grep -q "calibrated epuck2_proximity: $WORK/nochannel.json: the 'noise' section 
 distinct=$(grep '^0' "$WORK/nochannel/proximity_argos-epuck2.csv" | cut -d, -f4 | sort -u | wc -l)
 [ "$distinct" = 1 ] || fail "a noise section without the proximity channel should give no noise, found $distinct distinct readings"
 echo "ok   noise section without this channel: warned, no noise"
+# 2d. a robot's own noise (docs/argos.md: a robot's set may hold its noise section): robot="r1"
+#     whose set gives noise.proximity (sd 29 counts) where the file's top-level noise section has
+#     no proximity entry: no "has no 'proximity' entry" warning, and a Gaussian of the robot's 29
+#     counts.
+python3 - "$WORK/p.json" "$WORK/robotnoise.json" <<'PY2'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["noise"] = {}
+d["robots"]["r1"]["noise"] = {"proximity": {"sd": 29.0, "unit": "counts", "from": "replicates", "n": 1000,
+                                            "argos_uniform_level": 3 ** 0.5 * 29.0 / 4095}}
+json.dump(d, open(sys.argv[2], "w"))
+PY2
+mkdir -p "$WORK/robotnoise"
+experiment "$WORK/robotnoise" "coefficients=\"$WORK/robotnoise.json\" robot=\"r1\" noise=\"true\"" "0.02:0.01:0.02" 400
+argos3 -n -z -c "$WORK/robotnoise/exp.argos" > "$WORK/robotnoise/log" 2>&1 || { cat "$WORK/robotnoise/log"; fail "argos3 (robot noise)"; }
+if grep -q "has no 'proximity' entry" "$WORK/robotnoise/log"; then cat "$WORK/robotnoise/log"; fail "warned of a missing noise channel that robot r1's set gives"; fi
+sd_check "$WORK/robotnoise/proximity_argos-epuck2.csv" "robot r1's own noise, none at the top level" 29 400 10
 experiment "$WORK/distribution" "coefficients=\"$WORK/p.json\" noise=\"true\" noise_distribution=\"gauss\"" "0.02:0.01:0.02" 1
 if argos3 -n -z -c "$WORK/distribution/exp.argos" > "$WORK/distribution/log" 2>&1; then fail "argos3 ran with noise_distribution=\"gauss\""; fi
 grep -q "calibrated epuck2_proximity: noise_distribution must be 'gaussian' or 'uniform', not 'gauss'" "$WORK/distribution/log" ||

@@ -241,11 +241,15 @@ std::string table5_text(const Table5& t) {
 
 std::string charge_conversion_text(const ChargeConversionReport& c, const std::string& map_from_file, double map_residual_sd) {
   Text out;
-  if (c.logs > 0)
-    out("\nCharge of %zu voltage-only logs from voltage_v through the voltage->charge map %s (residual sd %.3g); "
-        "clamped to its range: %zu below, %zu above.\n",
-        c.logs, map_from_file.empty() ? "fitted to the logs with both columns" : ("of " + map_from_file).c_str(),
-        map_residual_sd, c.below_range, c.above_range);
+  if (c.logs == 0) return out.str();
+  // A map given by hand has no residual sd (`residual_sd` null in its file): said, not printed as nan.
+  char sd[96];
+  if (std::isfinite(map_residual_sd)) std::snprintf(sd, sizeof sd, "residual sd %.3g", map_residual_sd);
+  else std::snprintf(sd, sizeof sd, "%s", map_from_file.empty() ? "no residual sd" : "no residual sd: the file's map has none");
+  out("\nCharge of %zu voltage-only logs from voltage_v through the voltage->charge map %s (%s); "
+      "clamped to its range: %zu below, %zu above.\n",
+      c.logs, map_from_file.empty() ? "fitted to the logs with both columns" : ("of " + map_from_file).c_str(), sd,
+      c.below_range, c.above_range);
   return out.str();
 }
 

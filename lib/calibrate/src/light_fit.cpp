@@ -99,10 +99,14 @@ LightFit fit_light(const std::vector<logs::Log>& logs, const SensorFitOptions& o
     out.gamma_per_sensor.push_back(fit_gamma(out.observations, options, sensor));
     collect(out.warnings, "sensor " + std::to_string(sensor) + ": ", out.gamma_per_sensor.back().warnings);
   }
+  // The plug-in's MSE as the plug-in reads: 1 - (0.075 I / d)^2 clamped to [0, 1] (Eq. 2, the
+  // reading clamped to the register's 0..4095), on the readings inside the rails as the fit's. The
+  // unclamped curve is thousands of counts below 0 in bright light, where the plug-in reads 0.
   std::vector<double> r;
   for (const LightObservation& o : out.observations)
     if (o.value_raw > 0 && o.value_raw < s::kProximityFullScale_raw)
-      r.push_back(o.value_raw / s::kProximityFullScale_raw - s::light_response(s::kPluginLight.gamma_m, o.intensity, o.distance_m));
+      r.push_back(o.value_raw / s::kProximityFullScale_raw -
+                  std::clamp(s::light_response(s::kPluginLight.gamma_m, o.intensity, o.distance_m), 0.0, 1.0));
   out.plugin_mse = mse_of(r);
 
   // The reading noise: the replicates of each log, sensor, distance and intensity (a light out of

@@ -38,7 +38,8 @@ std::string report_text(const LightFit& f) {
     write_parameter(out, f.gamma_per_sensor[i], "gamma", "m");
     write_handling(out, f.gamma_per_sensor[i], "(reading/4095)");
   }
-  out("Plug-in: gamma = 1/13.3333 = 0.075 m, MSE on the readings inside the rails %.3e (reading/4095)²\n", f.plugin_mse);
+  out("Plug-in: gamma = 1/13.3333 = 0.075 m, its reading clamped to 0..4095, MSE on the readings inside the rails %.3e (reading/4095)²\n",
+      f.plugin_mse);
   write_noise_sections(out, {f.noise});
   return out.str();
 }

@@ -249,6 +249,9 @@ void add_robots(json& j, const std::vector<logs::Log>& all,
     // The robot's model sections as the owner wrote them for its file; its report beside them.
     json set = {{"logs", files}, {"usable", true}, {"parameters", r.file.at("parameters")}, {"std_errors", r.file.at("std_errors")}};
     if (r.file.contains("noise")) set["noise"] = r.file.at("noise");
+    // Light: the robot's own per-sensor gammas, fitted to its rows (the pooled file's are the
+    // pool's, and describe no robot).
+    if (r.file.contains("per_sensor")) set["per_sensor"] = r.file.at("per_sensor");
     if (r.file.contains("not_identifiable")) set["not_identifiable"] = r.file.at("not_identifiable");
     try {
       coefficients::add_robot_set(j, kind, name, set);

@@ -649,14 +649,17 @@ json model_to_json(const s::ProximityModel& m) { return write_model(m, nullptr);
 namespace {
 
 /// A light calibration's per-sensor fits into `m.sensor_gamma_m`: the `per_sensor` entries
-/// ({"sensor": 0..7, "gamma"}; the robot's set's list in place of the file's), each in gamma's
-/// physical range; a sensor without an entry, or whose entry says it could not be fitted
-/// ({"usable": false, "why"}), keeps the pooled gamma.
+/// ({"sensor": 0..7, "gamma"}), each in gamma's physical range; a sensor without an entry, or
+/// whose entry says it could not be fitted ({"usable": false, "why"}), keeps the set's gamma. A
+/// robot's set reads its own list (`robots.ID.per_sensor`) and never the file's: the file's are the
+/// pooled robots' fits, which would override the robot's own gamma on every sensor they list; a
+/// robot's set without a list reads its gamma on every sensor.
 void read_sensor_gammas(const Doc& d, const json& j, const std::string& robot, s::LightModel& m) {
   std::string pointer = "/per_sensor";
   const json* list = j.contains("per_sensor") ? &j.at("per_sensor") : nullptr;
-  if (!robot.empty() && j.at("robots").at(robot).contains("per_sensor")) {
-    list = &j.at("robots").at(robot).at("per_sensor");
+  if (!robot.empty()) {
+    const json& set = j.at("robots").at(robot);
+    list = set.contains("per_sensor") ? &set.at("per_sensor") : nullptr;
     pointer = "/robots/" + token(robot) + "/per_sensor";
   }
   if (!list) return;

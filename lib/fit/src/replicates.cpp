@@ -29,7 +29,11 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
   for (std::size_t i = 0; i < n; ++i)
     if (group[i] >= 0) groups[group[i]].push_back(i);
   std::map<int, double> sd_of;
-  std::vector<double> sds;
+  // The typical spread, from the groups of at least kTypicalReplicates readings inside the rails:
+  // a smaller group's MAD is far below its sd (of 3 readings, one deviation from the median is 0
+  // and the MAD is the smaller of the other two), so a typical made of such groups would call
+  // ordinary readings wild. With no group that large, every group of kMinReplicates counts.
+  std::vector<double> sds, sds_large;
   for (const auto& [g, members] : groups) {
     std::vector<double> v;
     for (std::size_t i : members)
@@ -39,8 +43,9 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
     for (double& x : v) x = std::abs(x - med);
     sd_of[g] = 1.482602218505602 * median(v);
     sds.push_back(sd_of[g]);
+    if (v.size() >= kTypicalReplicates) sds_large.push_back(sd_of[g]);
   }
-  const double typical = median(sds);
+  const double typical = median(sds_large.empty() ? sds : sds_large);
   for (const auto& [g, members] : groups) {
     if (members.size() < kMinReplicates) continue;  // too few readings to call one of them wild
     std::vector<double> v;
@@ -53,7 +58,12 @@ std::vector<bool> flag_wild_replicates(const std::vector<double>& values, const 
     const double sd = std::max({sd_of.count(g) ? sd_of.at(g) : typical, 0.5 * typical, floor_sd});
     for (std::size_t i : members) {
       const double dev = std::abs(values[i] - med);
-      wild[i] = on_rail[i] ? railed == 1 && dev > 0.5 * kWildReadingSd * sd : dev > kWildReadingSd * sd;
+      // A railed reading is censored: the sensor read the rail or beyond, so its distance from the
+      // median is the least its reading's could be. It is wild when even that least distance is
+      // beyond the threshold of any reading (and it is its group's one railed reading: several are
+      // a group near its clamp), never on a lower one: a reading at the rail a few sd from a group
+      // near it is the sensor at its clamp, not a glitch.
+      wild[i] = on_rail[i] ? railed == 1 && dev > kWildReadingSd * sd : dev > kWildReadingSd * sd;
       if (wild[i] && why != nullptr)
         (*why)[i] = logs::format_number(values[i], 6) + " where the readings under the same conditions centre on " + logs::format_number(med, 6) + " (robust sd " +
                     logs::format_number(sd, 6) + ")";
