@@ -13,8 +13,14 @@ namespace epuck2::diagnose {
 
 namespace {
 
+/// Degrees of freedom (readings less groups) a replicate sd needs to be taken over the residuals':
+/// its relative standard error is about 1 / sqrt(2 dof), 10 % at 50. Fewer (logs whose conditions
+/// rarely repeat: proximity rows at many incidence angles) estimate the noise worse than the final
+/// model's residuals do.
+constexpr std::size_t kMinReplicateDof = 200;
+
 void keep_if_replicates(std::map<std::string, calibrate::ReadingNoise>& out, const calibrate::ReadingNoise& n) {
-  if (n.usable() && n.from == "replicates") out[n.channel] = n;
+  if (n.usable() && n.from == "replicates" && n.n >= n.groups + kMinReplicateDof) out[n.channel] = n;
 }
 
 /// The channel a report's residual sd belongs to: its kind's, or a drive channel's name.
