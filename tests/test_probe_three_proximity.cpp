@@ -250,17 +250,30 @@ double pooled_sd(const std::vector<std::vector<double>>& groups, std::size_t* n 
 // 2 counts; pooled over both angles they would scatter 274 counts.
 TEST(ProbeThreeProximityNoise, TheDiagnosisGroupsReplicatesByAngle) {
   std::string csv = "# robot: probe\ndistance_m,sensor,value,angle_deg\n";
-  for (int v : {1000, 1002, 1004}) csv += "0.020,0," + std::to_string(v) + ",0\n";
-  for (int v : {500, 502, 504}) csv += "0.020,0," + std::to_string(v) + ",30\n";
+  // 70 times each of 1000, 1002, 1004 at 0 degrees and 500, 502, 504 at 30: each group's squares
+  // about its mean 70 (4 + 0 + 4) = 560, pooled over 420 - 2 degrees of freedom (at least the
+  // diagnosis's 200: docs/diagnose.md): sd = sqrt(1120 / 418).
+  for (int k = 0; k < 70; ++k) {
+    for (int v : {1000, 1002, 1004}) csv += "0.020,0," + std::to_string(v) + ",0\n";
+    for (int v : {500, 502, 504}) csv += "0.020,0," + std::to_string(v) + ",30\n";
+  }
+  const double want = std::sqrt(1120.0 / 418.0);
   const std::vector<epuck2::logs::Log> logs{epuck2::logs::parse_log(csv, "angles.csv", epuck2::logs::Kind::proximity)};
   const auto noise = epuck2::diagnose::replicate_noise(logs);
   ASSERT_EQ(noise.count("proximity"), 1u);
-  EXPECT_NEAR(noise.at("proximity").sd, 2.0, 1e-12);
-  EXPECT_EQ(noise.at("proximity").n, 6u);
+  EXPECT_NEAR(noise.at("proximity").sd, want, 1e-12);
+  EXPECT_EQ(noise.at("proximity").n, 420u);
   EXPECT_EQ(noise.at("proximity").groups, 2u);
   // The calibration's own noise is the same definition over its rows facing the target.
   const epuck2::calibrate::ReadingNoise own = epuck2::calibrate::proximity_replicate_noise(logs);
-  EXPECT_NEAR(own.sd, 2.0, 1e-12);
+  EXPECT_NEAR(own.sd, want, 1e-12);
+  // The same two groups of 3 readings each: 4 degrees of freedom, fewer than 200, count as none.
+  std::string few = "# robot: probe\ndistance_m,sensor,value,angle_deg\n";
+  for (int v : {1000, 1002, 1004}) few += "0.020,0," + std::to_string(v) + ",0\n";
+  for (int v : {500, 502, 504}) few += "0.020,0," + std::to_string(v) + ",30\n";
+  const std::vector<epuck2::logs::Log> small{epuck2::logs::parse_log(few, "few.csv", epuck2::logs::Kind::proximity)};
+  EXPECT_EQ(epuck2::diagnose::replicate_noise(small).count("proximity"), 0u);
+  EXPECT_NEAR(epuck2::calibrate::proximity_replicate_noise(small).sd, 2.0, 1e-12);
 }
 
 // Three sensors, 12 readings each at 5..45 mm. Sensors 0 and 1 scatter ±30 counts (robust sd
