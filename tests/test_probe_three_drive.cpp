@@ -174,14 +174,15 @@ epuck2::logs::Log simulated(epuck2::testing::CliTest& /*unused*/, const fs::path
 // (9000: 12.222 cm/s). A 15 cm/s command moves each wheel 1100 steps a second, the body 1100 /
 // 9000 m a second; the ToF (scale 1, offset 0, no slip) reads 1000 (D - x). Before, the wheels
 // ran the 15 cm/s (1350 steps/s) and codegen wrote speed_limit 1e+06. A file whose calibration
-// found the wheels beat the cap (firmware_cap.kept false) runs them as commanded.
+// found the wheels beat the cap (firmware_cap.kept false) runs them as commanded, as does a file
+// without firmware_cap (a diagnosis: its cap is its speed_limit effect).
 TEST_F(ProbeThreeDrive, SimulateAndCodegenApplyTheFilesCap) {
   HandRun h;
   h.obstacle_m = 0.8;
   h.segments = {{0, 5}, {15, 20}, {0, 5}};
   const std::string log = write("run.csv", h.text());
   const std::string base = R"("kind":"drive","parameters":{"steps_per_m":9000,"tof_scale":1,"tof_offset_mm":0,"slip_time_constant_s":0})";
-  const std::string capped = write("cap.json", "{" + base + "}");
+  const std::string capped = write("cap.json", "{" + base + R"(,"firmware_cap":{"kept":true}})");
   const std::string uncapped = write("nocap.json", "{" + base + R"(,"firmware_cap":{"kept":false}})");
   const epuck2::logs::Log sim = simulated(*this, dir_, log, "--coefficients \"" + capped + "\"");
   ASSERT_EQ(sim.rows(), h.time_s.size());
@@ -195,6 +196,9 @@ TEST_F(ProbeThreeDrive, SimulateAndCodegenApplyTheFilesCap) {
   }
   const epuck2::logs::Log free = simulated(*this, dir_, log, "--coefficients \"" + uncapped + "\"");
   EXPECT_NEAR(free.col("left_steps")[25], 9000 * 0.15 * (h.time_s[25] - h.time_s[5]), 1.0);  // at 15 cm/s
+  const std::string bare = write("bare.json", "{" + base + "}");
+  const epuck2::logs::Log diagnosis_like = simulated(*this, dir_, log, "--coefficients \"" + bare + "\"");
+  EXPECT_NEAR(diagnosis_like.col("left_steps")[25], 9000 * 0.15 * (h.time_s[25] - h.time_s[5]), 1.0);
   // codegen: the header's speed_limit is the cap.
   const CliRun g = run("codegen \"" + capped + "\" -o -");
   ASSERT_EQ(g.exit_code, 0) << g.err;

@@ -193,9 +193,9 @@ struct DriveModel {
   double encoder_noise_sd_steps = 0;  ///< encoder register noise, steps
   std::vector<CovariateEffect> covariates;  ///< ToF mm per unit of each column (the encoders: none)
   /// The e-puck2 firmware's cap: a wheel turns at most 1100 steps/s, 100 x 1100 / steps_per_m cm/s
-  /// of command, where effects.speed_limit is neutral. A coefficient file's drive has it (unless
-  /// its `firmware_cap.kept` is false: the encoders beat the cap); the plug-in's published model
-  /// has none (it runs a 20 cm/s command at 20 cm/s).
+  /// of command, where effects.speed_limit is neutral. A calibration file's drive has it (its
+  /// `firmware_cap`, unless `kept` is false: the encoders beat the cap); a diagnosis's cap is its
+  /// speed_limit; the plug-in's published model has none (it runs a 20 cm/s command at 20 cm/s).
   bool firmware_cap = false;
 };
 
