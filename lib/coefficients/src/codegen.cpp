@@ -327,7 +327,10 @@ std::string model_to_cpp(const s::DriveModel& file_model, const std::string& sou
   (void)model_to_json(m);  // what the header holds reads as a coefficient file: the readers' checks refuse the rest
   std::ostringstream os;
   os << "/// The drive model of " << source << ": encoders, effects, ToF and encoder noise"
-     << (firmware ? "; speed_limit the firmware's cap,\n/// 1100 steps/s over steps_per_m" : "") << ".\n"
+     << (firmware ? std::string("; ") + fx::drive_catalogue()[fx::drive::speed_limit].name +
+                        " the firmware's cap,\n/// 1100 steps/s over steps_per_m"
+                  : std::string())
+     << ".\n"
      << "inline models::sensors::DriveModel drive_model() {\n  models::sensors::DriveModel m;\n"
      << "  m.steps_per_m = " << cpp_number(m.steps_per_m) << ";\n"
      << effects_code(m) << "  m.tof_noise_sd_mm = " << cpp_number(m.tof_noise_sd_mm) << ";\n"
