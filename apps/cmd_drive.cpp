@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "epuck2/logs/log.hpp"
+#include "epuck2/logs/output.hpp"
 #include "epuck2/models/kind_facts.hpp"
 #include "epuck2/models/effects.hpp"
 #include "epuck2/calibrate/sensors.hpp"
@@ -34,7 +36,10 @@ void setup_drive(CLI::App& app, Action& action) {
       app, action,
       {"drive", logs::Kind::drive, "Calibrate encoders and ToF from straight runs towards/away from an obstacle", "Drive",
        "Required metadata: '# obstacle_distance_m: D' (m, at time 0). tof_mm " +
-           models::kind_facts("drive")->channels.front().rails_text() + "."},
+           models::kind_facts("drive")->channels.front().rails_text() + ", or >= " +
+           logs::format_number(logs::kTofOutOfRangeCode_mm) +
+           " (the VL53L0X's no target in range: the fit censors it as beyond the 2000 mm rail, as a reading "
+           "on that rail)."},
       drive_json, plot::drive_figure);
 }
 

@@ -690,6 +690,7 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_round_twenty_one",  # round 21's survivors, written after its run
                                  "test_probe_four",  # session 23: a fourth new user's probe's defects
                                  "test_probe_three_proximity",  # session 23: the third probe's proximity defects
+                                 "test_probe_three_drive",  # session 23: the third probe's drive defects
                                  ]
 
 
@@ -881,8 +882,8 @@ MUTANTS = [
     ("r3_q_exceeds_inverted", RB, "s.exceeds = s.p_value < kRobotSpreadP;", "s.exceeds = s.p_value > kRobotSpreadP;", R3_FIT),
     ("r3_tobit_below_reject_sign", RB, "if (obs[i].censoring == Censoring::at_or_below && dev < -opt.reject_sd) next[i] = 0;",
      "if (obs[i].censoring == Censoring::at_or_below && dev > opt.reject_sd) next[i] = 0;", R3_FIT),
-    ("r3_cap_commanded_uses_uncapped", FS_D, "commanded_m += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);",
-     "commanded_m += run.command_uncapped_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);", R3_CAP),
+    ("r3_cap_commanded_uses_uncapped", FS_D, "if (std::abs(v) > cap) at_cap_steps += 0.5 * std::copysign(s::kFirmwareSpeedLimit_steps_s, v) * dt;",
+     "if (std::abs(v) > 1e300) at_cap_steps += 0.5 * std::copysign(s::kFirmwareSpeedLimit_steps_s, v) * dt;", R3_CAP),
     ("r3_argos_ground_noise_scale", AS, 'ConfigureNoise(s, "ground", Sd(m_sModel.noise_sd_raw), ms::kPluginNoiseScaleGround_counts, m_cNoise);',
      'ConfigureNoise(s, "ground", Sd(m_sModel.noise_sd_raw), ms::kPluginNoiseScaleProximity_counts, m_cNoise);', R3_ARGOS),
     ("r3_hint_worst_distance_min", PL, "if (d[i] > d[worst]) worst = i;", "if (d[i] < d[worst]) worst = i;", R3_HINTS),
@@ -1519,7 +1520,7 @@ MUTANTS = [
     ("r16_per_sensor_noise_all_first_sensor", "lib/calibrate/include/epuck2/calibrate/report_json.hpp",
      "? c.per_sensor_sd[i] : c.sd;", "? c.per_sensor_sd[0] : c.sd;", R16_CALIB),
     ("r16_drive_firmware_cap_bic_uncapped_is_capped", "lib/calibrate/src/drive_report.cpp",
-     '{"bic_uncapped", f.bic_uncapped}', '{"bic_uncapped", f.bic_capped}', R16_CALIB),
+     'j["firmware_cap"]["bic_uncapped"] = f.bic_uncapped;', 'j["firmware_cap"]["bic_uncapped"] = f.bic_capped;', R16_CALIB),
     ("r16_fit_upper_bound_checked_on_lower", "lib/fit/src/fit_curve.cpp",
      "if (std::isfinite(parameters[j].upper)) problem.set_upper_bound(",
      "if (std::isfinite(parameters[j].lower)) problem.set_upper_bound(", R16_FIT),

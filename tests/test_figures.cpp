@@ -339,8 +339,8 @@ TEST_F(PaperFigures, EveryPanelKeepsItsLabelsAtOneAndTwoColumns) {
   const std::vector<Case> cases{
       {"drive" + logs_of("drive"), "8.5x14cm",
        {"2.5 cm/s, x: time (s)", "15 cm/s, x: time (s)", "standing still: 1 run", ">encoders<", "≤ 25 readings/run drawn", "ToF (mm)",
-        "obstacle (mm)", "commanded (mm)", "encoder steps", "fit, clipped at rails", "robot virtual-epuck2-1"}},
-      {"drive" + logs_of("drive"), "17.6x10cm", {"10 cm/s, x: time (s)", "standing still: 1 run", "encoder steps", "fit, clipped at rails"}},
+        "obstacle (mm)", "commanded (mm)", "encoder steps", "fit (7760.0 steps/m)", "robot virtual-epuck2-1"}},
+      {"drive" + logs_of("drive"), "17.6x10cm", {"10 cm/s, x: time (s)", "standing still: 1 run", "encoder steps", "fit (7760.0 steps/m)"}},
       {"diagnose" + logs_of("drive"), "8.5x16cm",
        // (four panels do not stack in 16 cm: before and after side by side, the x label on two lines)
        {"before the", "after: 4 findings", "ToF residual (mm)", "encoder residual (steps)", "base model (steps)"}},
@@ -429,7 +429,7 @@ TEST_F(PaperFigures, EveryLegendEntryIsDrawnInsideTheCanvasAtOneColumn) {
   };
   const std::vector<Case> cases{
       {"drive", "drive" + logs_of("drive") + " --figure-size 8.5x14cm --font-size 8",
-       {"forward", "backwards", "standing still", "fit, clipped at rails", "plug-in", "the 2000 mm rail", "no-target code (2250)",
+       {"forward", "backwards", "standing still", "fit (7760.0 steps/m)", "plug-in", "the 2000 mm rail", "no-target code (2250)",
         "robot virtual-epuck2-1", "robot virtual-epuck2-2"}},
       {"battery", "battery" + logs_of("battery") + " --figure-size 8.5x12cm --font-size 8",
        {"robot virtual-e-puck2-a", "robot virtual-e-puck2-b", "simple", "linear", "cubic", "approximated"}},

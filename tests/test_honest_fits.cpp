@@ -248,7 +248,10 @@ TEST(HonestDrive, WheelsHeldAtTheCapKeepIt) {
   EXPECT_EQ(f.capped_rows, 30u);
   EXPECT_NEAR(f.steps.value("steps_per_m"), kStepsPerMetre, 1e-3 * kStepsPerMetre);
   const std::string text = epuck2::calibrate::report_text(f);
-  EXPECT_NE(text.find("14.17 cm/s taken as that limit: 30 rows)"), std::string::npos) << text.substr(0, 600);
+  // The cap: 1100 steps/s over the fitted steps per metre (14.17 cm/s at the plug-in's 7763.656).
+  char cap[96];
+  std::snprintf(cap, sizeof cap, "1100 / steps_per_m = %.3f cm/s taken as that limit: 30 rows)", 110000.0 / f.steps.value("steps_per_m"));
+  EXPECT_NE(text.find(cap), std::string::npos) << cap << "\n" << text.substr(0, 600);
   EXPECT_NE(text.find(" without: kept\n"), std::string::npos) << text.substr(0, 600);
   EXPECT_NE(text.find("  commands above the limit (capped): held.csv\n"), std::string::npos) << text;
 }

@@ -64,14 +64,15 @@ TEST_F(RoundFourteenCli, LightHelpSaysDarkIsTheTopRail) {
 // Every kind's --help footer states its sentinels and ranges as docs/logs.md does (proximity:
 // "0 = nothing detected", "4095 = touching"; ground: grey 0 black, 1 white, sensors 0 right,
 // 1 centre, 2 left, value 0..1023; camera: px 0..159 from the left, py 0..119 from the top,
-// lateral_m > 0 to the left; drive: tof_mm 20..2000). Round 14 slipped one of them unseen.
+// lateral_m > 0 to the left; drive: tof_mm 20..2000, or >= 8190, the no-target codes). Round 14
+// slipped one of them unseen.
 TEST_F(RoundFourteenCli, EveryKindsHelpStatesItsRangesAsTheLogDocs) {
   const std::vector<std::pair<std::string, std::string>> expected{
       {"proximity", "value: 0 = nothing detected, 4095 = touching."},
       {"light", "value: 4095 = dark, 0 = saturated"},
       {"ground", "grey: 0 = black, 1 = white; sensor 0 right, 1 centre, 2 left; value 0..1023."},
       {"camera", "px 0..159 from the left, py 0..119 from the top; lateral_m > 0 to the left."},
-      {"drive", "tof_mm 20..2000."}};
+      {"drive", "tof_mm 20..2000, or >= 8190 (the VL53L0X's no target in range"}};
   for (const auto& [kind, text] : expected) {
     const auto r = run(kind + " --help");
     ASSERT_EQ(r.exit_code, 0) << kind;

@@ -182,12 +182,15 @@ TEST(RoundTwoFirmwareCap, CapKeptWhenTheEncodersCannotTellTheDifference) {
   // Commands of 14.2 cm/s, just above the firmware's 1100 steps/s = 14.168 cm/s; the wheels run at
   // the cap, the encoders count floor(7763.656 x). As commanded, the run is a 0.2 % longer one
   // that a 0.2 % smaller steps per metre fits as well: the BICs differ by less than the margin
-  // (10), and the firmware's cap, the documented default, stays.
+  // (10), and the firmware's cap, the documented default, stays. The rows come about every 0.1 s
+  // (+-0.02 s, as a host's loop logs them): at exactly 0.1 s every count would be a whole 110 steps,
+  // half a step above the register's mean (floor) that the capped model, 1100 steps/s with nothing
+  // to fit, cannot absorb and a free slope can.
   const double k = models::sensors::kPluginStepsPerMetre, cap = calibrate::kFirmwareSpeedLimit_m_s;
   std::ostringstream log;
   log << "# obstacle_distance_m: 1.5\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n";
   for (int i = 0; i <= 50; ++i) {
-    const double t = 0.1 * i, x = cap * t;
+    const double t = 0.1 * i + (i > 0 ? 0.004 * ((i * 37) % 11 - 5) : 0.0), x = cap * t;
     const long steps = static_cast<long>(std::floor(k * x));
     log << t << ",14.2,14.2," << steps << "," << steps << "," << std::lround(1000 * (1.5 - x)) << "\n";
   }

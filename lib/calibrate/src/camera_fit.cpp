@@ -73,18 +73,25 @@ CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions&
                           robust_options(options, kQuantisationSd));
   collect(out.warnings, "", out.result.warnings);
 
+  // The plug-in's MSE on the readings the fit's MSE is over: those not left out as wild (px and
+  // py each a reading, as the fit has them).
+  std::vector<bool> left_out(obs.size(), false);
+  for (std::size_t i : out.result.outliers)
+    if (i < left_out.size()) left_out[i] = true;
   std::vector<double> r, alphas;
-  for (const auto& o : out.observations) {
+  for (std::size_t i = 0; i < out.observations.size(); ++i) {
+    const auto& o = out.observations[i];
     double mx, my;
     s::camera_projection(plugin.horizontal_fov_rad, plugin.cx_px, plugin.cy_px, s::kCameraWidth_px, o.forward_m,
                          o.lateral_m, o.vertical_m, &mx, &my);
-    r.push_back(o.px - mx);
-    r.push_back(o.py - my);
+    if (!left_out[2 * i]) r.push_back(o.px - mx);
+    if (!left_out[2 * i + 1]) r.push_back(o.py - my);
     const double offset = o.px - s::kCameraWidth_px / 2.0;
     if (std::abs(offset) > s::kCameraWidth_px / 4.0 && o.lateral_m != 0.0)
       alphas.push_back(s::rad_to_deg(s::alpha_from_pixel_offset_rad(o.forward_m, o.lateral_m, offset)));
   }
   out.plugin_mse = mse_of(r);
+  out.plugin_readings = r.size();
   out.table4_points = alphas.size();
   if (!alphas.empty()) {
     const double mean = std::accumulate(alphas.begin(), alphas.end(), 0.0) / static_cast<double>(alphas.size());

@@ -42,7 +42,8 @@ std::string report_text(const CameraFit& f) {
   write_parameter(out, r, "cx_px", "px", "", "image centre column");
   write_parameter(out, r, "cy_px", "px", "", "image centre row");
   write_handling(out, r, "px", "  ", nullptr, /*has_rails=*/false);
-  out("MSE %.3f px^2 (plug-in, 29.97 deg centred at (80, 60): %.3f px^2)\n", r.mse, f.plugin_mse);
+  out("MSE %.3f px^2 (plug-in, 29.97 deg centred at (80, 60): %.3f px^2 on the same %zu readings, those the fit kept)\n",
+      r.mse, f.plugin_mse, f.plugin_readings);
   out("Table 4 method (alpha from the pixel offset, centre taken as column 80), %zu points: mean %s (± the points' sd, "
       "not a standard error)\n",
       f.table4_points,

@@ -26,6 +26,23 @@ using namespace sensor_fit_detail;  // the sensor fits' shared helpers
 
 namespace s = models::sensors;
 
+void cap_commands(DriveRun& run, double cap) {
+  const auto& vl = run.left_cm_s;
+  const auto& vr = run.right_cm_s;
+  run.command_m_s.assign(vl.size(), 0.0);
+  run.over_speed_limit = false;
+  run.capped_rows = 0;
+  for (std::size_t i = 0; i < vl.size(); ++i) {
+    // The firmware runs a wheel commanded above its limit at the limit.
+    const double l = std::clamp(vl[i] / 100.0, -cap, cap), r = std::clamp(vr[i] / 100.0, -cap, cap);
+    if (l != vl[i] / 100.0 || r != vr[i] / 100.0) {
+      run.over_speed_limit = true;
+      ++run.capped_rows;
+    }
+    run.command_m_s[i] = 0.5 * (l + r);
+  }
+}
+
 DriveRun drive_run_from_log(const logs::Log& log) {
   DriveRun run;
   run.path = log.path;
@@ -37,21 +54,16 @@ DriveRun drive_run_from_log(const logs::Log& log) {
   const auto& vr = cols.right_cm_s;
   const auto& tof = cols.tof_mm;
   const std::vector<double> ul = s::unwrap_steps(cols.left_steps), ur = s::unwrap_steps(cols.right_steps);
-  const double cap = kFirmwareSpeedLimit_m_s;
   for (std::size_t i = 0; i < log.rows(); ++i) {
     run.time_s.push_back(t[i]);
     run.line.push_back(log.line_of_row.at(i));
-    // The firmware runs a wheel commanded above its limit at the limit.
-    const double l = std::clamp(vl[i] / 100.0, -cap, cap), r = std::clamp(vr[i] / 100.0, -cap, cap);
-    if (l != vl[i] / 100.0 || r != vr[i] / 100.0) {
-      run.over_speed_limit = true;
-      ++run.capped_rows;
-    }
-    run.command_m_s.push_back(0.5 * (l + r));
+    run.left_cm_s.push_back(vl[i]);
+    run.right_cm_s.push_back(vr[i]);
     run.command_uncapped_m_s.push_back(0.5 * (vl[i] + vr[i]) / 100.0);
     run.steps.push_back(0.5 * (ul[i] + ur[i]));
     run.tof_mm.push_back(tof[i]);
   }
+  cap_commands(run, kFirmwareSpeedLimit_m_s);
   return run;
 }
 
@@ -84,14 +96,53 @@ AutocorrelationCorrection run_autocorrelation(const RobustFit& f, const std::vec
 namespace {
 // Encoder steps against the commanded distance: the register's mean after that travel
 // (lib/models encoder_mean_steps: steps_per_m x - 1/2, the mean of floor(steps_per_m x)).
+// With the firmware's cap: distance_m the travel commanded below the cap, capped_steps the steps
+// the wheels made at the cap (1100 steps/s whatever steps_per_m), so that the wheel's travel is
+// distance_m + capped_steps / steps_per_m (no capped_steps: none at the cap).
 struct StepsLine {
   std::vector<double> distance_m;
+  std::vector<double> capped_steps;
   template <typename T>
   bool operator()(const T* p, T* out) const {
-    for (std::size_t i = 0; i < distance_m.size(); ++i) out[i] = s::encoder_mean_steps(p[0], distance_m[i]);
+    for (std::size_t i = 0; i < distance_m.size(); ++i)
+      out[i] = capped_steps.empty() ? s::encoder_mean_steps(p[0], distance_m[i])
+                                    : s::encoder_mean_steps(p[0], T(distance_m[i]) + capped_steps[i] / p[0]);
     return true;
   }
 };
+
+// The steps fit's rows with every run's commands capped at `cap` m/s (the firmware's 1100 steps/s
+// over the steps per metre the cap is reckoned with): the runs' command_m_s and capped rows set,
+// and per row the travel commanded below the cap and the steps made at it (a command holds until
+// the next row).
+StepsLine capped_steps_line(std::vector<DriveRun>& runs, double cap) {
+  StepsLine line;
+  for (DriveRun& run : runs) {
+    cap_commands(run, cap);
+    double below_m = 0, at_cap_steps = 0;
+    for (std::size_t k = 0; k < run.time_s.size(); ++k) {
+      line.distance_m.push_back(below_m);
+      line.capped_steps.push_back(at_cap_steps);
+      if (k + 1 < run.time_s.size()) {
+        const double dt = run.time_s[k + 1] - run.time_s[k];
+        for (double v : {run.left_cm_s[k] / 100.0, run.right_cm_s[k] / 100.0}) {
+          if (std::abs(v) > cap) at_cap_steps += 0.5 * std::copysign(s::kFirmwareSpeedLimit_steps_s, v) * dt;
+          else below_m += 0.5 * v * dt;
+        }
+      }
+    }
+  }
+  return line;
+}
+
+// Whether the caps `a` and `b` (m/s) cap the same wheel commands of the runs.
+bool same_capping(const std::vector<DriveRun>& runs, double a, double b) {
+  for (const DriveRun& run : runs)
+    for (const auto* wheel : {&run.left_cm_s, &run.right_cm_s})
+      for (double cm_s : *wheel)
+        if ((std::abs(cm_s / 100.0) > a) != (std::abs(cm_s / 100.0) > b)) return false;
+  return true;
+}
 
 // The ToF of every row of every run: latent = scale 1000 (D - g) + offset, g the encoders'
 // wheel travel lagged by tau (lagged_travel_m); p = {tof_offset_mm, tof_scale, slip_time_constant_s}.
@@ -140,53 +191,68 @@ ReadingNoise still_tof_noise(const std::vector<DriveRun>& runs, std::vector<doub
 
 DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& options) {
   DriveFit out;
-  for (const logs::Log& log : logs) {
-    out.runs.push_back(drive_run_from_log(log));
-    if (out.runs.back().over_speed_limit) out.over_limit_runs.push_back(log.path);
-    out.capped_rows += out.runs.back().capped_rows;
-  }
+  for (const logs::Log& log : logs) out.runs.push_back(drive_run_from_log(log));
   const double nominal = s::kPluginStepsPerMetre;
 
   // 1. Steps per metre: encoder steps against the commanded distance (a command holds until the
   //    next row), commands above the firmware's limit taken as the limit -- unless the encoders
-  //    say the wheels ran faster (the cap tested by the BIC, DriveFit::cap_kept).
-  std::vector<double> x, x_uncapped;
+  //    say the wheels ran faster (the cap tested by the BIC, DriveFit::cap_kept). The limit is
+  //    1100 steps/s, in m/s of command 1100 / steps_per_m: the fitted steps per metre, not the
+  //    plug-in's; a wheel at the cap counts 1100 steps a second whatever steps_per_m is. Which
+  //    commands exceed it depends on the fit: from the plug-in's steps per metre, refitted until
+  //    the fitted value caps the same commands.
+  std::vector<double> x_uncapped;
   std::vector<Observation> obs;
   std::vector<int> run_of;  // per row: its run (the residuals' series)
   for (const DriveRun& run : out.runs) {
-    double commanded_m = 0, uncapped_m = 0;
+    double uncapped_m = 0;
     for (std::size_t k = 0; k < run.time_s.size(); ++k) {
       run_of.push_back(static_cast<int>(&run - out.runs.data()));
-      x.push_back(commanded_m);
       x_uncapped.push_back(uncapped_m);
       obs.push_back({run.steps[k], Censoring::none, run.path + ":" + std::to_string(run.line[k]), -1});
-      if (k + 1 < run.time_s.size()) {
-        commanded_m += run.command_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
-        uncapped_m += run.command_uncapped_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
-      }
+      if (k + 1 < run.time_s.size()) uncapped_m += run.command_uncapped_m_s[k] * (run.time_s[k + 1] - run.time_s[k]);
     }
   }
-  out.steps_rows = x.size();
+  out.steps_rows = obs.size();
   // Within +-20 % of the nominal 41 mm wheel; steps are whole numbers.
   const std::vector<fit::Parameter> steps_params{{"steps_per_m", nominal, nominal, 0.8 * nominal, 1.2 * nominal}};
-  out.steps = fit_robust(StepsLine{x}, obs, steps_params, robust_options(options, kQuantisationSd));
+  double cap_steps_per_m = nominal;  // the steps per metre the cap is reckoned with
+  StepsLine capped_line;
+  for (int pass = 0; pass < 10; ++pass) {
+    const double cap = s::kFirmwareSpeedLimit_steps_s / cap_steps_per_m;
+    capped_line = capped_steps_line(out.runs, cap);
+    out.steps = fit_robust(capped_line, obs, steps_params, robust_options(options, kQuantisationSd));
+    if (!out.steps.usable) break;
+    const double fitted = out.steps.value("steps_per_m");
+    const bool settled = same_capping(out.runs, cap, s::kFirmwareSpeedLimit_steps_s / fitted);
+    cap_steps_per_m = fitted;
+    if (settled) break;
+  }
+  out.cap_m_s = s::kFirmwareSpeedLimit_steps_s / cap_steps_per_m;
+  for (DriveRun& run : out.runs) {
+    cap_commands(run, out.cap_m_s);
+    if (run.over_speed_limit) out.over_limit_runs.push_back(run.path);
+    out.capped_rows += run.capped_rows;
+  }
   if (out.capped_rows > 0) {
-    RobustFit uncapped = fit_robust(StepsLine{x_uncapped}, obs, steps_params, robust_options(options, kQuantisationSd));
+    RobustFit uncapped = fit_robust(StepsLine{x_uncapped, {}}, obs, steps_params, robust_options(options, kQuantisationSd));
     // Each model's BIC over every row (the same rows, one parameter each): n ln(RSS/n) + ln n.
-    auto bic = [&](const RobustFit& f, const std::vector<double>& d) {
+    auto bic = [&](const RobustFit& f, const StepsLine& line) {
       if (!f.usable) return std::numeric_limits<double>::infinity();
       const double k = f.value("steps_per_m");
+      std::vector<double> predicted(obs.size());
+      line(&k, predicted.data());
       double rss = 0;
-      for (std::size_t i = 0; i < d.size(); ++i) {
-        const double r = obs[i].value - s::encoder_mean_steps(k, d[i]);
+      for (std::size_t i = 0; i < obs.size(); ++i) {
+        const double r = obs[i].value - predicted[i];
         rss += r * r;
       }
-      const double n = static_cast<double>(d.size());
+      const double n = static_cast<double>(obs.size());
       return n * std::log(std::max(rss, 1e-300) / n) + std::log(n);
     };
     out.cap_tested = true;
-    out.bic_capped = bic(out.steps, x);
-    out.bic_uncapped = bic(uncapped, x_uncapped);
+    out.bic_capped = bic(out.steps, capped_line);
+    out.bic_uncapped = bic(uncapped, StepsLine{x_uncapped, {}});
     if (out.bic_uncapped <= out.bic_capped - kCapBicMargin) {
       out.cap_kept = false;
       out.steps = std::move(uncapped);
@@ -200,7 +266,7 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
   // 2. ToF offset and scale with the slip lag, from every row of every run: readings at the
   //    sensor's floor (20 mm) or ceiling (2000 mm, and the out-of-range codes >= 8190) censored.
   std::vector<Observation> tobs;
-  std::vector<double> plugin_r;
+  std::vector<double> plugin_r;  // per row: the plug-in's residual (NaN on a rail)
   const models::Channel& tof_channel = models::kind_facts("drive")->channels.front();
   for (const DriveRun& run : out.runs) {
     const std::vector<double> enc_travel = lagged_travel_m(run, nominal, 0.0);
@@ -210,14 +276,14 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
       const Observation o{tof_channel.on_rails(mm), censoring_at(mm, tof_channel.low_rail, tof_channel.high_rail),
                           run.path + ":" + std::to_string(run.line[k]), -1};
       if (logs::is_tof_out_of_range(mm)) ++out.tof_out_of_range_codes;
-      if (o.censoring == Censoring::none)
-        plugin_r.push_back(mm - s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc_travel[k]));  // the plug-in's
+      plugin_r.push_back(o.censoring == Censoring::none
+                             ? mm - s::tof_response_mm(1.0, 0.0, run.obstacle_distance_m - enc_travel[k])  // the plug-in's
+                             : std::numeric_limits<double>::quiet_NaN());
       if (o.censoring != Censoring::none) ++out.tof_censored;
       tobs.push_back(o);
     }
   }
   out.tof_rows = tobs.size();
-  out.plugin_tof_mse = mse_of(plugin_r);
   // Scale within a factor of two of a true range; the lag between none and 2 s. Declared order
   // decides what a log that cannot tell them apart keeps: the scale and the lag before the offset.
   out.tof = fit_robust(TofModel{&out.runs, steps_per_m}, tobs,
@@ -226,14 +292,28 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
                         {"slip_time_constant_s", 0.05, 0.0, 0.0, 2.0}},
                        robust_options(options, kQuantisationSd));
   collect(out.warnings, "ToF: ", out.tof.warnings);
+  // The plug-in's MSE on the rows the fit's MSE is over: inside the rails (no rail, no
+  // out-of-range code) and not left out as wild.
+  {
+    std::vector<bool> left_out(tobs.size(), false);
+    for (std::size_t i : out.tof.outliers)
+      if (i < left_out.size()) left_out[i] = true;
+    std::vector<double> kept;
+    for (std::size_t i = 0; i < plugin_r.size(); ++i)
+      if (tobs[i].censoring == Censoring::none && !left_out[i]) kept.push_back(plugin_r[i]);
+    out.plugin_tof_rows = kept.size();
+    out.plugin_tof_mse = mse_of(kept);
+  }
   if (out.tof.usable) out.tof_autocorrelation = run_autocorrelation(out.tof, tobs, run_of);
+  const std::string limit = fmt(out.cap_m_s * 100, 5) + " cm/s, 1100 steps/s over " +
+                            (out.steps.usable ? "the fitted " + fmt(cap_steps_per_m, 7) : "the plug-in's " + fmt(nominal, 7)) + " steps/m";
   if (!out.over_limit_runs.empty() && out.cap_kept)
     out.warnings.push_back(std::to_string(out.capped_rows) + " rows command more than the firmware's limit (" +
-                           fmt(kFirmwareSpeedLimit_m_s * 100) + " cm/s): taken as the limit, which is what the robot does (the " +
+                           limit + "): taken as the limit, which is what the robot does (the " +
                            "encoders agree: BIC " + fmt(out.bic_capped) + " with the cap, " + fmt(out.bic_uncapped) + " without).");
   if (!out.cap_kept)
     out.warnings.push_back(std::to_string(out.capped_rows) + " rows command more than the firmware's limit (" +
-                           fmt(kFirmwareSpeedLimit_m_s * 100) + " cm/s), and the encoders say the wheels ran faster: BIC " +
+                           limit + "), and the encoders say the wheels ran faster: BIC " +
                            fmt(out.bic_uncapped) + " as commanded against " + fmt(out.bic_capped) +
                            " with the cap; the wheels exceed the firmware's limit and are fitted as they run.");
 

@@ -20,8 +20,8 @@ std::string report_text(const DriveFit& f) {
   Text out;
   out("Drive runs: %zu\n\n", f.runs.size());
   out("Encoders: steps = steps_per_m * commanded distance (%zu rows; commands above the firmware's 1100 steps/s = "
-      "14.17 cm/s %s: %zu rows)\n",
-      f.steps_rows, f.cap_kept ? "taken as that limit" : "taken as commanded (the encoders beat the limit on the BIC)",
+      "1100 / steps_per_m = %.3f cm/s %s: %zu rows)\n",
+      f.steps_rows, 100 * f.cap_m_s, f.cap_kept ? "taken as that limit" : "taken as commanded (the encoders beat the limit on the BIC)",
       f.capped_rows);
   if (f.cap_tested)
     out("  firmware cap tested: BIC %.1f with the cap, %.1f without: %s\n", f.bic_capped, f.bic_uncapped,
@@ -39,7 +39,9 @@ std::string report_text(const DriveFit& f) {
   write_parameter(out, t, "tof_offset_mm", "mm", "  ", "", &f.tof_autocorrelation);
   write_parameter(out, t, "slip_time_constant_s", "s", "  ", "", &f.tof_autocorrelation);
   write_handling(out, t, "mm", "  ", &f.tof_autocorrelation);
-  out("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2)\n", t.mse, f.plugin_tof_mse);
+  out("  MSE %.3f mm^2 (plug-in: scale 1, offset 0, no slip: %.3f mm^2 on the same %zu rows, those inside the rails "
+      "that the fit kept)\n",
+      t.mse, f.plugin_tof_mse, f.plugin_tof_rows);
   write_noise_sections(out, {f.tof_noise, f.encoder_noise});
   return out.str();
 }
@@ -79,9 +81,14 @@ nlohmann::json coefficient_json(const DriveFit& f, const std::vector<logs::Log>&
   j["tof_out_of_range_codes"] = f.tof_out_of_range_codes;
   j["capped_rows"] = f.capped_rows;
   j["over_limit_runs"] = f.over_limit_runs;
-  if (f.cap_tested)
-    j["firmware_cap"] = {{"kept", f.cap_kept}, {"bic_capped", f.bic_capped}, {"bic_uncapped", f.bic_uncapped}};
-  j["reference_mse"] = {{"plugin_tof", f.plugin_tof_mse}};
+  // The cap in m/s of command: the firmware's 1100 steps/s over the fitted steps_per_m.
+  j["firmware_cap"] = {{"steps_s", models::sensors::kFirmwareSpeedLimit_steps_s}, {"limit_m_s", f.cap_m_s},
+                       {"tested", f.cap_tested}, {"kept", f.cap_kept}};
+  if (f.cap_tested) {
+    j["firmware_cap"]["bic_capped"] = f.bic_capped;
+    j["firmware_cap"]["bic_uncapped"] = f.bic_uncapped;
+  }
+  j["reference_mse"] = {{"plugin_tof", f.plugin_tof_mse}, {"plugin_tof_rows", f.plugin_tof_rows}};
   add_noise(j, {f.tof_noise, f.encoder_noise});
   add_warnings(j, f.warnings);
   return j;

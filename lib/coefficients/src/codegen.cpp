@@ -318,10 +318,19 @@ std::string model_to_cpp(const s::CameraModel& m, const std::string& source) {
   return os.str();
 }
 
-std::string model_to_cpp(const s::DriveModel& m, const std::string& source) {
+std::string model_to_cpp(const s::DriveModel& file_model, const std::string& source) {
+  // The wheels as the model runs them: the file's cap (the firmware's 1100 steps/s over its
+  // steps_per_m, where it has no speed_limit of its own) is the header's speed_limit.
+  s::DriveModel m = file_model;
+  m.effects = s::effects_as_run(file_model);
+  const bool firmware = m.effects.speed_limit.max_cm_s != file_model.effects.speed_limit.max_cm_s;
   (void)model_to_json(m);  // what the header holds reads as a coefficient file: the readers' checks refuse the rest
   std::ostringstream os;
-  os << "/// The drive model of " << source << ": encoders, effects, ToF and encoder noise.\n"
+  os << "/// The drive model of " << source << ": encoders, effects, ToF and encoder noise"
+     << (firmware ? std::string("; ") + fx::drive_catalogue()[fx::drive::speed_limit].name +
+                        " the firmware's cap,\n/// 1100 steps/s over steps_per_m"
+                  : std::string())
+     << ".\n"
      << "inline models::sensors::DriveModel drive_model() {\n  models::sensors::DriveModel m;\n"
      << "  m.steps_per_m = " << cpp_number(m.steps_per_m) << ";\n"
      << effects_code(m) << "  m.tof_noise_sd_mm = " << cpp_number(m.tof_noise_sd_mm) << ";\n"

@@ -839,6 +839,11 @@ s::DriveModel drive_model_from_json(const json& j, const std::string& path, cons
     d.effects(fx::drive_catalogue(), m.effects, m.covariates);
     m.tof_noise_sd_mm = d.noise(d.facts().channels[0])[0];
     m.encoder_noise_sd_steps = d.noise(d.facts().channels[1])[0];
+    // A calibration's robot runs under the e-puck2 firmware's cap (1100 steps/s over its
+    // steps_per_m): its `firmware_cap` (drive -o writes it), unless the calibration found the
+    // wheels beat it (`kept` false). A diagnosis's cap is its speed_limit effect.
+    const json* cap = j.is_object() && j.contains("firmware_cap") ? &j.at("firmware_cap") : nullptr;
+    m.firmware_cap = cap != nullptr && cap->is_object() && !(cap->contains("kept") && cap->at("kept") == false);
     return m;
   });
 }

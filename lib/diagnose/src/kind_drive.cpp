@@ -174,10 +174,11 @@ class Drive : public ProblemOf<Drive> {
     return out;
   }
 
-  /// A calibrated base: its encoders' steps per metre and the effects it already carries.
+  /// A calibrated base: its encoders' steps per metre and the effects it already carries, as
+  /// simulate --like runs it (a calibration's firmware cap as its speed_limit: effects_as_run).
   void set_base_model(const s::DriveModel& m) {
     steps_per_m_ = m.steps_per_m;
-    set_base_effects(*this, ix_, m.effects);
+    set_base_effects(*this, ix_, s::effects_as_run(m));
   }
 
   /// The catalogue's drive effects (lib/models drive.hpp) at the parameters p.

@@ -391,6 +391,20 @@ void camera_figure(logs::OutputStage& stage, const std::string& path, const cali
   });
 }
 
+std::string drive_fit_legend(double steps_per_m, bool narrow) {
+  char text[96];
+  if (narrow) std::snprintf(text, sizeof text, "fit (%.1f steps/m)", steps_per_m);
+  else std::snprintf(text, sizeof text, "fit (%.3f steps/m), clipped at the rails", steps_per_m);
+  return text;
+}
+
+std::string drive_plugin_legend(bool narrow) {
+  char text[96];
+  if (narrow) return "plug-in";
+  std::snprintf(text, sizeof text, "plug-in (%.3f steps/m, no slip)", s::kPluginStepsPerMetre);
+  return text;
+}
+
 void drive_figure(logs::OutputStage& stage, const std::string& path, const calibrate::DriveFit& f) {
   const double spm = f.steps.value("steps_per_m");
   const double scale = f.tof.value(models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale)), offset = f.tof.value("tof_offset_mm"), tau = f.tof.value("slip_time_constant_s");
@@ -622,10 +636,8 @@ void drive_figure(logs::OutputStage& stage, const std::string& path, const calib
         std::vector<std::string> entries{
             std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kToward + "' title " + (narrow ? "'forward'" : "'forward (toward the obstacle)'"),
             std::string("NaN with points pt 7 ps 0.8 lc rgb '") + kAway + "' title " + (narrow ? "'backwards'" : "'backwards (away)'"),
-            std::string("NaN with lines lw 2 lc rgb '#d62728' title ") +
-                (narrow ? "'fit, clipped at rails'" : "'fit, clipped at the rails'"),
-            std::string("NaN with lines lw 1.5 dt 2 lc rgb '#000000' title ") +
-                (narrow ? "'plug-in'" : "'plug-in (1000 steps/m, no slip)'"),
+            std::string("NaN with lines lw 2 lc rgb '#d62728' title ") + quoted(drive_fit_legend(spm, narrow)),
+            std::string("NaN with lines lw 1.5 dt 2 lc rgb '#000000' title ") + quoted(drive_plugin_legend(narrow)),
             std::string("NaN with lines dt 3 lc rgb '#808080' title 'the ") + rail_mm + " " + tof.unit + " rail'"};
         if (thinned > 0)
           entries.push_back(std::string("NaN with dots lc rgb '#ffffff' title ") +

@@ -3,8 +3,8 @@
 // source: data/fitted/proximity.json fnv1a64 ba0bd76c5309efe7
 // source: data/fitted/light.json fnv1a64 1817726beead0148
 // source: data/fitted/ground.json fnv1a64 bf2e04b86cb6e0b4
-// source: data/fitted/camera.json fnv1a64 d447c7ad31126e1d
-// source: data/fitted/drive.json fnv1a64 6356cd6717e93c0e
+// source: data/fitted/camera.json fnv1a64 0eaf9b8b6e480208
+// source: data/fitted/drive.json fnv1a64 cee2b026b4b56afc
 // Coefficients fitted by epuck2-fit from these logs:
 // battery (data/fitted/battery.json) fitted from data/raw/battery/robot-a_speed-00.csv data/raw/battery/robot-a_speed-01.csv data/raw/battery/robot-a_speed-02.csv data/raw/battery/robot-a_speed-03.csv data/raw/battery/robot-a_speed-04.csv data/raw/battery/robot-a_speed-05.csv data/raw/battery/robot-a_speed-06.csv data/raw/battery/robot-a_speed-07.csv data/raw/battery/robot-a_speed-08.csv data/raw/battery/robot-a_speed-09.csv data/raw/battery/robot-a_speed-10.csv data/raw/battery/robot-a_speed-11.csv data/raw/battery/robot-a_speed-12.csv data/raw/battery/robot-a_speed-13.csv data/raw/battery/robot-a_speed-14.csv data/raw/battery/robot-a_speed-15.csv data/raw/battery/robot-b_speed-00.csv data/raw/battery/robot-b_speed-01.csv data/raw/battery/robot-b_speed-02.csv data/raw/battery/robot-b_speed-03.csv data/raw/battery/robot-b_speed-04.csv data/raw/battery/robot-b_speed-05.csv data/raw/battery/robot-b_speed-06.csv data/raw/battery/robot-b_speed-07.csv data/raw/battery/robot-b_speed-08.csv data/raw/battery/robot-b_speed-09.csv data/raw/battery/robot-b_speed-10.csv data/raw/battery/robot-b_speed-11.csv data/raw/battery/robot-b_speed-12.csv data/raw/battery/robot-b_speed-13.csv data/raw/battery/robot-b_speed-14.csv data/raw/battery/robot-b_speed-15.csv
 // proximity (data/fitted/proximity.json) fitted from data/raw/proximity/proximity_virtual-epuck2-1.csv data/raw/proximity/proximity_virtual-epuck2-2.csv
@@ -280,29 +280,30 @@ inline models::sensors::CameraModel camera_model() {
 
 // ---- drive (data/fitted/drive.json) ----
 namespace drive {
-inline constexpr double slip_time_constant_s = 0.12432330204991833;
-inline constexpr double steps_per_m = 7760.036043885046;
-inline constexpr double tof_offset_mm = 9.017031702392433;
-inline constexpr double tof_scale = 0.9844897935086737;
-inline constexpr double slip_time_constant_s_std_error = 0.0020324323680759597;
-inline constexpr double steps_per_m_std_error = 0.014709203507788721;
-inline constexpr double tof_offset_mm_std_error = 0.15953551577822314;
-inline constexpr double tof_scale_std_error = 0.0003274032476515625;
-inline constexpr double mse = 13.223299903195658;
+inline constexpr double slip_time_constant_s = 0.12432357064104414;
+inline constexpr double steps_per_m = 7760.024119181424;
+inline constexpr double tof_offset_mm = 9.017439910882583;
+inline constexpr double tof_scale = 0.9844883590666187;
+inline constexpr double slip_time_constant_s_std_error = 0.002032432809795401;
+inline constexpr double steps_per_m_std_error = 0.014739999795753677;
+inline constexpr double tof_offset_mm_std_error = 0.15953537954339345;
+inline constexpr double tof_scale_std_error = 0.00032740278299986863;
+inline constexpr double mse = 13.223289560591867;
 }  // namespace drive
-/// The drive model of data/fitted/drive.json: encoders, effects, ToF and encoder noise.
+/// The drive model of data/fitted/drive.json: encoders, effects, ToF and encoder noise; speed_limit the firmware's cap,
+/// 1100 steps/s over steps_per_m.
 inline models::sensors::DriveModel drive_model() {
   models::sensors::DriveModel m;
-  m.steps_per_m = 7760.036043885046;
-  m.effects.speed_limit.max_cm_s = 1e+06;
+  m.steps_per_m = 7760.024119181424;
+  m.effects.speed_limit.max_cm_s = 14.175213673382691;
   m.effects.accel_limit.accel_cm_s2 = 1e+06;
-  m.effects.slip.tau_s = 0.12432330204991833;
+  m.effects.slip.tau_s = 0.12432357064104414;
   m.effects.speed_scale.k = 1;
   m.effects.latency.delay_s = 0;
-  m.effects.tof_offset.offset_mm = 9.017031702392433;
-  m.effects.tof_scale.k = 0.9844897935086737;
+  m.effects.tof_offset.offset_mm = 9.017439910882583;
+  m.effects.tof_scale.k = 0.9844883590666187;
   m.tof_noise_sd_mm = 2.866137932072219;
-  m.encoder_noise_sd_steps = 0.2887644938709339;
+  m.encoder_noise_sd_steps = 0.28876286446603583;
   return m;
 }
 

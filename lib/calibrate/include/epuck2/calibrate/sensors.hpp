@@ -163,7 +163,10 @@ struct CameraFit {
   std::vector<CameraObservation> observations;
   std::vector<std::string> robot_names;  ///< the logs' `robot`, in the order first met
   RobustFit result;        ///< fov_deg (horizontal), cx_px, cy_px; residuals in pixels (px and py)
-  double plugin_mse = 0;   ///< the plug-in's 29.97 deg centred camera on the same points (px^2)
+  /// The plug-in's 29.97 deg centred camera on the readings the fit's MSE is over (px and py of
+  /// the points, less those left out as wild: plugin_readings of them), px^2.
+  double plugin_mse = 0;
+  std::size_t plugin_readings = 0;
   /// The paper's Table 4 method, applied to each observation far from the centre column (more
   /// than a quarter width away) with the centre taken as W/2 = 80: mean and spread of alpha.
   double table4_alpha_mean_deg = 0, table4_alpha_sd_deg = 0;
@@ -183,6 +186,7 @@ struct DriveRun {
   double obstacle_distance_m = 0;
   std::vector<double> time_s, command_m_s, steps, tof_mm;  ///< steps unwrapped, mean of both wheels
   std::vector<double> command_uncapped_m_s;                ///< the commands as logged (command_m_s: capped)
+  std::vector<double> left_cm_s, right_cm_s;               ///< each wheel's command as logged
   std::vector<int> line;                                   ///< source line of each row
   bool over_speed_limit = false;  ///< some command exceeds the firmware's limit (taken as the limit)
   std::size_t capped_rows = 0;    ///< rows whose command was above the limit
@@ -192,7 +196,13 @@ struct DriveFit {
   std::vector<DriveRun> runs;
   RobustFit steps;   ///< steps_per_m: encoder steps against the commanded distance (commands capped)
   RobustFit tof;     ///< tof_offset_mm, tof_scale, slip_time_constant_s
-  double plugin_tof_mse = 0;  ///< the plug-in's ToF (scale 1, offset 0, no slip) on the same rows, mm^2
+  /// The plug-in's ToF (scale 1, offset 0, no slip) on the rows the ToF fit's MSE is over (inside
+  /// the rails, not left out as wild: plugin_tof_rows of them), mm^2.
+  double plugin_tof_mse = 0;
+  std::size_t plugin_tof_rows = 0;
+  /// The firmware's cap in m/s of command: 1100 steps/s over the fitted steps_per_m (the plug-in's
+  /// 7763.656 when the steps fit is not usable); commands above it are capped_rows.
+  double cap_m_s = 0;
   std::size_t steps_rows = 0, tof_rows = 0, tof_censored = 0, tof_out_of_range_codes = 0, capped_rows = 0;
   std::vector<std::string> over_limit_runs;  ///< runs with a command above the firmware's limit
   /// With commands above the firmware's limit, the cap is tested, not assumed: the steps fit with
@@ -228,6 +238,9 @@ inline constexpr double kCapBicMargin = 10.0;
 /// A drive log's rows; commands above the firmware's limit are taken as the limit (what the robot
 /// does; fit_drive tests it), the logged ones kept in command_uncapped_m_s.
 DriveRun drive_run_from_log(const logs::Log& log);
+/// Sets a run's command_m_s, over_speed_limit and capped_rows from its wheels' commands, each
+/// clamped to +-cap (m/s): what the firmware runs.
+void cap_commands(DriveRun& run, double cap);
 DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& options = {});
 /// fit_drive(logs).tof_noise when it comes from replicates (the readings standing still before
 /// each run's first move), without the fits where they cannot change it (the diagnosis asks for

@@ -192,14 +192,28 @@ struct DriveModel {
   double tof_noise_sd_mm = 0;       ///< ToF reading noise, mm
   double encoder_noise_sd_steps = 0;  ///< encoder register noise, steps
   std::vector<CovariateEffect> covariates;  ///< ToF mm per unit of each column (the encoders: none)
+  /// The e-puck2 firmware's cap: a wheel turns at most 1100 steps/s, 100 x 1100 / steps_per_m cm/s
+  /// of command, where effects.speed_limit is neutral. A calibration file's drive has it (its
+  /// `firmware_cap`, unless `kept` is false: the encoders beat the cap); a diagnosis's cap is its
+  /// speed_limit; the plug-in's published model has none (it runs a 20 cm/s command at 20 cm/s).
+  bool firmware_cap = false;
 };
+
+/// The effects as the drive runs them: the model's, with the firmware's cap (100 x 1100 /
+/// steps_per_m cm/s) as the speed limit where the model has that cap and no speed_limit of its own.
+inline DriveEffects<double> effects_as_run(const DriveModel& m) {
+  DriveEffects<double> e = m.effects;
+  if (m.firmware_cap && !(e.speed_limit.max_cm_s < kDriveLimitOn))
+    e.speed_limit.max_cm_s = 100.0 * kFirmwareSpeedLimit_steps_s / m.steps_per_m;
+  return e;
+}
 
 /// A drive simulated row by row: the commands hold from one row to the next (zero-order hold),
 /// the effects act as in the diagnosis (exactly integrated, no time step), the ToF reads at t -
 /// delay, the encoders count floor(steps_per_m x) wrapped to int16.
 class DriveSimulation {
  public:
-  DriveSimulation(const DriveModel& m, double obstacle_m) : m_(m), obstacle_m_(obstacle_m) {}
+  DriveSimulation(const DriveModel& m, double obstacle_m) : m_(m), obstacle_m_(obstacle_m) { m_.effects = effects_as_run(m); }
 
   /// The readings at time t under the command that held since the previous call (the first call
   /// is time 0 of the run: nothing has moved), then the command that holds from t.
@@ -219,8 +233,8 @@ class DriveSimulation {
     const double xg = delayed_travel(time_s);
     const double tof = drive_tof_mean_mm(m_.effects, obstacle_m_, xg) + tof_covariate_mm;
     r.tof_mm = noisy_register(tof, m_.tof_noise_sd_mm, m_.tof.min_mm, m_.tof.max_mm, normal);
-    r.left_steps = encoder_register(state_.xl, normal);
-    r.right_steps = encoder_register(state_.xr, normal);
+    r.left_steps = encoder_register(registers_[0], state_.xl, normal);
+    r.right_steps = encoder_register(registers_[1], state_.xr, normal);
     return r;
   }
 
@@ -244,18 +258,33 @@ class DriveSimulation {
     drive_advance(m_.effects, commands_[k][0], commands_[k][1], when - history_[k].time_s, at);
     return at.xg;
   }
+  /// A wheel's register as last read: a register standing still reads exactly what it read before
+  /// (a step count does not flicker), as the calibrated encoders in ARGoS keep it.
+  struct Register {
+    bool has_read = false;
+    double count = 0;
+    int reading = 0;
+  };
+  /// floor(steps_per_m x + noise), int16-wrapped; the noise drawn only when the count moved since
+  /// the register was last read, and none while the wheel has not left 0 (docs/logs.md: the
+  /// encoders read 0 at time 0).
   template <class Normal>
-  int encoder_register(double wheel_m, Normal& normal) const {
-    double count = m_.steps_per_m * wheel_m;
-    if (m_.encoder_noise_sd_steps > 0) count += m_.encoder_noise_sd_steps * normal();
-    const double f = std::floor(count);
-    return static_cast<int>(f - 65536.0 * std::floor((f + 32768.0) / 65536.0));  // int16 wrap
+  int encoder_register(Register& reg, double wheel_m, Normal& normal) const {
+    const double count = m_.steps_per_m * wheel_m;
+    if (reg.has_read && count == reg.count) return reg.reading;
+    reg.has_read = true;
+    reg.count = count;
+    const double noise = m_.encoder_noise_sd_steps > 0 ? m_.encoder_noise_sd_steps * normal() : 0.0;
+    const double f = count == 0.0 ? 0.0 : std::floor(count + noise);
+    reg.reading = static_cast<int>(f - 65536.0 * std::floor((f + 32768.0) / 65536.0));  // int16 wrap
+    return reg.reading;
   }
 
   DriveModel m_;
   double obstacle_m_;
   bool started_ = false;
   DriveState<double> state_;
+  std::array<Register, 2> registers_{};
   std::vector<Past> history_;
   std::vector<std::array<double, 2>> commands_;
 };

@@ -29,5 +29,9 @@ void light_figure(logs::OutputStage& stage, const std::string& path, const calib
 void ground_figure(logs::OutputStage& stage, const std::string& path, const calibrate::GroundFit& fit);
 void camera_figure(logs::OutputStage& stage, const std::string& path, const calibrate::CameraFit& fit);
 void drive_figure(logs::OutputStage& stage, const std::string& path, const calibrate::DriveFit& fit);
+/// The drive figure's legend entries for the fitted curve (its steps per metre) and the plug-in's
+/// (7763.656 steps/m, no slip); `narrow`: a paper's column, short entries.
+std::string drive_fit_legend(double steps_per_m, bool narrow);
+std::string drive_plugin_legend(bool narrow);
 
 }  // namespace epuck2::plot
