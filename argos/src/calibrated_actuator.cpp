@@ -89,6 +89,8 @@ class CEPuck2CalibratedDifferentialSteeringActuator : public CSimulatedActuator,
     os << "calibrated differential_steering: " << strPath << ": ";
     if (sConfig.limit_from == "none")
       os << "wheels not capped (firmware_cap=\"false\")";
+    else if (sConfig.limit_from == "calibration")
+      os << "wheels not capped (the calibration found the encoders beat the firmware's cap: firmware_cap.kept false)";
     else
       os << "wheels capped at " << sConfig.effects.speed_limit.max_cm_s << " cm/s ("
          << (sConfig.limit_from == "firmware" ? "the firmware's 1100 steps/s over steps_per_m" : "the diagnosis's " + sConfig.limit_from)

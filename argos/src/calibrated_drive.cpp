@@ -28,8 +28,15 @@ DriveConfig read_drive_config(const nlohmann::json& root, const std::string& pat
   DriveConfig c;
   c.steps_per_m = m.steps_per_m;
   c.effects = m.effects;
+  /* A calibration that found the encoders beat the firmware's cap says so (firmware_cap.kept
+     false): simulate and codegen run such a file uncapped, and so do the wheels here. */
+  const bool bCapRefuted = root.is_object() && root.contains("firmware_cap") && root.at("firmware_cap").is_object() &&
+                           root.at("firmware_cap").contains("kept") && root.at("firmware_cap").at("kept") == false;
   if (m.effects.speed_limit.max_cm_s < ms::kDriveLimitOn) {
     c.limit_from = epuck2::models::effects::drive_catalogue()[epuck2::models::effects::drive::speed_limit].name;
+  } else if (bCapRefuted) {
+    c.effects.speed_limit.max_cm_s = ms::kDriveNoLimit;
+    c.limit_from = "calibration";
   } else {
     c.effects.speed_limit.max_cm_s = firmware_cap_cm_s(c.steps_per_m);
     c.limit_from = "firmware";

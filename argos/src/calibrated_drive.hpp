@@ -35,9 +35,10 @@ namespace ms = epuck2::models::sensors;
 
 /// The drive part of a drive coefficient file (a calibration or a diagnosis) as ARGoS runs it.
 struct DriveConfig {
-  ms::DriveEffects<double> effects;  ///< speed_limit always set (the fitted one or the firmware cap)
+  ms::DriveEffects<double> effects;  ///< speed_limit set (the fitted one or the firmware cap) unless "calibration"
   double steps_per_m = ms::kPluginStepsPerMetre;
-  /// Where the speed limit comes from: the diagnosis's speed-limit finding (its registry name) or "firmware".
+  /// Where the speed limit comes from: the diagnosis's speed-limit finding (its registry name),
+  /// "firmware", or "calibration" (none: the calibration found the encoders beat the firmware's cap).
   std::string limit_from;
 };
 

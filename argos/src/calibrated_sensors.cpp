@@ -470,7 +470,7 @@ void CEPuck2CalibratedTOFSensor::Init(TConfigurationNode& t_tree) {
     m_sCoefficients.range_m = m_pcTOFEntity->GetSensor(0).Direction.Length();
     /* The model scales a unit noise by the range, in mm */
     ConfigureNoise(s, "tof", {sModel.tof_noise_sd_mm}, m_sCoefficients.range_m * 1000.0, m_cNoise);
-    const bool bDriveEffects = sDrive.limit_from != "firmware" || sDrive.effects.accel_limit.accel_cm_s2 < ms::kDriveLimitOn ||
+    const bool bDriveEffects = (sDrive.limit_from != "firmware" && sDrive.limit_from != "calibration") || sDrive.effects.accel_limit.accel_cm_s2 < ms::kDriveLimitOn ||
                                sDrive.effects.speed_scale.k != 1.0 || sDrive.effects.slip.tau_s > 0;
     if (bDriveEffects && !epuck2::argos_plugin::DriveRegistry::find(m_pcRobot))
       WarnOnce("calibrated " + strName + ": " + s.Path +

@@ -58,6 +58,21 @@ TEST(CalibratedDrive, ACommandAboveTheFirmwareCapRunsAtTheCap) {
   EXPECT_NEAR(slow.step(10, 10, 0.1)[0], 0.10, 1e-12);
 }
 
+// A calibration file whose cap test found the encoders beat the firmware's cap (firmware_cap.kept
+// false, docs/coefficient-files.md) runs uncapped, as `simulate --like` and codegen run it: a
+// 20 cm/s command turns the wheels at 0.20 m/s. The same file with kept true is capped.
+TEST(CalibratedDrive, ACalibrationThatRefutedTheCapRunsUncapped) {
+  const auto c = config_of("refuted.json", R"({"kind":"drive","parameters":{"steps_per_m":7760,"tof_scale":1,"tof_offset_mm":0},
+                                             "firmware_cap":{"kept":false}})");
+  EXPECT_EQ(c.limit_from, "calibration");
+  ap::CalibratedDrive d(c.effects);
+  EXPECT_NEAR(d.step(20, 20, 0.1)[0], 0.20, 1e-12);
+  const auto k = config_of("kept.json", R"({"kind":"drive","parameters":{"steps_per_m":7760,"tof_scale":1,"tof_offset_mm":0},
+                                          "firmware_cap":{"kept":true}})");
+  EXPECT_EQ(k.limit_from, "firmware");
+  EXPECT_NEAR(k.effects.speed_limit.max_cm_s, 110000.0 / 7760.0, 1e-12);
+}
+
 // A diagnosis's speed_limit replaces the firmware cap.
 TEST(CalibratedDrive, TheDiagnosisSpeedLimitIsTheCap) {
   const auto c = config_of("diag.json", R"({"kind":"drive","parameters":{"steps_per_m":7763.656},
