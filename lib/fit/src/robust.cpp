@@ -566,8 +566,13 @@ LackOfFit lack_of_fit(const std::vector<ReplicateGroup>& groups_in, std::size_t 
     lof.why_not = "no repeated readings under the same conditions";
     return lof;
   }
-  if ((!known && count <= g) || g <= k) {
-    lof.why_not = "too few replicate groups (" + std::to_string(g) + ") or readings for the test";
+  if (g <= k) {
+    lof.why_not = "too few replicate groups (" + std::to_string(g) + "): the test needs more groups than the curve's " +
+                  std::to_string(k) + (k == 1 ? " free parameter" : " free parameters");
+    return lof;
+  }
+  if (!known && count <= g) {
+    lof.why_not = "too few readings for the test (" + std::to_string(count) + " in " + std::to_string(g) + " replicate groups)";
     return lof;
   }
   if (!known && !(ss_pure > 0) && !(sd_floor > 0)) {
@@ -638,7 +643,9 @@ std::string misfit_warning(const LackOfFit& lof, double r2) {
   return "R^2 = " + fmt(r2, 3) + " is below " + fmt(kMisfitR2Floor) +
          (lof.tested ? ", but the curve misses the replicates by only " + fmt(lof.misfit_ratio, 3) +
                            " times their sd: the readings vary mostly by their noise over these conditions"
-                     : "; without replicates, noise cannot be told from misfit");
+                     : "; the lack-of-fit test against the replicates was not run (" +
+                           (lof.why_not.empty() ? std::string("no repeated readings under the same conditions") : lof.why_not) +
+                           "), so noise cannot be told from misfit");
 }
 
 // ================================================================================================

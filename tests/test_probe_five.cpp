@@ -1,0 +1,58 @@
+// Defects a fifth new user's probe found (session 23): warnings that gave a false reason or none,
+// a simulated log that lost its robot, one log counted twice under two names, and a camera report
+// that said more than its screen does. Expected values come from the logs the tests write.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_harness.hpp"
+
+namespace test_probe_five_cpp {
+
+using epuck2::testing::CliRun;
+using epuck2::testing::slurp;
+using nlohmann::json;
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+class ProbeFive : public epuck2::testing::CliTest {};
+
+/// Sensors 0 and 1 at greys 0, 0.2, .., 1 (reading 50 + 800 grey, +{-2..2}); sensor 2 only at grey
+/// 0.5, twenty readings 300 +{-2, -1, 0, 1, 2} (four times each).
+std::string one_grey_log() {
+  std::string text = "# robot: g2\ngrey,sensor,value\n";
+  char line[64];
+  for (int g = 0; g <= 5; ++g)
+    for (int s = 0; s < 2; ++s)
+      for (int e = -2; e <= 2; ++e) {
+        std::snprintf(line, sizeof line, "%.1f,%d,%d\n", g / 5.0, s, 50 + 160 * g + e);
+        text += line;
+      }
+  for (int rep = 0; rep < 4; ++rep)
+    for (int e = -2; e <= 2; ++e) {
+      std::snprintf(line, sizeof line, "0.5,2,%d\n", 300 + e);
+      text += line;
+    }
+  return text;
+}
+
+// Sensor 2 was logged at one grey level only, twenty times: its R^2 is 0 (the fit is the readings'
+// mean) and the lack-of-fit test cannot run with one replicate group. The warning said "without
+// replicates", which denied the twenty replicates; it gives the test's own reason.
+TEST_F(ProbeFive, TheLowR2WarningGivesTheRealReasonTheReplicatesWereNotTested) {
+  const std::string log = write("oneg.csv", one_grey_log());
+  const CliRun r = run("ground \"" + log + "\" -o \"" + (dir_ / "oneg.json").string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(has(r.err, "without replicates")) << r.err;
+  // The offset is not identifiable from one grey: one free parameter (the gain), one group.
+  EXPECT_TRUE(has(r.err, "ground: warning: ground sensor 2 (left): R^2 = 0 is below 0.9; the lack-of-fit test against the "
+                         "replicates was not run (too few replicate groups (1): the test needs more groups than the curve's 1 "
+                         "free parameter), so noise cannot be told from misfit.\n"))
+      << r.err;
+}
+
+}  // namespace test_probe_five_cpp
