@@ -60,6 +60,10 @@ std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::strin
 /// Warnings on standard error, each once.
 void print_warnings(const std::string& kind, const nlohmann::json& j);
 
+/// In the report, when several robots were logged and one has no set of its own: each robot's
+/// set or why it has none, and whether the robots were compared (calibrate::add_robots).
+void print_robot_sets(const nlohmann::json& j);
+
 /// Throws NoUsableFit when the fit is not usable.
 void require_usable(const fit::FitResult& r, const std::string& what);
 
@@ -110,7 +114,10 @@ int run_sensor(const std::string& kind, logs::Kind log_kind, const SensorOptions
     nlohmann::json file = to_json(mine, o, &robot);
     return calibrate::RobotCalibration{std::move(file), calibrate::robot_estimates(robot)};
   });
-  return finish(kind, o, j, [&] { std::fputs(calibrate::report_text(f).c_str(), stdout); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
+  return finish(kind, o, j, [&] {
+    std::fputs(calibrate::report_text(f).c_str(), stdout);
+    print_robot_sets(j);
+  }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
 /// A rail as --help prints it ("4095").

@@ -55,4 +55,50 @@ TEST_F(ProbeFive, TheLowR2WarningGivesTheRealReasonTheReplicatesWereNotTested) {
       << r.err;
 }
 
+/// A ground log of robot `robot`: reading = offset + 800 grey for greys 0, 0.1, .., 1 and the
+/// `sensors` first sensors, five readings each at +{-2, -1, 0, 1, 2} counts.
+std::string ground_log(const std::string& robot, int sensors) {
+  std::string text = "# robot: " + robot + "\ngrey,sensor,value\n";
+  char line[64];
+  for (int g = 0; g <= 10; ++g)
+    for (int s = 0; s < sensors; ++s)
+      for (int e = -2; e <= 2; ++e) {
+        std::snprintf(line, sizeof line, "%.1f,%d,%d\n", g / 10.0, s, 60 + 80 * g + e);
+        text += line;
+      }
+  return text;
+}
+
+// Two robots; botB logged sensors 0 and 1 only, so it has no set of its own and the robots cannot
+// be compared. That was in the JSON's robots.botB only: no warning, nothing in the report.
+TEST_F(ProbeFive, ARobotWithoutASetOfItsOwnIsSaidAndSoIsTheMissingComparison) {
+  const std::string a = write("a.csv", ground_log("botA", 3)), b = write("b2.csv", ground_log("botB", 2));
+  const std::string out = (dir_ / "ab.json").string();
+  const CliRun r = run("ground \"" + a + "\" \"" + b + "\" -o \"" + out + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string said = "ground: warning: robot botB has no set of its own (ground sensor 2 (left): no readings of this "
+                           "sensor): its logs count only in the pooled fit, and the robots were not compared (1 of 2 robots "
+                           "have a set of their own).\n";
+  EXPECT_TRUE(has(r.err, said)) << r.err;
+  EXPECT_FALSE(has(r.err, "robot botA has no set")) << r.err;
+  // The report says it too.
+  EXPECT_TRUE(has(r.out, "\nRobots (2 logged):\n  botA: its own set (robots.botA)\n  botB: no set of its own (ground sensor 2 "
+                         "(left): no readings of this sensor); its logs count only in the pooled fit\n  the robots were not "
+                         "compared: 1 of 2 have a set of their own (robot_spread is empty)\n"))
+      << r.out;
+  EXPECT_TRUE(has(r.out, "\n1 warnings (on standard error and in the JSON)\n")) << r.out;
+  const json file = json::parse(slurp(out));
+  EXPECT_FALSE(file.at("robots").at("botB").at("usable").get<bool>());
+  EXPECT_TRUE(file.at("robot_spread").empty());
+  const json warnings = file.at("warnings");
+  ASSERT_EQ(warnings.size(), 1u) << warnings.dump();
+  EXPECT_TRUE(has(warnings[0].get<std::string>(), "robot botB has no set of its own")) << warnings.dump();
+  // Two complete robots: compared, and nothing of the kind said.
+  const std::string c = write("c.csv", ground_log("botC", 3));
+  const CliRun two = run("ground \"" + a + "\" \"" + c + "\"");
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_FALSE(has(two.err, "no set of its own")) << two.err;
+  EXPECT_FALSE(has(two.out, "Robots (")) << two.out;
+}
+
 }  // namespace test_probe_five_cpp
