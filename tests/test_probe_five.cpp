@@ -101,4 +101,47 @@ TEST_F(ProbeFive, ARobotWithoutASetOfItsOwnIsSaidAndSoIsTheMissingComparison) {
   EXPECT_FALSE(has(two.out, "Robots (")) << two.out;
 }
 
+// A ground log whose robot is named by a `robot` column (no `# robot:` line): the simulated log
+// keeps the robot (docs/cli.md), as `# robot:` since text columns are not copied. It was written
+// without one, so every reader took it for a new robot named by its file.
+TEST_F(ProbeFive, SimulateLikeKeepsARobotNamedByAColumn) {
+  std::string text = "sensor,robot,grey,value\n";
+  char line[64];
+  for (int g = 0; g <= 4; ++g)
+    for (int s = 0; s < 3; ++s) {
+      std::snprintf(line, sizeof line, "%d,robotB,%.2f,%d\n", s, g / 4.0, 40 + 200 * g);
+      text += line;
+    }
+  const std::string like = write("rB.csv", text), sim = (dir_ / "sim.csv").string();
+  const CliRun r = run("simulate ground --like \"" + like + "\" -o \"" + sim + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(has(r.err, "names 2 robots")) << r.err;
+  const std::string written = slurp(sim);
+  EXPECT_TRUE(has(written, "\n# robot: robotB\n")) << written;
+  // Read back with the measured log: one robot, not two.
+  const CliRun both = run("ground --json \"" + sim + "\" \"" + like + "\"");
+  ASSERT_EQ(both.exit_code, 0) << both.err;
+  const json file = json::parse(both.out);
+  EXPECT_FALSE(file.contains("robots")) << file.dump();
+
+  // Two names in the column: the log is its first row's robot (every reader's), and the other is said.
+  std::string two = text;
+  two.replace(two.rfind("robotB"), 6, "robotC");
+  const std::string like2 = write("rBC.csv", two), sim2 = (dir_ / "sim2.csv").string();
+  const CliRun r2 = run("simulate ground --like \"" + like2 + "\" -o \"" + sim2 + "\"");
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  EXPECT_TRUE(has(r2.err, "simulate: the robot column of " + like2 + " names 2 robots; the log is robot robotB")) << r2.err;
+  EXPECT_TRUE(has(slurp(sim2), "\n# robot: robotB\n"));
+  // A log named by its file name only: no robot line.
+  std::string unnamed = "sensor,grey,value\n";
+  for (int g = 0; g <= 4; ++g)
+    for (int s = 0; s < 3; ++s) {
+      std::snprintf(line, sizeof line, "%d,%.2f,%d\n", s, g / 4.0, 40 + 200 * g);
+      unnamed += line;
+    }
+  const std::string like3 = write("plain.csv", unnamed), sim3 = (dir_ / "sim3.csv").string();
+  ASSERT_EQ(run("simulate ground --like \"" + like3 + "\" -o \"" + sim3 + "\"").exit_code, 0);
+  EXPECT_FALSE(has(slurp(sim3), "# robot:"));
+}
+
 }  // namespace test_probe_five_cpp
