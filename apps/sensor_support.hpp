@@ -106,9 +106,12 @@ int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json
 /// then finish() with the fit's report (calibrate::report_text) and `draw(stage, path, fit)`.
 template <class Fit, class ToJson, class Draw>
 int run_sensor(const std::string& kind, logs::Kind log_kind, const SensorOptions& o, ToJson to_json, Draw draw) {
-  const auto logs = select_robot(read_logs_reporting(kind, o.logs, log_kind, o.skip_bad_rows), o.robot);
+  std::vector<std::string> all_copies;  // of every robot's logs; the file says those of the logs it fits
+  const auto logs = select_robot(read_logs_reporting(kind, o.logs, log_kind, o.skip_bad_rows, &all_copies), o.robot);
+  const std::vector<std::string> copies = identical_logs(logs);  // logs of the same rows: in the file's warnings
   Fit f;
   nlohmann::json j = to_json(logs, o, &f);
+  calibrate::add_warnings(j, copies);
   calibrate::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) {
     Fit robot;  // compared by its fitted values, not by re-reading its file
     nlohmann::json file = to_json(mine, o, &robot);

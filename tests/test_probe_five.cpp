@@ -144,4 +144,36 @@ TEST_F(ProbeFive, SimulateLikeKeepsARobotNamedByAColumn) {
   EXPECT_FALSE(has(slurp(sim3), "# robot:"));
 }
 
+// One log under two names (a backup, a renamed export) counted its readings twice and shrank the
+// standard errors by about sqrt(2), silently; the same path twice was already refused.
+TEST_F(ProbeFive, ACopyOfALogUnderAnotherNameIsWarnedAbout) {
+  const std::string text = ground_log("gbotA", 3);
+  const std::string a = write("clean.csv", text);
+  // The same rows, with a comment of its own: still a copy.
+  const std::string b = write("clean_copy.csv", "# exported again\n" + text);
+  const std::string out = (dir_ / "two.json").string();
+  const CliRun r = run("ground \"" + a + "\" \"" + b + "\" -o \"" + out + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // 11 greys x 3 sensors x 5 readings.
+  const std::string said = b + " holds the same data rows as " + a + " (165 rows, robot gbotA): a copy of a log counts its "
+                           "readings twice, as if they were new measurements, and the standard errors shrink by about the "
+                           "square root of 2; give each log once";
+  EXPECT_TRUE(has(r.err, "ground: warning: " + said + "\n")) << r.err;
+  const json file = json::parse(slurp(out));
+  const json warnings = file.at("warnings");
+  bool found = false;
+  for (const json& w : warnings) found = found || w.get<std::string>() == said;
+  EXPECT_TRUE(found) << warnings.dump();
+  // One reading changed: not a copy, nothing said.
+  std::string other = text;
+  other.replace(other.rfind(",") + 1, std::string::npos, "861\n");
+  const std::string c = write("changed.csv", other);
+  const CliRun d = run("ground \"" + a + "\" \"" + c + "\"");
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  EXPECT_FALSE(has(d.err, "holds the same data rows")) << d.err;
+  // Every command reads its logs in the same place: diagnose says it on standard error.
+  const CliRun g = run("diagnose \"" + a + "\" \"" + b + "\"");
+  EXPECT_TRUE(has(g.err, "diagnose: warning: " + said + "\n")) << g.err;
+}
+
 }  // namespace test_probe_five_cpp
