@@ -176,4 +176,44 @@ TEST_F(ProbeFive, ACopyOfALogUnderAnotherNameIsWarnedAbout) {
   EXPECT_TRUE(has(g.err, "diagnose: warning: " + said + "\n")) << g.err;
 }
 
+/// A camera log: an LED at 30 positions (forward 0.30..0.48 m, lateral and vertical across the
+/// view), `frames` frames each, px = 75 - 130 lateral/forward, py = 60 - 130 vertical/forward,
+/// plus frame offsets {0, 0.4, -0.4, 0.2, -0.2} px.
+std::string camera_log(int frames) {
+  std::string text = "# robot: camA\nforward_m,lateral_m,vertical_m,px,py\n";
+  const double jitter[5] = {0, 0.4, -0.4, 0.2, -0.2};
+  char line[128];
+  for (int p = 0; p < 30; ++p) {
+    const double fwd = 0.30 + 0.03 * (p % 7), lat = -0.08 + 0.16 * (p % 5) / 4.0, ver = -0.05 + 0.1 * (p % 3) / 2.0;
+    for (int f = 0; f < frames; ++f) {
+      const double px = 75 - 130 * lat / fwd + jitter[f];
+      const double py = 60 - 130 * ver / fwd - jitter[f];
+      std::snprintf(line, sizeof line, "%.4f,%.4f,%.4f,%.2f,%.2f\n", fwd, lat, ver, px, py);
+      text += line;
+    }
+  }
+  return text;
+}
+
+// A camera log of 5-frame groups: a reading among replicates is judged against its group only
+// (8 robust sd of the group's median), never by the curve's 4 noise sd; the report said only the
+// 4-sd rule, though a reading far from the curve that its group lets through is kept. The method
+// now says which rule judged how many readings.
+TEST_F(ProbeFive, TheCameraMethodSaysTheReplicatesJudgeTheirReadings) {
+  // 30 positions x 5 frames = 150 rows, each a px and a py reading: 300 readings, all in groups of 5.
+  const std::string log = write("cam.csv", camera_log(5));
+  const CliRun r = run("camera \"" + log + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(has(r.out, "readings beyond 4 noise sd left out as outliers")) << r.out;
+  EXPECT_TRUE(has(r.out, "robust: the 300 readings in groups of 3 or more under the same conditions judged against their "
+                         "replicates only (left out beyond 8 robust sd of their group's median, not by their distance to "
+                         "the curve)\n"))
+      << r.out;
+  // One frame per position: no replicates, the curve's rule, as before.
+  const std::string single = write("cam1.csv", camera_log(1));
+  const CliRun one = run("camera \"" + single + "\"");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_TRUE(has(one.out, "robust: Cauchy-reweighted start, readings beyond 4 noise sd left out as outliers\n")) << one.out;
+}
+
 }  // namespace test_probe_five_cpp

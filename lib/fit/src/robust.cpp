@@ -239,6 +239,19 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     if (obs[i].group >= 0) ++group_size[obs[i].group];
   }
   for (std::size_t i = 0; i < n; ++i) judged_by_replicates[i] = obs[i].group >= 0 && group_size[obs[i].group] >= kMinReplicates;
+  // The method says which rule judged which readings: a reading among replicates is never judged
+  // by the curve (however far from it), the others are.
+  const std::size_t by_replicates =
+      static_cast<std::size_t>(std::count(judged_by_replicates.begin(), judged_by_replicates.end(), true));
+  if (opt.robust && by_replicates > 0)
+    out.method = "robust: the " + std::to_string(by_replicates) + " readings in groups of " + std::to_string(kMinReplicates) +
+                 " or more under the same conditions judged against their replicates only (left out beyond " +
+                 fmt(kWildReadingSd) + " robust sd of their group's median, not by their distance to the curve)" +
+                 (by_replicates < n ? "; the other " + std::to_string(n - by_replicates) +
+                                          ": Cauchy-reweighted start, readings beyond " + fmt(opt.reject_sd) +
+                                          " noise sd of the curve left out as outliers"
+                                    : std::string()) +
+                 "; readings on a rail censored (Tobit)";
   const std::vector<bool> replicate_wild =
       opt.robust ? flag_wild_replicates(values, groups, on_rail, opt.noise_floor) : std::vector<bool>(n, false);
   std::vector<double> w(n, 1.0), p(m), predictions;
