@@ -348,13 +348,39 @@ void report_skipped(const std::string& command, const std::vector<logs::Log>& lo
   if (total > shown) std::cerr << "  ... and " << total - shown << " more\n";
 }
 
+std::vector<std::string> identical_logs(const std::vector<logs::Log>& logs) {
+  std::vector<std::string> out;
+  std::vector<bool> copy(logs.size(), false);
+  for (std::size_t a = 0; a < logs.size(); ++a) {
+    if (copy[a]) continue;
+    for (std::size_t b = a + 1; b < logs.size(); ++b) {
+      const logs::Log &x = logs[a], &y = logs[b];
+      // The same readings: every numeric column and text cell, row by row (the header's order and
+      // the comments may differ).
+      if (copy[b] || x.robot != y.robot || x.rows() != y.rows() || x.rows() == 0 || x.numeric != y.numeric || x.text != y.text)
+        continue;
+      copy[b] = true;
+      out.push_back(logs::escape_control(y.path) + " holds the same data rows as " + logs::escape_control(x.path) + " (" +
+                    std::to_string(x.rows()) + " rows, robot " + x.robot +
+                    "): a copy of a log counts its readings twice, as if they were new measurements, and the standard "
+                    "errors shrink by about the square root of 2; give each log once");
+    }
+  }
+  return out;
+}
+
 std::vector<logs::Log> read_logs_reporting(const std::string& command, const std::vector<std::string>& paths,
-                                           std::optional<logs::Kind> kind, bool skip_bad_rows) {
+                                           std::optional<logs::Kind> kind, bool skip_bad_rows,
+                                           std::vector<std::string>* warnings) {
   logs::ReadOptions options;
   options.skip_bad_rows = skip_bad_rows;
   std::vector<logs::Log> logs = logs::read_logs(paths, kind, options);
   report_skipped(command, logs);
   calibrate::check_plausible_units(logs);  // cm written as m: exit 2, not a calibration of nonsense
+  for (const std::string& w : identical_logs(logs)) {
+    if (warnings != nullptr) warnings->push_back(w);
+    else std::cerr << command << ": warning: " << w << '\n';
+  }
   return logs;
 }
 

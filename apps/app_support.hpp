@@ -107,8 +107,15 @@ void add_skip_bad_rows(CLI::App* sub, bool& flag);
 /// Reads the logs (logs::read_logs), then reports on standard error every row left out under
 /// --skip-bad-rows: the count, then the first 10 as file:line:column: why. Throws logs::InputError
 /// for units that cannot be the columns' (calibrate::check_plausible_units: cm written as m).
+/// Two logs of the same rows (identical_logs: a copy under another name) are a warning, added
+/// to `warnings` when given (the command's JSON holds it), else printed on standard error.
 std::vector<logs::Log> read_logs_reporting(const std::string& command, const std::vector<std::string>& paths,
-                                           std::optional<logs::Kind> kind, bool skip_bad_rows);
+                                           std::optional<logs::Kind> kind, bool skip_bad_rows,
+                                           std::vector<std::string>* warnings = nullptr);
+/// One warning per log whose data rows (every column, row by row) and robot are another's given
+/// before it: "B holds the same data rows as A (N rows, robot R): ...". The same file twice is
+/// refused earlier (logs::read_logs).
+std::vector<std::string> identical_logs(const std::vector<logs::Log>& logs);
 /// Reports on standard error the rows left out of these logs (nothing when none was).
 void report_skipped(const std::string& command, const std::vector<logs::Log>& logs);
 

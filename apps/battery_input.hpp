@@ -45,7 +45,7 @@ inline void add_charge_map_option(CLI::App* sub, std::string& file) {
 inline BatteryInput read_battery_input(const std::string& command, const std::vector<std::string>& paths, bool skip_bad_rows,
                                        const std::string& charge_map_file, bool fit_map) {
   BatteryInput in;
-  const auto logs = read_logs_reporting(command, paths, logs::Kind::battery, skip_bad_rows);
+  const auto logs = read_logs_reporting(command, paths, logs::Kind::battery, skip_bad_rows, &in.warnings);
   bool voltage_only = false;
   for (const auto& l : logs) voltage_only = voltage_only || !l.has("charge");
   if (!charge_map_file.empty()) {

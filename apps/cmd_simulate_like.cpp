@@ -148,6 +148,21 @@ int run_like(const LikeOptions& o) {
   // recording's: the simulation's own replaces it (with --noise), or none is written.
   for (const auto& [k, v] : log.metadata)
     if (k != "seed") w.metadata(k, v);
+  // A robot named by a `robot` column (no `# robot:` line) is the log's robot too: written as
+  // `# robot:`, since the column is not copied. Every reader takes the column's first cell for the
+  // whole file (docs/logs.md: one file, one robot); other names in the column are said, not kept.
+  const auto robot_column = log.text.find("robot");
+  if (!log.metadata.count("robot") && robot_column != log.text.end() && !robot_column->second.empty()) {
+    w.metadata("robot", log.robot);
+    std::vector<std::string> others;
+    for (const std::string& r : robot_column->second)
+      if (r != robot_column->second.front() && std::find(others.begin(), others.end(), r) == others.end()) others.push_back(r);
+    if (!others.empty())
+      std::cerr << "simulate: the robot column of " << logs::escape_control(o.like) << " names " << others.size() + 1
+                << " robots; the log is robot " << logs::escape_control(log.robot)
+                << " (its first row's: one file, one robot, docs/logs.md), written as # robot: " << logs::escape_control(log.robot)
+                << "; the other names are not kept\n";
+  }
   if (noisy) w.metadata("seed", std::to_string(o.seed));
   for (std::size_t i = 0; i < log.rows(); ++i) {
     if (simulated[i].empty()) continue;  // not seen (above)

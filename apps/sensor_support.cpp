@@ -52,6 +52,29 @@ void print_warnings(const std::string& kind, const nlohmann::json& j) {
   for (const auto& w : j["warnings"]) std::cerr << kind << ": warning: " << w.get<std::string>() << '\n';
 }
 
+void print_robot_sets(const nlohmann::json& j) {
+  if (!j.contains("robots") || !j["robots"].is_object()) return;
+  std::size_t usable = 0, without = 0;
+  std::string lines;
+  for (const auto& [id, set] : j["robots"].items()) {
+    if (set.value("usable", false)) {
+      ++usable;
+      lines += "  " + id + ": its own set (robots." + id + ")\n";
+    } else {
+      ++without;
+      lines += "  " + id + ": no set of its own (" + set.value("why", std::string("not fitted")) +
+               "); its logs count only in the pooled fit\n";
+    }
+  }
+  if (without == 0) return;
+  std::printf("\nRobots (%zu logged):\n%s", usable + without, lines.c_str());
+  if (usable < 2)
+    std::printf("  the robots were not compared: %zu of %zu have a set of their own (robot_spread is empty)\n", usable,
+                usable + without);
+  else
+    std::printf("  the %zu robots with a set of their own were compared (robot_spread)\n", usable);
+}
+
 void require_usable(const fit::FitResult& r, const std::string& what) {
   if (!r.usable) throw NoUsableFit(what + ": " + (r.message.empty() ? std::string("the solver found no solution") : r.message));
 }

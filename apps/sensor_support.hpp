@@ -60,6 +60,10 @@ std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::strin
 /// Warnings on standard error, each once.
 void print_warnings(const std::string& kind, const nlohmann::json& j);
 
+/// In the report, when several robots were logged and one has no set of its own: each robot's
+/// set or why it has none, and whether the robots were compared (calibrate::add_robots).
+void print_robot_sets(const nlohmann::json& j);
+
 /// Throws NoUsableFit when the fit is not usable.
 void require_usable(const fit::FitResult& r, const std::string& what);
 
@@ -102,15 +106,21 @@ int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json
 /// then finish() with the fit's report (calibrate::report_text) and `draw(stage, path, fit)`.
 template <class Fit, class ToJson, class Draw>
 int run_sensor(const std::string& kind, logs::Kind log_kind, const SensorOptions& o, ToJson to_json, Draw draw) {
-  const auto logs = select_robot(read_logs_reporting(kind, o.logs, log_kind, o.skip_bad_rows), o.robot);
+  std::vector<std::string> all_copies;  // of every robot's logs; the file says those of the logs it fits
+  const auto logs = select_robot(read_logs_reporting(kind, o.logs, log_kind, o.skip_bad_rows, &all_copies), o.robot);
+  const std::vector<std::string> copies = identical_logs(logs);  // logs of the same rows: in the file's warnings
   Fit f;
   nlohmann::json j = to_json(logs, o, &f);
+  calibrate::add_warnings(j, copies);
   calibrate::add_robots(j, logs, [&](const std::vector<logs::Log>& mine) {
     Fit robot;  // compared by its fitted values, not by re-reading its file
     nlohmann::json file = to_json(mine, o, &robot);
     return calibrate::RobotCalibration{std::move(file), calibrate::robot_estimates(robot)};
   });
-  return finish(kind, o, j, [&] { std::fputs(calibrate::report_text(f).c_str(), stdout); }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
+  return finish(kind, o, j, [&] {
+    std::fputs(calibrate::report_text(f).c_str(), stdout);
+    print_robot_sets(j);
+  }, [&](logs::OutputStage& stage, const std::string& path) { draw(stage, path, f); });
 }
 
 /// A rail as --help prints it ("4095").

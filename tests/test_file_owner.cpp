@@ -421,7 +421,12 @@ TEST(FileOwner, RobotsAreComparedFromTheirFitsAndWrittenFromTheirOwnFiles) {
   EXPECT_EQ(pooled["robot_spread"][1]["parameter"], "offset[0]");
   EXPECT_FALSE(pooled["robot_spread"][1]["exceeds_uncertainty"].get<bool>());
   ASSERT_TRUE(pooled.contains("warnings"));
-  EXPECT_NE(pooled["warnings"][0].get<std::string>().find("gain[0]"), std::string::npos);
+  // C and D have no set of their own: said first (A and B were compared), then the comparison's.
+  ASSERT_EQ(pooled["warnings"].size(), 3u) << pooled["warnings"].dump();
+  EXPECT_EQ(pooled["warnings"][0].get<std::string>().rfind("robot C has no set of its own (too few readings)", 0), 0u);
+  EXPECT_EQ(pooled["warnings"][1].get<std::string>().rfind("robot D has no set of its own (", 0), 0u);
+  EXPECT_NE(pooled["warnings"][1].get<std::string>().find("it is left out of the robots' comparison."), std::string::npos);
+  EXPECT_NE(pooled["warnings"][2].get<std::string>().find("gain[0]"), std::string::npos);
 }
 
 TEST(FileOwner, AModelTheOwnerRefusesIsNoUsableFit) {

@@ -225,12 +225,20 @@ std::vector<fit::ParameterEstimate> named_estimates(const fit::FitResult& r, con
   return out;
 }
 
+namespace {
+std::string strip_period(std::string s) {
+  while (!s.empty() && (s.back() == '.' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+}  // namespace
+
 void add_robots(json& j, const std::vector<logs::Log>& all,
                 const std::function<RobotCalibration(const std::vector<logs::Log>&)>& fit_logs) {
   const std::vector<std::string> names = robots_of(all);
   if (names.size() < 2) return;
   const std::string kind = j.at("kind").get<std::string>();
   std::vector<fit::FitResult> fits;  // one per usable robot: its fitted parameters, as named in the file
+  std::vector<std::pair<std::string, std::string>> unfitted;  // a robot without a set of its own, and why
   for (const auto& name : names) {
     std::vector<logs::Log> mine;
     std::vector<std::string> files;
@@ -244,6 +252,7 @@ void add_robots(json& j, const std::vector<logs::Log>& all,
       r = fit_logs(mine);
     } catch (const NoUsableFit& e) {
       coefficients::add_robot_set(j, kind, name, {{"logs", files}, {"usable", false}, {"why", e.what()}});
+      unfitted.emplace_back(name, e.what());
       continue;
     }
     // The robot's model sections as the owner wrote them for its file; its report beside them.
@@ -258,11 +267,22 @@ void add_robots(json& j, const std::vector<logs::Log>& all,
     } catch (const std::domain_error& e) {
       // A robot's set that no reader would take is not written: the robot has no usable set.
       coefficients::add_robot_set(j, kind, name, {{"logs", files}, {"usable", false}, {"why", e.what()}});
+      unfitted.emplace_back(name, e.what());
       continue;
     }
     fits.emplace_back();
     fits.back().usable = true;
     fits.back().parameters = std::move(r.estimates);
+  }
+  // A robot without a set of its own is said (its logs still count in the pooled fit), and so is
+  // a comparison that cannot be made.
+  for (const auto& [name, why] : unfitted) {
+    std::string what = strip_period(why);
+    append(j, "warnings",
+           "robot " + name + " has no set of its own (" + what + "): its logs count only in the pooled fit, and " +
+               (fits.size() < 2 ? "the robots were not compared (" + std::to_string(fits.size()) + " of " +
+                                      std::to_string(names.size()) + " robots have a set of their own)."
+                                : "it is left out of the robots' comparison."));
   }
   // Every parameter any robot's fit has, by name (the file's order: alphabetical), compared over the
   // robots whose fit has it with a standard error.

@@ -239,6 +239,19 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     if (obs[i].group >= 0) ++group_size[obs[i].group];
   }
   for (std::size_t i = 0; i < n; ++i) judged_by_replicates[i] = obs[i].group >= 0 && group_size[obs[i].group] >= kMinReplicates;
+  // The method says which rule judged which readings: a reading among replicates is never judged
+  // by the curve (however far from it), the others are.
+  const std::size_t by_replicates =
+      static_cast<std::size_t>(std::count(judged_by_replicates.begin(), judged_by_replicates.end(), true));
+  if (opt.robust && by_replicates > 0)
+    out.method = "robust: the " + std::to_string(by_replicates) + " readings in groups of " + std::to_string(kMinReplicates) +
+                 " or more under the same conditions judged against their replicates only (left out beyond " +
+                 fmt(kWildReadingSd) + " robust sd of their group's median, not by their distance to the curve)" +
+                 (by_replicates < n ? "; the other " + std::to_string(n - by_replicates) +
+                                          ": Cauchy-reweighted start, readings beyond " + fmt(opt.reject_sd) +
+                                          " noise sd of the curve left out as outliers"
+                                    : std::string()) +
+                 "; readings on a rail censored (Tobit)";
   const std::vector<bool> replicate_wild =
       opt.robust ? flag_wild_replicates(values, groups, on_rail, opt.noise_floor) : std::vector<bool>(n, false);
   std::vector<double> w(n, 1.0), p(m), predictions;
@@ -566,8 +579,13 @@ LackOfFit lack_of_fit(const std::vector<ReplicateGroup>& groups_in, std::size_t 
     lof.why_not = "no repeated readings under the same conditions";
     return lof;
   }
-  if ((!known && count <= g) || g <= k) {
-    lof.why_not = "too few replicate groups (" + std::to_string(g) + ") or readings for the test";
+  if (g <= k) {
+    lof.why_not = "too few replicate groups (" + std::to_string(g) + "): the test needs more groups than the curve's " +
+                  std::to_string(k) + (k == 1 ? " free parameter" : " free parameters");
+    return lof;
+  }
+  if (!known && count <= g) {
+    lof.why_not = "too few readings for the test (" + std::to_string(count) + " in " + std::to_string(g) + " replicate groups)";
     return lof;
   }
   if (!known && !(ss_pure > 0) && !(sd_floor > 0)) {
@@ -638,7 +656,9 @@ std::string misfit_warning(const LackOfFit& lof, double r2) {
   return "R^2 = " + fmt(r2, 3) + " is below " + fmt(kMisfitR2Floor) +
          (lof.tested ? ", but the curve misses the replicates by only " + fmt(lof.misfit_ratio, 3) +
                            " times their sd: the readings vary mostly by their noise over these conditions"
-                     : "; without replicates, noise cannot be told from misfit");
+                     : "; the lack-of-fit test against the replicates was not run (" +
+                           (lof.why_not.empty() ? std::string("no repeated readings under the same conditions") : lof.why_not) +
+                           "), so noise cannot be told from misfit");
 }
 
 // ================================================================================================
