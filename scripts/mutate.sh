@@ -689,6 +689,7 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_probe_three",  # session 22: a third new user's probe's defects
                                  "test_round_twenty_one",  # round 21's survivors, written after its run
                                  "test_probe_four",  # session 23: a fourth new user's probe's defects
+                                 "test_probe_five_battery",  # session 23: a fifth new user's probe's battery defects
                                  ]
 
 
