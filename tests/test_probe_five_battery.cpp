@@ -161,4 +161,73 @@ TEST_F(ProbeFiveBattery, TheSpeedWriterNamesTheIndexItIsGiven) {
   EXPECT_TRUE(has(what, "(at JSON path /speeds/7/linear_slope)")) << what;
 }
 
+/// The probe's truth map: f linear between (3.3 V, 0), (3.6, 0.3), (3.9, 0.75), (4.2, 1).
+double truth_charge(double u) {
+  const double x[4] = {3.3, 3.6, 3.9, 4.2}, y[4] = {0.0, 0.3, 0.75, 1.0};
+  int k = u < x[1] ? 0 : (u < x[2] ? 1 : 2);
+  return y[k] + (y[k + 1] - y[k]) * (u - x[k]) / (x[k + 1] - x[k]);
+}
+
+// Five runs at 0, 3, 6, 9 and 12 cm/s whose voltage sags 4 mV per cm/s: the corrected voltage
+// u = voltage_v + 0.004 speed runs from 4.2 V down to 3.3 V at every speed (1 mV a row) and the
+// charge is the truth map of it. The fitted map keeps the load term (the charge depends on the
+// speed beyond the logged voltage) and is a function of the corrected voltage: its knots sit at
+// quantiles of the corrected voltages, the first and last at their extremes
+// (docs/coefficient-files.md#charge-map), i.e. at the ends of voltage_range_v. Hand: the corrected
+// range is 3.3..4.2 V (each run's lowest logged voltage is 3.3 - 0.004 speed, down to 3.252 V at
+// 12 cm/s), f there 0 and 1. The knots were at the logged voltages: the first at 3.252 V, below the
+// map's own domain, with a charge of about -0.05 that no reading has.
+TEST_F(ProbeFiveBattery, AChargeMapWithALoadTermHasItsKnotsAtTheCorrectedVoltages) {
+  std::string args;
+  double lowest_corrected = 1e9, highest_corrected = -1e9, lowest_logged = 1e9;
+  for (int speed : {0, 3, 6, 9, 12}) {
+    std::string text = "time_s,speed_cm_s,voltage_v,charge\n";
+    char line[96];
+    for (int i = 0; i <= 900; ++i) {
+      const double u = (4200 - i) / 1000.0;
+      const double v = (4200 - i - 4 * speed) / 1000.0;  // to the 0.1 mV the log holds, exactly
+      std::snprintf(line, sizeof line, "%d,%d,%.4f,%.7f\n", i * 30, speed, v, truth_charge(u));
+      text += line;
+      lowest_corrected = std::min(lowest_corrected, v + 0.004 * speed);
+      highest_corrected = std::max(highest_corrected, v + 0.004 * speed);
+      lowest_logged = std::min(lowest_logged, v);
+    }
+    args += " \"" + write("lf_" + std::to_string(speed) + ".csv", text) + "\"";
+  }
+  ASSERT_NEAR(lowest_corrected, 3.3, 1e-12);
+  ASSERT_NEAR(highest_corrected, 4.2, 1e-12);
+  ASSERT_NEAR(lowest_logged, 3.252, 1e-12);
+  const std::string file = (dir_ / "lf.json").string();
+  const CliRun b = run("battery" + args + " -o \"" + file + "\"");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const json j = json::parse(slurp(file));
+  const json& m = j.at("charge_map");
+  ASSERT_EQ(m.at("load").get<std::string>(), "per_speed") << m.dump(1);
+  // The sag recovered: 0.004 V per cm/s (to 1 mV: the map's knots are not the truth's).
+  const json& offsets = m.at("load_offset_v");
+  ASSERT_EQ(offsets.size(), 5u);
+  for (std::size_t k = 0; k < 5; ++k) EXPECT_NEAR(offsets.at(k).get<double>(), 0.012 * static_cast<double>(k), 1e-3) << k;
+  const json& knots = m.at("knots_v");
+  const json& charge = m.at("knot_charge");
+  const json& range = m.at("voltage_range_v");
+  ASSERT_GE(knots.size(), 2u);
+  // The domain: the corrected voltages' extremes (hand 3.3 and 4.2, to the offsets' error).
+  EXPECT_NEAR(range.at(0).get<double>(), lowest_corrected, 1e-3);
+  EXPECT_NEAR(range.at(1).get<double>(), highest_corrected, 1e-3);
+  // The first and last knots at the domain's ends, not at the logged extremes.
+  EXPECT_NEAR(knots.front().get<double>(), range.at(0).get<double>(), 1e-6);
+  EXPECT_NEAR(knots.back().get<double>(), range.at(1).get<double>(), 1e-6);
+  EXPECT_GT(knots.front().get<double>(), lowest_logged + 0.04);
+  // f at the ends: the truth's 0 and 1 (to the map's misfit), no negative charge.
+  EXPECT_NEAR(charge.front().get<double>(), 0.0, 0.01);
+  EXPECT_NEAR(charge.back().get<double>(), 1.0, 0.01);
+  EXPECT_GE(charge.front().get<double>(), -0.01);
+  // The knots in between at quantiles of the corrected voltages, which are spread evenly over
+  // 3.3..4.2 V here (every speed covers it at 1 mV a row): the k-th of K knots within a few mV of
+  // 3.3 + 0.9 k / (K - 1).
+  const std::size_t K = knots.size();
+  for (std::size_t k = 0; k < K; ++k)
+    EXPECT_NEAR(knots.at(k).get<double>(), 3.3 + 0.9 * static_cast<double>(k) / static_cast<double>(K - 1), 5e-3) << k;
+}
+
 }  // namespace test_probe_five_battery_cpp
