@@ -692,6 +692,7 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_probe_three_proximity",  # session 23: the third probe's proximity defects
                                  "test_probe_three_drive",  # session 23: the third probe's drive defects
                                  "test_probe_five",  # session 23: a fifth new user's probe's defects
+                                 "test_probe_five_battery",  # session 23: a fifth new user's probe's battery defects
                                  ]
 
 

@@ -447,13 +447,14 @@ TEST(FileOwner, ARobotSetAReaderWouldRefuseIsNotWritten) {
   EXPECT_EQ(pooled, before);
 }
 
-// Seven rows at 3 cm/s through a charge map (the firmware's line over 3.5..4.2 V): the
-// Approximated model's first segment ends above a full charge, which no reader takes. The
-// calibration reports the tables as fitted and says so, with the reader's reason.
+// Seven rows at 3 cm/s through a charge map (the firmware's line over 3.5..4.2 V) whose voltage
+// rises (a battery being charged): the Approximated model's segments rise, which no reader takes.
+// The calibration reports the tables as fitted and says so, with the reader's reason. (A first
+// segment ending above a full charge was the case here; the fit now holds the knots in [0, 1].)
 TEST_F(FreshCalibration, BatteryTablesNoReaderTakesAreWrittenAndSaid) {
   const std::string map = write("map.json", R"({"kind": "charge_map", "charge_map": {"form": "monotone_piecewise_linear",
     "knots_v": [3.5, 4.2], "knot_charge": [0.125, 1.0], "load_speeds_cm_s": [0, 5], "load_offset_v": [0, 0]}})");
-  const std::string log = write("v.csv", "time_s,speed_cm_s,voltage_v\n0,3,4.25\n10,3,4.1\n20,3,3.9\n30,3,3.8\n40,3,3.7\n50,3,3.6\n60,3,3.45\n");
+  const std::string log = write("v.csv", "time_s,speed_cm_s,voltage_v\n0,3,3.45\n10,3,3.6\n20,3,3.7\n30,3,3.8\n40,3,3.9\n50,3,4.1\n60,3,4.25\n");
   const std::string out = (dir_ / "b.json").string();
   const auto r = run("battery \"" + log + "\" --charge-map \"" + map + "\" -o \"" + out + "\"");
   ASSERT_EQ(r.exit_code, 0) << r.err;

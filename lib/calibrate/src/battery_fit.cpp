@@ -423,6 +423,28 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
     s.piecewise = fit_curve(PolylineInScaledTime{last_u}, u, y,
                             {{"x1_s", best[0]}, {"x2_s", best[1]}, {"y1", best[2]}, {"y2", best[3]}, {"y3", best[4]}},
                             options);
+    // The knots' charges y1..y3 belong in [0, 1], the range every reader of the segments checks
+    // (lib/coefficients battery_tables.cpp). A run that reads exactly 1.000 at its start (a full
+    // gauge) puts y1 a rounding above 1 (the least squares of readings all 1), and no reader
+    // would take the file: a knot outside the range is fitted again with y1..y3 bounded to it
+    // (from the free solution brought within), the knot at the bound held there. Only then: a
+    // bounded solve stops on the projected gradient, a little earlier than the free one, whose
+    // solution stands where it is in range.
+    bool out_of_range = false;
+    for (const char* name : {"y1", "y2", "y3"})
+      out_of_range = out_of_range || (s.piecewise.usable && !(s.piecewise.value(name) >= 0.0 && s.piecewise.value(name) <= 1.0));
+    if (out_of_range) {
+      const std::vector<double> free = s.piecewise.values();
+      std::vector<Parameter> knots{free_parameter("x1_s", free[0]), free_parameter("x2_s", free[1])};
+      for (const char* name : {"y1", "y2", "y3"}) {
+        Parameter p = free_parameter(name, std::clamp(free[knots.size()], 0.0, 1.0));
+        p.lower = 0.0;
+        p.upper = 1.0;
+        knots.push_back(p);
+      }
+      FitResult bounded = fit_curve(PolylineInScaledTime{last_u}, u, y, knots, options);
+      if (bounded.usable) s.piecewise = std::move(bounded);
+    }
     s.piecewise_autocorrelation = run_autocorrelation(PolylineInScaledTime{last_u}, s.piecewise, u, y, run_of);
     rescale(s.piecewise, {L, L, 1.0, 1.0, 1.0}, {"x1_s", "x2_s", "y1", "y2", "y3"});
 

@@ -115,10 +115,13 @@ json battery_fit_to_json(const BatteryFit& fit, bool robust, double reject_sd) {
     const mb::CubicRow cubic{s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a"), s.lifetime_s};
     json entry;
     try {
-      entry = coefficients::battery_speed_to_json(s.speed_cm_s, cubic, s.linear_slope_per_s, s.segments, s.noise_sd);
+      // At its place in the file's `speeds`, which a refusal's JSON path names.
+      entry = coefficients::battery_speed_to_json(s.speed_cm_s, cubic, s.linear_slope_per_s, s.segments, s.noise_sd, true,
+                                                  speeds.size());
     } catch (const std::domain_error& e) {
       // Reported as fitted, and said: no reader takes these tables.
-      entry = coefficients::battery_speed_to_json(s.speed_cm_s, cubic, s.linear_slope_per_s, s.segments, s.noise_sd, false);
+      entry = coefficients::battery_speed_to_json(s.speed_cm_s, cubic, s.linear_slope_per_s, s.segments, s.noise_sd, false,
+                                                  speeds.size());
       unreadable.push_back(std::string("written as fitted though no reader takes it: ") + e.what() +
                            "; codegen, simulate, diagnose --coefficients and ARGoS refuse this file.");
     }

@@ -113,6 +113,7 @@ Candidate fit_candidate(const Data& d, const std::vector<double>& knots, bool lo
   std::vector<double> a(K, 0.0), delta(load ? d.speeds.size() - 1 : 0, 0.0);
   if (start != nullptr && start->knots == knots) {
     a = start->increments;
+    if (start->offsets.size() == delta.size()) delta = start->offsets;
   } else {
     // A straight line by least squares (slope held >= 0) gives the start.
     double mv = 0, mq = 0;
@@ -151,6 +152,51 @@ Candidate fit_candidate(const Data& d, const std::vector<double>& knots, bool lo
   c.parameters = K + delta.size();
   c.bic = bic_of(n, c.rss, c.parameters);
   c.ok = std::isfinite(c.bic);
+  return c;
+}
+
+// The corrected voltages v + offset(speed) of a candidate with the load term, ascending.
+std::vector<double> corrected_sorted(const Data& d, const std::vector<double>& offsets) {
+  std::vector<double> x(d.v.size());
+  for (std::size_t i = 0; i < d.v.size(); ++i) x[i] = d.v[i] + (d.speed[i] > 0 ? offsets[d.speed[i] - 1] : 0.0);
+  std::sort(x.begin(), x.end());
+  return x;
+}
+
+// A candidate with the load term, its knots moved to the same quantiles of the *corrected*
+// voltages (the map's domain: f is a function of them) and fitted again, until the knots the
+// offsets give are the knots fitted (the offsets move a little with the knots). Started from the
+// load fit on the logged voltages' knots, whose map and offsets give the start.
+Candidate on_corrected_knots(const Data& d, Candidate c) {
+  constexpr int kPasses = 10;
+  constexpr double kSameKnot_v = 1e-9;
+  const int K = static_cast<int>(c.knots.size());
+  for (int pass = 0; pass < kPasses; ++pass) {
+    const std::vector<double> knots = quantile_knots(corrected_sorted(d, c.offsets), K);
+    if (knots.size() < 2) break;
+    if (knots.size() == c.knots.size() &&
+        std::equal(knots.begin(), knots.end(), c.knots.begin(), [&](double a, double b) { return std::abs(a - b) <= kSameKnot_v; }))
+      break;
+    // The start: the current map's values at the new knots (as increments, the first its value),
+    // and the current offsets.
+    std::vector<double> value(c.knots.size());
+    value[0] = c.increments[0];
+    for (std::size_t k = 1; k < c.knots.size(); ++k) value[k] = value[k - 1] + c.increments[k];
+    Candidate start;
+    start.knots = knots;
+    start.offsets = c.offsets;
+    double previous = 0;
+    for (std::size_t k = 0; k < knots.size(); ++k) {
+      const std::size_t j = segment_of(c.knots, knots[k]);
+      const double w = (knots[k] - c.knots[j]) / (c.knots[j + 1] - c.knots[j]);
+      const double f = value[j] + w * (value[j + 1] - value[j]);
+      start.increments.push_back(k == 0 ? f : std::max(0.0, f - previous));
+      previous = k == 0 ? f : previous + start.increments.back();
+    }
+    Candidate next = fit_candidate(d, knots, true, &start);
+    if (!next.ok) break;
+    c = std::move(next);
+  }
   return c;
 }
 
@@ -282,7 +328,9 @@ ChargeMapFit fit_charge_map(const std::vector<ChargeSample>& rows, const std::ve
       if (n < per * (knots.size() + S - 1)) continue;
       Candidate l = fit_candidate(d, knots, true, &c);
       if (!l.ok) continue;
-      loaded.push_back(std::move(l));
+      // The knots at the corrected voltages' quantiles (first and last at their extremes), as
+      // the map without the load term has them at the logged ones.
+      loaded.push_back(on_corrected_knots(d, std::move(l)));
     }
     for (const Candidate& l : loaded)
       if (best_load == nullptr || l.bic < best_load->bic) best_load = &l;

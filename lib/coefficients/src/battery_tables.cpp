@@ -109,7 +109,8 @@ json battery_tables_to_json(const mb::Tables& t) {
   for (std::size_t s = 0; s < mb::kSpeedCount; ++s) {
     mb::CubicRow q = t.cubic[s];
     q.end_s = t.lifetime_s[s];  // a row's end is its speed's lifetime in every table the project makes or ships
-    speeds.push_back(battery_speed_to_json(static_cast<double>(s), q, t.linear_slope_per_s[s], t.segments[s]));
+    speeds.push_back(battery_speed_to_json(static_cast<double>(s), q, t.linear_slope_per_s[s], t.segments[s],
+                                           std::numeric_limits<double>::quiet_NaN(), true, s));
   }
   json j{{"speeds", speeds}, {"simple", battery_simple_to_json(t.simple_static_slope_per_s, t.simple_moving_slope_per_s)}};
   // What is written reads back: the reader's checks refuse at write (std::domain_error).
@@ -198,7 +199,8 @@ const json& speeds_of(const json& j, const std::string& path) {
 }  // namespace
 
 json battery_speed_to_json(double speed_cm_s, const mb::CubicRow& cubic, double linear_slope_per_s,
-                           const std::array<mb::Segment, mb::kSegmentCount>& segments, double noise_sd, bool readable) {
+                           const std::array<mb::Segment, mb::kSegmentCount>& segments, double noise_sd, bool readable,
+                           std::size_t index) {
   json segs = json::array();
   for (const mb::Segment& g : segments)
     segs.push_back({{"h", g.h}, {"m", g.m}, {"x1_s", g.x1_s}, {"x2_s", g.x2_s}, {"y1", g.y1}, {"y2", g.y2}});
@@ -230,7 +232,7 @@ json battery_speed_to_json(double speed_cm_s, const mb::CubicRow& cubic, double 
   }
   try {
     mb::Tables scratch{};
-    read_speed(e, 0, 0, "(the battery table being written)", scratch);
+    read_speed(e, 0, index, "(the battery table being written)", scratch);
   } catch (const logs::InputError& x) {
     throw std::domain_error("cannot write " + where + ", a reader would refuse it: " + x.what());
   }

@@ -41,9 +41,12 @@ models::battery::Tables battery_tables_from_json(const nlohmann::json& j, const 
 /// `readable` false: only a value that is not finite is refused (JSON has none), the readers' ranges
 /// are not checked: for a calibration that reports what it fitted even where no reader takes it
 /// (a speed with a few rows), and says so in its warnings.
+/// `index`: the entry's place in the file's `speeds`, which a refusal's JSON path names
+/// (`/speeds/<index>/...`, as a reader of the whole file would).
 nlohmann::json battery_speed_to_json(double speed_cm_s, const models::battery::CubicRow& cubic, double linear_slope_per_s,
                                      const std::array<models::battery::Segment, models::battery::kSegmentCount>& segments,
-                                     double noise_sd = std::numeric_limits<double>::quiet_NaN(), bool readable = true);
+                                     double noise_sd = std::numeric_limits<double>::quiet_NaN(), bool readable = true,
+                                     std::size_t index = 0);
 /// The Simple model's `simple` section {static_slope_per_s, moving_slope_per_s}, checked alike
 /// (`readable` as above).
 nlohmann::json battery_simple_to_json(double static_slope_per_s, double moving_slope_per_s, bool readable = true);
