@@ -30,8 +30,7 @@ DriveConfig read_drive_config(const nlohmann::json& root, const std::string& pat
   c.effects = m.effects;
   /* A calibration that found the encoders beat the firmware's cap says so (firmware_cap.kept
      false): simulate and codegen run such a file uncapped, and so do the wheels here. */
-  const bool bCapRefuted = root.is_object() && root.contains("firmware_cap") && root.at("firmware_cap").is_object() &&
-                           root.at("firmware_cap").contains("kept") && root.at("firmware_cap").at("kept") == false;
+  const bool bCapRefuted = epuck2::coefficients::firmware_cap_refuted(root);
   if (m.effects.speed_limit.max_cm_s < ms::kDriveLimitOn) {
     c.limit_from = epuck2::models::effects::drive_catalogue()[epuck2::models::effects::drive::speed_limit].name;
   } else if (bCapRefuted) {

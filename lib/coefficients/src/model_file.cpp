@@ -831,6 +831,12 @@ json model_to_json(const s::CameraModel& m) { return write_model(m, nullptr); }
 
 // ----- drive -----
 
+bool firmware_cap_refuted(const json& j) {
+  if (!j.is_object() || !j.contains("firmware_cap")) return false;
+  const json& cap = j.at("firmware_cap");
+  return cap.is_object() && cap.contains("kept") && cap.at("kept") == false;
+}
+
 s::DriveModel drive_model_from_json(const json& j, const std::string& path, const std::string& robot) {
   return every_set(j, robot, [&](const std::string& r) {
     const Doc d(j, path, r, "drive");
@@ -842,8 +848,7 @@ s::DriveModel drive_model_from_json(const json& j, const std::string& path, cons
     // A calibration's robot runs under the e-puck2 firmware's cap (1100 steps/s over its
     // steps_per_m): its `firmware_cap` (drive -o writes it), unless the calibration found the
     // wheels beat it (`kept` false). A diagnosis's cap is its speed_limit effect.
-    const json* cap = j.is_object() && j.contains("firmware_cap") ? &j.at("firmware_cap") : nullptr;
-    m.firmware_cap = cap != nullptr && cap->is_object() && !(cap->contains("kept") && cap->at("kept") == false);
+    m.firmware_cap = j.is_object() && j.contains("firmware_cap") && j.at("firmware_cap").is_object() && !firmware_cap_refuted(j);
     return m;
   });
 }

@@ -47,12 +47,17 @@ enum class ProximityCurve { maxima, means };
 s::ProximityModel proximity_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot,
                                             ProximityCurve curve);
 /// A light model: the pooled gamma (`parameters.gamma`) and a calibration's per-sensor fits
-/// (`per_sensor[i]`: {"sensor": 0..7, "gamma"}, the robot's set's list in place of the file's) as
-/// `sensor_gamma_m`, each in gamma's physical range, one entry per sensor at most.
+/// (`per_sensor[i]`: {"sensor": 0..7, "gamma"}; a robot's set its own list, never the file's, and
+/// without one its gamma on every sensor) as `sensor_gamma_m`, each in gamma's physical range, one
+/// entry per sensor at most.
 s::LightModel light_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
 s::GroundModel ground_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
 s::CameraModel camera_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
 s::DriveModel drive_model_from_json(const nlohmann::json& j, const std::string& path, const std::string& robot = "");
+/// Whether a drive calibration file's cap test found the wheels beat the e-puck2 firmware's cap
+/// (`firmware_cap.kept` false): its wheels run uncapped (DriveModel::firmware_cap false, and so in
+/// ARGoS, where a file without a `firmware_cap` section keeps the firmware's cap).
+bool firmware_cap_refuted(const nlohmann::json& j);
 /// A battery coefficient file (`epuck2-fit battery -o`) or a battery diagnosis report: its tables,
 /// `battery_model` (default cubic), its effects and noise (a calibration file without `noise`:
 /// the RMS of its speeds' `noise_sd`).
