@@ -693,6 +693,7 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_probe_three_drive",  # session 23: the third probe's drive defects
                                  "test_probe_five",  # session 23: a fifth new user's probe's defects
                                  "test_probe_five_battery",  # session 23: a fifth new user's probe's battery defects
+                                 "test_pooled_robots",  # session 24: replicates judged within a robot in pooled fits
                                  ]
 
 
@@ -794,7 +795,7 @@ MUTANTS = [
     ("ground_offset_meaning", MG, "  return offset_raw + gain_raw * grey;", "  return offset_raw * (1.0 - grey) + gain_raw * grey;", SENSORS),
     ("tof_offset_inside_scale", MT, "  return scale * distance_m * 1000.0 + offset_mm;", "  return scale * (distance_m * 1000.0 + offset_mm);", SENSORS),
     # Other plausible slips in the models, the fits and the diagnosis's decision rules:
-    ("light_rails_not_censored", FS_L, "fit::censoring_at(o.value_raw, 0, full), o.where, group});", "fit::censoring_at(o.value_raw, -1.0, full + 1.0), o.where, group});", SENSORS),
+    ("light_rails_not_censored", FS_L, "fit::censoring_at(o.value_raw, 0, full), o.where, group, o.robot});", "fit::censoring_at(o.value_raw, -1.0, full + 1.0), o.where, group, o.robot});", SENSORS),
     ("ground_low_rail_only", FS_G, "      const Censoring c = fit::censoring_at(v[i], 0, full);", "      const Censoring c = fit::censoring_at(v[i], 0, 1e300);", SENSORS),
     ("ground_high_rail_only", FS_G, "      const Censoring c = fit::censoring_at(v[i], 0, full);", "      const Censoring c = fit::censoring_at(v[i], -1e300, full);", SENSORS),
     ("proximity_linear_sign", MP, "return (abc[0] * distance_m + abc[1]) * distance_m + abc[2];", "return (abc[0] * distance_m - abc[1]) * distance_m + abc[2];", SENSORS),
@@ -1286,8 +1287,8 @@ MUTANTS = [
     ("r11_fit_curve_as_many_points_as_parameters", "lib/fit/include/epuck2/fit/fit_curve.hpp",
      "if (x.size() < static_cast<std::size_t>(Model::kParameters) + 1) {",
      "if (x.size() < static_cast<std::size_t>(Model::kParameters)) {", R11_FIT),
-    ("r11_robust_replicate_judgement_from_four", RB, "group_size[obs[i].group] >= kMinReplicates;",
-     "group_size[obs[i].group] > kMinReplicates;", R11_FIT),
+    ("r11_robust_replicate_judgement_from_four", RB, "group_size[groups[i]] >= kMinReplicates;",
+     "group_size[groups[i]] > kMinReplicates;", R11_FIT),
     ("r11_model_path_beside_the_experiment_file_itself", "lib/coefficients/src/model_sets.cpp",
      "const fs::path beside = fs::path(experiment_file).parent_path() / p;",
      "const fs::path beside = fs::path(experiment_file) / p;", R11_COEFF),
@@ -1759,6 +1760,13 @@ MUTANTS = [
      'it != log.metadata.end() && !it->second.empty()) {', 'it != log.metadata.end()) {', R20_LOGS),
     ('r21_lack_of_fit_worst_run_spans_the_other_side', 'lib/fit/src/robust.cpp',
      'return std::abs(miss[i]) >= 0.5 * std::abs(miss[top]) && (miss[i] > 0) == (miss[top] > 0);', 'return std::abs(miss[i]) >= 0.5 * std::abs(miss[top]);', R20_FIT),
+    # Session 24: a pooled fit's wild-reading screen groups replicates within a robot (probe 5, 02).
+    ('s24_wild_screen_groups_span_robots', 'lib/fit/src/robust.cpp',
+     'screen_group.emplace(std::make_pair(obs[i].group, obs[i].robot),', 'screen_group.emplace(std::make_pair(obs[i].group, -1),', R20_FIT),
+    ('s24_proximity_wild_screen_groups_span_robots', 'lib/calibrate/src/proximity_fit.cpp',
+     'group_of.emplace(std::make_pair(d, r.robot),', 'group_of.emplace(std::make_pair(d, -1),', R20_CALIB),
+    ('s24_lack_of_fit_robots_not_counted', 'lib/fit/src/robust.cpp',
+     '            if (obs[i].robot >= 0) spanned.insert(obs[i].robot);\n', '', R20_FIT),
 ]
 
 

@@ -53,8 +53,8 @@ CameraFit fit_camera(const std::vector<logs::Log>& logs, const SensorFitOptions&
     for (std::size_t i = 0; i < log.rows(); ++i) {
       out.observations.push_back({x[i], y[i], z[i], px[i], py[i], where(log, i), robot});
       const int g = groups.emplace(std::make_tuple(x[i], y[i], z[i]), static_cast<int>(groups.size())).first->second;
-      obs.push_back({px[i], Censoring::none, where(log, i), 2 * g});
-      obs.push_back({py[i], Censoring::none, where(log, i), 2 * g + 1});
+      obs.push_back({px[i], Censoring::none, where(log, i), 2 * g, robot});
+      obs.push_back({py[i], Censoring::none, where(log, i), 2 * g + 1, robot});
     }
   }
   const s::CameraCoefficients plugin = s::plugin_camera();

@@ -53,7 +53,7 @@ GroundFit fit_ground(const std::vector<logs::Log>& logs, const SensorFitOptions&
       out.value_raw[k].push_back(v[i]);
       out.robot[k].push_back(robot);
       // Replicates: the same grey level (to a tenth of a percent).
-      obs[k].push_back({v[i], c, where(log, i), static_cast<int>(std::lround(g[i] * 1000))});
+      obs[k].push_back({v[i], c, where(log, i), static_cast<int>(std::lround(g[i] * 1000)), robot});
     }
   }
   double rss = 0, plugin_rss = 0;

@@ -57,7 +57,7 @@ RobustFit fit_gamma(const std::vector<LightObservation>& obs_in, const SensorFit
     x.push_back(o.intensity / o.distance_m);
     const auto key = std::make_tuple(o.sensor, o.distance_m, o.intensity);
     const int group = groups.emplace(key, static_cast<int>(groups.size())).first->second;
-    obs.push_back({std::clamp(o.value_raw / full, 0.0, 1.0), fit::censoring_at(o.value_raw, 0, full), o.where, group});
+    obs.push_back({std::clamp(o.value_raw / full, 0.0, 1.0), fit::censoring_at(o.value_raw, 0, full), o.where, group, o.robot});
   }
   const double inf = std::numeric_limits<double>::infinity();
   return fit_robust(LightCurve{x}, obs, {{"gamma", s::kPluginLight.gamma_m, s::kPluginLight.gamma_m, 1e-9, inf}},

@@ -199,13 +199,12 @@ ProximityFit fit_proximity(const std::vector<logs::Log>& all_logs, const SensorF
   std::vector<double> values;
   std::vector<int> group;
   std::vector<bool> on_rail;
-  std::map<double, int> group_of;
+  // The screen's groups: one distance read by one robot (robots differ by more than their noise).
+  std::map<std::pair<double, int>, int> group_of;
   for (const auto& [d, rs] : by_distance) {
-    const int g = static_cast<int>(group_of.size());
-    group_of[d] = g;
     for (const Reading& r : rs) {
       values.push_back(r.value);
-      group.push_back(g);
+      group.push_back(group_of.emplace(std::make_pair(d, r.robot), static_cast<int>(group_of.size())).first->second);
       on_rail.push_back(r.value <= 0 || r.value >= full);
     }
   }

@@ -129,7 +129,7 @@ json fit_details(const fit::RobustFit& r, const std::string& rss_unit,
                         {"replicate_sd", json_number(r.lack_of_fit.replicate_sd)}, {"groups", r.lack_of_fit.groups},
                         {"dof_lack", r.lack_of_fit.dof_lack}, {"dof_pure", r.lack_of_fit.dof_pure},
                         {"misfit_rms", json_number(r.lack_of_fit.misfit_rms)}, {"misfit_ratio", json_number(r.lack_of_fit.misfit_ratio)},
-                        {"worst", r.lack_of_fit.worst}};
+                        {"worst", r.lack_of_fit.worst}, {"robots", r.lack_of_fit.robots}};
   else
     d["lack_of_fit"] = {{"tested", false}, {"why", r.lack_of_fit.why_not}};
   return d;

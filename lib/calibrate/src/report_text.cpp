@@ -87,8 +87,13 @@ void write_handling(Text& out, const fit::RobustFit& r, const std::string& unit,
   write_correlations(out, fit::correlations(r), indent);
   if (autocorrelation != nullptr) write_autocorrelation(out, *autocorrelation, indent);
   if (r.lack_of_fit.tested)
-    out("%slack of fit against %zu replicate groups: reduced χ² against the replicates' noise %.3g (p = %.3g), replicate sd %.4g\n", indent,
-                r.lack_of_fit.groups, r.lack_of_fit.reduced_chi2, r.lack_of_fit.p_value, r.lack_of_fit.replicate_sd);
+    out("%slack of fit against %zu replicate groups: reduced χ² against the replicates' noise %.3g (p = %.3g), replicate sd %.4g%s\n", indent,
+                r.lack_of_fit.groups, r.lack_of_fit.reduced_chi2, r.lack_of_fit.p_value, r.lack_of_fit.replicate_sd,
+                r.lack_of_fit.robots > 1
+                    ? (" (the groups pool " + std::to_string(r.lack_of_fit.robots) +
+                       " robots: this sd holds their differences beside the reading noise, and the curve is judged as their average)")
+                          .c_str()
+                    : "");
   if (r.lack_of_fit.tested)
     out("%smisfit %.3g replicate sd per reading (warning above %g, exit 1 above %g); worst: %s\n", indent,
                 r.lack_of_fit.misfit_ratio, fit::kMisfitWarnRatio, fit::kMisfitFailRatio, r.lack_of_fit.worst.c_str());

@@ -9,7 +9,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
+#include <set>
 #include <sstream>
 
 #include "epuck2/logs/output.hpp"
@@ -232,20 +234,28 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
   std::vector<int> groups(n);
   std::vector<bool> on_rail(n), judged_by_replicates(n, false);
   std::map<int, std::size_t> group_size;
+  // The screen's groups: the same conditions read by the same robot (a robot's readings are not
+  // replicates of another's: the robots' differences would pass for noise).
+  std::map<std::pair<int, int>, int> screen_group;
+  std::set<int> robots;
   for (std::size_t i = 0; i < n; ++i) {
     values[i] = obs[i].value;
-    groups[i] = obs[i].group;
+    groups[i] = obs[i].group < 0 ? -1
+                                 : screen_group.emplace(std::make_pair(obs[i].group, obs[i].robot), static_cast<int>(screen_group.size()))
+                                       .first->second;
     on_rail[i] = obs[i].censoring != Censoring::none;
-    if (obs[i].group >= 0) ++group_size[obs[i].group];
+    if (groups[i] >= 0) ++group_size[groups[i]];
+    if (obs[i].robot >= 0) robots.insert(obs[i].robot);
   }
-  for (std::size_t i = 0; i < n; ++i) judged_by_replicates[i] = obs[i].group >= 0 && group_size[obs[i].group] >= kMinReplicates;
+  for (std::size_t i = 0; i < n; ++i) judged_by_replicates[i] = groups[i] >= 0 && group_size[groups[i]] >= kMinReplicates;
   // The method says which rule judged which readings: a reading among replicates is never judged
   // by the curve (however far from it), the others are.
   const std::size_t by_replicates =
       static_cast<std::size_t>(std::count(judged_by_replicates.begin(), judged_by_replicates.end(), true));
   if (opt.robust && by_replicates > 0)
     out.method = "robust: the " + std::to_string(by_replicates) + " readings in groups of " + std::to_string(kMinReplicates) +
-                 " or more under the same conditions judged against their replicates only (left out beyond " +
+                 " or more under the same conditions" + (robots.size() > 1 ? " and robot" : "") +
+                 " judged against their replicates only (left out beyond " +
                  fmt(kWildReadingSd) + " robust sd of their group's median, not by their distance to the curve)" +
                  (by_replicates < n ? "; the other " + std::to_string(n - by_replicates) +
                                           ": Cauchy-reweighted start, readings beyond " + fmt(opt.reject_sd) +
@@ -532,6 +542,14 @@ RobustFit fit_robust(const ModelEvaluator& model, const std::vector<Observation>
     }
     LackOfFit& lof = out.lack_of_fit;
     lof = lack_of_fit(replicates, k, {}, opt.noise_floor);
+    if (lof.tested) {
+      std::set<int> spanned;
+      for (const auto& [id, members] : groups)
+        if (!spoilt[id])
+          for (std::size_t i : members)
+            if (obs[i].robot >= 0) spanned.insert(obs[i].robot);
+      lof.robots = spanned.size();
+    }
     if (lof.tested && lof.p_value < 1e-3)
       out.warnings.push_back("the model does not fit these data within their noise: lack-of-fit reduced chi^2 " +
                              fmt(lof.reduced_chi2) + " (p = " + fmt(lof.p_value) + ") against the replicates' sd " +

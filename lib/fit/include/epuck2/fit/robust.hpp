@@ -52,6 +52,10 @@ struct Observation {
   Censoring censoring = Censoring::none;  ///< at or beyond `value`
   std::string where;                      ///< "file:line", for the report
   int group = -1;                         ///< replicates: same conditions, same group (-1: none)
+  /// Which robot read it (-1: not said). A reading is judged wild against the replicates of its own
+  /// robot only (robots differ by more than their noise); the lack-of-fit test keeps the groups of
+  /// conditions, which then span robots (LackOfFit::robots).
+  int robot = -1;
 };
 
 
@@ -76,6 +80,9 @@ struct LackOfFit {
   double reduced_chi2 = 0;   ///< (lack-of-fit sum of squares / its dof) / replicate variance
   double p_value = 1;        ///< F(dof_lack, dof_pure) upper tail
   std::size_t groups = 0, dof_lack = 0, dof_pure = 0;
+  /// Robots whose readings the tested groups pool: above 1, replicate_sd holds the robots'
+  /// differences beside the reading noise (the curve is judged as the robots' average).
+  std::size_t robots = 0;
   std::string why_not;       ///< when not tested
   /// Not tested because the replicates agree to the last digit (no floor, no known sd): no noise
   /// scale to judge a misfit by (most likely the same log given twice).
