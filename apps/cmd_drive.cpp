@@ -39,7 +39,7 @@ void setup_drive(CLI::App& app, Action& action) {
            models::kind_facts("drive")->channels.front().rails_text() + ", or >= " +
            logs::format_number(logs::kTofOutOfRangeCode_mm) +
            " (the VL53L0X's no target in range: the fit censors it as beyond the 2000 mm rail, as a reading "
-           "on that rail)."},
+           "on that rail; one where the fitted curve puts the obstacle in view is a dropout, left out and listed)."},
       drive_json, plot::drive_figure);
 }
 

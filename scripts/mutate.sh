@@ -694,6 +694,7 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_probe_five",  # session 23: a fifth new user's probe's defects
                                  "test_probe_five_battery",  # session 23: a fifth new user's probe's battery defects
                                  "test_pooled_robots",  # session 24: replicates judged within a robot in pooled fits
+                                 "test_probe_six",  # session 24: a sixth new user's probe's defects (the lead's share)
                                  ]
 
 
@@ -871,7 +872,7 @@ MUTANTS = [
     # Round 3 of the fresh slips (bench/fresh-slips.md), planted without reading the tests:
     ("r3_charge_flat_knots_refused", CM, "if (m.knot_charge[k] < m.knot_charge[k - 1])", "if (m.knot_charge[k] <= m.knot_charge[k - 1])", R3_CHARGE),
     ("r3_charge_quantile_knots_k", CM, "static_cast<double>(n - 1) / (K - 1)", "static_cast<double>(n - 1) / K", R3_CHARGE),
-    ("r3_noise_model_sd_max", DR, "sd = std::min(rep, residual_sd);", "sd = std::max(rep, residual_sd);", R3_NOISE),
+    ("r3_noise_model_sd_max", DR, "std::min(1.0, residual_sd / n.sd)", "std::max(1.0, residual_sd / n.sd)", R3_NOISE),
     ("r3_noise_sensor_zero_pooled", DR, "if (sensor >= 0 && k < n.per_sensor_sd.size()", "if (sensor > 0 && k < n.per_sensor_sd.size()", R3_NOISE),
     ("r3_codegen_array_last_dropped", CG, 'for (std::size_t i = 0; i < N; ++i) s += (i ? ", " : "") + cpp_number(a[i]);',
      'for (std::size_t i = 0; i + 1 < N; ++i) s += (i ? ", " : "") + cpp_number(a[i]);', R3_CODEGEN),
@@ -1765,6 +1766,14 @@ MUTANTS = [
      'screen_group.emplace(std::make_pair(obs[i].group, obs[i].robot),', 'screen_group.emplace(std::make_pair(obs[i].group, -1),', R20_FIT),
     ('s24_proximity_wild_screen_groups_span_robots', 'lib/calibrate/src/proximity_fit.cpp',
      'group_of.emplace(std::make_pair(d, r.robot),', 'group_of.emplace(std::make_pair(d, -1),', R20_CALIB),
+    ('s24_diagnose_sensor_noise_capped_at_pooled_residuals', 'lib/diagnose/src/reading_noise.cpp',
+     '      sd = n.per_sensor_sd[k] * cap;', '      sd = std::min(n.per_sensor_sd[k], residual_sd);', R20_DIAGNOSE),
+    ('s24_camera_subpixel_log_rounded', 'lib/models/include/epuck2/models/simulate_log.hpp',
+     '    if (noise && subpixel) {', '    if (noise && subpixel && false) {', R20_MODELS),
+    ('s24_diagnose_dropouts_counted_on_rails', 'lib/diagnose/src/search.cpp',
+     '    report_.censored -= std::min(report_.censored, problem_->left_out_on_rails.size());\n', '', R20_DIAGNOSE),
+    ('s24_drive_slip_lag_below_range_written', 'lib/calibrate/src/drive_report.cpp',
+     '    if (fx::between_neutral_and_range(q, v)) v = q.neutral;\n', '', R20_CALIB),
     ('s24_lack_of_fit_robots_not_counted', 'lib/fit/src/robust.cpp',
      '            if (obs[i].robot >= 0) spanned.insert(obs[i].robot);\n', '', R20_FIT),
 ]

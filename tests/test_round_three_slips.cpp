@@ -95,8 +95,8 @@ TEST(RoundThreeChargeMap, KnotsSitAtQuantilesWithTheExtremesFirstAndLast) {
 // ----- the reading-noise estimate of an extended model: each sensor its own replicates -----
 
 TEST(RoundThreeReadingNoise, EachSensorKeepsItsOwnReplicateSdSensorZeroIncluded) {
-  // docs: the replicates' sd of the sensor (its own where it has readings), at most the residual
-  // sd. Sensors 0, 1, 2 scatter 1, 3 and 2 counts (pooled 2); residual sd 10, readings not whole.
+  // docs: the replicates' sd of the sensor (its own where it has readings), the pooled one at
+  // most the residual sd. Sensors 0, 1, 2 scatter 1, 3 and 2 counts (pooled 2); residual sd 10, readings not whole.
   calibrate::ReadingNoise n;
   n.channel = "ground";
   n.unit = "counts";
@@ -108,9 +108,14 @@ TEST(RoundThreeReadingNoise, EachSensorKeepsItsOwnReplicateSdSensorZeroIncluded)
   EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 10.0, 0, false), 1.0);
   EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 10.0, 1, false), 3.0);
   EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 10.0, 2, false), 2.0);
-  // No sensor named: the pooled 2; a residual sd below the replicates' caps it (2.5 < 3).
+  // No sensor named: the pooled 2. The cap is the pooled one (session 24, probe 6): a residual sd
+  // of 2.5, above the pooled replicates' 2, cuts nothing (sensor 1's own 3 is its noise, not
+  // misfit); one of 1.5 cuts the pooled sd to 1.5 and every sensor's by the same 0.75.
   EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 10.0, -1, false), 2.0);
-  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 2.5, 1, false), 2.5);
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 2.5, 1, false), 3.0);
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 1.5, -1, false), 1.5);
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 1.5, 1, false), 2.25);
+  EXPECT_DOUBLE_EQ(diagnose::model_noise_sd(rep, "ground", 1.5, 0, false), 0.75);
   // Whole readings: sensor 0's 1 count less the rounding's 1/12: sqrt(11/12).
   EXPECT_NEAR(diagnose::model_noise_sd(rep, "ground", 10.0, 0, true), std::sqrt(11.0 / 12.0), 1e-12);
 }

@@ -34,6 +34,7 @@
 #include <argos3/core/simulator/simulator.h>
 #include <argos3/core/simulator/physics_engine/physics_engine.h>
 #include <argos3/core/utility/math/vector2.h>
+#include <argos3/plugins/robots/e-puck2/simulator/epuck2_battery_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_camera_equipped_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_entity.h>
 #include <argos3/plugins/robots/e-puck2/simulator/epuck2_tof_equipped_entity.h>
@@ -41,6 +42,8 @@
 #include <argos3/plugins/simulator/entities/light_entity.h>
 #include <argos3/plugins/simulator/entities/light_sensor_equipped_entity.h>
 #include <argos3/plugins/simulator/entities/proximity_sensor_equipped_entity.h>
+
+#include <epuck2/models/kinds.hpp>
 
 #include "recorder_controller.hpp"
 #include "replay_log.hpp"
@@ -453,7 +456,19 @@ class CEPuck2ProtocolLoopFunctions : public CLoopFunctions {
       strProtocol = "ARGoS, the commands of the log above row by row, readings at the tick nearest each row's time";
       m_fObstacle = m_sReplay.obstacle_distance_m;
     }
-    if (m_strKind == "battery") strProtocol += "spinning in place at the row's speed, the charge read at the tick nearest each row's time";
+    if (m_strKind == "battery") {
+      strProtocol += "spinning in place at the row's speed, the charge read at the tick nearest each row's time";
+      /* The run starts where the log's does, as simulate --like starts it: from a full charge when
+         its first charge reads at least kBatteryStartsFull, else from that reading (a run logged
+         from a part-charged battery). */
+      const auto c = m_sReplay.numeric.find("charge");
+      if (c != m_sReplay.numeric.end() && !c->second.empty() && c->second.front() < epuck2::models::sensors::kBatteryStartsFull) {
+        CEPuck2BatteryEquippedEntity& cBattery = m_vecRobots[0]->GetBatterySensorEquippedEntity();
+        cBattery.SetAvailableCharge(std::max(0.0, c->second.front()) * cBattery.GetFullCharge());
+        strProtocol += ", from the log's first charge, " + Num(c->second.front(), 6) + " (below " +
+                       Num(epuck2::models::sensors::kBatteryStartsFull) + ": not a full battery)";
+      }
+    }
     m_cOut.open(m_strLikeOut + ".part");
     if (!m_cOut) THROW_ARGOSEXCEPTION("epuck2_protocol: cannot write \"" << m_strLikeOut << ".part\"");
     m_cOut << epuck2::argos_replay::replay_head(m_sReplay, m_strRobot, strProtocol);

@@ -292,12 +292,23 @@ DriveFit fit_drive(const std::vector<logs::Log>& logs, const SensorFitOptions& o
                         {"slip_time_constant_s", 0.05, 0.0, 0.0, 2.0}},
                        robust_options(options, kQuantisationSd));
   collect(out.warnings, "ToF: ", out.tof.warnings);
+  if (out.tof.usable) {
+    const models::effects::Param& tau =
+        models::effects::drive_catalogue()[models::effects::drive::wheel_slip].params.front();
+    const double v = out.tof.value(tau.file_key);
+    if (models::effects::between_neutral_and_range(tau, v))
+      out.warnings.push_back(std::string("ToF: the slip lag fitted is ") + fmt(v, 3) + " s, under the " + fmt(tau.lower) +
+                             " s a lag may be: no slip these logs resolve; written as " + fmt(tau.neutral) + " (no slip).");
+  }
   // The plug-in's MSE on the rows the fit's MSE is over: inside the rails (no rail, no
   // out-of-range code) and not left out as wild.
   {
     std::vector<bool> left_out(tobs.size(), false);
     for (std::size_t i : out.tof.outliers)
       if (i < left_out.size()) left_out[i] = true;
+    std::size_t row = 0;
+    for (const DriveRun& run : out.runs)
+      for (const double mm : run.tof_mm) out.tof_code_dropouts += (left_out[row++] && logs::is_tof_out_of_range(mm)) ? 1 : 0;
     std::vector<double> kept;
     for (std::size_t i = 0; i < plugin_r.size(); ++i)
       if (tobs[i].censoring == Censoring::none && !left_out[i]) kept.push_back(plugin_r[i]);

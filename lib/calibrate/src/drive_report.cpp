@@ -32,8 +32,11 @@ std::string report_text(const DriveFit& f) {
     out("  commands above the limit (%s): %s\n", f.cap_kept ? "capped" : "not capped: the wheels ran them", p.c_str());
   const models::Channel& tof = models::kind_facts("drive")->channels.front();
   out("\nToF: tof_mm = scale * 1000 (D - travel) + offset, travel = encoder travel lagged by tau (%zu rows; %zu at the "
-      "%g/%g %s rails or out-of-range codes, censored; %zu codes >= %g)\n",
-      f.tof_rows, f.tof_censored, tof.low_rail, tof.high_rail, tof.unit, f.tof_out_of_range_codes, logs::kTofOutOfRangeCode_mm);
+      "%g/%g %s rails or out-of-range codes, censored; %zu codes >= %g%s)\n",
+      f.tof_rows, f.tof_censored, tof.low_rail, tof.high_rail, tof.unit, f.tof_out_of_range_codes, logs::kTofOutOfRangeCode_mm,
+      f.tof_code_dropouts == 0 ? ""
+                               : (", of which " + std::to_string(f.tof_code_dropouts) +
+                                  " left out as dropouts: the fitted curve puts the obstacle in view there").c_str());
   const auto& t = f.tof;
   write_parameter(out, t, models::effects::file_key(models::effects::drive_catalogue(), models::effects::drive::tof_scale), "", "  ", "", &f.tof_autocorrelation);
   write_parameter(out, t, "tof_offset_mm", "mm", "  ", "", &f.tof_autocorrelation);
@@ -54,7 +57,12 @@ models::sensors::DriveModel model_of(const DriveFit& f) {
   // tof_offset_mm, slip_time_constant_s), by the registry's file keys.
   const fx::Catalogue& catalogue = fx::drive_catalogue();
   fx::for_each_param(m.effects, [&](std::size_t id, int p, int /*element*/, double& v) {
-    if (catalogue[id].home == fx::Home::parameters) v = f.tof.value(catalogue[id].params[static_cast<std::size_t>(p)].file_key);
+    if (catalogue[id].home != fx::Home::parameters) return;
+    const fx::Param& q = catalogue[id].params[static_cast<std::size_t>(p)];
+    v = f.tof.value(q.file_key);
+    // Between the neutral value and the physical range (a slip lag under 1 ms, finer than any
+    // log's rows): no effect the logs resolve, written neutral (the fit's warning says so).
+    if (fx::between_neutral_and_range(q, v)) v = q.neutral;
   });
   m.tof_noise_sd_mm = f.tof_noise.sd;
   m.encoder_noise_sd_steps = f.encoder_noise.sd;
@@ -79,6 +87,7 @@ nlohmann::json coefficient_json(const DriveFit& f, const std::vector<logs::Log>&
   j["observations"] = f.tof.observations;
   j["steps_observations"] = f.steps.observations;
   j["tof_out_of_range_codes"] = f.tof_out_of_range_codes;
+  j["tof_code_dropouts"] = f.tof_code_dropouts;
   j["capped_rows"] = f.capped_rows;
   j["over_limit_runs"] = f.over_limit_runs;
   // The cap in m/s of command: the firmware's 1100 steps/s over the fitted steps_per_m.

@@ -82,7 +82,7 @@ const std::vector<std::string>& informational_sections() {
       "observations", "reference_mse", "not_identifiable", "readings",
       // proximity, ground, camera, drive calibrations
       "mean_mse", "censored_readings", "points", "range_fit", "mse_per_sensor", "observations_per_sensor", "model", "table4",
-      "steps_mse", "steps_observations", "tof_out_of_range_codes", "capped_rows", "over_limit_runs", "firmware_cap",
+      "steps_mse", "steps_observations", "tof_out_of_range_codes", "tof_code_dropouts", "capped_rows", "over_limit_runs", "firmware_cap",
       // battery calibration
       "models", "complete_tables", "speeds_covered_cm_s", "speeds_missing_cm_s", "speeds_other_cm_s", "charge_map",
       "charge_conversion",

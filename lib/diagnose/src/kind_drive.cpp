@@ -1,6 +1,7 @@
 // The diagnosis's drive kind: its base model and catalogue effects (see kinds.cpp).
 #include "kind_common.hpp"
 #include "epuck2/logs/drive_columns.hpp"
+#include "epuck2/logs/output.hpp"
 #include "epuck2/models/kind_facts.hpp"
 
 namespace epuck2::diagnose {
@@ -69,7 +70,11 @@ class Drive : public ProblemOf<Drive> {
         // clamped model's reading is the rail itself; one where the encoders put the target in
         // view is a dropout, left out (screening.hpp).
         const bool dropout = tof_code_in_view(tof[i], 1000.0 * (r.obstacle_m - steps_metres(ul[i], ur[i])));
-        if (dropout) dropouts.push_back(log.path + ":" + std::to_string(log.line_of_row[i]));
+        if (dropout) {
+          dropouts.push_back(log.path + ":" + std::to_string(log.line_of_row[i]));
+          left_out_on_rails.push_back(dropouts.back() + ": a ToF \"no target\" code (" + logs::format_number(tof[i], 6) +
+                                      ") where the encoders put the obstacle in view: a dropout");
+        }
         const double values[3] = {tof_channel.on_rails(tof[i]), ul[i], ur[i]};
         // In a straight run with both wheels commanded alike, a right register equal to the left
         // one is the same count (and the same rounding) twice: it is left out too.

@@ -15,7 +15,7 @@ constexpr double kEqualGainsP = 0.01;
 // ---------------------------------------------------------------------------------------------
 // ground: v = 1023 grey (the plug-in's source); catalogue: black_offset, white_level,
 // sensor_gain, nonlinear_response, sensor_offset (each sensor's own black offset, relative to the
-// first sensor seen). Combined: v = o_s + (level - o_s) g_s grey^p with o_s = offset + offsets[s].
+// lowest-numbered sensor logged). Combined: v = o_s + (level - o_s) g_s grey^p with o_s = offset + offsets[s].
 class Ground : public ProblemOf<Ground> {
  public:
   using BaseModel = s::GroundModel;
@@ -40,7 +40,7 @@ class Ground : public ProblemOf<Ground> {
     for (std::size_t k = 0; k < gain_.size(); ++k) gain_[k] = ix_[fx::ground::sensor_gain][0][k];
     for (std::size_t k = 0; k < sensor_offset_.size(); ++k) sensor_offset_[k] = ix_[fx::ground::sensor_offset][0][k];
     // Per-sensor gains of the sensors seen; per-sensor black offsets (the real robots' ground
-    // sensors differ over black) relative to the first sensor seen, whose offset is the common
+    // sensors differ over black) relative to the lowest-numbered sensor logged, whose offset is the common
     // black_offset.
     const auto seen = sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end()));
     std::vector<int> gains, offsets;

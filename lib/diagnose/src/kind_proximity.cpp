@@ -55,7 +55,7 @@ class Proximity : public ProblemOf<Proximity> {
     params[static_cast<std::size_t>(amplitude_)].other_starts = {top, top, top};
     params[static_cast<std::size_t>(ix_[fx::proximity::long_tail][1][0])].other_starts = {0.005, 0.01, 0.04};
     identifiable = {c[fx::proximity::long_tail].name};
-    // With a, b, c free the overall gain is theirs: the first sensor seen is the reference (1).
+    // With a, b, c free the overall gain is theirs: the lowest-numbered sensor logged is the reference (1).
     const auto seen = sensors_seen(std::vector<double>(sensor_.begin(), sensor_.end()));
     std::vector<int> gains;
     for (std::size_t j = 1; j < seen.size(); ++j) gains.push_back(ix_[fx::proximity::sensor_gain][0][static_cast<std::size_t>(seen[j])]);

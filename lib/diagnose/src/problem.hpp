@@ -156,6 +156,10 @@ class Problem {
   std::string notes;
   /// What the kind left out or read specially while building the problem, for Report::warnings.
   std::vector<std::string> warnings;
+  /// Readings on a rail that the kind left out instead of censoring them ("file:line: why"; the
+  /// ToF's "no target" codes with the obstacle in view): Report::outliers lists them, and they
+  /// are not counted among the readings on the rails.
+  std::vector<std::string> left_out_on_rails;
 
   /// What the finding of effect `cause` is, at the parameters `values` with their covariance
   /// (every parameter's row and column; empty when it could not be computed), when its parameters

@@ -53,15 +53,18 @@ double model_noise_sd(const std::map<std::string, calibrate::ReadingNoise>& repl
   const auto it = replicates.find(channel);
   if (it != replicates.end()) {
     const calibrate::ReadingNoise& n = it->second;
-    double rep = n.sd;
+    // The final residuals hold the noise and whatever misfit is left: the noise is at most their
+    // sd. Replicates scattering more were not taken under the same conditions (a column the
+    // calibration's groups do not hold varies within them: an angle, a temperature). The cap is
+    // the pooled one: the pooled replicate sd against the pooled residual sd, and each sensor's
+    // own replicate sd scaled by the same factor (a noisy sensor's sd is above the pooled
+    // residuals' without any misfit: capping it there would cut its noise).
+    const double cap = n.sd > 0 ? std::min(1.0, residual_sd / n.sd) : 1.0;
+    sd = n.sd * cap;
     const auto k = static_cast<std::size_t>(sensor);
     if (sensor >= 0 && k < n.per_sensor_sd.size() && k < n.per_sensor_n.size() && n.per_sensor_n[k] > 0 &&
         std::isfinite(n.per_sensor_sd[k]))
-      rep = n.per_sensor_sd[k];
-    // The final residuals hold the noise and whatever misfit is left: the noise is at most their
-    // sd. Replicates scattering more were not taken under the same conditions (a column the
-    // calibration's groups do not hold varies within them: an angle, a temperature).
-    sd = std::min(rep, residual_sd);
+      sd = n.per_sensor_sd[k] * cap;
   }
   return whole ? std::sqrt(std::max(0.0, sd * sd - 1.0 / 12.0)) : sd;
 }

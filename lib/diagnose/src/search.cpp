@@ -210,6 +210,8 @@ class Diagnosis {
       return false;
     }
     for (const auto& w : problem_->warnings) report_.warnings.push_back(w);
+    for (const auto& w : problem_->left_out_on_rails) report_.outliers.push_back(w);
+    report_.censored -= std::min(report_.censored, problem_->left_out_on_rails.size());
     engine_ = std::make_unique<Engine>(*problem_, o_);  // adds the covariate: effects
     searched_ = problem_->effects;
     if (!o_.effects.empty()) {

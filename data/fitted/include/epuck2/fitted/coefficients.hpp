@@ -4,7 +4,7 @@
 // source: data/fitted/light.json fnv1a64 2f31f22f28f4fc99
 // source: data/fitted/ground.json fnv1a64 f2d2daf925997bf6
 // source: data/fitted/camera.json fnv1a64 d529d87428ec09d2
-// source: data/fitted/drive.json fnv1a64 cee2b026b4b56afc
+// source: data/fitted/drive.json fnv1a64 39937cbf9b5e18fe
 // Coefficients fitted by epuck2-fit from these logs:
 // battery (data/fitted/battery.json) fitted from data/raw/battery/robot-a_speed-00.csv data/raw/battery/robot-a_speed-01.csv data/raw/battery/robot-a_speed-02.csv data/raw/battery/robot-a_speed-03.csv data/raw/battery/robot-a_speed-04.csv data/raw/battery/robot-a_speed-05.csv data/raw/battery/robot-a_speed-06.csv data/raw/battery/robot-a_speed-07.csv data/raw/battery/robot-a_speed-08.csv data/raw/battery/robot-a_speed-09.csv data/raw/battery/robot-a_speed-10.csv data/raw/battery/robot-a_speed-11.csv data/raw/battery/robot-a_speed-12.csv data/raw/battery/robot-a_speed-13.csv data/raw/battery/robot-a_speed-14.csv data/raw/battery/robot-a_speed-15.csv data/raw/battery/robot-b_speed-00.csv data/raw/battery/robot-b_speed-01.csv data/raw/battery/robot-b_speed-02.csv data/raw/battery/robot-b_speed-03.csv data/raw/battery/robot-b_speed-04.csv data/raw/battery/robot-b_speed-05.csv data/raw/battery/robot-b_speed-06.csv data/raw/battery/robot-b_speed-07.csv data/raw/battery/robot-b_speed-08.csv data/raw/battery/robot-b_speed-09.csv data/raw/battery/robot-b_speed-10.csv data/raw/battery/robot-b_speed-11.csv data/raw/battery/robot-b_speed-12.csv data/raw/battery/robot-b_speed-13.csv data/raw/battery/robot-b_speed-14.csv data/raw/battery/robot-b_speed-15.csv
 // proximity (data/fitted/proximity.json) fitted from data/raw/proximity/proximity_virtual-epuck2-1.csv data/raw/proximity/proximity_virtual-epuck2-2.csv

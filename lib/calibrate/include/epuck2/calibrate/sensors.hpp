@@ -204,6 +204,9 @@ struct DriveFit {
   /// 7763.656 when the steps fit is not usable); commands above it are capped_rows.
   double cap_m_s = 0;
   std::size_t steps_rows = 0, tof_rows = 0, tof_censored = 0, tof_out_of_range_codes = 0, capped_rows = 0;
+  /// Out-of-range codes the ToF fit left out: censored at the ceiling, but the curve puts the
+  /// obstacle in view there (dropouts of the sensor; among the fit's outliers).
+  std::size_t tof_code_dropouts = 0;
   std::vector<std::string> over_limit_runs;  ///< runs with a command above the firmware's limit
   /// With commands above the firmware's limit, the cap is tested, not assumed: the steps fit with
   /// the commands capped and as logged, each BIC over every row (n ln(RSS/n) + ln n). The cap is

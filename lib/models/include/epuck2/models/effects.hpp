@@ -46,6 +46,13 @@ struct Param {
   const char* file_key;  ///< Home::parameters: its key in a file's "parameters" ("" otherwise)
 };
 
+/// Whether `v` lies strictly between a parameter's neutral value and its physical range (a
+/// neutral 0 below a range starting at 1e-3: a fitted 0.0002 is neither no effect nor one a
+/// file may hold).
+inline bool between_neutral_and_range(const Param& p, double v) {
+  return (p.neutral < p.lower && v > p.neutral && v < p.lower) || (p.neutral > p.upper && v < p.neutral && v > p.upper);
+}
+
 /// One effect of the catalogue.
 struct Effect {
   const char* name;     ///< the catalogue name

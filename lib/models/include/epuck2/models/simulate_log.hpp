@@ -87,7 +87,9 @@ std::vector<std::vector<double>> simulated_readings(const GroundModel& m, const 
 /// covariate effects move both axes. An LED whose image falls off the image (camera_image_holds:
 /// rounded, outside 0..W-1 x 0..H-1) is not seen, as in ARGoS: its row gets no reading (an empty
 /// vector; a camera log lists only the LEDs seen). Without noise a position seen is clamped to the
-/// image's edge pixels (-0.4 or 159.3 is reported as 0 or 159, as the rounding does).
+/// image's edge pixels (-0.4 or 159.3 is reported as 0 or 159, as the rounding does). A log whose
+/// px or py hold decimals (a blob's centroid, docs/logs.md) is simulated in sub-pixels: its noise
+/// is drawn without the register's rounding, which its measured sd does not hold.
 template <class Log, class Normal>
 std::vector<std::vector<double>> simulated_readings(const CameraModel& m, const Log& log, const std::vector<double>& covariate,
                                                     bool noise, Normal& normal) {
@@ -96,8 +98,17 @@ std::vector<std::vector<double>> simulated_readings(const CameraModel& m, const 
   const auto& f = log.col("forward_m");
   const auto& l = log.col("lateral_m");
   const auto& v = log.col("vertical_m");
+  bool subpixel = false;
+  for (const char* axis : {"px", "py"})
+    if (log.has(axis))
+      for (const double x : log.col(axis)) subpixel = subpixel || (std::isfinite(x) && x != std::floor(x));
   for (std::size_t i = 0; i < n; ++i) {
-    if (noise) {
+    if (noise && subpixel) {
+      const auto p = mean_px(m, f[i], l[i], v[i]);
+      const double dx = m.noise_sd_px > 0 ? m.noise_sd_px * normal() : 0.0;
+      const double dy = m.noise_sd_px > 0 ? m.noise_sd_px * normal() : 0.0;
+      out[i] = {p[0] + covariate[i] + dx, p[1] + covariate[i] + dy};
+    } else if (noise) {
       const auto p = reading(m, f[i], l[i], v[i], normal, covariate[i]);
       out[i] = {static_cast<double>(p[0]), static_cast<double>(p[1])};
     } else {
