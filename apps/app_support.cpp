@@ -218,8 +218,31 @@ const std::string& coefficient_file(const std::string& source) {
   return source;
 }
 
+coefficients::LogRobotChoice coefficients_robot(const std::string& source, const std::string& robot,
+                                                const std::vector<std::string>& log_robots) {
+  if (source.empty() || source == "plugin" || source == "fitted") {
+    if (!robot.empty())
+      throw UsageError("--robot " + robot + " chooses a robot's set of a coefficient FILE (its `robots`); --coefficients " +
+                       (source.empty() ? std::string("is not given") : source + " has no robot sets"));
+    return {};
+  }
+  const std::string& path = coefficient_file(source);
+  try {
+    return coefficients::choose_robot_for_logs(read_json(path), path, robot, log_robots);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+}
+
+void add_coefficients_robot(CLI::App* sub, std::string& robot) {
+  sub->add_option("--robot", robot,
+                  "Run this robot's set of the --coefficients FILE (its robots.ID); default: the log's robot's own set when "
+                  "the file has one, else the pooled set")
+      ->type_name("ID");
+}
+
 std::optional<coefficients::AnyModel> coefficients_model(const std::string& kind, const std::string& source,
-                                                         nlohmann::json* file) {
+                                                         nlohmann::json* file, const std::string& robot) {
   if (source.empty() || source == "plugin") return std::nullopt;
   if (source == "fitted") {
     // The models this build compiles in (data/fitted/include): the battery's tables.
@@ -239,7 +262,7 @@ std::optional<coefficients::AnyModel> coefficients_model(const std::string& kind
   const nlohmann::json j = read_json(path);
   if (file != nullptr) *file = j;
   try {
-    return coefficients::model_from_json(kind, j, path);
+    return coefficients::model_from_json(kind, j, path, robot);
   } catch (const logs::InputError&) {
     throw;
   } catch (const std::runtime_error& e) {

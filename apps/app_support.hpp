@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "epuck2/coefficients/model_file.hpp"
+#include "epuck2/coefficients/model_sets.hpp"
 #include "epuck2/logs/log.hpp"
 
 #include "epuck2/logs/output.hpp"
@@ -76,8 +77,18 @@ const std::string& coefficient_file(const std::string& source);
 /// (coefficients::model_from_json; a reader's error that is not at a file position is a usage
 /// error); empty and `plugin` none (the plug-in's published model). `file`, when given, receives
 /// the FILE's JSON.
+/// `robot`, when given, names the file's robot set read over its pooled one
+/// (coefficients_robot's choice).
 std::optional<coefficients::AnyModel> coefficients_model(const std::string& kind, const std::string& source,
-                                                         nlohmann::json* file = nullptr);
+                                                         nlohmann::json* file = nullptr, const std::string& robot = "");
+/// Which robot set of --coefficients `source` runs on logs of the robots `log_robots`, --robot
+/// `robot` ("" when not given): coefficients::choose_robot_for_logs on the FILE (docs/cli.md);
+/// none for `plugin`, `fitted` or no file. A --robot the file has no set for, or --robot without a
+/// FILE, is a usage error (exit 2) listing the file's robots.
+coefficients::LogRobotChoice coefficients_robot(const std::string& source, const std::string& robot,
+                                                const std::vector<std::string>& log_robots);
+/// Adds --robot ID to `simulate KIND --like` and `diagnose` (the same help text on both).
+void add_coefficients_robot(CLI::App* sub, std::string& robot);
 
 /// A CLI11 check for a figure file: its extension names the format (.png, .svg or .pdf), else
 /// exit 2 saying which are accepted.
