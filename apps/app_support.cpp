@@ -241,6 +241,27 @@ void add_coefficients_robot(CLI::App* sub, std::string& robot) {
       ->type_name("ID");
 }
 
+std::vector<logs::Log> split_robot_columns(const std::string& command, std::vector<logs::Log> logs) {
+  std::vector<logs::Log> out;
+  for (logs::Log& l : logs) {
+    const std::vector<std::string> names = logs::robot_column_names(l);
+    if (names.size() > 1)
+      std::cerr << command << ": the robot column of " << logs::escape_control(l.path) << " names " << names.size()
+                << " robots (" << join(names) << "): its rows are read as " << names.size()
+                << " logs, one per robot (docs/logs.md, \"A robot column\")\n";
+    for (logs::Log& piece : logs::split_by_robot_column(std::move(l))) out.push_back(std::move(piece));
+  }
+  return out;
+}
+
+std::string robot_column_warning(const logs::Log& log) {
+  const std::vector<std::string> names = logs::robot_column_names(log);
+  if (names.size() < 2) return std::string();
+  return "the robot column of " + log.path + " names " + std::to_string(names.size()) + " robots (" + join(names) +
+         "); the diagnosis reads the file as one log (robot " + log.robot +
+         ", its first row's), the robots' rows pooled: diagnose each robot's rows as a log of its own";
+}
+
 std::optional<coefficients::AnyModel> coefficients_model(const std::string& kind, const std::string& source,
                                                          nlohmann::json* file, const std::string& robot) {
   if (source.empty() || source == "plugin") return std::nullopt;

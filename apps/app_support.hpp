@@ -123,6 +123,15 @@ void add_skip_bad_rows(CLI::App* sub, bool& flag);
 std::vector<logs::Log> read_logs_reporting(const std::string& command, const std::vector<std::string>& paths,
                                            std::optional<logs::Kind> kind, bool skip_bad_rows,
                                            std::vector<std::string>* warnings = nullptr);
+/// The logs with each one whose `robot` column names several robots split into one log per robot
+/// (logs::split_by_robot_column), so that a fit counts each robot's rows as that robot's (its own
+/// set, the robots' comparison, replicates within one robot); each such file is said on standard
+/// error ("COMMAND: the robot column of F names 2 robots (a, b): ...").
+std::vector<logs::Log> split_robot_columns(const std::string& command, std::vector<logs::Log> logs);
+/// The warning for a log whose `robot` column names several robots, read as one log (diagnose):
+/// "" when it names one at most.
+std::string robot_column_warning(const logs::Log& log);
+
 /// One warning per log whose data rows (every column, row by row) and robot are another's given
 /// before it: "B holds the same data rows as A (N rows, robot R): ...". The same file twice is
 /// refused earlier (logs::read_logs).

@@ -109,9 +109,11 @@ int run_diagnose(const DiagnoseOptions& o) {
                      "' yet");
   std::vector<std::string> log_names;
   std::vector<std::string> log_robots;  // the figure's marker per robot
+  std::vector<std::string> column_warnings;  // a robot column naming several robots: said, not split
   for (const auto& l : logs) {
     log_names.push_back(l.path);
     log_robots.push_back(l.robot);
+    if (std::string w = robot_column_warning(l); !w.empty()) column_warnings.push_back(std::move(w));
   }
   dg::Options options;
   if (!models::battery::parse_model(o.battery_model, options.battery_model))
@@ -150,6 +152,7 @@ int run_diagnose(const DiagnoseOptions& o) {
   // from it (misfit the model leaves, which a simulation must not draw as noise).
   for (std::string& w : dg::noise_warnings(r, inputs.replicate_noise)) r.warnings.push_back(std::move(w));
   if (!choice.warning.empty()) r.warnings.push_back(choice.warning);
+  r.warnings.insert(r.warnings.end(), column_warnings.begin(), column_warnings.end());
   for (const auto& w : r.warnings) std::fprintf(stderr, "diagnose: warning: %s\n", w.c_str());
   // All or nothing: the JSON report and the figure are renamed into place together, then printed.
   const std::string text = o.json || !output.empty() ? json_text(diagnose::report_json(r, o.logs, inputs)) : std::string();

@@ -107,7 +107,8 @@ int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json
 template <class Fit, class ToJson, class Draw>
 int run_sensor(const std::string& kind, logs::Kind log_kind, const SensorOptions& o, ToJson to_json, Draw draw) {
   std::vector<std::string> all_copies;  // of every robot's logs; the file says those of the logs it fits
-  const auto logs = select_robot(read_logs_reporting(kind, o.logs, log_kind, o.skip_bad_rows, &all_copies), o.robot);
+  const auto logs =
+      select_robot(split_robot_columns(kind, read_logs_reporting(kind, o.logs, log_kind, o.skip_bad_rows, &all_copies)), o.robot);
   const std::vector<std::string> copies = identical_logs(logs);  // logs of the same rows: in the file's warnings
   Fit f;
   nlohmann::json j = to_json(logs, o, &f);

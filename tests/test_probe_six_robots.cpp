@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -137,6 +138,62 @@ TEST_F(ProbeSixRobots, DiagnoseJudgesTheLogAgainstItsRobotsOwnSet) {
   ASSERT_EQ(both.exit_code, 0) << both.err;
   EXPECT_NEAR(like_mse(both.out), 627.0, 1.0) << both.out;
   EXPECT_TRUE(has(both.err, "the logs are of 2 robots (gA, gB)")) << both.err;
+}
+
+/// One ground file of two robots named by a `robot` column (no `# robot:` line): rA's rows
+/// (offset 40), then rB's (offset 90), both gain 900, as ground_log writes them.
+std::string two_robot_column_log() {
+  std::string text = "robot,grey,sensor,value\n";
+  for (const auto& [robot, offset] : {std::pair<const char*, double>{"rA", 40}, {"rB", 90}})
+    for (int g = 0; g <= 10; ++g)
+      for (int s = 0; s < 3; ++s)
+        for (int e = -2; e <= 2; ++e) {
+          char line[64];
+          std::snprintf(line, sizeof line, "%s,%.1f,%d,%.0f\n", robot, g / 10.0, s, offset + 90.0 * g + e);
+          text += line;
+        }
+  return text;
+}
+
+// probe 6, defect 09: a robot column naming two robots was fitted as one robot: no `robots`, no
+// comparison, and the replicates of a grey level pooled both robots' readings. Within a robot the
+// five replicates scatter by {-2,-1,0,1,2}: sd sqrt(10/4) = 1.581 counts; pooled over the two
+// robots (offsets 50 apart) a group of ten holds (10 x 25^2 + 2 x 10)/9: sd 26.4 counts.
+TEST_F(ProbeSixRobots, ARobotColumnOfTwoRobotsIsFittedAsTwoRobots) {
+  const std::string log = write("twonames.csv", two_robot_column_log());
+  const std::string out = (dir_ / "tn.json").string();
+  const CliRun f = run("ground \"" + log + "\" -o \"" + out + "\"");
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  EXPECT_TRUE(has(f.err, "names 2 robots (rA, rB)")) << f.err;
+  const json file = json::parse(slurp(out));
+  EXPECT_NEAR(file.at("noise").at("ground").at("sd").get<double>(), std::sqrt(2.5), 0.01) << file.at("noise").dump();
+  ASSERT_TRUE(file.contains("robots")) << file.dump();
+  const json& robots = file.at("robots");
+  ASSERT_TRUE(robots.contains("rA") && robots.contains("rB")) << robots.dump();
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(robots.at("rA").at("parameters").at("offset").at(k).get<double>(), 40.0, 0.05);
+    EXPECT_NEAR(robots.at("rB").at("parameters").at("offset").at(k).get<double>(), 90.0, 0.05);
+  }
+  EXPECT_FALSE(file.at("robot_spread").empty());
+  // --robot rB: rB's rows alone.
+  const CliRun b = run("ground --json --robot rB \"" + log + "\"");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const json only = json::parse(b.out);
+  EXPECT_NEAR(only.at("parameters").at("offset").at(0).get<double>(), 90.0, 0.05) << b.out;
+  EXPECT_FALSE(only.contains("robots"));
+}
+
+// diagnose reads such a file as one log: it says so, naming the robots.
+TEST_F(ProbeSixRobots, DiagnoseWarnsOfARobotColumnOfTwoRobots) {
+  const std::string log = write("twonames.csv", two_robot_column_log());
+  const CliRun d = run("diagnose --json \"" + log + "\"");
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  EXPECT_TRUE(has(d.err, "diagnose: warning: the robot column of")) << d.err;
+  EXPECT_TRUE(has(d.err, "names 2 robots (rA, rB)")) << d.err;
+  const json report = json::parse(d.out);
+  bool said = false;
+  for (const json& w : report.at("warnings")) said = said || has(w.get<std::string>(), "names 2 robots (rA, rB)");
+  EXPECT_TRUE(said) << report.at("warnings").dump();
 }
 
 }  // namespace test_probe_six_robots_cpp
