@@ -254,6 +254,22 @@ std::vector<logs::Log> split_robot_columns(const std::string& command, std::vect
   return out;
 }
 
+std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::string& robot) {
+  if (robot.empty()) return all;
+  std::vector<logs::Log> out;
+  std::vector<std::string> names;
+  for (auto& l : all) {
+    if (std::find(names.begin(), names.end(), l.robot) == names.end()) names.push_back(l.robot);
+    if (l.robot == robot) out.push_back(std::move(l));
+  }
+  if (out.empty()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw UsageError("--robot " + robot + ": no log of that robot; these logs are of " + list);
+  }
+  return out;
+}
+
 std::string robot_column_warning(const logs::Log& log) {
   const std::vector<std::string> names = logs::robot_column_names(log);
   if (names.size() < 2) return std::string();

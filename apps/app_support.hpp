@@ -128,6 +128,9 @@ std::vector<logs::Log> read_logs_reporting(const std::string& command, const std
 /// set, the robots' comparison, replicates within one robot); each such file is said on standard
 /// error ("COMMAND: the robot column of F names 2 robots (a, b): ...").
 std::vector<logs::Log> split_robot_columns(const std::string& command, std::vector<logs::Log> logs);
+/// The logs of `robot` (all when empty); exit 2 listing the robots when none is that one (--robot
+/// of the fitting commands).
+std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::string& robot);
 /// The warning for a log whose `robot` column names several robots, read as one log (diagnose):
 /// "" when it names one at most.
 std::string robot_column_warning(const logs::Log& log);

@@ -54,8 +54,7 @@ struct SensorOptions {
 /// Adds LOGS..., --json, -o/--output, --plot and --skip-bad-rows to a subcommand.
 void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what);
 
-/// The logs of `robot` (all when empty); exit 2 listing the robots when none is that one.
-std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::string& robot);
+using app::select_robot;  // app_support.hpp: battery's --robot too
 
 /// Warnings on standard error, each once.
 void print_warnings(const std::string& kind, const nlohmann::json& j);
