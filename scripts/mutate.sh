@@ -1353,7 +1353,7 @@ MUTANTS = [
     ("r12_battery_lifetime_figure_to_the_fits_path", "apps/cmd_battery.cpp",
      "plot::battery_lifetime_figure(stage, o.plot_lifetime, runs, f);", "plot::battery_lifetime_figure(stage, o.plot, runs, f);",
      R12_APPS),
-    ("r12_robot_list_left_empty", "apps/sensor_support.cpp",
+    ("r12_robot_list_left_empty", "apps/app_support.cpp",
      "if (std::find(names.begin(), names.end(), l.robot) == names.end()) names.push_back(l.robot);",
      "if (std::find(names.begin(), names.end(), l.robot) != names.end()) names.push_back(l.robot);", R12_APPS),
     ("r12_drive_tof_misfit_judged_on_the_encoders", "apps/cmd_drive.cpp",
