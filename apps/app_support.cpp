@@ -218,8 +218,68 @@ const std::string& coefficient_file(const std::string& source) {
   return source;
 }
 
+coefficients::LogRobotChoice coefficients_robot(const std::string& source, const std::string& robot,
+                                                const std::vector<std::string>& log_robots) {
+  if (source.empty() || source == "plugin" || source == "fitted") {
+    if (!robot.empty())
+      throw UsageError("--robot " + robot + " chooses a robot's set of a coefficient FILE (its `robots`); --coefficients " +
+                       (source.empty() ? std::string("is not given") : source + " has no robot sets"));
+    return {};
+  }
+  const std::string& path = coefficient_file(source);
+  try {
+    return coefficients::choose_robot_for_logs(read_json(path), path, robot, log_robots);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+}
+
+void add_coefficients_robot(CLI::App* sub, std::string& robot) {
+  sub->add_option("--robot", robot,
+                  "Run this robot's set of the --coefficients FILE (its robots.ID); default: the log's robot's own set when "
+                  "the file has one, else the pooled set")
+      ->type_name("ID");
+}
+
+std::vector<logs::Log> split_robot_columns(const std::string& command, std::vector<logs::Log> logs) {
+  std::vector<logs::Log> out;
+  for (logs::Log& l : logs) {
+    const std::vector<std::string> names = logs::robot_column_names(l);
+    if (names.size() > 1)
+      std::cerr << command << ": the robot column of " << logs::escape_control(l.path) << " names " << names.size()
+                << " robots (" << join(names) << "): its rows are read as " << names.size()
+                << " logs, one per robot (docs/logs.md, \"A robot column\")\n";
+    for (logs::Log& piece : logs::split_by_robot_column(std::move(l))) out.push_back(std::move(piece));
+  }
+  return out;
+}
+
+std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::string& robot) {
+  if (robot.empty()) return all;
+  std::vector<logs::Log> out;
+  std::vector<std::string> names;
+  for (auto& l : all) {
+    if (std::find(names.begin(), names.end(), l.robot) == names.end()) names.push_back(l.robot);
+    if (l.robot == robot) out.push_back(std::move(l));
+  }
+  if (out.empty()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw UsageError("--robot " + robot + ": no log of that robot; these logs are of " + list);
+  }
+  return out;
+}
+
+std::string robot_column_warning(const logs::Log& log) {
+  const std::vector<std::string> names = logs::robot_column_names(log);
+  if (names.size() < 2) return std::string();
+  return "the robot column of " + log.path + " names " + std::to_string(names.size()) + " robots (" + join(names) +
+         "); the diagnosis reads the file as one log (robot " + log.robot +
+         ", its first row's), the robots' rows pooled: diagnose each robot's rows as a log of its own";
+}
+
 std::optional<coefficients::AnyModel> coefficients_model(const std::string& kind, const std::string& source,
-                                                         nlohmann::json* file) {
+                                                         nlohmann::json* file, const std::string& robot) {
   if (source.empty() || source == "plugin") return std::nullopt;
   if (source == "fitted") {
     // The models this build compiles in (data/fitted/include): the battery's tables.
@@ -239,7 +299,7 @@ std::optional<coefficients::AnyModel> coefficients_model(const std::string& kind
   const nlohmann::json j = read_json(path);
   if (file != nullptr) *file = j;
   try {
-    return coefficients::model_from_json(kind, j, path);
+    return coefficients::model_from_json(kind, j, path, robot);
   } catch (const logs::InputError&) {
     throw;
   } catch (const std::runtime_error& e) {

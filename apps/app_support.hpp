@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "epuck2/coefficients/model_file.hpp"
+#include "epuck2/coefficients/model_sets.hpp"
 #include "epuck2/logs/log.hpp"
 
 #include "epuck2/logs/output.hpp"
@@ -76,8 +77,18 @@ const std::string& coefficient_file(const std::string& source);
 /// (coefficients::model_from_json; a reader's error that is not at a file position is a usage
 /// error); empty and `plugin` none (the plug-in's published model). `file`, when given, receives
 /// the FILE's JSON.
+/// `robot`, when given, names the file's robot set read over its pooled one
+/// (coefficients_robot's choice).
 std::optional<coefficients::AnyModel> coefficients_model(const std::string& kind, const std::string& source,
-                                                         nlohmann::json* file = nullptr);
+                                                         nlohmann::json* file = nullptr, const std::string& robot = "");
+/// Which robot set of --coefficients `source` runs on logs of the robots `log_robots`, --robot
+/// `robot` ("" when not given): coefficients::choose_robot_for_logs on the FILE (docs/cli.md);
+/// none for `plugin`, `fitted` or no file. A --robot the file has no set for, or --robot without a
+/// FILE, is a usage error (exit 2) listing the file's robots.
+coefficients::LogRobotChoice coefficients_robot(const std::string& source, const std::string& robot,
+                                                const std::vector<std::string>& log_robots);
+/// Adds --robot ID to `simulate KIND --like` and `diagnose` (the same help text on both).
+void add_coefficients_robot(CLI::App* sub, std::string& robot);
 
 /// A CLI11 check for a figure file: its extension names the format (.png, .svg or .pdf), else
 /// exit 2 saying which are accepted.
@@ -112,6 +123,18 @@ void add_skip_bad_rows(CLI::App* sub, bool& flag);
 std::vector<logs::Log> read_logs_reporting(const std::string& command, const std::vector<std::string>& paths,
                                            std::optional<logs::Kind> kind, bool skip_bad_rows,
                                            std::vector<std::string>* warnings = nullptr);
+/// The logs with each one whose `robot` column names several robots split into one log per robot
+/// (logs::split_by_robot_column), so that a fit counts each robot's rows as that robot's (its own
+/// set, the robots' comparison, replicates within one robot); each such file is said on standard
+/// error ("COMMAND: the robot column of F names 2 robots (a, b): ...").
+std::vector<logs::Log> split_robot_columns(const std::string& command, std::vector<logs::Log> logs);
+/// The logs of `robot` (all when empty); exit 2 listing the robots when none is that one (--robot
+/// of the fitting commands).
+std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::string& robot);
+/// The warning for a log whose `robot` column names several robots, read as one log (diagnose):
+/// "" when it names one at most.
+std::string robot_column_warning(const logs::Log& log);
+
 /// One warning per log whose data rows (every column, row by row) and robot are another's given
 /// before it: "B holds the same data rows as A (N rows, robot R): ...". The same file twice is
 /// refused earlier (logs::read_logs).

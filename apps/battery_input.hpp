@@ -42,10 +42,14 @@ inline void add_charge_map_option(CLI::App* sub, std::string& file) {
 
 /// `fit_map`: fit the map to the logs with both columns even when no log needs it (battery writes
 /// it); otherwise only when some log is voltage-only.
+/// `robot`: only that robot's logs (--robot; exit 2 listing the robots when none is that one). A log
+/// whose robot column names several robots is read as one run per robot (split_robot_columns).
 inline BatteryInput read_battery_input(const std::string& command, const std::vector<std::string>& paths, bool skip_bad_rows,
-                                       const std::string& charge_map_file, bool fit_map) {
+                                       const std::string& charge_map_file, bool fit_map, const std::string& robot = "") {
   BatteryInput in;
-  const auto logs = read_logs_reporting(command, paths, logs::Kind::battery, skip_bad_rows, &in.warnings);
+  const auto logs =
+      select_robot(split_robot_columns(command, read_logs_reporting(command, paths, logs::Kind::battery, skip_bad_rows, &in.warnings)),
+                   robot);
   bool voltage_only = false;
   for (const auto& l : logs) voltage_only = voltage_only || !l.has("charge");
   if (!charge_map_file.empty()) {

@@ -1,8 +1,12 @@
 // epuck2-fit battery LOGS...: fits the paper's four discharge models per speed; human report,
 // --json, -o coefficient file (atomic), --plot and --plot-lifetime figures (PNG, SVG or PDF).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
+#include <map>
+#include <utility>
 
 #include "app_support.hpp"
 #include "battery_input.hpp"
@@ -31,11 +35,63 @@ struct BatteryOptions {
   std::string charge_map;
   std::string plot_charge_map;
   bool accept_misfit = false;
+  std::string robot;  ///< --robot: fit only this robot's logs
 };
 
+/// Runs of more than one robot: battery pools them (one table per speed over every run) and does
+/// not fit or compare the robots one by one, as the sensor fits do (docs/fitting.md, "Several
+/// robots"). Said with the robots' mean run lifetimes (their last rows' times) at the speed where
+/// they differ most, so that robots whose batteries differ are seen; "" for one robot.
+std::string pooled_robots_warning(const std::vector<calibrate::BatteryRun>& runs) {
+  std::vector<std::string> robots;
+  for (const auto& r : runs)
+    if (std::find(robots.begin(), robots.end(), r.robot) == robots.end()) robots.push_back(r.robot);
+  if (robots.size() < 2) return std::string();
+  // Per speed (to 0.01 cm/s, as the fit groups runs) and robot: the sum and count of lifetimes.
+  std::map<long, std::map<std::string, std::pair<double, int>>> lifetimes;
+  for (const auto& r : runs) {
+    auto& cell = lifetimes[std::lround(r.speed_cm_s * 100)][r.robot];
+    cell.first += r.lifetime_s;
+    ++cell.second;
+  }
+  double worst = 0;
+  std::string worst_text;
+  for (const auto& [speed, per_robot] : lifetimes) {
+    if (per_robot.size() < 2) continue;
+    double lo = std::numeric_limits<double>::infinity(), hi = 0;
+    std::string text;
+    for (const std::string& robot : robots) {
+      const auto it = per_robot.find(robot);
+      if (it == per_robot.end()) continue;
+      const double mean = it->second.first / it->second.second;
+      lo = std::min(lo, mean);
+      hi = std::max(hi, mean);
+      char part[64];
+      std::snprintf(part, sizeof part, " %.0f s", mean);
+      text += (text.empty() ? "" : ", ") + robot + part;
+    }
+    if (lo > 0 && hi / lo - 1 >= worst) {
+      worst = hi / lo - 1;
+      char at[32];
+      std::snprintf(at, sizeof at, "%g cm/s: ", static_cast<double>(speed) / 100);
+      worst_text = at + text;
+    }
+  }
+  std::string w = "the logs come from " + std::to_string(robots.size()) + " robots (" + join(robots) +
+                  "), pooled: battery fits one table per speed over all their runs and does not fit or compare the robots one "
+                  "by one (the file has no `robots` and no `robot_spread`)";
+  if (!worst_text.empty()) {
+    char pct[32];
+    std::snprintf(pct, sizeof pct, "%.1f %%", 100 * worst);
+    w += std::string("; their mean run lifetimes differ by up to ") + pct + " at one speed (" + worst_text + ")";
+  }
+  return w + ". --robot ID fits one robot's logs alone.";
+}
+
 int run_battery(const BatteryOptions& o) {
-  const BatteryInput in = read_battery_input("battery", o.logs, o.skip_bad_rows, o.charge_map, true);
+  const BatteryInput in = read_battery_input("battery", o.logs, o.skip_bad_rows, o.charge_map, true, o.robot);
   const auto& runs = in.runs;
+  const std::string robots_warning = pooled_robots_warning(runs);
   if (!o.plot_charge_map.empty() && !in.map)
     throw UsageError("--plot-charge-map: there is no voltage->charge map to draw (no log has both charge and voltage_v, and no --charge-map)");
   fit::FitOptions options;
@@ -66,6 +122,7 @@ int run_battery(const BatteryOptions& o) {
   // The fit's warnings, and the file's own beyond them (tables no reader takes).
   const std::vector<std::string> file_warnings = j.at("warnings").get<std::vector<std::string>>();
   for (const auto& w : in.warnings) j["warnings"].push_back(w);
+  if (!robots_warning.empty()) j["warnings"].push_back(robots_warning);
   for (const auto& m : misfits) j["warnings"].push_back(m + " (accepted by --accept-misfit).");
   if (in.map) {
     j["charge_map"] = calibrate::charge_map_to_json(*in.map);
@@ -84,6 +141,7 @@ int run_battery(const BatteryOptions& o) {
   for (const auto& w : in.warnings) std::cerr << "battery: warning: " << w << '\n';
   for (const auto& w : file_warnings) std::cerr << "battery: warning: " << w << '\n';
   for (const auto& m : misfits) std::cerr << "battery: warning: " << m << " (accepted by --accept-misfit).\n";
+  if (!robots_warning.empty()) std::cerr << "battery: warning: " << robots_warning << '\n';
   if (!o.output.empty()) std::cerr << "battery: wrote " << o.output << '\n';
   for (const std::string& path : {o.plot, o.plot_lifetime, o.plot_charge_map})
     if (!path.empty()) std::cerr << "battery: drew " << path << '\n';
@@ -131,6 +189,9 @@ void setup_battery(CLI::App& app, Action& action) {
   sub->footer(log_format_footer(logs::Kind::battery,
                                 "Optional: voltage_v (with charge: the voltage->charge map is fitted and written; without charge: "
                                 "converted through the map). One speed per run; the last row is the moment the robot stopped."));
+  sub->add_option("--robot", o->robot,
+                  "Fit only this robot's logs (# robot: metadata, a robot column, or the file name); without it the robots' "
+                  "runs are pooled, with a warning when there are several");
   add_skip_bad_rows(sub, o->skip_bad_rows);
   sub->callback([o, &action] { action = [o] { return run_battery(*o); }; });
 }

@@ -44,6 +44,7 @@ struct DiagnoseOptions {
   std::string battery_model = "cubic";
   std::size_t battery_model_given = 0;  ///< --battery-model on the command line (else a file's may set it)
   std::string coefficients;
+  std::string robot;    ///< --robot: the --coefficients file's robot set asked for
   std::string effects;  ///< --effects: the search's effects, comma-separated (empty: all)
   std::vector<std::string> logs;
   bool skip_bad_rows = false;
@@ -75,9 +76,10 @@ std::vector<std::string> effect_list(const std::string& list) {
 }
 
 /// The base model as it is named in the report: the plug-in's, or FILE's (--coefficients).
-std::string base_model_name(const std::string& coefficients) {
+std::string base_model_name(const std::string& coefficients, const std::string& robot_set) {
   if (coefficients.empty() || coefficients == "plugin") return "The plug-in's model with the coefficients given";
   if (coefficients == "fitted") return "The plug-in's model with the CLI's compiled-in fitted battery tables";
+  if (!robot_set.empty()) return logs::escape_control(coefficients) + "'s model with robot " + robot_set + "'s coefficients (robots." + robot_set + ")";
   return logs::escape_control(coefficients) + "'s model with its coefficients";
 }
 
@@ -107,9 +109,11 @@ int run_diagnose(const DiagnoseOptions& o) {
                      "' yet");
   std::vector<std::string> log_names;
   std::vector<std::string> log_robots;  // the figure's marker per robot
+  std::vector<std::string> column_warnings;  // a robot column naming several robots: said, not split
   for (const auto& l : logs) {
     log_names.push_back(l.path);
     log_robots.push_back(l.robot);
+    if (std::string w = robot_column_warning(l); !w.empty()) column_warnings.push_back(std::move(w));
   }
   dg::Options options;
   if (!models::battery::parse_model(o.battery_model, options.battery_model))
@@ -117,8 +121,12 @@ int run_diagnose(const DiagnoseOptions& o) {
   // The base model from --coefficients (a calibration's or a diagnosis's file, or the fitted
   // battery tables): a diagnosis's battery file also gives its discharge model, unless
   // --battery-model names one, and its capacity scale, from which effects are changes.
+  // A calibration of several robots: the logs' robot's own set when the file has one (or
+  // --robot's), else the pooled set, said as ARGoS says it (docs/cli.md).
+  const coefficients::LogRobotChoice choice = coefficients_robot(o.coefficients, o.robot, log_robots);
+  if (!choice.note.empty()) std::cerr << "diagnose: " << choice.note << '\n';
   nlohmann::json file;
-  if (const auto base = coefficients_model(std::string(logs::to_string(logs.front().kind)), o.coefficients, &file))
+  if (const auto base = coefficients_model(std::string(logs::to_string(logs.front().kind)), o.coefficients, &file, choice.robot))
     dg::set_base_model(options, *base, file.contains("battery_model") && o.battery_model_given == 0);
   options.effects = effect_list(o.effects);
   // Progress on standard error (never on standard output, which may hold the JSON report): on a
@@ -143,6 +151,8 @@ int run_diagnose(const DiagnoseOptions& o) {
   // The model's noise is the replicates' where the logs have them: say when the residuals are far
   // from it (misfit the model leaves, which a simulation must not draw as noise).
   for (std::string& w : dg::noise_warnings(r, inputs.replicate_noise)) r.warnings.push_back(std::move(w));
+  if (!choice.warning.empty()) r.warnings.push_back(choice.warning);
+  r.warnings.insert(r.warnings.end(), column_warnings.begin(), column_warnings.end());
   for (const auto& w : r.warnings) std::fprintf(stderr, "diagnose: warning: %s\n", w.c_str());
   // All or nothing: the JSON report and the figure are renamed into place together, then printed.
   const std::string text = o.json || !output.empty() ? json_text(diagnose::report_json(r, o.logs, inputs)) : std::string();
@@ -156,7 +166,7 @@ int run_diagnose(const DiagnoseOptions& o) {
   print_figure_warnings("diagnose");
   if (logs::is_standard_output(output)) return 0;  // -o -: the JSON report is standard output, alone
   if (o.json) std::cout << text;
-  else std::fputs(diagnose::report_text(r, base_model_name(o.coefficients)).c_str(), stdout);
+  else std::fputs(diagnose::report_text(r, base_model_name(o.coefficients, choice.robot)).c_str(), stdout);
   return 0;
 }
 
@@ -193,6 +203,7 @@ void setup_diagnose(CLI::App& app, Action& action) {
   sub->add_option("--coefficients", o->coefficients,
                   "The base model: plugin (the plug-in's published model, default); a coefficient FILE of the logs' kind "
                   "(epuck2-fit KIND -o, or diagnose -o); battery also: fitted (the CLI's compiled-in tables)");
+  add_coefficients_robot(sub, o->robot);
   sub->add_option("--effects", o->effects,
                   "Search only these effects of the catalogue, comma-separated (e.g. " + example_effects() + "); default: all")
       ->check(CLI::Validator(

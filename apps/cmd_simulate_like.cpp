@@ -55,7 +55,7 @@ std::vector<double> covariate_offsets(const std::vector<s::CovariateEffect>& cov
 coefficients::AnyModel load(const LikeOptions& o) {
   const std::string kind(logs::to_string(o.kind));
   coefficients::AnyModel m = coefficients::plugin_model(kind);
-  if (const auto given = coefficients_model(kind, o.coefficients)) m = *given;
+  if (const auto given = coefficients_model(kind, o.coefficients, nullptr, o.robot_set)) m = *given;
   if (!o.battery_model.empty()) {
     auto* battery = std::get_if<s::BatteryModel>(&m);
     if (battery == nullptr || !models::battery::parse_model(o.battery_model, battery->model))
@@ -81,9 +81,16 @@ std::vector<std::vector<double>> simulate(const LikeOptions& o, const logs::Log&
 
 }  // namespace
 
-int run_like(const LikeOptions& o) {
-  const auto logs = read_logs_reporting("simulate", {o.like}, o.kind, o.skip_bad_rows);
+int run_like(const LikeOptions& given) {
+  const auto logs = read_logs_reporting("simulate", {given.like}, given.kind, given.skip_bad_rows);
   const logs::Log& log = logs.front();
+  // A calibration of several robots: the log's robot's own set when the file has one (or
+  // --robot's), else the pooled set, said as ARGoS says it (docs/cli.md).
+  LikeOptions o = given;
+  const coefficients::LogRobotChoice choice = coefficients_robot(o.coefficients, o.robot, {log.robot});
+  o.robot_set = choice.robot;
+  if (!choice.note.empty()) std::cerr << "simulate: " << logs::escape_control(choice.note) << '\n';
+  if (!choice.warning.empty()) std::cerr << "simulate: warning: " << logs::escape_control(choice.warning) << '\n';
   s::StandardNormal normal(o.seed);
   const auto simulated = simulate(o, log, normal);
   const auto& readings = facts_of(log.kind).readings;
@@ -140,7 +147,8 @@ int run_like(const LikeOptions& o) {
     std::fprintf(stderr, "simulate: text columns of %s are not copied (only numeric columns are)\n", o.like.c_str());
   logs::LogWriter w(columns);
   const std::string model = o.coefficients.empty() || o.coefficients == "plugin" ? std::string(" with the plug-in's published model")
-                                                                                 : " with " + o.coefficients;
+                                                                                 : " with " + o.coefficients +
+                                                                                       (o.robot_set.empty() ? std::string() : "'s set robots." + o.robot_set);
   w.comment("Simulated by epuck2-fit simulate " + std::string(logs::to_string(log.kind)) + " --like " + o.like + model +
             (noisy ? " and reading noise, seed " + std::to_string(o.seed)
                    : std::string(o.noise ? ", without noise (--noise given, but the model has none)" : ", without noise")));
@@ -193,6 +201,7 @@ void setup_simulate_like(CLI::App& sim, Action& action) {
                     "Coefficient file (`epuck2-fit " + name + " -o` or `diagnose -o`: base, effects, noise); "
                     "default: the plug-in's published model")
         ->check(CLI::ExistingFile);
+    add_coefficients_robot(sub, o->robot);
     sub->add_flag("--noise", o->noise, "Add the file's reading noise (Gaussian, its `noise` section)");
     sub->add_option("--seed", o->seed, "Seed of the noise")->capture_default_str();
     sub->add_option("-o,--output", o->output, "Write the log to this file (atomically) instead of standard output")

@@ -36,6 +36,8 @@ struct LikeOptions {
   std::string like;
   std::string coefficients;  ///< a file; battery also `plugin` or `fitted`
   std::string battery_model;  ///< battery: the discharge model; empty: the file's (else cubic)
+  std::string robot;         ///< --robot: the file's robot set asked for ("" : the log's robot's, if any)
+  std::string robot_set;     ///< the robot set run (run_like's choice from `robot` and the log's robot)
   bool noise = false;
   std::uint64_t seed = 1;
   std::string output;

@@ -31,22 +31,6 @@ void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what
                 "below the floor (a warning instead of exit 1; docs/fitting.md)");
 }
 
-std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::string& robot) {
-  if (robot.empty()) return all;
-  std::vector<logs::Log> out;
-  std::vector<std::string> names;
-  for (auto& l : all) {
-    if (std::find(names.begin(), names.end(), l.robot) == names.end()) names.push_back(l.robot);
-    if (l.robot == robot) out.push_back(std::move(l));
-  }
-  if (out.empty()) {
-    std::string list;
-    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw UsageError("--robot " + robot + ": no log of that robot; these logs are of " + list);
-  }
-  return out;
-}
-
 void print_warnings(const std::string& kind, const nlohmann::json& j) {
   if (!j.contains("warnings")) return;
   for (const auto& w : j["warnings"]) std::cerr << kind << ": warning: " << w.get<std::string>() << '\n';

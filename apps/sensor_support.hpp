@@ -54,8 +54,7 @@ struct SensorOptions {
 /// Adds LOGS..., --json, -o/--output, --plot and --skip-bad-rows to a subcommand.
 void add_common_options(CLI::App* sub, SensorOptions& o, const std::string& what);
 
-/// The logs of `robot` (all when empty); exit 2 listing the robots when none is that one.
-std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::string& robot);
+using app::select_robot;  // app_support.hpp: battery's --robot too
 
 /// Warnings on standard error, each once.
 void print_warnings(const std::string& kind, const nlohmann::json& j);
@@ -107,7 +106,8 @@ int finish(const std::string& kind, const SensorOptions& o, const nlohmann::json
 template <class Fit, class ToJson, class Draw>
 int run_sensor(const std::string& kind, logs::Kind log_kind, const SensorOptions& o, ToJson to_json, Draw draw) {
   std::vector<std::string> all_copies;  // of every robot's logs; the file says those of the logs it fits
-  const auto logs = select_robot(read_logs_reporting(kind, o.logs, log_kind, o.skip_bad_rows, &all_copies), o.robot);
+  const auto logs =
+      select_robot(split_robot_columns(kind, read_logs_reporting(kind, o.logs, log_kind, o.skip_bad_rows, &all_copies)), o.robot);
   const std::vector<std::string> copies = identical_logs(logs);  // logs of the same rows: in the file's warnings
   Fit f;
   nlohmann::json j = to_json(logs, o, &f);

@@ -695,6 +695,7 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_probe_five_battery",  # session 23: a fifth new user's probe's battery defects
                                  "test_pooled_robots",  # session 24: replicates judged within a robot in pooled fits
                                  "test_probe_six",  # session 24: a sixth new user's probe's defects (the lead's share)
+                                 "test_probe_six_robots",  # session 24: a sixth new user's probe's several-robots defects
                                  ]
 
 
@@ -1353,7 +1354,7 @@ MUTANTS = [
     ("r12_battery_lifetime_figure_to_the_fits_path", "apps/cmd_battery.cpp",
      "plot::battery_lifetime_figure(stage, o.plot_lifetime, runs, f);", "plot::battery_lifetime_figure(stage, o.plot, runs, f);",
      R12_APPS),
-    ("r12_robot_list_left_empty", "apps/sensor_support.cpp",
+    ("r12_robot_list_left_empty", "apps/app_support.cpp",
      "if (std::find(names.begin(), names.end(), l.robot) == names.end()) names.push_back(l.robot);",
      "if (std::find(names.begin(), names.end(), l.robot) != names.end()) names.push_back(l.robot);", R12_APPS),
     ("r12_drive_tof_misfit_judged_on_the_encoders", "apps/cmd_drive.cpp",

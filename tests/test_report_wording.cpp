@@ -134,7 +134,8 @@ TEST_F(ReportWording, TheBaseModelIsNamedAsItIs) {
   fs::copy_file(fs::path(EPUCK2_SOURCE_DIR) / "data/fitted/ground.json", mine);
   r = run("diagnose --coefficients \"" + mine + "\" " + log);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(contains_wording(r.out, "\n" + mine + "'s model with its coefficients, before recalibration: MSE ")) << r.out;
+  // The shipped file holds each robot's set: the log's robot's own is the base (probe 6, defect 03).
+  EXPECT_TRUE(contains_wording(r.out, "\n" + mine + "'s model with robot virtual-epuck2-1's coefficients (robots.virtual-epuck2-1), before recalibration: MSE ")) << r.out;
   EXPECT_FALSE(contains_wording(r.out, "plug-in's model")) << r.out;
 }
 

@@ -1,7 +1,9 @@
 // Shared files, paths and robot sets: see epuck2/coefficients/model_sets.hpp.
 #include "epuck2/coefficients/model_sets.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <stdexcept>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -34,6 +36,30 @@ std::string robot_list(const json& robots) {
   if (robots.is_object())
     for (auto it = robots.begin(); it != robots.end(); ++it) known += (known.empty() ? "" : ", ") + it.key();
   return known.empty() ? "none" : known;
+}
+
+/// A robot's set that a calibration fitted (an object with parameters; not {"usable": false, "why"}).
+bool fitted_set(const json& set) {
+  return set.is_object() && set.contains("parameters") && !(set.contains("usable") && set.at("usable") == false);
+}
+
+/// "PATH holds N robots (a, b) and WHY: using the pooled set, which describes no robot; the robots
+/// differ ... in P (spread sd S). HOW": what a reader of the pooled set of several robots says.
+std::string pooled_set_warning(const json& root, const std::string& path, const std::string& why, const std::string& how) {
+  const json robots = root.value("robots", json::object());
+  std::string differ;
+  for (const json& e : root.value("robot_spread", json::array()))
+    if (e.is_object() && e.value("exceeds_uncertainty", false) && e.contains("parameter") && e.at("parameter").is_string() &&
+        e.contains("spread_sd") && e.at("spread_sd").is_number()) {
+      std::ostringstream os;
+      os << e.at("parameter").get<std::string>() << " (spread sd " << e.at("spread_sd").get<double>() << ")";
+      differ += (differ.empty() ? "" : ", ") + os.str();
+    }
+  return path + " holds " + std::to_string(robots.size()) + " robots (" + robot_list(robots) + ") and " + why +
+         ": using the pooled set, which describes no robot" +
+         (differ.empty() ? std::string(" (the robots agree within their uncertainties)")
+                         : "; the robots differ beyond their uncertainties in " + differ) +
+         ". " + how;
 }
 
 }  // namespace
@@ -99,20 +125,43 @@ RobotChoice choose_robot(const json& root, const std::string& path, const std::s
   }
   c.robot = attribute;
   if (!attribute.empty() || !robots.is_object() || robots.size() < 2) return c;
-  // The pooled set of several robots: say so, with what differs between them.
-  std::string differ;
-  for (const json& e : root.value("robot_spread", json::array()))
-    if (e.is_object() && e.value("exceeds_uncertainty", false) && e.contains("parameter") && e.at("parameter").is_string() &&
-        e.contains("spread_sd") && e.at("spread_sd").is_number()) {
-      std::ostringstream os;
-      os << e.at("parameter").get<std::string>() << " (spread sd " << e.at("spread_sd").get<double>() << ")";
-      differ += (differ.empty() ? "" : ", ") + os.str();
-    }
-  c.warning = path + " holds " + std::to_string(robots.size()) + " robots (" + robot_list(robots) +
-              ") and no robot= is given: using the pooled set, which describes no robot" +
-              (differ.empty() ? std::string(" (the robots agree within their uncertainties)")
-                              : "; the robots differ beyond their uncertainties in " + differ) +
-              ". robot=\"ID\" or robot=\"auto\" uses a robot's own set";
+  c.warning = pooled_set_warning(root, path, "no robot= is given", "robot=\"ID\" or robot=\"auto\" uses a robot's own set");
+  return c;
+}
+
+LogRobotChoice choose_robot_for_logs(const json& root, const std::string& path, const std::string& asked,
+                                     const std::vector<std::string>& log_robots) {
+  LogRobotChoice c;
+  const json robots = root.is_object() ? root.value("robots", json::object()) : json::object();
+  if (!asked.empty()) {
+    if (!robots.is_object() || !robots.contains(asked))
+      throw std::invalid_argument("--robot " + asked + ": " + path + " has no set of that robot (its robots: " + robot_list(robots) +
+                                  ")");
+    if (!fitted_set(robots.at(asked)))
+      throw std::invalid_argument("--robot " + asked + ": " + path + "'s set of that robot holds no fitted parameters (" +
+                                  robots.at(asked).value("why", std::string("not fitted")) + "); its robots: " + robot_list(robots));
+    c.robot = asked;
+    c.note = "using " + path + "'s set robots." + asked + " (--robot " + asked + ")";
+    return c;
+  }
+  std::vector<std::string> distinct;
+  for (const std::string& r : log_robots)
+    if (std::find(distinct.begin(), distinct.end(), r) == distinct.end()) distinct.push_back(r);
+  if (distinct.size() == 1 && robots.is_object() && robots.contains(distinct.front()) && fitted_set(robots.at(distinct.front()))) {
+    c.robot = distinct.front();
+    c.note = "using " + path + "'s set robots." + c.robot + ", the log's robot's own (--robot ID asks for another)";
+    return c;
+  }
+  if (!robots.is_object() || robots.size() < 2) return c;
+  std::string whose;
+  if (distinct.size() == 1)
+    whose = "the log's robot " + distinct.front() + " has no fitted set of its own";
+  else {
+    whose = "the logs are of " + std::to_string(distinct.size()) + " robots (";
+    for (std::size_t i = 0; i < distinct.size(); ++i) whose += (i ? ", " : "") + distinct[i];
+    whose += ")";
+  }
+  c.warning = pooled_set_warning(root, path, whose, "--robot ID uses a robot's own set");
   return c;
 }
 

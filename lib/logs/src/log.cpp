@@ -602,6 +602,60 @@ Log read_log(const std::string& path, std::optional<Kind> kind, const ReadOption
   return parse_log(slurp(path), path, kind, options);
 }
 
+std::vector<std::string> robot_column_names(const Log& log) {
+  std::vector<std::string> names;
+  if (auto it = log.metadata.find("robot"); it != log.metadata.end() && !it->second.empty()) return names;
+  const auto column = log.text.find("robot");
+  if (column == log.text.end()) return names;
+  for (const std::string& r : column->second)
+    if (std::find(names.begin(), names.end(), r) == names.end()) names.push_back(r);
+  return names;
+}
+
+std::vector<Log> split_by_robot_column(Log log) {
+  const std::vector<std::string> names = robot_column_names(log);
+  std::vector<Log> out;
+  if (names.size() < 2) {
+    out.push_back(std::move(log));
+    return out;
+  }
+  const std::vector<std::string>& robot_of = log.text.at("robot");
+  const std::size_t rows = log.rows();
+  const std::size_t cells = rows == 0 ? 0 : log.cell_start.size() / rows;
+  for (const std::string& name : names) {
+    Log piece;
+    piece.path = log.path;
+    piece.kind = log.kind;
+    piece.robot = name;
+    piece.metadata = log.metadata;
+    piece.metadata_at = log.metadata_at;
+    piece.header_line = log.header_line;
+    piece.columns = log.columns;
+    if (out.empty()) piece.skipped = log.skipped;
+    std::vector<std::size_t> mine;
+    for (std::size_t i = 0; i < rows; ++i)
+      if (robot_of[i] == name) mine.push_back(i);
+    for (const auto& [c, values] : log.numeric) {
+      std::vector<double>& v = piece.numeric[c];
+      v.reserve(mine.size());
+      for (const std::size_t i : mine) v.push_back(values[i]);
+    }
+    for (const auto& [c, values] : log.text) {
+      std::vector<std::string>& v = piece.text[c];
+      v.reserve(mine.size());
+      for (const std::size_t i : mine) v.push_back(values[i]);
+    }
+    piece.line_of_row.reserve(mine.size());
+    piece.cell_start.reserve(mine.size() * cells);
+    for (const std::size_t i : mine) {
+      piece.line_of_row.push_back(log.line_of_row[i]);
+      for (std::size_t k = 0; k < cells; ++k) piece.cell_start.push_back(log.cell_start[i * cells + k]);
+    }
+    out.push_back(std::move(piece));
+  }
+  return out;
+}
+
 std::vector<Log> read_logs(const std::vector<std::string>& paths, std::optional<Kind> kind, const ReadOptions& options) {
   // The same file twice would count its rows twice: refuse it before reading anything.
   std::map<std::string, std::string> seen;  // canonical path -> as given

@@ -9,6 +9,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace epuck2::coefficients {
 
@@ -34,6 +35,21 @@ struct RobotChoice {
 /// the robots (the file's robot_spread). Errors are logs::InputError located in the file.
 RobotChoice choose_robot(const nlohmann::json& root, const std::string& path, const std::string& attribute,
                          const std::string& robot_map, const std::string& entity_id);
+
+/// Which of a calibration file's sets the CLI runs on logs (`simulate KIND --like`, `diagnose
+/// --coefficients`; docs/cli.md): `asked` is --robot ("" when not given), `log_robots` the robots
+/// of the logs (logs::Log::robot: `# robot:`, a robot column, or the file stem). --robot ID: that
+/// robot's set (std::invalid_argument listing the file's robots when it has none, or when its set
+/// holds no fitted parameters). Else, logs of one robot that has a fitted set of its own: that set,
+/// said in `note`. Else, on a file of several robots: the pooled set, with `warning` saying so and
+/// naming what differs between the robots (the file's robot_spread), as ARGoS says at Init.
+struct LogRobotChoice {
+  std::string robot;    ///< the set's id; empty: the top-level (pooled) set
+  std::string note;     ///< which set is used and why (when a robot's set is used)
+  std::string warning;  ///< the pooled set of several robots is used: to be said
+};
+LogRobotChoice choose_robot_for_logs(const nlohmann::json& root, const std::string& path, const std::string& asked,
+                                     const std::vector<std::string>& log_robots);
 
 /// Whether the file gives a reading noise (a `noise` section at the top or in the robot's set):
 /// files written before epuck2-fit measured it have none, and a simulator says so.

@@ -125,6 +125,15 @@ Log parse_log(const std::string& content, const std::string& name, std::optional
 /// Reads a CSV in the same format with the given required numeric columns (e.g. a speed profile
 /// `time_s,speed_cm_s`), with the same checks (finite numbers, time never decreasing).
 Log read_table(const std::string& path, const std::vector<std::string>& columns, const ReadOptions& options = {});
+/// The robots a log's `robot` column names, in the order they first appear (empty when the log has
+/// no such column, or a `# robot:` line, which names the file's robot whatever the column says).
+std::vector<std::string> robot_column_names(const Log& log);
+/// A log whose `robot` column names several robots (robot_column_names: a logger that appends
+/// several robots' sessions to one CSV), as one log per robot: each that robot's rows (their
+/// numeric and text cells, lines and cell positions), `robot` that robot; the rows left out under
+/// skip_bad_rows stay with the first. Any other log is returned as it is.
+std::vector<Log> split_by_robot_column(Log log);
+
 /// Reads several logs; all must be of one kind, and no file may be given twice (compared by
 /// canonical path: `a.csv` and `./a.csv` are the same file).
 std::vector<Log> read_logs(const std::vector<std::string>& paths, std::optional<Kind> kind = std::nullopt,
