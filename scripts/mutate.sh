@@ -694,6 +694,7 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_probe_five",  # session 23: a fifth new user's probe's defects
                                  "test_probe_five_battery",  # session 23: a fifth new user's probe's battery defects
                                  "test_pooled_robots",  # session 24: replicates judged within a robot in pooled fits
+                                 "test_probe_six_battery",  # session 24: the sixth probe's battery defects
                                  ]
 
 

@@ -249,8 +249,15 @@ double analytic_charge(const SpeedFit& s, const BatteryFit& all, mb::Model m, do
       return mb::cubic_charge(p, t_s);
     }
     case mb::Model::approximated: {
+      // The model as written (segments M1..M4): the three fitted lines up to lifetime - 1 s,
+      // then M4, the 1-second drop from y3 to 0 at the lifetime, and 0 after it -- not the
+      // third line extended past the lifetime (a run that outlasts the mean lifetime would be
+      // compared with a charge below 0, which no model the tool writes gives).
       const auto& pw = s.piecewise;
-      const double x[4] = {0.0, pw.value("x1_s"), pw.value("x2_s"), s.lifetime_s - 1.0};
+      const double L = s.lifetime_s;
+      if (t_s >= L) return 0.0;
+      if (t_s > L - 1.0) return std::max(0.0, pw.value("y3") * (L - t_s));
+      const double x[4] = {0.0, pw.value("x1_s"), pw.value("x2_s"), L - 1.0};
       const double y[4] = {1.0, pw.value("y1"), pw.value("y2"), pw.value("y3")};
       return mb::polyline_charge(x, y, 4, t_s);
     }
