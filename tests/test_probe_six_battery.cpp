@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
+#include "epuck2/models/battery.hpp"
+#include "epuck2/models/plugin_battery_tables.hpp"
 
 namespace test_probe_six_battery_cpp {
 
@@ -89,6 +91,131 @@ TEST_F(ProbeSixBattery, ApproximatedMseIsTheWrittenModelsZeroAfterTheLifetime) {
   ASSERT_EQ(t5.exit_code, 0) << t5.err;
   const json table = json::parse(t5.out);
   EXPECT_NEAR(table.at("analytic").at("approximated").get<double>(), expected, 1e-6 * expected);
+}
+
+// ---- 12: fitted Cubic tables the plug-in's arithmetic never empties are said so --------------
+
+namespace mb = epuck2::models::battery;
+
+/// The probe's logs without the noise: two robots 35 % apart, robot a's lifetime 0.85 L and robot
+/// b's 1.15 L (L = 40000 - 1500 s seconds at s cm/s), each charge = q(t / its lifetime),
+/// q(u) = 1 - 0.8 u + 0.5 u^2 - 0.7 u^3, a row every 300 s and one at the stop time.
+std::string two_robot_run(int speed, double k) {
+  const double life = (40000.0 - 1500.0 * speed) * k;
+  const double stop = std::round(life * 10.0) / 10.0;
+  auto q = [&](double t) {
+    const double u = t / life;
+    return 1 - 0.8 * u + 0.5 * u * u - 0.7 * u * u * u;
+  };
+  std::ostringstream os;
+  os << "# robot: epuck-" << (k < 1 ? "a" : "b") << "\ntime_s,speed_cm_s,charge\n";
+  char line[96];
+  for (double t = 0; t < stop; t += 300.0) {
+    std::snprintf(line, sizeof line, "%.1f,%d,%.6f\n", t, speed, q(t));
+    os << line;
+  }
+  std::snprintf(line, sizeof line, "%.1f,%d,%.6f\n", stop, speed, q(stop));
+  os << line;
+  return os.str();
+}
+
+/// The plug-in's Cardano root of cubic(t) = y, written out again from docs/battery-models.md (the
+/// plug-in's source): new_d = d - y, d0 = b^2 - 3ac, d1 = 2b^3 - 9abc + 27a^2 new_d,
+/// C = cbrt((d1 + sqrt(d1^2 - 4 d0^3)) / 2), root = -(b + C + d0 / C) / (3a).
+double cardano_by_hand(double d, double c, double b, double a, double y) {
+  const double d0 = b * b - 3 * a * c;
+  const double d1 = 2 * b * b * b - 9 * a * b * c + 27 * a * a * (d - y);
+  const double C = std::cbrt((d1 + std::sqrt(d1 * d1 - 4 * d0 * d0 * d0)) / 2);
+  return -(b + C + d0 / C) / (3 * a);
+}
+
+// The probe's 7 cm/s table (its b2.json): from full charge the plug-in's root is clamped to 0, the
+// next charge is the cubic at 0.1 s, P(0.1) = d + 0.1 c + 0.01 b + 0.001 a = 0.98586588..., and
+// the root of P(0.1) is again not above 0 (by the formula written out here): every later tick
+// returns P(0.1). The plug-in's own tables (its source) do discharge, as every shipped fitted one.
+TEST_F(ProbeSixBattery, ArgosCubicRunStaysAtTheCubicAtOneTickForTheProbesTable) {
+  const double d = 0.9858676371512815, c = -1.7550987308084012e-05, b = -7.387490250364085e-10, a = 1.3568633027473773e-14;
+  const double p01 = d + 0.1 * c + 0.01 * b + 0.001 * a;
+  EXPECT_NEAR(p01, 0.98586588, 1e-8);
+  const double root1 = cardano_by_hand(d, c, b, a, 1.0), root2 = cardano_by_hand(d, c, b, a, p01);
+  EXPECT_FALSE(root1 > 0) << root1;
+  EXPECT_FALSE(root2 > 0) << root2;
+  const mb::ArgosCubicRun r = mb::argos_cubic_run(mb::CubicRow{d, c, b, a, 29500.0});
+  EXPECT_FALSE(r.discharges);
+  EXPECT_TRUE(r.stays);
+  EXPECT_NEAR(r.charge, p01, 1e-15);
+  EXPECT_NEAR(r.time_s, 0.2, 1e-12);  // tick 1 reaches P(0.1), tick 2 returns it again
+  // The plug-in's published tables: every speed discharges below 0.05 before its lifetime's end.
+  for (int s = 0; s < mb::kSpeedCount; ++s) {
+    const mb::ArgosCubicRun p = mb::argos_cubic_run(mb::plugin_tables().cubic[static_cast<std::size_t>(s)]);
+    EXPECT_TRUE(p.discharges) << s << " cm/s: " << p.charge;
+    EXPECT_LT(p.charge, 0.05) << s;
+  }
+  EXPECT_TRUE(mb::argos_cubic_stalls(mb::plugin_tables()).empty());
+}
+
+// The probe's case through the commands: battery (report and JSON `warnings`), table5 (beside the
+// ARGoS row, and its JSON `warnings`), codegen; and the plug-in arithmetic's own run (simulate
+// --compat argos) holds the charge at P(0.1) of the 0 cm/s table, computed here from its
+// coefficients. The shipped logs' tables discharge: no such warning anywhere.
+TEST_F(ProbeSixBattery, FrozenPluginCubicTablesAreSaidByBatteryTable5AndCodegen) {
+  std::string args;
+  for (int v = 0; v <= 15; ++v)
+    for (double k : {0.85, 1.15})
+      args += " \"" + write((k < 1 ? "roba_" : "robb_") + std::to_string(v) + ".csv", two_robot_run(v, k)) + "\"";
+  const std::string out = (dir_ / "b2.json").string();
+  const CliRun b = run("battery" + args + " -o \"" + out + "\"");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const std::string words = "the plug-in's arithmetic (behaviour \"argos\": Cardano's root, clamped at 0) never empties the Cubic table";
+  EXPECT_TRUE(has(b.out, "Warning: " + words)) << b.out.substr(0, 400);
+  EXPECT_TRUE(has(b.err, "battery: warning: " + words)) << b.err;
+  const json j = json::parse(slurp(out));
+  bool said = false;
+  for (const auto& w : j.at("warnings")) said = said || has(w.get<std::string>(), words);
+  EXPECT_TRUE(said) << j.at("warnings").dump();
+  // By hand at 0 cm/s: P(0.1) from the file's coefficients, and the formula's root there is not > 0.
+  const json& s0 = j.at("speeds").at(0);
+  ASSERT_EQ(s0.at("speed_cm_s").get<double>(), 0.0);
+  const double d = s0.at("cubic").at(0).get<double>(), c = s0.at("cubic").at(1).get<double>(),
+               bb = s0.at("cubic").at(2).get<double>(), a = s0.at("cubic").at(3).get<double>();
+  const double p01 = d + 0.1 * c + 0.01 * bb + 0.001 * a;
+  EXPECT_FALSE(cardano_by_hand(d, c, bb, a, p01) > 0);
+  char stays[96];
+  std::snprintf(stays, sizeof stays, "at 0 cm/s it stays at %.7g from 0.2 s on", p01);
+  EXPECT_TRUE(has(b.out, stays)) << stays << "\n" << b.out.substr(0, 400);
+  const std::string profile = write("p0.csv", "time_s,speed_cm_s\n0,0\n3000,0\n");
+  const std::string sim = (dir_ / "sim.csv").string();
+  const CliRun r = run("simulate battery --model cubic --compat argos --coefficients \"" + out + "\" --profile \"" + profile +
+                       "\" -o \"" + sim + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = slurp(sim);
+  const std::string last = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
+  EXPECT_NEAR(std::stod(last.substr(last.find(',') + 1)), p01, 1e-12) << last;
+
+  const std::string t5_json = (dir_ / "t5.json").string();
+  const CliRun t5 = run("table5" + args + " -o \"" + t5_json + "\"");
+  ASSERT_EQ(t5.exit_code, 0) << t5.err;
+  const std::size_t argos_row = t5.out.find("simulated, fitted tables (ARGoS)");
+  ASSERT_NE(argos_row, std::string::npos) << t5.out;
+  const std::size_t next_line = t5.out.find('\n', argos_row) + 1;
+  EXPECT_EQ(t5.out.compare(next_line, 20, "  ^ its Cubic cell: "), 0) << t5.out;
+  EXPECT_TRUE(has(t5.out, words)) << t5.out;
+  const json table = json::parse(slurp(t5_json));
+  ASSERT_EQ(table.at("warnings").size(), 1u);
+  EXPECT_TRUE(has(table.at("warnings").at(0).get<std::string>(), words));
+
+  const CliRun g = run("codegen \"" + out + "\" -o \"" + (dir_ / "h.hpp").string() + "\"");
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  EXPECT_TRUE(has(g.err, "codegen: warning: " + out + ": " + words)) << g.err;
+
+  // The shipped tables: none of it.
+  const CliRun gs = run("codegen \"" + std::string(EPUCK2_SOURCE_DIR) + "/data/fitted/battery.json\" -o \"" + (dir_ / "s.hpp").string() + "\"");
+  ASSERT_EQ(gs.exit_code, 0) << gs.err;
+  EXPECT_FALSE(has(gs.err, "never empties")) << gs.err;
+  const CliRun ts = run("table5 --json" + shipped("battery"));
+  ASSERT_EQ(ts.exit_code, 0) << ts.err;
+  const json shipped_table = json::parse(ts.out);
+  EXPECT_TRUE(shipped_table.at("warnings").empty()) << shipped_table.at("warnings").dump();
 }
 
 }  // namespace test_probe_six_battery_cpp

@@ -515,6 +515,16 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
       out.warnings.push_back(text);
     }
   }
+  // Tables the plug-in's own arithmetic cannot run (Cardano's root clamped at 0 from the first
+  // tick): said here, where they are written, as codegen, table5 and the ARGoS battery say it.
+  std::vector<mb::ArgosCubicStall> stalls;
+  for (const SpeedFit& s : out.speeds) {
+    if (!s.cubic.usable) continue;
+    const mb::CubicRow row{s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a"), s.lifetime_s};
+    const mb::ArgosCubicRun r = mb::argos_cubic_run(row);
+    if (!r.discharges) stalls.push_back({s.speed_cm_s, r});
+  }
+  if (!stalls.empty()) out.warnings.push_back(mb::argos_cubic_stall_text(stalls));
   if (!single_run.empty())
     out.warnings.push_back("one run at " + speeds_text(single_run) +
                            " cm/s: the lifetime's standard error needs two runs or more (written 0 there)");
