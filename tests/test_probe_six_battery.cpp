@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -314,6 +316,85 @@ TEST_F(ProbeSixBattery, DiagnoseBatteryLeavesOutWildChargesAndListsThem) {
   EXPECT_NEAR(j.at("noise_sd").get<double>(), noise_sd, 0.1 * noise_sd);
   EXPECT_NEAR(j.at("fit").at("final").at("mse").get<double>(), noise_sd * noise_sd, 0.3 * noise_sd * noise_sd) << j.at("fit").dump();
   EXPECT_TRUE(has(d.out, "Wild readings left out before the diagnosis: 3")) << d.out.substr(0, 600);
+}
+
+// ---- 02: simulate battery --like does not depend on the log's row spacing ---------------------
+
+/// A 7 cm/s log from 0 to 200 s, a row every `dt` s (the charge column only sets the full start).
+std::string spaced_log(double dt) {
+  std::ostringstream os;
+  os << "# robot: probe6\ntime_s,speed_cm_s,charge\n";
+  const int n = static_cast<int>(std::lround(200.0 / dt));
+  char line[96];
+  for (int k = 0; k <= n; ++k) {
+    std::snprintf(line, sizeof line, "%.10g,7,%.6f\n", k * dt, 1.0 - 1e-4 * k * dt);
+    os << line;
+  }
+  return os.str();
+}
+
+/// time -> charge of a simulated log's rows.
+std::vector<std::pair<double, double>> time_and_charge(const std::string& csv) {
+  std::vector<std::pair<double, double>> out;
+  std::istringstream in(csv);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || !(std::isdigit(static_cast<unsigned char>(line[0])) || line[0] == '-')) continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    out.emplace_back(std::stod(cells.at(0)), std::stod(cells.back()));
+  }
+  return out;
+}
+
+// The shipped fitted 7 cm/s Cubic (d 0.9462 < 1): the corrected start falls from 1 towards d with
+// the firmware filter's tau = 2.2407 s while discharging at the slope c, x' = -x / tau + c for the
+// excess x over d (docs/battery-models.md). By hand: x(t) = c tau + (1 - d - c tau) e^(-t/tau)
+// reaches 0 at t* = tau ln(1 + (1 - d)/(-c tau)) (about 11 s here), and the charge is P(t - t*)
+// after. The same run logged every 0.1 s and every 10 s gives that charge at every 10 s to 1e-9
+// (it was ~7 s of the curve apart: a 10-s log's first step crossed d with the decay and the slope
+// added separately).
+TEST_F(ProbeSixBattery, SimulateLikeBatteryChargeDoesNotDependOnRowSpacing) {
+  const json fitted = epuck2::testing::shipped_fitted("battery");
+  const json& s7 = fitted.at("speeds").at(7);
+  ASSERT_EQ(s7.at("speed_cm_s").get<double>(), 7.0);
+  const double d = s7.at("cubic").at(0).get<double>(), c = s7.at("cubic").at(1).get<double>(), b = s7.at("cubic").at(2).get<double>(),
+               a = s7.at("cubic").at(3).get<double>();
+  ASSERT_LT(d, 1.0);
+  const double tau = 2.2407, c_tau = c * tau;
+  const double t_star = tau * std::log(1.0 + (1.0 - d) / -c_tau);
+  EXPECT_GT(t_star, 10.0);  // inside the 10-s log's second step
+  EXPECT_LT(t_star, 12.0);
+  auto by_hand = [&](double t) {
+    if (t < t_star) return d + c_tau + (1.0 - d - c_tau) * std::exp(-t / tau);
+    const double u = t - t_star;
+    return ((a * u + b) * u + c) * u + d;
+  };
+  const std::string coefficients = std::string(EPUCK2_SOURCE_DIR) + "/data/fitted/battery.json";
+  std::vector<std::vector<std::pair<double, double>>> sims;
+  for (double dt : {0.1, 1.0, 10.0}) {
+    const std::string log = write("d" + std::to_string(dt) + ".csv", spaced_log(dt));
+    const std::string out = (dir_ / ("s" + std::to_string(dt) + ".csv")).string();
+    const CliRun r = run("simulate battery --like \"" + log + "\" --coefficients \"" + coefficients + "\" -o \"" + out + "\"");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    sims.push_back(time_and_charge(slurp(out)));
+    ASSERT_EQ(sims.back().size(), static_cast<std::size_t>(std::lround(200.0 / dt)) + 1) << dt;
+  }
+  int compared = 0;
+  for (const auto& [t, charge10] : sims[2]) {
+    EXPECT_NEAR(charge10, by_hand(t), 1e-9) << "10-s log at " << t << " s";
+    for (std::size_t k = 0; k < 2; ++k)
+      for (const auto& [tk, charge] : sims[k])
+        if (std::abs(tk - t) < 1e-9) {
+          EXPECT_NEAR(charge, charge10, 1e-9) << (k == 0 ? "0.1" : "1") << "-s log at " << t << " s";
+          ++compared;
+        }
+  }
+  EXPECT_EQ(compared, 42);  // 21 common times, two denser logs
+  // And inside the start, between the 10-s rows: the 0.1-s log at 5.0 s and 10.9 s.
+  for (const auto& [t, charge] : sims[0])
+    if (std::abs(t - 5.0) < 1e-9 || std::abs(t - 10.9) < 1e-9) EXPECT_NEAR(charge, by_hand(t), 1e-9) << t;
 }
 
 }  // namespace test_probe_six_battery_cpp

@@ -361,10 +361,24 @@ namespace corrected {
 inline constexpr double kFirmwareFilterTau_s = 2.2407;
 
 /// The cubic before its intercept: charge above d decays towards d with the firmware filter's
-/// time constant while discharging at the curve's initial slope c. Continuous from 1.0, and it
-/// does not delay the curve by the (1 - d)/|c| seconds a straight-line start would.
+/// time constant while discharging at the curve's initial slope c, x' = -x / tau + c for the
+/// excess x = charge - d. Continuous from 1.0, and it does not delay the curve by the (1 - d)/|c|
+/// seconds a straight-line start would. Solved exactly over the step, whatever its length:
+/// x(dt) = c tau + (x0 - c tau) e^(-dt/tau), and when that reaches d within the step (at
+/// t_c = tau ln((x0 - c tau) / (-c tau)); from full charge the curve starts t_c late) the rest of
+/// the step runs on the curve from its intercept, P(dt - t_c). So a run's charge at a time does not
+/// depend on how the time was cut into steps (a log's row spacing, a simulation's tick): one step
+/// of 10 s gives what 100 steps of 0.1 s give, to rounding.
 inline double start_transient_next(const CubicRow& q, double charge, double dt_s) {
-  return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s) + q.c * dt_s;
+  const double c_tau = q.c * kFirmwareFilterTau_s;
+  const double x0 = charge - q.d;
+  const double x = c_tau + (x0 - c_tau) * std::exp(-dt_s / kFirmwareFilterTau_s);
+  if (x > 0 || !(c_tau < 0)) return q.d + x;
+  const double t_c = kFirmwareFilterTau_s * std::log((x0 - c_tau) / -c_tau);
+  const double rest_s = std::max(0.0, dt_s - t_c);
+  if (rest_s >= q.end_s) return 0.0;
+  const double p[4] = {q.d, q.c, q.b, q.a};
+  return cubic_charge(p, rest_s);
 }
 
 /// True when the cubic decreases over all of [0, end] (its derivative, a quadratic, stays < 0).
