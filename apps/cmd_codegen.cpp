@@ -21,8 +21,10 @@ struct CodegenOptions {
 int run_codegen(const CodegenOptions& o) {
   // The header is made, and every file validated, by the coefficient file's owner
   // (lib/coefficients codegen.hpp); here only the options and the write.
-  const std::string header = coefficients::header_cpp(o.inputs, o.output);
+  std::vector<std::string> warnings;
+  const std::string header = coefficients::header_cpp(o.inputs, o.output, &warnings);
   logs::write_file_atomically(o.output, header);
+  for (const auto& w : warnings) std::cerr << "codegen: warning: " << w << '\n';
   std::cerr << "codegen: wrote " << o.output << '\n';
   return 0;
 }

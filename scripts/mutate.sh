@@ -696,6 +696,7 @@ R19_TESTS = list(R18_TESTS) + ["test_round_nineteen",  # written during round 19
                                  "test_pooled_robots",  # session 24: replicates judged within a robot in pooled fits
                                  "test_probe_six",  # session 24: a sixth new user's probe's defects (the lead's share)
                                  "test_probe_six_robots",  # session 24: a sixth new user's probe's several-robots defects
+                                 "test_probe_six_battery",  # session 24: the sixth probe's battery defects
                                  ]
 
 
@@ -817,7 +818,7 @@ MUTANTS = [
     ("diagnose_heldout_gate_ignored", DE_S, "const bool gain = t.heldout_mse <= current_h_.all * (1.0 - o_.min_heldout_gain);", "const bool gain = true;", DIAGNOSE),
     ("diagnose_bic_gate_ignored", DE_S, "if (t.delta_bic <= -o_.min_delta_bic) passing", "if (true) passing", DIAGNOSE),
     ("diagnose_structure_or", DE_RS, "s.significant = s.score >= threshold && chi2 > chi2_critical(df1);", "s.significant = s.score >= threshold || chi2 > chi2_critical(df1);", DIAGNOSE),
-    ("battery_transient_no_slope", B, "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s) + q.c * dt_s;", "return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s);", BATTERY),
+    ("battery_transient_no_slope", B, "const double c_tau = q.c * kFirmwareFilterTau_s;", "const double c_tau = 0.0 * kFirmwareFilterTau_s;", BATTERY),
     # Issue #22's fresh slips (bench/fresh-slips.md):
     ("cap_right_uses_left", FS_D, "r = std::clamp(vr[i] / 100.0, -cap, cap);", "r = std::clamp(vl[i] / 100.0, -cap, cap);", CAP),
     ("cap_reverse_uncapped", FS_D, "const double l = std::clamp(vl[i] / 100.0, -cap, cap),", "const double l = std::min(vl[i] / 100.0, cap),", CAP),

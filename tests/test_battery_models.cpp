@@ -102,7 +102,10 @@ TEST(BatteryCorrected, StartsContinuouslyFromFullCharge) {
   const auto s = run_battery_models(mb::Model::cubic, mb::Behaviour::corrected, {{0.0, 7.0}, {40.0, 7.0}});
   const mb::CubicRow& q = mb::plugin_tables().cubic[7];
   const double first_drop = 1.0 - s[1].charge;
-  EXPECT_NEAR(first_drop, (1.0 - q.d) * (1.0 - std::exp(-0.1 / mb::corrected::kFirmwareFilterTau_s)) - q.c * 0.1, 1e-12);
+  // x' = -x / tau + c for the excess x over d, from x0 = 1 - d: after 0.1 s the charge has fallen
+  // by (1 - d - c tau) (1 - exp(-0.1 / tau)).
+  const double tau = mb::corrected::kFirmwareFilterTau_s;
+  EXPECT_NEAR(first_drop, (1.0 - q.d - q.c * tau) * (1.0 - std::exp(-0.1 / tau)), 1e-12);
   for (std::size_t k = 1; k < s.size(); ++k) EXPECT_LT(s[k - 1].charge - s[k].charge, 0.01) << "tick " << k;
   const double p[4] = {q.d, q.c, q.b, q.a};
   EXPECT_NEAR(s[300].charge, mb::cubic_charge(p, 30.0), 2e-3);

@@ -116,9 +116,14 @@ TEST(HandComputed, CorrectedBatteryFilterFollowsTheFirmwareAverage) {
   EXPECT_NEAR(mb::corrected::start_transient_next(q, 1.0, 5.0), 0.91073741824, 1e-6);
   // One update (0.5 s): 0.9 + 0.1 * 0.8 = 0.98.
   EXPECT_NEAR(mb::corrected::start_transient_next(q, 1.0, 0.5), 0.98, 1e-6);
-  // The slope adds c dt: c = -1e-4 per s over 5 s is -5e-4.
+  // The slope c while the excess decays (x' = -x / tau + c, solved over the step): it adds
+  // c tau (1 - 0.8^10) = -1e-4 * 2.2407 * 0.8926258176 = -2.0001e-4 over 5 s (not c dt = -5e-4,
+  // which would make 5 s in one step differ from 50 steps of 0.1 s).
   q.c = -1e-4;
-  EXPECT_NEAR(mb::corrected::start_transient_next(q, 1.0, 5.0), 0.91073741824 - 5e-4, 1e-6);
+  EXPECT_NEAR(mb::corrected::start_transient_next(q, 1.0, 5.0), 0.91073741824 - 2.0001e-4, 1e-6);
+  double charge = 1.0;
+  for (int k = 0; k < 50; ++k) charge = mb::corrected::start_transient_next(q, charge, 0.1);
+  EXPECT_NEAR(charge, 0.91073741824 - 2.0001e-4, 1e-6);
 }
 
 // ----- Fits to data written out here ---------------------------------------------------------

@@ -159,6 +159,22 @@ class CEPuck2BatteryDischargeModelCalibrated : public CEPuck2BatteryDischargeMod
       if (m_sCapacity.k != 1.0) os << "; capacity scale " << m_sCapacity.k << " (lifetimes x " << m_sCapacity.k << ")";
       LOG << "[INFO] " << os.str() << std::endl;
     }
+    /* Cubic tables the plug-in's own arithmetic never empties (Cardano's root clamped at 0 from
+       the first tick): a battery that never runs down, said once per file and tables, as
+       `epuck2-fit battery` said when it wrote them (lib/models battery.hpp, argos_cubic_stalls) */
+    if (m_eBehaviour == mb::Behaviour::argos_compatible && m_eModel == mb::Model::cubic) {
+      static std::set<std::string> setWarned;
+      if (setWarned.insert(strKey).second) {
+        const Real fTick = CPhysicsEngine::GetSimulationClockTick();
+        const double fDt = (fTick > 0 ? fTick : 0.1) / (m_sCapacity.k > 0 ? m_sCapacity.k : 1.0);
+        const auto vecStalls = mb::argos_cubic_stalls(*m_pcTables, fDt);
+        if (!vecStalls.empty()) {
+          LOGERR << "[WARNING] calibrated battery: " << (strPath.empty() ? std::string("no file") : strPath) << ": "
+                 << mb::argos_cubic_stall_text(vecStalls, fDt) << std::endl;
+          LOGERR.Flush();
+        }
+      }
+    }
   }
 
   void SetBattery(CEPuck2BatteryEquippedEntity* pc_battery) override {

@@ -249,8 +249,15 @@ double analytic_charge(const SpeedFit& s, const BatteryFit& all, mb::Model m, do
       return mb::cubic_charge(p, t_s);
     }
     case mb::Model::approximated: {
+      // The model as written (segments M1..M4): the three fitted lines up to lifetime - 1 s,
+      // then M4, the 1-second drop from y3 to 0 at the lifetime, and 0 after it -- not the
+      // third line extended past the lifetime (a run that outlasts the mean lifetime would be
+      // compared with a charge below 0, which no model the tool writes gives).
       const auto& pw = s.piecewise;
-      const double x[4] = {0.0, pw.value("x1_s"), pw.value("x2_s"), s.lifetime_s - 1.0};
+      const double L = s.lifetime_s;
+      if (t_s >= L) return 0.0;
+      if (t_s > L - 1.0) return std::max(0.0, pw.value("y3") * (L - t_s));
+      const double x[4] = {0.0, pw.value("x1_s"), pw.value("x2_s"), L - 1.0};
       const double y[4] = {1.0, pw.value("y1"), pw.value("y2"), pw.value("y3")};
       return mb::polyline_charge(x, y, 4, t_s);
     }
@@ -508,6 +515,16 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
       out.warnings.push_back(text);
     }
   }
+  // Tables the plug-in's own arithmetic cannot run (Cardano's root clamped at 0 from the first
+  // tick): said here, where they are written, as codegen, table5 and the ARGoS battery say it.
+  std::vector<mb::ArgosCubicStall> stalls;
+  for (const SpeedFit& s : out.speeds) {
+    if (!s.cubic.usable) continue;
+    const mb::CubicRow row{s.cubic.value("d"), s.cubic.value("c"), s.cubic.value("b"), s.cubic.value("a"), s.lifetime_s};
+    const mb::ArgosCubicRun r = mb::argos_cubic_run(row);
+    if (!r.discharges) stalls.push_back({s.speed_cm_s, r});
+  }
+  if (!stalls.empty()) out.warnings.push_back(mb::argos_cubic_stall_text(stalls));
   if (!single_run.empty())
     out.warnings.push_back("one run at " + speeds_text(single_run) +
                            " cm/s: the lifetime's standard error needs two runs or more (written 0 there)");

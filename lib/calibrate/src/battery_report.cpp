@@ -185,6 +185,7 @@ Table5 table5(const std::vector<BatteryRun>& runs, const BatteryFit& f, std::siz
   t.coverage = speed_coverage(f);
   t.analytic = f.mse;
   t.simulated = simulated_mse(runs, *f.tables, mb::Behaviour::argos_compatible, tick_s);
+  t.argos_cubic_stalls = mb::argos_cubic_stalls(*f.tables, tick_s);
   t.simulated_corrected = simulated_mse(runs, *f.tables, mb::Behaviour::corrected, tick_s);
   t.plugin_tables_simulated = simulated_mse(runs, mb::plugin_tables(), mb::Behaviour::argos_compatible, tick_s);
   t.published_analytic = paper_table5_analytic();
@@ -214,6 +215,8 @@ nlohmann::json table5_json(const Table5& t) {
       {"plugin_tables_simulated", as_json(t.plugin_tables_simulated)},
       {"published", {{"analytic", as_json(pa)}, {"argos", as_json(pg)}}},
       {"ratio_to_published", {{"analytic", ratio_a}, {"simulated", ratio_s}}},
+      {"warnings", t.argos_cubic_stalls.empty() ? nlohmann::json::array()
+                                                : nlohmann::json::array({"simulated cubic: " + mb::argos_cubic_stall_text(t.argos_cubic_stalls, t.tick_s)})},
   };
 }
 
@@ -229,6 +232,9 @@ std::string table5_text(const Table5& t) {
   row("analytic (fitted to these logs)", t.analytic);
   row("paper, analytic", pa);
   row("simulated, fitted tables (ARGoS)", t.simulated);
+  // The ARGoS row's Cubic cell when the plug-in's arithmetic cannot run these tables: said beside it.
+  if (!t.argos_cubic_stalls.empty())
+    out("  ^ its Cubic cell: %s\n", mb::argos_cubic_stall_text(t.argos_cubic_stalls, t.tick_s).c_str());
   row("paper, ARGoS", pg);
   row("simulated, fitted, corrected", t.simulated_corrected);
   row("simulated, plug-in's tables", t.plugin_tables_simulated);

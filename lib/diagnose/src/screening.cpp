@@ -49,7 +49,7 @@ logs::Log without_rows(const logs::Log& log, const std::vector<bool>& drop) {
 }
 
 namespace {
-// Sequences (drive logs), not replicates: a reading is a spike when it stands far from the line
+// Sequences (drive and battery logs), not replicates: a reading is a spike when it stands far from the line
 // through its two neighbours (d_i = y_i - (y_{i-1} + y_{i+1}) / 2) compared with how far the
 // run's readings usually stand (1.4826 MAD of d), by at least the kind's screening floor. Only
 // rows whose conditions (the commands) repeat the previous row's are dropped, so that no command

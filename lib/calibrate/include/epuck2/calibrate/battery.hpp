@@ -141,7 +141,8 @@ inline constexpr double kBatteryRejectSd = 6.0;
 BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& options = {},
                        double reject_sd = kBatteryRejectSd);
 
-/// The four models' analytic charge at time t for one speed's fit.
+/// The four models' analytic charge at time t for one speed's fit: Simple and Linear clamped at 0,
+/// Approximated as its segments M1..M4 are written (0 from the lifetime on, after M4's drop).
 double analytic_charge(const SpeedFit& s, const BatteryFit& all, models::battery::Model m, double t_s);
 
 /// Runs a runtime model over each log's own speed profile at `dt` from full charge and returns

@@ -32,6 +32,9 @@ struct Table5 {
   double tick_s = 0.1;
   SpeedCoverage coverage;
   ModelMse analytic, simulated, simulated_corrected, plugin_tables_simulated, published_analytic, published_argos;
+  /// The fitted Cubic tables the plug-in's arithmetic never empties at tick_s
+  /// (models::battery::argos_cubic_stalls): the `simulated` Cubic cell runs a battery stuck there.
+  std::vector<models::battery::ArgosCubicStall> argos_cubic_stalls;
 };
 
 /// Table 5 of `runs`, fitted as `f` (which must have its tables: f.tables), from `logs` logs.

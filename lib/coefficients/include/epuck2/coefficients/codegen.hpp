@@ -38,7 +38,10 @@ std::string parameters_to_cpp(const nlohmann::json& j, const std::string& path, 
 /// The whole header `epuck2-fit codegen INPUTS -o OUTPUT` writes: each input's name and FNV-1a
 /// 64-bit hash, the logs it was fitted from, its constants (parameters_to_cpp) and its model
 /// (model_to_cpp), one file per kind. Errors are logs::InputError located in the input.
-std::string header_cpp(const std::vector<std::string>& inputs, const std::string& output);
+/// `warnings`, when given, receives what the header's models hold that a user should know: a
+/// battery file's Cubic tables the plug-in's arithmetic never empties (models::battery::argos_cubic_stalls).
+std::string header_cpp(const std::vector<std::string>& inputs, const std::string& output,
+                       std::vector<std::string>* warnings = nullptr);
 
 /// A double as C++ source that reads back to the same value (shortest round trip).
 std::string cpp_number(double v);

@@ -20,7 +20,10 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace epuck2::models::battery {
 
@@ -266,6 +269,87 @@ inline double step(Model model, const Tables& t, double charge, double delta_pos
 }  // namespace argos
 
 // ---------------------------------------------------------------------------------------------
+// Does the plug-in's arithmetic discharge a Cubic table? (docs/battery-models.md)
+// ---------------------------------------------------------------------------------------------
+
+/// What the plug-in's Cubic arithmetic does with one speed's table from full charge, at that
+/// table's own speed (argos::step there is max(0, argos::cubic_next) on that row), in ticks of dt_s.
+struct ArgosCubicRun {
+  bool discharges = true;  ///< the charge fell below `below` within two lifetimes (2 end_s)
+  bool stays = false;      ///< it did not, and a tick left it unchanged: it stays there for good
+  double charge = 1.0;     ///< the charge where the run stopped (below `below`, or where it stuck)
+  double time_s = 0.0;     ///< when it got there
+};
+
+/// Runs the plug-in's arithmetic (argos::cubic_next, unchanged) from charge 1 until the charge is
+/// below `below` (it discharges), a tick leaves it unchanged (a fixed point: every later tick
+/// returns it again), or two lifetimes have passed. Cardano's closed form gives a root of the
+/// wrong sign, or NaN, for some fitted coefficient sets (e.g. b < 0 at every speed, as a pooled
+/// fit of two robots 35 % apart gives): the root is clamped to 0 and every tick returns the
+/// cubic's value at dt, P(dt), again -- a battery that never empties.
+inline ArgosCubicRun argos_cubic_run(const CubicRow& q, double dt_s = 0.1, double below = 0.05) {
+  ArgosCubicRun r;
+  if (!(dt_s > 0)) return r;
+  double charge = 1.0;
+  for (long long k = 1;; ++k) {
+    const double t = static_cast<double>(k) * dt_s;
+    const double next = std::max(0.0, argos::cubic_next(q, charge, dt_s));
+    r.charge = next;
+    r.time_s = t;
+    if (next < below) return r;
+    if (next == charge || t >= 2.0 * q.end_s) {
+      r.discharges = false;
+      r.stays = next == charge;
+      return r;
+    }
+    charge = next;
+  }
+}
+
+/// One speed whose Cubic table the plug-in's arithmetic does not discharge.
+struct ArgosCubicStall {
+  double speed_cm_s = 0;
+  ArgosCubicRun run;
+};
+
+/// The speeds 0..15 of `t` whose Cubic table argos_cubic_run does not discharge.
+inline std::vector<ArgosCubicStall> argos_cubic_stalls(const Tables& t, double dt_s = 0.1, double below = 0.05) {
+  std::vector<ArgosCubicStall> out;
+  for (int s = 0; s < kSpeedCount; ++s) {
+    const ArgosCubicRun r = argos_cubic_run(t.cubic[static_cast<std::size_t>(s)], dt_s, below);
+    if (!r.discharges) out.push_back({static_cast<double>(s), r});
+  }
+  return out;
+}
+
+/// The words every reader of such tables says (battery, table5, codegen, the ARGoS battery at
+/// Init): "" when every table discharges.
+inline std::string argos_cubic_stall_text(const std::vector<ArgosCubicStall>& stalls, double dt_s = 0.1) {
+  if (stalls.empty()) return "";
+  std::string speeds, where;
+  char buf[160];
+  for (std::size_t i = 0; i < stalls.size(); ++i) {
+    const ArgosCubicStall& s = stalls[i];
+    std::snprintf(buf, sizeof buf, "%s%g", i == 0 ? "" : ", ", s.speed_cm_s);
+    speeds += buf;
+    if (s.run.stays)
+      std::snprintf(buf, sizeof buf, "%sat %g cm/s it stays at %.7g from %g s on", i == 0 ? "" : "; ", s.speed_cm_s, s.run.charge,
+                    s.run.time_s);
+    else
+      std::snprintf(buf, sizeof buf, "%sat %g cm/s it is still %.7g after two lifetimes (%g s)", i == 0 ? "" : "; ",
+                    s.speed_cm_s, s.run.charge, s.run.time_s);
+    if (i < 4) where += buf;
+  }
+  if (stalls.size() > 4) where += "; ...";
+  std::snprintf(buf, sizeof buf, "%g", dt_s);
+  return "the plug-in's arithmetic (behaviour \"argos\": Cardano's root, clamped at 0) never empties the Cubic table at " + speeds +
+         " cm/s: from full charge, in ticks of " + buf + " s, the charge stops falling: " + where +
+         " (the root of the charge comes out below 0 or not a number and is clamped to t = 0); a battery with these "
+         "tables in behaviour \"argos\" and model cubic never runs down: use behaviour \"corrected\" or another model";
+}
+
+
+// ---------------------------------------------------------------------------------------------
 // Corrected behaviour
 // ---------------------------------------------------------------------------------------------
 namespace corrected {
@@ -277,10 +361,24 @@ namespace corrected {
 inline constexpr double kFirmwareFilterTau_s = 2.2407;
 
 /// The cubic before its intercept: charge above d decays towards d with the firmware filter's
-/// time constant while discharging at the curve's initial slope c. Continuous from 1.0, and it
-/// does not delay the curve by the (1 - d)/|c| seconds a straight-line start would.
+/// time constant while discharging at the curve's initial slope c, x' = -x / tau + c for the
+/// excess x = charge - d. Continuous from 1.0, and it does not delay the curve by the (1 - d)/|c|
+/// seconds a straight-line start would. Solved exactly over the step, whatever its length:
+/// x(dt) = c tau + (x0 - c tau) e^(-dt/tau), and when that reaches d within the step (at
+/// t_c = tau ln((x0 - c tau) / (-c tau)); from full charge the curve starts t_c late) the rest of
+/// the step runs on the curve from its intercept, P(dt - t_c). So a run's charge at a time does not
+/// depend on how the time was cut into steps (a log's row spacing, a simulation's tick): one step
+/// of 10 s gives what 100 steps of 0.1 s give, to rounding.
 inline double start_transient_next(const CubicRow& q, double charge, double dt_s) {
-  return q.d + (charge - q.d) * std::exp(-dt_s / kFirmwareFilterTau_s) + q.c * dt_s;
+  const double c_tau = q.c * kFirmwareFilterTau_s;
+  const double x0 = charge - q.d;
+  const double x = c_tau + (x0 - c_tau) * std::exp(-dt_s / kFirmwareFilterTau_s);
+  if (x > 0 || !(c_tau < 0)) return q.d + x;
+  const double t_c = kFirmwareFilterTau_s * std::log((x0 - c_tau) / -c_tau);
+  const double rest_s = std::max(0.0, dt_s - t_c);
+  if (rest_s >= q.end_s) return 0.0;
+  const double p[4] = {q.d, q.c, q.b, q.a};
+  return cubic_charge(p, rest_s);
 }
 
 /// True when the cubic decreases over all of [0, end] (its derivative, a quadratic, stays < 0).

@@ -289,7 +289,12 @@ inline const KindFacts* kind_facts(const std::string& kind) {
        {"charge"},
        {"speed_cm_s"},
        {"voltage_v"},
-       {Screening::How::none},
+       // A discharge run is a sequence, as a drive run: a charge spike of at least 0.1 from the
+       // line through its neighbours (well above a gauge's ~0.01 of noise, and above the start's
+       // drop from full to the curve's intercept, which is halved in that line) is wild; the
+       // calibration leaves out the same readings by their distance from the speed's cubic
+       // (docs/fitting.md).
+       {Screening::How::spikes, {"charge"}, 0.1},
        {{"speed_cm_s", -1e3, 1e3, "a speed in [-1000, 1000] cm/s"},
         {"charge", -1.0, 1.05, "a normalised charge in [-1, 1.05]"},
         {"voltage_v", 0.0, 10.0, "a voltage in [0, 10] V"}},
