@@ -94,9 +94,10 @@ def expected(folder):
         out["drive_left_steps_%d" % k] = (p["steps_per_m"] * v * t, 0.0, "floor")
 
     # Battery, corrected Cubic at a table speed (docs/battery-models.md): above the curve's
-    # intercept d the charge falls towards d with the firmware filter's time constant while
-    # discharging at the curve's initial slope c, d + (charge - d) exp(-dt/tau) + c dt; at or below
-    # d it follows the curve charge(t) = a t^3 + b t^2 + c t + d from the time it reads the charge.
+    # intercept d the excess x = charge - d follows x' = -x/tau + c (the firmware filter's time
+    # constant, the curve's initial slope c): from full, x(t) = c tau + (1 - d - c tau) e^(-t/tau),
+    # in closed form whatever the ticks; it reaches 0 at t* = tau ln((1 - d - c tau)/(-c tau)), and
+    # from there the charge is the curve a t^3 + b t^2 + c t + d at t - t* (0 past the lifetime).
     j = load(folder, "battery")
     row = next(s for s in j["speeds"] if abs(s["speed_cm_s"] - 5.0) < 1e-9)
     d0, c1, b2, a3 = row["cubic"]
@@ -105,29 +106,15 @@ def expected(folder):
     def cubic(t):
         return ((a3 * t + b2) * t + c1) * t + d0
 
-    def time_of(charge):  # the first crossing on [0, end]: the cubic decreases there
-        lo, hi = 0.0, end
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            if cubic(mid) > charge:
-                lo = mid
-            else:
-                hi = mid
-        return 0.5 * (lo + hi)
-
-    dt = 0.1
-    charge, tick = 1.0, 0
-    checkpoints = {1: None, 600: None, 36000: None}
-    while tick < 36000 and charge > d0:
-        charge = d0 + (charge - d0) * math.exp(-dt / FIRMWARE_FILTER_TAU_S) + c1 * dt
-        tick += 1
-        if tick in checkpoints:
-            checkpoints[tick] = charge
-    t0 = time_of(charge) if charge <= d0 else 0.0
-    for n in checkpoints:
-        if checkpoints[n] is None:
-            t = t0 + (n - tick) * dt
-            checkpoints[n] = cubic(t) if t < end else 0.0
+    c_tau = c1 * FIRMWARE_FILTER_TAU_S
+    t_star = FIRMWARE_FILTER_TAU_S * math.log((1.0 - d0 - c_tau) / -c_tau)
+    checkpoints = {}
+    for n in (1, 600, 36000):
+        t = 0.1 * n
+        if t < t_star:
+            checkpoints[n] = d0 + c_tau + (1.0 - d0 - c_tau) * math.exp(-t / FIRMWARE_FILTER_TAU_S)
+        else:
+            checkpoints[n] = cubic(t - t_star) if t - t_star < end else 0.0
     for n, value in checkpoints.items():
         out["battery_charge_%d" % n] = (value, 1e-6, "value")
     return out

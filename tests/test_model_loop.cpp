@@ -484,13 +484,16 @@ TEST_F(SimulateLike, BatteryLikeRunsTheLogsSpeedsAndTimesAndLeavesItsVoltageOut)
   const Csv out = parse_loop(r.out);
   EXPECT_EQ(out.header, (std::vector<std::string>{"time_s", "speed_cm_s", "charge"}));
   // A first reading >= 0.9 is the run's full charge; then the plug-in's Cubic at 5 cm/s, whose
-  // curve (d + c t + b t^2 + a t^3, the plug-in's published row) it follows after the firmware
-  // filter's few seconds.
+  // curve (d + c t + b t^2 + a t^3, the plug-in's published row) it follows from the moment the
+  // firmware filter's start x' = -x/tau + c (from 1 - d above the curve) reaches it, t* = tau
+  // ln(1 + (1 - d)/(-c tau)) (docs/battery-models.md), whatever the log's row spacing.
   const auto charge = values(out, {"charge"});
   ASSERT_EQ(charge.size(), 3u);
   EXPECT_EQ(charge[0], 1.0);
-  const double t = 200, q[4] = {0.9603929712, -1.9429015609e-04, 3.4602913169e-08, -2.5372952124e-12};
-  EXPECT_NEAR(charge[2], q[0] + q[1] * t + q[2] * t * t + q[3] * t * t * t, 1e-3);
+  const double q[4] = {0.9603929712, -1.9429015609e-04, 3.4602913169e-08, -2.5372952124e-12};
+  const double tau = 2.2407, t_star = tau * std::log(1 + (1 - q[0]) / (-q[1] * tau)), t = 200 - t_star;
+  EXPECT_NEAR(t_star, 10.13, 0.01);
+  EXPECT_NEAR(charge[2], q[0] + q[1] * t + q[2] * t * t + q[3] * t * t * t, 1e-6);
   // The two modes' options do not mix.
   const std::string profile = write("p.csv", "time_s,speed_cm_s\n0,5\n10,0\n");
   EXPECT_EQ(run("simulate battery --like \"" + log + "\" --profile \"" + profile + "\"").exit_code, 2);
