@@ -252,4 +252,36 @@ TEST_F(ProbeSix, SensorOffsetIsRelativeToTheLowestNumberedSensor) {
   EXPECT_NEAR(o.at(2).get<double>(), 30.0, 2.0) << o.dump();
 }
 
+
+
+namespace round_twenty_two {
+
+// Round 22's survivor (bench/fresh-slips.md): the drive diagnosis leaves out a ToF spike only when
+// it stands more than 8 robust sd of the run's deviations from the line through its neighbours
+// AND more than the 50 mm floor (docs/fitting.md, "Wild readings"). A run whose ToF steps 5 mm a
+// row with a +-1 mm wobble (typical deviation about 1.5 mm: 8 sd about 12 mm) and two bumps: +20 mm
+// at row 15 (beyond 8 sd, under the floor: kept) and +70 mm at row 30 (beyond both: left out).
+TEST_F(ProbeSix, ADriveSpikeMustClearTheFloorAsWellAsEightSd) {
+  std::string text = "# robot: d1\n# obstacle_distance_m: 0.3\ntime_s,left_speed_cm_s,right_speed_cm_s,left_steps,right_steps,tof_mm\n";
+  char line[128];
+  for (int i = 0; i <= 40; ++i) {
+    const double t = 0.1 * i, travel = 0.05 * t;
+    const long steps = std::lround(travel * 7763.656);
+    long tof = std::lround(1000 * (0.3 - travel)) + (i % 3) - 1;
+    if (i == 15) tof += 20;
+    if (i == 30) tof += 70;
+    std::snprintf(line, sizeof line, "%.1f,5,5,%ld,%ld,%ld\n", t, steps, steps, tof);
+    text += line;
+  }
+  const std::string log = write("spikes.csv", text);
+  const std::string out = (dir_ / "s.json").string();
+  const CliRun r = run("diagnose \"" + log + "\" -o \"" + out + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(slurp(out));
+  const std::vector<std::string> rows = j.at("outliers").at("rows").get<std::vector<std::string>>();
+  ASSERT_EQ(rows.size(), 1u) << j.at("outliers").dump();
+  EXPECT_TRUE(has(rows[0], log + ":34: tof_mm")) << rows[0];  // row 30: three lines before the first row
+}
+
+}  // namespace round_twenty_two
 }  // namespace test_probe_six_cpp
