@@ -262,11 +262,7 @@ std::vector<logs::Log> select_robot(std::vector<logs::Log> all, const std::strin
     if (std::find(names.begin(), names.end(), l.robot) == names.end()) names.push_back(l.robot);
     if (l.robot == robot) out.push_back(std::move(l));
   }
-  if (out.empty()) {
-    std::string list;
-    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw UsageError("--robot " + robot + ": no log of that robot; these logs are of " + list);
-  }
+  if (out.empty()) throw UsageError("--robot " + robot + ": no log of that robot; these logs are of " + join(names));
   return out;
 }
 

@@ -1,12 +1,8 @@
 // epuck2-fit battery LOGS...: fits the paper's four discharge models per speed; human report,
 // --json, -o coefficient file (atomic), --plot and --plot-lifetime figures (PNG, SVG or PDF).
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
-#include <limits>
-#include <map>
-#include <utility>
 
 #include "app_support.hpp"
 #include "battery_input.hpp"
@@ -38,60 +34,10 @@ struct BatteryOptions {
   std::string robot;  ///< --robot: fit only this robot's logs
 };
 
-/// Runs of more than one robot: battery pools them (one table per speed over every run) and does
-/// not fit or compare the robots one by one, as the sensor fits do (docs/fitting.md, "Several
-/// robots"). Said with the robots' mean run lifetimes (their last rows' times) at the speed where
-/// they differ most, so that robots whose batteries differ are seen; "" for one robot.
-std::string pooled_robots_warning(const std::vector<calibrate::BatteryRun>& runs) {
-  std::vector<std::string> robots;
-  for (const auto& r : runs)
-    if (std::find(robots.begin(), robots.end(), r.robot) == robots.end()) robots.push_back(r.robot);
-  if (robots.size() < 2) return std::string();
-  // Per speed (to 0.01 cm/s, as the fit groups runs) and robot: the sum and count of lifetimes.
-  std::map<long, std::map<std::string, std::pair<double, int>>> lifetimes;
-  for (const auto& r : runs) {
-    auto& cell = lifetimes[std::lround(r.speed_cm_s * 100)][r.robot];
-    cell.first += r.lifetime_s;
-    ++cell.second;
-  }
-  double worst = 0;
-  std::string worst_text;
-  for (const auto& [speed, per_robot] : lifetimes) {
-    if (per_robot.size() < 2) continue;
-    double lo = std::numeric_limits<double>::infinity(), hi = 0;
-    std::string text;
-    for (const std::string& robot : robots) {
-      const auto it = per_robot.find(robot);
-      if (it == per_robot.end()) continue;
-      const double mean = it->second.first / it->second.second;
-      lo = std::min(lo, mean);
-      hi = std::max(hi, mean);
-      char part[64];
-      std::snprintf(part, sizeof part, " %.0f s", mean);
-      text += (text.empty() ? "" : ", ") + robot + part;
-    }
-    if (lo > 0 && hi / lo - 1 >= worst) {
-      worst = hi / lo - 1;
-      char at[32];
-      std::snprintf(at, sizeof at, "%g cm/s: ", static_cast<double>(speed) / 100);
-      worst_text = at + text;
-    }
-  }
-  std::string w = "the logs come from " + std::to_string(robots.size()) + " robots (" + join(robots) +
-                  "), pooled: battery fits one table per speed over all their runs and does not fit or compare the robots one "
-                  "by one (the file has no `robots` and no `robot_spread`)";
-  if (!worst_text.empty()) {
-    char pct[32];
-    std::snprintf(pct, sizeof pct, "%.1f %%", 100 * worst);
-    w += std::string("; their mean run lifetimes differ by up to ") + pct + " at one speed (" + worst_text + ")";
-  }
-  return w + ". --robot ID fits one robot's logs alone.";
-}
-
 int run_battery(const BatteryOptions& o) {
   const BatteryInput in = read_battery_input("battery", o.logs, o.skip_bad_rows, o.charge_map, true, o.robot);
   const auto& runs = in.runs;
-  const std::string robots_warning = pooled_robots_warning(runs);
+  const std::string robots_warning = calibrate::pooled_robots_warning(runs);
   if (!o.plot_charge_map.empty() && !in.map)
     throw UsageError("--plot-charge-map: there is no voltage->charge map to draw (no log has both charge and voltage_v, and no --charge-map)");
   fit::FitOptions options;

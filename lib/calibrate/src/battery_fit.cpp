@@ -558,6 +558,54 @@ BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& op
   return out;
 }
 
+std::string pooled_robots_warning(const std::vector<BatteryRun>& runs) {
+  std::vector<std::string> robots;
+  for (const auto& r : runs)
+    if (std::find(robots.begin(), robots.end(), r.robot) == robots.end()) robots.push_back(r.robot);
+  if (robots.size() < 2) return std::string();
+  // Per speed (to 0.01 cm/s, as the fit groups runs) and robot: the sum and count of lifetimes.
+  std::map<long, std::map<std::string, std::pair<double, int>>> lifetimes;
+  for (const auto& r : runs) {
+    auto& cell = lifetimes[std::lround(r.speed_cm_s * 100)][r.robot];
+    cell.first += r.lifetime_s;
+    ++cell.second;
+  }
+  double worst = 0;
+  std::string worst_text;
+  for (const auto& [speed, per_robot] : lifetimes) {
+    if (per_robot.size() < 2) continue;
+    double lo = std::numeric_limits<double>::infinity(), hi = 0;
+    std::string text;
+    for (const std::string& robot : robots) {
+      const auto it = per_robot.find(robot);
+      if (it == per_robot.end()) continue;
+      const double mean = it->second.first / it->second.second;
+      lo = std::min(lo, mean);
+      hi = std::max(hi, mean);
+      char part[64];
+      std::snprintf(part, sizeof part, " %.0f s", mean);
+      text += (text.empty() ? "" : ", ") + robot + part;
+    }
+    if (lo > 0 && hi / lo - 1 >= worst) {
+      worst = hi / lo - 1;
+      char at[32];
+      std::snprintf(at, sizeof at, "%g cm/s: ", static_cast<double>(speed) / 100);
+      worst_text = at + text;
+    }
+  }
+  std::string names;
+  for (const std::string& r : robots) names += (names.empty() ? "" : ", ") + r;
+  std::string w = "the logs come from " + std::to_string(robots.size()) + " robots (" + names +
+                  "), pooled: battery fits one table per speed over all their runs and does not fit or compare the robots one "
+                  "by one (the file has no `robots` and no `robot_spread`)";
+  if (!worst_text.empty()) {
+    char pct[32];
+    std::snprintf(pct, sizeof pct, "%.1f %%", 100 * worst);
+    w += std::string("; their mean run lifetimes differ by up to ") + pct + " at one speed (" + worst_text + ")";
+  }
+  return w + ". --robot ID fits one robot's logs alone.";
+}
+
 SpeedCoverage speed_coverage(const BatteryFit& f) {
   SpeedCoverage c;
   std::vector<bool> seen(static_cast<std::size_t>(mb::kSpeedCount), false);

@@ -141,6 +141,12 @@ inline constexpr double kBatteryRejectSd = 6.0;
 BatteryFit fit_battery(const std::vector<BatteryRun>& runs, const FitOptions& options = {},
                        double reject_sd = kBatteryRejectSd);
 
+/// Runs of more than one robot: battery pools them (one table per speed over every run) and does
+/// not fit or compare the robots one by one, as the sensor fits do (docs/fitting.md, "Several
+/// robots"). Said with the robots' mean run lifetimes (their last rows' times) at the speed where
+/// they differ most, so that robots whose batteries differ are seen; "" for one robot.
+std::string pooled_robots_warning(const std::vector<BatteryRun>& runs);
+
 /// The four models' analytic charge at time t for one speed's fit: Simple and Linear clamped at 0,
 /// Approximated as its segments M1..M4 are written (0 from the lifetime on, after M4's drop).
 double analytic_charge(const SpeedFit& s, const BatteryFit& all, models::battery::Model m, double t_s);
